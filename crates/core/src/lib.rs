@@ -1,0 +1,32 @@
+//! # opticks-core
+//!
+//! The engine of Opticks, a light-sampling renderer after the thesis *Newtonian Global
+//! Illumination*. The pipeline, one module per stage:
+//!
+//! ```text
+//! scene::SceneDescription ──build──▶ scene::Scene ──trace──▶ dataset chunks ──sensor──▶ film::Film
+//! ```
+//!
+//! * [`scene`] turns a plain description (from any file format) into a validated scene with a BVH,
+//!   a light table and a content fingerprint.
+//! * [`trace`] runs the thesis's Algorithm 1: paths start at the lights and every non-specular
+//!   vertex is kept as a [`dataset::Sample`]. **Trace never sees a camera.**
+//! * [`dataset`] holds the sample record, the light table (Φ_k, N_k) and the laws that make
+//!   relighting and merging exact.
+//! * [`sensor`] connects stored samples to a sensor (pinhole camera) and accumulates a [`film::Film`].
+//!
+//! This crate does no file IO and is deterministic for a given seed.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod accel;
+pub mod bsdf;
+pub mod dataset;
+pub mod film;
+pub mod geometry;
+pub mod light;
+pub mod math;
+pub mod sampling;
+pub mod scene;
+pub mod sensor;
+pub mod trace;

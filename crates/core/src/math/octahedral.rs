@@ -1,0 +1,58 @@
+//! Octahedral encoding of unit vectors into 32 bits (2 × 16-bit snorm), as in psychopath and
+//! Cigolle et al. 2014, "A Survey of Efficient Representations for Independent Unit Vectors".
+//! Worst-case angular error is about 0.003°, far below anything a BRDF evaluation can see.
+
+use glam::{Vec2, Vec3};
+
+#[inline]
+fn sign_not_zero(v: f32) -> f32 {
+    if v >= 0.0 { 1.0 } else { -1.0 }
+}
+
+/// Encodes a unit vector into 32 bits.
+#[inline]
+pub fn encode_unit_vector(v: Vec3) -> u32 {
+    let l1 = v.x.abs() + v.y.abs() + v.z.abs();
+    let mut p = Vec2::new(v.x, v.y) / l1;
+    if v.z < 0.0 {
+        p = Vec2::new((1.0 - p.y.abs()) * sign_not_zero(p.x), (1.0 - p.x.abs()) * sign_not_zero(p.y));
+    }
+    let q = |x: f32| ((x.clamp(-1.0, 1.0) * 32767.0).round() as i16) as u16 as u32;
+    q(p.x) | (q(p.y) << 16)
+}
+
+/// Decodes a vector encoded by [`encode_unit_vector`]; the result is normalised.
+#[inline]
+pub fn decode_unit_vector(bits: u32) -> Vec3 {
+    let x = (bits as u16 as i16) as f32 / 32767.0;
+    let y = ((bits >> 16) as u16 as i16) as f32 / 32767.0;
+    let z = 1.0 - x.abs() - y.abs();
+    let t = (-z).max(0.0);
+    let x = x + if x >= 0.0 { -t } else { t };
+    let y = y + if y >= 0.0 { -t } else { t };
+    Vec3::new(x, y, z).normalize()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip_error_is_tiny_everywhere() {
+        let mut worst = 1.0f32;
+        let n = 200;
+        for i in 0..n {
+            for j in 0..n {
+                let z = -1.0 + 2.0 * (i as f32 + 0.5) / n as f32;
+                let phi = std::f32::consts::TAU * (j as f32 + 0.37) / n as f32;
+                let r = (1.0 - z * z).sqrt();
+                let v = Vec3::new(r * phi.cos(), r * phi.sin(), z);
+                worst = worst.min(decode_unit_vector(encode_unit_vector(v)).dot(v));
+            }
+        }
+        for v in [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z] {
+            worst = worst.min(decode_unit_vector(encode_unit_vector(v)).dot(v));
+        }
+        assert!(worst.acos().to_degrees() < 0.01, "worst angular error {}°", worst.acos().to_degrees());
+    }
+}

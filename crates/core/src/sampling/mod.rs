@@ -1,0 +1,7 @@
+//! Random numbers and warps: seeded per-block random streams ([`RandomStream`]) and the maps
+//! from the unit square to directions and points ([`warp`]).
+
+mod rng;
+pub mod warp;
+
+pub use rng::RandomStream;

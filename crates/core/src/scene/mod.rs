@@ -1,0 +1,12 @@
+//! The scene: a plain [`SceneDescription`] that every file format loads into, and the validated,
+//! ray-traceable [`Scene`] built from it (BVH, per-triangle data, light table, fingerprint).
+
+mod build;
+mod camera;
+mod description;
+mod fingerprint;
+
+pub use build::{Scene, SceneError, Triangle};
+pub use camera::{CameraDesc, Pinhole};
+pub use description::{MeshDesc, PointLightDesc, SceneDescription, Source};
+pub use fingerprint::Fingerprint;
