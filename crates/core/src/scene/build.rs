@@ -1,9 +1,314 @@
-//! Scene (being written).
-/// s
-pub struct Scene;
-/// e
-#[derive(Debug, thiserror::Error)]
-#[error("x")]
-pub struct SceneError;
-/// t
-pub struct Triangle;
+//! Validation and assembly: [`SceneDescription`] → [`Scene`].
+//!
+//! Everything a file can get wrong is caught here and reported with the element's source:
+//! non-finite coordinates, indices out of range, missing materials, impossible emission, a
+//! scene with no light. Degenerate (zero-area) triangles are dropped, since they can neither be
+//! hit nor emit; their count is reported in [`Scene::dropped_triangles`].
+
+use super::fingerprint::Hasher;
+use super::{CameraDesc, Fingerprint, SceneDescription, Source};
+use crate::accel::Accel;
+use crate::bsdf::Material;
+use crate::geometry::{Hit, Ray};
+use crate::light::{AreaLight, Light, PointLight};
+use crate::math::{Rgb, Vec3};
+
+/// A triangle as stored for sampling and shading: v0 and two edges.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Triangle {
+    /// First vertex.
+    pub v0: Vec3,
+    /// v1 − v0.
+    pub e1: Vec3,
+    /// v2 − v0.
+    pub e2: Vec3,
+}
+
+impl Triangle {
+    /// Point at barycentrics (b1, b2).
+    #[inline]
+    pub fn point(&self, b1: f32, b2: f32) -> Vec3 {
+        self.v0 + b1 * self.e1 + b2 * self.e2
+    }
+    /// Unit geometric normal (e1 × e2, counter-clockwise front).
+    #[inline]
+    pub fn normal(&self) -> Vec3 {
+        self.e1.cross(self.e2).normalize()
+    }
+    /// Area.
+    #[inline]
+    pub fn area(&self) -> f32 {
+        0.5 * self.e1.cross(self.e2).length()
+    }
+}
+
+/// No light index.
+const NO_LIGHT: u32 = u32::MAX;
+
+/// A validated, ray-traceable scene.
+#[derive(Debug)]
+pub struct Scene {
+    /// Triangles (scene order; sample records refer to these indices).
+    pub triangles: Vec<Triangle>,
+    normals: Vec<Vec3>,
+    material_of: Vec<u32>,
+    light_of: Vec<u32>,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// Lights, in the order of the dataset's light table.
+    pub lights: Vec<Light>,
+    /// The scene file's camera, if any.
+    pub camera: Option<CameraDesc>,
+    /// Content hashes.
+    pub fingerprint: Fingerprint,
+    /// Zero-area triangles that were dropped.
+    pub dropped_triangles: usize,
+    accel: Accel,
+}
+
+/// Why a scene description is not a valid scene.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    /// A vertex coordinate is NaN or infinite.
+    #[error("{at}: mesh '{mesh}': vertex {vertex} is not finite ({value:?})")]
+    NonFiniteVertex {
+        /// Where the mesh was declared.
+        at: Source,
+        /// Mesh name.
+        mesh: String,
+        /// Vertex index.
+        vertex: usize,
+        /// The bad value.
+        value: [f32; 3],
+    },
+    /// A triangle refers to a vertex that does not exist.
+    #[error("{at}: mesh '{mesh}': triangle {triangle} refers to vertex {index}, but the mesh has {count} vertices")]
+    IndexOutOfRange {
+        /// Where the mesh was declared.
+        at: Source,
+        /// Mesh name.
+        mesh: String,
+        /// Triangle index.
+        triangle: usize,
+        /// The bad vertex index.
+        index: u32,
+        /// Vertex count.
+        count: usize,
+    },
+    /// A mesh refers to a material that does not exist.
+    #[error("{at}: mesh '{mesh}' refers to material {material}, but the scene has {count}")]
+    MissingMaterial {
+        /// Where the mesh was declared.
+        at: Source,
+        /// Mesh name.
+        mesh: String,
+        /// The bad material index.
+        material: usize,
+        /// Material count.
+        count: usize,
+    },
+    /// Emitted radiance or intensity is negative or not finite.
+    #[error("{at}: light '{light}': emission {value:?} must be finite and non-negative")]
+    BadEmission {
+        /// Where the light was declared.
+        at: Source,
+        /// Light name.
+        light: String,
+        /// The bad value.
+        value: [f32; 3],
+    },
+    /// A point light's position is not finite.
+    #[error("{at}: light '{light}': position {value:?} is not finite")]
+    BadPosition {
+        /// Where the light was declared.
+        at: Source,
+        /// Light name.
+        light: String,
+        /// The bad value.
+        value: [f32; 3],
+    },
+    /// An emissive mesh has no area.
+    #[error("{at}: area light '{light}' has no triangle of non-zero area")]
+    EmptyAreaLight {
+        /// Where the light was declared.
+        at: Source,
+        /// Light name.
+        light: String,
+    },
+    /// Nothing to render.
+    #[error("the scene has no triangles: light paths would have nothing to hit")]
+    NoGeometry,
+    /// Nothing emits.
+    #[error("the scene has no light source (an area emitter or a point light)")]
+    NoLight,
+}
+
+impl Scene {
+    /// Validates `desc` and builds the BVH, light table and fingerprint.
+    pub fn build(desc: &SceneDescription) -> Result<Scene, SceneError> {
+        let mut triangles = Vec::new();
+        let mut vertices = Vec::new();
+        let mut material_of = Vec::new();
+        let mut light_of = Vec::new();
+        let mut lights = Vec::new();
+        let mut dropped = 0usize;
+        let mut geo = Hasher::new("opticks geometry v1");
+        let mut lit = Hasher::new("opticks lights v1");
+
+        for mesh in &desc.meshes {
+            if mesh.material >= desc.materials.len() {
+                return Err(SceneError::MissingMaterial {
+                    at: mesh.source.clone(),
+                    mesh: mesh.name.clone(),
+                    material: mesh.material,
+                    count: desc.materials.len(),
+                });
+            }
+            if let Some((vertex, p)) = mesh.positions.iter().enumerate().find(|(_, p)| !p.is_finite()) {
+                return Err(SceneError::NonFiniteVertex {
+                    at: mesh.source.clone(),
+                    mesh: mesh.name.clone(),
+                    vertex,
+                    value: p.to_array(),
+                });
+            }
+            let light_index = match mesh.emission {
+                Some(l) if !(l.is_finite() && l.min_element() >= 0.0) => {
+                    return Err(SceneError::BadEmission {
+                        at: mesh.source.clone(),
+                        light: mesh.name.clone(),
+                        value: l.to_array(),
+                    });
+                }
+                Some(_) => lights.len() as u32,
+                None => NO_LIGHT,
+            };
+            let mut emitter_tris = Vec::new();
+            let mut cumulative = Vec::new();
+            let mut area_sum = 0.0f64;
+            for (ti, t) in mesh.triangles.iter().enumerate() {
+                if let Some(&index) = t.iter().find(|&&i| i as usize >= mesh.positions.len()) {
+                    return Err(SceneError::IndexOutOfRange {
+                        at: mesh.source.clone(),
+                        mesh: mesh.name.clone(),
+                        triangle: ti,
+                        index,
+                        count: mesh.positions.len(),
+                    });
+                }
+                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+                let tri = Triangle { v0: a, e1: b - a, e2: c - a };
+                let area = tri.area();
+                if !(area > 0.0) || !tri.normal().is_finite() {
+                    dropped += 1;
+                    continue;
+                }
+                let index = triangles.len() as u32;
+                geo.f32s(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z]);
+                geo.u32s(&[mesh.material as u32, light_index]);
+                if light_index != NO_LIGHT {
+                    emitter_tris.push(index);
+                    area_sum += area as f64;
+                    cumulative.push(area_sum as f32);
+                    lit.u32s(&[index]);
+                }
+                triangles.push(tri);
+                vertices.push([a, b, c]);
+                material_of.push(mesh.material as u32);
+                light_of.push(light_index);
+            }
+            if let Some(radiance) = mesh.emission {
+                if emitter_tris.is_empty() {
+                    return Err(SceneError::EmptyAreaLight { at: mesh.source.clone(), light: mesh.name.clone() });
+                }
+                lit.f32s(&radiance.to_array());
+                lights.push(Light::Area(AreaLight {
+                    name: mesh.name.clone(),
+                    radiance,
+                    triangles: emitter_tris,
+                    cumulative_area: cumulative,
+                }));
+            }
+        }
+        for p in &desc.point_lights {
+            if !(p.intensity.is_finite() && p.intensity.min_element() >= 0.0) {
+                return Err(SceneError::BadEmission {
+                    at: p.source.clone(),
+                    light: p.name.clone(),
+                    value: p.intensity.to_array(),
+                });
+            }
+            if !p.position.is_finite() {
+                return Err(SceneError::BadPosition {
+                    at: p.source.clone(),
+                    light: p.name.clone(),
+                    value: p.position.to_array(),
+                });
+            }
+            lit.f32s(&[p.position.x, p.position.y, p.position.z]);
+            lit.f32s(&p.intensity.to_array());
+            lights.push(Light::Point(PointLight { name: p.name.clone(), position: p.position, intensity: p.intensity }));
+        }
+        if triangles.is_empty() {
+            return Err(SceneError::NoGeometry);
+        }
+        if lights.is_empty() {
+            return Err(SceneError::NoLight);
+        }
+        for m in &desc.materials {
+            // Debug formatting of f32 is the shortest round-trip form: stable and exact.
+            geo.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
+        }
+        let normals = triangles.iter().map(Triangle::normal).collect();
+        let accel = Accel::build(&vertices);
+        Ok(Scene {
+            triangles,
+            normals,
+            material_of,
+            light_of,
+            materials: desc.materials.clone(),
+            lights,
+            camera: desc.camera,
+            fingerprint: Fingerprint { geometry: geo.finish(), lights: lit.finish() },
+            dropped_triangles: dropped,
+            accel,
+        })
+    }
+
+    /// Closest surface hit along `ray`.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
+        let (t, prim) = self.accel.intersect(ray)?;
+        Some(Hit { t, prim, position: ray.origin + t * ray.dir, normal: self.normals[prim as usize] })
+    }
+
+    /// Whether the segment from `ray.origin` of length `ray.t_max` is blocked.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.accel.occluded(ray)
+    }
+
+    /// Unit geometric normal of triangle `prim`.
+    #[inline]
+    pub fn normal(&self, prim: u32) -> Vec3 {
+        self.normals[prim as usize]
+    }
+
+    /// Material of triangle `prim`.
+    #[inline]
+    pub fn material(&self, prim: u32) -> &Material {
+        &self.materials[self.material_of[prim as usize] as usize]
+    }
+
+    /// The light whose emitter triangle `prim` is, if any.
+    #[inline]
+    pub fn light_of(&self, prim: u32) -> Option<usize> {
+        let l = self.light_of[prim as usize];
+        (l != NO_LIGHT).then_some(l as usize)
+    }
+
+    /// Powers Φ_k of all lights, in light-table order.
+    pub fn light_powers(&self) -> Vec<Rgb> {
+        self.lights.iter().map(Light::power).collect()
+    }
+}

@@ -30,7 +30,7 @@ fn hex(b: &[u8]) -> String {
 }
 
 /// Incremental hasher over little-endian numbers.
-pub(crate) struct Hasher(blake3::Hasher);
+pub(crate) struct Hasher(pub(crate) blake3::Hasher);
 
 impl Hasher {
     pub(crate) fn new(domain: &str) -> Self {

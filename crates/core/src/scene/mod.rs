@@ -3,10 +3,12 @@
 
 mod build;
 mod camera;
+mod demo;
 mod description;
 mod fingerprint;
 
 pub use build::{Scene, SceneError, Triangle};
-pub use camera::{CameraDesc, Pinhole};
+pub use camera::{CameraDesc, CameraError, Pinhole};
+pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
 pub use description::{MeshDesc, PointLightDesc, SceneDescription, Source};
 pub use fingerprint::Fingerprint;
