@@ -3,8 +3,8 @@
 //! what the tracer needs from it is an *emission sample*: a start point and direction drawn
 //! from the light's own emission density, with the weight that keeps the estimator exact.
 
-use crate::math::{Frame, Rgb, Vec3};
-use crate::sampling::{RandomStream, warp};
+use crate::math::{Frame, Rgb, Vec2, Vec3};
+use crate::sampling::warp;
 use crate::scene::Triangle;
 use std::f32::consts::PI;
 
@@ -80,26 +80,30 @@ impl Light {
         }
     }
 
-    /// Draws a path start: a point uniform over the light's area (p_A = 1/A) and a direction
-    /// from its emission density (cosine for area lights, uniform sphere for point lights).
+    /// Draws a path start from two uniform points of [0,1)²: `u_pos` picks a point uniform over
+    /// the light's area (p_A = 1/A; its x coordinate first picks a triangle ∝ area and is then
+    /// reused, rescaled, so stratified inputs stay stratified), `u_dir` a direction from the
+    /// emission density (cosine for area lights, uniform sphere for point lights).
     #[inline]
-    pub fn sample_emission(&self, triangles: &[Triangle], rng: &mut RandomStream) -> Emission {
+    pub fn sample_emission(&self, triangles: &[Triangle], u_pos: Vec2, u_dir: Vec2) -> Emission {
         match self {
             Light::Area(l) => {
-                let target = rng.next_f32() * l.area();
+                let target = u_pos.x * l.area();
                 let i = l.cumulative_area.partition_point(|&c| c <= target).min(l.triangles.len() - 1);
+                let lo = if i == 0 { 0.0 } else { l.cumulative_area[i - 1] };
+                let ux = ((target - lo) / (l.cumulative_area[i] - lo)).clamp(0.0, 1.0 - f32::EPSILON / 2.0);
                 let prim = l.triangles[i];
                 let tri = &triangles[prim as usize];
-                let b = warp::square_to_uniform_triangle(rng.next_2d());
+                let b = warp::square_to_uniform_triangle(Vec2::new(ux, u_pos.y));
                 let origin = tri.point(b.x, b.y);
                 let normal = tri.normal();
-                let dir = Frame::from_normal(normal).to_world(warp::square_to_cosine_hemisphere(rng.next_2d()));
+                let dir = Frame::from_normal(normal).to_world(warp::square_to_cosine_hemisphere(u_dir));
                 Emission { origin, surface: Some((normal, prim)), dir, weight: Rgb::ONE }
             }
             Light::Point(l) => Emission {
                 origin: l.position,
                 surface: None,
-                dir: warp::square_to_uniform_sphere(rng.next_2d()),
+                dir: warp::square_to_uniform_sphere(u_dir),
                 weight: Rgb::ONE,
             },
         }
