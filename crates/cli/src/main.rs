@@ -1,3 +1,53 @@
-fn main() {
-    println!("Hello, world!");
+//! `opticks`: the command line of the Opticks light-sampling renderer.
+//!
+//! A thin layer: arguments are parsed (clap), validated, and handed to the library crates;
+//! errors are reported with their whole chain and a non-zero exit code. No rendering logic
+//! lives here.
+
+mod camera_args;
+mod commands;
+mod progress;
+mod scene_arg;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Opticks: physically based light sampling into a camera-independent dataset.
+#[derive(Parser, Debug)]
+#[command(name = "opticks", version, about, long_about = None, propagate_version = true)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Trace and render the built-in Cornell box (no files needed).
+    Demo(commands::demo::Args),
+    /// Trace light paths through a scene into a dataset file.
+    Trace(commands::trace::Args),
+    /// Render a dataset through a camera into an EXR or PNG image.
+    Render(commands::render::Args),
+    /// Print a readable summary of a dataset file.
+    Info(commands::info::Args),
+    /// Measure tracing and rendering speed on a scene (in memory, nothing written).
+    Bench(commands::bench::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo(a) => commands::demo::run(a),
+        Command::Trace(a) => commands::trace::run(a),
+        Command::Render(a) => commands::render::run(a),
+        Command::Info(a) => commands::info::run(a),
+        Command::Bench(a) => commands::bench::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
 }

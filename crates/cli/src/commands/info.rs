@@ -1,0 +1,38 @@
+//! `opticks info`: what a dataset holds, readably.
+
+use anyhow::Result;
+use opticks_io::dataset_file::DatasetReader;
+use std::path::PathBuf;
+
+/// Arguments of `opticks info`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Dataset file.
+    dataset: PathBuf,
+}
+
+/// Prints the summary.
+pub fn run(a: Args) -> Result<()> {
+    let reader = DatasetReader::open(&a.dataset)?;
+    let h = reader.header();
+    let samples = reader.total_samples();
+    let paths = h.table.total_paths();
+    println!("dataset   {}", a.dataset.display());
+    println!("scene     {}", h.label);
+    println!("geometry  {}", h.fingerprint.geometry_hex());
+    println!("lights    {}", h.fingerprint.lights_hex());
+    println!("trace     seed {}, roulette from depth {}", h.trace.seed, h.trace.rr_depth);
+    println!("paths     {paths}");
+    println!("samples   {samples} ({:.2} per path)", samples as f64 / paths.max(1) as f64);
+    println!("chunks    {}", reader.chunk_count());
+    println!(
+        "size      {} bytes ({:.1} bytes/sample)",
+        reader.file_len(),
+        reader.file_len() as f64 / samples.max(1) as f64
+    );
+    println!("{:>5}  {:<24} {:>14}  power Φ (W, RGB)", "light", "name", "paths N_k");
+    for (k, l) in h.table.lights.iter().enumerate() {
+        println!("{k:>5}  {:<24} {:>14}  {:.6} {:.6} {:.6}", l.name, l.paths, l.power.x, l.power.y, l.power.z);
+    }
+    Ok(())
+}

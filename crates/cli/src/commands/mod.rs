@@ -1,0 +1,71 @@
+//! One module per verb. The shared steps — trace with a progress bar, render with a progress
+//! bar, write the image(s) — live here so every verb does them the same way.
+
+pub mod bench;
+pub mod demo;
+pub mod info;
+pub mod render;
+pub mod trace;
+
+use crate::progress;
+use anyhow::{Context, Result};
+use opticks_core::dataset::{Chunk, LightTable};
+use opticks_core::film::Film;
+use opticks_core::scene::{Pinhole, Scene};
+use opticks_core::sensor::{SampleBatch, render_pinhole};
+use opticks_core::trace::{TraceSettings, trace};
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Sets the size of rayon's global pool (0 = all cores).
+pub fn set_threads(threads: usize) -> Result<()> {
+    if threads > 0 {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().context("cannot set --threads")?;
+    }
+    Ok(())
+}
+
+/// Traces with a progress bar, handing chunks to `sink`.
+pub fn trace_with_progress(
+    scene: &Scene,
+    settings: &TraceSettings,
+    sink: impl FnMut(Chunk) -> Result<()>,
+) -> Result<LightTable> {
+    let pb = progress::bar(settings.paths, "tracing", "paths");
+    let table = trace(scene, settings, sink, |done| pb.set_position(done))?;
+    pb.finish_and_clear();
+    Ok(table)
+}
+
+/// Renders `count` sample batches through `camera` with a progress bar over `total_samples`.
+pub fn render_with_progress<'a>(
+    scene: &Scene,
+    camera: &Pinhole,
+    count: usize,
+    total_samples: u64,
+    batch: impl Fn(usize) -> Result<SampleBatch<'a>> + Sync,
+) -> Result<Film> {
+    let pb = progress::bar(total_samples, "rendering", "samples");
+    let done = AtomicU64::new(0);
+    let film = render_pinhole(scene, camera, count, batch, |n| {
+        let d = done.fetch_add(n as u64, Ordering::Relaxed) + n as u64;
+        pb.set_position(d);
+    })?;
+    pb.finish_and_clear();
+    Ok(film)
+}
+
+/// Writes the film to `path` (format from the extension).
+pub fn write_film(film: &Film, path: &Path, exposure: f32) -> Result<()> {
+    opticks_io::image_file::write_image(path, film.width, film.height, &film.to_rgb_f32(), exposure)
+        .with_context(|| format!("cannot write image {}", path.display()))
+}
+
+/// Renders in-memory chunks (as traced, with the table's Φ_k/N_k).
+pub fn render_chunks(scene: &Scene, camera: &Pinhole, table: &LightTable, chunks: &[Chunk]) -> Result<Film> {
+    let total = chunks.iter().map(|c| c.samples.len() as u64).sum();
+    render_with_progress(scene, camera, chunks.len(), total, |i| {
+        let c = &chunks[i];
+        Ok(SampleBatch { flux_per_path: table.flux_per_path(c.light as usize), samples: &c.samples })
+    })
+}

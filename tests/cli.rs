@@ -1,0 +1,173 @@
+//! The `opticks` binary end to end, in a temporary directory, as a user would run it.
+
+mod common;
+
+use common::*;
+use opticks_io::image_file::read_exr_rgb;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn opticks(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_opticks")).args(args).current_dir(dir).output().expect("runs opticks")
+}
+
+fn ok(out: Output) -> String {
+    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "opticks failed:\nstdout: {so}\nstderr: {se}");
+    so.into_owned()
+}
+
+/// Runs a command that must fail; returns its stderr.
+fn fails(args: &[&str], dir: &Path) -> String {
+    let out = opticks(args, dir);
+    let se = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "expected failure of {args:?}, got success; stderr: {se}");
+    assert!(se.starts_with("error: "), "error message should start with 'error: ': {se}");
+    assert!(!se.contains("panicked"), "must not panic: {se}");
+    se
+}
+
+fn mean(rgb: &[f32]) -> [f64; 3] {
+    let mut m = [0.0; 3];
+    for p in rgb.chunks(3) {
+        for c in 0..3 {
+            m[c] += p[c] as f64;
+        }
+    }
+    m.map(|x| x / (rgb.len() / 3) as f64)
+}
+
+fn assert_mean_close(rgb: &[f32], name: &str, tol: f64) {
+    let (m, r) = (mean(rgb), mean(&reference(name)));
+    for c in 0..3 {
+        assert!((m[c] / r[c] - 1.0).abs() < tol, "channel {c}: mean {} vs reference {}", m[c], r[c]);
+    }
+}
+
+#[test]
+fn demo_writes_png_and_exr() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(opticks(&["demo", "--paths", "300000"], dir.path()));
+    assert!(out.contains("cornell.png") && out.contains("cornell.exr"), "{out}");
+    let png = image::ImageReader::open(dir.path().join("cornell.png")).unwrap().decode().unwrap();
+    assert_eq!((png.width(), png.height()), (256, 256));
+    let (w, h, rgb) = read_exr_rgb(&dir.path().join("cornell.exr")).unwrap();
+    assert_eq!((w, h), (256, 256));
+    // The demo is the reference Cornell box: its mean matches Mitsuba's within noise (3%).
+    assert_mean_close(&rgb, "cornell", 0.03);
+}
+
+#[test]
+fn trace_info_render_from_the_scene_camera_and_another() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_file("cornell", "scene.xml");
+    let scene = scene.to_str().unwrap();
+    ok(opticks(&["trace", scene, "--paths", "500000", "-o", "c.opds", "--seed", "3"], dir.path()));
+    let info = ok(opticks(&["info", "c.opds"], dir.path()));
+    for needle in ["500000", "light", "samples", "bytes/sample", "seed 3"] {
+        assert!(info.contains(needle), "info lacks '{needle}':\n{info}");
+    }
+    ok(opticks(&["render", "c.opds", "-o", "c.exr"], dir.path()));
+    let (w, h, rgb) = read_exr_rgb(&dir.path().join("c.exr")).unwrap();
+    assert_eq!((w, h), (256, 256));
+    assert_mean_close(&rgb, "cornell", 0.02);
+    // The same dataset from elsewhere: no re-trace, another camera, another size.
+    ok(opticks(
+        &["render", "c.opds", "-o", "side.exr", "--eye", "0.5,0.3,2.5", "--target", "0,-0.3,0", "--size", "64x48", "--fov", "60"],
+        dir.path(),
+    ));
+    let (w, h, side) = read_exr_rgb(&dir.path().join("side.exr")).unwrap();
+    assert_eq!((w, h), (64, 48));
+    assert!(mean(&side)[0] > 0.05, "the box is visible from the new viewpoint");
+    ok(opticks(&["render", "c.opds", "-o", "c.png", "--exposure", "1"], dir.path()));
+    assert!(dir.path().join("c.png").exists());
+}
+
+#[test]
+fn a_seed_gives_the_same_dataset_whatever_the_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scene_file("cornell", "scene.xml");
+    let scene = scene.to_str().unwrap();
+    ok(opticks(&["trace", scene, "--paths", "100000", "-o", "one.opds", "--threads", "1"], dir.path()));
+    ok(opticks(&["trace", scene, "--paths", "100000", "-o", "two.opds", "--threads", "2"], dir.path()));
+    ok(opticks(&["trace", scene, "--paths", "100000", "-o", "other.opds", "--seed", "1"], dir.path()));
+    let read = |f: &str| std::fs::read(dir.path().join(f)).unwrap();
+    assert!(read("one.opds") == read("two.opds"), "thread count changed the dataset");
+    assert!(read("one.opds") != read("other.opds"), "the seed must matter");
+}
+
+#[test]
+fn bad_scenes_are_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let write = |name: &str, text: &str| std::fs::write(d.join(name), text).unwrap();
+    write("malformed.xml", "<scene version=\"3.0.0\">\n  <shape type=\"obj\">\n</scene>\n");
+    let e = fails(&["trace", "malformed.xml", "--paths", "10", "-o", "x.opds"], d);
+    assert!(e.contains("malformed.xml") && e.contains(":3"), "{e}");
+    write(
+        "missing.xml",
+        "<scene version=\"3.0.0\">\n<shape type=\"obj\">\n<string name=\"filename\" value=\"nowhere.obj\"/>\n</shape>\n</scene>\n",
+    );
+    let e = fails(&["trace", "missing.xml", "--paths", "10", "-o", "x.opds"], d);
+    assert!(e.contains("nowhere.obj") && e.contains("missing.xml"), "{e}");
+    std::fs::copy(scene_file("cornell", "meshes/light.obj"), d.join("light.obj")).unwrap();
+    write(
+        "nan.xml",
+        "<scene version=\"3.0.0\">\n<shape type=\"obj\">\n<string name=\"filename\" value=\"light.obj\"/>\n\
+         <transform name=\"to_world\"><translate x=\"nan\" y=\"0\" z=\"0\"/></transform>\n\
+         <emitter type=\"area\"><rgb name=\"radiance\" value=\"1,1,1\"/></emitter>\n</shape>\n</scene>\n",
+    );
+    let e = fails(&["trace", "nan.xml", "--paths", "10", "-o", "x.opds"], d);
+    assert!(e.contains("nan.xml") && e.contains(":4"), "{e}");
+    let e = fails(&["trace", "no-such-scene.xml", "--paths", "10", "-o", "x.opds"], d);
+    assert!(e.contains("no-such-scene.xml"), "{e}");
+    assert!(!d.join("x.opds").exists(), "no dataset is left behind by a failed trace");
+}
+
+#[test]
+fn bad_datasets_are_clear_errors_and_never_damage_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    let furnace = scene_file("furnace", "scene.xml");
+    ok(opticks(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "good.opds"], d));
+    let good = std::fs::read(d.join("good.opds")).unwrap();
+
+    std::fs::write(d.join("truncated.opds"), &good[..good.len() * 2 / 3]).unwrap();
+    let e = fails(&["render", "truncated.opds", "-o", "t.exr"], d);
+    assert!(e.contains("truncated.opds"), "{e}");
+
+    let mut flipped = good.clone();
+    let at = good.len() / 2;
+    flipped[at] ^= 0x10;
+    std::fs::write(d.join("flipped.opds"), &flipped).unwrap();
+    let e = fails(&["render", "flipped.opds", "-o", "f.exr"], d);
+    assert!(e.contains("flipped.opds"), "{e}");
+    let e = fails(&["info", "flipped.opds"], d).to_lowercase();
+    assert!(e.contains("flipped.opds") || e.contains("checksum"), "{e}");
+
+    std::fs::write(d.join("foreign.opds"), b"P6\n1 1\n255\n\0\0\0").unwrap();
+    let e = fails(&["info", "foreign.opds"], d);
+    assert!(e.contains("foreign.opds"), "{e}");
+
+    let e = fails(&["render", "good.opds", "--scene", furnace.to_str().unwrap(), "-o", "w.exr"], d);
+    assert!(e.contains("different scene"), "{e}");
+    assert!(!d.join("w.exr").exists() && !d.join("t.exr").exists() && !d.join("f.exr").exists());
+
+    // A failing trace over an existing dataset leaves it intact.
+    let e = fails(&["trace", "missing.xml", "--paths", "10", "-o", "good.opds"], d);
+    assert!(e.contains("missing.xml"), "{e}");
+    assert!(std::fs::read(d.join("good.opds")).unwrap() == good);
+}
+
+#[test]
+fn bad_arguments_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = opticks(&["render"], d);
+    assert!(!out.status.success());
+    let e = fails(&["demo", "--paths", "1000", "-o", "image.bmp"], d);
+    assert!(e.contains("image.bmp"), "{e}");
+    let e = fails(&["demo", "--paths", "1000", "--size", "0x5"], d);
+    assert!(e.contains("0x5") || e.contains("size"), "{e}");
+}
