@@ -1,14 +1,9 @@
-pub fn add(left: u64, right: u64) -> u64 {
-    left + right
-}
+//! # opticks-io
+//!
+//! File formats for Opticks: scene loaders ([`scene_formats`]).
 
-#[cfg(test)]
-mod tests {
-    use super::*;
+pub mod scene_formats;
 
-    #[test]
-    fn it_works() {
-        let result = add(2, 2);
-        assert_eq!(result, 4);
-    }
-}
+pub use scene_formats::{
+    FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,
+};

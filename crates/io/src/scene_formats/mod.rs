@@ -1,0 +1,215 @@
+//! Scene files: [`load_scene`] reads a file into a plain
+//! [`SceneDescription`](opticks_core::scene::SceneDescription), dispatching on the extension.
+//!
+//! | extension | format | module |
+//! |---|---|---|
+//! | `.xml` | Mitsuba 3 scene (the subset documented in [`mitsuba`]) | [`mitsuba`] |
+//! | `.obj` | a bare Wavefront OBJ mesh: one mesh, default material, no camera, no lights | [`obj`] |
+//!
+//! The extension is matched case-insensitively; anything else is a
+//! [`SceneFileError::UnsupportedExtension`].
+//!
+//! A bare `.obj` file gets one material named `default`: a **two-sided** Lambertian of albedo
+//! 0.5 (Mitsuba's default reflectance; two-sided because a loose OBJ says nothing about which side
+//! of its surfaces is meant to be seen). It has no lights, so it is only useful combined with
+//! lights and a camera from elsewhere; the loader says so in [`LoadedScene::warnings`].
+//!
+//! # Errors and warnings
+//!
+//! Every [`SceneFileError`] names the file, and where it applies the line, the column and the XML
+//! element it is about, in the `file:line:column: <element>: message` form compilers use:
+//!
+//! ```text
+//! scene.xml:42:5: <bsdf type="plastic">: unsupported BSDF type "plastic" (supported: diffuse, twosided)
+//! meshes/box.obj:17: face refers to vertex 9, but the file defines only 8 vertices (mesh of <shape type="obj" id="box"> at scene.xml:30:5)
+//! ```
+//!
+//! Things the loader can read but Opticks does not reproduce (an integrator's finite
+//! `max_depth`, a non-box reconstruction filter, an unknown parameter) are not errors: they are
+//! reported as human-readable lines in [`LoadedScene::warnings`], in the same format.
+
+pub mod mitsuba;
+pub mod obj;
+
+use opticks_core::bsdf::MaterialError;
+use opticks_core::scene::SceneDescription;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A loaded scene and what the loader had to say about it.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LoadedScene {
+    /// The scene.
+    pub description: SceneDescription,
+    /// Things read but not reproduced exactly, one message per line
+    /// (`file:line:column: <element>: message`).
+    pub warnings: Vec<String>,
+}
+
+/// Options for [`load_scene_with`].
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// Values for `$name` parameters of a Mitsuba scene, overriding its `<default>`s (like
+    /// `mitsuba -Dname=value`).
+    pub defines: Vec<(String, String)>,
+}
+
+/// A position in a scene file. Displays as `file:line:column` (line and column are 1-based; a
+/// zero is left out).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FileLocation {
+    /// The file, as the user named it (mesh files: joined to the scene file's folder).
+    pub file: PathBuf,
+    /// 1-based line, 0 if unknown.
+    pub line: u32,
+    /// 1-based column, 0 if unknown.
+    pub column: u32,
+}
+
+impl fmt::Display for FileLocation {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if self.line > 0 {
+            write!(f, ":{}", self.line)?;
+            if self.column > 0 {
+                write!(f, ":{}", self.column)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Why a scene file cannot be loaded. The message always starts with the file (and line, column
+/// and element where they apply).
+#[derive(Debug, thiserror::Error)]
+pub enum SceneFileError {
+    /// The scene file itself cannot be read.
+    #[error("{}: cannot read the scene file: {source}", .path.display())]
+    Read {
+        /// The scene file.
+        path: PathBuf,
+        /// The operating system's reason.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The extension is not one [`load_scene`] knows.
+    #[error(
+        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .obj for a bare mesh)",
+        .path.display()
+    )]
+    UnsupportedExtension {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file is not well-formed XML.
+    #[error("{at}: malformed XML: {message}")]
+    Xml {
+        /// Where the parser gave up.
+        at: FileLocation,
+        /// The XML parser's message.
+        message: String,
+    },
+    /// Well-formed XML that is not a scene this loader supports (unknown plugin, bad value,
+    /// undefined `$name`, dangling reference…).
+    #[error("{at}: {element}: {message}")]
+    Invalid {
+        /// Where.
+        at: FileLocation,
+        /// The element, as written: `<bsdf type="plastic" id="floor">`.
+        element: String,
+        /// What is wrong and, where useful, what is supported.
+        message: String,
+    },
+    /// A BSDF's parameters are physically impossible (e.g. reflectance > 1).
+    #[error("{at}: {element}: invalid material: {source}")]
+    Material {
+        /// Where.
+        at: FileLocation,
+        /// The offending parameter's element, e.g. `<rgb name="reflectance">`.
+        element: String,
+        /// The core's reason.
+        #[source]
+        source: MaterialError,
+    },
+    /// A mesh file named by a shape cannot be read.
+    #[error("{at}: {element}: cannot read mesh file {}: {source}", .mesh.display())]
+    MeshFile {
+        /// The shape that names the file.
+        at: FileLocation,
+        /// The shape element.
+        element: String,
+        /// The mesh file as resolved (relative to the scene file's folder).
+        mesh: PathBuf,
+        /// The operating system's reason.
+        #[source]
+        source: std::io::Error,
+    },
+    /// An OBJ file's content is wrong.
+    #[error("{at}: {message}{}", referenced_by(.referenced_from))]
+    Obj {
+        /// The OBJ file and line.
+        at: FileLocation,
+        /// What is wrong.
+        message: String,
+        /// The scene element that loaded this mesh, and where: (`<shape ...>`, location).
+        referenced_from: Option<(String, FileLocation)>,
+    },
+}
+
+fn referenced_by(r: &Option<(String, FileLocation)>) -> String {
+    match r {
+        Some((element, at)) => format!(" (mesh of {element} at {at})"),
+        None => String::new(),
+    }
+}
+
+impl SceneFileError {
+    /// Where the error is, if it is at a place in a file (the OBJ file for [`Self::Obj`]).
+    pub fn location(&self) -> Option<&FileLocation> {
+        match self {
+            SceneFileError::Read { .. } | SceneFileError::UnsupportedExtension { .. } => None,
+            SceneFileError::Xml { at, .. }
+            | SceneFileError::Invalid { at, .. }
+            | SceneFileError::Material { at, .. }
+            | SceneFileError::MeshFile { at, .. }
+            | SceneFileError::Obj { at, .. } => Some(at),
+        }
+    }
+}
+
+/// Loads a scene file (see the table at the top of this module) with default options.
+pub fn load_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
+    load_scene_with(path, &LoadOptions::default())
+}
+
+/// Loads a scene file, with `$name` parameter values from `options`.
+pub fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFileError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("xml") => mitsuba::load(path, options),
+        Some("obj") => obj::load_obj_scene(path),
+        _ => Err(SceneFileError::UnsupportedExtension { path: path.to_path_buf() }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unknown_extension_names_the_file_and_the_supported_ones() {
+        let e = load_scene(Path::new("dir/scene.gltf")).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.starts_with("dir/scene.gltf: unsupported scene file type"), "{msg}");
+        assert!(msg.contains(".xml") && msg.contains(".obj"), "{msg}");
+        assert!(matches!(load_scene(Path::new("noext")), Err(SceneFileError::UnsupportedExtension { .. })));
+    }
+
+    #[test]
+    fn locations_display_like_a_compiler() {
+        let l = FileLocation { file: "a/b.xml".into(), line: 4, column: 7 };
+        assert_eq!(l.to_string(), "a/b.xml:4:7");
+        assert_eq!(FileLocation { column: 0, ..l.clone() }.to_string(), "a/b.xml:4");
+        assert_eq!(FileLocation { line: 0, ..l }.to_string(), "a/b.xml");
+    }
+}

@@ -1,0 +1,221 @@
+//! Loading the reference scenes and a gallery of broken ones through the public API.
+
+use opticks_core::bsdf::Bsdf;
+use opticks_core::math::{Rgb, Vec3};
+use opticks_io::{LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with};
+use std::path::{Path, PathBuf};
+
+fn testdata(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/scenes").join(rel)
+}
+
+fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
+    (a - b).abs().max_element() <= tol
+}
+
+fn albedo(s: &LoadedScene, mesh: &str) -> (Rgb, bool) {
+    let d = &s.description;
+    let m = d.meshes.iter().find(|m| m.name == mesh).unwrap_or_else(|| panic!("no mesh {mesh}"));
+    let mat = &d.materials[m.material];
+    match &mat.bsdf {
+        Bsdf::Lambert(l) => (l.reflectance, mat.two_sided),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn cornell_box_loads() {
+    let s = load_scene(&testdata("cornell/scene.xml")).unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let d = &s.description;
+    let names: Vec<&str> = d.meshes.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["white_geometry", "red_wall", "green_wall", "light"]);
+    // SCENE.md's table: white 2+2+2+12+12, red 2, green 2, light 2 = 36 (its heading says 38).
+    let tris: Vec<usize> = d.meshes.iter().map(|m| m.triangles.len()).collect();
+    assert_eq!(tris, [30, 2, 2, 2]);
+    let emissive: Vec<_> = d.meshes.iter().filter(|m| m.emission.is_some()).collect();
+    assert_eq!(emissive.len(), 1);
+    assert_eq!(emissive[0].name, "light");
+    assert_eq!(emissive[0].emission, Some(Rgb::new(18.387, 13.9873, 6.75357)));
+    assert_eq!(emissive[0].source.line, 64);
+    assert!(emissive[0].source.file.ends_with("cornell/scene.xml"));
+    assert!(d.point_lights.is_empty());
+
+    let c = d.camera.expect("camera");
+    assert!(close(c.eye, Vec3::new(0.0, 0.0, 3.9), 1e-6), "{:?}", c.eye);
+    assert!(close(c.target, Vec3::ZERO, 1e-6), "{:?}", c.target);
+    assert!(close(c.up, Vec3::Y, 1e-6), "{:?}", c.up);
+    assert_eq!((c.fov_x_degrees, c.width, c.height), (39.3077, 256, 256));
+
+    // Three materials (the light reuses `white`), all two-sided.
+    assert_eq!(d.materials.len(), 3);
+    assert_eq!(albedo(&s, "white_geometry"), (Rgb::new(0.885809, 0.698859, 0.666422), true));
+    assert_eq!(albedo(&s, "red_wall"), (Rgb::new(0.570068, 0.0430135, 0.0443706), true));
+    assert_eq!(albedo(&s, "green_wall"), (Rgb::new(0.105421, 0.37798, 0.076425), true));
+    assert_eq!(albedo(&s, "light"), albedo(&s, "white_geometry"));
+    assert_eq!(d.meshes[0].material, d.meshes[3].material);
+    // The light faces down (−y).
+    let l = emissive[0];
+    let [a, b, c] = l.triangles[0].map(|i| l.positions[i as usize]);
+    assert!((b - a).cross(c - a).normalize().y < -0.999);
+}
+
+#[test]
+fn furnace_loads() {
+    let s = load_scene(&testdata("furnace/scene.xml")).unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let d = &s.description;
+    assert_eq!(d.meshes.len(), 2);
+    assert_eq!(d.materials.len(), 1);
+    assert_eq!(albedo(&s, "room"), (Rgb::splat(0.5), true));
+    assert_eq!(d.meshes[1].emission, Some(Rgb::splat(10.0)));
+    let c = d.camera.unwrap();
+    assert_eq!((c.width, c.height, c.fov_x_degrees), (128, 128, 90.0));
+    assert!(close(c.eye, Vec3::new(0.25, 0.5, 0.25), 1e-6));
+    assert!(close(c.target, Vec3::new(1.0, 0.4, 1.0), 1e-6), "{:?}", c.target);
+    // Every room vertex is in the unit cube.
+    assert!(d.meshes[0].positions.iter().all(|p| p.min_element() >= 0.0 && p.max_element() <= 1.0));
+}
+
+#[test]
+fn defines_override_defaults() {
+    // The reference scenes use $spp and $max_depth; overriding max_depth is reported.
+    let opts = LoadOptions { defines: vec![("max_depth".into(), "8".into())] };
+    let s = load_scene_with(&testdata("cornell/scene.xml"), &opts).unwrap();
+    assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
+    assert!(
+        s.warnings[0].contains("scene.xml:9:9: <integer name=\"max_depth\">: max_depth = 8"),
+        "{:?}",
+        s.warnings
+    );
+}
+
+#[test]
+fn bare_obj_is_a_scene() {
+    let s = load_scene(&testdata("cornell/meshes/red.obj")).unwrap();
+    let d = &s.description;
+    assert_eq!((d.meshes.len(), d.meshes[0].name.as_str(), d.meshes[0].triangles.len()), (1, "red", 2));
+    assert!(d.camera.is_none() && d.point_lights.is_empty());
+    assert!(d.materials[0].two_sided);
+    assert!(!s.warnings.is_empty());
+}
+
+/// Writes `files` into a fresh folder and loads the first one.
+fn load_files(files: &[(&str, &str)]) -> (tempfile::TempDir, Result<LoadedScene, SceneFileError>) {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        let p = dir.path().join(name);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(p, text).unwrap();
+    }
+    let r = load_scene(&dir.path().join(files[0].0));
+    (dir, r)
+}
+
+/// Loads a broken scene and returns its message with the temporary folder replaced by `TMP`.
+fn error_of(files: &[(&str, &str)]) -> String {
+    let (dir, r) = load_files(files);
+    let e = r.expect_err("should fail");
+    e.to_string().replace(&dir.path().display().to_string(), "TMP")
+}
+
+const HEAD: &str = "<?xml version=\"1.0\"?>\n<scene version=\"3.0.0\">\n";
+
+#[test]
+fn malformed_xml() {
+    let e = error_of(&[(
+        "s.xml",
+        &format!("{HEAD}  <shape type=\"obj\">\n    <string name=\"a\" value=\"x\">\n  </shape>\n</scene>\n"),
+    )]);
+    assert!(e.starts_with("TMP/s.xml:5:3: malformed XML: expected 'string' tag, not 'shape'"), "{e}");
+}
+
+#[test]
+fn missing_mesh_file() {
+    let xml = format!(
+        "{HEAD}<shape type=\"obj\" id=\"box\">\n  <string name=\"filename\" value=\"meshes/box.obj\"/>\n</shape>\n</scene>"
+    );
+    let e = error_of(&[("s.xml", &xml)]);
+    assert!(
+        e.starts_with(
+            "TMP/s.xml:3:1: <shape type=\"obj\" id=\"box\">: cannot read mesh file TMP/meshes/box.obj:"
+        ),
+        "{e}"
+    );
+}
+
+#[test]
+fn bad_obj_content_names_both_files() {
+    let xml = format!(
+        "{HEAD}<shape type=\"obj\" id=\"box\">\n  <string name=\"filename\" value=\"m.obj\"/>\n</shape>\n</scene>"
+    );
+    let e = error_of(&[("s.xml", &xml), ("m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n")]);
+    assert_eq!(
+        e,
+        "TMP/m.obj:4: face refers to vertex 4, but the file defines only 3 vertices \
+         (mesh of <shape type=\"obj\" id=\"box\"> at TMP/s.xml:3:1)"
+    );
+}
+
+#[test]
+fn nan_in_a_transform() {
+    let xml = format!(
+        "{HEAD}<shape type=\"rectangle\">\n  <transform name=\"to_world\">\n    <scale value=\"1, NaN, 1\"/>\n  </transform>\n</shape>\n</scene>"
+    );
+    let e = error_of(&[("s.xml", &xml)]);
+    assert_eq!(e, "TMP/s.xml:5:19: <scale>: attribute `value`: \"NaN\" is not a finite number");
+}
+
+#[test]
+fn unknown_plugin_type() {
+    let xml = format!("{HEAD}\n  <bsdf type=\"plastic\" id=\"shiny\"/>\n</scene>");
+    let e = error_of(&[("s.xml", &xml)]);
+    assert_eq!(
+        e,
+        "TMP/s.xml:4:15: <bsdf type=\"plastic\" id=\"shiny\">: unsupported BSDF type \"plastic\" (supported: diffuse, twosided)"
+    );
+}
+
+#[test]
+fn undefined_variable() {
+    let xml = format!(
+        "{HEAD}<sensor type=\"perspective\">\n  <float name=\"fov\" value=\"$fov\"/>\n</sensor>\n</scene>"
+    );
+    let e = error_of(&[("s.xml", &xml)]);
+    assert!(e.starts_with("TMP/s.xml:4:28: <float name=\"fov\">: undefined parameter $fov"), "{e}");
+}
+
+#[test]
+fn reflectance_above_one() {
+    let xml = format!(
+        "{HEAD}<bsdf type=\"twosided\" id=\"w\">\n  <bsdf type=\"diffuse\">\n    <rgb name=\"reflectance\" value=\"0.9, 1.1, 0.9\"/>\n  </bsdf>\n</bsdf>\n</scene>"
+    );
+    let e = error_of(&[("s.xml", &xml)]);
+    assert!(e.starts_with("TMP/s.xml:5:5: <rgb name=\"reflectance\">: invalid material: kd + ks = "), "{e}");
+    let (_d, r) = load_files(&[("s.xml", &xml)]);
+    assert!(matches!(r, Err(SceneFileError::Material { .. })));
+}
+
+#[test]
+fn reference_to_unknown_id() {
+    let xml = format!(
+        "{HEAD}<bsdf type=\"diffuse\" id=\"white\"/>\n<shape type=\"cube\">\n  <ref id=\"whte\"/>\n</shape>\n</scene>"
+    );
+    let e = error_of(&[("s.xml", &xml)]);
+    assert_eq!(
+        e,
+        "TMP/s.xml:5:12: <ref id=\"whte\">: reference to unknown id \"whte\" (BSDF ids in this file: white)"
+    );
+}
+
+#[test]
+fn unreadable_scene_file_and_error_locations() {
+    let e = load_scene(Path::new("no/such/scene.xml")).unwrap_err();
+    assert!(e.to_string().starts_with("no/such/scene.xml: cannot read the scene file:"), "{e}");
+    assert!(e.location().is_none());
+    let xml = format!("{HEAD}<shape type=\"sphere\"/>\n</scene>");
+    let (_d, r) = load_files(&[("s.xml", &xml)]);
+    let e = r.unwrap_err();
+    let at = e.location().unwrap();
+    assert_eq!((at.line, at.column), (3, 14));
+}
