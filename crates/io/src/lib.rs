@@ -1,3 +1,6 @@
+pub mod compare;
+pub mod image_file;
+
 pub fn add(left: u64, right: u64) -> u64 {
     left + right
 }
