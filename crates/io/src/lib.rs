@@ -1,9 +1,13 @@
 //! # opticks-io
 //!
-//! File formats for Opticks: scene loaders ([`scene_formats`]).
+//! File formats for Opticks, everything that touches the disk:
+//!
+//! * [`scene_formats`]: scene files (Mitsuba 3 XML, OBJ) → `opticks_core::scene::SceneDescription`;
+//! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
+//! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios).
 
+pub mod compare;
+pub mod image_file;
 pub mod scene_formats;
 
-pub use scene_formats::{
-    FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,
-};
+pub use scene_formats::{FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with};

@@ -1,0 +1,361 @@
+//! Image files: writing a rendered RGB film to OpenEXR (linear radiance) or PNG (8-bit sRGB for
+//! eyes), and reading the RGB channels of an OpenEXR file (our own output or Mitsuba's
+//! references).
+//!
+//! Pixel buffers are interleaved RGB `f32`, row-major, row 0 at the top, `width * height * 3`
+//! values (what [`opticks_core::film::Film::to_rgb_f32`] returns).
+//!
+//! Writes are atomic: the image is written to a temporary file in the destination directory and
+//! renamed over the destination only once it is complete, so a reader never sees a half-written
+//! image and a failed write leaves nothing behind. A buffer holding a NaN or infinite value is
+//! refused (the error names the first bad pixel) rather than written as a silently wrong image.
+
+use std::fs::{self, File};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use exr::prelude::{
+    Blocks, Encoding, FlatSamples, Image, Layer, LayerAttributes, LineOrder, SpecificChannels, Vec2,
+    WritableImage,
+};
+
+/// Extensions [`write_image`] understands (lower case, without the dot).
+pub const SUPPORTED_EXTENSIONS: &[&str] = &["exr", "png"];
+
+/// Errors of image reading and writing. Every variant names the file concerned.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// The extension selects no supported format.
+    #[error("{}: unsupported image format {ext:?} (supported extensions: .exr, .png)", .path.display())]
+    UnsupportedFormat {
+        /// The file.
+        path: PathBuf,
+        /// Its extension (empty if none).
+        ext: String,
+    },
+    /// The pixel buffer does not hold `width * height * 3` values, or the size is zero.
+    #[error(
+        "{}: pixel buffer has {len} values, expected {width} x {height} x 3 = {expected}",
+        .path.display()
+    )]
+    BadSize {
+        /// The file.
+        path: PathBuf,
+        /// Image width.
+        width: u32,
+        /// Image height.
+        height: u32,
+        /// Length of the buffer passed.
+        len: usize,
+        /// `width * height * 3`.
+        expected: usize,
+    },
+    /// A pixel value is NaN or infinite; nothing was written.
+    #[error(
+        "{}: non-finite value {value} at pixel (x {x}, y {y}) channel {channel} (0 = R, 1 = G, 2 = B); \
+         image not written",
+        .path.display()
+    )]
+    NonFinite {
+        /// The file.
+        path: PathBuf,
+        /// Column of the first bad pixel.
+        x: u32,
+        /// Row of the first bad pixel (0 = top).
+        y: u32,
+        /// Channel index, 0 = R, 1 = G, 2 = B.
+        channel: usize,
+        /// The offending value.
+        value: f32,
+    },
+    /// The exposure passed to a PNG write is not finite.
+    #[error("{}: exposure {exposure_stops} stops is not finite", .path.display())]
+    BadExposure {
+        /// The file.
+        path: PathBuf,
+        /// The exposure passed.
+        exposure_stops: f32,
+    },
+    /// Creating, writing, renaming or reading the file failed.
+    #[error("{}: {source}", .path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The OpenEXR encoder or decoder failed (including a file that is not a valid EXR).
+    #[error("{}: OpenEXR: {source}", .path.display())]
+    Exr {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: exr::error::Error,
+    },
+    /// The PNG encoder failed.
+    #[error("{}: PNG: {source}", .path.display())]
+    Png {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: image::ImageError,
+    },
+    /// The EXR file is readable but holds nothing usable as an RGB image.
+    #[error("{}: {message}", .path.display())]
+    Content {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Writes an RGB image, choosing the format by the (case-insensitive) extension of `path`:
+///
+/// * `.exr`: OpenEXR, linear float32 `R`, `G`, `B` channels, ZIP (16 lines) compression,
+///   scanlines. The values are written as they are, bit for bit: **`exposure_stops` is ignored**
+///   (an EXR holds radiance).
+/// * `.png`: 8-bit sRGB: each value is multiplied by `2^exposure_stops`, clamped to [0, 1],
+///   encoded with the sRGB transfer function (OETF) and rounded to the nearest of 0..=255.
+///
+/// `rgb` holds `width * height` interleaved RGB triples, row 0 at the top. Any other extension,
+/// a wrong buffer size, or a NaN/infinite value anywhere (the error names the first such pixel)
+/// is an error, and then nothing is written. The write is atomic: a temporary file in the same
+/// directory is written, then renamed to `path` (replacing an existing file); the temporary file
+/// is removed if anything fails.
+pub fn write_image(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[f32],
+    exposure_stops: f32,
+) -> Result<(), ImageError> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let format = match ext.as_str() {
+        "exr" => Format::Exr,
+        "png" => Format::Png,
+        _ => return Err(ImageError::UnsupportedFormat { path: path.to_path_buf(), ext }),
+    };
+    check_pixels(path, width, height, rgb)?;
+    match format {
+        Format::Exr => atomic_write(path, |file| write_exr_to(file, path, width, height, rgb)),
+        Format::Png => {
+            if !exposure_stops.is_finite() {
+                return Err(ImageError::BadExposure { path: path.to_path_buf(), exposure_stops });
+            }
+            let bytes = srgb8_from_linear(rgb, exposure_stops);
+            atomic_write(path, |file| write_png_to(file, path, width, height, &bytes))
+        }
+    }
+}
+
+/// Reads the RGB channels of an OpenEXR file: returns `(width, height, rgb)` with `rgb` holding
+/// `width * height` interleaved RGB triples (row 0 at the top), as `f32`.
+///
+/// Channels are chosen like the project's `imgcmp.py`: `R`, `G`, `B` (case-insensitive, any
+/// layer prefix such as `diffuse.R` ignored) if present, else a single luminance `Y` channel
+/// copied to all three, else a single channel of any name copied to all three. Alpha and other
+/// extra channels are dropped. Half, float and uint samples and every compression the `exr`
+/// crate supports (incl. the ZIP float32 files Mitsuba writes) are read; for a multi-layer file
+/// the first layer with usable channels is taken, at its largest resolution level.
+pub fn read_exr_rgb(path: &Path) -> Result<(u32, u32, Vec<f32>), ImageError> {
+    use exr::prelude::{ReadChannels, ReadLayers};
+    let image = exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .all_layers()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|source| exr_error(path, source))?;
+
+    let content_err = |message: String| ImageError::Content { path: path.to_path_buf(), message };
+    for layer in &image.layer_data {
+        let channels = &layer.channel_data.list;
+        let find = |name: &str| {
+            channels.iter().find(|c| {
+                let full = c.name.to_string();
+                full.rsplit('.').next().unwrap_or("").eq_ignore_ascii_case(name)
+            })
+        };
+        let picked: [&FlatSamples; 3] = match (find("R"), find("G"), find("B"), find("Y")) {
+            (Some(r), Some(g), Some(b), _) => [&r.sample_data, &g.sample_data, &b.sample_data],
+            (_, _, _, Some(y)) => [&y.sample_data; 3],
+            _ if channels.len() == 1 => [&channels[0].sample_data; 3],
+            _ => continue,
+        };
+        let (w, h) = (layer.size.width(), layer.size.height());
+        let n = w * h;
+        if n == 0 {
+            return Err(content_err("EXR layer has no pixels".into()));
+        }
+        if picked.iter().any(|s| s.len() != n) {
+            return Err(content_err(format!(
+                "EXR channels hold fewer samples than {w} x {h} (subsampled channels are not supported)"
+            )));
+        }
+        let width = u32::try_from(w).map_err(|_| content_err(format!("EXR width {w} too large")))?;
+        let height = u32::try_from(h).map_err(|_| content_err(format!("EXR height {h} too large")))?;
+        let mut rgb = Vec::with_capacity(n * 3);
+        for i in 0..n {
+            for samples in picked {
+                rgb.push(samples.value_by_flat_index(i).to_f32());
+            }
+        }
+        return Ok((width, height, rgb));
+    }
+    let names: Vec<String> = image
+        .layer_data
+        .iter()
+        .flat_map(|l| l.channel_data.list.iter().map(|c| c.name.to_string()))
+        .collect();
+    Err(content_err(format!("EXR has no R, G, B or Y channels (channels: {})", names.join(", "))))
+}
+
+/// The sRGB transfer function (OETF): linear value in [0, 1] -> encoded value in [0, 1].
+/// Values outside [0, 1] are clamped first.
+pub fn srgb_oetf(linear: f32) -> f32 {
+    let x = linear.clamp(0.0, 1.0) as f64;
+    let v = if x <= 0.003_130_8 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+    v as f32
+}
+
+enum Format {
+    Exr,
+    Png,
+}
+
+fn exr_error(path: &Path, source: exr::error::Error) -> ImageError {
+    match source {
+        exr::error::Error::Io(source) => ImageError::Io { path: path.to_path_buf(), source },
+        source => ImageError::Exr { path: path.to_path_buf(), source },
+    }
+}
+
+/// Checks the buffer size and that every value is finite.
+fn check_pixels(path: &Path, width: u32, height: u32, rgb: &[f32]) -> Result<(), ImageError> {
+    let expected = width as usize * height as usize * 3;
+    if rgb.len() != expected || expected == 0 {
+        return Err(ImageError::BadSize {
+            path: path.to_path_buf(),
+            width,
+            height,
+            len: rgb.len(),
+            expected,
+        });
+    }
+    if let Some(i) = rgb.iter().position(|v| !v.is_finite()) {
+        let pixel = i / 3;
+        return Err(ImageError::NonFinite {
+            path: path.to_path_buf(),
+            x: (pixel % width as usize) as u32,
+            y: (pixel / width as usize) as u32,
+            channel: i % 3,
+            value: rgb[i],
+        });
+    }
+    Ok(())
+}
+
+/// Linear RGB -> 8-bit sRGB bytes, after scaling by `2^exposure_stops`.
+fn srgb8_from_linear(rgb: &[f32], exposure_stops: f32) -> Vec<u8> {
+    let scale = 2f64.powf(exposure_stops as f64) as f32;
+    rgb.iter().map(|&v| (srgb_oetf(v * scale) * 255.0).round() as u8).collect()
+}
+
+fn write_exr_to(
+    file: &mut BufWriter<File>,
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[f32],
+) -> Result<(), ImageError> {
+    let w = width as usize;
+    let channels = SpecificChannels::rgb(|pos: Vec2<usize>| {
+        let i = (pos.y() * w + pos.x()) * 3;
+        (rgb[i], rgb[i + 1], rgb[i + 2])
+    });
+    let encoding = Encoding {
+        compression: exr::compression::Compression::ZIP16,
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
+    let layer = Layer::new((w, height as usize), LayerAttributes::default(), encoding, channels);
+    Image::from_layer(layer).write().to_buffered(file).map_err(|source| exr_error(path, source))
+}
+
+fn write_png_to(
+    file: &mut BufWriter<File>,
+    path: &Path,
+    width: u32,
+    height: u32,
+    bytes: &[u8],
+) -> Result<(), ImageError> {
+    use image::ImageEncoder;
+    image::codecs::png::PngEncoder::new(file)
+        .write_image(bytes, width, height, image::ExtendedColorType::Rgb8)
+        .map_err(|source| ImageError::Png { path: path.to_path_buf(), source })
+}
+
+/// Writes through `write` into a fresh temporary file next to `path`, flushes and syncs it, then
+/// renames it to `path`. On any failure the temporary file is removed.
+fn atomic_write(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), ImageError>,
+) -> Result<(), ImageError> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let io_err = |p: &Path, source| ImageError::Io { path: p.to_path_buf(), source };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path.file_name().ok_or_else(|| {
+        io_err(path, std::io::Error::new(std::io::ErrorKind::InvalidInput, "path has no file name"))
+    })?;
+
+    // Find a fresh name (create_new never clobbers another writer's temporary file).
+    let (tmp, file) = loop {
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let mut tmp_name = std::ffi::OsString::from(".");
+        tmp_name.push(name);
+        tmp_name.push(format!(".tmp-{}-{n}", std::process::id()));
+        let tmp = dir.join(tmp_name);
+        match File::options().write(true).create_new(true).open(&tmp) {
+            Ok(f) => break (tmp, f),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(io_err(path, e)),
+        }
+    };
+
+    let result = (|| {
+        let mut writer = BufWriter::new(file);
+        write(&mut writer)?;
+        writer.flush().map_err(|e| io_err(path, e))?;
+        let file = writer.into_inner().map_err(|e| io_err(path, e.into_error()))?;
+        file.sync_all().map_err(|e| io_err(path, e))?;
+        drop(file);
+        fs::rename(&tmp, path).map_err(|e| io_err(path, e))
+    })();
+    if result.is_err() {
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn srgb_oetf_known_values() {
+        assert_eq!(srgb_oetf(0.0), 0.0);
+        assert_eq!(srgb_oetf(1.0), 1.0);
+        assert_eq!(srgb_oetf(-3.0), 0.0);
+        assert_eq!(srgb_oetf(7.0), 1.0);
+        assert!((srgb_oetf(0.5) - 0.735_356_7).abs() < 1e-6);
+        assert!((srgb_oetf(0.002) - 0.02584).abs() < 1e-6);
+        assert_eq!(srgb8_from_linear(&[0.0, 1.0, 0.5, 0.25], 0.0), vec![0, 255, 188, 137]);
+        assert_eq!(srgb8_from_linear(&[0.25], 1.0), vec![188]);
+    }
+}
