@@ -10,6 +10,8 @@
 //!   light path's β is multiplied by. All BSDFs here are reciprocal, so the same code serves
 //!   light (importance) paths and camera paths.
 
+#[cfg(test)]
+mod chi2;
 mod lambert;
 mod phong;
 
@@ -136,6 +138,16 @@ pub enum MaterialError {
     /// The BSDF would reflect more energy than it receives.
     #[error("kd + ks = {0} exceeds 1 in some channel: the surface would create energy")]
     CreatesEnergy(Rgb),
+    /// A parameter exceeds the largest value the BSDF handles accurately.
+    #[error("{name} = {value} exceeds the supported maximum {max}")]
+    TooLarge {
+        /// Which parameter.
+        name: &'static str,
+        /// The value given.
+        value: f32,
+        /// The largest value accepted.
+        max: f32,
+    },
 }
 
 #[cfg(test)]
