@@ -1,0 +1,308 @@
+//! Byte layout of the header, chunk headers and end record (see `docs/dataset-format.md`).
+
+use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, DatasetHeader, END_MAGIC, FORMAT_VERSION};
+use super::{MAGIC, TRAILER_LEN, TraceInfo};
+use opticks_core::dataset::{LightRecord, LightTable, Sample};
+use opticks_core::math::Rgb;
+use opticks_core::scene::Fingerprint;
+use std::path::Path;
+
+/// Size of the fixed part of the header, before the label.
+pub(crate) const FIXED_HEADER_LEN: usize = 64;
+/// Smallest possible header: fixed part, label length 0, light count, CRC, padded.
+pub(crate) const MIN_HEADER_LEN: usize = align_up(FIXED_HEADER_LEN + 4 + 4);
+/// Bytes of a light record besides its name: name length, power, paths.
+const LIGHT_RECORD_MIN: usize = 4 + 12 + 8;
+
+pub(crate) const fn align_up(n: usize) -> usize {
+    n.div_ceil(ALIGN) * ALIGN
+}
+
+/// Serialises the header: fields, zero padding, and the CRC-32 of everything before it in the
+/// last 4 bytes, the whole a multiple of [`ALIGN`] long.
+pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
+    let mut b = Vec::with_capacity(256);
+    b.extend_from_slice(&MAGIC);
+    b.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    b.extend_from_slice(&0u32.to_le_bytes()); // header length, patched below
+    b.extend_from_slice(&h.fingerprint.geometry);
+    b.extend_from_slice(&h.fingerprint.lights);
+    b.extend_from_slice(&h.trace.seed.to_le_bytes());
+    b.extend_from_slice(&h.trace.rr_depth.to_le_bytes());
+    let label_len = u32::try_from(h.label.len()).map_err(|_| "label longer than 4 GiB".to_string())?;
+    b.extend_from_slice(&label_len.to_le_bytes());
+    b.extend_from_slice(h.label.as_bytes());
+    let n = u32::try_from(h.table.lights.len()).map_err(|_| "more than 2^32 lights".to_string())?;
+    b.extend_from_slice(&n.to_le_bytes());
+    for (k, l) in h.table.lights.iter().enumerate() {
+        let len = u32::try_from(l.name.len()).map_err(|_| format!("light {k}: name longer than 4 GiB"))?;
+        b.extend_from_slice(&len.to_le_bytes());
+        b.extend_from_slice(l.name.as_bytes());
+        for c in l.power.to_array() {
+            b.extend_from_slice(&c.to_le_bytes());
+        }
+        b.extend_from_slice(&l.paths.to_le_bytes());
+    }
+    let total = align_up(b.len() + 4);
+    let total32 = u32::try_from(total).map_err(|_| "header longer than 4 GiB".to_string())?;
+    b[12..16].copy_from_slice(&total32.to_le_bytes());
+    b.resize(total - 4, 0);
+    let crc = crc32fast::hash(&b);
+    b.extend_from_slice(&crc.to_le_bytes());
+    Ok(b)
+}
+
+/// A decoded header and where things are.
+pub(crate) struct DecodedHeader {
+    pub header: DatasetHeader,
+    /// Length of the header = offset of the first chunk.
+    pub len: usize,
+    /// Offset of each light's N_k field (for messages).
+    pub paths_offsets: Vec<u64>,
+}
+
+/// Reads and validates the header at the start of `file`.
+///
+/// Order: magic, header length within the file, header CRC, version, then the fields. Bytes
+/// 0..16 (magic, version, header length) and the CRC in the header's last 4 bytes keep their
+/// meaning in every format version, so the CRC is checked before the version is believed.
+pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, DatasetError> {
+    let corrupt = |offset: usize, detail: String| DatasetError::Corrupt {
+        path: path.to_owned(),
+        offset: offset as u64,
+        detail,
+    };
+    let truncated = |offset: usize, detail: String| DatasetError::Truncated {
+        path: path.to_owned(),
+        offset: offset as u64,
+        detail,
+    };
+    let head = &file[..file.len().min(MAGIC.len())];
+    if head != &MAGIC[..head.len()] || file.is_empty() {
+        return Err(DatasetError::NotADataset {
+            path: path.to_owned(),
+            expected: &MAGIC,
+            found: head.to_vec(),
+        });
+    }
+    if file.len() < 16 {
+        return Err(truncated(file.len(), "the file ends inside the 16-byte file signature".into()));
+    }
+    let version = u32::from_le_bytes(file[8..12].try_into().unwrap());
+    let len = u32::from_le_bytes(file[12..16].try_into().unwrap()) as usize;
+    if len < MIN_HEADER_LEN || len % ALIGN != 0 {
+        return Err(corrupt(
+            12,
+            format!(
+                "impossible header length {len} (must be a multiple of {ALIGN}, at least {MIN_HEADER_LEN})"
+            ),
+        ));
+    }
+    if len > file.len() {
+        return Err(truncated(
+            file.len(),
+            format!("the header is {len} bytes long but the file has only {} bytes", file.len()),
+        ));
+    }
+    let stored = u32::from_le_bytes(file[len - 4..len].try_into().unwrap());
+    let computed = crc32fast::hash(&file[..len - 4]);
+    if stored != computed {
+        return Err(DatasetError::Checksum {
+            path: path.to_owned(),
+            offset: 0,
+            what: "header".into(),
+            stored,
+            computed,
+        });
+    }
+    if version > FORMAT_VERSION {
+        return Err(DatasetError::NewerVersion {
+            path: path.to_owned(),
+            found: version,
+            supported: FORMAT_VERSION,
+        });
+    }
+    if version == 0 {
+        return Err(corrupt(8, "format version 0 does not exist".into()));
+    }
+
+    let body = &file[..len - 4];
+    let mut c = Cursor { b: body, pos: 16, path, len };
+    let mut fingerprint = Fingerprint::default();
+    fingerprint.geometry.copy_from_slice(c.take(16, "geometry hash")?);
+    fingerprint.lights.copy_from_slice(c.take(16, "light hash")?);
+    let seed = c.u64("trace seed")?;
+    let rr_depth = c.u32("roulette depth")?;
+    let label = c.string("scene label")?;
+    let label_end = c.pos;
+    let n = c.u32("light count")? as usize;
+    // Never allocate from an unchecked count: each light needs at least LIGHT_RECORD_MIN bytes.
+    if n > (body.len() - c.pos) / LIGHT_RECORD_MIN {
+        return Err(corrupt(
+            label_end,
+            format!("light count {n} cannot fit in the {} bytes left in the header", body.len() - c.pos),
+        ));
+    }
+    let mut lights = Vec::with_capacity(n);
+    let mut paths_offsets = Vec::with_capacity(n);
+    for k in 0..n {
+        let name = c.string(&format!("name of light {k}"))?;
+        let mut p = [0f32; 3];
+        for x in &mut p {
+            *x = f32::from_le_bytes(c.take(4, "light power")?.try_into().unwrap());
+        }
+        if !p.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            return Err(corrupt(c.pos - 12, format!("light {k} ({name:?}) has invalid power {p:?}")));
+        }
+        paths_offsets.push(c.pos as u64);
+        let paths = c.u64("light path count")?;
+        lights.push(LightRecord { name, power: Rgb::from_array(p), paths });
+    }
+    if align_up(c.pos + 4) != len {
+        return Err(corrupt(
+            12,
+            format!("header length {len} disagrees with its contents ({} bytes + CRC, padded)", c.pos),
+        ));
+    }
+    if let Some(i) = body[c.pos..].iter().position(|&x| x != 0) {
+        return Err(corrupt(c.pos + i, "non-zero byte in the header padding".into()));
+    }
+    Ok(DecodedHeader {
+        header: DatasetHeader {
+            fingerprint,
+            label,
+            trace: TraceInfo { seed, rr_depth },
+            table: LightTable { lights },
+        },
+        len,
+        paths_offsets,
+    })
+}
+
+struct Cursor<'a> {
+    b: &'a [u8],
+    pos: usize,
+    path: &'a Path,
+    len: usize,
+}
+
+impl<'a> Cursor<'a> {
+    fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], DatasetError> {
+        if n > self.b.len() - self.pos {
+            return Err(DatasetError::Corrupt {
+                path: self.path.to_owned(),
+                offset: self.pos as u64,
+                detail: format!("{what} ({n} bytes) runs past the end of the {}-byte header", self.len),
+            });
+        }
+        let s = &self.b[self.pos..self.pos + n];
+        self.pos += n;
+        Ok(s)
+    }
+    fn u32(&mut self, what: &str) -> Result<u32, DatasetError> {
+        Ok(u32::from_le_bytes(self.take(4, what)?.try_into().unwrap()))
+    }
+    fn u64(&mut self, what: &str) -> Result<u64, DatasetError> {
+        Ok(u64::from_le_bytes(self.take(8, what)?.try_into().unwrap()))
+    }
+    fn string(&mut self, what: &str) -> Result<String, DatasetError> {
+        let at = self.pos;
+        let n = self.u32(what)? as usize;
+        let bytes = self.take(n, what)?;
+        String::from_utf8(bytes.to_vec()).map_err(|e| DatasetError::Corrupt {
+            path: self.path.to_owned(),
+            offset: (at + 4 + e.utf8_error().valid_up_to()) as u64,
+            detail: format!("{what} is not valid UTF-8"),
+        })
+    }
+}
+
+/// A chunk header: 32 bytes.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ChunkHeader {
+    pub light: u32,
+    pub paths: u64,
+    pub count: u64,
+    pub payload_crc: u32,
+}
+
+impl ChunkHeader {
+    pub(crate) fn encode(&self) -> [u8; CHUNK_HEADER_LEN] {
+        let mut b = [0u8; CHUNK_HEADER_LEN];
+        b[0..4].copy_from_slice(&CHUNK_MAGIC);
+        b[4..8].copy_from_slice(&self.light.to_le_bytes());
+        b[8..16].copy_from_slice(&self.paths.to_le_bytes());
+        b[16..24].copy_from_slice(&self.count.to_le_bytes());
+        b[24..28].copy_from_slice(&self.payload_crc.to_le_bytes());
+        let crc = crc32fast::hash(&b[..28]);
+        b[28..32].copy_from_slice(&crc.to_le_bytes());
+        b
+    }
+
+    /// Decodes after the caller has checked the magic; `Err((stored, computed))` on a bad CRC.
+    pub(crate) fn decode(b: &[u8; CHUNK_HEADER_LEN]) -> Result<Self, (u32, u32)> {
+        let stored = u32::from_le_bytes(b[28..32].try_into().unwrap());
+        let computed = crc32fast::hash(&b[..28]);
+        if stored != computed {
+            return Err((stored, computed));
+        }
+        Ok(ChunkHeader {
+            light: u32::from_le_bytes(b[4..8].try_into().unwrap()),
+            paths: u64::from_le_bytes(b[8..16].try_into().unwrap()),
+            count: u64::from_le_bytes(b[16..24].try_into().unwrap()),
+            payload_crc: u32::from_le_bytes(b[24..28].try_into().unwrap()),
+        })
+    }
+}
+
+/// The end record: 32 bytes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Trailer {
+    pub chunks: u64,
+    pub samples: u64,
+    pub paths: u64,
+}
+
+impl Trailer {
+    pub(crate) fn encode(&self) -> [u8; TRAILER_LEN] {
+        let mut b = [0u8; TRAILER_LEN];
+        b[0..4].copy_from_slice(&END_MAGIC);
+        b[4..12].copy_from_slice(&self.chunks.to_le_bytes());
+        b[12..20].copy_from_slice(&self.samples.to_le_bytes());
+        b[20..28].copy_from_slice(&self.paths.to_le_bytes());
+        let crc = crc32fast::hash(&b[..28]);
+        b[28..32].copy_from_slice(&crc.to_le_bytes());
+        b
+    }
+
+    pub(crate) fn decode(b: &[u8; TRAILER_LEN]) -> Result<Self, (u32, u32)> {
+        let stored = u32::from_le_bytes(b[28..32].try_into().unwrap());
+        let computed = crc32fast::hash(&b[..28]);
+        if stored != computed {
+            return Err((stored, computed));
+        }
+        Ok(Trailer {
+            chunks: u64::from_le_bytes(b[4..12].try_into().unwrap()),
+            samples: u64::from_le_bytes(b[12..20].try_into().unwrap()),
+            paths: u64::from_le_bytes(b[20..28].try_into().unwrap()),
+        })
+    }
+}
+
+/// Checks what a checksum cannot: that every sample is physically possible (finite position,
+/// finite non-negative β). Returns the index of the first bad sample and what is wrong.
+pub(crate) fn validate_samples(samples: &[Sample]) -> Result<(), (usize, String)> {
+    for (i, s) in samples.iter().enumerate() {
+        let ok_pos = s.position.iter().all(|x| x.is_finite());
+        // `x >= 0.0` is false for NaN; -0.0 passes, as it should.
+        let ok_beta = s.beta.iter().all(|x| *x >= 0.0 && *x < f32::INFINITY);
+        if !(ok_pos && ok_beta) {
+            let what = if ok_pos { "β" } else { "position" };
+            return Err((
+                i,
+                format!("non-finite or negative {what}: position {:?}, β {:?}", s.position, s.beta),
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,73 @@
+//! The dataset file (`.opds`): the persistent, versioned product of the expensive trace step.
+//!
+//! One header (magic, format version, scene [`Fingerprint`], a free-form label, [`TraceInfo`] and
+//! the light table Φ_k, N_k), then append-only chunks of raw 32-byte [`Sample`] records, each
+//! with its own checksummed chunk header, then a 32-byte end record. Every byte of the file is
+//! covered by a CRC-32, so truncation at any byte and any flipped byte are reported as errors
+//! that name the file and the byte offset. `docs/dataset-format.md` gives the layout byte by byte.
+//!
+//! * [`DatasetWriter`] writes to a temporary file beside the target and renames it into place
+//!   only in [`DatasetWriter::finish`]; dropping an unfinished writer removes the temporary file
+//!   and leaves any previous file untouched.
+//! * [`DatasetReader`] memory-maps the file (datasets may exceed RAM), validates the header, the
+//!   chunk headers and the end record up front, and hands out zero-copy [`ChunkView`]s whose
+//!   payload checksum is verified on access. It is `Sync`: chunks may be read from many threads.
+//!
+//! The records are stored in the host's layout, which is the file's little-endian layout on every
+//! little-endian host; big-endian hosts are refused with an error rather than misread.
+//!
+//! [`Sample`]: opticks_core::dataset::Sample
+#![deny(unsafe_code)]
+
+mod error;
+mod format;
+mod reader;
+mod writer;
+
+pub use error::DatasetError;
+pub use reader::{ChunkView, DatasetReader, read_all};
+pub use writer::{DatasetSummary, DatasetWriter};
+
+use opticks_core::dataset::LightTable;
+use opticks_core::scene::Fingerprint;
+
+/// The first 8 bytes of every dataset file (PNG-style: a high-bit byte, `OPK`, CR LF, DOS EOF,
+/// LF — so 7-bit transfers and newline translation are detected as a foreign file).
+pub const MAGIC: [u8; 8] = *b"\x89OPK\r\n\x1a\n";
+/// The format version this build writes, and the newest it reads.
+pub const FORMAT_VERSION: u32 = 1;
+/// Conventional file extension (without the dot).
+pub const EXTENSION: &str = "opds";
+/// Magic of a chunk header.
+pub const CHUNK_MAGIC: [u8; 4] = *b"CHNK";
+/// Magic of the end record.
+pub const END_MAGIC: [u8; 4] = *b"END\0";
+/// Size of a chunk header; also the alignment of every chunk and payload in the file.
+pub const CHUNK_HEADER_LEN: usize = 32;
+/// Size of the end record.
+pub const TRAILER_LEN: usize = 32;
+/// Alignment of the header length, chunk headers and sample payloads (= size of a sample).
+pub const ALIGN: usize = 32;
+
+/// Trace settings kept with the dataset so that a refine run can continue the same stream.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct TraceInfo {
+    /// Seed of the random streams.
+    pub seed: u64,
+    /// Path depth from which Russian roulette starts.
+    pub rr_depth: u32,
+}
+
+/// Everything in the file before the chunks.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DatasetHeader {
+    /// Content hashes of the scene the dataset was traced in.
+    pub fingerprint: Fingerprint,
+    /// Free-form UTF-8 label, e.g. the scene file's path.
+    pub label: String,
+    /// Trace settings.
+    pub trace: TraceInfo,
+    /// The light table: Φ_k and N_k. In a finished file N_k equals the sum of the paths of the
+    /// light's chunks.
+    pub table: LightTable,
+}

@@ -1,0 +1,243 @@
+//! Writing a dataset: sequential, buffered, atomic (temporary file + rename).
+
+use super::format::{ChunkHeader, Trailer, encode_header, validate_samples};
+use super::{DatasetError, DatasetHeader};
+use opticks_core::dataset::{Chunk, LightTable};
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// What [`DatasetWriter::finish`] wrote.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DatasetSummary {
+    /// The final file.
+    pub path: PathBuf,
+    /// File size in bytes.
+    pub bytes: u64,
+    /// Number of chunks.
+    pub chunks: u64,
+    /// Number of stored samples.
+    pub samples: u64,
+    /// Total light paths (the sum of N_k).
+    pub paths: u64,
+}
+
+/// Writes a dataset file: [`create`](Self::create), any number of
+/// [`write_chunk`](Self::write_chunk), then [`finish`](Self::finish).
+///
+/// Everything goes to a temporary file `.NAME.tmp-PID-N` in the target's directory (the same
+/// file system, so the final rename is atomic). `finish` rewrites the header with the final light
+/// table, appends the end record, syncs and renames over the target. Dropping the writer without
+/// `finish` (an error, a panic) removes the temporary file; the previous file at the target is
+/// never touched before the rename. (A process killed outright, e.g. by an unhandled Ctrl-C,
+/// runs no destructor: its temporary file stays behind, but the target is still intact.)
+///
+/// The header is written first with the light table given to `create` and rewritten in place by
+/// `finish`, so the final table must have the same lights (same count and names, hence the same
+/// encoded length); only the powers Φ_k and path counts N_k may change.
+#[derive(Debug)]
+pub struct DatasetWriter {
+    path: PathBuf,
+    tmp: Option<PathBuf>,
+    out: Option<BufWriter<File>>,
+    header: DatasetHeader,
+    header_len: usize,
+    bytes: u64,
+    chunks: u64,
+    samples: u64,
+    light_paths: Vec<u64>,
+    failed: bool,
+}
+
+static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Buffer size of the writer: large enough that the system call cost vanishes.
+const BUFFER: usize = 1 << 20;
+
+impl DatasetWriter {
+    /// Starts a dataset at `path` (not created until [`finish`](Self::finish)). `header.table`
+    /// fixes the lights; its path counts are placeholders until `finish`.
+    pub fn create(path: &Path, header: &DatasetHeader) -> Result<Self, DatasetError> {
+        let invalid = |detail: String| DatasetError::InvalidInput { path: path.to_owned(), detail };
+        if cfg!(target_endian = "big") {
+            return Err(invalid(
+                "dataset files are little endian; big-endian hosts are not supported".into(),
+            ));
+        }
+        check_table(&header.table).map_err(invalid)?;
+        let bytes = encode_header(header).map_err(invalid)?;
+        let name = path
+            .file_name()
+            .ok_or_else(|| invalid("the path has no file name".into()))?
+            .to_string_lossy()
+            .into_owned();
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+            _ => PathBuf::from("."),
+        };
+        let n = TMP_COUNTER.fetch_add(1, Ordering::Relaxed);
+        let tmp = dir.join(format!(".{name}.tmp-{}-{n}", std::process::id()));
+        let file =
+            OpenOptions::new().write(true).create_new(true).open(&tmp).map_err(|source| {
+                DatasetError::Io { path: tmp.clone(), op: "create temporary file", source }
+            })?;
+        let mut w = DatasetWriter {
+            path: path.to_owned(),
+            tmp: Some(tmp),
+            out: Some(BufWriter::with_capacity(BUFFER, file)),
+            header: header.clone(),
+            header_len: bytes.len(),
+            bytes: 0,
+            chunks: 0,
+            samples: 0,
+            light_paths: vec![0; header.table.lights.len()],
+            failed: false,
+        };
+        w.write(&bytes)?;
+        Ok(w)
+    }
+
+    /// The target path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Appends one chunk. Refuses (without writing anything) a chunk whose light is not in the
+    /// table or whose samples are not finite with β ≥ 0.
+    pub fn write_chunk(&mut self, chunk: &Chunk) -> Result<(), DatasetError> {
+        let invalid = |detail: String| DatasetError::InvalidInput { path: self.path.clone(), detail };
+        let lights = self.light_paths.len();
+        let Some(&sum) = self.light_paths.get(chunk.light as usize) else {
+            return Err(invalid(format!(
+                "chunk for light {}, but the table has {lights} lights",
+                chunk.light
+            )));
+        };
+        let Some(sum) = sum.checked_add(chunk.paths) else {
+            return Err(invalid(format!("path count of light {} overflows 64 bits", chunk.light)));
+        };
+        if let Err((i, what)) = validate_samples(&chunk.samples) {
+            return Err(invalid(format!("sample {i} of a chunk of light {}: {what}", chunk.light)));
+        }
+        let payload: &[u8] = bytemuck::cast_slice(&chunk.samples);
+        let head = ChunkHeader {
+            light: chunk.light,
+            paths: chunk.paths,
+            count: chunk.samples.len() as u64,
+            payload_crc: crc32fast::hash(payload),
+        };
+        self.write(&head.encode())?;
+        self.write(payload)?;
+        self.light_paths[chunk.light as usize] = sum;
+        self.chunks += 1;
+        self.samples += chunk.samples.len() as u64;
+        Ok(())
+    }
+
+    /// Paths written so far per light (the N_k that `finish` expects).
+    pub fn light_paths(&self) -> &[u64] {
+        &self.light_paths
+    }
+
+    /// Completes the file: `table` must list the same lights as the header given to `create`
+    /// and each N_k must equal the sum of that light's chunk paths. Rewrites the header, writes
+    /// the end record, syncs and atomically renames the file into place.
+    pub fn finish(mut self, table: &LightTable) -> Result<DatasetSummary, DatasetError> {
+        let invalid = |detail: String| DatasetError::InvalidInput { path: self.path.clone(), detail };
+        if self.failed {
+            return Err(invalid("an earlier write failed; the dataset is incomplete".into()));
+        }
+        check_table(table).map_err(invalid)?;
+        let old = &self.header.table.lights;
+        if table.lights.len() != old.len() || table.lights.iter().zip(old).any(|(a, b)| a.name != b.name) {
+            let names = |t: &LightTable| t.lights.iter().map(|l| l.name.clone()).collect::<Vec<_>>();
+            return Err(invalid(format!(
+                "the final light table {:?} does not list the lights the dataset was created with {:?}",
+                names(table),
+                names(&self.header.table)
+            )));
+        }
+        for (k, (l, &sum)) in table.lights.iter().zip(&self.light_paths).enumerate() {
+            if l.paths != sum {
+                return Err(invalid(format!(
+                    "light {k} ({:?}): the table says N_k = {} paths but the chunks written hold {sum}",
+                    l.name, l.paths
+                )));
+            }
+        }
+        self.header.table = table.clone();
+        let head = encode_header(&self.header).map_err(invalid)?;
+        if head.len() != self.header_len {
+            return Err(invalid("the final header does not fit the space of the first".into()));
+        }
+        let trailer = Trailer { chunks: self.chunks, samples: self.samples, paths: table.total_paths() };
+        self.write(&trailer.encode())?;
+
+        let tmp = self.tmp.clone().expect("temporary path present until finish");
+        let io = |op: &'static str| {
+            let tmp = tmp.clone();
+            move |source| DatasetError::Io { path: tmp, op, source }
+        };
+        let out = self.out.take().expect("writer present until finish");
+        let mut file = out.into_inner().map_err(|e| e.into_error()).map_err(io("write"))?;
+        file.seek(SeekFrom::Start(0)).map_err(io("seek"))?;
+        file.write_all(&head).map_err(io("write header"))?;
+        file.sync_all().map_err(io("sync"))?;
+        drop(file);
+        std::fs::rename(&tmp, &self.path).map_err(|source| DatasetError::Io {
+            path: self.path.clone(),
+            op: "rename the finished temporary file into place",
+            source,
+        })?;
+        self.tmp = None;
+        // Make the rename itself durable. Not every platform can sync a directory; the data is
+        // already safe, so a failure here is not worth failing the (completed) write for.
+        if let Some(dir) = self.path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            if let Ok(d) = File::open(dir) {
+                let _ = d.sync_all();
+            }
+        }
+        Ok(DatasetSummary {
+            path: self.path.clone(),
+            bytes: self.bytes,
+            chunks: self.chunks,
+            samples: self.samples,
+            paths: table.total_paths(),
+        })
+    }
+
+    fn write(&mut self, bytes: &[u8]) -> Result<(), DatasetError> {
+        let out = self.out.as_mut().expect("writer present until finish");
+        if let Err(source) = out.write_all(bytes) {
+            self.failed = true;
+            let path = self.tmp.clone().unwrap_or_else(|| self.path.clone());
+            return Err(DatasetError::Io { path, op: "write", source });
+        }
+        self.bytes += bytes.len() as u64;
+        Ok(())
+    }
+}
+
+impl Drop for DatasetWriter {
+    fn drop(&mut self) {
+        if let Some(tmp) = self.tmp.take() {
+            // Close before removing (required on Windows); buffered data is discarded anyway.
+            if let Some(out) = self.out.take() {
+                let (file, _) = out.into_parts();
+                drop(file);
+            }
+            let _ = std::fs::remove_file(tmp);
+        }
+    }
+}
+
+fn check_table(t: &LightTable) -> Result<(), String> {
+    for (k, l) in t.lights.iter().enumerate() {
+        let p = l.power.to_array();
+        if !p.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            return Err(format!("light {k} ({:?}) has invalid power {p:?}", l.name));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,576 @@
+//! The dataset file: round trips, atomic writes, and that every kind of damage is an error
+//! (never a panic, never a huge allocation) naming the file and the offset.
+
+use opticks_core::dataset::{Chunk, LightRecord, LightTable, Sample};
+use opticks_core::math::{Rgb, Vec3};
+use opticks_core::scene::Fingerprint;
+use opticks_io::dataset_file::*;
+use rayon::prelude::*;
+use std::path::Path;
+use std::time::Instant;
+
+/// A tiny deterministic generator (SplitMix64), so the test needs no extra dependency.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    fn f(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn sample(&mut self) -> Sample {
+        let p = Vec3::new(self.f() * 4.0 - 2.0, self.f() * 3.0, self.f() - 5.0);
+        let d = Vec3::new(self.f() - 0.5, self.f() - 0.5, self.f() - 0.5).normalize_or(Vec3::Y);
+        if self.next() % 5 == 0 {
+            Sample::emitted(p, (self.next() % 1000) as u32)
+        } else {
+            Sample::scattered(p, d, (self.next() % 1000) as u32, Rgb::new(self.f(), self.f() * 2.0, self.f()))
+        }
+    }
+}
+
+fn table(paths: &[u64]) -> LightTable {
+    LightTable {
+        lights: paths
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| LightRecord {
+                name: format!("light-{k}"),
+                power: Rgb::new(10.0 + k as f32, 5.0, 1.5),
+                paths: p,
+            })
+            .collect(),
+    }
+}
+
+fn header(paths: &[u64]) -> DatasetHeader {
+    DatasetHeader {
+        fingerprint: Fingerprint { geometry: [0xa5; 16], lights: std::array::from_fn(|i| i as u8) },
+        label: "scenes/cornell/scene.xml — ünïcode".into(),
+        trace: TraceInfo { seed: 0x0123_4567_89ab_cdef, rr_depth: 5 },
+        table: table(paths),
+    }
+}
+
+fn write(path: &Path, h: &DatasetHeader, chunks: &[Chunk]) -> DatasetSummary {
+    let mut w = DatasetWriter::create(path, h).unwrap();
+    for c in chunks {
+        w.write_chunk(c).unwrap();
+    }
+    let mut t = h.table.clone();
+    for (k, l) in t.lights.iter_mut().enumerate() {
+        l.paths = chunks.iter().filter(|c| c.light as usize == k).map(|c| c.paths).sum();
+    }
+    w.finish(&t).unwrap()
+}
+
+/// Small file used by the damage tests: two lights, three chunks (one empty with paths > 0).
+fn tiny(path: &Path) -> (DatasetHeader, Vec<Chunk>) {
+    let mut rng = Rng(7);
+    let chunks = vec![
+        Chunk { light: 0, paths: 2, samples: vec![rng.sample(), rng.sample()] },
+        Chunk { light: 1, paths: 3, samples: vec![] },
+        Chunk { light: 0, paths: 1, samples: vec![rng.sample()] },
+    ];
+    let h = DatasetHeader {
+        fingerprint: Fingerprint { geometry: [0x11; 16], lights: [0x22; 16] },
+        label: "tiny".into(),
+        trace: TraceInfo { seed: 42, rr_depth: 3 },
+        table: LightTable {
+            lights: vec![
+                LightRecord { name: "sun".into(), power: Rgb::new(1.0, 2.0, 3.0), paths: 3 },
+                LightRecord { name: "lamp".into(), power: Rgb::splat(0.5), paths: 3 },
+            ],
+        },
+    };
+    write(path, &h, &chunks);
+    (h, chunks)
+}
+
+/// Opens and reads every chunk: the full check a renderer would make.
+fn load(path: &Path) -> Result<(), DatasetError> {
+    let r = DatasetReader::open(path)?;
+    r.verify()?;
+    Ok(())
+}
+
+fn u32_at(b: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes(b[at..at + 4].try_into().unwrap())
+}
+
+fn fix_header_crc(b: &mut [u8]) {
+    let len = u32_at(b, 12) as usize;
+    let crc = crc32fast::hash(&b[..len - 4]);
+    b[len - 4..len].copy_from_slice(&crc.to_le_bytes());
+}
+
+fn fix_record_crc(b: &mut [u8], at: usize) {
+    let crc = crc32fast::hash(&b[at..at + 28]);
+    b[at + 28..at + 32].copy_from_slice(&crc.to_le_bytes());
+}
+
+fn first_chunk(b: &[u8]) -> usize {
+    u32_at(b, 12) as usize
+}
+
+#[track_caller]
+fn expect_err(path: &Path, bytes: &[u8], needle: &str) -> DatasetError {
+    std::fs::write(path, bytes).unwrap();
+    let e = load(path).expect_err("damaged file accepted");
+    let msg = e.to_string();
+    assert!(msg.contains(&path.display().to_string()), "message does not name the file: {msg}");
+    assert!(msg.contains(needle), "expected {needle:?} in: {msg}");
+    e
+}
+
+#[test]
+fn round_trip_several_lights_and_chunks() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.opds");
+    let mut rng = Rng(1);
+    let mut chunks = Vec::new();
+    for i in 0..9u32 {
+        let n = [0, 1, 17, 1000, 4096][i as usize % 5];
+        chunks.push(Chunk {
+            light: i % 3,
+            paths: 100 + i as u64,
+            samples: (0..n).map(|_| rng.sample()).collect(),
+        });
+    }
+    // An empty chunk whose paths still count (every path was absorbed or hit a delta surface).
+    chunks.push(Chunk { light: 2, paths: 50, samples: vec![] });
+    let h = header(&[0, 0, 0]);
+    let summary = write(&path, &h, &chunks);
+    let total: u64 = chunks.iter().map(|c| c.samples.len() as u64).sum();
+    assert_eq!(summary.chunks, 10);
+    assert_eq!(summary.samples, total);
+    assert_eq!(summary.paths, chunks.iter().map(|c| c.paths).sum::<u64>());
+    assert_eq!(summary.bytes, std::fs::metadata(&path).unwrap().len());
+
+    let (h2, c2) = read_all(&path).unwrap();
+    assert_eq!(c2, chunks);
+    assert_eq!(h2.fingerprint, h.fingerprint);
+    assert_eq!(h2.label, h.label);
+    assert_eq!(h2.trace, h.trace);
+    let want: Vec<u64> =
+        (0..3).map(|k| chunks.iter().filter(|c| c.light == k).map(|c| c.paths).sum()).collect();
+    assert_eq!(h2.table.lights.iter().map(|l| l.paths).collect::<Vec<_>>(), want);
+    assert_eq!(h2.table.lights[1].name, "light-1");
+    assert_eq!(h2.table.lights[1].power, Rgb::new(11.0, 5.0, 1.5));
+
+    let r = DatasetReader::open(&path).unwrap();
+    assert_eq!(r.chunk_count(), 10);
+    assert_eq!(r.total_samples(), total);
+    assert_eq!(r.file_len(), summary.bytes);
+    assert_eq!(r.header(), &h2);
+    assert!(matches!(r.chunk(10), Err(DatasetError::NoSuchChunk { index: 10, count: 10, .. })));
+}
+
+#[test]
+fn empty_dataset_round_trips() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty.opds");
+    let h = DatasetHeader::default();
+    let s = DatasetWriter::create(&path, &h).unwrap().finish(&LightTable::default()).unwrap();
+    assert_eq!((s.chunks, s.samples, s.paths), (0, 0, 0));
+    let (h2, c) = read_all(&path).unwrap();
+    assert_eq!(h2, h);
+    assert!(c.is_empty());
+}
+
+#[test]
+fn chunk_views_are_zero_copy_aligned_and_readable_from_many_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("par.opds");
+    let mut rng = Rng(2);
+    let chunks: Vec<Chunk> = (0..64u32)
+        .map(|i| Chunk {
+            light: i % 2,
+            paths: 10,
+            samples: (0..(i * 37) % 301).map(|_| rng.sample()).collect(),
+        })
+        .collect();
+    write(&path, &header(&[0, 0]), &chunks);
+    let r = DatasetReader::open(&path).unwrap();
+    fn is_sync<T: Sync + Send>(_: &T) {}
+    is_sync(&r);
+    let sums: Vec<f64> = (0..r.chunk_count())
+        .into_par_iter()
+        .map(|i| {
+            let v = r.chunk(i).unwrap();
+            assert_eq!(v.samples.as_ptr() as usize % 32, 0, "payload not 32-byte aligned");
+            v.samples.iter().map(|s| s.beta[0] as f64).sum()
+        })
+        .collect();
+    for (c, s) in chunks.iter().zip(sums) {
+        assert_eq!(s, c.samples.iter().map(|s| s.beta[0] as f64).sum::<f64>());
+    }
+}
+
+fn dir_names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn dropped_writer_leaves_the_old_file_and_no_temporary() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("keep.opds");
+    tiny(&path);
+    let before = std::fs::read(&path).unwrap();
+    {
+        let mut w = DatasetWriter::create(&path, &header(&[0])).unwrap();
+        let mut rng = Rng(3);
+        w.write_chunk(&Chunk { light: 0, paths: 5, samples: (0..100_000).map(|_| rng.sample()).collect() })
+            .unwrap();
+        assert_eq!(dir_names(dir.path()).len(), 2, "temporary file next to the target");
+        // Dropped here: an error or Ctrl-C handled by unwinding.
+    }
+    assert_eq!(std::fs::read(&path).unwrap(), before);
+    assert_eq!(dir_names(dir.path()), vec!["keep.opds".to_string()]);
+    load(&path).unwrap();
+}
+
+#[test]
+fn failed_finish_leaves_the_old_file_and_no_temporary() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("keep.opds");
+    tiny(&path);
+    let before = std::fs::read(&path).unwrap();
+    let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
+    w.write_chunk(&Chunk { light: 1, paths: 5, samples: vec![] }).unwrap();
+    assert_eq!(w.light_paths(), &[0, 5]);
+    // N_k that does not match the chunks written: refused.
+    let e = w.finish(&table(&[0, 4])).unwrap_err();
+    assert!(e.to_string().contains("N_k = 4 paths but the chunks written hold 5"), "{e}");
+    assert_eq!(std::fs::read(&path).unwrap(), before);
+    assert_eq!(dir_names(dir.path()), vec!["keep.opds".to_string()]);
+}
+
+#[test]
+fn writer_refuses_invalid_chunks_and_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.opds");
+    let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
+    let e = w.write_chunk(&Chunk { light: 2, paths: 1, samples: vec![] }).unwrap_err();
+    assert!(e.to_string().contains("chunk for light 2, but the table has 2 lights"), "{e}");
+    let mut s = Rng(4).sample();
+    for bad in [f32::NAN, f32::INFINITY, -1.0] {
+        s.beta[1] = bad;
+        let e =
+            w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default(), s] }).unwrap_err();
+        assert!(e.to_string().contains("sample 1 of a chunk of light 0"), "{e}");
+    }
+    // The refused chunks wrote nothing: the writer is still usable.
+    w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default()] }).unwrap();
+    let mut renamed = table(&[1, 0]);
+    renamed.lights[1].name = "other".into();
+    assert!(w.finish(&renamed).unwrap_err().to_string().contains("does not list the lights"));
+    assert_eq!(dir_names(dir.path()), Vec::<String>::new());
+
+    let mut h = header(&[0]);
+    h.table.lights[0].power = Rgb::new(1.0, f32::NAN, 1.0);
+    assert!(DatasetWriter::create(&path, &h).unwrap_err().to_string().contains("invalid power"));
+}
+
+#[test]
+fn truncation_at_every_byte_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let bytes = std::fs::read(&good).unwrap();
+    let path = dir.path().join("cut.opds");
+    for len in 0..bytes.len() {
+        std::fs::write(&path, &bytes[..len]).unwrap();
+        let e = load(&path).expect_err(&format!("file cut to {len} bytes accepted"));
+        let msg = e.to_string();
+        assert!(msg.contains("cut.opds"), "{msg}");
+        if len == 0 {
+            assert!(matches!(e, DatasetError::NotADataset { .. }), "{msg}");
+        } else {
+            assert!(matches!(e, DatasetError::Truncated { .. }), "cut to {len}: {msg}");
+            assert!(e.offset().unwrap() <= len as u64, "cut to {len}: {msg}");
+        }
+    }
+    load(&good).unwrap();
+}
+
+#[test]
+fn flipping_any_byte_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let bytes = std::fs::read(&good).unwrap();
+    let path = dir.path().join("flip.opds");
+    for at in 0..bytes.len() {
+        for mask in [0x01u8, 0x80, 0xff] {
+            let mut b = bytes.clone();
+            b[at] ^= mask;
+            std::fs::write(&path, &b).unwrap();
+            let e = load(&path).expect_err(&format!("byte {at} ^ {mask:#x} accepted"));
+            assert!(e.to_string().contains("flip.opds"), "{e}");
+            assert!(e.offset().is_some(), "{e}");
+        }
+    }
+}
+
+#[test]
+fn damage_messages_name_the_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let bytes = std::fs::read(&good).unwrap();
+    let path = dir.path().join("d.opds");
+    let c0 = first_chunk(&bytes);
+    let mut b = bytes.clone();
+    b[20] ^= 1;
+    expect_err(&path, &b, "corrupt header at byte 0: CRC-32 stored");
+    let mut b = bytes.clone();
+    b[c0 + 9] ^= 1;
+    expect_err(&path, &b, &format!("corrupt chunk 0 header at byte {c0}"));
+    let mut b = bytes.clone();
+    b[c0 + 40] ^= 1;
+    expect_err(&path, &b, &format!("corrupt chunk 0 payload at byte {}", c0 + 32));
+    let n = bytes.len();
+    let mut b = bytes.clone();
+    b[n - 10] ^= 1;
+    expect_err(&path, &b, &format!("corrupt end record at byte {}", n - 32));
+    expect_err(&path, &bytes[..n - 32], &format!("truncated at byte {}", n - 32));
+    let mut b = bytes.clone();
+    b.extend_from_slice(&[0; 32]);
+    expect_err(&path, &b, &format!("corrupt at byte {n}: 32 unexpected bytes after the end record"));
+}
+
+#[test]
+fn foreign_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("foreign.opds");
+    for bytes in [
+        &b""[..],
+        b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR",
+        b"#VRML V2.0 utf8\nShape {}\n",
+        b"OPTICKS",
+        // The signature after a text-mode transfer turned CR LF into LF.
+        b"\x89OPK\n\x1a\n\x01\0\0\0",
+    ] {
+        let e = expect_err(&path, bytes, "not an Opticks dataset");
+        assert!(matches!(e, DatasetError::NotADataset { .. }));
+    }
+    let e = expect_err(&path, b"\x89PNG\r\n\x1a\n", "found 89 50 4e 47 0d 0a 1a 0a");
+    assert_eq!(e.offset(), Some(0));
+    // A directory is an IO error, not a panic.
+    assert!(matches!(DatasetReader::open(dir.path()), Err(DatasetError::Io { .. })));
+    assert!(matches!(DatasetReader::open(&dir.path().join("missing")), Err(DatasetError::Io { .. })));
+}
+
+#[test]
+fn newer_version_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let mut b = std::fs::read(&good).unwrap();
+    b[8..12].copy_from_slice(&(FORMAT_VERSION + 1).to_le_bytes());
+    fix_header_crc(&mut b);
+    let path = dir.path().join("new.opds");
+    let e = expect_err(
+        &path,
+        &b,
+        &format!(
+            "written by a newer Opticks: format version {}, this build reads {FORMAT_VERSION}",
+            FORMAT_VERSION + 1
+        ),
+    );
+    assert!(matches!(e, DatasetError::NewerVersion { .. }));
+    b[8..12].copy_from_slice(&0u32.to_le_bytes());
+    fix_header_crc(&mut b);
+    expect_err(&path, &b, "corrupt at byte 8: format version 0 does not exist");
+}
+
+#[test]
+fn huge_length_fields_are_errors_not_allocations() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let bytes = std::fs::read(&good).unwrap();
+    let path = dir.path().join("huge.opds");
+    let label_len_at = 60;
+    let light_count_at = 64 + "tiny".len();
+    let c0 = first_chunk(&bytes);
+
+    // Header length beyond the file, and not a multiple of 32.
+    for (v, needle) in [(u32::MAX - 31, "the header is"), (u32::MAX, "impossible header length")] {
+        let mut b = bytes.clone();
+        b[12..16].copy_from_slice(&v.to_le_bytes());
+        expect_err(&path, &b, needle);
+    }
+    // Label and light count: checksummed correctly, so only the bounds checks stand in the way.
+    let mut b = bytes.clone();
+    b[label_len_at..label_len_at + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+    fix_header_crc(&mut b);
+    expect_err(&path, &b, "scene label (4294967295 bytes) runs past the end");
+    let mut b = bytes.clone();
+    b[light_count_at..light_count_at + 4].copy_from_slice(&u32::MAX.to_le_bytes());
+    fix_header_crc(&mut b);
+    expect_err(&path, &b, &format!("corrupt at byte {light_count_at}: light count 4294967295 cannot fit"));
+    let mut b = bytes.clone();
+    let name_len_at = light_count_at + 4;
+    b[name_len_at..name_len_at + 4].copy_from_slice(&0x7fff_ffffu32.to_le_bytes());
+    fix_header_crc(&mut b);
+    expect_err(&path, &b, "name of light 0 (2147483647 bytes) runs past the end");
+    // Sample counts that overflow, or exceed the file.
+    for count in [u64::MAX, u64::MAX / 32, 1 << 40] {
+        let mut b = bytes.clone();
+        b[c0 + 16..c0 + 24].copy_from_slice(&count.to_le_bytes());
+        fix_record_crc(&mut b, c0);
+        let e = expect_err(&path, &b, &format!("chunk 0 declares {count} samples"));
+        assert_eq!(e.offset(), Some(c0 as u64 + 32));
+    }
+}
+
+#[test]
+fn light_index_out_of_range_is_detected() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let mut b = std::fs::read(&good).unwrap();
+    let c0 = first_chunk(&b);
+    b[c0 + 4..c0 + 8].copy_from_slice(&7u32.to_le_bytes());
+    fix_record_crc(&mut b, c0);
+    let e = expect_err(
+        &dir.path().join("l.opds"),
+        &b,
+        &format!("chunk 0 at byte {} names light 7, but the light table has 2 lights", c0 + 4),
+    );
+    assert!(matches!(e, DatasetError::LightOutOfRange { light: 7, .. }));
+}
+
+#[test]
+fn path_count_mismatch_is_detected() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let bytes = std::fs::read(&good).unwrap();
+    // N_k of light 1 ("lamp"): after label, count, light 0 (4+3+12+8), light 1's name and power.
+    let at = 64 + 4 + 4 + (4 + 3 + 12 + 8) + (4 + 4 + 12);
+    assert_eq!(u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()), 3);
+    let mut b = bytes.clone();
+    b[at..at + 8].copy_from_slice(&4u64.to_le_bytes());
+    fix_header_crc(&mut b);
+    let e = expect_err(
+        &dir.path().join("n.opds"),
+        &b,
+        &format!("light 1 (\"lamp\"): the header (N_k at byte {at}) says 4 paths, the chunks sum to 3"),
+    );
+    assert!(matches!(e, DatasetError::PathCountMismatch { .. }));
+    // Changing a chunk's paths instead (with a valid chunk CRC) is caught the same way.
+    let mut b = bytes.clone();
+    let c0 = first_chunk(&b);
+    b[c0 + 8] = 9;
+    fix_record_crc(&mut b, c0);
+    // (the end record's path total disagrees first).
+    expect_err(&dir.path().join("n.opds"), &b, "the file holds 3 chunks, 3 samples, 13 paths");
+}
+
+#[test]
+fn non_finite_beta_is_detected_even_with_a_valid_checksum() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let mut b = std::fs::read(&good).unwrap();
+    let c0 = first_chunk(&b);
+    let s1 = c0 + 32 + 32; // second sample of chunk 0
+    b[s1 + 24..s1 + 28].copy_from_slice(&f32::NAN.to_le_bytes()); // β.g
+    let crc = crc32fast::hash(&b[c0 + 32..c0 + 32 + 64]);
+    b[c0 + 24..c0 + 28].copy_from_slice(&crc.to_le_bytes());
+    fix_record_crc(&mut b, c0);
+    let path = dir.path().join("nan.opds");
+    let e =
+        expect_err(&path, &b, &format!("invalid sample 1 of chunk 0 at byte {s1}: non-finite or negative β"));
+    assert!(matches!(e, DatasetError::InvalidSample { .. }));
+    // The header and index are fine: other chunks still read.
+    let r = DatasetReader::open(&path).unwrap();
+    assert!(r.chunk(0).is_err());
+    assert!(r.chunk(1).is_ok() && r.chunk(2).is_ok());
+}
+
+/// Prints write and read throughput; set OPTICKS_DATASET_BENCH_SAMPLES to change the size.
+#[test]
+fn throughput() {
+    let n: usize = std::env::var("OPTICKS_DATASET_BENCH_SAMPLES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(16_000_000);
+    let per_chunk = 1 << 16;
+    let mut rng = Rng(9);
+    let pool: Vec<Sample> = (0..per_chunk).map(|_| rng.sample()).collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.opds");
+    let t = Instant::now();
+    let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
+    let mut chunk = Chunk { light: 0, paths: 1000, samples: pool };
+    let mut left = n;
+    while left > 0 {
+        chunk.samples.truncate(left.min(per_chunk));
+        chunk.light ^= 1;
+        w.write_chunk(&chunk).unwrap();
+        left -= chunk.samples.len();
+    }
+    let paths = w.light_paths().to_vec();
+    let s = w.finish(&table(&paths)).unwrap();
+    let tw = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let r = DatasetReader::open(&path).unwrap();
+    let topen = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let beta: f64 = (0..r.chunk_count())
+        .into_par_iter()
+        .map(|i| r.chunk(i).unwrap().samples.iter().map(|s| s.beta[1] as f64).sum::<f64>())
+        .sum();
+    let tr = t.elapsed().as_secs_f64();
+    assert_eq!(r.total_samples(), n as u64);
+    let mb = s.bytes as f64 / 1e6;
+    println!(
+        "dataset throughput: {n} samples, {mb:.0} MB, {} chunks: write+fsync {:.0} MB/s ({tw:.2} s), \
+         open {:.1} ms, read (CRC + checks + sum, {} threads) {:.0} MB/s ({tr:.2} s) [Σβ {beta:.3e}]",
+        s.chunks,
+        mb / tw,
+        topen * 1e3,
+        rayon::current_num_threads(),
+        mb / tr,
+    );
+}
+
+/// Writes the tiny file shown in docs/dataset-format.md to $OPTICKS_TINY_DATASET.
+#[test]
+#[ignore]
+fn write_tiny_example() {
+    let path = std::env::var("OPTICKS_TINY_DATASET").expect("set OPTICKS_TINY_DATASET");
+    let chunks = vec![
+        Chunk { light: 0, paths: 4, samples: vec![Sample::emitted(Vec3::new(0.0, 1.98, 0.0), 7)] },
+        Chunk { light: 0, paths: 0, samples: vec![] },
+    ];
+    let h = DatasetHeader {
+        fingerprint: Fingerprint { geometry: [0xaa; 16], lights: [0xbb; 16] },
+        label: "box.xml".into(),
+        trace: TraceInfo { seed: 1, rr_depth: 5 },
+        table: LightTable {
+            lights: vec![LightRecord { name: "ceiling".into(), power: Rgb::new(1.0, 1.0, 1.0), paths: 0 }],
+        },
+    };
+    let mut w = DatasetWriter::create(Path::new(&path), &h).unwrap();
+    for c in &chunks {
+        w.write_chunk(c).unwrap();
+    }
+    w.finish(&LightTable {
+        lights: vec![LightRecord { name: "ceiling".into(), power: Rgb::new(1.0, 1.0, 1.0), paths: 4 }],
+    })
+    .unwrap();
+}
