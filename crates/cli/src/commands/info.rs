@@ -1,4 +1,4 @@
-//! `opticks info`: what a dataset holds, readably.
+//! `opticks info`: what a dataset holds, readably, after verifying every checksum in it.
 
 use anyhow::Result;
 use opticks_io::dataset_file::DatasetReader;
@@ -14,6 +14,7 @@ pub struct Args {
 /// Prints the summary.
 pub fn run(a: Args) -> Result<()> {
     let reader = DatasetReader::open(&a.dataset)?;
+    reader.verify()?; // every chunk's checksum: `info` is also the integrity check
     let h = reader.header();
     let samples = reader.total_samples();
     let paths = h.table.total_paths();

@@ -3,7 +3,7 @@
 use super::{set_threads, trace_with_progress};
 use crate::scene_arg::load_scene;
 use anyhow::{Context, Result, bail};
-use opticks_core::trace::TraceSettings;
+use opticks_core::trace::{TraceSettings, planned_table};
 use opticks_io::dataset_file::{DatasetHeader, DatasetWriter, TraceInfo};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -42,7 +42,7 @@ pub fn run(a: Args) -> Result<()> {
         fingerprint: scene.fingerprint,
         label: a.scene.clone(),
         trace: TraceInfo { seed: a.seed, rr_depth: a.rr_depth },
-        table: Default::default(),
+        table: planned_table(&scene, a.paths),
     };
     let t0 = Instant::now();
     let mut writer = DatasetWriter::create(&a.output, &header)

@@ -129,6 +129,22 @@ pub fn trace_block(scene: &Scene, settings: &TraceSettings, k: usize, block: u64
     Chunk { light: k as u32, paths, samples }
 }
 
+/// The light table a trace of `paths` paths will produce: each light's power Φ_k and its quota
+/// N_k ([`path_quotas`]). Known before tracing, so a dataset header can be written first.
+pub fn planned_table(scene: &Scene, paths: u64) -> LightTable {
+    let powers = scene.light_powers();
+    let quotas = path_quotas(&powers, paths);
+    LightTable {
+        lights: scene
+            .lights
+            .iter()
+            .zip(powers)
+            .zip(quotas)
+            .map(|((l, power), paths)| LightRecord { name: l.name().to_string(), power, paths })
+            .collect(),
+    }
+}
+
 /// Traces `settings.paths` light paths, handing chunks to `sink` in a deterministic order, and
 /// calling `progress(paths_done)` as batches finish. Returns the light table (Φ_k, N_k).
 pub fn trace<E>(
@@ -137,12 +153,13 @@ pub fn trace<E>(
     mut sink: impl FnMut(Chunk) -> Result<(), E>,
     progress: impl Fn(u64),
 ) -> Result<LightTable, E> {
-    let powers = scene.light_powers();
-    let quotas = path_quotas(&powers, settings.paths);
-    let blocks: Vec<(usize, u64, u64)> = quotas
+    let table = planned_table(scene, settings.paths);
+    let blocks: Vec<(usize, u64, u64)> = table
+        .lights
         .iter()
         .enumerate()
-        .flat_map(|(k, &n)| {
+        .flat_map(|(k, l)| {
+            let n = l.paths;
             (0..n.div_ceil(BLOCK_PATHS)).map(move |b| (k, b, BLOCK_PATHS.min(n - b * BLOCK_PATHS)))
         })
         .collect();
@@ -156,15 +173,7 @@ pub fn trace<E>(
         }
         progress(done);
     }
-    Ok(LightTable {
-        lights: scene
-            .lights
-            .iter()
-            .zip(powers)
-            .zip(quotas)
-            .map(|((l, power), paths)| LightRecord { name: l.name().to_string(), power, paths })
-            .collect(),
-    })
+    Ok(table)
 }
 
 #[cfg(test)]
