@@ -2,6 +2,7 @@
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
+use opticks_core::scene::Scene;
 use opticks_io::{LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with};
 use std::path::{Path, PathBuf};
 
@@ -172,7 +173,7 @@ fn unknown_plugin_type() {
     let e = error_of(&[("s.xml", &xml)]);
     assert_eq!(
         e,
-        "TMP/s.xml:4:15: <bsdf type=\"plastic\" id=\"shiny\">: unsupported BSDF type \"plastic\" (supported: diffuse, twosided)"
+        "TMP/s.xml:4:15: <bsdf type=\"plastic\" id=\"shiny\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided)"
     );
 }
 
@@ -218,4 +219,75 @@ fn unreadable_scene_file_and_error_locations() {
     let e = r.unwrap_err();
     let at = e.location().unwrap();
     assert_eq!((at.line, at.column), (3, 14));
+}
+
+/// The loaded reference scenes build into ray-traceable scenes with the expected geometry and
+/// light power (Φ = π·L·A for a one-sided Lambertian emitter).
+#[test]
+fn reference_scenes_build() {
+    let cornell = load_scene(&testdata("cornell/scene.xml")).unwrap();
+    let scene = Scene::build(&cornell.description).unwrap();
+    assert_eq!(scene.triangles.len(), 36);
+    assert_eq!(scene.dropped_triangles, 0);
+    let powers = scene.light_powers();
+    assert_eq!(powers.len(), 1);
+    let want = Rgb::new(10.0972, 7.6811, 3.7087);
+    assert!(close(powers[0], want, 1e-3), "cornell Φ = {} W, expected {want}", powers[0]);
+
+    let furnace = load_scene(&testdata("furnace/scene.xml")).unwrap();
+    let scene = Scene::build(&furnace.description).unwrap();
+    let tris: usize = furnace.description.meshes.iter().map(|m| m.triangles.len()).sum();
+    assert_eq!(scene.triangles.len() + scene.dropped_triangles, tris);
+    assert_eq!(scene.dropped_triangles, 0);
+    let powers = scene.light_powers();
+    assert_eq!(powers.len(), 1);
+    let want = Rgb::splat(0.4 * std::f32::consts::PI);
+    assert!(close(powers[0], want, 1e-3), "furnace Φ = {} W, expected {want}", powers[0]);
+}
+
+#[test]
+fn phong_material_loads_and_builds() {
+    let xml = format!(
+        "{HEAD}<bsdf type=\"twosided\" id=\"glossy\">\n  <bsdf type=\"phong\">\n    \
+         <rgb name=\"diffuseReflectance\" value=\"0.4, 0.3, 0.2\"/>\n    \
+         <float name=\"specularReflectance\" value=\"0.5\"/>\n    \
+         <float name=\"exponent\" value=\"120\"/>\n  </bsdf>\n</bsdf>\n\
+         <shape type=\"cube\" id=\"box\"><ref id=\"glossy\"/></shape>\n\
+         <emitter type=\"point\"><point name=\"position\" x=\"0\" y=\"0\" z=\"0\"/></emitter>\n</scene>"
+    );
+    let (_dir, r) = load_files(&[("s.xml", &xml)]);
+    let s = r.unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let mat = &s.description.materials[s.description.meshes[0].material];
+    assert_eq!(mat.name, "glossy");
+    assert!(mat.two_sided);
+    match &mat.bsdf {
+        Bsdf::ModifiedPhong(p) => {
+            assert_eq!((p.kd, p.ks, p.exponent), (Rgb::new(0.4, 0.3, 0.2), Rgb::splat(0.5), 120.0))
+        }
+        other => panic!("{other:?}"),
+    }
+    let scene = Scene::build(&s.description).unwrap();
+    assert_eq!(scene.materials[0].bsdf, mat.bsdf);
+}
+
+#[test]
+fn impossible_phong_material() {
+    let bad = |params: &str| {
+        let xml = format!(
+            "{HEAD}<shape type=\"cube\">\n  <bsdf type=\"phong\">\n    {params}\n  </bsdf>\n</shape>\n</scene>"
+        );
+        error_of(&[("s.xml", &xml)])
+    };
+    let e = bad(
+        "<float name=\"diffuseReflectance\" value=\"0.6\"/><float name=\"specularReflectance\" value=\"0.5\"/>",
+    );
+    assert!(e.starts_with("TMP/s.xml:4:3: <bsdf type=\"phong\">: invalid material: kd + ks = "), "{e}");
+    let e = bad("<float name=\"exponent\" value=\"nan\"/>");
+    assert_eq!(
+        e,
+        "TMP/s.xml:5:35: <float name=\"exponent\">: attribute `value`: \"nan\" is not a finite number"
+    );
+    let e = bad("<float name=\"exponent\" value=\"1e7\"/>");
+    assert!(e.starts_with("TMP/s.xml:5:5: <float name=\"exponent\">: invalid material: exponent = "), "{e}");
 }

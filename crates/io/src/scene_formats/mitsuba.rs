@@ -59,7 +59,27 @@
 //! | type | parameters | |
 //! |---|---|---|
 //! | `diffuse` | `reflectance`: colour, default 0.5 | Lambertian, **one-sided** (black from behind), as in Mitsuba; each channel in [0, 1] |
+//! | `phong` | see below | Modified Phong, **one-sided**; an **Opticks extension** |
 //! | `twosided` | one nested `<bsdf>` or `<ref>` | the nested BSDF on both faces |
+//!
+//! ## `<bsdf type="phong">` (Opticks extension)
+//!
+//! Mitsuba 3 has no `phong` plugin; Mitsuba 0.6 had one, and it is exactly the energy-normalised
+//! Modified Phong of Lafortune & Willems 1994, f_r = kd/π + ks·(n+2)/(2π)·cosⁿα, the thesis's
+//! material ([`ModifiedPhong`]). Opticks reads it in version 2.x/3.x scenes with Mitsuba 0.6's
+//! parameter names (camelCase, as in 0.6):
+//!
+//! | parameter | type | default | |
+//! |---|---|---|---|
+//! | `diffuseReflectance` | colour | 0.5 | kd |
+//! | `specularReflectance` | colour | 0.2 | ks |
+//! | `exponent` | float | 30 | n, in [0, 10⁶] |
+//!
+//! Like Mitsuba's `phong` and `diffuse` it is one-sided (black from behind) unless wrapped in a
+//! `twosided`. Textures are not supported. Impossible parameters are errors, not silently fixed
+//! (Mitsuba 0.6 rescaled them with a warning): a negative or non-finite value, an exponent above
+//! 10⁶, or kd + ks > 1 in some channel (the surface would create energy). The error names the
+//! offending parameter's element, or the `<bsdf>` itself for kd + ks > 1.
 //!
 //! # `<shape>`
 //!
@@ -87,7 +107,7 @@
 use super::obj::read_obj;
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
 use glam::{DMat3, DMat4, DVec3};
-use opticks_core::bsdf::{Bsdf, Lambert, Material};
+use opticks_core::bsdf::{Bsdf, Lambert, Material, MaterialError, ModifiedPhong};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
 use roxmltree::{Document, Node};
@@ -97,6 +117,7 @@ use std::path::{Path, PathBuf};
 type Result<T> = std::result::Result<T, SceneFileError>;
 
 const TOP_LEVEL: &str = "default, integrator, sensor, bsdf, shape, emitter";
+const BSDF_TYPES: &str = "diffuse, phong (Opticks extension), twosided";
 const PROPERTY_TAGS: &[&str] =
     &["float", "integer", "boolean", "string", "rgb", "spectrum", "point", "vector", "transform"];
 
@@ -244,11 +265,11 @@ fn describe(n: Node) -> String {
     s
 }
 
-/// A parsed BSDF: the only kind the subset has is a Lambertian, one- or two-sided.
+/// A parsed BSDF (Lambertian or Modified Phong), one- or two-sided.
 #[derive(Clone, Debug)]
 struct ParsedBsdf {
     name: String,
-    lambert: Lambert,
+    bsdf: Bsdf,
     two_sided: bool,
 }
 
@@ -857,8 +878,9 @@ impl<'a, 'i> Ctx<'a, 'i> {
                     element: describe(node),
                     source,
                 })?;
-                ParsedBsdf { name, lambert, two_sided: false }
+                ParsedBsdf { name, bsdf: Bsdf::Lambert(lambert), two_sided: false }
             }
+            "phong" => ParsedBsdf { name, bsdf: self.phong(n, &mut p)?, two_sided: false },
             "twosided" => {
                 let inner: Vec<Node> = p.objects.clone();
                 match inner.len() {
@@ -887,13 +909,13 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 if nested.two_sided {
                     return Err(self.err(c, "a twosided BSDF cannot wrap another twosided BSDF"));
                 }
-                ParsedBsdf { name, lambert: nested.lambert, two_sided: true }
+                ParsedBsdf { name, bsdf: nested.bsdf, two_sided: true }
             }
             other => {
                 return Err(self.attr_err(
                     n,
                     "type",
-                    format!("unsupported BSDF type \"{other}\" (supported: diffuse, twosided)"),
+                    format!("unsupported BSDF type \"{other}\" (supported: {BSDF_TYPES})"),
                 ));
             }
         };
@@ -903,6 +925,33 @@ impl<'a, 'i> Ctx<'a, 'i> {
             b.parsed.insert(id, parsed.clone());
         }
         Ok(parsed)
+    }
+
+    /// The parameters of `<bsdf type="phong">` (Mitsuba 0.6's names), validated by
+    /// [`ModifiedPhong::new`]; an impossible value is reported at its element (kd + ks > 1 at the
+    /// `<bsdf>`, which both parameters belong to).
+    fn phong(&self, n: Node<'a, 'i>, p: &mut Props<'a, 'i>) -> Result<Bsdf> {
+        if let Some(c) = p.objects.first() {
+            return Err(self.err(
+                *c,
+                "unsupported element inside <bsdf type=\"phong\"> (textures are not supported; \
+                 use <rgb> or <float> parameters)",
+            ));
+        }
+        let (kd, kd_node) = self.get_color(p, "diffuseReflectance")?.unwrap_or((Rgb::splat(0.5), n));
+        let (ks, ks_node) = self.get_color(p, "specularReflectance")?.unwrap_or((Rgb::splat(0.2), n));
+        let (exponent, e_node) = self.get_float(p, "exponent")?.unwrap_or((30.0, n));
+        ModifiedPhong::new(kd, ks, exponent as f32).map(Bsdf::ModifiedPhong).map_err(|source| {
+            let node = match &source {
+                MaterialError::NotFinite("kd") | MaterialError::Negative("kd") => kd_node,
+                MaterialError::NotFinite("ks") | MaterialError::Negative("ks") => ks_node,
+                MaterialError::NotFinite("exponent")
+                | MaterialError::Negative("exponent")
+                | MaterialError::TooLarge { .. } => e_node,
+                _ => n,
+            };
+            SceneFileError::Material { at: self.loc(node), element: describe(node), source }
+        })
     }
 
     /// `<ref id="…"/>` to a top-level BSDF.
@@ -947,7 +996,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
         }
         materials.push(Material {
             name: parsed.name.clone(),
-            bsdf: Bsdf::Lambert(parsed.lambert.clone()),
+            bsdf: parsed.bsdf.clone(),
             two_sided: parsed.two_sided,
         });
         let i = materials.len() - 1;
@@ -1067,7 +1116,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 const DEFAULT: &str = "\u{0}default";
                 let parsed = ParsedBsdf {
                     name: "default".into(),
-                    lambert: Lambert::new(Rgb::splat(0.5)).expect("valid albedo"),
+                    bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(0.5)).expect("valid albedo")),
                     two_sided: false,
                 };
                 self.material_index(&parsed, Some(DEFAULT), b, materials)
@@ -1450,6 +1499,98 @@ mod tests {
     }
 
     #[test]
+    fn phong_bsdf_is_read_with_mitsuba_06_parameters() {
+        let s = scene(
+            r#"<shape type="rectangle" id="a">
+                 <bsdf type="phong">
+                   <rgb name="diffuseReflectance" value="0.3, 0.2, 0.1"/>
+                   <spectrum name="specularReflectance" value="0.6"/>
+                   <float name="exponent" value="250"/>
+                 </bsdf>
+               </shape>
+               <shape type="rectangle" id="b"><ref id="shiny"/></shape>
+               <shape type="rectangle" id="c"><bsdf type="phong"/></shape>
+               <bsdf type="twosided" id="shiny">
+                 <bsdf type="phong"><float name="diffuseReflectance" value="0"/><integer name="exponent" value="1000"/></bsdf>
+               </bsdf>"#,
+        );
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        let d = &s.description;
+        let phong = |mesh: usize| {
+            let m = &d.materials[d.meshes[mesh].material];
+            match &m.bsdf {
+                Bsdf::ModifiedPhong(p) => (m.name.clone(), m.two_sided, p.kd, p.ks, p.exponent),
+                other => panic!("{other:?}"),
+            }
+        };
+        assert_eq!(phong(0), ("a.bsdf".into(), false, Rgb::new(0.3, 0.2, 0.1), Rgb::splat(0.6), 250.0));
+        assert_eq!(phong(1), ("shiny".into(), true, Rgb::ZERO, Rgb::splat(0.2), 1000.0));
+        // Mitsuba 0.6's defaults: kd 0.5, ks 0.2, exponent 30; one-sided.
+        assert_eq!(phong(2), ("c.bsdf".into(), false, Rgb::splat(0.5), Rgb::splat(0.2), 30.0));
+        let sum = d.materials[0].bsdf.max_albedo();
+        assert!((sum - Rgb::new(0.9, 0.8, 0.7)).abs().max_element() < 1e-6, "{sum}");
+        // kd + ks = 1 exactly is allowed (the decimal pair rounds to at most 1 in f32).
+        scene(
+            r#"<shape type="rectangle"><bsdf type="phong"><float name="diffuseReflectance" value="0.35"/>
+               <float name="specularReflectance" value="0.65"/></bsdf></shape>"#,
+        );
+    }
+
+    #[test]
+    fn impossible_phong_parameters_are_located() {
+        let at = |body: &str| err(&format!("<bsdf type=\"phong\" id=\"p\">\n  {body}\n</bsdf>"));
+        // kd + ks > 1 involves both parameters: reported at the <bsdf>.
+        let e = at(
+            r#"<rgb name="diffuseReflectance" value="0.5, 0.7, 0.5"/><float name="specularReflectance" value="0.4"/>"#,
+        );
+        assert!(
+            e.starts_with("dir/test.xml:2:1: <bsdf type=\"phong\" id=\"p\">: invalid material: kd + ks = "),
+            "{e}"
+        );
+        assert!(e.contains("create energy"), "{e}");
+        // With the default ks = 0.2, kd = 0.9 is already too much.
+        let e = at(r#"<float name="diffuseReflectance" value="0.9"/>"#);
+        assert!(e.starts_with("dir/test.xml:2:1: <bsdf type=\"phong\" id=\"p\">: invalid material:"), "{e}");
+        let e = at(r#"<float name="exponent" value="NaN"/>"#);
+        assert_eq!(
+            e,
+            "dir/test.xml:3:33: <float name=\"exponent\">: attribute `value`: \"NaN\" is not a finite number"
+        );
+        let e = at(r#"<float name="exponent" value="2e6"/>"#);
+        assert!(
+            e.starts_with(
+                "dir/test.xml:3:3: <float name=\"exponent\">: invalid material: exponent = 2000000 exceeds"
+            ),
+            "{e}"
+        );
+        let e = at(r#"<float name="exponent" value="-1"/>"#);
+        assert!(
+            e.starts_with(
+                "dir/test.xml:3:3: <float name=\"exponent\">: invalid material: exponent must not be negative"
+            ),
+            "{e}"
+        );
+        let e = at(r#"<rgb name="specularReflectance" value="0.1, -0.1, 0.1"/>"#);
+        assert!(e.starts_with("dir/test.xml:3:3: <rgb name=\"specularReflectance\">: invalid material: ks must not be negative"), "{e}");
+        let e = at(r#"<rgb name="diffuseReflectance" value="-0.1"/>"#);
+        assert!(e.starts_with("dir/test.xml:3:3: <rgb name=\"diffuseReflectance\">: invalid material: kd must not be negative"), "{e}");
+        let e = at(r#"<texture type="bitmap" name="diffuseReflectance"/>"#);
+        assert!(e.contains("textures are not supported"), "{e}");
+        let e = at(r#"<string name="exponent" value="30"/>"#);
+        assert!(e.contains("wrong property type"), "{e}");
+        // Mitsuba 3 spellings are not Mitsuba 0.6's: a warning, not silently right.
+        let s = scene(
+            r#"<bsdf type="phong" id="p"><float name="diffuse_reflectance" value="0.1"/></bsdf>
+                         <shape type="rectangle"><ref id="p"/></shape>"#,
+        );
+        assert!(
+            s.warnings.iter().any(|w| w.contains("`diffuse_reflectance` is not supported")),
+            "{:?}",
+            s.warnings
+        );
+    }
+
+    #[test]
     fn emitters() {
         let s = scene(
             r#"<emitter type="point"><point name="position" x="1" y="2" z="3"/><rgb name="intensity" value="4 5 6"/></emitter>
@@ -1494,7 +1635,7 @@ mod tests {
         let cases: &[(&str, &str)] = &[
             (
                 r#"<bsdf type="plastic" id="p"/>"#,
-                "dir/test.xml:2:13: <bsdf type=\"plastic\" id=\"p\">: unsupported BSDF type \"plastic\" (supported: diffuse, twosided)",
+                "dir/test.xml:2:13: <bsdf type=\"plastic\" id=\"p\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided)",
             ),
             (
                 r#"<shape type="sphere"/>"#,

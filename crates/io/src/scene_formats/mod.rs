@@ -3,7 +3,7 @@
 //!
 //! | extension | format | module |
 //! |---|---|---|
-//! | `.xml` | Mitsuba 3 scene (the subset documented in [`mitsuba`]) | [`mitsuba`] |
+//! | `.xml` | Mitsuba 3 scene (the subset documented in [`mitsuba`], plus Mitsuba 0.6's `phong` BSDF as an extension) | [`mitsuba`] |
 //! | `.obj` | a bare Wavefront OBJ mesh: one mesh, default material, no camera, no lights | [`obj`] |
 //!
 //! The extension is matched case-insensitively; anything else is a
@@ -20,7 +20,7 @@
 //! element it is about, in the `file:line:column: <element>: message` form compilers use:
 //!
 //! ```text
-//! scene.xml:42:5: <bsdf type="plastic">: unsupported BSDF type "plastic" (supported: diffuse, twosided)
+//! scene.xml:42:5: <bsdf type="plastic">: unsupported BSDF type "plastic" (supported: diffuse, phong (Opticks extension), twosided)
 //! meshes/box.obj:17: face refers to vertex 9, but the file defines only 8 vertices (mesh of <shape type="obj" id="box"> at scene.xml:30:5)
 //! ```
 //!
