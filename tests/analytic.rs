@@ -179,7 +179,10 @@ fn point_light_over_lambertian_plane() {
             let mut sum = 0.0;
             for a in 0..8 {
                 for b in 0..8 {
-                    sum += radiance((i as f32 + (a as f32 + 0.5) / 8.0) / w as f32, (j as f32 + (b as f32 + 0.5) / 8.0) / hgt as f32);
+                    sum += radiance(
+                        (i as f32 + (a as f32 + 0.5) / 8.0) / w as f32,
+                        (j as f32 + (b as f32 + 0.5) / 8.0) / hgt as f32,
+                    );
                 }
             }
             sum / 64.0
@@ -208,7 +211,12 @@ fn lambertian_emitter_reads_its_radiance() {
     let l = Rgb::new(3.0, 2.0, 0.5);
     let emitter = quad(
         "panel",
-        [Vec3::new(-0.5, -0.5, 0.0), Vec3::new(0.5, -0.5, 0.0), Vec3::new(0.5, 0.5, 0.0), Vec3::new(-0.5, 0.5, 0.0)],
+        [
+            Vec3::new(-0.5, -0.5, 0.0),
+            Vec3::new(0.5, -0.5, 0.0),
+            Vec3::new(0.5, 0.5, 0.0),
+            Vec3::new(-0.5, 0.5, 0.0),
+        ],
         0,
         Some(l),
     );
@@ -222,8 +230,15 @@ fn lambertian_emitter_reads_its_radiance() {
     let area = 1.0f32;
     assert!((scene.lights[0].power() - std::f32::consts::PI * l * area).abs().max_element() < 1e-5);
     let view = |eye: Vec3| {
-        Pinhole::new(&CameraDesc { eye, target: Vec3::ZERO, up: Vec3::Y, fov_x_degrees: 40.0, width: 32, height: 32 })
-            .unwrap()
+        Pinhole::new(&CameraDesc {
+            eye,
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_x_degrees: 40.0,
+            width: 32,
+            height: 32,
+        })
+        .unwrap()
     };
     let front = view(Vec3::new(0.3, 0.2, 2.0));
     let film = trace_and_render(&scene, &front, 2_000_000, 9);

@@ -73,7 +73,20 @@ fn trace_info_render_from_the_scene_camera_and_another() {
     assert_mean_close(&rgb, "cornell", 0.02);
     // The same dataset from elsewhere: no re-trace, another camera, another size.
     ok(opticks(
-        &["render", "c.opds", "-o", "side.exr", "--eye", "0.5,0.3,2.5", "--target", "0,-0.3,0", "--size", "64x48", "--fov", "60"],
+        &[
+            "render",
+            "c.opds",
+            "-o",
+            "side.exr",
+            "--eye",
+            "0.5,0.3,2.5",
+            "--target",
+            "0,-0.3,0",
+            "--size",
+            "64x48",
+            "--fov",
+            "60",
+        ],
         dir.path(),
     ));
     let (w, h, side) = read_exr_rgb(&dir.path().join("side.exr")).unwrap();

@@ -43,10 +43,16 @@ fn check_scene(name: &str, mitsuba_ptracer_relmse: f64) {
 
     let four = compare(&mean_image(&films), &reference);
     let ratio = (one.relmse - reference_noise) / (four.relmse - reference_noise);
-    eprintln!("{name} 4×{PATHS} paths: relMSE {:.3e} (error ratio {ratio:.2}), mean ratio {:?}", four.relmse, four.mean_ratio);
+    eprintln!(
+        "{name} 4×{PATHS} paths: relMSE {:.3e} (error ratio {ratio:.2}), mean ratio {:?}",
+        four.relmse, four.mean_ratio
+    );
     assert!((3.3..4.7).contains(&ratio), "{name}: 4× the paths divided the error by {ratio:.2}, not ~4");
     for (c, r) in four.mean_ratio.iter().enumerate() {
-        assert!((r - 1.0).abs() < 0.005, "{name}: channel {c} mean ratio {r} is off by more than 0.5% at 16M paths");
+        assert!(
+            (r - 1.0).abs() < 0.005,
+            "{name}: channel {c} mean ratio {r} is off by more than 0.5% at 16M paths"
+        );
     }
 }
 

@@ -9,6 +9,8 @@ pub fn bar(total: u64, what: &str, unit: &str) -> ProgressBar {
     let template = format!(
         "{what:>9} [{{elapsed_precise}}] {{bar:40.cyan/blue}} {{human_pos}}/{{human_len}} {unit} ({{per_sec}}, eta {{eta}})"
     );
-    pb.set_style(ProgressStyle::with_template(&template).expect("static template is valid").progress_chars("=> "));
+    pb.set_style(
+        ProgressStyle::with_template(&template).expect("static template is valid").progress_chars("=> "),
+    );
     pb
 }

@@ -12,4 +12,6 @@ pub mod dataset_file;
 pub mod image_file;
 pub mod scene_formats;
 
-pub use scene_formats::{FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with};
+pub use scene_formats::{
+    FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,
+};

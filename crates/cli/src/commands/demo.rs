@@ -46,7 +46,8 @@ pub fn run(a: Args) -> Result<()> {
     let film = render_chunks(&scene, &camera, &table, &chunks)?;
     let t2 = Instant::now();
     let samples: usize = chunks.iter().map(|c| c.samples.len()).sum();
-    let other = a.output.with_extension(if a.output.extension().is_some_and(|e| e == "exr") { "png" } else { "exr" });
+    let other =
+        a.output.with_extension(if a.output.extension().is_some_and(|e| e == "exr") { "png" } else { "exr" });
     write_film(&film, &a.output, a.exposure)?;
     write_film(&film, &other, a.exposure)?;
     println!(

@@ -33,7 +33,10 @@ pub fn run(a: Args) -> Result<()> {
     );
     println!("{:>5}  {:<24} {:>14}  power Φ (W, RGB)", "light", "name", "paths N_k");
     for (k, l) in h.table.lights.iter().enumerate() {
-        println!("{k:>5}  {:<24} {:>14}  {:.6} {:.6} {:.6}", l.name, l.paths, l.power.x, l.power.y, l.power.z);
+        println!(
+            "{k:>5}  {:<24} {:>14}  {:.6} {:.6} {:.6}",
+            l.name, l.paths, l.power.x, l.power.y, l.power.z
+        );
     }
     Ok(())
 }

@@ -20,7 +20,10 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// Sets the size of rayon's global pool (0 = all cores).
 pub fn set_threads(threads: usize) -> Result<()> {
     if threads > 0 {
-        rayon::ThreadPoolBuilder::new().num_threads(threads).build_global().context("cannot set --threads")?;
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build_global()
+            .context("cannot set --threads")?;
     }
     Ok(())
 }

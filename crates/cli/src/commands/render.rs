@@ -48,7 +48,9 @@ pub fn run(a: Args) -> Result<()> {
             scene.fingerprint.geometry_hex()
         );
     }
-    if scene.fingerprint.lights != header.fingerprint.lights || scene.lights.len() != header.table.lights.len() {
+    if scene.fingerprint.lights != header.fingerprint.lights
+        || scene.lights.len() != header.table.lights.len()
+    {
         bail!(
             "the lights of {scene_spec} differ from those {} was traced with; re-trace the scene",
             a.dataset.display()

@@ -48,7 +48,8 @@ pub fn run(a: Args) -> Result<()> {
     let mut writer = DatasetWriter::create(&a.output, &header)
         .with_context(|| format!("cannot create dataset {}", a.output.display()))?;
     let table = trace_with_progress(&scene, &settings, |c| Ok(writer.write_chunk(&c)?))?;
-    let summary = writer.finish(&table).with_context(|| format!("cannot write dataset {}", a.output.display()))?;
+    let summary =
+        writer.finish(&table).with_context(|| format!("cannot write dataset {}", a.output.display()))?;
     let secs = t0.elapsed().as_secs_f64();
     println!(
         "traced {} paths → {} samples in {:.2} s ({:.2} M paths/s) → {} ({:.1} MB)",

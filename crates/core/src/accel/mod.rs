@@ -76,8 +76,12 @@ mod tests {
     use super::*;
 
     fn quad(y: f32) -> [[Vec3; 3]; 2] {
-        let (a, b, c, d) =
-            (Vec3::new(-1.0, y, -1.0), Vec3::new(1.0, y, -1.0), Vec3::new(1.0, y, 1.0), Vec3::new(-1.0, y, 1.0));
+        let (a, b, c, d) = (
+            Vec3::new(-1.0, y, -1.0),
+            Vec3::new(1.0, y, -1.0),
+            Vec3::new(1.0, y, 1.0),
+            Vec3::new(-1.0, y, 1.0),
+        );
         [[a, b, c], [a, c, d]]
     }
 

@@ -82,7 +82,9 @@ pub enum SceneError {
         value: [f32; 3],
     },
     /// A triangle refers to a vertex that does not exist.
-    #[error("{at}: mesh '{mesh}': triangle {triangle} refers to vertex {index}, but the mesh has {count} vertices")]
+    #[error(
+        "{at}: mesh '{mesh}': triangle {triangle} refers to vertex {index}, but the mesh has {count} vertices"
+    )]
     IndexOutOfRange {
         /// Where the mesh was declared.
         at: Source,
@@ -219,7 +221,10 @@ impl Scene {
             }
             if let Some(radiance) = mesh.emission {
                 if emitter_tris.is_empty() {
-                    return Err(SceneError::EmptyAreaLight { at: mesh.source.clone(), light: mesh.name.clone() });
+                    return Err(SceneError::EmptyAreaLight {
+                        at: mesh.source.clone(),
+                        light: mesh.name.clone(),
+                    });
                 }
                 lit.f32s(&radiance.to_array());
                 lights.push(Light::Area(AreaLight {
@@ -247,7 +252,11 @@ impl Scene {
             }
             lit.f32s(&[p.position.x, p.position.y, p.position.z]);
             lit.f32s(&p.intensity.to_array());
-            lights.push(Light::Point(PointLight { name: p.name.clone(), position: p.position, intensity: p.intensity }));
+            lights.push(Light::Point(PointLight {
+                name: p.name.clone(),
+                position: p.position,
+                intensity: p.intensity,
+            }));
         }
         if triangles.is_empty() {
             return Err(SceneError::NoGeometry);
