@@ -220,12 +220,13 @@ fn compare_hand_computed() {
 /// Runs `imgcmp.py` (the project's judge) on a perturbed copy of the cornell reference and checks
 /// that [`compare`] prints the same numbers. Skipped (with a message) unless python3 with numpy
 /// and imgcmp.py are available: set `OPTICKS_PYTHON` (default `python3`) and `OPTICKS_IMGCMP`
-/// (default `/work/shared/tools/imgcmp.py`).
+/// (default `../shared/tools/imgcmp.py` beside the repository, where CI puts it).
 #[test]
 fn compare_matches_imgcmp_py() {
     let python = std::env::var("OPTICKS_PYTHON").unwrap_or_else(|_| "python3".into());
     let imgcmp = PathBuf::from(
-        std::env::var("OPTICKS_IMGCMP").unwrap_or_else(|_| "/work/shared/tools/imgcmp.py".into()),
+        std::env::var("OPTICKS_IMGCMP")
+            .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/tools/imgcmp.py").into()),
     );
     let has_numpy = Command::new(&python)
         .args(["-c", "import numpy"])
