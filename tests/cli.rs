@@ -184,3 +184,29 @@ fn bad_arguments_are_refused() {
     let e = fails(&["demo", "--paths", "1000", "--size", "0x5"], d);
     assert!(e.contains("0x5") || e.contains("size"), "{e}");
 }
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_a_trace_and_leaves_the_old_dataset_and_no_temporary() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    let cornell = cornell.to_str().unwrap();
+    ok(opticks(&["trace", cornell, "--paths", "10000", "-o", "data.opds"], d));
+    let before = std::fs::read(d.join("data.opds")).unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
+        .args(["trace", cornell, "--paths", "2000000000", "-o", "data.opds"])
+        .current_dir(d)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let status = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("interrupted"), "{err}");
+    assert!(std::fs::read(d.join("data.opds")).unwrap() == before, "the old dataset is intact");
+    let left: Vec<_> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(left.len(), 1, "no temporary file is left: {left:?}");
+}

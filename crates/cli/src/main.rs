@@ -6,6 +6,7 @@
 
 mod camera_args;
 mod commands;
+mod interrupt;
 mod progress;
 mod scene_arg;
 
@@ -36,6 +37,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    interrupt::install();
     let result = match cli.command {
         Command::Demo(a) => commands::demo::run(a),
         Command::Trace(a) => commands::trace::run(a),

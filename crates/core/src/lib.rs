@@ -18,6 +18,8 @@
 //! This crate does no file IO and is deterministic for a given seed.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+// `!(x > 0.0)` is how this crate rejects NaN along with the out-of-range values: deliberate.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod accel;
 pub mod bsdf;

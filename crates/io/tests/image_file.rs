@@ -224,10 +224,10 @@ fn compare_hand_computed() {
 #[test]
 fn compare_matches_imgcmp_py() {
     let python = std::env::var("OPTICKS_PYTHON").unwrap_or_else(|_| "python3".into());
-    let imgcmp = PathBuf::from(
-        std::env::var("OPTICKS_IMGCMP")
-            .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/tools/imgcmp.py").into()),
-    );
+    let imgcmp =
+        PathBuf::from(std::env::var("OPTICKS_IMGCMP").unwrap_or_else(|_| {
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/tools/imgcmp.py").into()
+        }));
     let has_numpy = Command::new(&python)
         .args(["-c", "import numpy"])
         .output()

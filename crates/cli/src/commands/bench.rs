@@ -2,7 +2,7 @@
 //! Reports light paths/s, stored samples/s and render time; runs each phase `--repeat` times
 //! and reports the best, so a one-off hiccup of the machine does not count.
 
-use super::set_threads;
+use super::ThreadArgs;
 use crate::camera_args::CameraArgs;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
 use anyhow::Result;
@@ -24,16 +24,15 @@ pub struct Args {
     /// Runs per phase (the fastest is reported).
     #[arg(long, default_value_t = 3)]
     repeat: u32,
-    /// Worker threads (0 = all cores).
-    #[arg(long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    threads: ThreadArgs,
     #[command(flatten)]
     camera: CameraArgs,
 }
 
 /// Runs the benchmark and prints one JSON line after the human-readable report.
 pub fn run(a: Args) -> Result<()> {
-    set_threads(a.threads)?;
+    a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
     let camera = a.camera.resolve(scene.camera)?;
     let settings = TraceSettings { paths: a.paths, seed: 1, ..Default::default() };

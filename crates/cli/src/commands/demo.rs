@@ -1,6 +1,6 @@
 //! `opticks demo`: the built-in Cornell box, traced and rendered in one go — no files needed.
 
-use super::{render_chunks, set_threads, trace_with_progress, write_film};
+use super::{ThreadArgs, render_chunks, trace_with_progress, write_film};
 use crate::camera_args::CameraArgs;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
 use anyhow::Result;
@@ -23,16 +23,15 @@ pub struct Args {
     /// Exposure for the PNG, in stops.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
-    /// Worker threads (0 = all cores).
-    #[arg(long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    threads: ThreadArgs,
     #[command(flatten)]
     camera: CameraArgs,
 }
 
 /// Runs the demo.
 pub fn run(a: Args) -> Result<()> {
-    set_threads(a.threads)?;
+    a.threads.apply()?;
     let scene = load_scene(BUILTIN_CORNELL)?;
     let camera = a.camera.resolve(scene.camera)?;
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };

@@ -17,25 +17,43 @@ use opticks_core::trace::{TraceSettings, trace};
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// Sets the size of rayon's global pool (0 = all cores).
-pub fn set_threads(threads: usize) -> Result<()> {
-    if threads > 0 {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build_global()
-            .context("cannot set --threads")?;
-    }
-    Ok(())
+/// `--threads`, shared by every verb that computes.
+#[derive(clap::Args, Debug)]
+pub struct ThreadArgs {
+    /// Worker threads (0 = all cores).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
 }
 
-/// Traces with a progress bar, handing chunks to `sink`.
+impl ThreadArgs {
+    /// Sizes rayon's global pool.
+    pub fn apply(&self) -> Result<()> {
+        if self.threads > 0 {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(self.threads)
+                .build_global()
+                .context("cannot set --threads")?;
+        }
+        Ok(())
+    }
+}
+
+/// Traces with a progress bar, handing chunks to `sink`; stops with an error on Ctrl-C.
 pub fn trace_with_progress(
     scene: &Scene,
     settings: &TraceSettings,
-    sink: impl FnMut(Chunk) -> Result<()>,
+    mut sink: impl FnMut(Chunk) -> Result<()>,
 ) -> Result<LightTable> {
     let pb = progress::bar(settings.paths, "tracing", "paths");
-    let table = trace(scene, settings, sink, |done| pb.set_position(done))?;
+    let table = trace(
+        scene,
+        settings,
+        |c| {
+            crate::interrupt::check()?;
+            sink(c)
+        },
+        |done| pb.set_position(done),
+    )?;
     pb.finish_and_clear();
     Ok(table)
 }

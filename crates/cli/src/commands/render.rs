@@ -1,7 +1,7 @@
 //! `opticks render`: a dataset, seen through a camera, into an EXR or PNG image. The dataset is
 //! memory-mapped and streamed chunk by chunk; its scene must match (geometry fingerprint).
 
-use super::{render_with_progress, set_threads, write_film};
+use super::{ThreadArgs, render_with_progress, write_film};
 use crate::camera_args::CameraArgs;
 use crate::scene_arg::load_scene;
 use anyhow::{Context, Result, bail};
@@ -24,16 +24,15 @@ pub struct Args {
     /// Exposure for PNG output, in stops.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
-    /// Worker threads (0 = all cores).
-    #[arg(long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    threads: ThreadArgs,
     #[command(flatten)]
     camera: CameraArgs,
 }
 
 /// Runs the render.
 pub fn run(a: Args) -> Result<()> {
-    set_threads(a.threads)?;
+    a.threads.apply()?;
     let reader = DatasetReader::open(&a.dataset)?;
     let header = reader.header();
     let scene_spec = a.scene.clone().unwrap_or_else(|| header.label.clone());

@@ -1,6 +1,6 @@
 //! `opticks trace`: light sampling of a scene file into a dataset file (written atomically).
 
-use super::{set_threads, trace_with_progress};
+use super::{ThreadArgs, trace_with_progress};
 use crate::scene_arg::load_scene;
 use anyhow::{Context, Result, bail};
 use opticks_core::trace::{TraceSettings, planned_table};
@@ -25,9 +25,8 @@ pub struct Args {
     /// Path depth from which Russian roulette may end paths.
     #[arg(long, default_value_t = 5)]
     rr_depth: u32,
-    /// Worker threads (0 = all cores).
-    #[arg(long, default_value_t = 0)]
-    threads: usize,
+    #[command(flatten)]
+    threads: ThreadArgs,
 }
 
 /// Runs the trace.
@@ -35,7 +34,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.paths == 0 {
         bail!("--paths must be at least 1");
     }
-    set_threads(a.threads)?;
+    a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
     let settings = TraceSettings { paths: a.paths, seed: a.seed, stream: 0, rr_depth: a.rr_depth };
     let header = DatasetHeader {
