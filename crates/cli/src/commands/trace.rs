@@ -3,6 +3,7 @@
 use super::{ThreadArgs, trace_with_progress};
 use crate::scene_arg::load_scene;
 use anyhow::{Context, Result, bail};
+use opticks_core::dataset::Chunk;
 use opticks_core::trace::{TraceSettings, planned_table};
 use opticks_io::dataset_file::{DatasetHeader, DatasetWriter, TraceInfo};
 use std::path::PathBuf;
@@ -46,7 +47,25 @@ pub fn run(a: Args) -> Result<()> {
     let t0 = Instant::now();
     let mut writer = DatasetWriter::create(&a.output, &header)
         .with_context(|| format!("cannot create dataset {}", a.output.display()))?;
-    let table = trace_with_progress(&scene, &settings, |c| Ok(writer.write_chunk(&c)?))?;
+    // Writing overlaps tracing: a writer thread drains finished chunks while the next batch is
+    // traced. The bounded channel keeps at most a few batches in memory.
+    let (table, writer) = std::thread::scope(|s| -> Result<_> {
+        let (send, receive) = std::sync::mpsc::sync_channel::<Chunk>(128);
+        let writing = s.spawn(move || -> Result<DatasetWriter> {
+            for c in receive {
+                writer.write_chunk(&c)?;
+            }
+            Ok(writer)
+        });
+        let traced = trace_with_progress(&scene, &settings, |c| {
+            send.send(c).map_err(|_| anyhow::anyhow!("the dataset writer stopped"))
+        });
+        drop(send);
+        let written = writing.join().map_err(|_| anyhow::anyhow!("the dataset writer panicked"))?;
+        // A write error explains a trace that stopped because the writer did: report it first.
+        let writer = written?;
+        Ok((traced?, writer))
+    })?;
     let summary =
         writer.finish(&table).with_context(|| format!("cannot write dataset {}", a.output.display()))?;
     let secs = t0.elapsed().as_secs_f64();
