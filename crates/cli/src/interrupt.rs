@@ -1,6 +1,6 @@
 //! Ctrl-C: long work stops cleanly instead of dying mid-write. The first Ctrl-C sets a flag that
-//! the trace loop checks between batches; the command then returns an error, the dataset writer
-//! is dropped and removes its temporary file, and whatever was on disk before stays intact.
+//! the trace loop checks between batches; the paths traced so far are saved as a valid dataset
+//! beside the target (`NAME.partial.opds`), and whatever was on disk before stays intact.
 //! A second Ctrl-C exits at once.
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -18,10 +18,7 @@ pub fn install() {
     });
 }
 
-/// An error if Ctrl-C was pressed.
-pub fn check() -> anyhow::Result<()> {
-    if INTERRUPTED.load(Ordering::SeqCst) {
-        anyhow::bail!("interrupted by the user; nothing was written");
-    }
-    Ok(())
+/// Whether Ctrl-C was pressed.
+pub fn requested() -> bool {
+    INTERRUPTED.load(Ordering::SeqCst)
 }

@@ -29,6 +29,12 @@ enum Command {
     Trace(commands::trace::Args),
     /// Render a dataset through a camera into an EXR or PNG image.
     Render(commands::render::Args),
+    /// Add paths to a dataset from a fresh random stream.
+    Refine(commands::refine::Args),
+    /// Trace a light the scene file gained into an existing dataset.
+    AddLight(commands::add_light::Args),
+    /// Combine datasets of the same scene traced independently.
+    Merge(commands::merge::Args),
     /// Print a readable summary of a dataset file.
     Info(commands::info::Args),
     /// Measure tracing and rendering speed on a scene (in memory, nothing written).
@@ -42,6 +48,9 @@ fn main() -> ExitCode {
         Command::Demo(a) => commands::demo::run(a),
         Command::Trace(a) => commands::trace::run(a),
         Command::Render(a) => commands::render::run(a),
+        Command::Refine(a) => commands::refine::run(a),
+        Command::AddLight(a) => commands::add_light::run(a),
+        Command::Merge(a) => commands::merge::run(a),
         Command::Info(a) => commands::info::run(a),
         Command::Bench(a) => commands::bench::run(a),
     };

@@ -40,6 +40,7 @@ fn table(paths: &[u64]) -> LightTable {
             .enumerate()
             .map(|(k, &p)| LightRecord {
                 name: format!("light-{k}"),
+                shape: [k as u8; 16],
                 power: Rgb::new(10.0 + k as f32, 5.0, 1.5),
                 paths: p,
             })
@@ -51,7 +52,15 @@ fn header(paths: &[u64]) -> DatasetHeader {
     DatasetHeader {
         fingerprint: Fingerprint { geometry: [0xa5; 16], lights: std::array::from_fn(|i| i as u8) },
         label: "scenes/cornell/scene.xml — ünïcode".into(),
-        trace: TraceInfo { seed: 0x0123_4567_89ab_cdef, rr_depth: 5 },
+        trace: TraceInfo {
+            passes: vec![TracePass {
+                seed: 0x0123_4567_89ab_cdef,
+                stream: 0,
+                paths: 0,
+                rr_depth: 5,
+                seconds: 0.0,
+            }],
+        },
         table: table(paths),
     }
 }
@@ -65,7 +74,7 @@ fn write(path: &Path, h: &DatasetHeader, chunks: &[Chunk]) -> DatasetSummary {
     for (k, l) in t.lights.iter_mut().enumerate() {
         l.paths = chunks.iter().filter(|c| c.light as usize == k).map(|c| c.paths).sum();
     }
-    w.finish(&t).unwrap()
+    w.finish(&t, &h.trace).unwrap()
 }
 
 /// Small file used by the damage tests: two lights, three chunks (one empty with paths > 0).
@@ -79,11 +88,13 @@ fn tiny(path: &Path) -> (DatasetHeader, Vec<Chunk>) {
     let h = DatasetHeader {
         fingerprint: Fingerprint { geometry: [0x11; 16], lights: [0x22; 16] },
         label: "tiny".into(),
-        trace: TraceInfo { seed: 42, rr_depth: 3 },
+        trace: TraceInfo {
+            passes: vec![TracePass { seed: 42, stream: 0, paths: 0, rr_depth: 3, seconds: 0.0 }],
+        },
         table: LightTable {
             lights: vec![
-                LightRecord { name: "sun".into(), power: Rgb::new(1.0, 2.0, 3.0), paths: 3 },
-                LightRecord { name: "lamp".into(), power: Rgb::splat(0.5), paths: 3 },
+                LightRecord { shape: [7; 16], name: "sun".into(), power: Rgb::new(1.0, 2.0, 3.0), paths: 3 },
+                LightRecord { shape: [7; 16], name: "lamp".into(), power: Rgb::splat(0.5), paths: 3 },
             ],
         },
     };
@@ -175,7 +186,7 @@ fn empty_dataset_round_trips() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("empty.opds");
     let h = DatasetHeader::default();
-    let s = DatasetWriter::create(&path, &h).unwrap().finish(&LightTable::default()).unwrap();
+    let s = DatasetWriter::create(&path, &h).unwrap().finish(&LightTable::default(), &h.trace).unwrap();
     assert_eq!((s.chunks, s.samples, s.paths), (0, 0, 0));
     let (h2, c) = read_all(&path).unwrap();
     assert_eq!(h2, h);
@@ -249,7 +260,7 @@ fn failed_finish_leaves_the_old_file_and_no_temporary() {
     w.write_chunk(&Chunk { light: 1, paths: 5, samples: vec![] }).unwrap();
     assert_eq!(w.light_paths(), &[0, 5]);
     // N_k that does not match the chunks written: refused.
-    let e = w.finish(&table(&[0, 4])).unwrap_err();
+    let e = w.finish(&table(&[0, 4]), &header(&[0]).trace).unwrap_err();
     assert!(e.to_string().contains("N_k = 4 paths but the chunks written hold 5"), "{e}");
     assert_eq!(std::fs::read(&path).unwrap(), before);
     assert_eq!(dir_names(dir.path()), vec!["keep.opds".to_string()]);
@@ -273,7 +284,9 @@ fn writer_refuses_invalid_chunks_and_tables() {
     w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default()] }).unwrap();
     let mut renamed = table(&[1, 0]);
     renamed.lights[1].name = "other".into();
-    assert!(w.finish(&renamed).unwrap_err().to_string().contains("does not list the lights"));
+    assert!(
+        w.finish(&renamed, &header(&[0]).trace).unwrap_err().to_string().contains("does not list the lights")
+    );
     assert_eq!(dir_names(dir.path()), Vec::<String>::new());
 
     let mut h = header(&[0]);
@@ -401,8 +414,8 @@ fn huge_length_fields_are_errors_not_allocations() {
     tiny(&good);
     let bytes = std::fs::read(&good).unwrap();
     let path = dir.path().join("huge.opds");
-    let label_len_at = 60;
-    let light_count_at = 64 + "tiny".len();
+    let label_len_at = 84; // 48 fixed bytes, the pass count, one 32-byte pass
+    let light_count_at = 88 + "tiny".len();
     let c0 = first_chunk(&bytes);
 
     // Header length beyond the file, and not a multiple of 32.
@@ -458,8 +471,9 @@ fn path_count_mismatch_is_detected() {
     let good = dir.path().join("good.opds");
     tiny(&good);
     let bytes = std::fs::read(&good).unwrap();
-    // N_k of light 1 ("lamp"): after label, count, light 0 (4+3+12+8), light 1's name and power.
-    let at = 64 + 4 + 4 + (4 + 3 + 12 + 8) + (4 + 4 + 12);
+    // N_k of light 1 ("lamp"): after the label, the count, light 0 (4+3+16+12+8), light 1's name,
+    // shape and power.
+    let at = 88 + 4 + 4 + (4 + 3 + 16 + 12 + 8) + (4 + 4 + 16 + 12);
     assert_eq!(u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()), 3);
     let mut b = bytes.clone();
     b[at..at + 8].copy_from_slice(&4u64.to_le_bytes());
@@ -524,7 +538,7 @@ fn throughput() {
         left -= chunk.samples.len();
     }
     let paths = w.light_paths().to_vec();
-    let s = w.finish(&table(&paths)).unwrap();
+    let s = w.finish(&table(&paths), &header(&[0]).trace).unwrap();
     let tw = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let r = DatasetReader::open(&path).unwrap();
@@ -560,17 +574,32 @@ fn write_tiny_example() {
     let h = DatasetHeader {
         fingerprint: Fingerprint { geometry: [0xaa; 16], lights: [0xbb; 16] },
         label: "box.xml".into(),
-        trace: TraceInfo { seed: 1, rr_depth: 5 },
+        trace: TraceInfo {
+            passes: vec![TracePass { seed: 1, stream: 0, paths: 4, rr_depth: 5, seconds: 0.5 }],
+        },
         table: LightTable {
-            lights: vec![LightRecord { name: "ceiling".into(), power: Rgb::new(1.0, 1.0, 1.0), paths: 0 }],
+            lights: vec![LightRecord {
+                shape: [7; 16],
+                name: "ceiling".into(),
+                power: Rgb::new(1.0, 1.0, 1.0),
+                paths: 0,
+            }],
         },
     };
     let mut w = DatasetWriter::create(Path::new(&path), &h).unwrap();
     for c in &chunks {
         w.write_chunk(c).unwrap();
     }
-    w.finish(&LightTable {
-        lights: vec![LightRecord { name: "ceiling".into(), power: Rgb::new(1.0, 1.0, 1.0), paths: 4 }],
-    })
+    w.finish(
+        &LightTable {
+            lights: vec![LightRecord {
+                shape: [7; 16],
+                name: "ceiling".into(),
+                power: Rgb::new(1.0, 1.0, 1.0),
+                paths: 4,
+            }],
+        },
+        &h.trace,
+    )
     .unwrap();
 }

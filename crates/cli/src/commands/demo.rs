@@ -4,7 +4,7 @@ use super::{ThreadArgs, render_chunks, trace_with_progress, write_film};
 use crate::camera_args::CameraArgs;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
 use anyhow::Result;
-use opticks_core::trace::TraceSettings;
+use opticks_core::trace::{TraceSettings, plan_all, planned_table};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -37,10 +37,14 @@ pub fn run(a: Args) -> Result<()> {
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
     let t0 = Instant::now();
     let mut chunks = Vec::new();
-    let table = trace_with_progress(&scene, &settings, |c| {
+    trace_with_progress(&scene, &settings, &plan_all(&scene, a.paths), |c| {
         chunks.push(c);
         Ok(())
     })?;
+    if crate::interrupt::requested() {
+        anyhow::bail!("interrupted by the user");
+    }
+    let table = planned_table(&scene, a.paths);
     let t1 = Instant::now();
     let film = render_chunks(&scene, &camera, &table, &chunks)?;
     let t2 = Instant::now();

@@ -22,7 +22,12 @@ pub fn run(a: Args) -> Result<()> {
     println!("scene     {}", h.label);
     println!("geometry  {}", h.fingerprint.geometry_hex());
     println!("lights    {}", h.fingerprint.lights_hex());
-    println!("trace     seed {}, roulette from depth {}", h.trace.seed, h.trace.rr_depth);
+    for p in &h.trace.passes {
+        println!(
+            "pass      seed {}, stream {}: {} paths in {:.2} s, roulette from depth {}",
+            p.seed, p.stream, p.paths, p.seconds, p.rr_depth
+        );
+    }
     println!("paths     {paths}");
     println!("samples   {samples} ({:.2} per path)", samples as f64 / paths.max(1) as f64);
     println!("chunks    {}", reader.chunk_count());

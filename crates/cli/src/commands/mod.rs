@@ -1,9 +1,14 @@
 //! One module per verb. The shared steps — trace with a progress bar, render with a progress
 //! bar, write the image(s) — live here so every verb does them the same way.
 
+pub mod add_light;
 pub mod bench;
+pub mod dataset_job;
 pub mod demo;
 pub mod info;
+pub mod light_args;
+pub mod merge;
+pub mod refine;
 pub mod render;
 pub mod trace;
 
@@ -13,7 +18,8 @@ use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::scene::{Pinhole, Scene};
 use opticks_core::sensor::{SampleBatch, render_pinhole};
-use opticks_core::trace::{TraceSettings, trace};
+use opticks_core::trace::{LightPlan, TraceSettings, trace_plan};
+use opticks_io::dataset_file::DatasetReader;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -38,24 +44,19 @@ impl ThreadArgs {
     }
 }
 
-/// Traces with a progress bar, handing chunks to `sink`; stops with an error on Ctrl-C.
+/// Traces `plan` with a progress bar, handing chunks to `sink`; stops early (between batches)
+/// on Ctrl-C. Returns the paths traced per plan entry.
 pub fn trace_with_progress(
     scene: &Scene,
     settings: &TraceSettings,
-    mut sink: impl FnMut(Chunk) -> Result<()>,
-) -> Result<LightTable> {
-    let pb = progress::bar(settings.paths, "tracing", "paths");
-    let table = trace(
-        scene,
-        settings,
-        |c| {
-            crate::interrupt::check()?;
-            sink(c)
-        },
-        |done| pb.set_position(done),
-    )?;
+    plan: &[LightPlan],
+    sink: impl FnMut(Chunk) -> Result<()>,
+) -> Result<Vec<u64>> {
+    let pb = progress::bar(plan.iter().map(|p| p.paths).sum(), "tracing", "paths");
+    let traced =
+        trace_plan(scene, settings, plan, sink, |done| pb.set_position(done), crate::interrupt::requested)?;
     pb.finish_and_clear();
-    Ok(table)
+    Ok(traced)
 }
 
 /// Renders `count` sample batches through `camera` with a progress bar over `total_samples`.
@@ -74,6 +75,28 @@ pub fn render_with_progress<'a>(
     })?;
     pb.finish_and_clear();
     Ok(film)
+}
+
+/// Opens a dataset and the scene it is to be used with — `scene` if given, else the scene file
+/// recorded in the dataset — and checks that the geometry and materials are those it was traced
+/// in (lights are checked one by one where they are used: see `opticks_core::dataset::lighting`).
+pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<(DatasetReader, Scene)> {
+    let reader = DatasetReader::open(dataset)?;
+    let label = &reader.header().label;
+    let spec = scene.unwrap_or(label);
+    let scene = crate::scene_arg::load_scene(spec).with_context(|| {
+        format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)")
+    })?;
+    let recorded = reader.header().fingerprint;
+    if scene.fingerprint.geometry != recorded.geometry {
+        anyhow::bail!(
+            "{} was traced from a different scene than {spec}: geometry/material fingerprint {} ≠ {}",
+            dataset.display(),
+            recorded.geometry_hex(),
+            scene.fingerprint.geometry_hex()
+        );
+    }
+    Ok((reader, scene))
 }
 
 /// Writes the film to `path` (format from the extension).

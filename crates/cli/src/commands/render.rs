@@ -1,12 +1,13 @@
-//! `opticks render`: a dataset, seen through a camera, into an EXR or PNG image. The dataset is
-//! memory-mapped and streamed chunk by chunk; its scene must match (geometry fingerprint).
+//! `opticks render`: a dataset, seen through a camera, into an EXR or PNG image, optionally
+//! relit (`--light`). The dataset is memory-mapped and streamed chunk by chunk; its scene must
+//! match (geometry fingerprint; each light's shape).
 
-use super::{ThreadArgs, render_with_progress, write_film};
+use super::light_args::parse_light_scale;
+use super::{ThreadArgs, open_with_scene, render_with_progress, write_film};
 use crate::camera_args::CameraArgs;
-use crate::scene_arg::load_scene;
-use anyhow::{Context, Result, bail};
+use anyhow::Result;
+use opticks_core::dataset::{LightScale, lighting};
 use opticks_core::sensor::SampleBatch;
-use opticks_io::dataset_file::DatasetReader;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -21,6 +22,10 @@ pub struct Args {
     /// Output image: .exr (linear radiance) or .png (sRGB).
     #[arg(short, long)]
     output: PathBuf,
+    /// Relight: NAME_OR_INDEX=SCALE or NAME_OR_INDEX=R,G,B multiplies that light's power
+    /// (0 switches it off); repeatable. No re-tracing: exact.
+    #[arg(long = "light", value_parser = parse_light_scale, allow_hyphen_values = true)]
+    light: Vec<LightScale>,
     /// Exposure for PNG output, in stops.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
@@ -33,34 +38,16 @@ pub struct Args {
 /// Runs the render.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let reader = DatasetReader::open(&a.dataset)?;
-    let header = reader.header();
-    let scene_spec = a.scene.clone().unwrap_or_else(|| header.label.clone());
-    let scene = load_scene(&scene_spec).with_context(|| {
-        format!("cannot load the dataset's scene (recorded as '{}'; pass --scene to name it)", header.label)
-    })?;
-    if scene.fingerprint.geometry != header.fingerprint.geometry {
-        bail!(
-            "{} was traced from a different scene than {scene_spec}: geometry/material fingerprint {} ≠ {}",
-            a.dataset.display(),
-            hex(&header.fingerprint.geometry),
-            scene.fingerprint.geometry_hex()
-        );
-    }
-    if scene.fingerprint.lights != header.fingerprint.lights
-        || scene.lights.len() != header.table.lights.len()
-    {
-        bail!(
-            "the lights of {scene_spec} differ from those {} was traced with; re-trace the scene",
-            a.dataset.display()
-        );
+    let (reader, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let lit = lighting(&reader.header().table, &scene, &a.light)?;
+    for note in &lit.notes {
+        eprintln!("note: {note}");
     }
     let camera = a.camera.resolve(scene.camera)?;
-    let table = &header.table;
     let t0 = Instant::now();
     let film = render_with_progress(&scene, &camera, reader.chunk_count(), reader.total_samples(), |i| {
         let c = reader.chunk(i)?;
-        Ok(SampleBatch { flux_per_path: table.flux_per_path(c.light as usize), samples: c.samples })
+        Ok(SampleBatch { flux_per_path: lit.flux_per_path[c.light as usize], samples: c.samples })
     })?;
     let secs = t0.elapsed().as_secs_f64();
     write_film(&film, &a.output, a.exposure)?;
@@ -73,8 +60,4 @@ pub fn run(a: Args) -> Result<()> {
         a.output.display()
     );
     Ok(())
-}
-
-fn hex(b: &[u8]) -> String {
-    b.iter().map(|x| format!("{x:02x}")).collect()
 }

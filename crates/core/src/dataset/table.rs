@@ -6,8 +6,10 @@ use crate::math::Rgb;
 /// One light's row in the dataset: its power Φ_k at trace time and its path count N_k.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LightRecord {
-    /// Name from the scene (for relighting by name).
+    /// Name from the scene (lights are matched by name).
     pub name: String,
+    /// The light's shape hash at trace time ([`crate::scene::Scene::light_shapes`]).
+    pub shape: [u8; 16],
     /// Power Φ_k, W per channel.
     pub power: Rgb,
     /// Number of light paths emitted from this light (not stored vertices).

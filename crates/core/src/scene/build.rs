@@ -55,8 +55,12 @@ pub struct Scene {
     light_of: Vec<u32>,
     /// Materials.
     pub materials: Vec<Material>,
-    /// Lights, in the order of the dataset's light table.
+    /// Lights, in scene order.
     pub lights: Vec<Light>,
+    /// Per light: hash of where and how it emits (geometry and emission distribution), not of
+    /// its power. Samples stay valid for a light as long as this is unchanged; power and colour
+    /// may change freely (relighting).
+    pub light_shapes: Vec<[u8; 16]>,
     /// The scene file's camera, if any.
     pub camera: Option<CameraDesc>,
     /// Content hashes.
@@ -140,9 +144,31 @@ pub enum SceneError {
     /// Nothing to render.
     #[error("the scene has no triangles: light paths would have nothing to hit")]
     NoGeometry,
+    /// Two lights share a name (lights are matched by name when relighting).
+    #[error("two lights are named '{0}': light names must be unique")]
+    DuplicateLightName(String),
     /// Nothing emits.
     #[error("the scene has no light source (an area emitter or a point light)")]
     NoLight,
+}
+
+/// Hash of a light's emitting geometry and emission distribution (not its power).
+fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
+    let mut h = Hasher::new("opticks light shape v1");
+    match light {
+        Light::Area(a) => {
+            h.0.update(b"lambertian area");
+            for &t in &a.triangles {
+                let t = &triangles[t as usize];
+                h.f32s(&[t.v0.x, t.v0.y, t.v0.z, t.e1.x, t.e1.y, t.e1.z, t.e2.x, t.e2.y, t.e2.z]);
+            }
+        }
+        Light::Point(p) => {
+            h.0.update(b"isotropic point");
+            h.f32s(&p.position.to_array());
+        }
+    }
+    h.finish()
 }
 
 impl Scene {
@@ -155,7 +181,6 @@ impl Scene {
         let mut lights = Vec::new();
         let mut dropped = 0usize;
         let mut geo = Hasher::new("opticks geometry v1");
-        let mut lit = Hasher::new("opticks lights v1");
 
         for mesh in &desc.meshes {
             if mesh.material >= desc.materials.len() {
@@ -212,7 +237,6 @@ impl Scene {
                     emitter_tris.push(index);
                     area_sum += area as f64;
                     cumulative.push(area_sum as f32);
-                    lit.u32s(&[index]);
                 }
                 triangles.push(tri);
                 vertices.push([a, b, c]);
@@ -226,7 +250,6 @@ impl Scene {
                         light: mesh.name.clone(),
                     });
                 }
-                lit.f32s(&radiance.to_array());
                 lights.push(Light::Area(AreaLight {
                     name: mesh.name.clone(),
                     radiance,
@@ -250,8 +273,6 @@ impl Scene {
                     value: p.position.to_array(),
                 });
             }
-            lit.f32s(&[p.position.x, p.position.y, p.position.z]);
-            lit.f32s(&p.intensity.to_array());
             lights.push(Light::Point(PointLight {
                 name: p.name.clone(),
                 position: p.position,
@@ -268,6 +289,16 @@ impl Scene {
             // Debug formatting of f32 is the shortest round-trip form: stable and exact.
             geo.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
         }
+        let mut names = std::collections::HashSet::new();
+        if let Some(dup) = lights.iter().map(Light::name).find(|n| !names.insert(*n)) {
+            return Err(SceneError::DuplicateLightName(dup.to_string()));
+        }
+        let light_shapes: Vec<[u8; 16]> = lights.iter().map(|l| light_shape(l, &triangles)).collect();
+        let mut lit = Hasher::new("opticks lights v1");
+        for (l, shape) in lights.iter().zip(&light_shapes) {
+            lit.0.update(l.name().as_bytes());
+            lit.0.update(shape);
+        }
         let normals = triangles.iter().map(Triangle::normal).collect();
         let accel = Accel::build(&vertices);
         Ok(Scene {
@@ -277,6 +308,7 @@ impl Scene {
             light_of,
             materials: desc.materials.clone(),
             lights,
+            light_shapes,
             camera: desc.camera,
             fingerprint: Fingerprint { geometry: geo.finish(), lights: lit.finish() },
             dropped_triangles: dropped,
@@ -316,7 +348,12 @@ impl Scene {
         (l != NO_LIGHT).then_some(l as usize)
     }
 
-    /// Powers Φ_k of all lights, in light-table order.
+    /// Index of the light named `name`.
+    pub fn light_index(&self, name: &str) -> Option<usize> {
+        self.lights.iter().position(|l| l.name() == name)
+    }
+
+    /// Powers Φ_k of all lights, in scene order.
     pub fn light_powers(&self) -> Vec<Rgb> {
         self.lights.iter().map(Light::power).collect()
     }

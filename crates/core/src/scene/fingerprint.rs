@@ -1,15 +1,16 @@
 //! Content fingerprints: a dataset is only valid for the scene it was traced in.
 //!
 //! Two hashes (BLAKE3, 128 bits each): `geometry` covers triangles and materials — it must match
-//! for a dataset to be rendered; `lights` covers the light table — it may change (relighting,
-//! adding a light) without invalidating the stored samples of the other lights.
+//! for a dataset to be rendered; `lights` covers the lights' names and shapes (where and how they
+//! emit, not how much) — it may change (adding a light) without invalidating the stored samples
+//! of the other lights, which are checked one by one with their own shape hashes.
 
 /// The scene's content hashes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Fingerprint {
     /// Hash of world-space triangles, their materials and emitter assignment.
     pub geometry: [u8; 16],
-    /// Hash of the lights (positions, shapes, powers).
+    /// Hash of the lights' names and shapes (not their powers).
     pub lights: [u8; 16],
 }
 

@@ -10,7 +10,12 @@
 //! Parallelism and determinism: each light's quota N_k is cut into blocks of
 //! [`BLOCK_PATHS`] paths; block b of light k draws from its own random stream named by
 //! (seed, stream, k, b) and becomes one [`Chunk`]. Blocks are traced in parallel (rayon) and
-//! handed to the sink in order, so the dataset is the same whatever the thread count.
+//! handed to the sink in order, so the dataset is the same whatever the thread count. Blocks of
+//! different lights are interleaved, so a trace stopped early is still balanced.
+//!
+//! A [`LightPlan`] says which lights to trace and how far: all of them for a new dataset,
+//! all of them again with a fresh stream for a refinement, or only a new light when one is
+//! added to an existing dataset.
 
 use crate::dataset::{Chunk, LightRecord, LightTable, Sample};
 use crate::geometry::{Ray, offset_ray_origin};
@@ -119,61 +124,127 @@ pub fn trace_path(scene: &Scene, k: usize, rr_depth: u32, rng: &mut RandomStream
     }
 }
 
-/// Traces block `block` of light `k` (paths `block·BLOCK_PATHS ..` up to the quota) into a chunk.
-pub fn trace_block(scene: &Scene, settings: &TraceSettings, k: usize, block: u64, paths: u64) -> Chunk {
-    let mut rng = RandomStream::new(settings.seed, &[settings.stream, k as u64, block]);
+/// Traces block `block` of scene light `k` into a chunk filed under `table_index` (which, with
+/// the seed, the stream and the block, names the block's random stream).
+pub fn trace_block(
+    scene: &Scene,
+    settings: &TraceSettings,
+    k: usize,
+    table_index: u32,
+    block: u64,
+    paths: u64,
+) -> Chunk {
+    let mut rng = RandomStream::new(settings.seed, &[settings.stream, table_index as u64, block]);
     let mut samples = Vec::with_capacity(paths as usize * 6);
     for _ in 0..paths {
         trace_path(scene, k, settings.rr_depth, &mut rng, &mut samples);
     }
-    Chunk { light: k as u32, paths, samples }
+    Chunk { light: table_index, paths, samples }
 }
 
-/// The light table a trace of `paths` paths will produce: each light's power Φ_k and its quota
-/// N_k ([`path_quotas`]). Known before tracing, so a dataset header can be written first.
+/// One light's share of a trace: which scene light, under which index of the dataset's light
+/// table its chunks are filed (and its random streams named), and how many paths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LightPlan {
+    /// Index into `Scene::lights`.
+    pub scene_light: usize,
+    /// Index into the dataset's light table (`Chunk::light`).
+    pub table_index: u32,
+    /// Paths to trace.
+    pub paths: u64,
+}
+
+/// The plan for a fresh trace: every scene light, table index = scene index, quotas ∝ power.
+pub fn plan_all(scene: &Scene, paths: u64) -> Vec<LightPlan> {
+    path_quotas(&scene.light_powers(), paths)
+        .into_iter()
+        .enumerate()
+        .map(|(k, paths)| LightPlan { scene_light: k, table_index: k as u32, paths })
+        .collect()
+}
+
+/// The light table of a fresh trace of `paths` paths: each light's name, shape, power Φ_k and
+/// quota N_k. Known before tracing, so a dataset header can be written first.
 pub fn planned_table(scene: &Scene, paths: u64) -> LightTable {
-    let powers = scene.light_powers();
-    let quotas = path_quotas(&powers, paths);
+    let plan = plan_all(scene, paths);
     LightTable {
-        lights: scene
-            .lights
+        lights: plan
             .iter()
-            .zip(powers)
-            .zip(quotas)
-            .map(|((l, power), paths)| LightRecord { name: l.name().to_string(), power, paths })
+            .map(|p| {
+                let l = &scene.lights[p.scene_light];
+                LightRecord {
+                    name: l.name().to_string(),
+                    shape: scene.light_shapes[p.scene_light],
+                    power: l.power(),
+                    paths: p.paths,
+                }
+            })
             .collect(),
     }
 }
 
-/// Traces `settings.paths` light paths, handing chunks to `sink` in a deterministic order, and
-/// calling `progress(paths_done)` as batches finish. Returns the light table (Φ_k, N_k).
-pub fn trace<E>(
-    scene: &Scene,
-    settings: &TraceSettings,
-    mut sink: impl FnMut(Chunk) -> Result<(), E>,
-    progress: impl Fn(u64),
-) -> Result<LightTable, E> {
-    let table = planned_table(scene, settings.paths);
-    let blocks: Vec<(usize, u64, u64)> = table
-        .lights
+/// The blocks of a plan, interleaved across lights in proportion to their quotas (block b of a
+/// light with B blocks comes at "time" (b + ½)/B), so that a trace stopped early has traced
+/// every light about equally far.
+fn interleaved_blocks(plan: &[LightPlan]) -> Vec<(LightPlan, u64, u64)> {
+    let mut blocks: Vec<(f64, LightPlan, u64, u64)> = plan
         .iter()
-        .enumerate()
-        .flat_map(|(k, l)| {
-            let n = l.paths;
-            (0..n.div_ceil(BLOCK_PATHS)).map(move |b| (k, b, BLOCK_PATHS.min(n - b * BLOCK_PATHS)))
+        .flat_map(|&p| {
+            let n = p.paths.div_ceil(BLOCK_PATHS);
+            (0..n)
+                .map(move |b| ((b as f64 + 0.5) / n as f64, p, b, BLOCK_PATHS.min(p.paths - b * BLOCK_PATHS)))
         })
         .collect();
+    blocks.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.table_index.cmp(&b.1.table_index)));
+    blocks.into_iter().map(|(_, p, b, n)| (p, b, n)).collect()
+}
+
+/// Traces the plan, handing chunks to `sink` in a deterministic order and calling
+/// `progress(paths_done)` after each batch. Between batches `stop()` is asked whether to end
+/// early (Ctrl-C). Returns the paths actually traced per plan entry: every chunk handed to the
+/// sink is complete, so stopping early still leaves a valid, unbiased dataset with those N_k.
+pub fn trace_plan<E>(
+    scene: &Scene,
+    settings: &TraceSettings,
+    plan: &[LightPlan],
+    mut sink: impl FnMut(Chunk) -> Result<(), E>,
+    progress: impl Fn(u64),
+    stop: impl Fn() -> bool,
+) -> Result<Vec<u64>, E> {
+    let blocks = interleaved_blocks(plan);
+    let mut traced = vec![0u64; plan.len()];
     let mut done = 0u64;
     for batch in blocks.chunks(BATCH_BLOCKS) {
-        let chunks: Vec<Chunk> =
-            batch.par_iter().map(|&(k, b, n)| trace_block(scene, settings, k, b, n)).collect();
+        if stop() {
+            break;
+        }
+        let chunks: Vec<Chunk> = batch
+            .par_iter()
+            .map(|&(p, b, n)| trace_block(scene, settings, p.scene_light, p.table_index, b, n))
+            .collect();
         for c in chunks {
             done += c.paths;
+            if let Some(i) = plan.iter().position(|p| p.table_index == c.light) {
+                traced[i] += c.paths;
+            }
             sink(c)?;
         }
         progress(done);
     }
-    Ok(table)
+    Ok(traced)
+}
+
+/// Traces `settings.paths` light paths over all lights ([`plan_all`]), handing chunks to `sink`
+/// in a deterministic order. Returns the light table (Φ_k, N_k).
+pub fn trace<E>(
+    scene: &Scene,
+    settings: &TraceSettings,
+    sink: impl FnMut(Chunk) -> Result<(), E>,
+    progress: impl Fn(u64),
+) -> Result<LightTable, E> {
+    let plan = plan_all(scene, settings.paths);
+    trace_plan(scene, settings, &plan, sink, progress, || false)?;
+    Ok(planned_table(scene, settings.paths))
 }
 
 #[cfg(test)]

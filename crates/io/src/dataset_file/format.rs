@@ -1,18 +1,20 @@
 //! Byte layout of the header, chunk headers and end record (see `docs/dataset-format.md`).
 
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, DatasetHeader, END_MAGIC, FORMAT_VERSION};
-use super::{MAGIC, TRAILER_LEN, TraceInfo};
+use super::{MAGIC, TRAILER_LEN, TraceInfo, TracePass};
 use opticks_core::dataset::{LightRecord, LightTable, Sample};
 use opticks_core::math::Rgb;
 use opticks_core::scene::Fingerprint;
 use std::path::Path;
 
-/// Size of the fixed part of the header, before the label.
-pub(crate) const FIXED_HEADER_LEN: usize = 64;
+/// Size of the fixed part of the header, up to and including the pass count.
+pub(crate) const FIXED_HEADER_LEN: usize = 52;
 /// Smallest possible header: fixed part, label length 0, light count, CRC, padded.
-pub(crate) const MIN_HEADER_LEN: usize = align_up(FIXED_HEADER_LEN + 4 + 4);
-/// Bytes of a light record besides its name: name length, power, paths.
-const LIGHT_RECORD_MIN: usize = 4 + 12 + 8;
+pub(crate) const MIN_HEADER_LEN: usize = align_up(FIXED_HEADER_LEN + 4 + 4 + 4);
+/// Bytes of a pass record: seed, stream, paths, roulette depth, seconds.
+const PASS_RECORD_LEN: usize = 8 + 8 + 8 + 4 + 4;
+/// Bytes of a light record besides its name: name length, shape hash, power, paths.
+const LIGHT_RECORD_MIN: usize = 4 + 16 + 12 + 8;
 
 pub(crate) const fn align_up(n: usize) -> usize {
     n.div_ceil(ALIGN) * ALIGN
@@ -27,8 +29,15 @@ pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
     b.extend_from_slice(&0u32.to_le_bytes()); // header length, patched below
     b.extend_from_slice(&h.fingerprint.geometry);
     b.extend_from_slice(&h.fingerprint.lights);
-    b.extend_from_slice(&h.trace.seed.to_le_bytes());
-    b.extend_from_slice(&h.trace.rr_depth.to_le_bytes());
+    let passes = u32::try_from(h.trace.passes.len()).map_err(|_| "more than 2^32 passes".to_string())?;
+    b.extend_from_slice(&passes.to_le_bytes());
+    for p in &h.trace.passes {
+        b.extend_from_slice(&p.seed.to_le_bytes());
+        b.extend_from_slice(&p.stream.to_le_bytes());
+        b.extend_from_slice(&p.paths.to_le_bytes());
+        b.extend_from_slice(&p.rr_depth.to_le_bytes());
+        b.extend_from_slice(&p.seconds.to_le_bytes());
+    }
     let label_len = u32::try_from(h.label.len()).map_err(|_| "label longer than 4 GiB".to_string())?;
     b.extend_from_slice(&label_len.to_le_bytes());
     b.extend_from_slice(h.label.as_bytes());
@@ -38,6 +47,7 @@ pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
         let len = u32::try_from(l.name.len()).map_err(|_| format!("light {k}: name longer than 4 GiB"))?;
         b.extend_from_slice(&len.to_le_bytes());
         b.extend_from_slice(l.name.as_bytes());
+        b.extend_from_slice(&l.shape);
         for c in l.power.to_array() {
             b.extend_from_slice(&c.to_le_bytes());
         }
@@ -131,8 +141,30 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
     let mut fingerprint = Fingerprint::default();
     fingerprint.geometry.copy_from_slice(c.take(16, "geometry hash")?);
     fingerprint.lights.copy_from_slice(c.take(16, "light hash")?);
-    let seed = c.u64("trace seed")?;
-    let rr_depth = c.u32("roulette depth")?;
+    let pass_count_at = c.pos;
+    let pass_count = c.u32("pass count")? as usize;
+    if pass_count > (body.len() - c.pos) / PASS_RECORD_LEN {
+        return Err(corrupt(
+            pass_count_at,
+            format!(
+                "pass count {pass_count} cannot fit in the {} bytes left in the header",
+                body.len() - c.pos
+            ),
+        ));
+    }
+    let mut passes = Vec::with_capacity(pass_count);
+    for _ in 0..pass_count {
+        let (seed, stream, paths) = (c.u64("pass seed")?, c.u64("pass stream")?, c.u64("pass paths")?);
+        let rr_depth = c.u32("pass roulette depth")?;
+        let seconds = f32::from_le_bytes(c.take(4, "pass seconds")?.try_into().unwrap());
+        if !(seconds.is_finite() && seconds >= 0.0) {
+            return Err(corrupt(
+                c.pos - 4,
+                format!("pass duration {seconds} is not a valid number of seconds"),
+            ));
+        }
+        passes.push(TracePass { seed, stream, paths, rr_depth, seconds });
+    }
     let label = c.string("scene label")?;
     let label_end = c.pos;
     let n = c.u32("light count")? as usize;
@@ -147,6 +179,8 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
     let mut paths_offsets = Vec::with_capacity(n);
     for k in 0..n {
         let name = c.string(&format!("name of light {k}"))?;
+        let mut shape = [0u8; 16];
+        shape.copy_from_slice(c.take(16, "light shape hash")?);
         let mut p = [0f32; 3];
         for x in &mut p {
             *x = f32::from_le_bytes(c.take(4, "light power")?.try_into().unwrap());
@@ -156,7 +190,7 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
         }
         paths_offsets.push(c.pos as u64);
         let paths = c.u64("light path count")?;
-        lights.push(LightRecord { name, power: Rgb::from_array(p), paths });
+        lights.push(LightRecord { name, shape, power: Rgb::from_array(p), paths });
     }
     if align_up(c.pos + 4) != len {
         return Err(corrupt(
@@ -171,7 +205,7 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
         header: DatasetHeader {
             fingerprint,
             label,
-            trace: TraceInfo { seed, rr_depth },
+            trace: TraceInfo { passes },
             table: LightTable { lights },
         },
         len,

@@ -1,7 +1,7 @@
 //! The dataset file (`.opds`): the persistent, versioned product of the expensive trace step.
 //!
-//! One header (magic, format version, scene [`Fingerprint`], a free-form label, [`TraceInfo`] and
-//! the light table Φ_k, N_k), then append-only chunks of raw 32-byte [`Sample`] records, each
+//! One header (magic, format version, scene [`Fingerprint`], the trace passes ([`TraceInfo`]), a
+//! free-form label and the light table: name, shape hash, Φ_k, N_k), then append-only chunks of raw 32-byte [`Sample`] records, each
 //! with its own checksummed chunk header, then a 32-byte end record. Every byte of the file is
 //! covered by a CRC-32, so truncation at any byte and any flipped byte are reported as errors
 //! that name the file and the byte offset. `docs/dataset-format.md` gives the layout byte by byte.
@@ -49,13 +49,41 @@ pub const TRAILER_LEN: usize = 32;
 /// Alignment of the header length, chunk headers and sample payloads (= size of a sample).
 pub const ALIGN: usize = 32;
 
-/// Trace settings kept with the dataset so that a refine run can continue the same stream.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub struct TraceInfo {
+/// One run of light sampling that contributed paths to the dataset: a trace, a refinement, an
+/// added light, or a dataset merged in. Kept so that refinements pick a fresh random stream,
+/// merges refuse datasets that share one (their paths would be identical, not independent), and
+/// `info` can say how the dataset was made.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TracePass {
     /// Seed of the random streams.
     pub seed: u64,
-    /// Path depth from which Russian roulette starts.
+    /// Stream family within the seed (0 for a first trace, then 1, 2, … for refinements).
+    pub stream: u64,
+    /// Light paths this pass traced, over all its lights.
+    pub paths: u64,
+    /// Path depth from which Russian roulette started.
     pub rr_depth: u32,
+    /// Wall-clock seconds the pass took.
+    pub seconds: f32,
+}
+
+/// How the dataset was traced: its passes, oldest first.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TraceInfo {
+    /// The passes.
+    pub passes: Vec<TracePass>,
+}
+
+impl TraceInfo {
+    /// The first stream number not used yet with `seed`.
+    pub fn next_stream(&self, seed: u64) -> u64 {
+        self.passes.iter().filter(|p| p.seed == seed).map(|p| p.stream + 1).max().unwrap_or(0)
+    }
+
+    /// Total tracing time over all passes, seconds.
+    pub fn seconds(&self) -> f64 {
+        self.passes.iter().map(|p| p.seconds as f64).sum()
+    }
 }
 
 /// Everything in the file before the chunks.

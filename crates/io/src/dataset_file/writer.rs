@@ -1,7 +1,7 @@
 //! Writing a dataset: sequential, buffered, atomic (temporary file + rename).
 
 use super::format::{ChunkHeader, Trailer, encode_header, validate_samples};
-use super::{DatasetError, DatasetHeader};
+use super::{DatasetError, DatasetHeader, TraceInfo};
 use opticks_core::dataset::{Chunk, LightTable};
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Seek, SeekFrom, Write};
@@ -35,7 +35,8 @@ pub struct DatasetSummary {
 ///
 /// The header is written first with the light table given to `create` and rewritten in place by
 /// `finish`, so the final table must have the same lights (same count and names, hence the same
-/// encoded length); only the powers Φ_k and path counts N_k may change.
+/// encoded length) and the trace record the same number of passes; only the powers Φ_k, path
+/// counts N_k and the passes' figures may change.
 #[derive(Debug)]
 pub struct DatasetWriter {
     path: PathBuf,
@@ -140,10 +141,19 @@ impl DatasetWriter {
         &self.light_paths
     }
 
+    /// Renames the file that [`finish`](Self::finish) will create (e.g. to save an interrupted
+    /// run beside the dataset it would have replaced). Best kept in the same directory: the
+    /// temporary file is there, and the final rename must not cross file systems.
+    pub fn retarget(&mut self, path: &Path) {
+        self.path = path.to_owned();
+    }
+
     /// Completes the file: `table` must list the same lights as the header given to `create`
-    /// and each N_k must equal the sum of that light's chunk paths. Rewrites the header, writes
-    /// the end record, syncs and atomically renames the file into place.
-    pub fn finish(mut self, table: &LightTable) -> Result<DatasetSummary, DatasetError> {
+    /// and each N_k must equal the sum of that light's chunk paths; `trace` must have as many
+    /// passes as the header given to `create` (their paths and times are final only now).
+    /// Rewrites the header, writes the end record, syncs and atomically renames the file into
+    /// place.
+    pub fn finish(mut self, table: &LightTable, trace: &TraceInfo) -> Result<DatasetSummary, DatasetError> {
         let invalid = |detail: String| DatasetError::InvalidInput { path: self.path.clone(), detail };
         if self.failed {
             return Err(invalid("an earlier write failed; the dataset is incomplete".into()));
@@ -166,7 +176,15 @@ impl DatasetWriter {
                 )));
             }
         }
+        if trace.passes.len() != self.header.trace.passes.len() {
+            return Err(invalid(format!(
+                "the final trace record has {} passes, the dataset was created with {}",
+                trace.passes.len(),
+                self.header.trace.passes.len()
+            )));
+        }
         self.header.table = table.clone();
+        self.header.trace = trace.clone();
         let head = encode_header(&self.header).map_err(invalid)?;
         if head.len() != self.header_len {
             return Err(invalid("the final header does not fit the space of the first".into()));

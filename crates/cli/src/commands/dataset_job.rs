@@ -1,0 +1,123 @@
+//! The one way datasets are written: copy the chunks of existing datasets (refine, add-light,
+//! merge), trace new paths into it (trace, refine, add-light), and finish it atomically.
+//!
+//! Tracing and writing overlap (a writer thread drains finished chunks while the next batch
+//! traces). On Ctrl-C the paths completed so far are saved beside the target as
+//! `NAME.partial.opds` — a valid dataset with those N_k — and the target is left as it was.
+
+use super::trace_with_progress;
+use anyhow::{Context, Result, anyhow, bail};
+use opticks_core::dataset::{Chunk, LightTable};
+use opticks_core::scene::Scene;
+use opticks_core::trace::{LightPlan, TraceSettings};
+use opticks_io::dataset_file::{DatasetHeader, DatasetReader, DatasetSummary, DatasetWriter, TracePass};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// New paths to trace into the dataset.
+pub struct NewPaths<'a> {
+    /// The scene (its geometry fingerprint is the header's).
+    pub scene: &'a Scene,
+    /// Seed, stream and roulette depth.
+    pub settings: TraceSettings,
+    /// Which lights, filed under which table index, how many paths.
+    pub plan: Vec<LightPlan>,
+}
+
+/// What the job produced.
+pub struct JobReport {
+    /// The file written.
+    pub summary: DatasetSummary,
+    /// Its final light table.
+    pub table: LightTable,
+    /// Seconds spent tracing (0 without new paths).
+    pub trace_seconds: f64,
+}
+
+/// Writes `header` (whose table lists every light, with N_k = the paths of the copied chunks,
+/// and whose last pass is the new one when `new` is given) to `output`: first every chunk of
+/// `sources`, then the new paths.
+pub fn write_dataset(
+    output: &Path,
+    mut header: DatasetHeader,
+    sources: &[&DatasetReader],
+    new: Option<NewPaths<'_>>,
+) -> Result<JobReport> {
+    let mut writer = DatasetWriter::create(output, &header)
+        .with_context(|| format!("cannot create dataset {}", output.display()))?;
+    for r in sources {
+        for i in 0..r.chunk_count() {
+            let c = r.chunk(i)?;
+            writer.write_chunk(&c.to_chunk())?;
+        }
+    }
+    let mut trace_seconds = 0.0;
+    let mut interrupted = false;
+    if let Some(new) = new {
+        let t0 = Instant::now();
+        let (traced, w) = trace_overlapped(writer, &new)?;
+        writer = w;
+        trace_seconds = t0.elapsed().as_secs_f64();
+        for (p, n) in new.plan.iter().zip(&traced) {
+            header.table.lights[p.table_index as usize].paths += n;
+        }
+        let pass = header.trace.passes.last_mut().ok_or_else(|| anyhow!("a new pass needs a pass record"))?;
+        pass.paths = traced.iter().sum();
+        pass.seconds = trace_seconds as f32;
+        let planned: u64 = new.plan.iter().map(|p| p.paths).sum();
+        interrupted = pass.paths < planned;
+    }
+    let target = if interrupted { partial_path(output) } else { output.to_owned() };
+    writer.retarget(&target);
+    let summary = writer
+        .finish(&header.table, &header.trace)
+        .with_context(|| format!("cannot write dataset {}", target.display()))?;
+    if interrupted {
+        bail!(
+            "interrupted: {} was left as it was; the {} paths completed are saved in {} \
+             (a valid dataset: render it, or `opticks refine` it to continue)",
+            output.display(),
+            header.trace.passes.last().map_or(0, |p| p.paths),
+            target.display()
+        );
+    }
+    Ok(JobReport { summary, table: header.table, trace_seconds })
+}
+
+/// `dir/NAME.partial.opds` for `dir/NAME.opds`.
+pub fn partial_path(output: &Path) -> PathBuf {
+    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    output.with_file_name(format!("{stem}.partial.opds"))
+}
+
+/// A new trace pass record (its paths and time are filled in when the job ends).
+pub fn new_pass(settings: &TraceSettings) -> TracePass {
+    TracePass {
+        seed: settings.seed,
+        stream: settings.stream,
+        paths: 0,
+        rr_depth: settings.rr_depth,
+        seconds: 0.0,
+    }
+}
+
+/// Traces `new.plan` on the rayon pool while a writer thread appends the chunks.
+fn trace_overlapped(mut writer: DatasetWriter, new: &NewPaths<'_>) -> Result<(Vec<u64>, DatasetWriter)> {
+    std::thread::scope(|s| {
+        let (send, receive) = std::sync::mpsc::sync_channel::<Chunk>(128);
+        let writing = s.spawn(move || -> Result<DatasetWriter> {
+            for c in receive {
+                writer.write_chunk(&c)?;
+            }
+            Ok(writer)
+        });
+        let traced = trace_with_progress(new.scene, &new.settings, &new.plan, |c| {
+            send.send(c).map_err(|_| anyhow!("the dataset writer stopped"))
+        });
+        drop(send);
+        let written = writing.join().map_err(|_| anyhow!("the dataset writer panicked"))?;
+        // A write error explains a trace that stopped because the writer did: report it first.
+        let writer = written?;
+        Ok((traced?, writer))
+    })
+}
