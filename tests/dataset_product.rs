@@ -1,0 +1,204 @@
+//! The dataset as a product (issue #4), through the `opticks` binary: relighting, adding a light,
+//! refining and merging are exact laws, so each result must match a fresh trace of the same
+//! thing — in its mean, and in its noise (relative MSE at the level two independent traces
+//! show between themselves, measured in the same test).
+
+mod common;
+
+use common::*;
+use opticks_io::compare::compare;
+use opticks_io::image_file::read_exr_rgb;
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn opticks(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_opticks")).args(args).current_dir(dir).output().expect("runs opticks")
+}
+
+fn ok(args: &[&str], dir: &Path) -> String {
+    let out = opticks(args, dir);
+    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "opticks {args:?} failed:\nstdout: {so}\nstderr: {se}");
+    format!("{so}{se}")
+}
+
+fn fails(args: &[&str], dir: &Path) -> String {
+    let out = opticks(args, dir);
+    let se = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success(), "expected {args:?} to fail; stderr: {se}");
+    assert!(se.starts_with("error: ") && !se.contains("panicked"), "{se}");
+    se
+}
+
+fn image(dir: &Path, name: &str) -> Vec<f32> {
+    read_exr_rgb(&dir.join(name)).unwrap().2
+}
+
+/// The Cornell box with a second light: a point light in front of the large box.
+fn two_light_scene(dir: &Path) -> String {
+    let xml = std::fs::read_to_string(scene_file("cornell", "scene.xml")).unwrap();
+    let meshes = scene_file("cornell", "meshes");
+    let xml = xml.replace("meshes/", &format!("{}/", meshes.display())).replace(
+        "</scene>",
+        "<emitter type=\"point\" id=\"bulb\"><point name=\"position\" x=\"0.3\" y=\"-0.2\" z=\"0.6\"/>\
+         <rgb name=\"intensity\" value=\"0.2, 0.3, 0.5\"/></emitter>\n</scene>",
+    );
+    let path = dir.join("two.xml");
+    std::fs::write(&path, xml).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn relighting_is_exact_and_switching_off_matches_a_trace_without_the_light() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = two_light_scene(d);
+    let cornell = scene_file("cornell", "scene.xml");
+    let cornell = cornell.to_str().unwrap();
+    ok(&["trace", &two, "--paths", "1500000", "-o", "two.opds", "--seed", "1"], d);
+    let info = ok(&["info", "two.opds"], d);
+    // The ceiling light's share N_k of the two-light trace (table row "0  light  N_k ...").
+    let n_ceiling: u64 = info
+        .lines()
+        .find(|l| l.trim_start().starts_with("0 ") && l.contains("light"))
+        .and_then(|l| l.split_whitespace().nth(2))
+        .and_then(|n| n.parse().ok())
+        .expect("info lists light 0 with its N_k");
+    let n = n_ceiling.to_string();
+    ok(&["trace", cornell, "--paths", &n, "-o", "a.opds", "--seed", "2"], d);
+    ok(&["trace", cornell, "--paths", &n, "-o", "b.opds", "--seed", "3"], d);
+    ok(&["render", "a.opds", "-o", "a.exr"], d);
+    ok(&["render", "b.opds", "-o", "b.exr"], d);
+    // Switch the bulb off (by name) — and by index, the same thing.
+    ok(&["render", "two.opds", "-o", "off.exr", "--light", "bulb=0"], d);
+    ok(&["render", "two.opds", "-o", "off1.exr", "--light", "1=0"], d);
+    assert!(image(d, "off.exr") == image(d, "off1.exr"));
+    let noise = compare(&image(d, "a.exr"), &image(d, "b.exr")).relmse;
+    let relit = compare(&image(d, "off.exr"), &image(d, "a.exr"));
+    eprintln!("two independent traces: relMSE {noise:.3e}; relit vs trace without the light: {:.3e}", relit.relmse);
+    assert!(relit.relmse < 1.25 * noise && relit.relmse > 0.8 * noise, "{} vs {noise}", relit.relmse);
+    for r in relit.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
+    }
+
+    // Scaling a light scales its share exactly: I(s) = I(0) + s·(I(1) − I(0)), per channel.
+    ok(&["render", "two.opds", "-o", "one.exr"], d);
+    ok(&["render", "two.opds", "-o", "tinted.exr", "--light", "bulb=3,0.5,0", "--light", "light=2"], d);
+    ok(&["render", "two.opds", "-o", "ceiling2.exr", "--light", "bulb=0", "--light", "light=2"], d);
+    let (off, one, tinted, ceiling2) =
+        (image(d, "off.exr"), image(d, "one.exr"), image(d, "tinted.exr"), image(d, "ceiling2.exr"));
+    let s = [3.0f32, 0.5, 0.0];
+    let mut worst = 0.0f32;
+    for i in 0..off.len() {
+        let bulb = one[i] - off[i];
+        let expected = ceiling2[i] + s[i % 3] * bulb;
+        worst = worst.max((tinted[i] - expected).abs() / (expected.abs() + 1e-3));
+    }
+    assert!(worst < 1e-4, "relighting is not linear: worst relative deviation {worst}");
+    assert!(one.iter().zip(&off).map(|(a, b)| a - b).sum::<f32>() > 0.0, "the bulb adds light");
+
+    // A light the dataset does not know, or a moved light, is refused.
+    let e = fails(&["render", "two.opds", "-o", "x.exr", "--light", "sun=2"], d);
+    assert!(e.contains("sun") && e.contains("bulb"), "{e}");
+    let moved = std::fs::read_to_string(&two).unwrap().replace("x=\"0.3\"", "x=\"0.2\"");
+    std::fs::write(d.join("moved.xml"), moved).unwrap();
+    let e = fails(&["render", "two.opds", "--scene", "moved.xml", "-o", "x.exr"], d);
+    assert!(e.contains("bulb") && e.contains("moved"), "{e}");
+    // The scene file may change a light's power: that is relighting too.
+    let brighter = std::fs::read_to_string(&two).unwrap().replace("0.2, 0.3, 0.5", "0.6, 0.9, 1.5");
+    std::fs::write(d.join("brighter.xml"), brighter).unwrap();
+    let note = ok(&["render", "two.opds", "--scene", "brighter.xml", "-o", "brighter.exr"], d);
+    assert!(note.contains("power changed"), "{note}");
+    ok(&["render", "two.opds", "-o", "bulb3.exr", "--light", "bulb=3"], d);
+    let (b3, br) = (image(d, "bulb3.exr"), image(d, "brighter.exr"));
+    assert!(b3.iter().zip(&br).all(|(a, b)| (a - b).abs() <= 1e-5 * a.abs().max(1e-3)));
+}
+
+#[test]
+fn merge_and_refine_equal_one_trace_of_all_the_paths() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    let cornell = cornell.to_str().unwrap();
+    let n = "1000000";
+    ok(&["trace", cornell, "--paths", n, "-o", "s1.opds", "--seed", "1"], d);
+    ok(&["trace", cornell, "--paths", n, "-o", "s2.opds", "--seed", "2"], d);
+    ok(&["trace", cornell, "--paths", "2000000", "-o", "all.opds", "--seed", "3"], d);
+    ok(&["merge", "s1.opds", "s2.opds", "-o", "merged.opds"], d);
+    ok(&["trace", cornell, "--paths", n, "-o", "refined.opds", "--seed", "4"], d);
+    ok(&["refine", "refined.opds", "--paths", n], d);
+    let info = ok(&["info", "refined.opds"], d);
+    assert!(info.contains("2000000") && info.contains("stream 1"), "{info}");
+    for f in ["s1", "merged", "all", "refined"] {
+        ok(&["render", &format!("{f}.opds"), "-o", &format!("{f}.exr")], d);
+    }
+    let reference = reference("cornell");
+    let err = |f: &str| compare(&image(d, &format!("{f}.exr")), &reference);
+    let (single, merged, all, refined) = (err("s1"), err("merged"), err("all"), err("refined"));
+    eprintln!(
+        "relMSE vs reference: 1M {:.3e}, merged 2×1M {:.3e}, 2M {:.3e}, refined 1M+1M {:.3e}",
+        single.relmse, merged.relmse, all.relmse, refined.relmse
+    );
+    for (name, c) in [("merged", &merged), ("refined", &refined)] {
+        // Same noise as one trace of all the paths (seed-to-seed spread of relMSE is ~2-3% here).
+        assert!((c.relmse / all.relmse - 1.0).abs() < 0.15, "{name}: {} vs {}", c.relmse, all.relmse);
+        assert!(single.relmse / c.relmse > 1.6, "{name} must halve the error of 1M paths");
+        for r in c.mean_ratio {
+            assert!((r - 1.0).abs() < 0.01, "{name}: mean ratio {r}");
+        }
+    }
+}
+
+#[test]
+fn add_light_equals_tracing_both_lights() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = two_light_scene(d);
+    let cornell = scene_file("cornell", "scene.xml");
+    // The dataset of the one-light scene, rendered against the two-light scene, lacks the bulb.
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "1000000", "-o", "grow.opds", "--seed", "5"], d);
+    let e = fails(&["render", "grow.opds", "--scene", &two, "-o", "x.exr"], d);
+    assert!(e.contains("bulb") && e.contains("add-light"), "{e}");
+    ok(&["add-light", "grow.opds", "bulb", "--scene", &two, "--paths", "300000"], d);
+    ok(&["render", "grow.opds", "--scene", &two, "-o", "grow.exr"], d);
+    ok(&["trace", &two, "--paths", "1300000", "-o", "both.opds", "--seed", "6"], d);
+    ok(&["trace", &two, "--paths", "1300000", "-o", "both2.opds", "--seed", "7"], d);
+    ok(&["render", "both.opds", "-o", "both.exr"], d);
+    ok(&["render", "both2.opds", "-o", "both2.exr"], d);
+    let noise = compare(&image(d, "both.exr"), &image(d, "both2.exr")).relmse;
+    let grown = compare(&image(d, "grow.exr"), &image(d, "both.exr"));
+    eprintln!("two traces of both lights: relMSE {noise:.3e}; traced + added light vs trace: {:.3e}", grown.relmse);
+    assert!(grown.relmse < 1.3 * noise, "{} vs {noise}", grown.relmse);
+    for r in grown.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
+    }
+    let e = fails(&["add-light", "grow.opds", "bulb", "--scene", &two], d);
+    assert!(e.contains("already"), "{e}");
+}
+
+#[test]
+fn bad_merges_are_refused_and_damage_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    let furnace = scene_file("furnace", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "c1.opds", "--seed", "1"], d);
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "c1again.opds", "--seed", "1"], d);
+    ok(&["trace", furnace.to_str().unwrap(), "--paths", "20000", "-o", "f.opds", "--seed", "2"], d);
+    let e = fails(&["merge", "c1.opds", "f.opds", "-o", "m.opds"], d);
+    assert!(e.contains("different scenes"), "{e}");
+    let e = fails(&["merge", "c1.opds", "c1again.opds", "-o", "m.opds"], d);
+    assert!(e.contains("seed 1") && e.contains("copies"), "{e}");
+    let mut b = std::fs::read(d.join("c1again.opds")).unwrap();
+    let n = b.len();
+    b[n - 100] ^= 0x40;
+    std::fs::write(d.join("flipped.opds"), &b).unwrap();
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "c2.opds", "--seed", "2"], d);
+    std::fs::copy(d.join("c2.opds"), d.join("m.opds")).unwrap();
+    let before = std::fs::read(d.join("m.opds")).unwrap();
+    let e = fails(&["merge", "c2.opds", "flipped.opds", "-o", "m.opds"], d);
+    assert!(e.contains("flipped.opds"), "{e}");
+    assert!(std::fs::read(d.join("m.opds")).unwrap() == before, "a failed merge leaves the output as it was");
+    let e = fails(&["merge", "c2.opds", "-o", "m2.opds"], d);
+    assert!(e.contains("2") || e.contains("required"), "{e}");
+}
