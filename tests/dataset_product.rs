@@ -75,7 +75,10 @@ fn relighting_is_exact_and_switching_off_matches_a_trace_without_the_light() {
     assert!(image(d, "off.exr") == image(d, "off1.exr"));
     let noise = compare(&image(d, "a.exr"), &image(d, "b.exr")).relmse;
     let relit = compare(&image(d, "off.exr"), &image(d, "a.exr"));
-    eprintln!("two independent traces: relMSE {noise:.3e}; relit vs trace without the light: {:.3e}", relit.relmse);
+    eprintln!(
+        "two independent traces: relMSE {noise:.3e}; relit vs trace without the light: {:.3e}",
+        relit.relmse
+    );
     assert!(relit.relmse < 1.25 * noise && relit.relmse > 0.8 * noise, "{} vs {noise}", relit.relmse);
     for r in relit.mean_ratio {
         assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
@@ -167,7 +170,10 @@ fn add_light_equals_tracing_both_lights() {
     ok(&["render", "both2.opds", "-o", "both2.exr"], d);
     let noise = compare(&image(d, "both.exr"), &image(d, "both2.exr")).relmse;
     let grown = compare(&image(d, "grow.exr"), &image(d, "both.exr"));
-    eprintln!("two traces of both lights: relMSE {noise:.3e}; traced + added light vs trace: {:.3e}", grown.relmse);
+    eprintln!(
+        "two traces of both lights: relMSE {noise:.3e}; traced + added light vs trace: {:.3e}",
+        grown.relmse
+    );
     assert!(grown.relmse < 1.3 * noise, "{} vs {noise}", grown.relmse);
     for r in grown.mean_ratio {
         assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
@@ -201,4 +207,42 @@ fn bad_merges_are_refused_and_damage_nothing() {
     assert!(std::fs::read(d.join("m.opds")).unwrap() == before, "a failed merge leaves the output as it was");
     let e = fails(&["merge", "c2.opds", "-o", "m2.opds"], d);
     assert!(e.contains("2") || e.contains("required"), "{e}");
+}
+
+#[test]
+fn walkthrough_frames_come_from_one_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "200000", "-o", "w.opds"], d);
+    std::fs::write(
+        d.join("cam.json"),
+        r#"{"fps": 2, "size": [64, 48], "keyframes": [
+            {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0], "fov": 40},
+            {"time": 1, "eye": [0.6, 0.3, 3.0], "target": [0, -0.3, 0]},
+            {"time": 1.5, "eye": [-0.5, -0.2, 2.5], "target": [0.2, -0.5, 0], "fov": 50}]}"#,
+    )
+    .unwrap();
+    let out = ok(&["walk", "w.opds", "--path", "cam.json", "-o", "frames", "--format", "exr"], d);
+    assert!(out.contains("per frame") && out.contains("the trace took"), "{out}");
+    let frames: Vec<_> = std::fs::read_dir(d.join("frames")).unwrap().filter_map(|e| e.ok()).collect();
+    assert_eq!(frames.iter().filter(|e| e.file_name().to_string_lossy().ends_with(".exr")).count(), 4);
+    // Frame 0 is keyframe 0: the same image `render` gives from that camera.
+    ok(
+        &[
+            "render", "w.opds", "-o", "k0.exr", "--eye", "0,0,3.9", "--target", "0,0,0", "--fov", "40",
+            "--size", "64x48",
+        ],
+        d,
+    );
+    let (a, b) = (image(d, "frames/frame_00000.exr"), image(d, "k0.exr"));
+    assert!(a.iter().zip(&b).all(|(x, y)| (x - y).abs() <= 1e-4 * x.abs().max(1e-3)));
+    let last = image(d, "frames/frame_00003.exr");
+    assert!(last != a, "the camera moved");
+    // Bad camera paths are clear errors naming the file.
+    std::fs::write(d.join("bad.json"), "{\"keyframes\": [{\"time\": 0, \"eye\": [0,0]}]}").unwrap();
+    let e = fails(&["walk", "w.opds", "--path", "bad.json", "-o", "f2"], d);
+    assert!(e.contains("bad.json") && e.contains("line"), "{e}");
+    let e = fails(&["walk", "w.opds", "--path", "missing.json", "-o", "f2"], d);
+    assert!(e.contains("missing.json"), "{e}");
 }

@@ -35,6 +35,8 @@ enum Command {
     AddLight(commands::add_light::Args),
     /// Combine datasets of the same scene traced independently.
     Merge(commands::merge::Args),
+    /// Render a walkthrough (a camera path of keyframes) from one dataset.
+    Walk(commands::walk::Args),
     /// Print a readable summary of a dataset file.
     Info(commands::info::Args),
     /// Measure tracing and rendering speed on a scene (in memory, nothing written).
@@ -51,6 +53,7 @@ fn main() -> ExitCode {
         Command::Refine(a) => commands::refine::run(a),
         Command::AddLight(a) => commands::add_light::run(a),
         Command::Merge(a) => commands::merge::run(a),
+        Command::Walk(a) => commands::walk::run(a),
         Command::Info(a) => commands::info::run(a),
         Command::Bench(a) => commands::bench::run(a),
     };

@@ -5,8 +5,10 @@
 //! * [`scene_formats`]: scene files (Mitsuba 3 XML, OBJ) → `opticks_core::scene::SceneDescription`;
 //! * [`dataset_file`]: the persistent dataset (`.opds`): atomic writer, memory-mapped reader;
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
+//! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios).
 
+pub mod camera_path_file;
 pub mod compare;
 pub mod dataset_file;
 pub mod image_file;

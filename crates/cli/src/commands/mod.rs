@@ -11,6 +11,7 @@ pub mod merge;
 pub mod refine;
 pub mod render;
 pub mod trace;
+pub mod walk;
 
 use crate::progress;
 use anyhow::{Context, Result};

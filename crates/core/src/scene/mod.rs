@@ -3,12 +3,14 @@
 
 mod build;
 mod camera;
+mod camera_path;
 mod demo;
 mod description;
 mod fingerprint;
 
 pub use build::{Scene, SceneError, Triangle};
 pub use camera::{CameraDesc, CameraError, Pinhole};
+pub use camera_path::{CameraKey, CameraPath, CameraPathError};
 pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
 pub use description::{MeshDesc, PointLightDesc, SceneDescription, Source};
 pub use fingerprint::Fingerprint;

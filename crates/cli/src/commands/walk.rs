@@ -1,0 +1,119 @@
+//! `opticks walk`: a walkthrough — one dataset, many cameras. Keyframes from a JSON camera path
+//! (see `opticks_io::camera_path_file`) are interpolated into frames, each rendered from the
+//! same memory-mapped dataset; the time per frame is reported next to what the trace cost.
+//! With `ffmpeg` on the PATH the PNG frames also become `walk.mp4`.
+
+use super::light_args::parse_light_scale;
+use super::{ThreadArgs, open_with_scene, write_film};
+use crate::progress;
+use anyhow::{Context, Result, bail};
+use opticks_core::dataset::{LightScale, lighting};
+use opticks_core::scene::Pinhole;
+use opticks_core::sensor::{SampleBatch, render_pinhole};
+use opticks_io::camera_path_file::read_camera_path;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::time::Instant;
+
+/// Arguments of `opticks walk`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Dataset file.
+    dataset: PathBuf,
+    /// Camera path (JSON keyframes).
+    #[arg(long)]
+    path: PathBuf,
+    /// Output folder for the frames (created if missing).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Scene file (default: the one recorded in the dataset).
+    #[arg(long)]
+    scene: Option<String>,
+    /// Frame format: png or exr.
+    #[arg(long, default_value = "png", value_parser = ["png", "exr"])]
+    format: String,
+    /// Relight, as for `render`: NAME_OR_INDEX=SCALE or =R,G,B.
+    #[arg(long = "light", value_parser = parse_light_scale, allow_hyphen_values = true)]
+    light: Vec<LightScale>,
+    /// Exposure for PNG frames, in stops.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    exposure: f32,
+    #[command(flatten)]
+    threads: ThreadArgs,
+}
+
+/// Renders the walkthrough.
+pub fn run(a: Args) -> Result<()> {
+    a.threads.apply()?;
+    let (reader, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let lit = lighting(&reader.header().table, &scene, &a.light)?;
+    for note in &lit.notes {
+        eprintln!("note: {note}");
+    }
+    let walk = read_camera_path(&a.path, scene.camera.map_or(45.0, |c| c.fov_x_degrees))?;
+    let (w, h) = walk.size.or(scene.camera.map(|c| (c.width, c.height))).unwrap_or((512, 512));
+    let (t0, t1) = walk.path.span();
+    let frames = ((t1 - t0) * walk.fps + 1e-4).floor() as usize + 1;
+    if frames > 100_000 {
+        bail!("{}: {frames} frames is more than this command renders (100000)", a.path.display());
+    }
+    std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
+    let pb = progress::bar(frames as u64, "frames", "frames");
+    let start = Instant::now();
+    for f in 0..frames {
+        if crate::interrupt::requested() {
+            bail!("interrupted after {f} of {frames} frames");
+        }
+        let desc = walk.path.at(t0 + f as f32 / walk.fps, w, h);
+        let camera = Pinhole::new(&desc).with_context(|| format!("frame {f}: invalid camera"))?;
+        let film = render_pinhole(
+            &scene,
+            &camera,
+            reader.chunk_count(),
+            |i| {
+                let c = reader.chunk(i)?;
+                Ok::<_, anyhow::Error>(SampleBatch {
+                    flux_per_path: lit.flux_per_path[c.light as usize],
+                    samples: c.samples,
+                })
+            },
+            |_| {},
+        )?;
+        write_film(&film, &a.output.join(format!("frame_{f:05}.{}", a.format)), a.exposure)?;
+        pb.inc(1);
+    }
+    pb.finish_and_clear();
+    let per_frame = start.elapsed().as_secs_f64() / frames as f64;
+    let trace = reader.header().trace.seconds();
+    println!(
+        "rendered {frames} frames of {w}x{h} in {:.2} s: {per_frame:.3} s per frame; the trace took {trace:.2} s \
+         (a frame costs {:.1}% of it) → {}",
+        per_frame * frames as f64,
+        100.0 * per_frame / trace.max(1e-9),
+        a.output.display()
+    );
+    if a.format == "png" && ffmpeg_available() {
+        let video = a.output.join("walk.mp4");
+        let status = Command::new("ffmpeg")
+            .args(["-y", "-loglevel", "error", "-framerate", &walk.fps.to_string(), "-i"])
+            .arg(a.output.join("frame_%05d.png"))
+            .args(["-pix_fmt", "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"])
+            .arg(&video)
+            .status()
+            .context("cannot run ffmpeg")?;
+        if !status.success() {
+            bail!("ffmpeg failed to encode {} ({status})", video.display());
+        }
+        println!("video → {}", video.display());
+    }
+    Ok(())
+}
+
+fn ffmpeg_available() -> bool {
+    Command::new("ffmpeg")
+        .arg("-version")
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}

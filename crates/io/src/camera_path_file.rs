@@ -1,0 +1,171 @@
+//! Camera path files for `opticks walk`: a small JSON document of keyframes.
+//!
+//! ```json
+//! {
+//!   "fps": 24,
+//!   "size": [320, 240],
+//!   "keyframes": [
+//!     { "time": 0.0, "eye": [0, 0, 3.9], "target": [0, 0, 0], "fov": 39.3 },
+//!     { "time": 2.5, "eye": [0.8, 0.3, 3.0], "target": [0, -0.2, 0], "up": [0, 1, 0] }
+//!   ]
+//! }
+//! ```
+//!
+//! | field | meaning | default |
+//! |---|---|---|
+//! | `fps` | frames per second; frames are rendered at t = t₀, t₀ + 1/fps, … ≤ t₁ | 24 |
+//! | `size` | image width and height in pixels | the scene camera's |
+//! | `keyframes[].time` | seconds, strictly increasing | required |
+//! | `keyframes[].eye`, `.target` | camera position and the point it looks at | required |
+//! | `keyframes[].up` | up hint | `[0, 1, 0]` |
+//! | `keyframes[].fov` | horizontal field of view, degrees | the previous keyframe's, else the scene camera's, else 45 |
+//!
+//! Positions are interpolated by Catmull–Rom splines (see `opticks_core::scene::CameraPath`).
+//! JSON (serde_json) because it is the one format every tool can write; errors give line and column.
+
+use opticks_core::math::Vec3;
+use opticks_core::scene::{CameraKey, CameraPath};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A loaded walkthrough description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Walkthrough {
+    /// The validated path.
+    pub path: CameraPath,
+    /// Frames per second.
+    pub fps: f32,
+    /// Image size, if the file gives one.
+    pub size: Option<(u32, u32)>,
+}
+
+/// Why a camera path file cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum CameraPathFileError {
+    /// Cannot read the file.
+    #[error("{path}: {source}")]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Not valid JSON, or not of the documented shape (serde's message has line and column).
+    #[error("{path}: {source}")]
+    Json {
+        /// The file.
+        path: PathBuf,
+        /// Why, with line and column.
+        source: serde_json::Error,
+    },
+    /// Valid JSON with impossible values.
+    #[error("{path}: {detail}")]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        detail: String,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileKey {
+    time: f32,
+    eye: [f32; 3],
+    target: [f32; 3],
+    up: Option<[f32; 3]>,
+    fov: Option<f32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    fps: Option<f32>,
+    size: Option<[u32; 2]>,
+    keyframes: Vec<FileKey>,
+}
+
+/// Reads a camera path file; `default_fov` is used until a keyframe gives one.
+pub fn read_camera_path(path: &Path, default_fov: f32) -> Result<Walkthrough, CameraPathFileError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|source| CameraPathFileError::Read { path: path.to_owned(), source })?;
+    let file: File = serde_json::from_str(&text)
+        .map_err(|source| CameraPathFileError::Json { path: path.to_owned(), source })?;
+    let invalid = |detail: String| CameraPathFileError::Invalid { path: path.to_owned(), detail };
+    let fps = file.fps.unwrap_or(24.0);
+    if !(fps > 0.0 && fps <= 1000.0) {
+        return Err(invalid(format!("fps {fps} must be in (0, 1000]")));
+    }
+    if let Some([w, h]) = file.size {
+        if w == 0 || h == 0 || w > 32768 || h > 32768 {
+            return Err(invalid(format!("size {w}x{h} must be between 1x1 and 32768x32768")));
+        }
+    }
+    let mut fov = default_fov;
+    let mut keys = Vec::with_capacity(file.keyframes.len());
+    for (i, k) in file.keyframes.iter().enumerate() {
+        fov = k.fov.unwrap_or(fov);
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(invalid(format!("keyframe {i}: field of view {fov}° is outside (0°, 180°)")));
+        }
+        keys.push(CameraKey {
+            time: k.time,
+            eye: Vec3::from_array(k.eye),
+            target: Vec3::from_array(k.target),
+            up: Vec3::from_array(k.up.unwrap_or([0.0, 1.0, 0.0])),
+            fov_x_degrees: fov,
+        });
+    }
+    let path_ = CameraPath::new(keys).map_err(|e| invalid(e.to_string()))?;
+    Ok(Walkthrough { path: path_, fps, size: file.size.map(|[w, h]| (w, h)) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<Walkthrough, CameraPathFileError> {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("cam.json");
+        std::fs::write(&p, text).unwrap();
+        read_camera_path(&p, 50.0)
+    }
+
+    #[test]
+    fn reads_the_documented_format() {
+        let w = read(
+            r#"{"fps": 10, "size": [64, 48], "keyframes": [
+                {"time": 0, "eye": [0,0,4], "target": [0,0,0], "fov": 40},
+                {"time": 1, "eye": [1,0,4], "target": [0,0,0]}]}"#,
+        )
+        .unwrap();
+        assert_eq!((w.fps, w.size), (10.0, Some((64, 48))));
+        assert_eq!(w.path.at(1.0, 64, 48).fov_x_degrees, 40.0);
+        assert_eq!(
+            read(r#"{"keyframes": [{"time": 0, "eye": [0,0,4], "target": [0,0,0]}]}"#).unwrap().fps,
+            24.0
+        );
+    }
+
+    #[test]
+    fn bad_files_name_the_problem() {
+        let e = read("{\"keyframes\": [\n {\"time\": 0, \"eye\": [0,0], \"target\": [0,0,0]}]}")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("cam.json") && e.contains("line 2"), "{e}");
+        let e = read(r#"{"keyframes": []}"#).unwrap_err().to_string();
+        assert!(e.contains("at least one keyframe"), "{e}");
+        let e = read(r#"{"keyframes": [{"time": 1, "eye": [0,0,4], "target": [0,0,0]}, {"time": 0, "eye": [0,0,4], "target": [0,0,0]}]}"#).unwrap_err().to_string();
+        assert!(e.contains("increase"), "{e}");
+        let e = read(r#"{"fps": 0, "keyframes": [{"time": 0, "eye": [0,0,4], "target": [0,0,0]}]}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("fps"), "{e}");
+        let e = read(r#"{"keyframes": [{"time": 0, "eye": [0,0,4], "target": [0,0,0], "zoom": 2}]}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("zoom"), "{e}");
+        assert!(read("not json").is_err());
+    }
+}
