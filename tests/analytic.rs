@@ -11,7 +11,7 @@ use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{CameraDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
-use opticks_core::trace::trace_path;
+use opticks_core::trace::{TraceSettings, trace_path};
 use std::f64::consts::PI;
 
 fn lambert(name: &str, albedo: f32, two_sided: bool) -> Material {
@@ -65,11 +65,13 @@ fn furnace_energy_balance() {
     let paths = 1_000_000;
     let mut rng = RandomStream::new(11, &[]);
     let mut out = Vec::new();
+    let mut stack = Vec::new();
+    let settings = TraceSettings::default();
     let mut totals = Vec::with_capacity(paths);
     let mut first_on_floor = Vec::with_capacity(paths);
     for _ in 0..paths {
         out.clear();
-        trace_path(&scene, 0, 5, &mut rng, &mut out);
+        trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut stack);
         assert!(out[0].is_emission());
         totals.push(out[1..].iter().map(|s| phi * s.beta[0] as f64).sum::<f64>());
         first_on_floor.push(if out.len() > 1 && out[1].position[1].abs() < 1e-4 { phi } else { 0.0 });

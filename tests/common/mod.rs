@@ -32,11 +32,15 @@ pub fn camera(scene: &Scene) -> Pinhole {
 
 /// Traces `paths` light paths with `seed` and renders them through `cam`, in memory.
 pub fn trace_and_render(scene: &Scene, cam: &Pinhole, paths: u64, seed: u64) -> Film {
-    let settings = TraceSettings { paths, seed, ..Default::default() };
+    trace_and_render_with(scene, cam, &TraceSettings { paths, seed, ..Default::default() })
+}
+
+/// Traces with any settings and renders through `cam`, in memory.
+pub fn trace_and_render_with(scene: &Scene, cam: &Pinhole, settings: &TraceSettings) -> Film {
     let mut chunks: Vec<Chunk> = Vec::new();
     let table = trace(
         scene,
-        &settings,
+        settings,
         |c| {
             chunks.push(c);
             Ok::<(), ()>(())

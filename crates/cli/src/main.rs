@@ -9,6 +9,7 @@ mod commands;
 mod interrupt;
 mod progress;
 mod scene_arg;
+mod strategy_args;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

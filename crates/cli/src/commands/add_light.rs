@@ -71,8 +71,13 @@ pub fn run(a: Args) -> Result<()> {
     header.fingerprint.lights = scene.fingerprint.lights;
     let last = header.trace.passes.last().copied().unwrap_or_default();
     let seed = a.seed.unwrap_or(header.trace.passes.first().map_or(0, |p| p.seed));
-    let settings =
-        TraceSettings { paths, seed, stream: header.trace.next_stream(seed), rr_depth: last.rr_depth.max(1) };
+    let settings = TraceSettings {
+        paths,
+        seed,
+        stream: header.trace.next_stream(seed),
+        rr_depth: last.rr_depth.max(1),
+        ..Default::default()
+    };
     header.trace.passes.push(new_pass(&settings));
     let plan = vec![LightPlan { scene_light, table_index, paths }];
     let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());

@@ -5,11 +5,12 @@
 use super::ThreadArgs;
 use crate::camera_args::CameraArgs;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
+use crate::strategy_args::StrategyArgs;
 use anyhow::Result;
 use opticks_core::dataset::Chunk;
 use opticks_core::film::Film;
 use opticks_core::sensor::{SampleBatch, render_pinhole};
-use opticks_core::trace::{TraceSettings, trace};
+use opticks_core::trace::trace;
 use std::time::Instant;
 
 /// Arguments of `opticks bench`.
@@ -24,6 +25,12 @@ pub struct Args {
     /// Runs per phase (the fastest is reported).
     #[arg(long, default_value_t = 3)]
     repeat: u32,
+    /// Reference image (EXR) of the scene's camera: also report relative MSE and efficiency
+    /// 1/(relMSE × seconds), the figure of merit of `docs/convergence.md`.
+    #[arg(long)]
+    reference: Option<std::path::PathBuf>,
+    #[command(flatten)]
+    strategy: StrategyArgs,
     #[command(flatten)]
     threads: ThreadArgs,
     #[command(flatten)]
@@ -35,7 +42,7 @@ pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
     let camera = a.camera.resolve(scene.camera)?;
-    let settings = TraceSettings { paths: a.paths, seed: 1, ..Default::default() };
+    let settings = a.strategy.settings(a.paths, 1);
     let mut best_trace = f64::INFINITY;
     let mut chunks: Vec<Chunk> = Vec::new();
     let mut table = Default::default();
@@ -92,8 +99,31 @@ pub fn run(a: Args) -> Result<()> {
         samples as f64 / best_render / 1e6
     );
     let m = film.mean();
+    let mut quality = String::new();
+    if let Some(path) = &a.reference {
+        let (w, h, reference) = opticks_io::image_file::read_exr_rgb(path)?;
+        if (w, h) != (camera.width, camera.height) {
+            anyhow::bail!(
+                "{}: {w}x{h} does not match the camera's {}x{}",
+                path.display(),
+                camera.width,
+                camera.height
+            );
+        }
+        let c = opticks_io::compare::compare(&film.to_rgb_f32(), &reference);
+        let efficiency = 1.0 / (c.relmse * (best_trace + best_render));
+        println!(
+            "quality        relMSE {:.4e} vs {}; mean ratio {:.4} {:.4} {:.4}; efficiency 1/(relMSE·s) = {efficiency:.1}",
+            c.relmse,
+            path.display(),
+            c.mean_ratio[0],
+            c.mean_ratio[1],
+            c.mean_ratio[2]
+        );
+        quality = format!(",\"relmse\":{:.6e},\"efficiency\":{efficiency:.3}", c.relmse);
+    }
     println!(
-        "{{\"scene\":\"{}\",\"paths\":{},\"threads\":{threads},\"trace_s\":{best_trace:.4},\"render_s\":{best_render:.4},\"samples\":{samples},\"mean_rgb\":[{:.6},{:.6},{:.6}]}}",
+        "{{\"scene\":\"{}\",\"paths\":{},\"threads\":{threads},\"trace_s\":{best_trace:.4},\"render_s\":{best_render:.4},\"samples\":{samples},\"mean_rgb\":[{:.6},{:.6},{:.6}]{quality}}}",
         a.scene, a.paths, m[0], m[1], m[2]
     );
     Ok(())

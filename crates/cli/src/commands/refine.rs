@@ -65,6 +65,7 @@ pub fn run(a: Args) -> Result<()> {
         seed,
         stream: header.trace.next_stream(seed),
         rr_depth: last.rr_depth.max(1),
+        ..Default::default()
     };
     header.trace.passes.push(new_pass(&settings));
     let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());

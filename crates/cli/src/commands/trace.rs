@@ -3,8 +3,9 @@
 use super::ThreadArgs;
 use super::dataset_job::{NewPaths, new_pass, write_dataset};
 use crate::scene_arg::load_scene;
+use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, bail};
-use opticks_core::trace::{TraceSettings, plan_all, planned_table};
+use opticks_core::trace::{plan_all, planned_table};
 use opticks_io::dataset_file::{DatasetHeader, TraceInfo};
 use std::path::PathBuf;
 
@@ -22,9 +23,8 @@ pub struct Args {
     /// Random seed; the same seed gives the same dataset whatever the thread count.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Path depth from which Russian roulette may end paths.
-    #[arg(long, default_value_t = 5)]
-    rr_depth: u32,
+    #[command(flatten)]
+    strategy: StrategyArgs,
     #[command(flatten)]
     threads: ThreadArgs,
 }
@@ -36,7 +36,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
-    let settings = TraceSettings { paths: a.paths, seed: a.seed, stream: 0, rr_depth: a.rr_depth };
+    let settings = a.strategy.settings(a.paths, a.seed);
     let mut table = planned_table(&scene, a.paths);
     table.lights.iter_mut().for_each(|l| l.paths = 0);
     let header = DatasetHeader {

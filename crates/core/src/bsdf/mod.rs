@@ -117,6 +117,17 @@ impl Material {
         }
     }
 
+    /// Samples a world-space outgoing direction uniformly over the scattering hemisphere (the
+    /// baseline of the thesis's §6.2.2, for measuring what importance sampling buys).
+    #[inline]
+    pub fn sample_uniform_world(&self, n: Vec3, wi: Vec3, u: Vec2) -> Option<BsdfSample> {
+        let f = self.frame_for(n, wi)?;
+        let wo = crate::sampling::warp::square_to_uniform_hemisphere(u);
+        let pdf = crate::sampling::warp::UNIFORM_HEMISPHERE_PDF;
+        let weight = self.bsdf.eval(f.to_local(wi), wo) * wo.z / pdf;
+        Some(BsdfSample { wo: f.to_world(wo), weight, pdf })
+    }
+
     /// Samples a world-space outgoing direction; `weight` is f_r·|cos θ_o|/pdf.
     #[inline]
     pub fn sample_world(&self, n: Vec3, wi: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {

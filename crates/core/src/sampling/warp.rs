@@ -40,6 +40,18 @@ pub fn square_to_concentric_disk(u: Vec2) -> Vec2 {
     Vec2::new(r * theta.cos(), r * theta.sin())
 }
 
+/// Uniform direction on the upper hemisphere (z ≥ 0).
+#[inline]
+pub fn square_to_uniform_hemisphere(u: Vec2) -> Vec3 {
+    let z = u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = TAU * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// Density of [`square_to_uniform_hemisphere`] w.r.t. solid angle.
+pub const UNIFORM_HEMISPHERE_PDF: f32 = 1.0 / (2.0 * PI);
+
 /// Uniform direction on the unit sphere.
 #[inline]
 pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {

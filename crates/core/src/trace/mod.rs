@@ -19,7 +19,7 @@
 
 use crate::dataset::{Chunk, LightRecord, LightTable, Sample};
 use crate::geometry::{Ray, offset_ray_origin};
-use crate::math::Rgb;
+use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
 use rayon::prelude::*;
@@ -37,6 +37,44 @@ const ROULETTE_SCALE: f32 = 2.0;
 /// Blocks traced per parallel batch before they are handed to the sink in order.
 const BATCH_BLOCKS: usize = 64;
 
+/// How a light path continues at a vertex: the thesis's improvements (§6.2), each an option
+/// whose effect is measured (`docs/convergence.md`) and none of which biases the estimator.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Roulette {
+    /// Survival driven by the path's energy (§6.2.1): q = min(0.95, 2·max β).
+    #[default]
+    Energy,
+    /// Survival with a fixed probability q = 0.95, whatever the path carries.
+    Fixed,
+}
+
+/// How continuation directions are drawn (§6.2.2).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Directions {
+    /// Importance sampling of the BSDF (Lafortune & Willems for Modified Phong).
+    #[default]
+    Importance,
+    /// Uniform over the hemisphere (the baseline the thesis improves on).
+    Uniform,
+}
+
+/// Which vertices are extended how often (§6.2.3, priority sample selection, in unbiased form).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Selection {
+    /// Every vertex is extended once (then roulette).
+    #[default]
+    Single,
+    /// A vertex carrying energy β is extended c = max β / [`PRIORITY_TARGET`] times on average
+    /// (at most [`MAX_SPLIT`]): ⌊c⌋ or ⌈c⌉ children, each with weight divided by c, so high-energy
+    /// samples get more descendants and the expectation is unchanged. Below c = 1, roulette.
+    Priority,
+}
+
+/// The energy a path is kept at under [`Selection::Priority`].
+pub const PRIORITY_TARGET: f32 = 0.5;
+/// Most children a vertex gets under [`Selection::Priority`].
+pub const MAX_SPLIT: f32 = 8.0;
+
 /// What to trace.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TraceSettings {
@@ -48,11 +86,25 @@ pub struct TraceSettings {
     pub stream: u64,
     /// Path depth from which Russian roulette may end a path.
     pub rr_depth: u32,
+    /// Russian roulette rule.
+    pub roulette: Roulette,
+    /// Continuation direction sampling.
+    pub directions: Directions,
+    /// Vertex selection for extension.
+    pub selection: Selection,
 }
 
 impl Default for TraceSettings {
     fn default() -> Self {
-        TraceSettings { paths: 1 << 20, seed: 0, stream: 0, rr_depth: 5 }
+        TraceSettings {
+            paths: 1 << 20,
+            seed: 0,
+            stream: 0,
+            rr_depth: 5,
+            roulette: Roulette::default(),
+            directions: Directions::default(),
+            selection: Selection::default(),
+        }
     }
 }
 
@@ -86,9 +138,26 @@ pub fn path_quotas(powers: &[Rgb], total: u64) -> Vec<u64> {
     quotas
 }
 
-/// Traces one path from light `k`, appending its stored vertices to `out`.
+/// A path continuation waiting to be traced (splitting makes a path a tree).
+#[derive(Clone, Copy, Debug)]
+pub struct Branch {
+    origin: Vec3,
+    dir: Vec3,
+    beta: Rgb,
+    depth: u32,
+}
+
+/// Traces one path (a tree, under [`Selection::Priority`]) from light `k`, appending its stored
+/// vertices to `out`. `stack` is scratch space, reused across paths.
 #[inline]
-pub fn trace_path(scene: &Scene, k: usize, rr_depth: u32, rng: &mut RandomStream, out: &mut Vec<Sample>) {
+pub fn trace_path(
+    scene: &Scene,
+    k: usize,
+    settings: &TraceSettings,
+    rng: &mut RandomStream,
+    out: &mut Vec<Sample>,
+    stack: &mut Vec<Branch>,
+) {
     let (u_pos, u_dir) = (rng.next_2d(), rng.next_2d());
     let e = scene.lights[k].sample_emission(&scene.triangles, u_pos, u_dir);
     let mut origin = e.origin;
@@ -96,31 +165,52 @@ pub fn trace_path(scene: &Scene, k: usize, rr_depth: u32, rng: &mut RandomStream
         out.push(Sample::emitted(e.origin, prim));
         origin = offset_ray_origin(e.origin, normal, e.dir);
     }
-    let mut beta = e.weight;
-    let mut dir = e.dir;
-    let mut depth = 0u32;
-    while let Some(hit) = scene.intersect(&Ray { origin, dir, t_max: f32::INFINITY }) {
-        depth += 1;
-        let wi = -dir;
+    stack.clear();
+    stack.push(Branch { origin, dir: e.dir, beta: e.weight, depth: 0 });
+    while let Some(b) = stack.pop() {
+        let Some(hit) = scene.intersect(&Ray { origin: b.origin, dir: b.dir, t_max: f32::INFINITY }) else {
+            continue;
+        };
+        let depth = b.depth + 1;
+        let wi = -b.dir;
         let material = scene.material(hit.prim);
         if material.frame_for(hit.normal, wi).is_none() {
-            break; // the back of a one-sided surface: black, absorbs everything
+            continue; // the back of a one-sided surface: black, absorbs everything
         }
-        out.push(Sample::scattered(hit.position, wi, hit.prim, beta));
-        let Some(s) = material.sample_world(hit.normal, wi, rng.next_f32(), rng.next_2d()) else { break };
-        beta *= s.weight;
-        if depth >= rr_depth {
-            let q = (ROULETTE_SCALE * beta.max_element()).min(0.95);
-            if !(rng.next_f32() < q) {
-                break;
+        out.push(Sample::scattered(hit.position, wi, hit.prim, b.beta));
+        // Priority selection: c expected children, each carrying 1/c of the weight.
+        let c = match settings.selection {
+            Selection::Priority => (b.beta.max_element() / PRIORITY_TARGET).clamp(1.0, MAX_SPLIT),
+            Selection::Single => 1.0,
+        };
+        let children = c.floor() as u32 + u32::from(rng.next_f32() < c.fract());
+        for _ in 0..children {
+            let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
+            let sampled = match settings.directions {
+                Directions::Importance => material.sample_world(hit.normal, wi, u_lobe, u),
+                Directions::Uniform => material.sample_uniform_world(hit.normal, wi, u),
+            };
+            let Some(s) = sampled else { continue };
+            let mut beta = b.beta * s.weight / c;
+            if depth >= settings.rr_depth && c <= 1.0 {
+                let q = match settings.roulette {
+                    Roulette::Energy => (ROULETTE_SCALE * beta.max_element()).min(0.95),
+                    Roulette::Fixed => 0.95,
+                };
+                if !(rng.next_f32() < q) {
+                    continue;
+                }
+                beta /= q;
             }
-            beta /= q;
+            if beta.max_element() > 0.0 {
+                stack.push(Branch {
+                    origin: offset_ray_origin(hit.position, hit.normal, s.wo),
+                    dir: s.wo,
+                    beta,
+                    depth,
+                });
+            }
         }
-        if !(beta.max_element() > 0.0) {
-            break;
-        }
-        origin = offset_ray_origin(hit.position, hit.normal, s.wo);
-        dir = s.wo;
     }
 }
 
@@ -136,8 +226,9 @@ pub fn trace_block(
 ) -> Chunk {
     let mut rng = RandomStream::new(settings.seed, &[settings.stream, table_index as u64, block]);
     let mut samples = Vec::with_capacity(paths as usize * 6);
+    let mut stack = Vec::with_capacity(16);
     for _ in 0..paths {
-        trace_path(scene, k, settings.rr_depth, &mut rng, &mut samples);
+        trace_path(scene, k, settings, &mut rng, &mut samples, &mut stack);
     }
     Chunk { light: table_index, paths, samples }
 }
