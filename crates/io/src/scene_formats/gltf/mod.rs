@@ -49,11 +49,16 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
         |element: String, message: String| SceneFileError::Invalid { at: loc(0, 0), element, message };
 
     let gltf = ::gltf::Gltf::from_slice(&data).map_err(|e| match e {
-        ::gltf::Error::Deserialize(j) => SceneFileError::Invalid {
-            at: loc(u32::try_from(j.line()).unwrap_or(0), u32::try_from(j.column()).unwrap_or(0)),
-            element: "glTF JSON".into(),
-            message: format!("malformed JSON: {j}"),
-        },
+        ::gltf::Error::Deserialize(j) => {
+            // serde_json's message ends with the position, which the location already gives.
+            let text = j.to_string();
+            let suffix = format!(" at line {} column {}", j.line(), j.column());
+            SceneFileError::Invalid {
+                at: loc(u32::try_from(j.line()).unwrap_or(0), u32::try_from(j.column()).unwrap_or(0)),
+                element: "glTF JSON".into(),
+                message: format!("malformed JSON: {}", text.strip_suffix(&suffix).unwrap_or(&text)),
+            }
+        }
         ::gltf::Error::Validation(errors) => {
             let list: Vec<String> = errors.iter().take(5).map(|(p, e)| format!("{p}: {e}")).collect();
             let more =
