@@ -120,6 +120,9 @@ pub fn percent_decode(s: &str) -> Option<String> {
     String::from_utf8(out).ok()
 }
 
+/// Largest element count of an accessor without a buffer view (such an accessor reads as zeros).
+const MAX_VIEWLESS_COUNT: usize = 1 << 24;
+
 /// The bytes of each element of `acc` (`count` slices of `elem_size` bytes), bounds-checked.
 /// `None` elements (an accessor without a buffer view) read as zeros.
 fn elements<'a>(
@@ -130,7 +133,14 @@ fn elements<'a>(
     if acc.sparse().is_some() {
         return Err("sparse accessors are not supported".into());
     }
-    let Some(view) = acc.view() else { return Ok(None) };
+    let Some(view) = acc.view() else {
+        // All zeros; refuse absurd counts rather than allocate them.
+        return if acc.count() <= MAX_VIEWLESS_COUNT {
+            Ok(None)
+        } else {
+            Err(format!("accessor {} has no buffer view and {} elements", acc.index(), acc.count()))
+        };
+    };
     let data = buffers.get(view.buffer().index()).ok_or("buffer view refers to a missing buffer")?;
     let view_end = view.offset().checked_add(view.length()).ok_or("buffer view is too large")?;
     let view_data = data.get(view.offset()..view_end).ok_or_else(|| {
