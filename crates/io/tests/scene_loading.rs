@@ -95,7 +95,7 @@ fn defines_override_defaults() {
 fn bare_obj_is_a_scene() {
     let s = load_scene(&testdata("cornell/meshes/red.obj")).unwrap();
     let d = &s.description;
-    assert_eq!((d.meshes.len(), d.meshes[0].name.as_str(), d.meshes[0].triangles.len()), (1, "red", 2));
+    assert_eq!((d.meshes.len(), d.meshes[0].name.as_str(), d.meshes[0].triangles.len()), (1, "red-wall", 2));
     assert!(d.camera.is_none() && d.point_lights.is_empty());
     assert!(d.materials[0].two_sided);
     assert!(!s.warnings.is_empty());

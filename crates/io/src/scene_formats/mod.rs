@@ -4,15 +4,14 @@
 //! | extension | format | module |
 //! |---|---|---|
 //! | `.xml` | Mitsuba 3 scene (the subset documented in [`mitsuba`], plus Mitsuba 0.6's `phong` BSDF as an extension) | [`mitsuba`] |
-//! | `.obj` | a bare Wavefront OBJ mesh: one mesh, default material, no camera, no lights | [`obj`] |
+//! | `.obj` | Wavefront OBJ with MTL materials (area lights from `Ke`), no camera | [`wavefront`] |
+//! | `.gltf`, `.glb` | glTF 2.0 (meshes, metallic-roughness materials, emission, point lights, cameras) | [`gltf`] |
 //!
 //! The extension is matched case-insensitively; anything else is a
 //! [`SceneFileError::UnsupportedExtension`].
 //!
-//! A bare `.obj` file gets one material named `default`: a **two-sided** Lambertian of albedo
-//! 0.5 (Mitsuba's default reflectance; two-sided because a loose OBJ says nothing about which side
-//! of its surfaces is meant to be seen). It has no lights, so it is only useful combined with
-//! lights and a camera from elsewhere; the loader says so in [`LoadedScene::warnings`].
+//! How OBJ/MTL and glTF map to Opticks materials and lights is in [`wavefront`], [`gltf`] and
+//! `docs/scene-formats.md`.
 //!
 //! # Errors and warnings
 //!
@@ -28,8 +27,10 @@
 //! `max_depth`, a non-box reconstruction filter, an unknown parameter) are not errors: they are
 //! reported as human-readable lines in [`LoadedScene::warnings`], in the same format.
 
+pub mod gltf;
 pub mod mitsuba;
 pub mod obj;
+pub mod wavefront;
 
 use opticks_core::bsdf::MaterialError;
 use opticks_core::scene::SceneDescription;
@@ -94,7 +95,7 @@ pub enum SceneFileError {
     },
     /// The extension is not one [`load_scene`] knows.
     #[error(
-        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .obj for a bare mesh)",
+        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .obj for OBJ/MTL, .gltf and .glb for glTF 2.0)",
         .path.display()
     )]
     UnsupportedExtension {
@@ -187,7 +188,8 @@ pub fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<LoadedScene
     let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
     match ext.as_deref() {
         Some("xml") => mitsuba::load(path, options),
-        Some("obj") => obj::load_obj_scene(path),
+        Some("obj") => wavefront::load_obj_mtl_scene(path),
+        Some("gltf" | "glb") => gltf::load_gltf_scene(path),
         _ => Err(SceneFileError::UnsupportedExtension { path: path.to_path_buf() }),
     }
 }
@@ -198,9 +200,9 @@ mod tests {
 
     #[test]
     fn unknown_extension_names_the_file_and_the_supported_ones() {
-        let e = load_scene(Path::new("dir/scene.gltf")).unwrap_err();
+        let e = load_scene(Path::new("dir/scene.ply")).unwrap_err();
         let msg = e.to_string();
-        assert!(msg.starts_with("dir/scene.gltf: unsupported scene file type"), "{msg}");
+        assert!(msg.starts_with("dir/scene.ply: unsupported scene file type"), "{msg}");
         assert!(msg.contains(".xml") && msg.contains(".obj"), "{msg}");
         assert!(matches!(load_scene(Path::new("noext")), Err(SceneFileError::UnsupportedExtension { .. })));
     }

@@ -1,0 +1,335 @@
+//! glTF 2.0 scenes (`.gltf` with embedded base64 or external `.bin` buffers, and binary `.glb`):
+//! [`load_gltf_scene`]. The JSON is parsed and validated by the `gltf` crate; buffers and
+//! accessors are read here, with bounds checks ([`buffers`]).
+//!
+//! | glTF | Opticks |
+//! |---|---|
+//! | scene | the default `scene`, else the first; with no scene at all, every root node (warning) |
+//! | node transforms | `matrix` or TRS (`T·R·S`), multiplied down the tree; vertices are baked to world space; a negative determinant flips the winding so front faces stay front faces |
+//! | mesh primitives, mode `TRIANGLES` | one [`MeshDesc`] per primitive instance, named after the node (else the mesh), `.k` appended for primitive k of several; indexed (`u8`/`u16`/`u32`) and non-indexed; positions must be `VEC3`/`FLOAT` |
+//! | other primitive modes (points, lines, strips, fans) | warning, skipped |
+//! | materials (metallic-roughness) | Lambert or Modified Phong, see [`materials`]; no material → glTF's default (white metal, roughness 1) |
+//! | `emissiveFactor` × `KHR_materials_emissive_strength` | area light of that radiance in W/(m²·sr) (see [`materials`]) |
+//! | `KHR_lights_punctual` point | [`PointLightDesc`] of intensity `color × intensity / 683` W/sr (glTF gives candela = lm/sr; 683 lm/W is the luminous efficacy at 555 nm, the convention glTF exporters such as Blender's use); `range` is ignored (physical inverse-square falloff) |
+//! | `KHR_lights_punctual` spot, directional | warning, skipped (the core has neither yet) |
+//! | cameras | the perspective camera of the lowest-index node in the scene is the scene camera; it looks down its local −Z with +Y up; `yfov` is vertical: `fov_x = 2·atan(tan(yfov/2)·W/H)`; the image is 512 pixels high and `round(512·aspectRatio)` wide (512×512 without `aspectRatio`) |
+//! | orthographic cameras, skins, morph targets, animations, textures | ignored (warnings for the ones that change what is seen) |
+//!
+//! glTF's units and axes (metres, right-handed, +Y up) are Opticks's, so nothing is converted.
+//!
+//! Errors name the file, and the JSON line and column for malformed JSON: unreadable file,
+//! malformed JSON or GLB, a document the `gltf` crate's validation rejects (the JSON path is
+//! given), a buffer whose file is missing (its path is given) or too short, an accessor outside
+//! its buffer, an index past the vertex count, a non-finite transform, an invalid material value.
+//! No input makes the loader panic.
+
+pub mod buffers;
+pub mod materials;
+
+use super::{FileLocation, LoadedScene, SceneFileError};
+use ::gltf::camera::Projection;
+use ::gltf::khr_lights_punctual::Kind;
+use ::gltf::mesh::Mode;
+use opticks_core::math::{Mat4, Rgb, Vec3};
+use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
+use std::path::Path;
+
+/// Luminous efficacy used to turn candela into W/sr, lm/W.
+pub const LUMENS_PER_WATT: f32 = 683.0;
+
+/// Image height (and width without `aspectRatio`) of a glTF camera, pixels.
+pub const DEFAULT_IMAGE_HEIGHT: u32 = 512;
+
+/// Loads a `.gltf` or `.glb` file as a scene (see the module docs).
+pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
+    let data =
+        std::fs::read(path).map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
+    let loc = |line: u32, column: u32| FileLocation { file: path.to_path_buf(), line, column };
+    let invalid =
+        |element: String, message: String| SceneFileError::Invalid { at: loc(0, 0), element, message };
+
+    let gltf = ::gltf::Gltf::from_slice(&data).map_err(|e| match e {
+        ::gltf::Error::Deserialize(j) => {
+            // serde_json's message ends with the position, which the location already gives.
+            let text = j.to_string();
+            let suffix = format!(" at line {} column {}", j.line(), j.column());
+            SceneFileError::Invalid {
+                at: loc(u32::try_from(j.line()).unwrap_or(0), u32::try_from(j.column()).unwrap_or(0)),
+                element: "glTF JSON".into(),
+                message: format!("malformed JSON: {}", text.strip_suffix(&suffix).unwrap_or(&text)),
+            }
+        }
+        ::gltf::Error::Validation(errors) => {
+            let list: Vec<String> = errors.iter().take(5).map(|(p, e)| format!("{p}: {e}")).collect();
+            let more =
+                if errors.len() > 5 { format!(" (and {} more)", errors.len() - 5) } else { String::new() };
+            invalid("glTF document".into(), format!("invalid glTF: {}{more}", list.join("; ")))
+        }
+        ::gltf::Error::Binary(b) => invalid("GLB container".into(), format!("malformed binary glTF: {b}")),
+        other => invalid("glTF".into(), other.to_string()),
+    })?;
+    let doc = &gltf.document;
+    let folder = path.parent().unwrap_or(Path::new(""));
+    let buffers = buffers::load_buffers(doc, gltf.blob.as_deref(), folder).map_err(|(i, e)| {
+        let element = format!("buffer {i}");
+        match e {
+            buffers::BufferError::File { path: file, source } => {
+                invalid(element, format!("cannot read buffer file {}: {source}", file.display()))
+            }
+            buffers::BufferError::Other(m) => invalid(element, m),
+        }
+    })?;
+
+    let mut warnings = Vec::new();
+    let file_name = path.display().to_string();
+    let warn = |warnings: &mut Vec<String>, element: &str, msg: String| {
+        warnings.push(format!("{file_name}: {element}: {msg}"));
+    };
+    for ext in doc.extensions_required() {
+        if !matches!(
+            ext,
+            "KHR_lights_punctual"
+                | "KHR_materials_emissive_strength"
+                | "KHR_materials_specular"
+                | "KHR_materials_ior"
+        ) {
+            warn(
+                &mut warnings,
+                "extensionsRequired",
+                format!("{ext} is not supported; the scene may look wrong"),
+            );
+        }
+    }
+
+    // Roots of the scene to load.
+    let roots: Vec<::gltf::Node<'_>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; doc.nodes().len()];
+            for n in doc.nodes() {
+                for c in n.children() {
+                    if let Some(x) = is_child.get_mut(c.index()) {
+                        *x = true;
+                    }
+                }
+            }
+            if doc.nodes().len() > 0 {
+                warn(&mut warnings, "scenes", "the file has no scene; every root node is loaded".into());
+            }
+            doc.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+
+    // Depth-first traversal with world matrices; a node reached twice means the hierarchy is not
+    // a tree (the glTF spec forbids that; it would loop forever or duplicate geometry).
+    let mut world: Vec<Option<Mat4>> = vec![None; doc.nodes().len()];
+    let mut order: Vec<::gltf::Node<'_>> = Vec::new();
+    let mut stack: Vec<(::gltf::Node<'_>, Mat4)> =
+        roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY)).collect();
+    while let Some((node, parent)) = stack.pop() {
+        let element = node_element(&node);
+        let slot = world
+            .get_mut(node.index())
+            .ok_or_else(|| invalid(element.clone(), "index out of range".into()))?;
+        if slot.is_some() {
+            return Err(invalid(element, "node is reached twice: the node hierarchy is not a tree".into()));
+        }
+        let m = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if !m.is_finite() {
+            return Err(invalid(element, "transform is not finite".into()));
+        }
+        *slot = Some(m);
+        order.push(node.clone());
+        for c in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((c, m));
+        }
+    }
+    order.sort_by_key(|n| n.index());
+
+    let mut desc = SceneDescription::default();
+    // glTF material index (None = default) → (index in desc.materials, emission).
+    let mut material_of: Vec<Option<(usize, Option<Rgb>)>> = vec![None; doc.materials().len() + 1];
+    let source = Source { file: file_name.clone(), line: 0 };
+
+    for node in &order {
+        let m = world[node.index()].unwrap_or(Mat4::IDENTITY);
+        let element = node_element(node);
+        if node.skin().is_some() || node.weights().is_some() {
+            warn(
+                &mut warnings,
+                &element,
+                "skins and morph targets are not supported; the rest pose is used".into(),
+            );
+        }
+        if let Some(mesh) = node.mesh() {
+            let prims: Vec<_> = mesh.primitives().collect();
+            let base =
+                node.name().or(mesh.name()).map_or_else(|| format!("node {}", node.index()), str::to_string);
+            let flip = m.determinant() < 0.0;
+            for (k, prim) in prims.iter().enumerate() {
+                let pel = format!("{element}: mesh {} primitive {k}", mesh.index());
+                if prim.mode() != Mode::Triangles {
+                    warn(
+                        &mut warnings,
+                        &pel,
+                        format!("mode {:?} is not supported (only TRIANGLES); skipped", prim.mode()),
+                    );
+                    continue;
+                }
+                let Some(pos_acc) = prim.get(&::gltf::Semantic::Positions) else {
+                    warn(&mut warnings, &pel, "has no POSITION attribute; skipped".into());
+                    continue;
+                };
+                let local = buffers::read_vec3(&pos_acc, &buffers).map_err(|e| invalid(pel.clone(), e))?;
+                let n = local.len();
+                let mut idx = match prim.indices() {
+                    Some(a) => buffers::read_indices(&a, &buffers).map_err(|e| invalid(pel.clone(), e))?,
+                    None => (0..u32::try_from(n).unwrap_or(u32::MAX)).collect(),
+                };
+                if let Some(&bad) = idx.iter().find(|&&i| i as usize >= n) {
+                    return Err(invalid(
+                        pel,
+                        format!("index {bad} is past the {n} vertices of the primitive"),
+                    ));
+                }
+                if idx.len() % 3 != 0 {
+                    warn(
+                        &mut warnings,
+                        &pel,
+                        format!(
+                            "{} indices are not a multiple of 3; the last {} are ignored",
+                            idx.len(),
+                            idx.len() % 3
+                        ),
+                    );
+                    idx.truncate(idx.len() - idx.len() % 3);
+                }
+                let triangles: Vec<[u32; 3]> = idx
+                    .chunks_exact(3)
+                    .map(|t| if flip { [t[0], t[2], t[1]] } else { [t[0], t[1], t[2]] })
+                    .collect();
+                let positions: Vec<Vec3> =
+                    local.iter().map(|p| m.transform_point3(Vec3::from_array(*p))).collect();
+
+                let key = prim.material().index().map_or(0, |i| i + 1);
+                let (material, emission) = match material_of.get(key).copied().flatten() {
+                    Some(r) => r,
+                    None => {
+                        let gm = prim.material();
+                        let (name, c) = match gm.index() {
+                            None => ("default".to_string(), materials::default_material()),
+                            Some(i) => {
+                                let name = gm.name().map_or_else(|| format!("material {i}"), str::to_string);
+                                let c = materials::convert(&gm, &name)
+                                    .map_err(|e| invalid(format!("material {i} ({name})"), e))?;
+                                (name, c)
+                            }
+                        };
+                        for note in &c.notes {
+                            warn(&mut warnings, &format!("material {name:?}"), note.clone());
+                        }
+                        desc.materials.push(c.material);
+                        let r = (desc.materials.len() - 1, c.emission);
+                        if let Some(s) = material_of.get_mut(key) {
+                            *s = Some(r);
+                        }
+                        r
+                    }
+                };
+                let name = if prims.len() > 1 { format!("{base}.{k}") } else { base.clone() };
+                desc.meshes.push(MeshDesc {
+                    name,
+                    source: source.clone(),
+                    positions,
+                    triangles,
+                    material,
+                    emission,
+                });
+            }
+        }
+        if let Some(light) = node.light() {
+            let lname = light.name().map_or_else(|| format!("light {}", light.index()), str::to_string);
+            match light.kind() {
+                Kind::Point => {
+                    let [r, g, b] = light.color();
+                    let intensity = Rgb::new(r, g, b) * (light.intensity() / LUMENS_PER_WATT);
+                    if !intensity.is_finite() || intensity.min_element() < 0.0 {
+                        return Err(invalid(
+                            format!("{element}: {lname}"),
+                            "light color × intensity must be finite and non-negative".into(),
+                        ));
+                    }
+                    desc.point_lights.push(PointLightDesc {
+                        name: lname,
+                        source: source.clone(),
+                        position: m.transform_point3(Vec3::ZERO),
+                        intensity,
+                    });
+                }
+                Kind::Spot { .. } => warn(
+                    &mut warnings,
+                    &format!("{element}: {lname}"),
+                    "spot lights are not supported yet; skipped".into(),
+                ),
+                Kind::Directional => warn(
+                    &mut warnings,
+                    &format!("{element}: {lname}"),
+                    "directional lights are not supported yet; skipped".into(),
+                ),
+            }
+        }
+        if let Some(cam) = node.camera() {
+            let cel = format!("{element}: camera {}", cam.index());
+            match cam.projection() {
+                Projection::Perspective(p) if desc.camera.is_none() => {
+                    let aspect = p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0);
+                    let height = DEFAULT_IMAGE_HEIGHT;
+                    let width = aspect.map_or(height, |a| ((height as f32 * a).round() as u32).max(1));
+                    let yfov = p.yfov();
+                    let fov_x = 2.0 * ((yfov * 0.5).tan() * width as f32 / height as f32).atan();
+                    if !(yfov > 0.0 && yfov < std::f32::consts::PI && fov_x.is_finite()) {
+                        return Err(invalid(cel, format!("yfov {yfov} rad is outside (0, π)")));
+                    }
+                    let eye = m.transform_point3(Vec3::ZERO);
+                    let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
+                    let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
+                    if forward == Vec3::ZERO || up == Vec3::ZERO {
+                        return Err(invalid(cel, "the node transform collapses the camera's axes".into()));
+                    }
+                    desc.camera = Some(CameraDesc {
+                        eye,
+                        target: eye + forward,
+                        up,
+                        fov_x_degrees: fov_x.to_degrees(),
+                        width,
+                        height,
+                    });
+                }
+                Projection::Perspective(_) => {
+                    warn(
+                        &mut warnings,
+                        &cel,
+                        "another camera comes first (lowest node index); ignored".into(),
+                    );
+                }
+                Projection::Orthographic(_) => {
+                    warn(&mut warnings, &cel, "orthographic cameras are not supported; ignored".into());
+                }
+            }
+        }
+    }
+    if doc.animations().len() > 0 {
+        warn(&mut warnings, "animations", "animations are ignored; the static pose is loaded".into());
+    }
+    if desc.meshes.is_empty() {
+        warn(&mut warnings, "scene", "no triangle mesh was loaded".into());
+    }
+    Ok(LoadedScene { description: desc, warnings })
+}
+
+fn node_element(node: &::gltf::Node<'_>) -> String {
+    match node.name() {
+        Some(n) => format!("node {} ({n:?})", node.index()),
+        None => format!("node {}", node.index()),
+    }
+}
