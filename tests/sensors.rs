@@ -470,3 +470,71 @@ fn equirect_reads_the_emissive_furnace_everywhere() {
         }
     }
 }
+
+/// Runs the `opticks` binary in `dir`.
+fn opticks(args: &[&str], dir: &std::path::Path) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_opticks")).args(args).current_dir(dir).output().unwrap()
+}
+
+/// `opticks measure` end to end on the Cornell box: a named wall and the same rectangle given
+/// as --plane read the same, the CSV and the heat map are written, bad input is refused with a
+/// clear message; `render` takes the thin lens and the panorama options.
+#[test]
+fn measure_and_sensor_options_on_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = scene_file("cornell", "scene.xml");
+    let ok = |o: std::process::Output| {
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    ok(opticks(&["trace", scene.to_str().unwrap(), "--paths", "200000", "-o", "c.opds"], d));
+    ok(opticks(
+        &["measure", "c.opds", "--surface", "red_wall", "--cells", "4x3", "-o", "a.csv", "--png", "a.png"],
+        d,
+    ));
+    let csv = std::fs::read_to_string(d.join("a.csv")).unwrap();
+    let rows: Vec<Vec<f64>> =
+        csv.lines().skip(1).map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect()).collect();
+    assert_eq!(csv.lines().next().unwrap(), "i,j,x,y,z,E_R,E_G,E_B,E_v_lux");
+    assert_eq!(rows.len(), 12);
+    for r in &rows {
+        assert!((r[2] + 1.0).abs() < 1e-3, "the red wall is x = −1: {r:?}");
+        assert!(r[5] > 0.0 && r[5] > r[6], "red wall lit, reflecting red: {r:?}");
+        let lux = 683.0 * (0.2126 * r[5] + 0.7152 * r[6] + 0.0722 * r[7]);
+        assert!((r[8] / lux - 1.0).abs() < 1e-6);
+    }
+    let png = image::open(d.join("a.png")).unwrap();
+    assert!(png.width() > 300 && png.height() > 200);
+    // The same rectangle as a plane: x = −1, y and z ∈ [−1, 1], u = −z (to the right), v = +y.
+    ok(opticks(
+        &["measure", "c.opds", "--plane", "-1,-1,1,0,0,-2,0,2,0", "--cells", "4x3", "-o", "b.csv"],
+        d,
+    ));
+    let b = std::fs::read_to_string(d.join("b.csv")).unwrap();
+    assert_eq!(b.lines().skip(1).count(), 12);
+    let total = |s: &str| -> f64 {
+        s.lines().skip(1).map(|l| l.split(',').nth(8).unwrap().parse::<f64>().unwrap()).sum()
+    };
+    assert!((total(&csv) / total(&b) - 1.0).abs() < 1e-9, "surface and plane meters disagree");
+    for (args, msg) in [
+        (vec!["--surface", "nope"], "no mesh named 'nope'"),
+        (vec!["--surface", "white_geometry"], "not planar"),
+        (vec!["--plane", "1,2,3"], "nine comma-separated numbers"),
+        (vec!["--plane", "0,0,0,1,0,0,2,0,0"], "degenerate"),
+        (vec!["--surface", "red_wall", "--cells", "0x3"], "between 1 and 65536"),
+    ] {
+        let mut a = vec!["measure", "c.opds", "-o", "x.csv"];
+        a.extend(args);
+        let o = opticks(&a, d);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(msg), "{a:?}: {err}");
+    }
+    ok(opticks(&["render", "c.opds", "-o", "pano.exr", "--projection", "equirect", "--size", "64x32"], d));
+    ok(opticks(
+        &["render", "c.opds", "-o", "dof.exr", "--lens-radius", "0.05", "--focus-distance", "3.9"],
+        d,
+    ));
+    let o = opticks(&["render", "c.opds", "-o", "x.exr", "--lens-radius", "-1"], d);
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("lens radius"));
+}

@@ -42,10 +42,10 @@ pub struct CameraArgs {
     #[arg(long, value_enum)]
     pub projection: Option<Projection>,
     /// Thin-lens aperture radius in metres (depth of field; 0 = pinhole).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub lens_radius: Option<f32>,
     /// Distance in metres from the lens to the plane in focus (default: eye to target).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub focus_distance: Option<f32>,
 }
 

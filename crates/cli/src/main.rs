@@ -33,6 +33,8 @@ enum Command {
     Info(commands::info::Args),
     /// Measure tracing and rendering speed on a scene (in memory, nothing written).
     Bench(commands::bench::Args),
+    /// Measure irradiance (W/m², lux) on a grid over a scene surface into CSV and a heat map.
+    Measure(commands::measure::Args),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +46,7 @@ fn main() -> ExitCode {
         Command::Render(a) => commands::render::run(a),
         Command::Info(a) => commands::info::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Measure(a) => commands::measure::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

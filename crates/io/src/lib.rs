@@ -5,10 +5,12 @@
 //! * [`scene_formats`]: scene files (Mitsuba 3 XML, OBJ) → `opticks_core::scene::SceneDescription`;
 //! * [`dataset_file`]: the persistent dataset (`.opds`): atomic writer, memory-mapped reader;
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
+//! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios).
 
 pub mod compare;
 pub mod dataset_file;
+pub mod heatmap;
 pub mod image_file;
 pub mod scene_formats;
 

@@ -4,6 +4,7 @@
 pub mod bench;
 pub mod demo;
 pub mod info;
+pub mod measure;
 pub mod render;
 pub mod trace;
 

@@ -99,8 +99,9 @@ impl IlluminanceMeter {
     }
 
     /// A meter covering the bounding rectangle of the planar mesh(es) called `name`, in their
-    /// plane, facing the way their triangles face. The rectangle's u axis is the world axis
-    /// closest to the plane (x first), v = n × u.
+    /// plane, facing the way their triangles face (area-weighted mean normal n). Its v edge
+    /// points up the surface (world +y projected on it; −z for floors and ceilings) and u = v × n,
+    /// so the heat map looks like the surface seen from its front (a floor: x right, −z up).
     pub fn on_mesh(desc: &SceneDescription, name: &str, nx: u32, ny: u32) -> Result<Self, MeterError> {
         let meshes: Vec<_> = desc.meshes.iter().filter(|m| m.name == name).collect();
         if meshes.is_empty() {
@@ -129,12 +130,11 @@ impl IlluminanceMeter {
         if deviation > 1e-4 * extent {
             return Err(MeterError::NotPlanar { name: name.into(), deviation });
         }
-        let axis = [Vec3::X, Vec3::Y, Vec3::Z]
-            .into_iter()
-            .min_by(|a, b| a.dot(n).abs().total_cmp(&b.dot(n).abs()))
-            .unwrap_or(Vec3::X);
-        let ud = (axis - axis.dot(n) * n).normalize();
-        let vd = n.cross(ud);
+        // v points up the surface (world +y projected), or, on floors and ceilings, toward −z;
+        // u = v × n is then to the right of someone facing the surface's front.
+        let up = if n.y.abs() < 0.9 { Vec3::Y } else { Vec3::NEG_Z };
+        let vd = (up - up.dot(n) * n).normalize();
+        let ud = vd.cross(n);
         let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
         for p in &points {
             let q = [(*p - p0).dot(ud), (*p - p0).dot(vd)];
