@@ -255,7 +255,7 @@ fn meter_agrees_with_the_camera_on_a_lambertian_floor() {
     let meter = floor_meter(4);
     let e = measure(&meter, chunks.len(), |i| batch(&table, &chunks, i), |_| {}).unwrap();
     let film = render_chunks(&scene, &Sensor::from(cam), &table, &chunks);
-    let mut sums = vec![0.0f64; 16];
+    let mut sums = [0.0f64; 16];
     let mut counts = vec![0usize; 16];
     for (p, v) in film.pixels.iter().enumerate() {
         let d = cam.direction(((p % 64) as f32 + 0.5) / 64.0, ((p / 64) as f32 + 0.5) / 64.0);
@@ -266,8 +266,8 @@ fn meter_agrees_with_the_camera_on_a_lambertian_floor() {
     }
     assert!(counts.iter().all(|&c| c == 256), "{counts:?}");
     let mut worst = 0.0f64;
-    for k in 0..16 {
-        let from_camera = sums[k] / 256.0;
+    for (k, sum) in sums.iter().enumerate() {
+        let from_camera = sum / 256.0;
         let from_meter = rho as f64 * e.pixels[k][0] / PI;
         let r = from_camera / from_meter - 1.0;
         eprintln!("cell {k}: camera {from_camera:.5}, ρE/π {from_meter:.5} ({:+.3} %)", 100.0 * r);

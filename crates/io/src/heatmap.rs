@@ -171,7 +171,7 @@ pub fn format_number(v: f64) -> String {
 
 /// Tick positions in [0, max]: multiples of a 1-2-5 step giving about `count` intervals.
 fn ticks(max: f64, count: f64) -> Vec<f64> {
-    if !(max > 0.0) {
+    if max.is_nan() || max <= 0.0 {
         return vec![0.0];
     }
     let raw = max / count;
@@ -193,9 +193,8 @@ pub fn draw(
     if nx == 0 || ny == 0 || values.len() != nx as usize * ny as usize {
         return Err(HeatmapError::Size { nx, ny, len: values.len() });
     }
-    if !values.iter().all(|v| v.is_finite())
-        || !(u_len.is_finite() && v_len.is_finite() && u_len > 0.0 && v_len > 0.0)
-    {
+    let edges_ok = u_len.is_finite() && v_len.is_finite() && u_len > 0.0 && v_len > 0.0;
+    if !edges_ok || !values.iter().all(|v| v.is_finite()) {
         return Err(HeatmapError::NotFinite);
     }
     const SIDE: f64 = 480.0;

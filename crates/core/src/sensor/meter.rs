@@ -88,10 +88,8 @@ impl IlluminanceMeter {
         }
         let c = u.cross(v);
         let det = c.length();
-        if !(origin.is_finite() && u.is_finite() && v.is_finite())
-            || !(det > 1e-6 * u.length() * v.length())
-            || !det.is_finite()
-        {
+        let finite = origin.is_finite() && u.is_finite() && v.is_finite() && det.is_finite();
+        if !finite || det <= 1e-6 * u.length() * v.length() {
             return Err(MeterError::Degenerate);
         }
         let tolerance = 1e-4 * (u.length() + v.length()) + 1e-6 * origin.length();
