@@ -2,10 +2,10 @@
 
 #![allow(dead_code)] // each test binary uses a different subset
 
-use opticks_core::dataset::Chunk;
+use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::scene::{Pinhole, Scene};
-use opticks_core::sensor::{SampleBatch, render_pinhole};
+use opticks_core::sensor::{SampleBatch, Sensor, render};
 use opticks_core::trace::{TraceSettings, trace};
 use std::path::{Path, PathBuf};
 
@@ -30,13 +30,13 @@ pub fn camera(scene: &Scene) -> Pinhole {
     Pinhole::new(scene.camera.as_ref().expect("scene has a camera")).unwrap()
 }
 
-/// Traces `paths` light paths with `seed` and renders them through `cam`, in memory.
-pub fn trace_and_render(scene: &Scene, cam: &Pinhole, paths: u64, seed: u64) -> Film {
-    trace_and_render_with(scene, cam, &TraceSettings { paths, seed, ..Default::default() })
+/// Traces `paths` light paths with `seed` into memory.
+pub fn trace_chunks(scene: &Scene, paths: u64, seed: u64) -> (LightTable, Vec<Chunk>) {
+    trace_chunks_with(scene, &TraceSettings { paths, seed, ..Default::default() })
 }
 
-/// Traces with any settings and renders through `cam`, in memory.
-pub fn trace_and_render_with(scene: &Scene, cam: &Pinhole, settings: &TraceSettings) -> Film {
+/// Traces with any settings into memory.
+pub fn trace_chunks_with(scene: &Scene, settings: &TraceSettings) -> (LightTable, Vec<Chunk>) {
     let mut chunks: Vec<Chunk> = Vec::new();
     let table = trace(
         scene,
@@ -48,9 +48,14 @@ pub fn trace_and_render_with(scene: &Scene, cam: &Pinhole, settings: &TraceSetti
         |_| {},
     )
     .unwrap();
-    render_pinhole(
+    (table, chunks)
+}
+
+/// Renders in-memory chunks through a sensor.
+pub fn render_chunks(scene: &Scene, sensor: &Sensor, table: &LightTable, chunks: &[Chunk]) -> Film {
+    render(
         scene,
-        cam,
+        sensor,
         chunks.len(),
         |i| {
             Ok::<_, ()>(SampleBatch {
@@ -61,6 +66,17 @@ pub fn trace_and_render_with(scene: &Scene, cam: &Pinhole, settings: &TraceSetti
         |_| {},
     )
     .unwrap()
+}
+
+/// Traces `paths` light paths with `seed` and renders them through `cam`, in memory.
+pub fn trace_and_render(scene: &Scene, cam: &Pinhole, paths: u64, seed: u64) -> Film {
+    trace_and_render_with(scene, cam, &TraceSettings { paths, seed, ..Default::default() })
+}
+
+/// Traces with any settings and renders through `cam`, in memory.
+pub fn trace_and_render_with(scene: &Scene, cam: &Pinhole, settings: &TraceSettings) -> Film {
+    let (table, chunks) = trace_chunks_with(scene, settings);
+    render_chunks(scene, &Sensor::from(*cam), &table, &chunks)
 }
 
 /// The reference image of a scene as interleaved RGB.

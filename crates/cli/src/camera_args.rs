@@ -1,10 +1,24 @@
-//! Camera options shared by `render` and `demo`: `--eye`, `--target`, `--up`, `--fov`, `--size`
-//! override (or, without a scene camera, define) the camera a dataset is rendered from.
+//! Camera options shared by `render`, `demo` and `bench`: `--eye`, `--target`, `--up`, `--fov`,
+//! `--size` override (or, without a scene camera, define) the camera a dataset is rendered from;
+//! `--projection`, `--lens-radius` and `--focus-distance` choose the kind of sensor (pinhole,
+//! thin lens, equirectangular 360°). [`CameraArgs::resolve`] turns them into a [`Sensor`].
+//! Also the number parsers the measuring verbs share (`parse_vec3`, `parse_size`).
 
 use anyhow::{Context, Result, anyhow, bail};
-use clap::Args;
+use clap::{Args, ValueEnum};
 use opticks_core::math::Vec3;
 use opticks_core::scene::{CameraDesc, Pinhole};
+use opticks_core::sensor::{Equirectangular, Sensor, ThinLens};
+
+/// How the camera projects the world onto its image.
+#[derive(ValueEnum, Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Projection {
+    /// Perspective (pinhole, or thin lens with --lens-radius).
+    #[default]
+    Perspective,
+    /// Equirectangular 360°×180° (longitude across, latitude down; use a 2:1 --size).
+    Equirect,
+}
 
 /// Camera overrides.
 #[derive(Args, Debug, Clone, Default)]
@@ -24,9 +38,19 @@ pub struct CameraArgs {
     /// Image size "WxH" in pixels.
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
+    /// Projection: perspective (default) or equirect (360° panorama around the eye).
+    #[arg(long, value_enum)]
+    pub projection: Option<Projection>,
+    /// Thin-lens aperture radius in metres (depth of field; 0 = pinhole).
+    #[arg(long, allow_hyphen_values = true)]
+    pub lens_radius: Option<f32>,
+    /// Distance in metres from the lens to the plane in focus (default: eye to target).
+    #[arg(long, allow_hyphen_values = true)]
+    pub focus_distance: Option<f32>,
 }
 
-fn parse_vec3(s: &str) -> Result<Vec3> {
+/// Parses "x,y,z".
+pub fn parse_vec3(s: &str) -> Result<Vec3> {
     let v: Vec<f32> = s
         .split(',')
         .map(|x| x.trim().parse::<f32>().with_context(|| format!("'{x}' is not a number")))
@@ -38,7 +62,8 @@ fn parse_vec3(s: &str) -> Result<Vec3> {
     }
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32)> {
+/// Parses "WxH" (each 1..=32768).
+pub fn parse_size(s: &str) -> Result<(u32, u32)> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| anyhow!("'{s}' must look like 640x480"))?;
     let (w, h): (u32, u32) = (w.trim().parse()?, h.trim().parse()?);
     if w == 0 || h == 0 || w > 32768 || h > 32768 {
@@ -48,8 +73,33 @@ fn parse_size(s: &str) -> Result<(u32, u32)> {
 }
 
 impl CameraArgs {
-    /// The camera to render with: the scene's camera with any overrides applied.
-    pub fn resolve(&self, scene_camera: Option<CameraDesc>) -> Result<Pinhole> {
+    /// The sensor to render with: the scene's camera with any overrides applied.
+    pub fn resolve(&self, scene_camera: Option<CameraDesc>) -> Result<Sensor> {
+        let desc = self.resolve_desc(scene_camera)?;
+        let lens = self.lens_radius.is_some() || self.focus_distance.is_some();
+        match self.projection.unwrap_or_default() {
+            Projection::Equirect => {
+                if lens {
+                    bail!(
+                        "--lens-radius and --focus-distance apply to the perspective projection, not equirect"
+                    );
+                }
+                Ok(Equirectangular::new(&desc).context("invalid camera")?.into())
+            }
+            Projection::Perspective => {
+                let pinhole = Pinhole::new(&desc).context("invalid camera")?;
+                if !lens {
+                    return Ok(pinhole.into());
+                }
+                let radius = self.lens_radius.unwrap_or(0.0);
+                let focus = self.focus_distance.unwrap_or_else(|| (desc.target - desc.eye).length());
+                Ok(ThinLens::new(pinhole, radius, focus).context("invalid thin lens")?.into())
+            }
+        }
+    }
+
+    /// The camera description: the scene's camera with any overrides applied.
+    pub fn resolve_desc(&self, scene_camera: Option<CameraDesc>) -> Result<CameraDesc> {
         let base = scene_camera.or_else(|| {
             let (eye, target) = (self.eye?, self.target?);
             Some(CameraDesc { eye, target, up: Vec3::Y, fov_x_degrees: 45.0, width: 512, height: 512 })
@@ -64,7 +114,7 @@ impl CameraArgs {
         if let Some((w, h)) = self.size {
             (c.width, c.height) = (w, h);
         }
-        Pinhole::new(&c).context("invalid camera")
+        Ok(c)
     }
 }
 
@@ -80,5 +130,28 @@ mod tests {
         assert_eq!(parse_size("640x480").unwrap(), (640, 480));
         assert!(parse_size("0x10").is_err());
         assert!(parse_size("640").is_err());
+    }
+
+    fn desc() -> CameraDesc {
+        CameraDesc { eye: Vec3::Z, target: Vec3::ZERO, up: Vec3::Y, fov_x_degrees: 40.0, width: 8, height: 4 }
+    }
+
+    #[test]
+    fn resolves_the_kind_of_sensor() {
+        use opticks_core::sensor::SensorKind;
+        let plain = CameraArgs::default();
+        assert!(matches!(plain.resolve(Some(desc())).unwrap().kind, SensorKind::Pinhole(_)));
+        let lens = CameraArgs { lens_radius: Some(0.1), ..Default::default() };
+        let SensorKind::ThinLens(t) = lens.resolve(Some(desc())).unwrap().kind else { panic!() };
+        assert_eq!((t.radius, t.focus_distance), (0.1, 1.0));
+        let pano = CameraArgs { projection: Some(Projection::Equirect), ..Default::default() };
+        let s = pano.resolve(Some(desc())).unwrap();
+        assert!(matches!(s.kind, SensorKind::Equirectangular(_)) && (s.width, s.height) == (8, 4));
+        assert!(CameraArgs { lens_radius: Some(-1.0), ..Default::default() }.resolve(Some(desc())).is_err());
+        assert!(
+            CameraArgs { focus_distance: Some(0.0), ..Default::default() }.resolve(Some(desc())).is_err()
+        );
+        let both = CameraArgs { lens_radius: Some(0.1), ..pano };
+        assert!(both.resolve(Some(desc())).is_err());
     }
 }

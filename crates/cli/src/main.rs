@@ -42,6 +42,8 @@ enum Command {
     Info(commands::info::Args),
     /// Measure tracing and rendering speed on a scene (in memory, nothing written).
     Bench(commands::bench::Args),
+    /// Measure irradiance (W/m², lux) on a grid over a scene surface into CSV and a heat map.
+    Measure(commands::measure::Args),
 }
 
 fn main() -> ExitCode {
@@ -57,6 +59,7 @@ fn main() -> ExitCode {
         Command::Walk(a) => commands::walk::run(a),
         Command::Info(a) => commands::info::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Measure(a) => commands::measure::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

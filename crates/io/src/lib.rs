@@ -6,11 +6,13 @@
 //! * [`dataset_file`]: the persistent dataset (`.opds`): atomic writer, memory-mapped reader;
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
+//! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios).
 
 pub mod camera_path_file;
 pub mod compare;
 pub mod dataset_file;
+pub mod heatmap;
 pub mod image_file;
 pub mod scene_formats;
 

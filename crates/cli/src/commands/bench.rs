@@ -9,7 +9,7 @@ use crate::strategy_args::StrategyArgs;
 use anyhow::Result;
 use opticks_core::dataset::Chunk;
 use opticks_core::film::Film;
-use opticks_core::sensor::{SampleBatch, render_pinhole};
+use opticks_core::sensor::{SampleBatch, render};
 use opticks_core::trace::trace;
 use std::time::Instant;
 
@@ -65,7 +65,7 @@ pub fn run(a: Args) -> Result<()> {
     let mut film = Film::new(1, 1);
     for _ in 0..a.repeat.max(1) {
         let t = Instant::now();
-        film = render_pinhole(
+        film = render(
             &scene,
             &camera,
             chunks.len(),

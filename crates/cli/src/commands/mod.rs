@@ -7,6 +7,7 @@ pub mod dataset_job;
 pub mod demo;
 pub mod info;
 pub mod light_args;
+pub mod measure;
 pub mod merge;
 pub mod refine;
 pub mod render;
@@ -17,8 +18,8 @@ use crate::progress;
 use anyhow::{Context, Result};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
-use opticks_core::scene::{Pinhole, Scene};
-use opticks_core::sensor::{SampleBatch, render_pinhole};
+use opticks_core::scene::Scene;
+use opticks_core::sensor::{SampleBatch, Sensor, render};
 use opticks_core::trace::{LightPlan, TraceSettings, trace_plan};
 use opticks_io::dataset_file::DatasetReader;
 use std::path::Path;
@@ -63,14 +64,14 @@ pub fn trace_with_progress(
 /// Renders `count` sample batches through `camera` with a progress bar over `total_samples`.
 pub fn render_with_progress<'a>(
     scene: &Scene,
-    camera: &Pinhole,
+    camera: &Sensor,
     count: usize,
     total_samples: u64,
     batch: impl Fn(usize) -> Result<SampleBatch<'a>> + Sync,
 ) -> Result<Film> {
     let pb = progress::bar(total_samples, "rendering", "samples");
     let done = AtomicU64::new(0);
-    let film = render_pinhole(scene, camera, count, batch, |n| {
+    let film = render(scene, camera, count, batch, |n| {
         let d = done.fetch_add(n as u64, Ordering::Relaxed) + n as u64;
         pb.set_position(d);
     })?;
@@ -107,7 +108,7 @@ pub fn write_film(film: &Film, path: &Path, exposure: f32) -> Result<()> {
 }
 
 /// Renders in-memory chunks (as traced, with the table's Φ_k/N_k).
-pub fn render_chunks(scene: &Scene, camera: &Pinhole, table: &LightTable, chunks: &[Chunk]) -> Result<Film> {
+pub fn render_chunks(scene: &Scene, camera: &Sensor, table: &LightTable, chunks: &[Chunk]) -> Result<Film> {
     let total = chunks.iter().map(|c| c.samples.len() as u64).sum();
     render_with_progress(scene, camera, chunks.len(), total, |i| {
         let c = &chunks[i];

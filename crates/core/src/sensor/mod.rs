@@ -1,20 +1,43 @@
-//! Sensors: connecting stored samples to a measuring device (the thesis's "visualisation").
+//! Sensors: connecting stored samples to a measuring device (the thesis's "visualisation",
+//! ch. 4 and §6.1.5).
 //!
-//! The pinhole camera implements the measurement contract of DESIGN.md §2. Each stored vertex
-//! x of light k with weight β adds to the pixel it projects into
+//! A [`Sensor`] is an image-forming device: a [`Pinhole`] camera, a [`ThinLens`] camera with
+//! depth of field, or an [`Equirectangular`] 360° camera. All of them are rendered by one splat
+//! loop ([`splat`]); the only per-sensor part is [`SensorKind::connect`], which links a surface
+//! point x to the device and returns the pixel, the point c on the device's aperture, and the
+//! factor W that holds the importance and every geometric term on the sensor's side. Each stored
+//! vertex x of light k with weight β then adds
 //!
 //! ```text
-//! Δ = (Φ_k/N_k) · β · f_r(x; ω_in → ω_c) · |cos θ_x| · V(x, c) / (d² · a · cos³θ_c)
+//! Δpixel = (Φ_k/N_k) · β · f_r(x; ω_in → ω_c) · |cos θ_x| · V(x, c) · W
 //! ```
 //!
-//! (a light tracer's t = 1 connection, Veach ch. 10), so each pixel converges to the radiance at
-//! the pinhole averaged over its square of the image plane (a box filter). Emission vertices use
-//! L_e·A_k/Φ_k = 1/π in place of f_r, and only their front side is visible.
+//! (a light tracer's t = 1 connection, Veach ch. 10, DESIGN.md §2). For the pinhole,
+//! W = 1/(d²·a·cos³θ_c), so each pixel converges to the radiance at the pinhole averaged over its
+//! square of the image plane (a box filter). Emission vertices use L_e·A_k/Φ_k = 1/π in place of
+//! f_r, and only their front side is visible. The per-sensor W are derived in each sensor's
+//! module.
+//!
+//! Sensors that pick a random point on their aperture (the thin lens) draw it from a hash of the
+//! sample's own bits, so a render is reproducible and does not depend on how the dataset was
+//! chunked or how many threads render it.
+//!
+//! The [`meter`] module holds the illuminance meter, which needs no connection: a stored sample
+//! already *is* flux arriving at a surface.
+
+mod equirect;
+pub mod meter;
+mod pinhole;
+mod thin_lens;
+
+pub use equirect::Equirectangular;
+pub use meter::{IlluminanceMeter, MeterError, measure};
+pub use thin_lens::ThinLens;
 
 use crate::dataset::Sample;
 use crate::film::Film;
 use crate::geometry::{Ray, offset_ray_origin};
-use crate::math::Rgb;
+use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::{Pinhole, Scene};
 use rayon::prelude::*;
 use std::f32::consts::FRAC_1_PI;
@@ -29,19 +52,120 @@ pub struct SampleBatch<'a> {
     pub samples: &'a [Sample],
 }
 
-/// Adds the contribution of `samples` to `film` as seen by `camera`.
-pub fn splat_pinhole(scene: &Scene, camera: &Pinhole, batch: SampleBatch<'_>, film: &mut Film) {
+/// The kinds of image-forming sensor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SensorKind {
+    /// Ideal pinhole (perspective) camera.
+    Pinhole(Pinhole),
+    /// Thin-lens perspective camera (depth of field).
+    ThinLens(ThinLens),
+    /// Equirectangular (longitude/latitude) 360° camera.
+    Equirectangular(Equirectangular),
+}
+
+/// An image-forming sensor and the size of the image it forms.
+///
+/// `width` and `height` are copies of the kind's own image size, kept as fields so callers can
+/// read `sensor.width` as they did for a [`Pinhole`]. Build sensors with the constructors (or
+/// `From`), which keep them consistent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sensor {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// What kind of device it is.
+    pub kind: SensorKind,
+}
+
+/// How a surface point connects to a sensor.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Connection {
+    /// Row-major pixel index, row 0 on top.
+    pub pixel: usize,
+    /// The point on the sensor's aperture the point is connected to (the shadow ray's end).
+    pub point: Vec3,
+    /// Importance times the sensor-side geometry (everything in Δ except Φβ/N · f_r · |cos θ_x|
+    /// · V), including the 1/d² of the connection.
+    pub weight: f32,
+}
+
+impl From<Pinhole> for Sensor {
+    fn from(p: Pinhole) -> Self {
+        Sensor { width: p.width, height: p.height, kind: SensorKind::Pinhole(p) }
+    }
+}
+
+impl From<ThinLens> for Sensor {
+    fn from(t: ThinLens) -> Self {
+        Sensor { width: t.pinhole.width, height: t.pinhole.height, kind: SensorKind::ThinLens(t) }
+    }
+}
+
+impl From<Equirectangular> for Sensor {
+    fn from(e: Equirectangular) -> Self {
+        Sensor { width: e.width, height: e.height, kind: SensorKind::Equirectangular(e) }
+    }
+}
+
+impl SensorKind {
+    /// Connects the surface point `x` to the sensor, using `u` ∈ [0,1)² if the sensor samples
+    /// its aperture. `None` when x is outside the field of view (or behind the sensor).
+    #[inline]
+    pub fn connect(&self, x: Vec3, u: Vec2) -> Option<Connection> {
+        match self {
+            SensorKind::Pinhole(p) => pinhole::connect(p, x),
+            SensorKind::ThinLens(t) => t.connect(x, u),
+            SensorKind::Equirectangular(e) => e.connect(x),
+        }
+    }
+
+    /// Whether [`SensorKind::connect`] uses its random numbers.
+    #[inline]
+    fn samples_aperture(&self) -> bool {
+        matches!(self, SensorKind::ThinLens(t) if t.radius > 0.0)
+    }
+}
+
+/// SplitMix64 finaliser.
+#[inline]
+fn mix(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// Two uniform numbers in [0,1)² derived from the bits of a sample alone (reproducible
+/// whatever the chunking or thread count).
+#[inline]
+pub fn sample_hash_2d(s: &Sample) -> Vec2 {
+    let p = s.position;
+    let a = (p[0].to_bits() as u64) | ((p[1].to_bits() as u64) << 32);
+    let b = (p[2].to_bits() as u64) | ((s.prim as u64) << 32);
+    let c = (s.from_dir as u64) | ((s.beta[0].to_bits() as u64) << 32);
+    let h = mix(mix(mix(a ^ 0x6f70_7469_6373_6c73) ^ b) ^ c);
+    let to_unit = |v: u64| (v >> 40) as f32 * (1.0 / 16_777_216.0);
+    Vec2::new(to_unit(h), to_unit(h << 24))
+}
+
+/// Adds the contribution of `batch` to `film` as seen by `sensor` — the one splat loop every
+/// image-forming sensor shares.
+pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut Film) {
     if batch.flux_per_path == Rgb::ZERO {
         return;
     }
-    let inv_area = 1.0 / camera.pixel_area();
+    let kind = &sensor.kind;
+    let random = kind.samples_aperture();
     for s in batch.samples {
         let x = s.position();
-        let Some((pixel, cos_c)) = camera.project(x) else { continue };
-        let to_eye = camera.eye - x;
-        let d2 = to_eye.length_squared();
-        let d = d2.sqrt();
-        let wc = to_eye / d;
+        let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
+        let Some(conn) = kind.connect(x, u) else { continue };
+        let to_c = conn.point - x;
+        let d = to_c.length();
+        if !(d > 0.0) {
+            continue;
+        }
+        let wc = to_c / d;
         let prim = s.triangle();
         let n = scene.normal(prim);
         let cos_x = n.dot(wc);
@@ -58,18 +182,62 @@ pub fn splat_pinhole(scene: &Scene, camera: &Pinhole, batch: SampleBatch<'_>, fi
             f
         };
         let origin = offset_ray_origin(x, n, wc);
-        let to_eye = camera.eye - origin;
-        let t = to_eye.length();
-        if scene.occluded(&Ray { origin, dir: to_eye / t, t_max: t * (1.0 - 1e-5) }) {
+        let to_c = conn.point - origin;
+        let t = to_c.length();
+        if scene.occluded(&Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) }) {
             continue;
         }
-        let g = cos_x.abs() * inv_area / (d2 * cos_c * cos_c * cos_c);
-        film.splat(pixel, batch.flux_per_path * s.beta() * f * g);
+        film.splat(conn.pixel, batch.flux_per_path * s.beta() * f * (cos_x.abs() * conn.weight));
     }
 }
 
-/// Renders `count` batches (fetched by index, possibly from a memory-mapped file) through a
-/// pinhole camera on all cores.
+/// Adds the contribution of `samples` to `film` as seen by a pinhole `camera`.
+pub fn splat_pinhole(scene: &Scene, camera: &Pinhole, batch: SampleBatch<'_>, film: &mut Film) {
+    splat(scene, &Sensor::from(*camera), batch, film);
+}
+
+/// Accumulates `count` batches (fetched by index, possibly from a memory-mapped file) into a
+/// `width`×`height` film on all cores, with `add` doing the per-batch work.
+pub(crate) fn accumulate<'a, E: Send>(
+    (width, height): (u32, u32),
+    count: usize,
+    batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+    add: impl Fn(SampleBatch<'a>, &mut Film) + Sync,
+) -> Result<Film, E> {
+    (0..count)
+        .into_par_iter()
+        .try_fold(
+            || Film::new(width, height),
+            |mut film, i| {
+                let b = batch(i)?;
+                add(b, &mut film);
+                progress(b.samples.len());
+                Ok(film)
+            },
+        )
+        .try_reduce(
+            || Film::new(width, height),
+            |mut a, b| {
+                a.add(&b);
+                Ok(a)
+            },
+        )
+}
+
+/// Renders `count` batches (fetched by index, possibly from a memory-mapped file) through
+/// `sensor` on all cores.
+pub fn render<'a, E: Send>(
+    scene: &Scene,
+    sensor: &Sensor,
+    count: usize,
+    batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Film, E> {
+    accumulate((sensor.width, sensor.height), count, batch, progress, |b, film| splat(scene, sensor, b, film))
+}
+
+/// [`render`] through a pinhole camera.
 pub fn render_pinhole<'a, E: Send>(
     scene: &Scene,
     camera: &Pinhole,
@@ -77,22 +245,25 @@ pub fn render_pinhole<'a, E: Send>(
     batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
-    (0..count)
-        .into_par_iter()
-        .try_fold(
-            || Film::new(camera.width, camera.height),
-            |mut film, i| {
-                let b = batch(i)?;
-                splat_pinhole(scene, camera, b, &mut film);
-                progress(b.samples.len());
-                Ok(film)
-            },
-        )
-        .try_reduce(
-            || Film::new(camera.width, camera.height),
-            |mut a, b| {
-                a.add(&b);
-                Ok(a)
-            },
-        )
+    render(scene, &Sensor::from(*camera), count, batch, progress)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sample_hash_is_uniform_enough_and_deterministic() {
+        let mut sum = Vec2::ZERO;
+        let n = 20_000;
+        for i in 0..n {
+            let s = Sample::scattered(Vec3::new(i as f32 * 0.001, 1.0, 2.0), Vec3::Z, 3, Rgb::ONE);
+            let u = sample_hash_2d(&s);
+            assert!(u.x >= 0.0 && u.x < 1.0 && u.y >= 0.0 && u.y < 1.0);
+            assert_eq!(u, sample_hash_2d(&s));
+            sum += u;
+        }
+        let m = sum / n as f32;
+        assert!((m - Vec2::splat(0.5)).abs().max_element() < 0.01, "mean {m}");
+    }
 }

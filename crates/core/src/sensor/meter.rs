@@ -1,0 +1,280 @@
+//! The illuminance meter: irradiance E (W/m²) on a grid of cells over a planar piece of a scene
+//! surface (the thesis §6.1.5's measuring devices).
+//!
+//! No connection is needed: a stored sample on a surface *is* the flux Φ_k·β/N_k arriving there
+//! (DESIGN.md §2), so the irradiance of a cell is the flux of the samples that landed in it,
+//! divided by its area:
+//!
+//! ```text
+//! E_cell = Σ_{samples x in the cell, arriving from the front} (Φ_k/N_k) · β  /  A_cell
+//! ```
+//!
+//! — unbiased for the cell's mean irradiance, whatever the light paths did before. Consequences:
+//! the meter must lie *on* scene geometry (a free-floating plane receives no samples and reads
+//! 0); emission vertices are not incident light and are skipped; only light arriving from the
+//! side the meter's normal n = u × v faces is counted (a sample's `from_dir` · n > 0), so a
+//! meter on a wall reads that wall's front irradiance.
+//!
+//! A meter is a parallelogram (origin, edge vectors u and v) divided into nx × ny cells; a sample
+//! belongs to it when it lies within a small tolerance of that plane. [`IlluminanceMeter::on_mesh`]
+//! builds one covering a planar mesh's bounding rectangle in its own plane. The result is a
+//! [`Film`] of nx × ny cells: entry `j * nx + i` is cell i along u and j along v (row 0 at the
+//! origin's side — not an image's top row).
+
+use super::{SampleBatch, accumulate};
+use crate::film::Film;
+use crate::math::Vec3;
+use crate::scene::SceneDescription;
+
+/// Why a meter cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeterError {
+    /// nx or ny is zero (or absurdly large).
+    #[error("a meter needs at least 1x1 cells and at most 65536 per side, got {0}x{1}")]
+    Cells(u32, u32),
+    /// Non-finite numbers, or u and v parallel or zero.
+    #[error(
+        "the meter's plane is degenerate (origin, u and v must be finite, u and v non-zero and not parallel)"
+    )]
+    Degenerate,
+    /// No mesh has that name.
+    #[error("no mesh named '{name}' in the scene (meshes: {known})")]
+    UnknownSurface {
+        /// The name asked for.
+        name: String,
+        /// The scene's mesh names, comma separated.
+        known: String,
+    },
+    /// The mesh is not flat.
+    #[error(
+        "mesh '{name}' is not planar (a vertex lies {deviation} m off its plane); meters need planar surfaces"
+    )]
+    NotPlanar {
+        /// Mesh name.
+        name: String,
+        /// Largest distance of a vertex from the mean plane.
+        deviation: f32,
+    },
+    /// The mesh has no (non-degenerate) triangles.
+    #[error("mesh '{0}' has no area to measure")]
+    EmptySurface(String),
+}
+
+/// A grid of nx × ny irradiance cells on the parallelogram origin + a·u + b·v, a, b ∈ [0,1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct IlluminanceMeter {
+    /// Corner of cell (0, 0).
+    pub origin: Vec3,
+    /// First edge (cells i = 0..nx along it).
+    pub u: Vec3,
+    /// Second edge (cells j = 0..ny along it).
+    pub v: Vec3,
+    /// Cells along u.
+    pub nx: u32,
+    /// Cells along v.
+    pub ny: u32,
+    /// Largest distance from the plane at which a sample still counts, metres.
+    pub tolerance: f32,
+    normal: Vec3,
+    inv_det: f32,
+}
+
+impl IlluminanceMeter {
+    /// A meter on the parallelogram (origin, u, v) with nx × ny cells. Its front (the side whose
+    /// incident light it measures) is n = u × v.
+    pub fn new(origin: Vec3, u: Vec3, v: Vec3, nx: u32, ny: u32) -> Result<Self, MeterError> {
+        if nx == 0 || ny == 0 || nx > 65536 || ny > 65536 {
+            return Err(MeterError::Cells(nx, ny));
+        }
+        let c = u.cross(v);
+        let det = c.length();
+        let finite = origin.is_finite() && u.is_finite() && v.is_finite() && det.is_finite();
+        if !finite || det <= 1e-6 * u.length() * v.length() {
+            return Err(MeterError::Degenerate);
+        }
+        let tolerance = 1e-4 * (u.length() + v.length()) + 1e-6 * origin.length();
+        Ok(IlluminanceMeter { origin, u, v, nx, ny, tolerance, normal: c / det, inv_det: 1.0 / det })
+    }
+
+    /// A meter covering the bounding rectangle of the planar mesh(es) called `name`, in their
+    /// plane, facing the way their triangles face (area-weighted mean normal n). Its v edge
+    /// points up the surface (world +y projected on it; −z for floors and ceilings) and u = v × n,
+    /// so the heat map looks like the surface seen from its front (a floor: x right, −z up).
+    pub fn on_mesh(desc: &SceneDescription, name: &str, nx: u32, ny: u32) -> Result<Self, MeterError> {
+        let meshes: Vec<_> = desc.meshes.iter().filter(|m| m.name == name).collect();
+        if meshes.is_empty() {
+            let known: Vec<&str> = desc.meshes.iter().map(|m| m.name.as_str()).collect();
+            return Err(MeterError::UnknownSurface { name: name.into(), known: known.join(", ") });
+        }
+        let mut points = Vec::new();
+        let mut area_normal = Vec3::ZERO;
+        for m in &meshes {
+            for t in &m.triangles {
+                let [Some(a), Some(b), Some(c)] = t.map(|i| m.positions.get(i as usize).copied()) else {
+                    continue; // the scene builder reports bad indices
+                };
+                area_normal += (b - a).cross(c - a);
+                points.extend([a, b, c]);
+            }
+        }
+        let Some(&p0) = points.first() else { return Err(MeterError::EmptySurface(name.into())) };
+        let extent = points.iter().map(|p| (*p - p0).length()).fold(0.0f32, f32::max);
+        let len = area_normal.length();
+        if !(len > 1e-12 * extent * extent) || !area_normal.is_finite() {
+            return Err(MeterError::EmptySurface(name.into()));
+        }
+        let n = area_normal / len;
+        let deviation = points.iter().map(|p| (*p - p0).dot(n).abs()).fold(0.0f32, f32::max);
+        if deviation > 1e-4 * extent {
+            return Err(MeterError::NotPlanar { name: name.into(), deviation });
+        }
+        // v points up the surface (world +y projected), or, on floors and ceilings, toward −z;
+        // u = v × n is then to the right of someone facing the surface's front.
+        let up = if n.y.abs() < 0.9 { Vec3::Y } else { Vec3::NEG_Z };
+        let vd = (up - up.dot(n) * n).normalize();
+        let ud = vd.cross(n);
+        let (mut lo, mut hi) = ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]);
+        for p in &points {
+            let q = [(*p - p0).dot(ud), (*p - p0).dot(vd)];
+            for k in 0..2 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+        }
+        let origin = p0 + lo[0] * ud + lo[1] * vd;
+        IlluminanceMeter::new(origin, (hi[0] - lo[0]) * ud, (hi[1] - lo[1]) * vd, nx, ny)
+    }
+
+    /// The unit normal u × v / |u × v| (the measured side).
+    pub fn normal(&self) -> Vec3 {
+        self.normal
+    }
+
+    /// Area of one cell, m².
+    pub fn cell_area(&self) -> f32 {
+        1.0 / (self.inv_det * self.nx as f32 * self.ny as f32)
+    }
+
+    /// World position of the centre of cell (i, j).
+    pub fn cell_centre(&self, i: u32, j: u32) -> Vec3 {
+        self.origin + (i as f32 + 0.5) / self.nx as f32 * self.u + (j as f32 + 0.5) / self.ny as f32 * self.v
+    }
+
+    /// The cell (index `j * nx + i`) holding the point, if it is on the meter.
+    #[inline]
+    pub fn locate(&self, x: Vec3) -> Option<usize> {
+        let p = x - self.origin;
+        if p.dot(self.normal).abs() > self.tolerance {
+            return None;
+        }
+        let a = p.cross(self.v).dot(self.normal) * self.inv_det;
+        let b = self.u.cross(p).dot(self.normal) * self.inv_det;
+        if !(0.0..1.0).contains(&a) || !(0.0..1.0).contains(&b) {
+            return None;
+        }
+        let i = ((a * self.nx as f32) as u32).min(self.nx - 1);
+        let j = ((b * self.ny as f32) as u32).min(self.ny - 1);
+        Some(j as usize * self.nx as usize + i as usize)
+    }
+
+    /// Adds the irradiance of a batch's samples to `film` (nx × ny).
+    pub fn splat(&self, batch: SampleBatch<'_>, film: &mut Film) {
+        let scale = batch.flux_per_path / self.cell_area();
+        for s in batch.samples {
+            if s.is_emission() {
+                continue;
+            }
+            let Some(cell) = self.locate(s.position()) else { continue };
+            if s.from_dir().dot(self.normal) <= 0.0 {
+                continue;
+            }
+            film.splat(cell, scale * s.beta());
+        }
+    }
+}
+
+/// Irradiance per cell (W/m², RGB) from `count` batches, on all cores.
+pub fn measure<'a, E: Send>(
+    meter: &IlluminanceMeter,
+    count: usize,
+    batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Film, E> {
+    accumulate((meter.nx, meter.ny), count, batch, progress, |b, film| meter.splat(b, film))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset::Sample;
+    use crate::math::Rgb;
+    use crate::scene::MeshDesc;
+
+    #[test]
+    fn cells_are_located_and_sides_respected() {
+        let m = IlluminanceMeter::new(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), Vec3::new(4.0, 0.0, 0.0), 2, 4)
+            .unwrap();
+        assert!((m.normal() - Vec3::Y).length() < 1e-6);
+        assert!((m.cell_area() - 1.0).abs() < 1e-6);
+        assert_eq!(m.locate(Vec3::new(3.5, 0.0, 0.5)), Some(3 * 2));
+        assert_eq!(m.locate(Vec3::new(0.5, 0.0, 1.5)), Some(1));
+        assert_eq!(m.locate(Vec3::new(0.5, 0.01, 1.5)), None);
+        assert_eq!(m.locate(Vec3::new(-0.1, 0.0, 1.5)), None);
+        let from_above = Sample::scattered(Vec3::new(0.5, 0.0, 0.5), Vec3::Y, 0, Rgb::ONE);
+        let from_below = Sample::scattered(Vec3::new(0.5, 0.0, 0.5), Vec3::NEG_Y, 0, Rgb::ONE);
+        let mut film = Film::new(2, 4);
+        m.splat(
+            SampleBatch { flux_per_path: Rgb::splat(2.0), samples: &[from_above, from_below] },
+            &mut film,
+        );
+        assert_eq!(film.pixels[0], [2.0; 3]);
+        assert_eq!(film.pixels.iter().map(|p| p[0]).sum::<f64>(), 2.0);
+    }
+
+    #[test]
+    fn bad_meters_are_refused() {
+        let (o, u, v) = (Vec3::ZERO, Vec3::X, Vec3::Z);
+        assert_eq!(IlluminanceMeter::new(o, u, v, 0, 3), Err(MeterError::Cells(0, 3)));
+        assert_eq!(IlluminanceMeter::new(o, u, 2.0 * u, 3, 3), Err(MeterError::Degenerate));
+        assert_eq!(IlluminanceMeter::new(Vec3::splat(f32::NAN), u, v, 3, 3), Err(MeterError::Degenerate));
+        let desc = SceneDescription {
+            meshes: vec![MeshDesc {
+                name: "bent".into(),
+                positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.5)],
+                triangles: vec![[0, 1, 2], [1, 3, 2]],
+                ..Default::default()
+            }],
+            ..Default::default()
+        };
+        assert!(matches!(
+            IlluminanceMeter::on_mesh(&desc, "nope", 2, 2),
+            Err(MeterError::UnknownSurface { .. })
+        ));
+        assert!(matches!(IlluminanceMeter::on_mesh(&desc, "bent", 2, 2), Err(MeterError::NotPlanar { .. })));
+    }
+
+    #[test]
+    fn a_mesh_meter_covers_the_mesh_rectangle() {
+        let desc = SceneDescription {
+            meshes: vec![MeshDesc {
+                name: "floor".into(),
+                positions: vec![
+                    Vec3::new(-1.0, 0.5, -2.0),
+                    Vec3::new(-1.0, 0.5, 2.0),
+                    Vec3::new(3.0, 0.5, 2.0),
+                    Vec3::new(3.0, 0.5, -2.0),
+                ],
+                triangles: vec![[0, 1, 2], [0, 2, 3]],
+                ..Default::default()
+            }],
+            ..Default::default()
+        };
+        let m = IlluminanceMeter::on_mesh(&desc, "floor", 4, 4).unwrap();
+        assert!((m.normal() - Vec3::Y).length() < 1e-6);
+        assert!((m.cell_area() - 1.0).abs() < 1e-5);
+        assert!((m.u - Vec3::new(4.0, 0.0, 0.0)).length() < 1e-5);
+        assert!(
+            m.locate(Vec3::new(2.9, 0.5, 1.9)).is_some() && m.locate(Vec3::new(-0.9, 0.5, -1.9)).is_some()
+        );
+    }
+}
