@@ -30,6 +30,7 @@
 
 pub mod mitsuba;
 pub mod obj;
+pub mod vrml;
 
 use opticks_core::bsdf::MaterialError;
 use opticks_core::scene::SceneDescription;
@@ -188,6 +189,7 @@ pub fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<LoadedScene
     match ext.as_deref() {
         Some("xml") => mitsuba::load(path, options),
         Some("obj") => obj::load_obj_scene(path),
+        _ if vrml::is_vrml_path(path) => vrml::load(path),
         _ => Err(SceneFileError::UnsupportedExtension { path: path.to_path_buf() }),
     }
 }
