@@ -302,6 +302,22 @@ fn deep_nesting_is_an_error() {
 }
 
 #[test]
+fn deep_graphs_through_inlines_are_an_error_not_a_stack_overflow() {
+    let dir = tempfile::tempdir().unwrap();
+    for i in 0..10 {
+        let inner = format!("Inline {{ url \"f{}.wrl\" }}", i + 1);
+        let text = format!(
+            "#VRML V2.0 utf8\n{}{inner}{}",
+            "Transform { translation 0 0 1 children [ ".repeat(150),
+            " ] }".repeat(150)
+        );
+        std::fs::write(dir.path().join(format!("f{i}.wrl")), text).unwrap();
+    }
+    let e = load_scene(&dir.path().join("f0.wrl")).unwrap_err().to_string();
+    assert!(e.contains("f2.wrl") && e.contains("levels deep"), "{e}");
+}
+
+#[test]
 fn a_million_triangles_load_at_disk_speed() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("big.wrl");

@@ -29,7 +29,7 @@ pub const MAX_TRIANGLES: usize = 50_000_000;
 /// Most nodes the walk may visit (counting every `USE` again).
 pub const MAX_VISITS: usize = 10_000_000;
 /// Deepest scene graph, Inlines included.
-pub const MAX_WALK_DEPTH: usize = 1000;
+pub const MAX_WALK_DEPTH: usize = 400;
 /// Deepest chain of Inlines.
 pub const MAX_INLINE_DEPTH: usize = 16;
 /// Radiance of a standard Material's `emissiveColor` of 1, W/(m²·sr).
@@ -255,6 +255,7 @@ impl Converter {
 
     // ----- shapes and materials -----
 
+    #[inline(never)] // keeps the recursive walk's stack frame small
     fn shape(&mut self, n: &Node, m: &DMat4) -> Result<()> {
         let Some(g) = n.node("geometry") else { return Ok(()) };
         let mut notes = Vec::new();
@@ -317,6 +318,7 @@ impl Converter {
     }
 
     /// The material of a Shape's appearance (shared by every Shape using the same node).
+    #[inline(never)] // keeps the recursive walk's stack frame small
     fn material(&mut self, appearance: Option<&Node>, solid: bool) -> Result<(usize, Emission)> {
         let mat = match appearance {
             Some(a) if a.type_name == "Appearance" => {
@@ -445,6 +447,7 @@ impl Converter {
 
     // ----- camera and lights -----
 
+    #[inline(never)] // keeps the recursive walk's stack frame small
     fn viewpoint(&mut self, n: &Node, m: &DMat4) -> Result<()> {
         if self.out.camera.is_some() {
             self.extra_viewpoints += 1;
@@ -503,6 +506,7 @@ impl Converter {
         Ok(())
     }
 
+    #[inline(never)] // keeps the recursive walk's stack frame small
     fn point_light(&mut self, n: &Node, m: &DMat4) {
         let (location, intensity, on) = match self.extension(n, "PhysicalPointLight") {
             Some(p) => {
@@ -539,6 +543,7 @@ impl Converter {
 
     // ----- Inline -----
 
+    #[inline(never)] // keeps the recursive walk's stack frame small
     fn inline(&mut self, n: &Node, m: &DMat4, depth: usize) -> Result<()> {
         let urls: Vec<String> = match n.get("url") {
             Some(FieldValue::Strs(v)) => v.clone(),
