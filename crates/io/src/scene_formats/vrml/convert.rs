@@ -299,7 +299,7 @@ impl Converter {
                         0.5 * (b - a).cross(c - a).length()
                     })
                     .sum();
-                if !(area > 0.0) {
+                if area.is_nan() || area <= 0.0 {
                     return Err(self.invalid(n, "an AreaLight with `power` on a Shape of zero area"));
                 }
                 Some(phi / (PI * area) as f32)
@@ -465,7 +465,9 @@ impl Converter {
                         Some(FieldValue::Rotation(r)) => *r,
                         _ => [0.0, 0.0, 1.0, 0.0],
                     },
-                    p.get("fieldOfView").and_then(FieldValue::as_float).unwrap_or(0.785398),
+                    p.get("fieldOfView")
+                        .and_then(FieldValue::as_float)
+                        .unwrap_or(std::f32::consts::FRAC_PI_4),
                     int("width"),
                     int("height"),
                 )
@@ -473,7 +475,7 @@ impl Converter {
             None => (
                 n.vec3("position", [0.0, 0.0, 10.0]),
                 n.rotation("orientation", [0.0, 0.0, 1.0, 0.0]),
-                n.float("fieldOfView", 0.785398),
+                n.float("fieldOfView", std::f32::consts::FRAC_PI_4),
                 DEFAULT_IMAGE_SIZE as i32,
                 DEFAULT_IMAGE_SIZE as i32,
             ),
