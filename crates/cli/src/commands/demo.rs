@@ -3,7 +3,7 @@
 use super::{ThreadArgs, render_chunks, trace_with_progress, write_film};
 use crate::camera_args::CameraArgs;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use opticks_core::trace::{TraceSettings, plan_all, planned_table};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -27,10 +27,20 @@ pub struct Args {
     threads: ThreadArgs,
     #[command(flatten)]
     camera: CameraArgs,
+    /// Only write the built-in scene as a VRML97 file (with the Opticks extension) and exit.
+    #[arg(long, value_name = "FILE.wrl")]
+    export_scene: Option<PathBuf>,
 }
 
 /// Runs the demo.
 pub fn run(a: Args) -> Result<()> {
+    if let Some(path) = &a.export_scene {
+        let scene = opticks_core::scene::cornell_box();
+        opticks_io::scene_formats::vrml::write_vrml_file(&scene, path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        println!("wrote the built-in scene to {}", path.display());
+        return Ok(());
+    }
     a.threads.apply()?;
     let scene = load_scene(BUILTIN_CORNELL)?;
     let camera = a.camera.resolve(scene.camera)?;

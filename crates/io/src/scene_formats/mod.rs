@@ -30,6 +30,7 @@
 pub mod gltf;
 pub mod mitsuba;
 pub mod obj;
+pub mod vrml;
 pub mod wavefront;
 
 use opticks_core::bsdf::MaterialError;
@@ -190,6 +191,7 @@ pub fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<LoadedScene
         Some("xml") => mitsuba::load(path, options),
         Some("obj") => wavefront::load_obj_mtl_scene(path),
         Some("gltf" | "glb") => gltf::load_gltf_scene(path),
+        _ if vrml::is_vrml_path(path) => vrml::load(path),
         _ => Err(SceneFileError::UnsupportedExtension { path: path.to_path_buf() }),
     }
 }

@@ -1,0 +1,696 @@
+//! The node tree → a [`SceneDescription`]: walks the scene graph with the VRML transform stack
+//! and turns shapes, materials, lights and the first viewpoint into Opticks' physical terms
+//! (the conversions are documented in `docs/scene-formats.md`, section VRML97).
+//!
+//! Grouping: `Transform` (full VRML order T·C·R·SR·S·SR⁻¹·C⁻¹), `Group`, `Anchor`,
+//! `Collision` (its proxy ignored), `Billboard` (not turned toward the viewer: a warning),
+//! `Switch` (`whichChoice`), `LOD` (its first, most detailed level), `Inline` (relative URLs,
+//! recursion guarded). Nodes that do not change the image (sensors, interpolators, `Script`,
+//! `WorldInfo`, `NavigationInfo`, sound) are ignored silently; what would change it and is not
+//! supported (`SpotLight`, `DirectionalLight`, `Background`, `Fog`, textures, transparency) gives
+//! a warning. Output is bounded ([`MAX_TRIANGLES`], [`MAX_VISITS`]) because `DEF`/`USE` can
+//! multiply geometry exponentially.
+
+use super::extension;
+use super::geometry::{self, Geometry};
+use super::lexer::Pos;
+use super::tree::{FieldValue, Node, NodeRef, ProtoInstance};
+use crate::scene_formats::{FileLocation, LoadedScene, SceneFileError};
+use glam::{DMat4, DQuat, DVec3};
+use opticks_core::bsdf::{Bsdf, Lambert, Material, ModifiedPhong};
+use opticks_core::math::{Rgb, Vec3};
+use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
+use std::collections::{HashMap, HashSet};
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+/// Most triangles a file (with its Inlines and instancing) may produce.
+pub const MAX_TRIANGLES: usize = 50_000_000;
+/// Most nodes the walk may visit (counting every `USE` again).
+pub const MAX_VISITS: usize = 10_000_000;
+/// Deepest scene graph, Inlines included.
+pub const MAX_WALK_DEPTH: usize = 400;
+/// Deepest chain of Inlines.
+pub const MAX_INLINE_DEPTH: usize = 16;
+/// Radiance of a standard Material's `emissiveColor` of 1, W/(m²·sr).
+pub const EMISSIVE_RADIANCE: f32 = 1.0;
+/// Radiant intensity of a standard PointLight of `intensity` 1 and white `color`, W/sr.
+pub const POINT_LIGHT_INTENSITY: f32 = 1.0;
+/// Image size when the file has no `PhysicalViewpoint` saying otherwise.
+pub const DEFAULT_IMAGE_SIZE: u32 = 512;
+
+type Result<T> = std::result::Result<T, SceneFileError>;
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Emission {
+    None,
+    Radiance(Rgb),
+    Power(Rgb),
+}
+
+/// Converts the parsed top-level `nodes` of `file` (whose parser warnings are `warnings`).
+pub fn convert(nodes: &[NodeRef], file: &Path, warnings: Vec<String>) -> Result<LoadedScene> {
+    let mut c = Converter {
+        out: SceneDescription::default(),
+        warnings,
+        materials: HashMap::new(),
+        warned: HashSet::new(),
+        files: vec![file.to_path_buf()],
+        visits: 0,
+        triangles: 0,
+        extra_viewpoints: 0,
+    };
+    for n in nodes {
+        c.walk(n, &DMat4::IDENTITY, 0)?;
+    }
+    if c.extra_viewpoints > 0 {
+        let first = c.out.camera.is_some();
+        if first {
+            c.warnings.push(format!(
+                "{}: {} more Viewpoints ignored: the first one is the camera",
+                file.display(),
+                c.extra_viewpoints
+            ));
+        }
+    }
+    Ok(LoadedScene { description: c.out, warnings: c.warnings })
+}
+
+struct Converter {
+    out: SceneDescription,
+    warnings: Vec<String>,
+    /// (material node, two-sided) → (material index, emission).
+    materials: HashMap<(usize, bool), (usize, Emission)>,
+    /// Nodes already warned about (a USEd node warns once).
+    warned: HashSet<(usize, &'static str)>,
+    /// The Inline chain; the last one is the file being walked.
+    files: Vec<PathBuf>,
+    visits: usize,
+    triangles: usize,
+    extra_viewpoints: usize,
+}
+
+fn ptr(n: &Node) -> usize {
+    n as *const Node as usize
+}
+
+fn dv(v: [f32; 3]) -> DVec3 {
+    DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
+}
+
+fn rgb(v: [f32; 3]) -> Rgb {
+    Rgb::from(v)
+}
+
+/// An SFRotation as a quaternion (a zero or non-finite axis is the identity).
+fn rotation(r: [f32; 4]) -> DQuat {
+    let axis = dv([r[0], r[1], r[2]]);
+    let len = axis.length();
+    if len > 0.0 && len.is_finite() && r[3].is_finite() {
+        DQuat::from_axis_angle(axis / len, f64::from(r[3]))
+    } else {
+        DQuat::IDENTITY
+    }
+}
+
+/// The matrix of a Transform node: T · C · R · SR · S · SR⁻¹ · C⁻¹.
+pub fn transform_matrix(n: &Node) -> DMat4 {
+    let t = dv(n.vec3("translation", [0.0; 3]));
+    let c = dv(n.vec3("center", [0.0; 3]));
+    let r = rotation(n.rotation("rotation", [0.0, 0.0, 1.0, 0.0]));
+    let s = dv(n.vec3("scale", [1.0; 3]));
+    let sr = rotation(n.rotation("scaleOrientation", [0.0, 0.0, 1.0, 0.0]));
+    DMat4::from_translation(t + c)
+        * DMat4::from_quat(r)
+        * DMat4::from_quat(sr)
+        * DMat4::from_scale(s)
+        * DMat4::from_quat(sr.inverse())
+        * DMat4::from_translation(-c)
+}
+
+impl Converter {
+    // ----- messages -----
+
+    fn file(&self) -> &Path {
+        self.files.last().map(PathBuf::as_path).unwrap_or(Path::new(""))
+    }
+
+    fn loc(&self, pos: Pos) -> FileLocation {
+        FileLocation { file: self.file().to_path_buf(), line: pos.line, column: pos.col }
+    }
+
+    fn warn(&mut self, n: &Node, message: impl std::fmt::Display) {
+        let w = format!("{}: {}: {message}", self.loc(n.pos), n.type_name);
+        self.warnings.push(w);
+    }
+
+    /// Warns once per node about `what`.
+    fn warn_once(&mut self, n: &Node, what: &'static str, message: impl std::fmt::Display) {
+        if self.warned.insert((ptr(n), what)) {
+            self.warn(n, message);
+        }
+    }
+
+    fn invalid(&self, n: &Node, message: impl Into<String>) -> SceneFileError {
+        SceneFileError::Invalid { at: self.loc(n.pos), element: n.type_name.clone(), message: message.into() }
+    }
+
+    fn source(&self, n: &Node) -> Source {
+        Source { file: self.file().display().to_string(), line: n.pos.line }
+    }
+
+    /// The extension PROTO instance `name` this node is, if declared as documented.
+    fn extension<'n>(&mut self, n: &'n Node, name: &str) -> Option<&'n ProtoInstance> {
+        let inst = n.proto.as_deref()?;
+        if inst.proto.name != name {
+            return None;
+        }
+        if extension::conforms(&inst.proto) {
+            Some(inst)
+        } else {
+            if self.warned.insert((std::rc::Rc::as_ptr(&inst.proto) as usize, "interface")) {
+                let at = self.loc(inst.proto.pos);
+                self.warnings.push(format!(
+                    "{at}: PROTO {name}: not the documented interface of the Opticks extension: used as plain VRML"
+                ));
+            }
+            None
+        }
+    }
+
+    // ----- the walk -----
+
+    fn walk(&mut self, n: &NodeRef, m: &DMat4, depth: usize) -> Result<()> {
+        if depth > MAX_WALK_DEPTH {
+            return Err(self.invalid(n, format!("the scene graph is more than {MAX_WALK_DEPTH} levels deep")));
+        }
+        self.visits += 1;
+        if self.visits > MAX_VISITS {
+            return Err(self.invalid(
+                n,
+                format!(
+                    "the scene graph has more than {MAX_VISITS} node instances (DEF/USE repeated too often)"
+                ),
+            ));
+        }
+        if n.unknown {
+            return Ok(());
+        }
+        match n.type_name.as_str() {
+            "Transform" => self.children(n.nodes("children"), &(*m * transform_matrix(n)), depth),
+            "Group" | "Anchor" | "Collision" => self.children(n.nodes("children"), m, depth),
+            "Billboard" => {
+                self.warn_once(
+                    n,
+                    "billboard",
+                    "not turned toward the viewer: its children are drawn as a Group",
+                );
+                self.children(n.nodes("children"), m, depth)
+            }
+            "Switch" => {
+                let which = n.int("whichChoice", -1);
+                match usize::try_from(which).ok().and_then(|i| n.nodes("choice").get(i)) {
+                    Some(c) => self.walk(c, m, depth + 1),
+                    None => Ok(()),
+                }
+            }
+            "LOD" => match n.nodes("level").first() {
+                Some(c) => self.walk(c, m, depth + 1),
+                None => Ok(()),
+            },
+            "Shape" => self.shape(n, m),
+            "Viewpoint" => self.viewpoint(n, m),
+            "PointLight" => {
+                self.point_light(n, m);
+                Ok(())
+            }
+            "SpotLight" | "DirectionalLight" => {
+                self.warn_once(n, "light", "this light type is not supported yet: ignored");
+                Ok(())
+            }
+            "Inline" => self.inline(n, m, depth),
+            "Background" | "Fog" => {
+                self.warn_once(
+                    n,
+                    "env",
+                    "not supported (Opticks has no environment or participating media): ignored",
+                );
+                Ok(())
+            }
+            "Appearance" | "Material" | "Box" | "Sphere" | "Cylinder" | "Cone" | "IndexedFaceSet"
+            | "ElevationGrid" | "Coordinate" | "Normal" | "Color" => {
+                self.warn_once(n, "place", "not allowed among children (only inside a Shape): ignored");
+                Ok(())
+            }
+            _ => Ok(()),
+        }
+    }
+
+    fn children(&mut self, kids: &[NodeRef], m: &DMat4, depth: usize) -> Result<()> {
+        for c in kids {
+            self.walk(c, m, depth + 1)?;
+        }
+        Ok(())
+    }
+
+    // ----- shapes and materials -----
+
+    #[inline(never)] // keeps the recursive walk's stack frame small
+    fn shape(&mut self, n: &Node, m: &DMat4) -> Result<()> {
+        let Some(g) = n.node("geometry") else { return Ok(()) };
+        let mut notes = Vec::new();
+        let local = match geometry::geometry(g, &mut notes) {
+            Err(msg) => return Err(self.invalid(g, msg)),
+            Ok(Geometry::Skipped(msg)) => {
+                self.warn_once(g, "geometry", msg);
+                return Ok(());
+            }
+            Ok(Geometry::Mesh(mesh)) => mesh,
+        };
+        for note in notes {
+            self.warn_once(g, "geometry-note", note);
+        }
+        self.triangles += local.triangles.len();
+        if self.triangles > MAX_TRIANGLES {
+            return Err(self.invalid(
+                n,
+                format!("the scene has more than {MAX_TRIANGLES} triangles (DEF/USE or Inline multiplies geometry)"),
+            ));
+        }
+        let (material, emission) = self.material(n.node("appearance").map(|a| &**a), local.solid)?;
+        let mut triangles = local.triangles;
+        let positions: Vec<Vec3> = if *m == DMat4::IDENTITY {
+            local.positions
+        } else {
+            if m.determinant() < 0.0 {
+                // A mirror turns counter-clockwise into clockwise: keep VRML's front face.
+                triangles.iter_mut().for_each(|t| t.swap(1, 2));
+            }
+            local.positions.iter().map(|p| m.transform_point3(p.as_dvec3()).as_vec3()).collect()
+        };
+        let emission = match emission {
+            Emission::None => None,
+            Emission::Radiance(l) => Some(l),
+            Emission::Power(phi) => {
+                let area: f64 = triangles
+                    .iter()
+                    .map(|t| {
+                        let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+                        0.5 * (b - a).cross(c - a).length()
+                    })
+                    .sum();
+                if area.is_nan() || area <= 0.0 {
+                    return Err(self.invalid(n, "an AreaLight with `power` on a Shape of zero area"));
+                }
+                Some(phi / (PI * area) as f32)
+            }
+        };
+        let name = n.def_name.clone().unwrap_or_else(|| format!("Shape_{}_{}", n.pos.line, n.pos.col));
+        self.out.meshes.push(MeshDesc {
+            name,
+            source: self.source(n),
+            positions,
+            triangles,
+            material,
+            emission,
+        });
+        Ok(())
+    }
+
+    /// The material of a Shape's appearance (shared by every Shape using the same node).
+    #[inline(never)] // keeps the recursive walk's stack frame small
+    fn material(&mut self, appearance: Option<&Node>, solid: bool) -> Result<(usize, Emission)> {
+        let mat = match appearance {
+            Some(a) if a.type_name == "Appearance" => {
+                if a.node("texture").is_some() {
+                    self.warn_once(a, "texture", "textures are not supported: ignored");
+                }
+                a.node("material").map(|m| &**m)
+            }
+            Some(a) => {
+                self.warn_once(a, "appearance", "not an Appearance node: the default material is used");
+                None
+            }
+            None => None,
+        };
+        // (kd, ks, exponent, two-sided, emission)
+        let (kd, ks, exponent, two_sided, emission) = match mat {
+            None => ([0.8; 3], [0.0; 3], 0.2 * 128.0, !solid, Emission::None),
+            Some(m) => {
+                if let Some(p) = self.extension(m, "PhysicalMaterial") {
+                    let f = |k: &str| p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]);
+                    let e = p.get("exponent").and_then(FieldValue::as_float).unwrap_or(0.0);
+                    let two = matches!(p.get("twoSided"), Some(FieldValue::Bool(true)));
+                    (f("diffuse"), f("specular"), e, two, Emission::None)
+                } else if let Some(p) = self.extension(m, "AreaLight") {
+                    self.area_light(m, p)
+                } else if m.type_name == "Material" {
+                    if m.float("transparency", 0.0) > 0.0 {
+                        self.warn_once(
+                            m,
+                            "transparency",
+                            "transparency is not supported: the surface is opaque",
+                        );
+                    }
+                    let e = m.vec3("emissiveColor", [0.0; 3]);
+                    let emission = if e.iter().any(|&c| c != 0.0) {
+                        Emission::Radiance(rgb(e) * EMISSIVE_RADIANCE)
+                    } else {
+                        Emission::None
+                    };
+                    let shininess = m.float("shininess", 0.2);
+                    (
+                        m.vec3("diffuseColor", [0.8; 3]),
+                        m.vec3("specularColor", [0.0; 3]),
+                        shininess * 128.0,
+                        !solid,
+                        emission,
+                    )
+                } else {
+                    self.warn_once(m, "material", "not a Material node: the default material is used");
+                    ([0.8; 3], [0.0; 3], 0.2 * 128.0, !solid, Emission::None)
+                }
+            }
+        };
+        let key = (mat.map(ptr).unwrap_or(0), two_sided);
+        if let Some(&found) = self.materials.get(&key) {
+            return Ok(found);
+        }
+        let name = match mat {
+            Some(m) => {
+                m.def_name.clone().unwrap_or_else(|| format!("{}_{}_{}", m.type_name, m.pos.line, m.pos.col))
+            }
+            None => "default".to_string(),
+        };
+        let bsdf = self.bsdf(mat, rgb(kd), rgb(ks), exponent)?;
+        let index = self.out.materials.len();
+        self.out.materials.push(Material { name, bsdf, two_sided });
+        self.materials.insert(key, (index, emission));
+        Ok((index, emission))
+    }
+
+    fn area_light(&mut self, m: &Node, p: &ProtoInstance) -> ([f32; 3], [f32; 3], f32, bool, Emission) {
+        let f = |k: &str| p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]);
+        let (radiance, power) = (f("radiance"), f("power"));
+        if let Some(FieldValue::Str(e)) = p.get("emission") {
+            if e != "lambertian" {
+                self.warn_once(
+                    m,
+                    "emission",
+                    format!("emission function \"{e}\" is not supported yet: lambertian used"),
+                );
+            }
+        }
+        let nonzero = |c: [f32; 3]| c.iter().any(|&v| v != 0.0);
+        let emission = if nonzero(radiance) {
+            if nonzero(power) {
+                self.warn_once(m, "power", "both radiance and power are given: radiance is used");
+            }
+            Emission::Radiance(rgb(radiance))
+        } else if nonzero(power) {
+            Emission::Power(rgb(power))
+        } else {
+            self.warn_once(m, "dark", "AreaLight with zero radiance and zero power: it does not emit");
+            Emission::None
+        };
+        let e = p.get("exponent").and_then(FieldValue::as_float).unwrap_or(0.0);
+        let two = matches!(p.get("twoSided"), Some(FieldValue::Bool(true)));
+        (f("diffuse"), f("specular"), e, two, emission)
+    }
+
+    /// Lambert if there is no specular part, else Modified Phong; kd + ks > 1 is scaled down.
+    fn bsdf(&mut self, mat: Option<&Node>, kd: Rgb, ks: Rgb, exponent: f32) -> Result<Bsdf> {
+        let material_error = |s: &Self, source| match mat {
+            Some(m) => SceneFileError::Material { at: s.loc(m.pos), element: m.type_name.clone(), source },
+            None => SceneFileError::Material { at: s.loc(Pos::default()), element: "default".into(), source },
+        };
+        let sum = kd + ks;
+        let (kd, ks) = if sum.max_element() > 1.0 && kd.min_element() >= 0.0 && ks.min_element() >= 0.0 {
+            let scale = Rgb::ONE / sum.max(Rgb::ONE);
+            if let Some(m) = mat {
+                self.warn_once(
+                    m,
+                    "energy",
+                    format!("diffuse + specular = {sum:?} exceeds 1: both scaled down to conserve energy"),
+                );
+            }
+            (kd * scale, ks * scale)
+        } else {
+            (kd, ks)
+        };
+        if ks == Rgb::ZERO {
+            Lambert::new(kd).map(Bsdf::Lambert).map_err(|e| material_error(self, e))
+        } else {
+            ModifiedPhong::new(kd, ks, exponent).map(Bsdf::ModifiedPhong).map_err(|e| material_error(self, e))
+        }
+    }
+
+    // ----- camera and lights -----
+
+    #[inline(never)] // keeps the recursive walk's stack frame small
+    fn viewpoint(&mut self, n: &Node, m: &DMat4) -> Result<()> {
+        if self.out.camera.is_some() {
+            self.extra_viewpoints += 1;
+            return Ok(());
+        }
+        let (position, orientation, fov, width, height) = match self.extension(n, "PhysicalViewpoint") {
+            Some(p) => {
+                let int = |k: &str| match p.get(k) {
+                    Some(FieldValue::Int(v)) => *v,
+                    _ => DEFAULT_IMAGE_SIZE as i32,
+                };
+                (
+                    p.get("position").and_then(FieldValue::as_vec3).unwrap_or([0.0, 0.0, 10.0]),
+                    match p.get("orientation") {
+                        Some(FieldValue::Rotation(r)) => *r,
+                        _ => [0.0, 0.0, 1.0, 0.0],
+                    },
+                    p.get("fieldOfView")
+                        .and_then(FieldValue::as_float)
+                        .unwrap_or(std::f32::consts::FRAC_PI_4),
+                    int("width"),
+                    int("height"),
+                )
+            }
+            None => (
+                n.vec3("position", [0.0, 0.0, 10.0]),
+                n.rotation("orientation", [0.0, 0.0, 1.0, 0.0]),
+                n.float("fieldOfView", std::f32::consts::FRAC_PI_4),
+                DEFAULT_IMAGE_SIZE as i32,
+                DEFAULT_IMAGE_SIZE as i32,
+            ),
+        };
+        let (Ok(width), Ok(height)) = (u32::try_from(width), u32::try_from(height)) else {
+            return Err(self.invalid(n, format!("image size {width}x{height} must be positive")));
+        };
+        if width == 0 || height == 0 {
+            return Err(self.invalid(n, format!("image size {width}x{height} must be positive")));
+        }
+        let q = rotation(orientation);
+        let eye = m.transform_point3(dv(position));
+        let forward = m.transform_vector3(q * DVec3::NEG_Z).normalize_or_zero();
+        let up = m.transform_vector3(q * DVec3::Y).normalize_or_zero();
+        if m.determinant() < 0.0 {
+            self.warn(n, "a mirroring transform: the image is not mirrored");
+        }
+        // fieldOfView is the angle along the smaller image side.
+        let fov = f64::from(fov);
+        let aspect = f64::from(width) / f64::from(height);
+        let fov_x = if width <= height { fov } else { 2.0 * ((fov / 2.0).tan() * aspect).atan() };
+        self.out.camera = Some(CameraDesc {
+            eye: eye.as_vec3(),
+            target: (eye + forward).as_vec3(),
+            up: up.as_vec3(),
+            fov_x_degrees: fov_x.to_degrees() as f32,
+            width,
+            height,
+        });
+        Ok(())
+    }
+
+    #[inline(never)] // keeps the recursive walk's stack frame small
+    fn point_light(&mut self, n: &Node, m: &DMat4) {
+        let (location, intensity, on) = match self.extension(n, "PhysicalPointLight") {
+            Some(p) => {
+                let f = |k: &str| rgb(p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]));
+                let (i, phi) = (f("intensity"), f("power"));
+                let intensity = if i != Rgb::ZERO { i } else { phi / (4.0 * std::f32::consts::PI) };
+                let on = !matches!(p.get("on"), Some(FieldValue::Bool(false)));
+                (p.get("location").and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]), intensity, on)
+            }
+            None => {
+                let a = n.vec3("attenuation", [1.0, 0.0, 0.0]);
+                if a != [1.0, 0.0, 0.0] && a != [0.0, 0.0, 1.0] {
+                    self.warn_once(
+                        n,
+                        "attenuation",
+                        "attenuation ignored: light falls off with 1/r² physically",
+                    );
+                }
+                let i = n.float("intensity", 1.0) * POINT_LIGHT_INTENSITY;
+                (n.vec3("location", [0.0; 3]), rgb(n.vec3("color", [1.0; 3])) * i, n.bool("on", true))
+            }
+        };
+        if !on {
+            return;
+        }
+        let name = n.def_name.clone().unwrap_or_else(|| format!("PointLight_{}_{}", n.pos.line, n.pos.col));
+        self.out.point_lights.push(PointLightDesc {
+            name,
+            source: self.source(n),
+            position: m.transform_point3(dv(location)).as_vec3(),
+            intensity,
+        });
+    }
+
+    // ----- Inline -----
+
+    #[inline(never)] // keeps the recursive walk's stack frame small
+    fn inline(&mut self, n: &Node, m: &DMat4, depth: usize) -> Result<()> {
+        let urls: Vec<String> = match n.get("url") {
+            Some(FieldValue::Strs(v)) => v.clone(),
+            _ => Vec::new(),
+        };
+        let dir = self.file().parent().map(Path::to_path_buf).unwrap_or_default();
+        let Some(path) = urls.iter().find_map(|u| {
+            let u = u.split('#').next().unwrap_or("");
+            let local = u.strip_prefix("file://").unwrap_or(u);
+            if u.is_empty() || (u.contains("://") && !u.starts_with("file://")) {
+                return None;
+            }
+            let p = dir.join(local);
+            p.is_file().then_some(p)
+        }) else {
+            self.warn_once(
+                n,
+                "inline",
+                format!("none of the URLs {urls:?} is a readable local file: ignored"),
+            );
+            return Ok(());
+        };
+        let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
+        if self.files.iter().any(|f| f.canonicalize().ok().as_ref() == Some(&canonical)) {
+            self.warn(n, format!("{} includes itself (Inline recursion): ignored", path.display()));
+            return Ok(());
+        }
+        if self.files.len() > MAX_INLINE_DEPTH {
+            return Err(self.invalid(n, format!("Inlines nested more than {MAX_INLINE_DEPTH} deep")));
+        }
+        let text = super::read_source(&path)?;
+        let parsed = super::parse_text(&text, &path)?;
+        self.warnings.extend(parsed.1);
+        self.files.push(path);
+        let result = self.children(&parsed.0, m, depth);
+        self.files.pop();
+        result
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(body: &str) -> LoadedScene {
+        let text = format!("#VRML V2.0 utf8\n{}\n{body}", extension::DECLARATIONS);
+        let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
+        convert(&nodes, Path::new("t.wrl"), warnings).unwrap()
+    }
+
+    #[test]
+    fn transform_order_is_vrmls() {
+        let s = load(
+            "Transform { translation 1 0 0 rotation 0 0 1 1.5707963 center 0 1 0 scale 2 1 1 \
+             scaleOrientation 0 0 1 0.7853982 children Shape { geometry IndexedFaceSet { \
+             coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } coordIndex [ 0 1 2 ] } } }",
+        );
+        let p = &s.description.meshes[0].positions;
+        // By hand: P' = T·C·R·SR·S·SR⁻¹·C⁻¹·P.
+        let m = |p: DVec3| {
+            let p = p - DVec3::Y;
+            let sr = DQuat::from_rotation_z(PI / 4.0);
+            let p = sr * (DVec3::new(2.0, 1.0, 1.0) * (sr.inverse() * p));
+            let p = DQuat::from_rotation_z(PI / 2.0) * p;
+            p + DVec3::Y + DVec3::X
+        };
+        for (got, local) in p.iter().zip([DVec3::ZERO, DVec3::X, DVec3::Y]) {
+            assert!((got.as_dvec3() - m(local)).length() < 1e-5, "{got:?} vs {:?}", m(local));
+        }
+    }
+
+    #[test]
+    fn materials_follow_vrml_lighting_and_the_extension() {
+        let s = load(
+            "Shape { appearance Appearance { material Material { diffuseColor 0.5 0.5 0.5 specularColor 0.8 0.2 0 shininess 0.5 } } geometry Box {} }\n\
+             Shape { appearance Appearance { material DEF M PhysicalMaterial { diffuse 0.2 0.3 0.4 twoSided TRUE } } geometry Box {} }\n\
+             Shape { appearance Appearance { material USE M } geometry Sphere {} }\n\
+             Shape { appearance Appearance { material AreaLight { power 3 3 3 } } geometry Box { size 1 1 1 } }",
+        );
+        let d = &s.description;
+        assert_eq!(d.materials.len(), 3, "{:?}", d.materials);
+        match &d.materials[0].bsdf {
+            Bsdf::ModifiedPhong(p) => {
+                assert!((p.kd - Rgb::new(0.5 / 1.3, 0.5, 0.5)).abs().max_element() < 1e-6, "{:?}", p.kd);
+                assert!((p.ks - Rgb::new(0.8 / 1.3, 0.2, 0.0)).abs().max_element() < 1e-6);
+                assert_eq!(p.exponent, 64.0);
+            }
+            b => panic!("{b:?}"),
+        }
+        assert!(!d.materials[0].two_sided);
+        assert!(s.warnings.iter().any(|w| w.contains("exceeds 1")), "{:?}", s.warnings);
+        assert_eq!(d.materials[1].bsdf, Bsdf::Lambert(Lambert::new(Rgb::new(0.2, 0.3, 0.4)).unwrap()));
+        assert!(d.materials[1].two_sided);
+        assert_eq!(d.materials[1].name, "M");
+        assert_eq!(d.meshes[2].material, 1);
+        // Φ = π·L·A with A = 6 m².
+        let l = d.meshes[3].emission.unwrap();
+        assert!((l * (std::f32::consts::PI * 6.0) - Rgb::splat(3.0)).abs().max_element() < 1e-5, "{l:?}");
+    }
+
+    #[test]
+    fn viewpoint_fov_is_along_the_smaller_side() {
+        let s = load(
+            "Transform { translation 0 1 0 children PhysicalViewpoint { position 0 0 5 orientation 0 1 0 1.5707963 \
+             fieldOfView 0.5 width 200 height 100 } }\nViewpoint {}",
+        );
+        let c = s.description.camera.unwrap();
+        assert!((c.eye - Vec3::new(0.0, 1.0, 5.0)).length() < 1e-6);
+        // -z turned by +90° about y looks along -x.
+        assert!(((c.target - c.eye) - Vec3::NEG_X).length() < 1e-6, "{:?}", c.target - c.eye);
+        assert_eq!((c.width, c.height), (200, 100));
+        let expected = 2.0 * ((0.25f64).tan() * 2.0).atan();
+        assert!((f64::from(c.fov_x_degrees) - expected.to_degrees()).abs() < 1e-4);
+        assert!(s.warnings.iter().any(|w| w.contains("1 more Viewpoints")), "{:?}", s.warnings);
+    }
+
+    #[test]
+    fn lights_in_physical_units() {
+        let s = load(
+            "Transform { translation 1 2 3 children [ PointLight { intensity 0.5 color 1 0.5 0 location 1 0 0 } \
+             PhysicalPointLight { power 12.566371 0 0 } PointLight { on FALSE } SpotLight {} ] }",
+        );
+        let l = &s.description.point_lights;
+        assert_eq!(l.len(), 2);
+        assert_eq!(l[0].position, Vec3::new(2.0, 2.0, 3.0));
+        assert_eq!(l[0].intensity, Rgb::new(0.5, 0.25, 0.0));
+        assert!((l[1].intensity.x - 1.0).abs() < 1e-6);
+        assert!(
+            s.warnings.iter().any(|w| w.contains("SpotLight") && w.contains("not supported")),
+            "{:?}",
+            s.warnings
+        );
+    }
+
+    #[test]
+    fn switch_lod_and_mirrors() {
+        let tri = "Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } coordIndex [ 0 1 2 ] } }";
+        let s = load(&format!(
+            "Switch {{ whichChoice 1 choice [ {tri} Transform {{ scale -1 1 1 children {tri} }} ] }}\n\
+             Switch {{ choice {tri} }}\nLOD {{ level [ {tri} {tri} ] }}"
+        ));
+        let d = &s.description;
+        assert_eq!(d.meshes.len(), 2);
+        let m = &d.meshes[0];
+        let [a, b, c] = m.triangles[0].map(|i| m.positions[i as usize]);
+        assert!((b - a).cross(c - a).z > 0.0, "a mirror keeps the front face");
+    }
+}

@@ -1,0 +1,119 @@
+//! The Opticks extension of VRML97: four PROTOs a file declares itself (so it stays valid VRML97
+//! for every other reader, which shows the standard node each body maps to) and whose physical
+//! fields the converter reads when the declaration has exactly the interface below. See
+//! `docs/scene-formats.md` for the meaning of each field.
+
+use super::tree::{FieldType, ProtoDef};
+
+/// The declarations, as a writer puts them at the top of a file (and as users copy them).
+pub const DECLARATIONS: &str = r#"# Opticks physical extension (docs/scene-formats.md): standard VRML97 PROTOs.
+PROTO PhysicalMaterial [
+  field SFColor diffuse 0.8 0.8 0.8  # Modified Phong kd (albedo of the diffuse lobe)
+  field SFColor specular 0 0 0       # Modified Phong ks
+  field SFFloat exponent 0           # Phong exponent n (not VRML's shininess)
+  field SFBool  twoSided FALSE       # TRUE: the back face scatters like the front
+] { Material { diffuseColor IS diffuse specularColor IS specular } }
+PROTO AreaLight [
+  field SFColor  radiance 0 0 0          # emitted radiance, W/(m^2 sr), front face only
+  field SFColor  power 0 0 0             # or: total power of the Shape, W (if radiance is 0)
+  field SFString emission "lambertian"   # emission function (only lambertian so far)
+  field SFColor  diffuse 0 0 0           # the emitter's own surface: Modified Phong kd,
+  field SFColor  specular 0 0 0          #   ks,
+  field SFFloat  exponent 0              #   n
+  field SFBool   twoSided FALSE          #   and sidedness of its reflection
+] { Material { diffuseColor IS diffuse specularColor IS specular emissiveColor IS radiance } }
+PROTO PhysicalPointLight [
+  field SFVec3f location 0 0 0
+  field SFColor intensity 0 0 0   # radiant intensity, W/sr
+  field SFColor power 0 0 0       # or: power, W (I = power / 4 pi; used if intensity is 0)
+  field SFBool  on TRUE
+] { PointLight { location IS location on IS on } }
+PROTO PhysicalViewpoint [
+  field SFVec3f    position 0 0 10
+  field SFRotation orientation 0 0 1 0
+  field SFFloat    fieldOfView 0.785398   # radians, along the smaller image side
+  field SFString   description ""
+  field SFInt32    width 512              # image size, pixels
+  field SFInt32    height 512
+] { Viewpoint { position IS position orientation IS orientation fieldOfView IS fieldOfView description IS description } }
+"#;
+
+/// The four extension PROTOs and their interfaces (names and types, in any order).
+const INTERFACES: &[(&str, &[(&str, FieldType)])] = {
+    use FieldType::*;
+    &[
+        (
+            "PhysicalMaterial",
+            &[("diffuse", SFColor), ("specular", SFColor), ("exponent", SFFloat), ("twoSided", SFBool)],
+        ),
+        (
+            "AreaLight",
+            &[
+                ("radiance", SFColor),
+                ("power", SFColor),
+                ("emission", SFString),
+                ("diffuse", SFColor),
+                ("specular", SFColor),
+                ("exponent", SFFloat),
+                ("twoSided", SFBool),
+            ],
+        ),
+        (
+            "PhysicalPointLight",
+            &[("location", SFVec3f), ("intensity", SFColor), ("power", SFColor), ("on", SFBool)],
+        ),
+        (
+            "PhysicalViewpoint",
+            &[
+                ("position", SFVec3f),
+                ("orientation", SFRotation),
+                ("fieldOfView", SFFloat),
+                ("description", SFString),
+                ("width", SFInt32),
+                ("height", SFInt32),
+            ],
+        ),
+    ]
+};
+
+/// Whether `name` is one of the extension's PROTO names.
+pub fn is_extension_name(name: &str) -> bool {
+    INTERFACES.iter().any(|(n, _)| *n == name)
+}
+
+/// Whether `p` is an extension PROTO declared with the documented interface (field or
+/// exposedField, any order; nothing missing, nothing extra).
+pub fn conforms(p: &ProtoDef) -> bool {
+    let Some((_, want)) = INTERFACES.iter().find(|(n, _)| *n == p.name) else { return false };
+    p.body.is_some()
+        && p.interface.len() == want.len()
+        && want.iter().all(|(name, ty)| {
+            p.interface
+                .iter()
+                .any(|d| d.name == *name && d.ty == *ty && matches!(d.kind, "field" | "exposedField"))
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::parser::parse;
+    use super::*;
+
+    #[test]
+    fn the_declarations_have_the_documented_interfaces() {
+        let src = format!(
+            "#VRML V2.0 utf8\n{DECLARATIONS}\nPhysicalMaterial {{}} AreaLight {{}} PhysicalPointLight {{}} PhysicalViewpoint {{}}"
+        );
+        let p = parse(&src).unwrap();
+        assert_eq!(p.nodes.len(), 4);
+        for (n, (name, _)) in p.nodes.iter().zip(INTERFACES) {
+            let inst = n.proto.as_ref().unwrap();
+            assert_eq!(inst.proto.name, *name);
+            assert!(conforms(&inst.proto), "{name}");
+        }
+        assert!(p.warnings.is_empty(), "{:?}", p.warnings);
+        let other = parse("#VRML V2.0 utf8\nPROTO PhysicalMaterial [ field SFColor diffuse 1 1 1 ] { Material {} } PhysicalMaterial {}")
+            .unwrap();
+        assert!(!conforms(&other.nodes[0].proto.as_ref().unwrap().proto));
+    }
+}

@@ -1,0 +1,191 @@
+//! Writes a [`SceneDescription`] as VRML97 with the Opticks extension ([`super::extension`]):
+//! the PROTO declarations, a `PhysicalViewpoint`, `PhysicalPointLight`s, and one `Shape` with a
+//! world-space `IndexedFaceSet` per mesh, its material a `PhysicalMaterial` (shared with
+//! `DEF`/`USE`) or, for an emitter, an `AreaLight` carrying its radiance and reflectance.
+//!
+//! Numbers are written in Rust's shortest round-trip form, so reading the file back gives the
+//! same positions, colours and exponents bit for bit. A `.gz` path is gzip-compressed.
+
+use super::extension::DECLARATIONS;
+use glam::{DMat3, DQuat, DVec3};
+use opticks_core::bsdf::{Bsdf, Material};
+use opticks_core::math::Rgb;
+use opticks_core::scene::{CameraDesc, SceneDescription};
+use std::collections::HashSet;
+use std::io::{self, BufWriter, Write};
+use std::path::Path;
+
+/// Writes `desc` to `path` (gzip-compressed if the name ends in `.gz`), atomically enough for a
+/// scene file: written in full, then flushed.
+pub fn write_vrml_file(desc: &SceneDescription, path: &Path) -> io::Result<()> {
+    let file = std::fs::File::create(path)?;
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz")) {
+        let mut gz = flate2::write::GzEncoder::new(BufWriter::new(file), flate2::Compression::default());
+        write_vrml(desc, &mut gz)?;
+        gz.finish()?.flush()
+    } else {
+        let mut w = BufWriter::new(file);
+        write_vrml(desc, &mut w)?;
+        w.flush()
+    }
+}
+
+/// Writes `desc` as VRML97 text.
+pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()> {
+    writeln!(w, "#VRML V2.0 utf8")?;
+    writeln!(w, "# Written by Opticks. Units: metres, W/(m^2 sr), W/sr. World-space meshes.")?;
+    w.write_all(DECLARATIONS.as_bytes())?;
+    let mut names = Names::default();
+    // Materials keep their names (shapes and lights get a suffix if they collide).
+    let mut material_defs: Vec<Option<String>> = vec![None; desc.materials.len()];
+    for m in desc.meshes.iter().filter(|m| m.emission.is_none()) {
+        if let (Some(slot @ None), Some(mat)) =
+            (material_defs.get_mut(m.material), desc.materials.get(m.material))
+        {
+            *slot = Some(names.fresh(&mat.name));
+        }
+    }
+    let mut defined = vec![false; desc.materials.len()];
+    if let Some(c) = &desc.camera {
+        camera(w, c)?;
+    }
+    for l in &desc.point_lights {
+        writeln!(w, "DEF {} PhysicalPointLight {{", names.fresh(&l.name))?;
+        writeln!(w, "  location {}\n  intensity {}\n}}", v3(l.position), v3(l.intensity))?;
+    }
+    for m in &desc.meshes {
+        writeln!(w, "DEF {} Shape {{", names.fresh(&m.name))?;
+        let Some(mat) = desc.materials.get(m.material) else {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!("mesh {} has no material", m.name),
+            ));
+        };
+        write!(w, "  appearance Appearance {{ material ")?;
+        match m.emission {
+            Some(l) => {
+                write!(w, "AreaLight {{ radiance {} ", v3(l))?;
+                phong_fields(w, mat)?;
+                writeln!(w, "}} }}")?;
+            }
+            None => {
+                let def = material_defs[m.material].as_deref().unwrap_or("_");
+                if defined[m.material] {
+                    writeln!(w, "USE {def} }}")?;
+                } else {
+                    write!(w, "DEF {def} PhysicalMaterial {{ ")?;
+                    phong_fields(w, mat)?;
+                    writeln!(w, "}} }}")?;
+                    defined[m.material] = true;
+                }
+            }
+        }
+        writeln!(w, "  geometry IndexedFaceSet {{")?;
+        writeln!(w, "    solid {}", if mat.two_sided { "FALSE" } else { "TRUE" })?;
+        writeln!(w, "    coord Coordinate {{ point [")?;
+        for p in &m.positions {
+            writeln!(w, "      {},", v3(*p))?;
+        }
+        writeln!(w, "    ] }}\n    coordIndex [")?;
+        for t in &m.triangles {
+            writeln!(w, "      {} {} {} -1,", t[0], t[1], t[2])?;
+        }
+        writeln!(w, "    ]\n  }}\n}}")?;
+    }
+    Ok(())
+}
+
+fn v3(v: Rgb) -> String {
+    format!("{} {} {}", v.x, v.y, v.z)
+}
+
+fn phong_fields(w: &mut impl Write, m: &Material) -> io::Result<()> {
+    let (kd, ks, n) = match &m.bsdf {
+        Bsdf::Lambert(l) => (l.reflectance, Rgb::ZERO, 0.0),
+        Bsdf::ModifiedPhong(p) => (p.kd, p.ks, p.exponent),
+    };
+    write!(w, "diffuse {} specular {} exponent {} twoSided {} ", v3(kd), v3(ks), n, bool_str(m.two_sided))
+}
+
+fn bool_str(b: bool) -> &'static str {
+    if b { "TRUE" } else { "FALSE" }
+}
+
+fn camera(w: &mut impl Write, c: &CameraDesc) -> io::Result<()> {
+    let eye = c.eye.as_dvec3();
+    let f = (c.target.as_dvec3() - eye).normalize_or_zero();
+    let r = f.cross(c.up.as_dvec3()).normalize_or_zero();
+    let u = r.cross(f);
+    // The rotation taking VRML's default view (-z, up +y) to this one.
+    let (axis, angle) = if r == DVec3::ZERO {
+        (DVec3::Z, 0.0)
+    } else {
+        DQuat::from_mat3(&DMat3::from_cols(r, u, -f)).normalize().to_axis_angle()
+    };
+    let (wd, ht) = (f64::from(c.width.max(1)), f64::from(c.height.max(1)));
+    let fov_x = f64::from(c.fov_x_degrees).to_radians();
+    let fov = if wd <= ht { fov_x } else { 2.0 * ((fov_x / 2.0).tan() * ht / wd).atan() };
+    writeln!(w, "PhysicalViewpoint {{")?;
+    writeln!(w, "  position {}", v3(c.eye))?;
+    writeln!(w, "  orientation {} {} {} {}", axis.x, axis.y, axis.z, angle)?;
+    writeln!(w, "  fieldOfView {fov}  # radians, along the smaller image side")?;
+    writeln!(w, "  width {}\n  height {}\n}}", c.width, c.height)
+}
+
+/// Unique VRML identifiers made from scene names.
+#[derive(Default)]
+struct Names(HashSet<String>);
+
+impl Names {
+    fn fresh(&mut self, name: &str) -> String {
+        let mut id: String = name
+            .chars()
+            .map(|ch| if ch.is_ascii_alphanumeric() || ch == '_' || !ch.is_ascii() { ch } else { '_' })
+            .collect();
+        if id.is_empty() || id.starts_with(|ch: char| ch.is_ascii_digit()) || is_reserved(&id) {
+            id.insert(0, '_');
+        }
+        let mut candidate = id.clone();
+        let mut k = 1;
+        while !self.0.insert(candidate.clone()) {
+            k += 1;
+            candidate = format!("{id}_{k}");
+        }
+        candidate
+    }
+}
+
+fn is_reserved(s: &str) -> bool {
+    matches!(
+        s,
+        "DEF"
+            | "USE"
+            | "PROTO"
+            | "EXTERNPROTO"
+            | "ROUTE"
+            | "TO"
+            | "IS"
+            | "NULL"
+            | "TRUE"
+            | "FALSE"
+            | "eventIn"
+            | "eventOut"
+            | "field"
+            | "exposedField"
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_valid_and_unique() {
+        let mut n = Names::default();
+        assert_eq!(n.fresh("white"), "white");
+        assert_eq!(n.fresh("white"), "white_2");
+        assert_eq!(n.fresh("3 boxes"), "_3_boxes");
+        assert_eq!(n.fresh("TRUE"), "_TRUE");
+        assert_eq!(n.fresh(""), "_");
+    }
+}

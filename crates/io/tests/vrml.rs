@@ -1,0 +1,492 @@
+//! VRML97 scenes through the public API: the hand-written Cornell box against the Mitsuba XML
+//! one, the `--export-scene` round trip, a file from a real exporter (admesh), gzip, concave
+//! faces, Inline, error positions, fuzzing (no panic, no hang) and the loading speed.
+
+use opticks_core::bsdf::Bsdf;
+use opticks_core::math::{Rgb, Vec3};
+use opticks_core::scene::{Pinhole, PointLightDesc, Scene, Source, cornell_box};
+use opticks_io::scene_formats::vrml::{self, extension::DECLARATIONS};
+use opticks_io::{LoadedScene, SceneFileError, load_scene};
+use proptest::prelude::*;
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+fn testdata(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata").join(rel)
+}
+
+fn load_text(text: &str) -> Result<LoadedScene, SceneFileError> {
+    vrml::load_str(text, Path::new("t.wrl"))
+}
+
+fn with_header(body: &str) -> String {
+    format!("#VRML V2.0 utf8\n{DECLARATIONS}{body}")
+}
+
+/// Total area and area-weighted normal of the non-emitting triangles of each material (by name).
+fn area_by_material(s: &Scene) -> HashMap<String, (f32, Vec3)> {
+    let mut m: HashMap<String, (f32, Vec3)> = HashMap::new();
+    for (i, t) in s.triangles.iter().enumerate() {
+        if s.light_of(i as u32).is_some() {
+            continue;
+        }
+        let e = m.entry(s.material(i as u32).name.clone()).or_default();
+        e.0 += t.area();
+        e.1 += t.area() * t.normal();
+    }
+    m
+}
+
+fn assert_same_camera(a: &Scene, b: &Scene) {
+    let (pa, pb) = (Pinhole::new(&a.camera.unwrap()).unwrap(), Pinhole::new(&b.camera.unwrap()).unwrap());
+    assert!((pa.eye - pb.eye).length() < 1e-5, "{pa:?} vs {pb:?}");
+    assert!((pa.forward - pb.forward).length() < 1e-5, "{pa:?} vs {pb:?}");
+    assert!((pa.up - pb.up).length() < 1e-5, "{pa:?} vs {pb:?}");
+    assert!((pa.tan_x - pb.tan_x).abs() < 1e-5 && (pa.tan_y - pb.tan_y).abs() < 1e-5, "{pa:?} vs {pb:?}");
+    assert_eq!((pa.width, pa.height), (pb.width, pb.height));
+}
+
+fn total_power(s: &Scene) -> Rgb {
+    s.light_powers().iter().copied().sum()
+}
+
+fn assert_power_close(a: Rgb, b: Rgb) {
+    assert!(((a - b).abs() / b.max(Rgb::splat(1e-12))).max_element() < 1e-4, "{a:?} vs {b:?}");
+}
+
+#[test]
+fn hand_written_cornell_box_is_the_mitsuba_scene() {
+    let xml = load_scene(&testdata("scenes/cornell/scene.xml")).unwrap();
+    let wrl = load_scene(&testdata("vrml/cornell.wrl")).unwrap();
+    assert!(wrl.warnings.is_empty(), "{:#?}", wrl.warnings);
+    let (a, b) = (Scene::build(&xml.description).unwrap(), Scene::build(&wrl.description).unwrap());
+    assert_eq!(a.triangles.len(), b.triangles.len());
+    assert_eq!(a.lights.len(), b.lights.len());
+    assert_power_close(total_power(&b), total_power(&a));
+    assert_same_camera(&a, &b);
+    // Every XML material has a VRML one of the same name and BSDF, two-sided like it.
+    for m in &xml.description.materials {
+        let v = wrl
+            .description
+            .materials
+            .iter()
+            .find(|v| v.name == m.name)
+            .unwrap_or_else(|| panic!("{}", m.name));
+        assert_eq!((&v.bsdf, v.two_sided), (&m.bsdf, m.two_sided), "{}", m.name);
+    }
+    // Same surface per material, facing the same way (boxes are VRML Boxes: 1e-4 tolerance).
+    let (aa, ab) = (area_by_material(&a), area_by_material(&b));
+    for (name, (area, n)) in &aa {
+        let (area_b, n_b) = ab[name];
+        assert!((area - area_b).abs() < 1e-4 * area, "{name}: area {area} vs {area_b}");
+        assert!((*n - n_b).length() < 1e-4 * area, "{name}: {n:?} vs {n_b:?}");
+    }
+    // The light faces down, emitting the same radiance.
+    let light = wrl.description.meshes.iter().find(|m| m.emission.is_some()).unwrap();
+    assert_eq!(light.emission, Some(Rgb::new(18.387, 13.9873, 6.75357)));
+    let i =
+        b.triangles.iter().position(|t| (t.normal() + Vec3::Y).length() < 1e-6 && t.point(0.3, 0.3).y > 0.98);
+    assert!(i.is_some());
+}
+
+#[test]
+fn exported_demo_scene_loads_back_the_same() {
+    let dir = tempfile::tempdir().unwrap();
+    let desc = cornell_box();
+    for name in ["cornell.wrl", "cornell.wrl.gz"] {
+        let path = dir.path().join(name);
+        vrml::write_vrml_file(&desc, &path).unwrap();
+        let loaded = load_scene(&path).unwrap();
+        assert!(loaded.warnings.is_empty(), "{:#?}", loaded.warnings);
+        let (a, b) = (Scene::build(&desc).unwrap(), Scene::build(&loaded.description).unwrap());
+        assert_eq!(a.triangles.len(), b.triangles.len());
+        assert_power_close(total_power(&b), total_power(&a));
+        assert_same_camera(&a, &b);
+        // Positions are written exactly.
+        for (m, l) in desc.meshes.iter().zip(&loaded.description.meshes) {
+            assert_eq!((&m.positions, &m.triangles, m.emission), (&l.positions, &l.triangles, l.emission));
+        }
+    }
+}
+
+#[test]
+fn point_lights_and_phong_round_trip() {
+    let mut desc = cornell_box();
+    desc.point_lights.push(PointLightDesc {
+        name: "bulb".into(),
+        source: Source::default(),
+        position: Vec3::new(0.1, 0.5, -0.2),
+        intensity: Rgb::new(1.0, 2.0, 3.0),
+    });
+    desc.materials[1].bsdf = Bsdf::ModifiedPhong(
+        opticks_core::bsdf::ModifiedPhong::new(Rgb::splat(0.3), Rgb::splat(0.6), 42.5).unwrap(),
+    );
+    desc.camera.as_mut().unwrap().width = 320;
+    let mut text = Vec::new();
+    vrml::write_vrml(&desc, &mut text).unwrap();
+    let loaded = load_text(std::str::from_utf8(&text).unwrap()).unwrap();
+    assert_eq!(loaded.description.point_lights[0].intensity, Rgb::new(1.0, 2.0, 3.0));
+    assert_eq!(loaded.description.point_lights[0].position, Vec3::new(0.1, 0.5, -0.2));
+    let red = loaded.description.materials.iter().find(|m| m.name == "red").unwrap();
+    assert_eq!(red.bsdf, desc.materials[1].bsdf);
+    let (a, b) = (Scene::build(&desc).unwrap(), Scene::build(&loaded.description).unwrap());
+    assert_same_camera(&a, &b);
+}
+
+#[test]
+fn real_exporter_output_loads() {
+    // ADMesh writes VRML 1.0, another format: refused with a clear message.
+    let e = load_scene(&testdata("vrml/icosphere-admesh.wrl")).unwrap_err().to_string();
+    assert!(e.contains("icosphere-admesh.wrl:1:1") && e.contains("VRML 1.0"), "{e}");
+    // OpenCTM's ctmconv writes VRML97: white diffuse 1 + specular 0.8 gets scaled (a warning).
+    let mut loaded = load_scene(&testdata("vrml/icosphere-ctmconv.wrl")).unwrap();
+    assert!(loaded.warnings.iter().any(|w| w.contains("exceeds 1")), "{:#?}", loaded.warnings);
+    assert_eq!(loaded.warnings.len(), 1, "{:#?}", loaded.warnings);
+    let d = &mut loaded.description;
+    assert_eq!(d.meshes.len(), 1);
+    assert_eq!(d.meshes[0].triangles.len(), 80);
+    // All corners on the unit sphere, all faces outward.
+    for m in &d.meshes {
+        assert!(m.positions.iter().all(|p| (p.length() - 1.0).abs() < 1e-4));
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            assert!((b - a).cross(c - a).dot(a + b + c) > 0.0);
+        }
+    }
+    d.point_lights.push(PointLightDesc {
+        name: "lamp".into(),
+        source: Source::default(),
+        position: Vec3::new(0.0, 3.0, 0.0),
+        intensity: Rgb::ONE,
+    });
+    let s = Scene::build(d).unwrap();
+    assert_eq!(s.triangles.len(), 80);
+}
+
+#[test]
+fn gzip_compressed_files_load() {
+    let text = std::fs::read(testdata("vrml/cornell.wrl")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["c.wrl.gz", "c.wrz", "C.WRL"] {
+        let path = dir.path().join(name);
+        let mut gz =
+            flate2::write::GzEncoder::new(std::fs::File::create(&path).unwrap(), flate2::Compression::fast());
+        gz.write_all(&text).unwrap();
+        gz.finish().unwrap();
+        let l = load_scene(&path).unwrap();
+        assert_eq!(l.description.meshes.len(), 6, "{name}");
+    }
+    let bad = dir.path().join("bad.wrl.gz");
+    std::fs::write(&bad, [0x1f, 0x8b, 1, 2, 3]).unwrap();
+    assert!(matches!(load_scene(&bad), Err(SceneFileError::Read { .. })));
+}
+
+#[test]
+fn concave_face_is_triangulated_in_its_plane() {
+    // An L of area 3 in a tilted plane, counter-clockwise seen from +n.
+    let (ex, ey) = (Vec3::new(0.6, 0.0, -0.8), Vec3::new(0.0, 1.0, 0.0));
+    let n = ex.cross(ey);
+    let pts: Vec<String> = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]
+        .iter()
+        .map(|&(x, y)| {
+            let p = ex * x + ey * y;
+            format!("{} {} {}", p.x, p.y, p.z)
+        })
+        .collect();
+    for (ccw, sign) in [("TRUE", 1.0), ("FALSE", -1.0)] {
+        let l = load_text(&with_header(&format!(
+            "Shape {{ geometry IndexedFaceSet {{ ccw {ccw} coord Coordinate {{ point [ {} ] }} coordIndex [ 3 4 5 0 1 2 -1 ] }} }}",
+            pts.join(", ")
+        )))
+        .unwrap();
+        let m = &l.description.meshes[0];
+        assert_eq!(m.triangles.len(), 4);
+        let mut area = 0.0;
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            let an = 0.5 * (b - a).cross(c - a);
+            assert!(an.dot(n) * sign > 0.0, "ccw {ccw}: {t:?}");
+            area += an.length();
+        }
+        assert!((area - 3.0).abs() < 1e-5, "{area}");
+    }
+}
+
+#[test]
+fn inline_files_load_relative_and_recursion_is_stopped() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    let tri = "Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } coordIndex [ 0 1 2 ] } }";
+    std::fs::write(
+        dir.path().join("a.wrl"),
+        format!("#VRML V2.0 utf8\nTransform {{ translation 0 0 5 children Inline {{ url \"sub/b.wrl\" }} }}\n{tri}"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("sub/b.wrl"),
+        format!("#VRML V2.0 utf8\nInline {{ url \"../a.wrl\" }}\n{tri}"),
+    )
+    .unwrap();
+    let l = load_scene(&dir.path().join("a.wrl")).unwrap();
+    let d = &l.description;
+    // a's triangle, b's triangle (moved by 5), and nothing more: b including a is refused.
+    assert_eq!(d.meshes.len(), 2, "{:#?}", l.warnings);
+    assert!(d.meshes.iter().any(|m| m.positions[0].z == 5.0));
+    assert!(
+        l.warnings.iter().any(|w| w.contains("Inline recursion") && w.contains("b.wrl:2:1")),
+        "{:#?}",
+        l.warnings
+    );
+}
+
+#[test]
+fn unknown_nodes_and_fields_are_warnings_with_positions() {
+    let l =
+        load_text("#VRML V2.0 utf8\nGroup { children [\n  Teapot { size 3 }\n  Box { colour 1 0 0 }\n] }\n")
+            .unwrap();
+    assert!(
+        l.warnings.iter().any(|w| w.starts_with("t.wrl:3:3: unknown node type `Teapot`")),
+        "{:#?}",
+        l.warnings
+    );
+    assert!(
+        l.warnings.iter().any(|w| w.starts_with("t.wrl:4:9: `Box` has no field `colour`")),
+        "{:#?}",
+        l.warnings
+    );
+}
+
+#[test]
+fn malformed_files_give_file_line_column_errors() {
+    let cases: &[(&str, &str)] = &[
+        (
+            "#VRML V2.0 utf8\nTransform { translation 1 2 }",
+            "t.wrl:2:29: VRML syntax: expected a number, found `}`",
+        ),
+        (
+            "#VRML V2.0 utf8\nGroup { children [ Box { } }",
+            "t.wrl:2:28: VRML syntax: expected a node, USE or `]`, found `}`",
+        ),
+        ("#VRML V2.0 utf8\nShape {\n  geometry USE nothing }", "t.wrl:3:16: VRML syntax: USE of `nothing`"),
+        ("#VRML V2.0 utf8\nWorldInfo { title \"open", "t.wrl:2:19: VRML syntax: string not closed"),
+        (
+            "#VRML V2.0 utf8\nDEF 1 Group {}",
+            "t.wrl:2:5: VRML syntax: expected a name after DEF, found number 1",
+        ),
+        (
+            "#VRML V2.0 utf8\nPROTO P [ field SFFoo x 1 ] { Group {} }",
+            "t.wrl:2:17: VRML syntax: expected a field type",
+        ),
+        ("Group {}", "t.wrl:1:1: VRML syntax: expected the header"),
+        (
+            "#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0 ] } coordIndex [ 0 1 2 ] } }",
+            "t.wrl:2:18: IndexedFaceSet: coordIndex[1] = 1 is out of range",
+        ),
+        (
+            "#VRML V2.0 utf8\nShape { appearance Appearance { material Material { diffuseColor -1 0 0 } } geometry Box {} }",
+            "t.wrl:2:42: Material: invalid material",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = load_text(text).unwrap_err().to_string();
+        assert!(e.starts_with(want), "got:  {e}\nwant: {want}…");
+    }
+}
+
+#[test]
+fn deep_nesting_is_an_error() {
+    let text = format!("#VRML V2.0 utf8\n{}", "Transform { children ".repeat(50_000));
+    let e = load_text(&text).unwrap_err().to_string();
+    assert!(e.contains("nested more than"), "{e}");
+}
+
+#[test]
+fn deep_graphs_through_inlines_are_an_error_not_a_stack_overflow() {
+    let dir = tempfile::tempdir().unwrap();
+    for i in 0..10 {
+        let inner = format!("Inline {{ url \"f{}.wrl\" }}", i + 1);
+        let text = format!(
+            "#VRML V2.0 utf8\n{}{inner}{}",
+            "Transform { translation 0 0 1 children [ ".repeat(150),
+            " ] }".repeat(150)
+        );
+        std::fs::write(dir.path().join(format!("f{i}.wrl")), text).unwrap();
+    }
+    let e = load_scene(&dir.path().join("f0.wrl")).unwrap_err().to_string();
+    assert!(e.contains("f2.wrl") && e.contains("levels deep"), "{e}");
+}
+
+#[test]
+fn a_million_triangles_load_at_disk_speed() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.wrl");
+    let n = 708usize; // (n-1)² · 2 ≈ 1.0 M triangles
+    {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&path).unwrap());
+        writeln!(w, "#VRML V2.0 utf8\nShape {{ geometry IndexedFaceSet {{ coord Coordinate {{ point [")
+            .unwrap();
+        for j in 0..n {
+            for i in 0..n {
+                let (x, z) = (i as f32 * 0.0123456, j as f32 * 0.0123456);
+                writeln!(w, "{x:.6} {:.6} {z:.6},", (x * 3.0).sin() * (z * 2.0).cos()).unwrap();
+            }
+        }
+        writeln!(w, "] }} coordIndex [").unwrap();
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let k = j * n + i;
+                writeln!(w, "{} {} {} -1 {} {} {} -1", k, k + n, k + n + 1, k, k + n + 1, k + 1).unwrap();
+            }
+        }
+        writeln!(w, "] }} }}").unwrap();
+    }
+    let mb = std::fs::metadata(&path).unwrap().len() as f64 / 1e6;
+    let _warm = std::fs::read(&path).unwrap(); // page cache
+    let t = std::time::Instant::now();
+    let l = load_scene(&path).unwrap();
+    let total = t.elapsed().as_secs_f64();
+    assert_eq!(l.description.meshes[0].triangles.len(), 2 * (n - 1) * (n - 1));
+    drop(l);
+    // The same in stages: read, parse (lexer + parser), convert (triangulation, transforms).
+    let t = std::time::Instant::now();
+    let text = vrml::read_source(&path).unwrap();
+    let t_read = t.elapsed().as_secs_f64();
+    let t = std::time::Instant::now();
+    let (nodes, warnings) = vrml::parse_text(&text, &path).unwrap();
+    let t_parse = t.elapsed().as_secs_f64();
+    let t = std::time::Instant::now();
+    let l = vrml::convert::convert(&nodes, &path, warnings).unwrap();
+    let t_convert = t.elapsed().as_secs_f64();
+    println!(
+        "VRML load of {mb:.1} MB ({} triangles): {total:.3} s = {:.0} MB/s \
+         [read {:.0} MB/s, parse {:.0} MB/s, convert {:.3} s]",
+        l.description.meshes[0].triangles.len(),
+        mb / total,
+        mb / t_read,
+        mb / t_parse,
+        t_convert
+    );
+}
+
+// ----- fuzzing -----
+
+const SEED_FILE: &str = r#"#VRML V2.0 utf8
+PROTO P [ field SFColor c 1 0 0 field MFNode kids [] exposedField SFFloat f 1 ]
+{ Group { children [ Shape { appearance Appearance { material Material { diffuseColor IS c } } geometry Sphere { radius IS f } } ] } }
+EXTERNPROTO E [ field SFFloat x ] [ "e.wrl#E" ]
+DEF T Transform { translation 1 2 3 rotation 0 1 0 0.5 scale 1 2 1 children [
+  P { c 0 1 0 } E { x 2 }
+  Switch { whichChoice 0 choice [ USE T2 ] }
+  Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 1 1 0, 0 1 0 ] } coordIndex [ 0 1 2 3 -1 ] ccw FALSE } }
+  Viewpoint { position 0 0 5 fieldOfView 0.7 }
+  PointLight { location 0 1 0 intensity 0.5 }
+  Script { eventIn SFBool go field SFInt32 n 3 url "javascript:" }
+] }
+ROUTE T.translation_changed TO T.set_translation
+PixelTexture { image 1 1 3 0xFF00FF }
+ElevationGrid { xDimension 2 zDimension 2 height [ 0 1 2 3 ] }
+"#;
+
+const WORDS: &[&str] = &[
+    "DEF",
+    "USE",
+    "PROTO",
+    "EXTERNPROTO",
+    "IS",
+    "ROUTE",
+    "TO",
+    "NULL",
+    "TRUE",
+    "FALSE",
+    "field",
+    "exposedField",
+    "eventIn",
+    "SFFloat",
+    "MFNode",
+    "SFColor",
+    "Transform",
+    "Group",
+    "Shape",
+    "Box",
+    "IndexedFaceSet",
+    "Coordinate",
+    "coordIndex",
+    "point",
+    "children",
+    "geometry",
+    "translation",
+    "Switch",
+    "Inline",
+    "url",
+    "A",
+    "B",
+    "P",
+    "{",
+    "}",
+    "[",
+    "]",
+    ".",
+    "1",
+    "-1",
+    "0.5",
+    "1e30",
+    "0x1F",
+    "\"s\"",
+    "\"",
+    "#c\n",
+    ",",
+    "\\",
+    "'",
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 400, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn token_soup_never_panics(words in prop::collection::vec(0..WORDS.len(), 0..200)) {
+        let body: Vec<&str> = words.iter().map(|&i| WORDS[i]).collect();
+        let _ = load_text(&format!("#VRML V2.0 utf8\n{}", body.join(" ")));
+    }
+
+    #[test]
+    fn truncations_never_panic(cut in 0..SEED_FILE.len()) {
+        if SEED_FILE.is_char_boundary(cut) {
+            let _ = load_text(&SEED_FILE[..cut]);
+        }
+    }
+
+    #[test]
+    fn mutations_never_panic(edits in prop::collection::vec((0..SEED_FILE.len(), 0..WORDS.len(), 0..3u8), 1..8)) {
+        let mut text = SEED_FILE.to_string();
+        for (at, w, kind) in edits {
+            let mut at = at.min(text.len());
+            while !text.is_char_boundary(at) { at -= 1; }
+            match kind {
+                0 => text.insert_str(at, WORDS[w]),
+                1 => { let end = (at + 1 + w % 7).min(text.len()); if text.is_char_boundary(end) { text.replace_range(at..end, ""); } }
+                _ => text.insert_str(at, &format!(" {} ", WORDS[w])),
+            }
+        }
+        let _ = load_text(&text);
+    }
+
+    #[test]
+    fn arbitrary_bytes_never_panic(bytes in prop::collection::vec(any::<u8>(), 0..400)) {
+        let text = format!("#VRML V2.0 utf8\n{}", String::from_utf8_lossy(&bytes));
+        let _ = load_text(&text);
+    }
+}
+
+#[test]
+fn instancing_bombs_are_bounded() {
+    // Each level USEs the previous one twice: 2^40 instances.
+    let mut s = String::from("#VRML V2.0 utf8\nDEF L0 Shape { geometry Box {} }\n");
+    for i in 1..40 {
+        s += &format!("DEF L{i} Group {{ children [ USE L{} USE L{} ] }}\n", i - 1, i - 1);
+    }
+    let t = std::time::Instant::now();
+    let e = load_text(&s).unwrap_err().to_string();
+    assert!(e.contains("more than"), "{e}");
+    assert!(t.elapsed().as_secs() < 30);
+}
