@@ -7,11 +7,21 @@
 //! `rr_depth` on, survival q = min(2·max β, 0.95)) lets a path survive. The estimator is unbiased
 //! and nothing is normalised by the sum of weights (the thesis's eq. 6.8 would be biased).
 //!
+//! Delta surfaces (ideal mirrors, smooth dielectrics, [`crate::bsdf::Bsdf::is_delta`]) are not stored: their
+//! BSDF is zero for every direction a sensor could ask about, so such a vertex could never
+//! contribute. The path continues through them with β ← β·weight, the weight of
+//! [`TransportMode::Importance`]: a light path carries flux, which an interface transmits
+//! unchanged (times 1 − F), so refraction's 1/η² radiance scaling does **not** apply here
+//! (DESIGN.md §2; the adjoint BSDF, Veach's thesis §5.2; see the `bsdf` module docs).
+//! Dielectrics scatter on both faces, so a path may enter a glass object, bounce inside it
+//! (total internal reflection) and leave it.
+//!
 //! Parallelism and determinism: each light's quota N_k is cut into blocks of
 //! [`BLOCK_PATHS`] paths; block b of light k draws from its own random stream named by
 //! (seed, stream, k, b) and becomes one [`Chunk`]. Blocks are traced in parallel (rayon) and
 //! handed to the sink in order, so the dataset is the same whatever the thread count.
 
+use crate::bsdf::TransportMode;
 use crate::dataset::{Chunk, LightRecord, LightTable, Sample};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::Rgb;
@@ -101,8 +111,15 @@ pub fn trace_path(scene: &Scene, k: usize, rr_depth: u32, rng: &mut RandomStream
         if material.frame_for(hit.normal, wi).is_none() {
             break; // the back of a one-sided surface: black, absorbs everything
         }
-        out.push(Sample::scattered(hit.position, wi, hit.prim, beta));
-        let Some(s) = material.sample_world(hit.normal, wi, rng.next_f32(), rng.next_2d()) else { break };
+        if !material.bsdf.is_delta() {
+            out.push(Sample::scattered(hit.position, wi, hit.prim, beta));
+        }
+        // Importance mode: `wi` is where the light came from (no 1/η² on refraction, DESIGN §2).
+        let Some(s) =
+            material.sample_world(hit.normal, wi, rng.next_f32(), rng.next_2d(), TransportMode::Importance)
+        else {
+            break;
+        };
         beta *= s.weight;
         if depth >= rr_depth {
             let q = (ROULETTE_SCALE * beta.max_element()).min(0.95);
