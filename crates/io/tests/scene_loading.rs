@@ -173,7 +173,7 @@ fn unknown_plugin_type() {
     let e = error_of(&[("s.xml", &xml)]);
     assert_eq!(
         e,
-        "TMP/s.xml:4:15: <bsdf type=\"plastic\" id=\"shiny\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided)"
+        "TMP/s.xml:4:15: <bsdf type=\"plastic\" id=\"shiny\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric)"
     );
 }
 

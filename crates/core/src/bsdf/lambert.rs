@@ -45,7 +45,7 @@ impl Lambert {
     pub fn sample(&self, _wi: Vec3, u: Vec2) -> Option<BsdfSample> {
         let wo = warp::square_to_cosine_hemisphere(u);
         let pdf = warp::cosine_hemisphere_pdf(wo);
-        (pdf > 0.0).then_some(BsdfSample { wo, weight: self.reflectance, pdf })
+        (pdf > 0.0).then_some(BsdfSample { wo, weight: self.reflectance, pdf, delta: false })
     }
 }
 

@@ -3,18 +3,47 @@
 //! Conventions (shared by every BSDF here):
 //! * Directions are in the local shading frame (z = normal) and point **away** from the surface.
 //! * `wi` is the direction light arrived from (in light tracing, toward the previous vertex);
-//!   `wo` the direction it leaves in. Callers guarantee `wi.z > 0` (the [`Material`] flips
-//!   two-sided surfaces and blackens the back of one-sided ones); BSDFs return zero when
-//!   `wo.z <= 0` (they only reflect).
-//! * `eval` returns f_r (no cosine). `sample` returns `weight = f_r · cos θ_o / pdf`, the factor a
-//!   light path's β is multiplied by. All BSDFs here are reciprocal, so the same code serves
-//!   light (importance) paths and camera paths.
-
+//!   `wo` the direction it leaves in. For reflection-only BSDFs callers guarantee `wi.z > 0`
+//!   (the [`Material`] flips two-sided surfaces and blackens the back of one-sided ones) and the
+//!   BSDF returns zero when `wo.z <= 0`. Dielectrics ([`SmoothDielectric`], [`RoughDielectric`])
+//!   are oriented instead: +z is the outside (index `ext_ior`), −z the inside (`int_ior`); they
+//!   accept `wi` on either side and `wo` on either side (refraction). [`Material::frame_for`]
+//!   never flips their frame.
+//! * `eval(wi, wo)` returns the **physical** BSDF f(wi → wo) (no cosine) for light that arrives
+//!   from `wi` and leaves along `wo`, i.e. the factor of the path integral at this vertex in the
+//!   order light flows. `sample` returns `weight = f · |cos θ_o| / pdf` in the requested
+//!   [`TransportMode`].
+//!
+//! # Transport mode and the adjoint (DESIGN.md §2)
+//!
+//! Every vertex factor of the measurement contribution is f(x_{i−1} → x_i → x_{i+1}) in the
+//! order light flows. Opticks's `eval(wi, wo)` takes its arguments in that order, so **one
+//! function serves both of its uses**: the light tracer's weight update β ← β·f(wi→wo)|cos θ_o|/p
+//! and the sensor's connection f(from_dir → to_camera) (the camera sees the radiance leaving a
+//! stored vertex toward it, which is exactly f in light-flow order). What is *not* symmetric is
+//! the refraction term: f(a→b) for transmission carries a factor η_b² (the index on the side
+//! light leaves into), so f(a→b)/η_b² = f(b→a)/η_a² (generalized reciprocity, Veach's thesis
+//! §5.2) rather than f(a→b) = f(b→a). Sampling therefore depends on which end of the path the
+//! given direction belongs to:
+//! * [`TransportMode::Importance`] (light paths, the only mode Opticks's tracer uses): the given
+//!   direction is where light came from and the sampled one is where it goes; the weight is
+//!   f(given → sampled)·|cos|/p. For a smooth dielectric that is (1 − F)·T: flux is conserved
+//!   through an interface, and **no 1/η² factor appears**.
+//! * [`TransportMode::Radiance`] (camera paths, for a future path tracer or tests): the given
+//!   direction is toward the camera and the sampled one toward the light; the weight is
+//!   f(sampled → given)·|cos|/p, which for refraction is the importance weight times
+//!   (η_given/η_sampled)², the familiar radiance scaling of pbrt's `TransportMode::Radiance`.
+//!   Reflection weights are the same in both modes.
 #[cfg(test)]
 mod chi2;
+mod conductor;
+mod dielectric;
+pub mod fresnel;
 mod lambert;
 mod phong;
 
+pub use conductor::{RoughConductor, SmoothConductor};
+pub use dielectric::{RoughDielectric, SmoothDielectric};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 
@@ -27,8 +56,23 @@ pub struct BsdfSample {
     pub wo: Vec3,
     /// f_r · cos θ_o / pdf.
     pub weight: Rgb,
-    /// Solid-angle density of `wo`.
+    /// Solid-angle density of `wo`; for a `delta` sample, the discrete probability of the chosen
+    /// lobe (reflection or refraction) instead.
     pub pdf: f32,
+    /// Whether `wo` was picked by a Dirac delta (ideal mirror or smooth dielectric): `eval` and
+    /// `pdf` are zero for such a pair.
+    pub delta: bool,
+}
+
+/// Which end of a path the given direction of [`Bsdf::sample`] belongs to (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TransportMode {
+    /// Light paths: the given direction is where light came from; weights are f(given→sampled)·
+    /// |cos θ_sampled|/p. Opticks's tracer uses this mode.
+    Importance,
+    /// Camera paths: the given direction is toward the camera; weights are f(sampled→given)·
+    /// |cos θ_sampled|/p (refraction gains the (η_given/η_sampled)² radiance scaling).
+    Radiance,
 }
 
 /// The closed set of BSDFs.
@@ -38,48 +82,91 @@ pub enum Bsdf {
     Lambert(Lambert),
     /// Modified Phong of Lafortune & Willems 1994 (the thesis's material model).
     ModifiedPhong(ModifiedPhong),
+    /// Ideal mirror, optionally with a conductor's Fresnel reflectance (delta).
+    SmoothConductor(SmoothConductor),
+    /// Smooth glass-like interface: Fresnel reflection and refraction (delta, oriented).
+    SmoothDielectric(SmoothDielectric),
+    /// GGX microfacet conductor.
+    RoughConductor(RoughConductor),
+    /// GGX microfacet dielectric interface (oriented).
+    RoughDielectric(RoughDielectric),
 }
 
 impl Bsdf {
-    /// f_r(wi → wo), local frame.
+    /// The physical f(wi → wo) (light arrives from `wi`, leaves along `wo`), local frame; zero
+    /// for delta BSDFs.
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         match self {
             Bsdf::Lambert(b) => b.eval(wi, wo),
             Bsdf::ModifiedPhong(b) => b.eval(wi, wo),
+            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) => Rgb::ZERO,
+            Bsdf::RoughConductor(b) => b.eval(wi, wo),
+            Bsdf::RoughDielectric(b) => b.eval(wi, wo),
         }
     }
 
-    /// Density with which [`Bsdf::sample`] picks `wo` given `wi`.
+    /// Density with which [`Bsdf::sample`] picks `wo` given `wi` (the same in both transport
+    /// modes); zero for delta BSDFs.
     #[inline]
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         match self {
             Bsdf::Lambert(b) => b.pdf(wi, wo),
             Bsdf::ModifiedPhong(b) => b.pdf(wi, wo),
+            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) => 0.0,
+            Bsdf::RoughConductor(b) => b.pdf(wi, wo),
+            Bsdf::RoughDielectric(b) => b.pdf(wi, wo),
         }
     }
 
-    /// Importance-samples `wo` given `wi` from three uniform numbers (`u_lobe` picks a lobe).
-    /// `None` when the sampled direction carries no energy (e.g. below the surface).
+    /// Importance-samples a direction given `wi` from three uniform numbers (`u_lobe` picks a
+    /// lobe), with the weight of `mode`. `None` when the sampled direction carries no energy
+    /// (e.g. below the surface).
     #[inline]
-    pub fn sample(&self, wi: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+    pub fn sample(&self, wi: Vec3, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         match self {
             Bsdf::Lambert(b) => b.sample(wi, u),
             Bsdf::ModifiedPhong(b) => b.sample(wi, u_lobe, u),
+            Bsdf::SmoothConductor(b) => b.sample(wi),
+            Bsdf::SmoothDielectric(b) => b.sample(wi, u_lobe, mode),
+            Bsdf::RoughConductor(b) => b.sample(wi, u),
+            Bsdf::RoughDielectric(b) => b.sample(wi, u_lobe, u, mode),
         }
     }
 
-    /// Upper bound of the directional albedo per channel (kd for Lambert, kd + ks for Phong).
+    /// Whether every sampled direction is a Dirac delta (ideal mirror, smooth dielectric):
+    /// `eval` is zero everywhere, so a vertex there can never be connected to a sensor and the
+    /// tracer does not store it (the path continues through it).
+    #[inline]
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_))
+    }
+
+    /// Whether light crosses the surface (dielectrics): such BSDFs are oriented and accept light
+    /// from both sides.
+    #[inline]
+    pub fn transmits(&self) -> bool {
+        matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_))
+    }
+
+    /// Upper bound of the directional albedo per channel (kd for Lambert, kd + ks for Phong, the
+    /// specular reflectance for conductors, the larger of the specular reflectance and
+    /// transmittance for dielectrics).
     pub fn max_albedo(&self) -> Rgb {
         match self {
             Bsdf::Lambert(b) => b.reflectance,
             Bsdf::ModifiedPhong(b) => b.kd + b.ks,
+            Bsdf::SmoothConductor(b) => b.specular_reflectance,
+            Bsdf::RoughConductor(b) => b.specular_reflectance,
+            Bsdf::SmoothDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
+            Bsdf::RoughDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
         }
     }
 }
 
 /// A BSDF bound to a surface, with its sidedness (as Mitsuba defines it: a one-sided surface is
-/// black seen from behind; a two-sided one scatters identically on both faces).
+/// black seen from behind; a two-sided one scatters identically on both faces). Dielectrics are
+/// neither: they scatter on both faces, differently (`two_sided` is ignored for them).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Name from the scene file (for messages and `info`).
@@ -92,11 +179,14 @@ pub struct Material {
 
 impl Material {
     /// The local frame for light arriving from world direction `wi` at a surface with unit
-    /// geometric normal `n`; `None` if that side does not scatter.
+    /// geometric normal `n`; `None` if that side does not scatter. Dielectrics always get the
+    /// frame of `n` (their inside is behind it).
     #[inline]
     pub fn frame_for(&self, n: Vec3, wi: Vec3) -> Option<Frame> {
         let c = n.dot(wi);
-        if c > 0.0 {
+        if self.bsdf.transmits() {
+            (c != 0.0).then(|| Frame::from_normal(n))
+        } else if c > 0.0 {
             Some(Frame::from_normal(n))
         } else if c < 0.0 && self.two_sided {
             Some(Frame::from_normal(-n))
@@ -109,10 +199,7 @@ impl Material {
     #[inline]
     pub fn eval_world(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Rgb {
         match self.frame_for(n, wi) {
-            Some(f) => {
-                let (li, lo) = (f.to_local(wi), f.to_local(wo));
-                if lo.z <= 0.0 { Rgb::ZERO } else { self.bsdf.eval(li, lo) }
-            }
+            Some(f) => self.bsdf.eval(f.to_local(wi), f.to_local(wo)),
             None => Rgb::ZERO,
         }
     }
@@ -125,14 +212,21 @@ impl Material {
         let wo = crate::sampling::warp::square_to_uniform_hemisphere(u);
         let pdf = crate::sampling::warp::UNIFORM_HEMISPHERE_PDF;
         let weight = self.bsdf.eval(f.to_local(wi), wo) * wo.z / pdf;
-        Some(BsdfSample { wo: f.to_world(wo), weight, pdf })
+        Some(BsdfSample { wo: f.to_world(wo), weight, pdf, delta: false })
     }
 
-    /// Samples a world-space outgoing direction; `weight` is f_r·|cos θ_o|/pdf.
+    /// Samples a world-space direction given `wi`; `weight` as [`Bsdf::sample`] in `mode`.
     #[inline]
-    pub fn sample_world(&self, n: Vec3, wi: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+    pub fn sample_world(
+        &self,
+        n: Vec3,
+        wi: Vec3,
+        u_lobe: f32,
+        u: Vec2,
+        mode: TransportMode,
+    ) -> Option<BsdfSample> {
         let f = self.frame_for(n, wi)?;
-        let s = self.bsdf.sample(f.to_local(wi), u_lobe, u)?;
+        let s = self.bsdf.sample(f.to_local(wi), u_lobe, u, mode)?;
         Some(BsdfSample { wo: f.to_world(s.wo), ..s })
     }
 }
@@ -146,6 +240,15 @@ pub enum MaterialError {
     /// A reflectance is negative.
     #[error("{0} must not be negative")]
     Negative(&'static str),
+    /// An index of refraction or a roughness is zero or negative.
+    #[error("{0} must be positive")]
+    NotPositive(&'static str),
+    /// A reflectance or transmittance exceeds 1.
+    #[error("{0} exceeds 1 in some channel: the surface would create energy")]
+    AboveOne(&'static str),
+    /// A rough interface between media of the same index (no refraction to speak of).
+    #[error("int_ior = ext_ior = {0}: a rough interface needs different indices (use a smooth one)")]
+    EqualIors(f32),
     /// The BSDF would reflect more energy than it receives.
     #[error("kd + ks = {0} exceeds 1 in some channel: the surface would create energy")]
     CreatesEnergy(Rgb),
@@ -160,6 +263,43 @@ pub enum MaterialError {
         max: f32,
     },
 }
+
+/// A colour parameter in [0, 1] per channel, or the error naming it.
+pub(crate) fn check_unit_colour(name: &'static str, c: Rgb) -> Result<(), MaterialError> {
+    if !c.is_finite() {
+        Err(MaterialError::NotFinite(name))
+    } else if c.min_element() < 0.0 {
+        Err(MaterialError::Negative(name))
+    } else if c.max_element() > 1.0 {
+        Err(MaterialError::AboveOne(name))
+    } else {
+        Ok(())
+    }
+}
+
+/// A finite, strictly positive number, or the error naming it.
+pub(crate) fn check_positive(name: &'static str, x: f32) -> Result<(), MaterialError> {
+    if !x.is_finite() {
+        Err(MaterialError::NotFinite(name))
+    } else if x <= 0.0 {
+        Err(MaterialError::NotPositive(name))
+    } else {
+        Ok(())
+    }
+}
+
+/// A microfacet roughness α in (0, [`MAX_ALPHA`]].
+pub(crate) fn check_alpha(alpha: f32) -> Result<(), MaterialError> {
+    check_positive("alpha", alpha)?;
+    if alpha > MAX_ALPHA {
+        return Err(MaterialError::TooLarge { name: "alpha", value: alpha, max: MAX_ALPHA });
+    }
+    Ok(())
+}
+
+/// Largest accepted microfacet roughness α (GGX with α = 1 is already a very rough surface;
+/// beyond it single-scattering microfacet models lose most of their energy).
+pub const MAX_ALPHA: f32 = 1.0;
 
 #[cfg(test)]
 mod tests {
@@ -178,5 +318,35 @@ mod tests {
         assert_eq!(two.eval_world(n, down(up), down(up2)), two.eval_world(n, up, up2));
         // Reflection only: light never crosses the surface.
         assert_eq!(two.eval_world(n, up, down(up2)), Rgb::ZERO);
+    }
+
+    #[test]
+    fn dielectrics_scatter_on_both_faces_and_delta_bsdfs_evaluate_to_zero() {
+        let n = Vec3::Y;
+        let rough = Bsdf::RoughDielectric(RoughDielectric::new(1.5, 1.0, 0.3, Rgb::ONE, Rgb::ONE).unwrap());
+        let m = Material { name: "g".into(), bsdf: rough, two_sided: false };
+        let above = Vec3::new(0.3, 0.9, 0.1).normalize();
+        let below = Vec3::new(-0.2, -0.8, 0.3).normalize();
+        // The frame is never flipped: its z is the geometric normal from either side.
+        assert_eq!(m.frame_for(n, above).unwrap().n, n);
+        assert_eq!(m.frame_for(n, below).unwrap().n, n);
+        assert!(m.frame_for(n, Vec3::X).is_none());
+        // Transmission both ways, related by generalized reciprocity (η_out = 1, η_in = 1.5).
+        let (down, up) = (m.eval_world(n, above, below), m.eval_world(n, below, above));
+        assert!(down.x > 0.0 && up.x > 0.0);
+        assert!((down.x / 2.25 - up.x).abs() < 1e-3 * up.x, "{down} {up}");
+        let s = m.sample_world(n, below, 0.9, Vec2::new(0.3, 0.6), TransportMode::Importance).unwrap();
+        assert!(s.wo.is_finite() && !s.delta);
+
+        let glass = Bsdf::SmoothDielectric(SmoothDielectric::new(1.5, 1.0, Rgb::ONE, Rgb::ONE).unwrap());
+        let mirror = Bsdf::SmoothConductor(SmoothConductor::new(Rgb::ONE, None).unwrap());
+        for b in [glass, mirror] {
+            assert!(b.is_delta());
+            let wi = Vec3::new(0.3, -0.2, 0.9).normalize();
+            let s = b.sample(wi, 0.0, Vec2::splat(0.5), TransportMode::Importance).unwrap();
+            assert!(s.delta);
+            assert_eq!((b.eval(wi, s.wo), b.pdf(wi, s.wo)), (Rgb::ZERO, 0.0));
+        }
+        assert!(!Bsdf::Lambert(Lambert::new(Rgb::ONE).unwrap()).is_delta());
     }
 }

@@ -151,7 +151,7 @@ impl ModifiedPhong {
             return None;
         }
         let weight = self.eval(wi, wo) * wo.z / pdf;
-        weight.is_finite().then_some(BsdfSample { wo, weight, pdf })
+        weight.is_finite().then_some(BsdfSample { wo, weight, pdf, delta: false })
     }
 }
 

@@ -7,6 +7,15 @@
 //! `rr_depth` on, survival q = min(2·max β, 0.95)) lets a path survive. The estimator is unbiased
 //! and nothing is normalised by the sum of weights (the thesis's eq. 6.8 would be biased).
 //!
+//! Delta surfaces (ideal mirrors, smooth dielectrics, [`crate::bsdf::Bsdf::is_delta`]) are not stored: their
+//! BSDF is zero for every direction a sensor could ask about, so such a vertex could never
+//! contribute. The path continues through them with β ← β·weight, the weight of
+//! [`TransportMode::Importance`]: a light path carries flux, which an interface transmits
+//! unchanged (times 1 − F), so refraction's 1/η² radiance scaling does **not** apply here
+//! (DESIGN.md §2; the adjoint BSDF, Veach's thesis §5.2; see the `bsdf` module docs).
+//! Dielectrics scatter on both faces, so a path may enter a glass object, bounce inside it
+//! (total internal reflection) and leave it.
+//!
 //! Parallelism and determinism: each light's quota N_k is cut into blocks of
 //! [`BLOCK_PATHS`] paths; block b of light k draws from its own random stream named by
 //! (seed, stream, k, b) and becomes one [`Chunk`]. Blocks are traced in parallel (rayon) and
@@ -17,6 +26,7 @@
 //! all of them again with a fresh stream for a refinement, or only a new light when one is
 //! added to an existing dataset.
 
+use crate::bsdf::TransportMode;
 use crate::dataset::{Chunk, LightRecord, LightTable, Sample};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
@@ -33,6 +43,14 @@ pub const BLOCK_PATHS: u64 = 4096;
 /// 4.35 stored vertices per path, scale 1 gives 4.24e-3 with 4.18, no roulette at all 4.01e-3
 /// with 7.4; Mitsuba's `ptracer` 3.99e-3.
 const ROULETTE_SCALE: f32 = 2.0;
+
+/// A path that scatters off more than this many delta surfaces (mirrors, smooth glass) in a row
+/// is dropped: the tracer's one truncation. Russian roulette does not act on delta vertices (see
+/// [`trace_path`]), so light trapped by total internal reflection would otherwise bounce
+/// forever; what is dropped is light that has not reached a non-delta surface after 1024
+/// specular bounces (measured: a 0.5-radius glass icosphere in a furnace room loses no
+/// detectable flux).
+const MAX_DELTA_RUN: u32 = 1024;
 
 /// Blocks traced per parallel batch before they are handed to the sink in order.
 const BATCH_BLOCKS: usize = 64;
@@ -145,6 +163,8 @@ pub struct Branch {
     dir: Vec3,
     beta: Rgb,
     depth: u32,
+    /// Consecutive delta (mirror, glass) bounces just before this branch.
+    delta_run: u32,
 }
 
 /// Traces one path (a tree, under [`Selection::Priority`]) from light `k`, appending its stored
@@ -166,7 +186,7 @@ pub fn trace_path(
         origin = offset_ray_origin(e.origin, normal, e.dir);
     }
     stack.clear();
-    stack.push(Branch { origin, dir: e.dir, beta: e.weight, depth: 0 });
+    stack.push(Branch { origin, dir: e.dir, beta: e.weight, depth: 0, delta_run: 0 });
     while let Some(b) = stack.pop() {
         let Some(hit) = scene.intersect(&Ray { origin: b.origin, dir: b.dir, t_max: f32::INFINITY }) else {
             continue;
@@ -177,22 +197,40 @@ pub fn trace_path(
         if material.frame_for(hit.normal, wi).is_none() {
             continue; // the back of a one-sided surface: black, absorbs everything
         }
-        out.push(Sample::scattered(hit.position, wi, hit.prim, b.beta));
+        let delta = material.bsdf.is_delta();
+        if !delta {
+            out.push(Sample::scattered(hit.position, wi, hit.prim, b.beta));
+        }
         // Priority selection: c expected children, each carrying 1/c of the weight.
         let c = match settings.selection {
-            Selection::Priority => (b.beta.max_element() / PRIORITY_TARGET).clamp(1.0, MAX_SPLIT),
-            Selection::Single => 1.0,
+            Selection::Priority if !delta => (b.beta.max_element() / PRIORITY_TARGET).clamp(1.0, MAX_SPLIT),
+            _ => 1.0,
         };
         let children = c.floor() as u32 + u32::from(rng.next_f32() < c.fract());
         for _ in 0..children {
             let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
-            let sampled = match settings.directions {
-                Directions::Importance => material.sample_world(hit.normal, wi, u_lobe, u),
-                Directions::Uniform => material.sample_uniform_world(hit.normal, wi, u),
+            // Importance mode: `wi` is where the light came from (no 1/η² on refraction, DESIGN §2).
+            // Uniform directions only make sense for reflecting, non-delta surfaces.
+            let uniform = settings.directions == Directions::Uniform && !delta && !material.bsdf.transmits();
+            let sampled = if uniform {
+                material.sample_uniform_world(hit.normal, wi, u)
+            } else {
+                material.sample_world(hit.normal, wi, u_lobe, u, TransportMode::Importance)
             };
             let Some(s) = sampled else { continue };
             let mut beta = b.beta * s.weight / c;
-            if depth >= settings.rr_depth && c <= 1.0 {
+            let mut delta_run = 0;
+            if s.delta {
+                // Roulette acts at stored vertices only: through clear glass β stays 1, so
+                // rouletting there would turn light bouncing many times inside an object (total
+                // internal reflection in a tessellated sphere) into rare huge weights 1/0.95^k —
+                // unbiased, but so heavy-tailed that a million paths measurably underestimate
+                // the flux.
+                delta_run = b.delta_run + 1;
+                if delta_run > MAX_DELTA_RUN {
+                    continue;
+                }
+            } else if depth >= settings.rr_depth && c <= 1.0 {
                 let q = match settings.roulette {
                     Roulette::Energy => (ROULETTE_SCALE * beta.max_element()).min(0.95),
                     Roulette::Fixed => 0.95,
@@ -208,6 +246,7 @@ pub fn trace_path(
                     dir: s.wo,
                     beta,
                     depth,
+                    delta_run,
                 });
             }
         }

@@ -60,7 +60,20 @@
 //! |---|---|---|
 //! | `diffuse` | `reflectance`: colour, default 0.5 | Lambertian, **one-sided** (black from behind), as in Mitsuba; each channel in [0, 1] |
 //! | `phong` | see below | Modified Phong, **one-sided**; an **Opticks extension** |
-//! | `twosided` | one nested `<bsdf>` or `<ref>` | the nested BSDF on both faces |
+//! | `twosided` | one nested `<bsdf>` or `<ref>` | the nested BSDF on both faces (not around a dielectric) |
+//! | `conductor` | `specular_reflectance` (1), `material` (only `"none"`: a perfect mirror), `eta`, `k` (colours; `k` defaults to 1 when `eta` is given) | ideal mirror, **one-sided**; `eta`/`k` give the conductor's Fresnel reflectance |
+//! | `roughconductor` | as `conductor`, plus `distribution` (must be `"ggx"`), `alpha` (0.1; or equal `alpha_u`, `alpha_v`), `sample_visible` (accepted) | GGX microfacet metal, **one-sided** |
+//! | `dielectric` | `int_ior` (`"bk7"` = 1.5046), `ext_ior` (`"air"` = 1.000277): numbers or Mitsuba's named indices; `specular_reflectance`, `specular_transmittance` (1) | smooth glass: Fresnel reflection and refraction, both faces (the inside is behind the normal) |
+//! | `roughdielectric` | as `dielectric`, plus `distribution`, `alpha`, `sample_visible` as for `roughconductor` | GGX microfacet glass |
+//!
+//! Defaults are Mitsuba 3's. Mitsuba's microfacet plugins default to the Beckmann distribution,
+//! which Opticks does not implement: a `roughconductor`/`roughdielectric` without
+//! `<string name="distribution" value="ggx"/>` is an error rather than a silently different
+//! material. Named conductor presets (`material="Au"`) are refused for the same reason (Mitsuba
+//! derives their RGB values from spectra); give `eta` and `k`. Anisotropic roughness
+//! (`alpha_u` ≠ `alpha_v`) is refused: Opticks meshes carry no tangents to orient it. Impossible
+//! values (an index ≤ 0, `alpha` ≤ 0 or > 1, a reflectance or transmittance outside [0, 1],
+//! NaN) are errors located at the offending parameter.
 //!
 //! ## `<bsdf type="phong">` (Opticks extension)
 //!
@@ -107,7 +120,10 @@
 use super::obj::read_obj;
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
 use glam::{DMat3, DMat4, DVec3};
-use opticks_core::bsdf::{Bsdf, Lambert, Material, MaterialError, ModifiedPhong};
+use opticks_core::bsdf::{
+    Bsdf, Lambert, Material, MaterialError, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
+    SmoothDielectric, fresnel,
+};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
 use roxmltree::{Document, Node};
@@ -117,7 +133,8 @@ use std::path::{Path, PathBuf};
 type Result<T> = std::result::Result<T, SceneFileError>;
 
 const TOP_LEVEL: &str = "default, integrator, sensor, bsdf, shape, emitter";
-const BSDF_TYPES: &str = "diffuse, phong (Opticks extension), twosided";
+const BSDF_TYPES: &str =
+    "diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric";
 const PROPERTY_TAGS: &[&str] =
     &["float", "integer", "boolean", "string", "rgb", "spectrum", "point", "vector", "transform"];
 
@@ -881,6 +898,9 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 ParsedBsdf { name, bsdf: Bsdf::Lambert(lambert), two_sided: false }
             }
             "phong" => ParsedBsdf { name, bsdf: self.phong(n, &mut p)?, two_sided: false },
+            "conductor" | "roughconductor" | "dielectric" | "roughdielectric" => {
+                ParsedBsdf { name, bsdf: self.specular(n, &ty, &mut p)?, two_sided: false }
+            }
             "twosided" => {
                 let inner: Vec<Node> = p.objects.clone();
                 match inner.len() {
@@ -908,6 +928,13 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 };
                 if nested.two_sided {
                     return Err(self.err(c, "a twosided BSDF cannot wrap another twosided BSDF"));
+                }
+                if nested.bsdf.transmits() {
+                    return Err(self.err(
+                        c,
+                        "a dielectric already scatters on both faces (its inside is behind the normal); \
+                         do not wrap it in a twosided BSDF",
+                    ));
                 }
                 ParsedBsdf { name, bsdf: nested.bsdf, two_sided: true }
             }
@@ -950,6 +977,130 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 | MaterialError::TooLarge { .. } => e_node,
                 _ => n,
             };
+            SceneFileError::Material { at: self.loc(node), element: describe(node), source }
+        })
+    }
+
+    /// An index of refraction: a number or one of Mitsuba's names (`"bk7"`, `"water"`, …).
+    fn get_ior(
+        &self,
+        p: &mut Props<'a, 'i>,
+        name: &str,
+        default: f32,
+        n: Node<'a, 'i>,
+    ) -> Result<(f32, Node<'a, 'i>)> {
+        let Some(node) = p.take(name) else { return Ok((default, n)) };
+        self.expect_tag(node, &["float", "integer", "string"])?;
+        let v = self.required(node, "value")?;
+        if node.tag_name().name() == "string" {
+            let ior = fresnel::named_ior(&v).ok_or_else(|| {
+                let names: Vec<&str> = fresnel::NAMED_IORS.iter().map(|(n, _)| *n).collect();
+                self.attr_err(
+                    node,
+                    "value",
+                    format!("unknown index of refraction \"{v}\" (known: {})", names.join(", ")),
+                )
+            })?;
+            return Ok((ior, node));
+        }
+        Ok((self.number(node, "value", &v)? as f32, node))
+    }
+
+    /// `conductor`, `roughconductor`, `dielectric`, `roughdielectric` (Mitsuba 3's parameters and
+    /// defaults); an impossible value is reported at its element.
+    fn specular(&self, n: Node<'a, 'i>, ty: &str, p: &mut Props<'a, 'i>) -> Result<Bsdf> {
+        if let Some(c) = p.objects.first() {
+            return Err(self.err(
+                *c,
+                format!(
+                    "unsupported element inside <bsdf type=\"{ty}\"> (textures are not supported; \
+                     use <rgb>, <float> or <string> parameters)"
+                ),
+            ));
+        }
+        let mut nodes: Vec<(&'static str, Node<'a, 'i>)> = Vec::new();
+        let rough = ty.starts_with("rough");
+        let (r, rnode) = self.get_color(p, "specular_reflectance")?.unwrap_or((Rgb::ONE, n));
+        nodes.push(("specular_reflectance", rnode));
+        let alpha = if rough {
+            let (dist, dnode) = self.get_string(p, "distribution")?.unwrap_or(("beckmann".into(), n));
+            if !dist.trim().eq_ignore_ascii_case("ggx") {
+                return Err(self.err(
+                    dnode,
+                    format!(
+                        "microfacet distribution \"{dist}\" is not supported (Mitsuba's default is \
+                         \"beckmann\"); Opticks implements <string name=\"distribution\" value=\"ggx\"/>"
+                    ),
+                ));
+            }
+            let _ = self.get_bool(p, "sample_visible")?; // a sampling strategy: same expectation
+            let (a, anode) = self.get_float(p, "alpha")?.unwrap_or((0.1, n));
+            let au = self.get_float(p, "alpha_u")?;
+            let av = self.get_float(p, "alpha_v")?;
+            let (a, anode) = match (au, av) {
+                (None, None) => (a, anode),
+                (Some((u, un)), Some((v, _))) if u == v => (u, un),
+                (Some((_, un)), _) | (_, Some((_, un))) => {
+                    return Err(self.err(
+                        un,
+                        "anisotropic roughness is not supported (alpha_u must equal alpha_v): \
+                         Opticks meshes have no tangents to orient it",
+                    ));
+                }
+            };
+            nodes.push(("alpha", anode));
+            a as f32
+        } else {
+            0.0
+        };
+        let result = if ty.ends_with("conductor") {
+            let (material, mnode) = self.get_string(p, "material")?.unwrap_or(("none".into(), n));
+            let eta = self.get_color(p, "eta")?;
+            let k = self.get_color(p, "k")?;
+            if material != "none" {
+                return Err(self.err(
+                    mnode,
+                    format!(
+                        "named conductor \"{material}\" is not supported (Mitsuba derives it from \
+                         spectra); give <rgb name=\"eta\"> and <rgb name=\"k\">"
+                    ),
+                ));
+            }
+            if let Some((_, en)) = eta {
+                nodes.push(("eta", en));
+            }
+            if let Some((_, kn)) = k {
+                nodes.push(("k", kn));
+            }
+            let ior = eta.map(|(e, _)| (e, k.map_or(Rgb::ONE, |(k, _)| k)));
+            if rough {
+                RoughConductor::new(alpha, r, ior).map(Bsdf::RoughConductor)
+            } else {
+                SmoothConductor::new(r, ior).map(Bsdf::SmoothConductor)
+            }
+        } else {
+            let (t, tnode) = self.get_color(p, "specular_transmittance")?.unwrap_or((Rgb::ONE, n));
+            nodes.push(("specular_transmittance", tnode));
+            let (int_ior, inode) = self.get_ior(p, "int_ior", 1.5046, n)?;
+            let (ext_ior, enode) = self.get_ior(p, "ext_ior", 1.000277, n)?;
+            nodes.push(("int_ior", inode));
+            nodes.push(("ext_ior", enode));
+            if rough {
+                RoughDielectric::new(int_ior, ext_ior, alpha, r, t).map(Bsdf::RoughDielectric)
+            } else {
+                SmoothDielectric::new(int_ior, ext_ior, r, t).map(Bsdf::SmoothDielectric)
+            }
+        };
+        result.map_err(|source| {
+            let key = match &source {
+                MaterialError::NotFinite(k)
+                | MaterialError::Negative(k)
+                | MaterialError::NotPositive(k)
+                | MaterialError::AboveOne(k)
+                | MaterialError::TooLarge { name: k, .. } => Some(*k),
+                _ => None,
+            };
+            let node = key.and_then(|k| nodes.iter().find(|(name, _)| *name == k).map(|e| e.1)).unwrap_or(n);
             SceneFileError::Material { at: self.loc(node), element: describe(node), source }
         })
     }
@@ -1591,6 +1742,87 @@ mod tests {
     }
 
     #[test]
+    fn conductor_and_dielectric_bsdfs_follow_mitsuba_3() {
+        let s = scene(
+            r#"<shape type="rectangle"><bsdf type="conductor"/></shape>
+               <shape type="rectangle"><bsdf type="twosided"><bsdf type="conductor">
+                 <rgb name="specular_reflectance" value="0.9, 0.8, 0.7"/>
+                 <rgb name="eta" value="0.2, 0.4, 1.4"/><rgb name="k" value="4, 2.4, 1.6"/></bsdf></bsdf></shape>
+               <shape type="rectangle"><bsdf type="dielectric"/></shape>
+               <shape type="rectangle"><bsdf type="dielectric">
+                 <string name="int_ior" value="water"/><float name="ext_ior" value="1"/>
+                 <float name="specular_reflectance" value="0.5"/></bsdf></shape>
+               <shape type="rectangle"><bsdf type="roughconductor">
+                 <string name="distribution" value="ggx"/><float name="alpha" value="0.3"/></bsdf></shape>
+               <shape type="rectangle"><bsdf type="roughdielectric">
+                 <string name="distribution" value="ggx"/><float name="alpha_u" value="0.2"/>
+                 <float name="alpha_v" value="0.2"/><boolean name="sample_visible" value="true"/></bsdf></shape>"#,
+        );
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        let d = &s.description;
+        let m = |i: usize| &d.materials[d.meshes[i].material];
+        assert_eq!(m(0).bsdf, Bsdf::SmoothConductor(SmoothConductor::new(Rgb::ONE, None).unwrap()));
+        assert!(!m(0).two_sided && m(1).two_sided);
+        let gold = (Rgb::new(0.2, 0.4, 1.4), Rgb::new(4.0, 2.4, 1.6));
+        assert_eq!(
+            m(1).bsdf,
+            Bsdf::SmoothConductor(SmoothConductor::new(Rgb::new(0.9, 0.8, 0.7), Some(gold)).unwrap())
+        );
+        let glass = SmoothDielectric::new(1.5046, 1.000277, Rgb::ONE, Rgb::ONE).unwrap();
+        assert_eq!(m(2).bsdf, Bsdf::SmoothDielectric(glass));
+        let water = SmoothDielectric::new(1.333, 1.0, Rgb::splat(0.5), Rgb::ONE).unwrap();
+        assert_eq!(m(3).bsdf, Bsdf::SmoothDielectric(water));
+        assert_eq!(m(4).bsdf, Bsdf::RoughConductor(RoughConductor::new(0.3, Rgb::ONE, None).unwrap()));
+        let rough = RoughDielectric::new(1.5046, 1.000277, 0.2, Rgb::ONE, Rgb::ONE).unwrap();
+        assert_eq!(m(5).bsdf, Bsdf::RoughDielectric(rough));
+    }
+
+    #[test]
+    fn impossible_specular_parameters_are_located() {
+        let cases: &[(&str, &str)] = &[
+            (
+                "<bsdf type=\"dielectric\">\n  <float name=\"int_ior\" value=\"-1\"/></bsdf>",
+                "dir/test.xml:3:3: <float name=\"int_ior\">: invalid material: int_ior must be positive",
+            ),
+            (
+                "<bsdf type=\"dielectric\">\n  <string name=\"ext_ior\" value=\"unobtainium\"/></bsdf>",
+                "dir/test.xml:3:33: <string name=\"ext_ior\">: unknown index of refraction \"unobtainium\" (known: vacuum,",
+            ),
+            (
+                "<bsdf type=\"dielectric\">\n  <rgb name=\"specular_transmittance\" value=\"1, 1.1, 1\"/></bsdf>",
+                "dir/test.xml:3:3: <rgb name=\"specular_transmittance\">: invalid material: specular_transmittance exceeds 1",
+            ),
+            (
+                "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/>\n  <float name=\"alpha\" value=\"0\"/></bsdf>",
+                "dir/test.xml:3:3: <float name=\"alpha\">: invalid material: alpha must be positive",
+            ),
+            (
+                "<bsdf type=\"roughdielectric\"><string name=\"distribution\" value=\"ggx\"/>\n  <float name=\"alpha\" value=\"3\"/></bsdf>",
+                "dir/test.xml:3:3: <float name=\"alpha\">: invalid material: alpha = 3 exceeds the supported maximum 1",
+            ),
+            ("<bsdf type=\"roughconductor\"/>", "microfacet distribution \"beckmann\" is not supported"),
+            (
+                "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha_u\" value=\"0.1\"/><float name=\"alpha_v\" value=\"0.2\"/></bsdf>",
+                "anisotropic roughness is not supported",
+            ),
+            (
+                "<bsdf type=\"conductor\"><string name=\"material\" value=\"Au\"/></bsdf>",
+                "named conductor \"Au\"",
+            ),
+            ("<bsdf type=\"conductor\">\n <rgb name=\"eta\" value=\"nan\"/></bsdf>", "not a finite number"),
+            ("<bsdf type=\"twosided\"><bsdf type=\"dielectric\"/></bsdf>", "already scatters on both faces"),
+            (
+                "<bsdf type=\"roughdielectric\"><string name=\"distribution\" value=\"ggx\"/><float name=\"int_ior\" value=\"1\"/><float name=\"ext_ior\" value=\"1\"/></bsdf>",
+                "a rough interface needs different indices",
+            ),
+        ];
+        for (body, want) in cases {
+            let e = err(body);
+            assert!(e.contains(want), "{body}\n→ {e}\nwant {want}");
+        }
+    }
+
+    #[test]
     fn emitters() {
         let s = scene(
             r#"<emitter type="point"><point name="position" x="1" y="2" z="3"/><rgb name="intensity" value="4 5 6"/></emitter>
@@ -1635,7 +1867,7 @@ mod tests {
         let cases: &[(&str, &str)] = &[
             (
                 r#"<bsdf type="plastic" id="p"/>"#,
-                "dir/test.xml:2:13: <bsdf type=\"plastic\" id=\"p\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided)",
+                "dir/test.xml:2:13: <bsdf type=\"plastic\" id=\"p\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric)",
             ),
             (
                 r#"<shape type="sphere"/>"#,

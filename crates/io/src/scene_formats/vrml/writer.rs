@@ -103,8 +103,29 @@ fn phong_fields(w: &mut impl Write, m: &Material) -> io::Result<()> {
     let (kd, ks, n) = match &m.bsdf {
         Bsdf::Lambert(l) => (l.reflectance, Rgb::ZERO, 0.0),
         Bsdf::ModifiedPhong(p) => (p.kd, p.ks, p.exponent),
+        other => {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!(
+                    "material '{}' ({}) has no VRML form yet: the extension writes Lambert and Modified Phong",
+                    m.name,
+                    bsdf_kind(other)
+                ),
+            ));
+        }
     };
     write!(w, "diffuse {} specular {} exponent {} twoSided {} ", v3(kd), v3(ks), n, bool_str(m.two_sided))
+}
+
+fn bsdf_kind(b: &Bsdf) -> &'static str {
+    match b {
+        Bsdf::Lambert(_) => "Lambert",
+        Bsdf::ModifiedPhong(_) => "Modified Phong",
+        Bsdf::SmoothConductor(_) => "mirror",
+        Bsdf::SmoothDielectric(_) => "glass",
+        Bsdf::RoughConductor(_) => "rough conductor",
+        Bsdf::RoughDielectric(_) => "rough dielectric",
+    }
 }
 
 fn bool_str(b: bool) -> &'static str {

@@ -1,0 +1,472 @@
+//! Dielectric interfaces (glass, water): Mitsuba's `dielectric` and `roughdielectric`.
+//!
+//! Both are **oriented**: the local +z side (the side the geometric normal points to) is the
+//! outside, of index `ext_ior`; the −z side the inside, of index `int_ior`. They accept light from
+//! either side; when `wi.z < 0` everything is computed in the mirrored configuration (z negated,
+//! relative index η = int/ext inverted), which is exact because the geometry is symmetric.
+//!
+//! * [`SmoothDielectric`]: Fresnel reflection (weight R = `specular_reflectance`) with
+//!   probability F, refraction by Snell's law (weight T = `specular_transmittance`) with
+//!   probability 1 − F, total internal reflection when F = 1. Dirac deltas: `eval` = `pdf` = 0;
+//!   [`BsdfSample::pdf`] is the lobe's probability. In [`TransportMode::Importance`] the
+//!   refraction weight is T — flux crosses the interface unchanged; in
+//!   [`TransportMode::Radiance`] it is T/η² (η = index of the sampled side over the given side),
+//!   the radiance compression of pbrt's `TransportMode::Radiance`. The light tracer uses the
+//!   former (DESIGN.md §2: the 1/η² scaling applies to radiance/camera paths only).
+//! * [`RoughDielectric`]: Walter et al. 2007 ("Microfacet Models for Refraction through Rough
+//!   Surfaces") with GGX, the height-correlated Smith G₂ and visible-normal sampling (Heitz
+//!   2018). With η = η_o/η_i relative to the side of wi:
+//!
+//!   ```text
+//!   reflection   (wo on wi's side):  R · F(wi·h) · D(h) · G₂ / (4 |cos θ_i| |cos θ_o|),  h ∝ wi + wo
+//!   transmission (other side):       T · (1 − F(wi·h)) · D(h) · G₂ · η² · |wi·h| |wo·h|
+//!                                      / (|cos θ_i| |cos θ_o| (wi·h + η wo·h)²),        h ∝ −(wi + η wo)
+//!   ```
+//!
+//!   This is the physical f(wi → wo) for light arriving from wi: the η² = (η_o/η_i)² factor makes
+//!   it obey f(a→b)/η_b² = f(b→a)/η_a² (tested). `sample` picks a visible normal m, reflects with
+//!   probability F(wi·m), else refracts; the weight is (R or T)·G₂/G₁(wi) in importance mode and
+//!   the transmission weight is divided by η² in radiance mode, since f(b→a) = f(a→b)·η_a²/η_b².
+//!
+//! See the transport-mode discussion in the [module docs of `bsdf`](super) for why the sensor's
+//! connection and the tracer's weight update both call the same `eval`.
+
+use super::{
+    BsdfSample, MaterialError, TransportMode, check_alpha, check_positive, check_unit_colour, fresnel,
+};
+use crate::math::{Rgb, Vec2, Vec3};
+use crate::sampling::warp;
+
+/// (x, y, −z): the mirror image through the surface plane.
+#[inline]
+fn flip(v: Vec3) -> Vec3 {
+    Vec3::new(v.x, v.y, -v.z)
+}
+
+fn check_iors(int_ior: f32, ext_ior: f32) -> Result<f32, MaterialError> {
+    check_positive("int_ior", int_ior)?;
+    check_positive("ext_ior", ext_ior)?;
+    let eta = int_ior / ext_ior;
+    if !eta.is_finite() || eta <= 0.0 {
+        return Err(MaterialError::NotFinite("int_ior / ext_ior"));
+    }
+    Ok(eta)
+}
+
+/// Smooth dielectric interface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SmoothDielectric {
+    /// Relative index int_ior / ext_ior.
+    pub eta: f32,
+    /// Multiplier of the reflected part, each channel in [0, 1].
+    pub specular_reflectance: Rgb,
+    /// Multiplier of the transmitted part, each channel in [0, 1].
+    pub specular_transmittance: Rgb,
+}
+
+impl SmoothDielectric {
+    /// Validated constructor: indices finite and > 0, colours in [0, 1].
+    pub fn new(
+        int_ior: f32,
+        ext_ior: f32,
+        reflectance: Rgb,
+        transmittance: Rgb,
+    ) -> Result<Self, MaterialError> {
+        let eta = check_iors(int_ior, ext_ior)?;
+        check_unit_colour("specular_reflectance", reflectance)?;
+        check_unit_colour("specular_transmittance", transmittance)?;
+        Ok(SmoothDielectric { eta, specular_reflectance: reflectance, specular_transmittance: transmittance })
+    }
+
+    /// Reflects with probability F (`u_lobe < F`), else refracts; see the module docs for the
+    /// weights. `None` only for a direction in the surface plane.
+    #[inline]
+    pub fn sample(&self, wi: Vec3, u_lobe: f32, mode: TransportMode) -> Option<BsdfSample> {
+        if wi.z == 0.0 || !wi.is_finite() {
+            return None;
+        }
+        let inside = wi.z < 0.0;
+        let (w, eta) = if inside { (flip(wi), 1.0 / self.eta) } else { (wi, self.eta) };
+        let (f, cos_t) = fresnel::dielectric(w.z, eta);
+        let (wo, weight, pdf) = if u_lobe < f {
+            (Vec3::new(-w.x, -w.y, w.z), self.specular_reflectance, f)
+        } else {
+            let wo = Vec3::new(-w.x / eta, -w.y / eta, -cos_t).normalize();
+            let scale = match mode {
+                TransportMode::Importance => 1.0,
+                TransportMode::Radiance => 1.0 / (eta * eta),
+            };
+            (wo, self.specular_transmittance * scale, 1.0 - f)
+        };
+        let wo = if inside { flip(wo) } else { wo };
+        Some(BsdfSample { wo, weight, pdf, delta: true })
+    }
+}
+
+/// GGX microfacet dielectric interface (isotropic roughness α).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoughDielectric {
+    /// Relative index int_ior / ext_ior (≠ 1).
+    pub eta: f32,
+    /// GGX roughness α in (0, [`super::MAX_ALPHA`]].
+    pub alpha: f32,
+    /// Multiplier of the reflected part, each channel in [0, 1].
+    pub specular_reflectance: Rgb,
+    /// Multiplier of the transmitted part, each channel in [0, 1].
+    pub specular_transmittance: Rgb,
+}
+
+/// The generalized half vector of (wi, wo) for wi.z > 0 (oriented to +z) and whether the pair is
+/// a reflection; `None` if degenerate or if the configuration is impossible (a microfacet
+/// facing away from either direction).
+#[inline]
+fn half_vector(wi: Vec3, wo: Vec3, eta: f32) -> Option<(Vec3, bool)> {
+    let reflect = wo.z > 0.0;
+    let h = if reflect { wi + wo } else { -(wi + eta * wo) };
+    let h = h.try_normalize()?;
+    let h = if h.z < 0.0 { -h } else { h };
+    let (ih, oh) = (wi.dot(h), wo.dot(h));
+    let ok = if reflect { ih > 0.0 && oh > 0.0 } else { ih > 0.0 && oh < 0.0 };
+    ok.then_some((h, reflect))
+}
+
+impl RoughDielectric {
+    /// Validated constructor: indices finite, > 0 and different (by more than 10⁻³ relative),
+    /// α in (0, 1], colours in [0, 1].
+    pub fn new(
+        int_ior: f32,
+        ext_ior: f32,
+        alpha: f32,
+        reflectance: Rgb,
+        transmittance: Rgb,
+    ) -> Result<Self, MaterialError> {
+        let eta = check_iors(int_ior, ext_ior)?;
+        if (eta - 1.0).abs() < 1e-3 {
+            return Err(MaterialError::EqualIors(int_ior));
+        }
+        check_alpha(alpha)?;
+        check_unit_colour("specular_reflectance", reflectance)?;
+        check_unit_colour("specular_transmittance", transmittance)?;
+        Ok(RoughDielectric {
+            eta,
+            alpha,
+            specular_reflectance: reflectance,
+            specular_transmittance: transmittance,
+        })
+    }
+
+    /// (wi, wo, η) mirrored so that wi.z > 0; `None` for wi in the plane.
+    #[inline]
+    fn oriented(&self, wi: Vec3, wo: Vec3) -> Option<(Vec3, Vec3, f32)> {
+        if wi.z > 0.0 {
+            Some((wi, wo, self.eta))
+        } else if wi.z < 0.0 {
+            Some((flip(wi), flip(wo), 1.0 / self.eta))
+        } else {
+            None
+        }
+    }
+
+    /// The physical f(wi → wo), reflection or transmission (module docs).
+    #[inline]
+    pub fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
+        let Some((wi, wo, eta)) = self.oriented(wi, wo) else { return Rgb::ZERO };
+        if wo.z == 0.0 {
+            return Rgb::ZERO;
+        }
+        let Some((h, reflect)) = half_vector(wi, wo, eta) else { return Rgb::ZERO };
+        let a = self.alpha;
+        let (ih, oh) = (wi.dot(h), wo.dot(h));
+        // F is the same seen from either side of a refraction (Stokes); evaluating it from the
+        // optically thinner side keeps 1 − F accurate near the critical angle and makes
+        // generalized reciprocity hold to rounding.
+        let f = if reflect || eta >= 1.0 {
+            fresnel::dielectric(ih, eta).0
+        } else {
+            fresnel::dielectric(-oh, 1.0 / eta).0
+        };
+        let dg = warp::ggx_d(h, a) / (1.0 + warp::ggx_lambda(wi, a) + warp::ggx_lambda(wo, a));
+        if reflect {
+            self.specular_reflectance * (f * dg / (4.0 * wi.z * wo.z))
+        } else {
+            let denom = ih + eta * oh;
+            let v = (1.0 - f) * dg * eta * eta * (ih * oh).abs() / (wi.z * wo.z.abs() * denom * denom);
+            self.specular_transmittance * v
+        }
+    }
+
+    /// Density of [`Self::sample`] (either mode): F·D_wi(h)/(4|wo·h|) for reflection,
+    /// (1 − F)·D_wi(h)·η²|wo·h|/(wi·h + η wo·h)² for transmission.
+    #[inline]
+    pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
+        let Some((wi, wo, eta)) = self.oriented(wi, wo) else { return 0.0 };
+        if wo.z == 0.0 {
+            return 0.0;
+        }
+        let Some((h, reflect)) = half_vector(wi, wo, eta) else { return 0.0 };
+        let (ih, oh) = (wi.dot(h), wo.dot(h));
+        let f = fresnel::dielectric(ih, eta).0;
+        let vis = warp::ggx_visible_normal_pdf(wi, h, self.alpha);
+        if reflect {
+            f * vis / (4.0 * oh)
+        } else {
+            let denom = ih + eta * oh;
+            (1.0 - f) * vis * eta * eta * oh.abs() / (denom * denom)
+        }
+    }
+
+    /// Samples a visible normal m, then reflects (`u_lobe < F(wi·m)`) or refracts about it.
+    /// Weight (R or T)·G₂/G₁(wi), the transmission one divided by η² in radiance mode. `None`
+    /// when the scattered direction ends on the wrong side.
+    #[inline]
+    pub fn sample(&self, wi: Vec3, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        let inside = wi.z < 0.0;
+        let (w, _, eta) = self.oriented(wi, Vec3::Z)?;
+        let a = self.alpha;
+        let m = warp::square_to_ggx_visible_normal(w, a, u);
+        let im = w.dot(m);
+        if !(im > 0.0) {
+            return None;
+        }
+        let (f, cos_t) = fresnel::dielectric(im, eta);
+        let (wo, colour) = if u_lobe < f {
+            let wo = (2.0 * im * m - w).normalize();
+            if wo.z <= 0.0 {
+                return None;
+            }
+            (wo, self.specular_reflectance)
+        } else {
+            let wo = fresnel::refract(w, m, eta, cos_t);
+            if wo.z >= 0.0 {
+                return None;
+            }
+            let scale = match mode {
+                TransportMode::Importance => 1.0,
+                TransportMode::Radiance => 1.0 / (eta * eta),
+            };
+            (wo, self.specular_transmittance * scale)
+        };
+        let wo_world = if inside { flip(wo) } else { wo };
+        let pdf = self.pdf(wi, wo_world);
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        let (li, lo) = (warp::ggx_lambda(w, a), warp::ggx_lambda(wo, a));
+        let weight = colour * ((1.0 + li) / (1.0 + li + lo));
+        weight.is_finite().then_some(BsdfSample { wo: wo_world, weight, pdf, delta: false })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::chi2::{Chi2Test, SphereGrid, pilot};
+    use crate::sampling::RandomStream;
+    use glam::DVec3;
+
+    fn incident(deg: f32) -> Vec3 {
+        let (st, ct) = deg.to_radians().sin_cos();
+        Vec3::new(st * 0.3f32.cos(), st * 0.3f32.sin(), ct)
+    }
+
+    const IMP: TransportMode = TransportMode::Importance;
+    const RAD: TransportMode = TransportMode::Radiance;
+
+    fn glass() -> SmoothDielectric {
+        SmoothDielectric::new(1.5, 1.0, Rgb::ONE, Rgb::ONE).unwrap()
+    }
+
+    /// Mean and standard error of the first channel of the weights of `m` samples (None = 0).
+    fn mean_weight(
+        mut f: impl FnMut(&mut RandomStream) -> Option<BsdfSample>,
+        m: usize,
+        seed: u64,
+    ) -> (f64, f64) {
+        let mut rng = RandomStream::new(seed, &[]);
+        let (mut s, mut s2) = (0.0f64, 0.0f64);
+        for _ in 0..m {
+            if let Some(x) = f(&mut rng) {
+                let w = x.weight.x as f64;
+                s += w;
+                s2 += w * w;
+            }
+        }
+        let mean = s / m as f64;
+        (mean, ((s2 / m as f64 - mean * mean).max(0.0) / m as f64).sqrt())
+    }
+
+    #[test]
+    fn smooth_dielectric_reflects_refracts_and_conserves_flux() {
+        let g = glass();
+        for deg in [0.0f32, 30.0, 60.0, 89.0] {
+            for wi in [incident(deg), flip(incident(deg))] {
+                let inside = wi.z < 0.0;
+                let eta = if inside { 1.0 / 1.5 } else { 1.5 };
+                let (f, _) = fresnel::dielectric(wi.z.abs(), eta);
+                let r = g.sample(wi, 0.0, IMP).unwrap();
+                let t = g.sample(wi, 0.999_999, IMP).unwrap();
+                assert!(r.delta && t.delta);
+                assert!((r.wo - Vec3::new(-wi.x, -wi.y, wi.z)).length() < 1e-6);
+                assert!((r.pdf - f).abs() < 1e-6);
+                if f < 1.0 {
+                    // Snell: η_i sin θ_i = η_t sin θ_t, and the refracted ray crosses the surface.
+                    let (si, st) = (wi.truncate().length(), t.wo.truncate().length());
+                    assert!((si - eta * st).abs() < 1e-5, "{deg}: {si} vs {eta}·{st}");
+                    assert!(t.wo.z * wi.z < 0.0 && (t.pdf - (1.0 - f)).abs() < 1e-6);
+                    // Importance (flux) weight 1; radiance weight 1/η².
+                    assert_eq!(t.weight, Rgb::ONE);
+                    let tr = g.sample(wi, 0.999_999, RAD).unwrap();
+                    assert!((tr.weight.x - 1.0 / (eta * eta)).abs() < 1e-6);
+                    assert_eq!(tr.wo, t.wo);
+                } else {
+                    assert!(inside && t.wo == r.wo, "total internal reflection");
+                }
+                // White furnace: every sample has weight 1, so the mean is exactly 1.
+                let (mean, _) = mean_weight(|rng| g.sample(wi, rng.next_f32(), IMP), 10_000, 5);
+                assert_eq!(mean, 1.0);
+            }
+        }
+        // Lobe selection frequencies follow F.
+        let wi = incident(70.0);
+        let f = fresnel::dielectric(wi.z, 1.5).0 as f64;
+        let m = 200_000;
+        let mut rng = RandomStream::new(9, &[]);
+        let refl = (0..m).filter(|_| g.sample(wi, rng.next_f32(), IMP).unwrap().wo.z > 0.0).count();
+        let se = (f * (1.0 - f) / m as f64).sqrt();
+        assert!((refl as f64 / m as f64 - f).abs() < 5.0 * se, "{refl} vs F = {f}");
+        assert_eq!(g.sample(Vec3::X, 0.5, IMP), None);
+    }
+
+    fn rough(alpha: f32) -> RoughDielectric {
+        RoughDielectric::new(1.5, 1.0, alpha, Rgb::ONE, Rgb::ONE).unwrap()
+    }
+
+    /// (a) χ² over the whole sphere (reflection and transmission lobes), from outside and inside.
+    #[test]
+    fn chi2_rough_dielectric() {
+        let cases = [(0.05, 30.0), (0.2, 0.0), (0.2, 75.0), (0.5, 60.0), (1.0, 85.0)];
+        for (i, (alpha, deg)) in cases.into_iter().enumerate() {
+            let b = rough(alpha);
+            for (j, wi) in [incident(deg), flip(incident(deg))].into_iter().enumerate() {
+                // Pole on the refracted direction (the transmission lobe is usually the
+                // larger one); the pilot-adapted θ edges resolve the reflection lobe too.
+                let axis = Vec3::new(-wi.x, -wi.y, -wi.z);
+                Chi2Test::new(axis, 900 + 10 * i as u64 + j as u64)
+                    .run(|ul, u| b.sample(wi, ul, u, IMP).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
+                    .assert_ok(&format!("rough dielectric α={alpha} wi={wi}"));
+            }
+        }
+    }
+
+    /// (b) Generalized reciprocity f(a→b)/η_b² = f(b→a)/η_a² (absolute indices), on random pairs
+    /// on both sides, and plain reciprocity for reflection.
+    #[test]
+    fn rough_dielectric_generalized_reciprocity() {
+        let mut rng = RandomStream::new(17, &[]);
+        let eta_of = |v: Vec3| if v.z > 0.0 { 1.0f32 } else { 1.5 };
+        for alpha in [0.05, 0.3, 1.0] {
+            let b = rough(alpha);
+            let mut tested = 0;
+            for _ in 0..20_000 {
+                let wa = warp::square_to_uniform_sphere(rng.next_2d());
+                let wb = match b.sample(wa, rng.next_f32(), rng.next_2d(), IMP) {
+                    Some(s) if rng.next_f32() < 0.7 => s.wo,
+                    _ => warp::square_to_uniform_sphere(rng.next_2d()),
+                };
+                let lhs = b.eval(wa, wb).x / eta_of(wb).powi(2);
+                let rhs = b.eval(wb, wa).x / eta_of(wa).powi(2);
+                assert!(lhs.is_finite() && rhs.is_finite() && lhs >= 0.0);
+                assert!(
+                    (lhs - rhs).abs() <= 1e-3 * lhs.max(rhs) + 1e-7,
+                    "α={alpha} {wa} {wb}: {lhs} vs {rhs}"
+                );
+                tested += (lhs > 0.0) as usize;
+            }
+            assert!(tested > 5_000, "{tested}");
+        }
+    }
+
+    /// Per sample: the importance weight is f(wi→wo)|cos θ_o|/pdf and the radiance weight is
+    /// f(wo→wi)|cos θ_o|/pdf — the adjoint identity each mode claims.
+    #[test]
+    fn rough_dielectric_weights_match_eval_in_both_modes() {
+        let mut rng = RandomStream::new(27, &[]);
+        let b =
+            RoughDielectric::new(1.33, 1.0, 0.3, Rgb::new(0.9, 0.8, 0.7), Rgb::new(0.5, 0.6, 1.0)).unwrap();
+        let mut n = 0;
+        for deg in [0.0, 40.0, 80.0] {
+            for wi in [incident(deg), flip(incident(deg))] {
+                for _ in 0..3_000 {
+                    let (ul, u) = (rng.next_f32(), rng.next_2d());
+                    let (Some(si), Some(sr)) = (b.sample(wi, ul, u, IMP), b.sample(wi, ul, u, RAD)) else {
+                        continue;
+                    };
+                    assert_eq!((si.wo, si.pdf), (sr.wo, sr.pdf));
+                    assert_eq!(si.pdf, b.pdf(wi, si.wo));
+                    let wi_ = b.eval(wi, si.wo) * si.wo.z.abs() / si.pdf;
+                    let wr_ = b.eval(si.wo, wi) * si.wo.z.abs() / si.pdf;
+                    let close = |a: Rgb, e: Rgb| (a - e).abs().max_element() <= 2e-3 * e.max_element() + 1e-6;
+                    assert!(close(si.weight, wi_), "importance {si:?} vs {wi_}");
+                    assert!(close(sr.weight, wr_), "radiance {sr:?} vs {wr_}");
+                    n += 1;
+                }
+            }
+        }
+        assert!(n > 10_000);
+    }
+
+    /// (c, d) Energy: mean weight equals the quadrature albedo ∫ f |cos θ_o| over the sphere
+    /// within 5σ and is ≤ 1 (R = T = 1), in importance mode; in radiance mode it matches
+    /// ∫ f(wo→wi) |cos θ_o| dwo, the adjoint's albedo (which may exceed 1 inside glass).
+    #[test]
+    fn rough_dielectric_energy() {
+        for alpha in [0.1, 0.5, 1.0] {
+            let b = rough(alpha);
+            for (k, wi) in [incident(0.0), incident(60.0), flip(incident(30.0)), flip(incident(70.0))]
+                .into_iter()
+                .enumerate()
+            {
+                let dirs = pilot(|ul, u| b.sample(wi, ul, u, IMP).map(|s| (s.wo, s.pdf)), 20_000, 4);
+                let grid = SphereGrid::adapted(-wi, &dirs, 16, 16);
+                let forward = grid.integrate(|wo| DVec3::splat((b.eval(wi, wo).x * wo.z.abs()) as f64)).x;
+                let adjoint = grid.integrate(|wo| DVec3::splat((b.eval(wo, wi).x * wo.z.abs()) as f64)).x;
+                let seed = 40 + k as u64;
+                let (mi, ei) = mean_weight(|r| b.sample(wi, r.next_f32(), r.next_2d(), IMP), 200_000, seed);
+                let (mr, er) = mean_weight(|r| b.sample(wi, r.next_f32(), r.next_2d(), RAD), 200_000, seed);
+                assert!(mi <= 1.0 && forward <= 1.0 + 1e-3, "α={alpha} wi={wi}: {mi} {forward}");
+                assert!(
+                    (mi - forward).abs() <= 5.0 * ei + 1e-3,
+                    "α={alpha} wi={wi}: {mi} ± {ei} vs {forward}"
+                );
+                assert!(
+                    (mr - adjoint).abs() <= 5.0 * er + 1e-3,
+                    "α={alpha} wi={wi}: {mr} ± {er} vs {adjoint}"
+                );
+                if alpha <= 0.1 && wi.z > 0.9 {
+                    assert!(mi > 0.98, "nearly smooth glass at normal incidence loses little: {mi}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn dielectric_parameters_are_validated() {
+        use MaterialError::*;
+        let o = Rgb::ONE;
+        assert_eq!(SmoothDielectric::new(0.0, 1.0, o, o), Err(NotPositive("int_ior")));
+        assert_eq!(SmoothDielectric::new(1.5, -1.0, o, o), Err(NotPositive("ext_ior")));
+        assert_eq!(SmoothDielectric::new(f32::NAN, 1.0, o, o), Err(NotFinite("int_ior")));
+        assert_eq!(
+            SmoothDielectric::new(1.5, 1.0, Rgb::splat(1.2), o),
+            Err(AboveOne("specular_reflectance"))
+        );
+        assert_eq!(SmoothDielectric::new(1.5, 1.0, o, -o), Err(Negative("specular_transmittance")));
+        assert!(SmoothDielectric::new(1.0, 1.0, o, o).is_ok(), "an invisible interface is fine when smooth");
+        assert_eq!(RoughDielectric::new(1.5, 1.5, 0.1, o, o), Err(EqualIors(1.5)));
+        assert_eq!(RoughDielectric::new(1.5, 1.0, -0.1, o, o), Err(NotPositive("alpha")));
+        assert_eq!(
+            RoughDielectric::new(1.5, 1.0, 2.0, o, o),
+            Err(TooLarge { name: "alpha", value: 2.0, max: 1.0 })
+        );
+    }
+}
