@@ -104,6 +104,7 @@ fn emissive_furnace_is_uniform() {
             width: 32,
             height: 32,
         }),
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let cam = camera(&scene);
@@ -158,8 +159,10 @@ fn point_light_over_lambertian_plane() {
             source: Default::default(),
             position: light_pos,
             intensity: Rgb::splat(intensity),
+            ..Default::default()
         }],
         camera: Some(cam_desc),
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let cam = Pinhole::new(&cam_desc).unwrap();
@@ -227,6 +230,7 @@ fn lambertian_emitter_reads_its_radiance() {
         meshes: vec![emitter],
         point_lights: vec![],
         camera: None,
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let area = 1.0f32;

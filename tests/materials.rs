@@ -137,7 +137,13 @@ fn icosphere(name: &str, centre: Vec3, radius: f32, levels: u32, material: usize
 }
 
 fn point_light(position: Vec3) -> PointLightDesc {
-    PointLightDesc { name: "bulb".into(), source: Default::default(), position, intensity: Rgb::splat(1.0) }
+    PointLightDesc {
+        name: "bulb".into(),
+        source: Default::default(),
+        position,
+        intensity: Rgb::splat(1.0),
+        ..Default::default()
+    }
 }
 
 /// Mean and standard error of the mean.
@@ -187,6 +193,7 @@ fn glass_sphere_keeps_the_furnace_balance() {
         meshes: [room(0, 0), vec![icosphere("ball", centre, radius, 3, 1)]].concat(),
         point_lights: vec![point_light(Vec3::new(-0.2, 0.6, 0.1))],
         camera: None,
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let phi = scene.lights[0].power().x as f64;
@@ -212,6 +219,7 @@ fn mirror_floor_keeps_the_furnace_balance() {
         meshes: [room(0, 1), vec![icosphere("ball", centre, radius, 3, 2)]].concat(),
         point_lights: vec![point_light(Vec3::new(0.3, 0.5, -0.2))],
         camera: None,
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let phi = scene.lights[0].power().x as f64;
@@ -256,6 +264,7 @@ fn mirror_floored_box_renders_finite_positive_images() {
             .concat(),
             point_lights: vec![point_light(Vec3::new(0.0, 0.8, 0.0))],
             camera: Some(cam),
+            ..Default::default()
         };
         Scene::build(&desc).unwrap()
     };

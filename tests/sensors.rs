@@ -147,8 +147,10 @@ fn meter_matches_point_light_inverse_square_law() {
             source: Default::default(),
             position: light,
             intensity: Rgb::splat(intensity),
+            ..Default::default()
         }],
         camera: None,
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let (table, chunks) = trace_chunks(&scene, 4_000_000, 21);
@@ -197,6 +199,7 @@ fn meter_matches_parallel_rectangle_emitter() {
         meshes: vec![floor(50.0, 0), panel],
         point_lights: vec![],
         camera: None,
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let (l, h, half) = (l as f64, h as f64, half as f64);
@@ -246,8 +249,10 @@ fn meter_agrees_with_the_camera_on_a_lambertian_floor() {
             source: Default::default(),
             position: Vec3::new(0.3, 1.0, 0.2),
             intensity: Rgb::splat(1.0),
+            ..Default::default()
         }],
         camera: Some(cam_desc),
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let cam = Pinhole::new(&cam_desc).unwrap();
@@ -330,6 +335,7 @@ fn thin_lens_leaves_a_uniform_scene_unchanged() {
         meshes: inward_box(Vec3::splat(-1.0), Vec3::splat(1.0), 0, Some(Rgb::splat(le))),
         point_lights: vec![],
         camera: Some(cam_desc),
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let lens = ThinLens::new(Pinhole::new(&cam_desc).unwrap(), 0.3, 0.4).unwrap();
@@ -375,6 +381,7 @@ fn thin_lens_focus_is_sharp_and_defocus_blurs() {
         meshes: vec![panel],
         point_lights: vec![],
         camera: None,
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let cam = Pinhole::new(&CameraDesc {
@@ -445,6 +452,7 @@ fn equirect_reads_the_emissive_furnace_everywhere() {
         meshes: inward_box(Vec3::splat(-1.0), Vec3::splat(1.0), 0, Some(Rgb::splat(le))),
         point_lights: vec![],
         camera: Some(cam_desc),
+        ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let pano = Equirectangular::new(&cam_desc).unwrap();

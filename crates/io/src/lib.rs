@@ -6,6 +6,7 @@
 //! * [`dataset_file`]: the persistent dataset (`.opds`): atomic writer, memory-mapped reader;
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
+//! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios).
 
@@ -13,6 +14,7 @@ pub mod camera_path_file;
 pub mod compare;
 pub mod dataset_file;
 pub mod heatmap;
+pub mod ies;
 pub mod image_file;
 pub mod scene_formats;
 

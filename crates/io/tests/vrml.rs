@@ -118,6 +118,7 @@ fn point_lights_and_phong_round_trip() {
         source: Source::default(),
         position: Vec3::new(0.1, 0.5, -0.2),
         intensity: Rgb::new(1.0, 2.0, 3.0),
+        ..Default::default()
     });
     desc.materials[1].bsdf = Bsdf::ModifiedPhong(
         opticks_core::bsdf::ModifiedPhong::new(Rgb::splat(0.3), Rgb::splat(0.6), 42.5).unwrap(),
@@ -159,6 +160,7 @@ fn real_exporter_output_loads() {
         source: Source::default(),
         position: Vec3::new(0.0, 3.0, 0.0),
         intensity: Rgb::ONE,
+        ..Default::default()
     });
     let s = Scene::build(d).unwrap();
     assert_eq!(s.triangles.len(), 80);

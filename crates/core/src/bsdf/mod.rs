@@ -35,7 +35,7 @@
 //!   (η_given/η_sampled)², the familiar radiance scaling of pbrt's `TransportMode::Radiance`.
 //!   Reflection weights are the same in both modes.
 #[cfg(test)]
-mod chi2;
+pub(crate) mod chi2;
 mod conductor;
 mod dielectric;
 pub mod fresnel;

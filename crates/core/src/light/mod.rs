@@ -1,20 +1,39 @@
-//! Light sources: a closed set ([`Light`]) of one-sided Lambertian area lights (emissive
-//! triangle meshes) and isotropic point lights. A light's defining quantity is its power Φ;
+//! Light sources: a closed set ([`Light`]) of one-sided area lights (emissive triangle meshes),
+//! point lights and directional (sun) lights. A light's defining quantity is its power Φ;
 //! what the tracer needs from it is an *emission sample*: a start point and direction drawn
 //! from the light's own emission density, with the weight that keeps the estimator exact.
+//!
+//! How the emission is distributed over directions is an [`EmissionProfile`] (a probability
+//! density f_e, see [`profile`]): cosine (Lambertian, the default of area lights), uniform (the
+//! default of point lights), cosⁿ, Mitsuba's spot cone, or IES photometric data.
+//!
+//! A [`DirectionalLight`] sends parallel rays of irradiance E (W/m² on a plane perpendicular to
+//! them) over the whole scene: paths start uniformly on a disk perpendicular to the direction,
+//! just outside the scene's bounding sphere, whose radius is the bounding radius r, so
+//! Φ = E·π·r². Like point lights it is invisible to cameras (a delta distribution).
+
+pub mod profile;
+
+pub use profile::{
+    BuiltProfile, EmissionProfile, IesProfile, LUMENS_PER_WATT, ProfileError, lumens_to_watts,
+};
 
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::warp;
 use crate::scene::Triangle;
-use std::f32::consts::PI;
 
-/// A one-sided Lambertian emitter made of scene triangles.
+/// A one-sided emitter made of scene triangles.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AreaLight {
     /// Name from the scene.
     pub name: String,
-    /// Emitted radiance L_e, W/(m²·sr), constant over the surface and the front hemisphere.
+    /// Emitted radiance along the normal, W/(m²·sr) (for the default cosine profile, the
+    /// radiance in every direction of the front hemisphere). Φ = radiance·A·∫s dω (module docs
+    /// of [`profile`]).
     pub radiance: Rgb,
+    /// The emission density over the front hemisphere, in each triangle's frame
+    /// `Frame::from_normal(normal)` (its x axis is φ = 0 for asymmetric profiles).
+    pub profile: BuiltProfile,
     /// Scene triangle indices of the emitter.
     pub triangles: Vec<u32>,
     /// Cumulative areas (for picking a triangle ∝ area); last entry = total area.
@@ -28,15 +47,39 @@ impl AreaLight {
     }
 }
 
-/// An isotropic point light.
+/// A point light: intensity I(ω) = Φ·f_e(ω).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PointLight {
     /// Name from the scene.
     pub name: String,
     /// Position.
     pub position: Vec3,
-    /// Radiant intensity I, W/sr.
+    /// Strength: radiant intensity on the profile's axis, W/sr (everywhere for the uniform
+    /// profile); I(ω) = intensity·s(ω).
     pub intensity: Rgb,
+    /// Power Φ, W per channel (= intensity·∫s dω).
+    pub power: Rgb,
+    /// The emission density.
+    pub profile: BuiltProfile,
+    /// The profile's frame (z = axis, x = φ = 0).
+    pub frame: Frame,
+}
+
+/// Parallel light covering the scene (a sun).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DirectionalLight {
+    /// Name from the scene.
+    pub name: String,
+    /// Unit direction the light travels in.
+    pub direction: Vec3,
+    /// Irradiance E on a plane perpendicular to `direction`, W/m².
+    pub irradiance: Rgb,
+    /// Centre of the emitting disk (outside the scene's bounding sphere).
+    pub centre: Vec3,
+    /// Disk radius (the scene's bounding radius).
+    pub radius: f32,
+    /// Frame with z = `direction`.
+    pub frame: Frame,
 }
 
 /// The closed set of lights.
@@ -46,6 +89,8 @@ pub enum Light {
     Area(AreaLight),
     /// Point light.
     Point(PointLight),
+    /// Directional light.
+    Directional(DirectionalLight),
 }
 
 /// Where and in which direction a light path starts.
@@ -58,8 +103,9 @@ pub struct Emission {
     /// Unit direction of the first ray.
     pub dir: Vec3,
     /// β₁: emitted flux along this ray divided by Φ/N, i.e.
-    /// L_e(y0, ω)·cos θ / (p_A(y0)·p_ω(ω)·Φ). Exactly 1 when the direction density matches
-    /// the emission function, as it does for both lights here.
+    /// L_e(y0, ω)·cos θ / (p_A(y0)·p_ω(ω)·Φ) = f_e(ω)/p_ω(ω). Exactly 1 when the direction
+    /// density matches the emission function (cosine, uniform, cosⁿ, directional); mean 1 for
+    /// the spot and IES profiles, which are sampled approximately.
     pub weight: Rgb,
 }
 
@@ -69,21 +115,39 @@ impl Light {
         match self {
             Light::Area(l) => &l.name,
             Light::Point(l) => &l.name,
+            Light::Directional(l) => &l.name,
         }
     }
 
-    /// Power Φ in watts per channel: π·L·A for a Lambertian area light, 4π·I for a point light.
+    /// Power Φ in watts per channel: π·L·A for a Lambertian area light (L·A·∫s dω in general),
+    /// 4π·I for an isotropic point light, E·π·r² for a directional light.
     pub fn power(&self) -> Rgb {
         match self {
-            Light::Area(l) => PI * l.radiance * l.area(),
-            Light::Point(l) => 4.0 * PI * l.intensity,
+            Light::Area(l) => l.profile.integral() * l.radiance * l.area(),
+            Light::Point(l) => l.power,
+            Light::Directional(l) => l.irradiance * (std::f32::consts::PI * l.radius * l.radius),
+        }
+    }
+
+    /// L_e(y0, ω)·A/Φ of an area light in the world direction `dir` from a point of normal
+    /// `normal`: f_e(ω)/cos θ (1/π for a Lambertian emitter), what the sensor uses in place of
+    /// f_r at an emission vertex. 0 for delta lights (point, directional) and behind the surface.
+    #[inline]
+    pub fn emitted_fraction(&self, normal: Vec3, dir: Vec3) -> f32 {
+        match self {
+            Light::Area(l) => match l.profile {
+                BuiltProfile::Cosine => std::f32::consts::FRAC_1_PI,
+                ref p => p.emitted_fraction(Frame::from_normal(normal).to_local(dir)),
+            },
+            _ => 0.0,
         }
     }
 
     /// Draws a path start from two uniform points of [0,1)²: `u_pos` picks a point uniform over
     /// the light's area (p_A = 1/A; its x coordinate first picks a triangle ∝ area and is then
     /// reused, rescaled, so stratified inputs stay stratified), `u_dir` a direction from the
-    /// emission density (cosine for area lights, uniform sphere for point lights).
+    /// emission density (the light's profile; a directional light uses `u_pos` for a point
+    /// uniform on its disk).
     #[inline]
     pub fn sample_emission(&self, triangles: &[Triangle], u_pos: Vec2, u_dir: Vec2) -> Emission {
         match self {
@@ -97,15 +161,27 @@ impl Light {
                 let b = warp::square_to_uniform_triangle(Vec2::new(ux, u_pos.y));
                 let origin = tri.point(b.x, b.y);
                 let normal = tri.normal();
-                let dir = Frame::from_normal(normal).to_world(warp::square_to_cosine_hemisphere(u_dir));
-                Emission { origin, surface: Some((normal, prim)), dir, weight: Rgb::ONE }
+                let (local, w) = l.profile.sample(u_dir);
+                let dir = Frame::from_normal(normal).to_world(local);
+                Emission { origin, surface: Some((normal, prim)), dir, weight: Rgb::splat(w) }
             }
-            Light::Point(l) => Emission {
-                origin: l.position,
-                surface: None,
-                dir: warp::square_to_uniform_sphere(u_dir),
-                weight: Rgb::ONE,
-            },
+            Light::Point(l) => {
+                let (dir, w) = match l.profile {
+                    BuiltProfile::Uniform { hemisphere: false } => {
+                        (warp::square_to_uniform_sphere(u_dir), 1.0)
+                    }
+                    ref p => {
+                        let (local, w) = p.sample(u_dir);
+                        (l.frame.to_world(local).normalize(), w)
+                    }
+                };
+                Emission { origin: l.position, surface: None, dir, weight: Rgb::splat(w) }
+            }
+            Light::Directional(l) => {
+                let d = l.radius * warp::square_to_concentric_disk(u_pos);
+                let origin = l.centre + d.x * l.frame.s + d.y * l.frame.t;
+                Emission { origin, surface: None, dir: l.direction, weight: Rgb::ONE }
+            }
         }
     }
 }

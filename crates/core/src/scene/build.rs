@@ -10,8 +10,8 @@ use super::{CameraDesc, Fingerprint, SceneDescription, Source};
 use crate::accel::Accel;
 use crate::bsdf::Material;
 use crate::geometry::{Hit, Ray};
-use crate::light::{AreaLight, Light, PointLight};
-use crate::math::{Rgb, Vec3};
+use crate::light::{AreaLight, BuiltProfile, DirectionalLight, EmissionProfile, Light, PointLight};
+use crate::math::{Frame, Rgb, Vec3};
 
 /// A triangle as stored for sampling and shading: v0 and two edges.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -133,6 +133,26 @@ pub enum SceneError {
         /// The bad value.
         value: [f32; 3],
     },
+    /// An emission profile is impossible (a negative exponent, a cutoff ≤ 0, a bad IES table).
+    #[error("{at}: light '{light}': {message}")]
+    BadProfile {
+        /// Where the light was declared.
+        at: Source,
+        /// Light name.
+        light: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A light's orientation or direction is zero, not finite or not orthonormal.
+    #[error("{at}: light '{light}': {message}")]
+    BadOrientation {
+        /// Where the light was declared.
+        at: Source,
+        /// Light name.
+        light: String,
+        /// What is wrong.
+        message: String,
+    },
     /// An emissive mesh has no area.
     #[error("{at}: area light '{light}' has no triangle of non-zero area")]
     EmptyAreaLight {
@@ -158,6 +178,9 @@ fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
     match light {
         Light::Area(a) => {
             h.0.update(b"lambertian area");
+            if a.profile != BuiltProfile::Cosine {
+                a.profile.hash_into(&mut h.0);
+            }
             for &t in &a.triangles {
                 let t = &triangles[t as usize];
                 h.f32s(&[t.v0.x, t.v0.y, t.v0.z, t.e1.x, t.e1.y, t.e1.z, t.e2.x, t.e2.y, t.e2.z]);
@@ -166,9 +189,34 @@ fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
         Light::Point(p) => {
             h.0.update(b"isotropic point");
             h.f32s(&p.position.to_array());
+            if p.profile != (BuiltProfile::Uniform { hemisphere: false }) {
+                p.profile.hash_into(&mut h.0);
+                h.f32s(&[p.frame.s.x, p.frame.s.y, p.frame.s.z, p.frame.n.x, p.frame.n.y, p.frame.n.z]);
+            }
+        }
+        Light::Directional(d) => {
+            h.0.update(b"directional");
+            h.f32s(&d.direction.to_array());
+            h.f32s(&d.centre.to_array());
+            h.f32s(&[d.radius]);
         }
     }
     h.finish()
+}
+
+/// `f` re-orthonormalised (Gram–Schmidt from its z axis), if it is finite and close to
+/// orthonormal (within 10⁻³).
+fn orthonormal(f: Frame) -> Option<Frame> {
+    let ok = [f.s, f.t, f.n].iter().all(|v| v.is_finite() && (v.length() - 1.0).abs() < 1e-3)
+        && f.s.dot(f.t).abs() < 1e-3
+        && f.s.dot(f.n).abs() < 1e-3
+        && f.t.dot(f.n).abs() < 1e-3;
+    if !ok {
+        return None;
+    }
+    let n = f.n.normalize();
+    let s = (f.s - n * f.s.dot(n)).normalize();
+    Some(Frame { s, t: n.cross(s), n })
 }
 
 impl Scene {
@@ -250,9 +298,16 @@ impl Scene {
                         light: mesh.name.clone(),
                     });
                 }
+                let profile = mesh.emission_profile.as_ref().unwrap_or(&EmissionProfile::Cosine);
+                let profile = BuiltProfile::build(profile, true).map_err(|e| SceneError::BadProfile {
+                    at: mesh.source.clone(),
+                    light: mesh.name.clone(),
+                    message: e.0,
+                })?;
                 lights.push(Light::Area(AreaLight {
                     name: mesh.name.clone(),
                     radiance,
+                    profile,
                     triangles: emitter_tris,
                     cumulative_area: cumulative,
                 }));
@@ -273,11 +328,77 @@ impl Scene {
                     value: p.position.to_array(),
                 });
             }
+            let bad_profile = |message: String| SceneError::BadProfile {
+                at: p.source.clone(),
+                light: p.name.clone(),
+                message,
+            };
+            let profile = BuiltProfile::build(p.profile.as_ref().unwrap_or(&EmissionProfile::Uniform), false)
+                .map_err(|e| bad_profile(e.0))?;
+            let frame = match p.orientation {
+                None => Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z },
+                Some(f) => orthonormal(f).ok_or_else(|| SceneError::BadOrientation {
+                    at: p.source.clone(),
+                    light: p.name.clone(),
+                    message: format!("orientation {f:?} is not a finite orthonormal frame"),
+                })?,
+            };
+            let integral = profile.integral();
+            let (intensity, power) = match p.power {
+                Some(phi) => {
+                    if !(phi.is_finite() && phi.min_element() >= 0.0) {
+                        return Err(bad_profile(format!(
+                            "power {:?} W must be finite and non-negative",
+                            phi.to_array()
+                        )));
+                    }
+                    (phi / integral, phi)
+                }
+                None => (p.intensity, integral * p.intensity),
+            };
             lights.push(Light::Point(PointLight {
                 name: p.name.clone(),
                 position: p.position,
-                intensity: p.intensity,
+                intensity,
+                power,
+                profile,
+                frame,
             }));
+        }
+        if !desc.directional_lights.is_empty() && !vertices.is_empty() {
+            // Bounding sphere of the scene's triangles (centre of the box, half its diagonal).
+            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+            for v in vertices.iter().flatten() {
+                lo = lo.min(*v);
+                hi = hi.max(*v);
+            }
+            let centre = 0.5 * (lo + hi);
+            let radius = 0.5 * (hi - lo).length();
+            for d in &desc.directional_lights {
+                if !(d.irradiance.is_finite() && d.irradiance.min_element() >= 0.0) {
+                    return Err(SceneError::BadEmission {
+                        at: d.source.clone(),
+                        light: d.name.clone(),
+                        value: d.irradiance.to_array(),
+                    });
+                }
+                let dir = d.direction.normalize_or_zero();
+                if !(dir.is_finite() && dir != Vec3::ZERO) {
+                    return Err(SceneError::BadOrientation {
+                        at: d.source.clone(),
+                        light: d.name.clone(),
+                        message: format!("direction {:?} is zero or not finite", d.direction.to_array()),
+                    });
+                }
+                lights.push(Light::Directional(DirectionalLight {
+                    name: d.name.clone(),
+                    direction: dir,
+                    irradiance: d.irradiance,
+                    centre: centre - dir * (radius * 1.001 + 1e-4),
+                    radius,
+                    frame: Frame::from_normal(dir),
+                }));
+            }
         }
         if triangles.is_empty() {
             return Err(SceneError::NoGeometry);

@@ -3,7 +3,8 @@
 //! acceleration structures, nothing validated yet. [`crate::scene::Scene::build`] validates it.
 
 use crate::bsdf::Material;
-use crate::math::{Rgb, Vec3};
+use crate::light::EmissionProfile;
+use crate::math::{Frame, Rgb, Vec3};
 use crate::scene::CameraDesc;
 
 /// Where a scene element came from, for error messages ("scene.xml:42").
@@ -38,12 +39,16 @@ pub struct MeshDesc {
     pub triangles: Vec<[u32; 3]>,
     /// Index into [`SceneDescription::materials`].
     pub material: usize,
-    /// If set, the mesh is a one-sided Lambertian area light of this radiance, W/(m²·sr).
+    /// If set, the mesh is a one-sided area light of this radiance (along the normal),
+    /// W/(m²·sr).
     pub emission: Option<Rgb>,
+    /// The emitter's directional distribution; `None` = [`EmissionProfile::Cosine`]
+    /// (Lambertian). Evaluated in each triangle's frame `Frame::from_normal(normal)`.
+    pub emission_profile: Option<EmissionProfile>,
 }
 
-/// An isotropic point light.
-#[derive(Clone, Debug, PartialEq)]
+/// A point light.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct PointLightDesc {
     /// Name for messages and relighting.
     pub name: String,
@@ -51,8 +56,31 @@ pub struct PointLightDesc {
     pub source: Source,
     /// Position, world space.
     pub position: Vec3,
-    /// Radiant intensity, W/sr (power Φ = 4π·I).
+    /// Radiant intensity on the profile's axis, W/sr (isotropic: power Φ = 4π·I). For an IES
+    /// profile, a per-channel scale of the file's candela/683.
     pub intensity: Rgb,
+    /// The emission distribution; `None` = [`EmissionProfile::Uniform`] (isotropic).
+    pub profile: Option<EmissionProfile>,
+    /// The profile's frame in world space (z = the axis, e.g. a spot's direction or an IES
+    /// file's 0° vertical angle; x = horizontal angle 0°). `None` = the identity (z = world +z).
+    /// Use `Frame::from_normal(axis)` when only the axis matters.
+    pub orientation: Option<Frame>,
+    /// If set, the power Φ (W per channel), overriding `intensity` (which then follows from
+    /// it: intensity = Φ/∫s dω).
+    pub power: Option<Rgb>,
+}
+
+/// A directional (sun) light covering the whole scene.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DirectionalLightDesc {
+    /// Name for messages and relighting.
+    pub name: String,
+    /// Where it was declared.
+    pub source: Source,
+    /// Direction the light travels in (need not be unit length).
+    pub direction: Vec3,
+    /// Irradiance on a plane perpendicular to the direction, W/m².
+    pub irradiance: Rgb,
 }
 
 /// Everything a loader produces.
@@ -64,6 +92,8 @@ pub struct SceneDescription {
     pub meshes: Vec<MeshDesc>,
     /// Point lights.
     pub point_lights: Vec<PointLightDesc>,
+    /// Directional lights.
+    pub directional_lights: Vec<DirectionalLightDesc>,
     /// The scene file's own camera, if it has one.
     pub camera: Option<CameraDesc>,
 }

@@ -12,5 +12,5 @@ pub use build::{Scene, SceneError, Triangle};
 pub use camera::{CameraDesc, CameraError, Pinhole};
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};
 pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
-pub use description::{MeshDesc, PointLightDesc, SceneDescription, Source};
+pub use description::{DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
 pub use fingerprint::Fingerprint;

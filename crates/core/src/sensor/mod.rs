@@ -14,9 +14,9 @@
 //!
 //! (a light tracer's t = 1 connection, Veach ch. 10, DESIGN.md §2). For the pinhole,
 //! W = 1/(d²·a·cos³θ_c), so each pixel converges to the radiance at the pinhole averaged over its
-//! square of the image plane (a box filter). Emission vertices use L_e·A_k/Φ_k = 1/π in place of
-//! f_r, and only their front side is visible. The per-sensor W are derived in each sensor's
-//! module.
+//! square of the image plane (a box filter). Emission vertices use L_e·A_k/Φ_k = f_e(ω_c)/cos θ
+//! ([`crate::light::Light::emitted_fraction`]; 1/π for a Lambertian emitter) in place of f_r,
+//! and only their front side is visible. The per-sensor W are derived in each sensor's module.
 //!
 //! Sensors that pick a random point on their aperture (the thin lens) draw it from a hash of the
 //! sample's own bits, so a render is reproducible and does not depend on how the dataset was
@@ -40,7 +40,6 @@ use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::{Pinhole, Scene};
 use rayon::prelude::*;
-use std::f32::consts::FRAC_1_PI;
 
 /// A run of samples from one light and the flux each unit of β stands for (Φ_k/N_k, after any
 /// relighting). What a sensor consumes; the source can be memory or a mapped file.
@@ -173,7 +172,7 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
             if cos_x <= 0.0 {
                 continue; // emitters are one-sided
             }
-            Rgb::splat(FRAC_1_PI)
+            Rgb::splat(scene.light_of(prim).map_or(0.0, |k| scene.lights[k].emitted_fraction(n, wc)))
         } else {
             let f = scene.material(prim).eval_world(n, s.from_dir(), wc);
             if f == Rgb::ZERO {

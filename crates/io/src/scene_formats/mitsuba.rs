@@ -1274,7 +1274,15 @@ impl<'a, 'i> Ctx<'a, 'i> {
             }
         };
         self.finish(&p);
-        Ok(MeshDesc { name, source: self.source(n), positions, triangles, material, emission })
+        Ok(MeshDesc {
+            name,
+            source: self.source(n),
+            positions,
+            triangles,
+            material,
+            emission,
+            ..Default::default()
+        })
     }
 
     fn area_emitter(&mut self, n: Node<'a, 'i>) -> Result<Rgb> {
@@ -1335,7 +1343,13 @@ impl<'a, 'i> Ctx<'a, 'i> {
             return Err(self.err(inode, "intensity must not be negative"));
         }
         self.finish(&p);
-        Ok(PointLightDesc { name, source: self.source(n), position: position.as_vec3(), intensity })
+        Ok(PointLightDesc {
+            name,
+            source: self.source(n),
+            position: position.as_vec3(),
+            intensity,
+            ..Default::default()
+        })
     }
 }
 

@@ -224,9 +224,11 @@ pub fn load_obj_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             triangles: mesh.triangles,
             material: 0,
             emission: None,
+            ..Default::default()
         }],
         point_lights: Vec::new(),
         camera: None,
+        ..Default::default()
     };
     Ok(LoadedScene { description, warnings })
 }

@@ -244,6 +244,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     triangles,
                     material,
                     emission,
+                    ..Default::default()
                 });
             }
         }
@@ -264,6 +265,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                         source: source.clone(),
                         position: m.transform_point3(Vec3::ZERO),
                         intensity,
+                        ..Default::default()
                     });
                 }
                 Kind::Spot { .. } => warn(

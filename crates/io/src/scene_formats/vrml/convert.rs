@@ -313,6 +313,7 @@ impl Converter {
             triangles,
             material,
             emission,
+            ..Default::default()
         });
         Ok(())
     }
@@ -540,6 +541,7 @@ impl Converter {
             source: self.source(n),
             position: m.transform_point3(dv(location)).as_vec3(),
             intensity,
+            ..Default::default()
         });
     }
 

@@ -402,6 +402,7 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             triangles,
             material,
             emission,
+            ..Default::default()
         });
     }
     if desc.meshes.is_empty() {

@@ -1,0 +1,402 @@
+//! IES LM-63 photometric files (`.ies`): the 1986, 1995 (`IESNA:LM-63-1995`) and 2002
+//! (`IESNA:LM-63-2002`) variants, read into a core [`IesProfile`] (angles and a candela grid).
+//!
+//! # Layout
+//!
+//! ```text
+//! IESNA:LM-63-2002                 optional format line (absent in LM-63-1986 files)
+//! [TEST] ...  [MANUFAC] ...        keyword lines, kept in `IesFile::keywords`
+//! TILT=NONE                        required; TILT=INCLUDE / TILT=<file> are refused
+//! lamps lumens/lamp multiplier #vertical #horizontal photometric-type units width length height
+//! ballast-factor ballast-lamp-factor(1995) or future-use(2002) input-watts
+//! vertical angles (#vertical numbers)
+//! horizontal angles (#horizontal numbers)
+//! candela: for each horizontal angle, #vertical values
+//! ```
+//!
+//! After the `TILT` line, numbers are separated by any whitespace (or commas) and may wrap
+//! lines freely. Only photometric type C (1) is supported: vertical angle 0° is the luminaire's
+//! nadir (its axis), horizontal 0° its local x axis; types A and B are refused with a clear
+//! error. The horizontal angles must start at 0° and end at 0° (rotational symmetry), 90°
+//! (quadrant), 180° (bilateral) or 360° (none).
+//!
+//! The candela values in the profile have the **candela multiplier, the ballast factor and the
+//! ballast-lamp photometric factor** applied (the LM-63 reading). The file's rated flux
+//! (lamps × lumens per lamp × multiplier, `None` for −1 "absolute photometry") is reported in
+//! [`IesFile::rated_lumens`], but a light's power comes from integrating the candela
+//! distribution (see `opticks_core::light::profile`): that is the flux the file's distribution
+//! really carries.
+//!
+//! Every error names the file and the 1-based line, e.g.
+//! `lamp.ies:14: candela value 3 of horizontal angle 2 is negative (-5)`.
+
+use opticks_core::light::IesProfile;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A parsed IES file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IesFile {
+    /// The photometric grid (candela with all multipliers applied).
+    pub profile: IesProfile,
+    /// `[KEYWORD] value` lines, in file order.
+    pub keywords: Vec<(String, String)>,
+    /// Number of lamps.
+    pub lamps: f32,
+    /// Lumens per lamp, `None` for −1 (absolute photometry).
+    pub lumens_per_lamp: Option<f32>,
+    /// Candela multiplier.
+    pub multiplier: f32,
+    /// Ballast factor × ballast-lamp photometric factor.
+    pub ballast_factor: f32,
+    /// Luminous opening width, length, height (as given, in `units`).
+    pub dimensions: [f32; 3],
+    /// Units type: 1 = feet, 2 = metres.
+    pub units: u32,
+    /// Input watts.
+    pub input_watts: f32,
+}
+
+impl IesFile {
+    /// The flux the file claims: lamps × lumens per lamp × multiplier × ballast factor, if given.
+    pub fn rated_lumens(&self) -> Option<f32> {
+        self.lumens_per_lamp.map(|l| self.lamps * l * self.multiplier * self.ballast_factor)
+    }
+}
+
+/// What is wrong with an IES file, and where.
+#[derive(Debug)]
+pub struct IesError {
+    /// The file.
+    pub file: PathBuf,
+    /// 1-based line (0 when the file could not be read).
+    pub line: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for IesError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line > 0 {
+            write!(f, "{}:{}: {}", self.file.display(), self.line, self.message)
+        } else {
+            write!(f, "{}: {}", self.file.display(), self.message)
+        }
+    }
+}
+
+impl std::error::Error for IesError {}
+
+/// Reads and parses an IES file.
+pub fn load_ies(path: &Path) -> Result<IesFile, IesError> {
+    let bytes = std::fs::read(path).map_err(|e| IesError {
+        file: path.to_path_buf(),
+        line: 0,
+        message: format!("cannot read the IES file: {e}"),
+    })?;
+    // LM-63 files are ASCII; tolerate Latin-1 bytes in keyword lines.
+    let text: String = bytes.iter().map(|&b| b as char).collect();
+    parse_ies(&text, path)
+}
+
+/// Numbers after the TILT line, with their lines.
+struct Tokens<'a> {
+    toks: Vec<(&'a str, usize)>,
+    pos: usize,
+    file: &'a Path,
+    last_line: usize,
+}
+
+impl<'a> Tokens<'a> {
+    fn err(&self, line: usize, message: impl Into<String>) -> IesError {
+        IesError { file: self.file.to_path_buf(), line, message: message.into() }
+    }
+
+    fn number(&mut self, what: &str) -> Result<(f64, usize), IesError> {
+        let Some(&(t, line)) = self.toks.get(self.pos) else {
+            return Err(self.err(self.last_line, format!("the file ends before the {what} (truncated?)")));
+        };
+        self.pos += 1;
+        let v: f64 = t.parse().map_err(|_| self.err(line, format!("{what}: \"{t}\" is not a number")))?;
+        if !v.is_finite() || (v as f32).is_infinite() {
+            return Err(self.err(line, format!("{what}: \"{t}\" is not a finite number")));
+        }
+        Ok((v, line))
+    }
+
+    fn count(&mut self, what: &str) -> Result<usize, IesError> {
+        let (v, line) = self.number(what)?;
+        if v.fract() != 0.0 || !(1.0..=100_000.0).contains(&v) {
+            return Err(self.err(line, format!("{what} must be a whole number from 1 to 100000, found {v}")));
+        }
+        Ok(v as usize)
+    }
+}
+
+/// Parses the text of an IES file; `file` is only used in messages.
+pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
+    let err = |line: usize, message: String| IesError { file: file.to_path_buf(), line, message };
+    let lines: Vec<&str> = text.lines().collect();
+    let mut keywords = Vec::new();
+    let mut tilt_line = None;
+    for (i, raw) in lines.iter().enumerate() {
+        let l = raw.trim();
+        if i == 0 && l.to_ascii_uppercase().starts_with("IESNA") {
+            let v = l.to_ascii_uppercase();
+            if !(v.contains("LM-63-1995")
+                || v.contains("LM-63-2002")
+                || v.contains("LM-63-2019")
+                || v == "IESNA91")
+            {
+                return Err(err(
+                    1,
+                    format!("unknown IES format line \"{l}\" (supported: LM-63-1986, -1995, -2002)"),
+                ));
+            }
+            continue;
+        }
+        if let Some(rest) = l.strip_prefix("TILT=").or_else(|| l.strip_prefix("TILT =")) {
+            let rest = rest.trim();
+            if rest != "NONE" {
+                return Err(err(
+                    i + 1,
+                    format!(
+                        "TILT={rest} is not supported (only TILT=NONE: lamp-tilt multiplier tables are not implemented)"
+                    ),
+                ));
+            }
+            tilt_line = Some(i);
+            break;
+        }
+        if let Some(k) = l.strip_prefix('[') {
+            if let Some(end) = k.find(']') {
+                keywords.push((k[..end].to_string(), k[end + 1..].trim().to_string()));
+                continue;
+            }
+        }
+        // Free text lines are allowed before TILT in LM-63-1986 files.
+    }
+    let Some(tilt) = tilt_line else {
+        return Err(err(
+            lines.len().max(1),
+            "no TILT= line: this is not an IES LM-63 file (or it is truncated before the photometric data)"
+                .into(),
+        ));
+    };
+    let mut toks = Vec::new();
+    for (i, l) in lines.iter().enumerate().skip(tilt + 1) {
+        for t in l.split(|c: char| c.is_whitespace() || c == ',').filter(|t| !t.is_empty()) {
+            toks.push((t, i + 1));
+        }
+    }
+    let mut t = Tokens { toks, pos: 0, file, last_line: lines.len().max(1) };
+    let (lamps, lamps_line) = t.number("number of lamps")?;
+    if !(lamps > 0.0) {
+        return Err(err(lamps_line, format!("the number of lamps must be positive, found {lamps}")));
+    }
+    let (lumens, lumens_line) = t.number("lumens per lamp")?;
+    if !(lumens > 0.0 || lumens == -1.0) {
+        return Err(err(
+            lumens_line,
+            format!("lumens per lamp must be positive or -1 (absolute), found {lumens}"),
+        ));
+    }
+    let (multiplier, mline) = t.number("candela multiplier")?;
+    if !(multiplier > 0.0) {
+        return Err(err(mline, format!("the candela multiplier must be positive, found {multiplier}")));
+    }
+    let nv = t.count("number of vertical angles")?;
+    let nh = t.count("number of horizontal angles")?;
+    let (ptype, pline) = t.number("photometric type")?;
+    match ptype as i64 {
+        1 if ptype == 1.0 => {}
+        2 | 3 if ptype.fract() == 0.0 => {
+            return Err(err(
+                pline,
+                format!(
+                    "photometric type {} ({}) is not supported: only type C (1), the usual one for luminaires",
+                    ptype,
+                    if ptype == 2.0 { "B" } else { "A" }
+                ),
+            ));
+        }
+        _ => {
+            return Err(err(pline, format!("photometric type must be 1 (C), 2 (B) or 3 (A), found {ptype}")));
+        }
+    }
+    let (units, uline) = t.number("units type")?;
+    if units != 1.0 && units != 2.0 {
+        return Err(err(uline, format!("units type must be 1 (feet) or 2 (metres), found {units}")));
+    }
+    let mut dims = [0.0f32; 3];
+    for (d, what) in dims.iter_mut().zip(["width", "length", "height"]) {
+        *d = t.number(&format!("luminous opening {what}"))?.0 as f32;
+    }
+    let (ballast, bline) = t.number("ballast factor")?;
+    let (ballast_lamp, blline) = t.number("ballast-lamp photometric factor (future use)")?;
+    let (watts, _) = t.number("input watts")?;
+    if !(ballast > 0.0) {
+        return Err(err(bline, format!("the ballast factor must be positive, found {ballast}")));
+    }
+    if !(ballast_lamp > 0.0) {
+        return Err(err(
+            blline,
+            format!("the ballast-lamp photometric factor must be positive, found {ballast_lamp}"),
+        ));
+    }
+    let factor = multiplier * ballast * ballast_lamp;
+    let mut angles = |n: usize, what: &str, t: &mut Tokens| -> Result<Vec<f32>, IesError> {
+        let mut out: Vec<(f64, usize)> = Vec::with_capacity(n);
+        for k in 0..n {
+            out.push(t.number(&format!("{what} angle {} of {n}", k + 1))?);
+        }
+        for w in out.windows(2) {
+            if !(w[1].0 > w[0].0) {
+                return Err(err(
+                    w[1].1,
+                    format!("{what} angles must increase: {} follows {}", w[1].0, w[0].0),
+                ));
+            }
+        }
+        Ok(out.iter().map(|a| a.0 as f32).collect())
+    };
+    let va = angles(nv, "vertical", &mut t)?;
+    let vline = t.toks[t.pos - 1].1;
+    let ha = angles(nh, "horizontal", &mut t)?;
+    let hline = t.toks[t.pos - 1].1;
+    if va[0] < 0.0 || *va.last().unwrap() > 180.0 {
+        return Err(err(
+            vline,
+            format!(
+                "vertical angles must lie in [0, 180] for type C, found {}..{}",
+                va[0],
+                va.last().unwrap()
+            ),
+        ));
+    }
+    if nv < 2 {
+        return Err(err(vline, "at least 2 vertical angles are needed".into()));
+    }
+    let hl = *ha.last().unwrap();
+    if ha[0] != 0.0 || !(nh == 1 || hl == 90.0 || hl == 180.0 || hl == 360.0) {
+        return Err(err(
+            hline,
+            format!("horizontal angles {}..{hl}: supported are 0 (symmetric), 0–90, 0–180 and 0–360", ha[0]),
+        ));
+    }
+    let mut candela = Vec::with_capacity(nv * nh);
+    for h in 0..nh {
+        for v in 0..nv {
+            let what = format!(
+                "candela value {} of horizontal angle {} ({} values expected)",
+                v + 1,
+                h + 1,
+                nv * nh
+            );
+            let (c, line) = t.number(&what)?;
+            if c < 0.0 {
+                return Err(err(
+                    line,
+                    format!("candela value {} of horizontal angle {} is negative ({c})", v + 1, h + 1),
+                ));
+            }
+            candela.push((c * factor) as f32);
+        }
+    }
+    if let Some(&(extra, line)) = t.toks.get(t.pos) {
+        return Err(err(
+            line,
+            format!(
+                "unexpected \"{extra}\" after the {} candela values ({} extra values: do the angle counts match the data?)",
+                nv * nh,
+                t.toks.len() - t.pos
+            ),
+        ));
+    }
+    Ok(IesFile {
+        profile: IesProfile { vertical_angles: va, horizontal_angles: ha, candela },
+        keywords,
+        lamps: lamps as f32,
+        lumens_per_lamp: (lumens > 0.0).then_some(lumens as f32),
+        multiplier: multiplier as f32,
+        ballast_factor: (ballast * ballast_lamp) as f32,
+        dimensions: dims,
+        units: units as u32,
+        input_watts: watts as f32,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = "IESNA:LM-63-2002\n[TEST] unit\n[MANUFAC] none\nTILT=NONE\n1 1000 2 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n200 100 0\n";
+
+    fn parse(s: &str) -> Result<IesFile, IesError> {
+        parse_ies(s, Path::new("t.ies"))
+    }
+
+    #[test]
+    fn parses_a_symmetric_file() {
+        let f = parse(GOOD).unwrap();
+        assert_eq!(f.profile.vertical_angles, vec![0.0, 90.0, 180.0]);
+        assert_eq!(f.profile.horizontal_angles, vec![0.0]);
+        assert_eq!(f.profile.candela, vec![400.0, 200.0, 0.0], "multiplier 2 applied");
+        assert_eq!(f.keywords[0], ("TEST".into(), "unit".into()));
+        assert_eq!(f.rated_lumens(), Some(2000.0));
+    }
+
+    #[test]
+    fn malformed_files_name_file_and_line() {
+        let cases = [
+            ("IESNA:LM-63-2002\n[TEST] x\n1 1000 1 3 1 1 2 0 0 0\n", "t.ies:3: no TILT= line"),
+            ("TILT=INCLUDE\n1\n", "t.ies:1: TILT=INCLUDE is not supported"),
+            (
+                "TILT=NONE\n1 1000 1 0 1 1 2 0 0 0\n",
+                "t.ies:2: number of vertical angles must be a whole number",
+            ),
+            ("TILT=NONE\n1 1000 1 3 1.5 1 2 0 0 0\n", "t.ies:2: number of horizontal angles must be"),
+            (
+                "TILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 90 abc\n0\n1 1 1\n",
+                "t.ies:4: vertical angle 3 of 3: \"abc\" is not a number",
+            ),
+            (
+                "TILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n1 1\n",
+                "t.ies:6: the file ends before the candela value 3",
+            ),
+            (
+                "TILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n1\n-5 1\n",
+                "t.ies:7: candela value 2 of horizontal angle 1 is negative",
+            ),
+            (
+                "TILT=NONE\n1 1000 1 3 1 3 2 0 0 0\n1 1 10\n0 90 180\n0\n1 1 1\n",
+                "t.ies:2: photometric type 3 (A) is not supported",
+            ),
+            (
+                "TILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 90 180\n0\n1 1 1 7\n",
+                "t.ies:6: unexpected \"7\"",
+            ),
+            (
+                "TILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 90 90\n0\n1 1 1\n",
+                "t.ies:4: vertical angles must increase",
+            ),
+            (
+                "TILT=NONE\n1 1000 1 3 2 1 2 0 0 0\n1 1 10\n0 90 180\n0 45\n1 1 1 1 1 1\n",
+                "t.ies:5: horizontal angles 0..45",
+            ),
+            ("TILT=NONE\n1 1000 -1 3 1 1 2 0 0 0\n", "t.ies:2: the candela multiplier must be positive"),
+            (
+                "TILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 1 10\n0 90 200\n0\n1 1 1\n",
+                "t.ies:4: vertical angles must lie in [0, 180]",
+            ),
+            (
+                "TILT=NONE\n1 1000 1 3 1 1 2 0 0 nan\n",
+                "t.ies:2: luminous opening height: \"nan\" is not a finite",
+            ),
+        ];
+        for (text, want) in cases {
+            let e = parse(text).expect_err(text).to_string();
+            assert!(e.starts_with(want), "{text:?}\n got: {e}\nwant: {want}");
+        }
+    }
+}
