@@ -245,7 +245,7 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
         ));
     }
     let factor = multiplier * ballast * ballast_lamp;
-    let mut angles = |n: usize, what: &str, t: &mut Tokens| -> Result<Vec<f32>, IesError> {
+    let angles = |n: usize, what: &str, t: &mut Tokens| -> Result<Vec<f32>, IesError> {
         let mut out: Vec<(f64, usize)> = Vec::with_capacity(n);
         for k in 0..n {
             out.push(t.number(&format!("{what} angle {} of {n}", k + 1))?);

@@ -124,8 +124,12 @@ use opticks_core::bsdf::{
     Bsdf, Lambert, Material, MaterialError, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
     SmoothDielectric, fresnel,
 };
+use opticks_core::light::{EmissionProfile, lumens_to_watts};
+use opticks_core::math::Frame;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
+use opticks_core::scene::{
+    CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
+};
 use roxmltree::{Document, Node};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -221,7 +225,10 @@ pub fn parse(text: &str, path: &Path, options: &LoadOptions) -> Result<LoadedSce
                 shape_index += 1;
             }
             "emitter" => {
-                desc.point_lights.push(cx.point_emitter(n, emitter_index)?);
+                match cx.top_emitter(n, emitter_index)? {
+                    TopEmitter::Point(p) => desc.point_lights.push(p),
+                    TopEmitter::Directional(d) => desc.directional_lights.push(d),
+                }
                 emitter_index += 1;
             }
             other => {
@@ -1225,6 +1232,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
 
         let mut material = None;
         let mut emission = None;
+        let mut emission_profile = None;
         for c in p.objects.clone() {
             match c.tag_name().name() {
                 "bsdf" | "ref" => {
@@ -1248,7 +1256,9 @@ impl<'a, 'i> Ctx<'a, 'i> {
                     if emission.is_some() {
                         return Err(self.err(c, "a shape can have only one emitter"));
                     }
-                    emission = Some(self.area_emitter(c)?);
+                    let (radiance, profile) = self.area_emitter(c)?;
+                    emission = Some(radiance);
+                    emission_profile = profile;
                 }
                 other => {
                     return Err(self.err(
@@ -1281,11 +1291,11 @@ impl<'a, 'i> Ctx<'a, 'i> {
             triangles,
             material,
             emission,
-            ..Default::default()
+            emission_profile,
         })
     }
 
-    fn area_emitter(&mut self, n: Node<'a, 'i>) -> Result<Rgb> {
+    fn area_emitter(&mut self, n: Node<'a, 'i>) -> Result<(Rgb, Option<EmissionProfile>)> {
         let ty = self.required(n, "type")?;
         if ty != "area" {
             return Err(self.attr_err(
@@ -1304,8 +1314,172 @@ impl<'a, 'i> Ctx<'a, 'i> {
         if radiance.min_element() < 0.0 {
             return Err(self.err(node, "radiance must not be negative"));
         }
+        // Opticks extension: a cosⁿ (focused) emitter; `radiance` is then the radiance along the
+        // normal.
+        let profile = match self.get_float(&mut p, "exponent")? {
+            Some((e, enode)) => {
+                if !(0.0..=1e6).contains(&e) {
+                    return Err(self.err(enode, format!("exponent {e} must be in [0, 10⁶]")));
+                }
+                Some(EmissionProfile::CosinePower { exponent: e as f32 })
+            }
+            None => None,
+        };
         self.finish(&p);
-        Ok(radiance)
+        Ok((radiance, profile))
+    }
+
+    /// The frame of an emitter's `to_world`: z = M·(0,0,1) (the axis), x = M·(1,0,0) made
+    /// perpendicular; and the position M·(0,0,0).
+    fn emitter_frame(&self, t: &Transform, tnode: Node) -> Result<(Frame, DVec3)> {
+        let m = t.matrix;
+        let z = m.transform_vector3(DVec3::Z);
+        let x = m.transform_vector3(DVec3::X);
+        if !(z.length() > 0.0) || !z.is_finite() {
+            return Err(self.err(tnode, "to_world maps the emitter's axis (0, 0, 1) to zero"));
+        }
+        let n = z.normalize();
+        let s = x - n * x.dot(n);
+        let s =
+            if s.length() > 1e-9 * x.length().max(1e-300) { s.normalize() } else { coordinate_system(n).0 };
+        let t = n.cross(s);
+        Ok((Frame { s: s.as_vec3(), t: t.as_vec3(), n: n.as_vec3() }, m.transform_point3(DVec3::ZERO)))
+    }
+
+    fn top_emitter(&mut self, n: Node<'a, 'i>, index: usize) -> Result<TopEmitter> {
+        let ty = self.required(n, "type")?;
+        match ty.as_str() {
+            "point" => self.point_emitter(n, index).map(TopEmitter::Point),
+            "spot" | "ies" => self.profiled_emitter(n, index, &ty).map(TopEmitter::Point),
+            "directional" => self.directional_emitter(n, index).map(TopEmitter::Directional),
+            _ => self.point_emitter(n, index).map(TopEmitter::Point), // reports the error
+        }
+    }
+
+    fn profiled_emitter(&mut self, n: Node<'a, 'i>, index: usize, ty: &str) -> Result<PointLightDesc> {
+        let name = self.attr(n, "id")?.unwrap_or_else(|| format!("{ty}_{index}"));
+        let mut p = self.props(n)?;
+        if let Some(c) = p.objects.first() {
+            return Err(self.err(*c, format!("unsupported element inside a {ty} emitter")));
+        }
+        let (frame, position) = match self.get_transform(&mut p, "to_world")? {
+            Some((t, tnode)) => self.emitter_frame(&t, tnode)?,
+            None => (Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z }, DVec3::ZERO),
+        };
+        let (intensity, inode) = self.get_color(&mut p, "intensity")?.unwrap_or((Rgb::ONE, n));
+        if intensity.min_element() < 0.0 {
+            return Err(self.err(inode, "intensity must not be negative"));
+        }
+        let mut light = PointLightDesc {
+            name,
+            source: self.source(n),
+            position: position.as_vec3(),
+            intensity,
+            orientation: Some(frame),
+            ..Default::default()
+        };
+        if ty == "spot" {
+            let (cutoff, cnode) = self.get_float(&mut p, "cutoff_angle")?.unwrap_or((20.0, n));
+            if !(cutoff > 0.0 && cutoff <= 180.0) {
+                return Err(self.err(cnode, format!("cutoff_angle {cutoff}° must be in (0°, 180°]")));
+            }
+            let (beam, bnode) = self.get_float(&mut p, "beam_width")?.unwrap_or((cutoff * 0.75, n));
+            if !(beam > 0.0 && beam <= cutoff) {
+                return Err(
+                    self.err(bnode, format!("beam_width {beam}° must be in (0°, cutoff_angle = {cutoff}°]"))
+                );
+            }
+            light.profile = Some(EmissionProfile::Spot {
+                cutoff_angle: (cutoff as f32).to_radians(),
+                beam_width: (beam as f32).to_radians(),
+            });
+        } else {
+            let (file, fnode) = self
+                .get_string(&mut p, "filename")?
+                .ok_or_else(|| self.err(n, "an ies emitter needs a `filename`"))?;
+            let path = self.dir.join(&file);
+            let ies = crate::ies::load_ies(&path).map_err(|e| self.err(fnode, e.to_string()))?;
+            let built =
+                opticks_core::light::BuiltProfile::build(&EmissionProfile::Ies(ies.profile.clone()), false)
+                    .map_err(|e| self.err(fnode, format!("{}: {e}", path.display())))?;
+            if let Some(rated) = ies.rated_lumens() {
+                let actual = built.integral() * opticks_core::light::LUMENS_PER_WATT;
+                if (actual / rated - 1.0).abs() > 0.05 {
+                    self.warn(
+                        fnode,
+                        format!(
+                            "the file rates {rated} lm but its candela distribution carries {actual:.1} lm; \
+                             the distribution's flux is used"
+                        ),
+                    );
+                }
+            }
+            if let Some((scale, snode)) = self.get_float(&mut p, "scale")? {
+                if !(scale >= 0.0) {
+                    return Err(self.err(snode, "scale must not be negative"));
+                }
+                light.intensity *= scale as f32;
+            }
+            let power = self.get_color(&mut p, "power")?;
+            let lumens = self.get_float(&mut p, "lumens")?;
+            match (power, lumens) {
+                (Some(_), Some((_, lnode))) => {
+                    return Err(self.err(lnode, "give either `power` or `lumens`, not both"));
+                }
+                (Some((w, pnode)), None) => {
+                    if w.min_element() < 0.0 {
+                        return Err(self.err(pnode, "power must not be negative"));
+                    }
+                    light.power = Some(w);
+                }
+                (None, Some((lm, lnode))) => {
+                    if !(lm >= 0.0) {
+                        return Err(self.err(lnode, "lumens must not be negative"));
+                    }
+                    light.power = Some(lumens_to_watts(lm as f32, light.intensity).ok_or_else(|| {
+                        self.err(lnode, "`lumens` needs an `intensity` colour with non-zero luminance")
+                    })?);
+                }
+                (None, None) => {}
+            }
+            light.profile = Some(EmissionProfile::Ies(ies.profile));
+        }
+        self.finish(&p);
+        Ok(light)
+    }
+
+    fn directional_emitter(&mut self, n: Node<'a, 'i>, index: usize) -> Result<DirectionalLightDesc> {
+        let name = self.attr(n, "id")?.unwrap_or_else(|| format!("directional_{index}"));
+        let mut p = self.props(n)?;
+        if let Some(c) = p.objects.first() {
+            return Err(self.err(*c, "unsupported element inside a directional emitter"));
+        }
+        let direction = self.get_point(&mut p, "direction")?;
+        let to_world = self.get_transform(&mut p, "to_world")?;
+        let direction = match (direction, to_world) {
+            (Some(_), Some((_, tnode))) => {
+                return Err(self.err(tnode, "give either `direction` or `to_world`, not both"));
+            }
+            (Some((d, dnode)), None) => {
+                if !(d.length() > 0.0) {
+                    return Err(self.err(dnode, "direction must not be zero"));
+                }
+                d
+            }
+            (None, Some((t, tnode))) => self.emitter_frame(&t, tnode)?.0.n.as_dvec3(),
+            (None, None) => DVec3::Z,
+        };
+        let (irradiance, inode) = self.get_color(&mut p, "irradiance")?.unwrap_or((Rgb::ONE, n));
+        if irradiance.min_element() < 0.0 {
+            return Err(self.err(inode, "irradiance must not be negative"));
+        }
+        self.finish(&p);
+        Ok(DirectionalLightDesc {
+            name,
+            source: self.source(n),
+            direction: direction.normalize().as_vec3(),
+            irradiance,
+        })
     }
 
     fn point_emitter(&mut self, n: Node<'a, 'i>, index: usize) -> Result<PointLightDesc> {
@@ -1318,7 +1492,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                     n,
                     "type",
                     format!(
-                        "unsupported emitter type \"{other}\" (supported: point at the top level, area inside a shape)"
+                        "unsupported emitter type \"{other}\" (supported: point, spot, directional, ies at the top level, area inside a shape)"
                     ),
                 ));
             }
@@ -1351,6 +1525,12 @@ impl<'a, 'i> Ctx<'a, 'i> {
             ..Default::default()
         })
     }
+}
+
+/// A top-level emitter.
+enum TopEmitter {
+    Point(PointLightDesc),
+    Directional(DirectionalLightDesc),
 }
 
 /// A composed `<transform>`: the matrix and the distance to the last `<lookat>`'s target.
