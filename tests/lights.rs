@@ -234,7 +234,7 @@ fn spot_power_matches_closed_form() {
 }
 
 /// A small cosⁿ emitter (n = 8) facing down at height h: the illuminance of floor patches
-/// below matches E = Φ·(n+1)/(2π)·cosⁿθ·cos θ/d² averaged over the patch.
+/// below (at 0, 0.3 and 0.6 m off-axis) matches E = Φ·(n+1)/(2π)·cosⁿθ·cos θ/d² averaged over the patch.
 #[test]
 fn cos_power_area_light_illuminance() {
     let (n, h, a, le) = (8.0f32, 1.0f32, 0.02f32, 50.0f32);
@@ -268,9 +268,9 @@ fn cos_power_area_light_illuminance() {
     let want = (n as f64 + 1.0) / (2.0 * PI) * 0.8f64.powf(n as f64 - 1.0);
     assert!((ef / want - 1.0).abs() < 1e-4, "emitted fraction {ef} vs {want}");
     let half = 0.05f32;
-    for x0 in [0.0f32, 0.5, 1.0] {
+    for x0 in [0.0f32, 0.3, 0.6] {
         let inside = |p: Vec3| p.y.abs() < 1e-4 && (p.x - x0).abs() < half && p.z.abs() < half;
-        let fluxes = trace_fluxes(&scene, 1_000_000, 10 + x0 as u64 * 7, inside);
+        let fluxes = trace_fluxes(&scene, 8_000_000, 10 + (x0 * 10.0) as u64, inside);
         let (m, e) = mean_and_error(&fluxes);
         let area = (2.0 * half as f64).powi(2);
         // Analytic illuminance averaged over the patch (40×40 midpoints).
@@ -286,7 +286,7 @@ fn cos_power_area_light_illuminance() {
             }
         }
         avg /= (k * k) as f64;
-        check(&format!("cos^8 emitter, illuminance at x = {x0}"), m / area, e / area, avg, 0.02);
+        check(&format!("cos^8 emitter, illuminance at x = {x0}"), m / area, e / area, avg, 0.03);
     }
 }
 
@@ -318,8 +318,8 @@ fn directional_irradiance_on_plane() {
         let phi = scene.lights[0].power().x as f64;
         assert!((phi / (e_irr as f64 * PI * r * r) - 1.0).abs() < 1e-5, "Φ = {phi}");
         let inside = |p: Vec3| p.y.abs() < 1e-4 && p.x.abs() < 0.5 && p.z.abs() < 0.5;
-        let (m, err) = mean_and_error(&trace_fluxes(&scene, 400_000, 5, inside));
-        check(&format!("directional {dir}: irradiance"), m, err, e_irr as f64 * factor, 0.03);
+        let (m, err) = mean_and_error(&trace_fluxes(&scene, 4_000_000, 5, inside));
+        check(&format!("directional {dir}: irradiance"), m, err, e_irr as f64 * factor, 0.015);
     }
     // A directional light is invisible and starts no surface vertex.
     let bad = SceneDescription {
