@@ -11,7 +11,7 @@
 //! | `<sensor>` | the camera (below); only the first sensor is used |
 //! | `<bsdf id="…">` | a named material, used by `<ref id="…"/>` inside shapes (references may point forward) |
 //! | `<shape>` | a triangle mesh (below) |
-//! | `<emitter type="point">` | a point light (below) |
+//! | `<emitter type="point">`, `"spot"`, `"directional"`, `"ies"` | a light (below) |
 //! | anything else (`texture`, `medium`, `include`, …) | error |
 //!
 //! Properties are `<float>`, `<integer>`, `<boolean>`, `<string>`, `<rgb>`, `<spectrum>`,
@@ -116,6 +116,14 @@
 //! |---|---|---|
 //! | `area` | inside a `<shape>` | `radiance`: colour, default 1: one-sided Lambertian emission on the front face |
 //! | `point` | top level | `position`: point (or the translation of `to_world`), `intensity`: colour, default 1 (W/sr) |
+//! | `spot` | top level | `to_world` (position M·0, axis M·(0,0,1)), `intensity` (W/sr on the axis, 1), `cutoff_angle` (degrees, 20), `beam_width` (¾ cutoff): Mitsuba's linear falloff in angle |
+//! | `directional` | top level | `irradiance` (W/m², 1), `direction` or `to_world` (M·(0,0,1)): parallel light over the scene's bounding disk |
+//! | `ies` | top level | **Opticks extension**: `filename` (relative to the XML file's folder), `to_world` (vertical 0° along M·(0,0,1), horizontal 0° along M·(1,0,0)), `intensity` (colour scale, 1), `scale`, and `power` (W) or `lumens` overriding the flux of the candela distribution |
+//!
+//! `area` also takes `<float name="exponent">` (**Opticks extension**): a cosⁿ (focused) emitter,
+//! f_e = (n+1)/(2π)·cosⁿθ, with `radiance` the radiance along the normal. Lumens are converted at
+//! 683 lm/W keeping the colour (683·luminance = lumens). See `docs/scene-formats.md`, "Mitsuba
+//! 3 XML: Opticks extensions", and [`crate::ies`] for the IES subset.
 
 use super::obj::read_obj;
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
