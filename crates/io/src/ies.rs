@@ -30,6 +30,9 @@
 //! Every error names the file and the 1-based line, e.g.
 //! `lamp.ies:14: candela value 3 of horizontal angle 2 is negative (-5)`.
 
+// `!(x > 0.0)` rejects NaN along with the out-of-range values: deliberate.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use opticks_core::light::IesProfile;
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -157,7 +157,7 @@ impl BuiltProfile {
             EmissionProfile::Uniform => BuiltProfile::Uniform { hemisphere },
             EmissionProfile::Cosine => BuiltProfile::Cosine,
             &EmissionProfile::CosinePower { exponent } => {
-                if !(exponent >= 0.0 && exponent <= 1e6) {
+                if !(0.0..=1e6).contains(&exponent) {
                     return Err(bad(format!("the cosine-power exponent {exponent} must be in [0, 10⁶]")));
                 }
                 BuiltProfile::CosinePower { exponent }

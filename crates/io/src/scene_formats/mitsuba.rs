@@ -1343,7 +1343,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
         let m = t.matrix;
         let z = m.transform_vector3(DVec3::Z);
         let x = m.transform_vector3(DVec3::X);
-        if !(z.length() > 0.0) || !z.is_finite() {
+        if !z.is_finite() || z.length() <= 0.0 {
             return Err(self.err(tnode, "to_world maps the emitter's axis (0, 0, 1) to zero"));
         }
         let n = z.normalize();
@@ -1423,7 +1423,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 }
             }
             if let Some((scale, snode)) = self.get_float(&mut p, "scale")? {
-                if !(scale >= 0.0) {
+                if scale < 0.0 {
                     return Err(self.err(snode, "scale must not be negative"));
                 }
                 light.intensity *= scale as f32;
@@ -1441,7 +1441,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                     light.power = Some(w);
                 }
                 (None, Some((lm, lnode))) => {
-                    if !(lm >= 0.0) {
+                    if lm < 0.0 {
                         return Err(self.err(lnode, "lumens must not be negative"));
                     }
                     light.power = Some(lumens_to_watts(lm as f32, light.intensity).ok_or_else(|| {
@@ -1469,7 +1469,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 return Err(self.err(tnode, "give either `direction` or `to_world`, not both"));
             }
             (Some((d, dnode)), None) => {
-                if !(d.length() > 0.0) {
+                if d.length() <= 0.0 {
                     return Err(self.err(dnode, "direction must not be zero"));
                 }
                 d
