@@ -5,11 +5,15 @@
 //! error σ is measured and the result must be within 4σ of the closed form (and, where stated,
 //! within a fixed relative band that the path count makes meaningful).
 
+mod common;
+
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::light::{EmissionProfile, LUMENS_PER_WATT, Light};
 use opticks_core::math::{Frame, Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
-use opticks_core::scene::{DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{
+    CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
+};
 use opticks_core::trace::{TraceSettings, trace_path};
 use opticks_io::ies::load_ies;
 use std::f64::consts::PI;
@@ -483,4 +487,67 @@ fn mitsuba_light_extensions() {
         let e = opticks_io::load_scene(&path).unwrap_err().to_string();
         assert!(e.contains("scene.xml:2") && e.contains(want), "{body}: {e}\nwant: {want}");
     }
+}
+
+/// The sensor's emission-vertex factor f_e(ω_c)/cos θ: a cosⁿ panel (n = 3) seen by a camera at
+/// 60° from its normal has radiance e·cos²60° = e/4; a Lambertian one (no profile) e.
+#[test]
+fn camera_sees_profiled_emitter_radiance() {
+    let (e, theta) = (2.0f32, 60f32.to_radians());
+    let s = 0.2;
+    let panel = quad(
+        "panel",
+        [Vec3::new(-s, -s, 0.0), Vec3::new(s, -s, 0.0), Vec3::new(s, s, 0.0), Vec3::new(-s, s, 0.0)],
+        Some(Rgb::splat(e)),
+    );
+    for (profile, expected) in
+        [(Some(EmissionProfile::CosinePower { exponent: 3.0 }), e as f64 * 0.25), (None, e as f64)]
+    {
+        let desc = SceneDescription {
+            materials: vec![black()],
+            meshes: vec![MeshDesc { emission_profile: profile.clone(), ..panel.clone() }],
+            camera: Some(CameraDesc {
+                eye: 2.0 * Vec3::new(theta.sin(), 0.0, theta.cos()),
+                target: Vec3::ZERO,
+                up: Vec3::Y,
+                fov_x_degrees: 2.0,
+                width: 8,
+                height: 8,
+            }),
+            ..Default::default()
+        };
+        let scene = Scene::build(&desc).unwrap();
+        let film = common::trace_and_render(&scene, &common::camera(&scene), 1_000_000, 21);
+        let m = film.mean()[0];
+        eprintln!("{profile:?}: mean radiance {m:.5}, expected {expected:.5}");
+        assert!((m / expected - 1.0).abs() < 0.01, "{profile:?}: {m} vs {expected}");
+    }
+}
+
+/// A light's shape hash covers its emission distribution (profile, orientation), not its power.
+#[test]
+fn light_shape_hash_covers_profile_not_power() {
+    let shape = |l: PointLightDesc| {
+        let desc = SceneDescription {
+            materials: vec![black()],
+            meshes: vec![inward_icosphere(1.0, 0)],
+            point_lights: vec![PointLightDesc { name: "l".into(), ..l }],
+            ..Default::default()
+        };
+        Scene::build(&desc).unwrap().light_shapes[0]
+    };
+    let spot = |g: f32, i: f32| PointLightDesc {
+        intensity: Rgb::splat(i),
+        profile: Some(EmissionProfile::Spot { cutoff_angle: g, beam_width: 0.5 * g }),
+        ..Default::default()
+    };
+    assert_eq!(shape(spot(0.5, 1.0)), shape(spot(0.5, 7.0)), "power is not part of the shape");
+    assert_eq!(shape(spot(0.5, 1.0)), shape(PointLightDesc { power: Some(Rgb::ONE), ..spot(0.5, 1.0) }));
+    assert_ne!(shape(spot(0.5, 1.0)), shape(spot(0.6, 1.0)), "the cutoff is");
+    assert_ne!(
+        shape(spot(0.5, 1.0)),
+        shape(PointLightDesc { orientation: Some(Frame::from_normal(Vec3::X)), ..spot(0.5, 1.0) }),
+        "the orientation is"
+    );
+    assert_ne!(shape(spot(0.5, 1.0)), shape(PointLightDesc::default()), "spot vs isotropic");
 }
