@@ -551,3 +551,35 @@ fn light_shape_hash_covers_profile_not_power() {
     );
     assert_ne!(shape(spot(0.5, 1.0)), shape(PointLightDesc::default()), "spot vs isotropic");
 }
+
+/// The VRML writer refuses lights its extension cannot express instead of dropping them.
+#[test]
+fn vrml_writer_refuses_profiled_lights() {
+    use opticks_io::scene_formats::vrml::writer::write_vrml;
+    let mut desc = SceneDescription {
+        materials: vec![black()],
+        meshes: vec![inward_icosphere(1.0, 0)],
+        point_lights: vec![PointLightDesc {
+            name: "bulb".into(),
+            power: Some(Rgb::splat(4.0)),
+            ..Default::default()
+        }],
+        ..Default::default()
+    };
+    let mut out = Vec::new();
+    write_vrml(&desc, &mut out).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    let i = (4.0 / (4.0 * std::f32::consts::PI)).to_string();
+    assert!(text.contains(&format!("intensity {i} {i} {i}")), "power written as intensity Φ/4π");
+    desc.point_lights[0].profile = Some(EmissionProfile::Spot { cutoff_angle: 0.5, beam_width: 0.4 });
+    let e = write_vrml(&desc, &mut Vec::new()).unwrap_err().to_string();
+    assert!(e.contains("bulb") && e.contains("profile"), "{e}");
+    desc.point_lights.clear();
+    desc.directional_lights.push(DirectionalLightDesc {
+        name: "sun".into(),
+        direction: -Vec3::Y,
+        ..Default::default()
+    });
+    let e = write_vrml(&desc, &mut Vec::new()).unwrap_err().to_string();
+    assert!(e.contains("sun"), "{e}");
+}

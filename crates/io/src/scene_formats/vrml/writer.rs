@@ -4,11 +4,14 @@
 //! `DEF`/`USE`) or, for an emitter, an `AreaLight` carrying its radiance and reflectance.
 //!
 //! Numbers are written in Rust's shortest round-trip form, so reading the file back gives the
-//! same positions, colours and exponents bit for bit. A `.gz` path is gzip-compressed.
+//! same positions, colours and exponents bit for bit. A `.gz` path is gzip-compressed. Lights
+//! the extension cannot express (emission profiles other than isotropic / Lambertian,
+//! directional lights) are an `InvalidInput` error rather than silently dropped.
 
 use super::extension::DECLARATIONS;
 use glam::{DMat3, DQuat, DVec3};
 use opticks_core::bsdf::{Bsdf, Material};
+use opticks_core::light::EmissionProfile;
 use opticks_core::math::Rgb;
 use opticks_core::scene::{CameraDesc, SceneDescription};
 use std::collections::HashSet;
@@ -32,6 +35,29 @@ pub fn write_vrml_file(desc: &SceneDescription, path: &Path) -> io::Result<()> {
 
 /// Writes `desc` as VRML97 text.
 pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()> {
+    // The VRML extension has isotropic point lights and Lambertian area lights only: refuse
+    // rather than silently drop a light's distribution.
+    let unsupported = desc
+        .point_lights
+        .iter()
+        .find(|l| l.profile.as_ref().is_some_and(|p| *p != EmissionProfile::Uniform))
+        .map(|l| format!("point light {} has a non-isotropic emission profile", l.name))
+        .or_else(|| {
+            desc.meshes
+                .iter()
+                .find(|m| {
+                    m.emission.is_some()
+                        && m.emission_profile.as_ref().is_some_and(|p| *p != EmissionProfile::Cosine)
+                })
+                .map(|m| format!("area light {} has a non-Lambertian emission profile", m.name))
+        })
+        .or_else(|| desc.directional_lights.first().map(|d| format!("directional light {}", d.name)));
+    if let Some(what) = unsupported {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!("{what}: the Opticks VRML extension cannot express it (write Mitsuba XML instead)"),
+        ));
+    }
     writeln!(w, "#VRML V2.0 utf8")?;
     writeln!(w, "# Written by Opticks. Units: metres, W/(m^2 sr), W/sr. World-space meshes.")?;
     w.write_all(DECLARATIONS.as_bytes())?;
@@ -51,7 +77,8 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
     }
     for l in &desc.point_lights {
         writeln!(w, "DEF {} PhysicalPointLight {{", names.fresh(&l.name))?;
-        writeln!(w, "  location {}\n  intensity {}\n}}", v3(l.position), v3(l.intensity))?;
+        let intensity = l.power.map_or(l.intensity, |p| p / (4.0 * std::f32::consts::PI));
+        writeln!(w, "  location {}\n  intensity {}\n}}", v3(l.position), v3(intensity))?;
     }
     for m in &desc.meshes {
         writeln!(w, "DEF {} Shape {{", names.fresh(&m.name))?;
