@@ -18,7 +18,7 @@ use crate::progress;
 use anyhow::{Context, Result};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
-use opticks_core::scene::Scene;
+use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{SampleBatch, Sensor, render};
 use opticks_core::trace::{LightPlan, TraceSettings, trace_plan};
 use opticks_io::dataset_file::DatasetReader;
@@ -82,13 +82,17 @@ pub fn render_with_progress<'a>(
 /// Opens a dataset and the scene it is to be used with — `scene` if given, else the scene file
 /// recorded in the dataset — and checks that the geometry and materials are those it was traced
 /// in (lights are checked one by one where they are used: see `opticks_core::dataset::lighting`).
-pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<(DatasetReader, Scene)> {
+pub fn open_with_scene(
+    dataset: &Path,
+    scene: Option<&str>,
+) -> Result<(DatasetReader, SceneDescription, Scene)> {
     let reader = DatasetReader::open(dataset)?;
     let label = &reader.header().label;
     let spec = scene.unwrap_or(label);
-    let scene = crate::scene_arg::load_scene(spec).with_context(|| {
-        format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)")
-    })?;
+    let context =
+        || format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)");
+    let description = crate::scene_arg::load_description(spec).with_context(context)?;
+    let scene = crate::scene_arg::build_scene(spec, &description)?;
     let recorded = reader.header().fingerprint;
     if scene.fingerprint.geometry != recorded.geometry {
         anyhow::bail!(
@@ -98,7 +102,7 @@ pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<(DatasetRe
             scene.fingerprint.geometry_hex()
         );
     }
-    Ok((reader, scene))
+    Ok((reader, description, scene))
 }
 
 /// Writes the film to `path` (format from the extension).

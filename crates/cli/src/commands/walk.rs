@@ -45,7 +45,7 @@ pub struct Args {
 /// Renders the walkthrough.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let (reader, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let lit = lighting(&reader.header().table, &scene, &a.light)?;
     for note in &lit.notes {
         eprintln!("note: {note}");
