@@ -11,14 +11,12 @@
 //!
 //! The scene is resolved and checked against the dataset as `opticks render` does.
 
-use super::light_args::parse_light_scale;
-use super::{ThreadArgs, open_with_scene};
+use super::{DatasetArgs, ThreadArgs};
 use crate::camera_args::parse_vec3;
 use crate::progress;
 use anyhow::{Context, Result, bail};
-use opticks_core::dataset::{LightScale, lighting};
 use opticks_core::math::Vec3;
-use opticks_core::sensor::{IlluminanceMeter, SampleBatch, measure};
+use opticks_core::sensor::{IlluminanceMeter, measure};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -29,14 +27,8 @@ pub const LUMENS_PER_WATT: f64 = 683.0;
 /// Arguments of `opticks measure`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Dataset file written by `opticks trace`.
-    dataset: PathBuf,
-    /// Relight, as for `render`: NAME_OR_INDEX=SCALE or =R,G,B.
-    #[arg(long = "light", value_parser = parse_light_scale, allow_hyphen_values = true)]
-    light: Vec<LightScale>,
-    /// Scene file the dataset was traced from (default: the path recorded in the dataset).
-    #[arg(long)]
-    scene: Option<String>,
+    #[command(flatten)]
+    input: DatasetArgs,
     /// Measure on the planar mesh of this name (its bounding rectangle in its plane, front side).
     #[arg(long, conflicts_with = "plane", required_unless_present = "plane")]
     surface: Option<String>,
@@ -84,11 +76,8 @@ fn parse_plane(s: &str) -> Result<(Vec3, Vec3, Vec3)> {
 /// Runs the measurement.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let (reader, desc, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
-    let lit = lighting(&reader.header().table, &scene, &a.light)?;
-    for note in &lit.notes {
-        eprintln!("note: {note}");
-    }
+    let data = a.input.open()?;
+    let (reader, desc) = (&data.reader, &data.description);
     let (nx, ny) = a.cells;
     let meter = match (&a.surface, &a.plane) {
         (Some(name), _) => IlluminanceMeter::on_mesh(&desc, name, nx, ny)?,
@@ -103,13 +92,7 @@ pub fn run(a: Args) -> Result<()> {
     let film = measure(
         &meter,
         reader.chunk_count(),
-        |i| {
-            let c = reader.chunk(i)?;
-            Ok::<_, anyhow::Error>(SampleBatch {
-                flux_per_path: lit.flux_per_path[c.light as usize],
-                samples: c.samples,
-            })
-        },
+        |i| data.batch(i),
         |n| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64),
     )?;
     pb.finish_and_clear();

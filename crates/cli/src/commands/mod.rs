@@ -105,6 +105,52 @@ pub fn open_with_scene(
     Ok((reader, description, scene))
 }
 
+/// The dataset a view is rendered from, with its scene and relighting (`render`, `walk`,
+/// `measure`).
+#[derive(clap::Args, Debug)]
+pub struct DatasetArgs {
+    /// Dataset file written by `opticks trace`.
+    dataset: std::path::PathBuf,
+    /// Scene file the dataset was traced from (default: the path recorded in the dataset).
+    #[arg(long)]
+    scene: Option<String>,
+    /// Relight: NAME_OR_INDEX=SCALE or NAME_OR_INDEX=R,G,B multiplies that light's power
+    /// (0 switches it off); repeatable. No re-tracing: exact.
+    #[arg(long = "light", value_parser = light_args::parse_light_scale, allow_hyphen_values = true)]
+    light: Vec<opticks_core::dataset::LightScale>,
+}
+
+/// An opened dataset, its scene, and the flux each light's samples stand for.
+pub struct LitDataset {
+    /// The memory-mapped dataset.
+    pub reader: DatasetReader,
+    /// The scene as loaded (meters find surfaces by name in it).
+    pub description: SceneDescription,
+    /// The validated scene.
+    pub scene: Scene,
+    lighting: opticks_core::dataset::Lighting,
+}
+
+impl DatasetArgs {
+    /// Opens the dataset against its scene and works out the lighting; prints the notes.
+    pub fn open(&self) -> Result<LitDataset> {
+        let (reader, description, scene) = open_with_scene(&self.dataset, self.scene.as_deref())?;
+        let lighting = opticks_core::dataset::lighting(&reader.header().table, &scene, &self.light)?;
+        for note in &lighting.notes {
+            eprintln!("note: {note}");
+        }
+        Ok(LitDataset { reader, description, scene, lighting })
+    }
+}
+
+impl LitDataset {
+    /// Batch `i`: chunk `i`'s samples with their light's (relit) flux per path.
+    pub fn batch(&self, i: usize) -> Result<SampleBatch<'_>> {
+        let c = self.reader.chunk(i)?;
+        Ok(SampleBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
+    }
+}
+
 /// Writes the film to `path` (format from the extension).
 pub fn write_film(film: &Film, path: &Path, exposure: f32) -> Result<()> {
     opticks_io::image_file::write_image(path, film.width, film.height, &film.to_rgb_f32(), exposure)
