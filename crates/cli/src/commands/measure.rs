@@ -77,7 +77,7 @@ fn parse_plane(s: &str) -> Result<(Vec3, Vec3, Vec3)> {
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let data = a.input.open()?;
-    let (reader, desc) = (&data.reader, &data.description);
+    let desc = &data.description;
     let (nx, ny) = a.cells;
     let meter = match (&a.surface, &a.plane) {
         (Some(name), _) => IlluminanceMeter::on_mesh(&desc, name, nx, ny)?,
@@ -87,11 +87,11 @@ pub fn run(a: Args) -> Result<()> {
         }
         (None, None) => bail!("give --surface NAME or --plane ox,oy,oz,ux,uy,uz,vx,vy,vz"),
     };
-    let pb = progress::bar(reader.total_samples(), "measuring", "samples");
+    let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
     let film = measure(
         &meter,
-        reader.chunk_count(),
+        data.count(),
         |i| data.batch(i),
         |n| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64),
     )?;

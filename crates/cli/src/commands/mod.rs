@@ -120,7 +120,8 @@ pub struct DatasetArgs {
     light: Vec<opticks_core::dataset::LightScale>,
 }
 
-/// An opened dataset, its scene, and the flux each light's samples stand for.
+/// An opened dataset, its scene, and the flux each light's samples stand for — over all its
+/// chunks, or over a subset ([`LitDataset::keep_fraction`]).
 pub struct LitDataset {
     /// The memory-mapped dataset.
     pub reader: DatasetReader,
@@ -129,6 +130,7 @@ pub struct LitDataset {
     /// The validated scene.
     pub scene: Scene,
     lighting: opticks_core::dataset::Lighting,
+    chunks: Vec<usize>,
 }
 
 impl DatasetArgs {
@@ -139,15 +141,67 @@ impl DatasetArgs {
         for note in &lighting.notes {
             eprintln!("note: {note}");
         }
-        Ok(LitDataset { reader, description, scene, lighting })
+        let chunks = (0..reader.chunk_count()).collect();
+        Ok(LitDataset { reader, description, scene, lighting, chunks })
     }
 }
 
 impl LitDataset {
-    /// Batch `i`: chunk `i`'s samples with their light's (relit) flux per path.
+    /// Number of batches.
+    pub fn count(&self) -> usize {
+        self.chunks.len()
+    }
+
+    /// Samples in the batches.
+    pub fn samples(&self) -> u64 {
+        self.chunks.iter().filter_map(|&i| self.reader.chunk_summary(i)).map(|(_, _, n)| n as u64).sum()
+    }
+
+    /// Batch `i`: a chunk's samples with their light's (relit) flux per path.
     pub fn batch(&self, i: usize) -> Result<SampleBatch<'_>> {
-        let c = self.reader.chunk(i)?;
+        let c = self.reader.chunk(self.chunks[i])?;
         Ok(SampleBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
+    }
+
+    /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises: the kept
+    /// chunks hold N'_k of the light's paths, so their samples now stand for Φ_k/N'_k each. The
+    /// result is an unbiased estimate from fewer paths — a cheaper, noisier preview.
+    pub fn keep_fraction(&mut self, fraction: f64) -> Result<()> {
+        if !(fraction > 0.0 && fraction <= 1.0) {
+            anyhow::bail!("the fraction {fraction} must be in (0, 1]");
+        }
+        let lights = self.lighting.flux_per_path.len();
+        let (mut seen, mut kept_paths, mut all_paths) =
+            (vec![0u64; lights], vec![0u64; lights], vec![0u64; lights]);
+        let mut kept = Vec::new();
+        for i in 0..self.reader.chunk_count() {
+            let Some((light, paths, _)) = self.reader.chunk_summary(i) else { continue };
+            let k = light as usize;
+            // Keep chunk j of a light when ⌊(j+1)·f⌋ > ⌊j·f⌋: evenly spread, ≈ f of them.
+            let j = seen[k] as f64;
+            seen[k] += 1;
+            all_paths[k] += paths;
+            if ((j + 1.0) * fraction).floor() > (j * fraction).floor() {
+                kept.push(i);
+                kept_paths[k] += paths;
+            }
+        }
+        for k in 0..lights {
+            if kept_paths[k] == 0 && all_paths[k] > 0 {
+                // Too few chunks to thin this light: keep all of them rather than lose it.
+                kept.extend(
+                    (0..self.reader.chunk_count())
+                        .filter(|&i| self.reader.chunk_summary(i).is_some_and(|(l, _, _)| l as usize == k)),
+                );
+                kept_paths[k] = all_paths[k];
+            }
+            if kept_paths[k] > 0 {
+                self.lighting.flux_per_path[k] *= all_paths[k] as f32 / kept_paths[k] as f32;
+            }
+        }
+        kept.sort_unstable();
+        self.chunks = kept;
+        Ok(())
     }
 }
 

@@ -29,17 +29,15 @@ pub struct Args {
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let data = a.input.open()?;
-    let (reader, scene) = (&data.reader, &data.scene);
+    let scene = &data.scene;
     let camera = a.camera.resolve(scene.camera)?;
     let t0 = Instant::now();
-    let film = render_with_progress(scene, &camera, reader.chunk_count(), reader.total_samples(), |i| {
-        data.batch(i)
-    })?;
+    let film = render_with_progress(scene, &camera, data.count(), data.samples(), |i| data.batch(i))?;
     let secs = t0.elapsed().as_secs_f64();
     write_film(&film, &a.output, a.exposure)?;
     println!(
         "rendered {} samples at {}x{} in {:.2} s → {}",
-        reader.total_samples(),
+        data.samples(),
         camera.width,
         camera.height,
         secs,
