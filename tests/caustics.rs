@@ -19,8 +19,7 @@
 //!   fixed: the figures are exactly reproducible.)
 //! * the average of the four images (4× the paths) divides the error, less the reference's own
 //!   noise (`relmse_reference_est`, ~1/128 of the 1× error), by 3.5–4.5 (measured 3.96 and
-//!   4.03): no bias floor; and its mean is within MEAN_TOL_4 = 1% (measured −0.05%, −0.13%).
-//!
+//!   4.03): no bias floor; and its mean is within MEAN_TOL_4 = 1% (measured −0.05%, −0.13%);
 //! * the caustic itself matches, not just the image average: over the brightest 1% of pixels
 //!   (chosen on seed 1's image, so the selection is independent of the images measured) the
 //!   mean of seeds 2–4 is within CAUSTIC_TOL = 5% of the reference's. (Choosing the pixels on
