@@ -43,10 +43,8 @@ def wall(r, inward):
     for i in range(N):
         j = (i + 1) % N
         b0, t0, b1, t1 = 2 * i, 2 * i + 1, 2 * j, 2 * j + 1
-        # angle increases from +x towards +z: (b0, t0, b1) has normal
-        # (t0 - b0) x (b1 - b0) = (0,H,0) x (d) -> radial outward component? check numerically
         faces += [(b0, t0, b1), (b1, t0, t1)]
-    # orient: compute the normal of the first face and flip all if needed
+    # orient: the first face's normal decides (all faces are wound alike); flip all if needed
     (x0, y0, z0), (x1, y1, z1), (x2, y2, z2) = (verts[k] for k in faces[0])
     u, v = (x1 - x0, y1 - y0, z1 - z0), (x2 - x0, y2 - y0, z2 - z0)
     n = (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
