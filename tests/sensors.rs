@@ -277,26 +277,14 @@ fn thin_lens_with_zero_radius_is_the_pinhole() {
 #[test]
 fn thin_lens_leaves_a_uniform_scene_unchanged() {
     let (le, rho) = (1.0f32, 0.8f32);
-    let cam_desc = CameraDesc {
-        eye: Vec3::new(0.2, -0.3, 0.1),
-        target: Vec3::new(1.0, 0.2, -0.4),
-        up: Vec3::Y,
-        fov_x_degrees: 100.0,
-        width: 32,
-        height: 32,
-    };
+    let cam_desc = furnace_view(100.0, 32, 32);
     let desc = emissive_furnace(le, rho, Some(cam_desc));
     let scene = Scene::build(&desc).unwrap();
     let lens = ThinLens::new(Pinhole::new(&cam_desc).unwrap(), 0.3, 0.4).unwrap();
     let (table, chunks) = trace_chunks(&scene, 1_500_000, 33);
     let film = render_chunks(&scene, &lens.into(), &table, &chunks);
     let expected = (le / (1.0 - rho)) as f64;
-    let m = film.mean();
-    eprintln!("thin lens mean {m:?}, expected {expected}");
-    for c in m {
-        assert!((c / expected - 1.0).abs() < 0.005, "mean {c} vs {expected}");
-    }
-    assert_blocks_uniform(&film, expected);
+    assert_uniform("thin lens mean", &film, expected);
 }
 
 /// A Lambertian panel on the plane of focus is as sharp as through a pinhole (pixels that do not
@@ -350,14 +338,7 @@ fn thin_lens_focus_is_sharp_and_defocus_blurs() {
 #[test]
 fn equirect_reads_the_emissive_furnace_everywhere() {
     let (le, rho) = (1.0f32, 0.8f32);
-    let cam_desc = CameraDesc {
-        eye: Vec3::new(0.2, -0.3, 0.1),
-        target: Vec3::new(1.0, 0.2, -0.4),
-        up: Vec3::Y,
-        fov_x_degrees: 90.0,
-        width: 64,
-        height: 32,
-    };
+    let cam_desc = furnace_view(90.0, 64, 32);
     let desc = emissive_furnace(le, rho, Some(cam_desc));
     let scene = Scene::build(&desc).unwrap();
     let pano = Equirectangular::new(&cam_desc).unwrap();

@@ -140,6 +140,30 @@ pub fn emissive_furnace(le: f32, rho: f32, camera: Option<CameraDesc>) -> SceneD
     }
 }
 
+/// A camera inside the [`emissive_furnace`], looking obliquely into a corner.
+pub fn furnace_view(fov_x_degrees: f32, width: u32, height: u32) -> CameraDesc {
+    CameraDesc {
+        eye: Vec3::new(0.2, -0.3, 0.1),
+        target: Vec3::new(1.0, 0.2, -0.4),
+        up: Vec3::Y,
+        fov_x_degrees,
+        width,
+        height,
+    }
+}
+
+/// Asserts that the image of a uniform scene reads `expected` in every channel's mean (within
+/// 0.5 %) and in every 8×8 block (see [`assert_blocks_uniform`]); `what` labels the printout.
+pub fn assert_uniform(what: &str, film: &Film, expected: f64) {
+    let m = film.mean();
+    eprintln!("{what} {m:?}, expected {expected}");
+    for c in m {
+        assert!((c / expected - 1.0).abs() < 0.005, "mean {c} vs {expected}");
+    }
+    // Every 8×8 block of pixels, not only the mean.
+    assert_blocks_uniform(film, expected);
+}
+
 /// Asserts that every 8×8 block of pixels (green channel) reads `expected` within 3 %.
 pub fn assert_blocks_uniform(film: &Film, expected: f64) {
     let w = film.width as usize;
