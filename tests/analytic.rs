@@ -7,52 +7,11 @@
 mod common;
 
 use common::*;
-use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
-use opticks_core::scene::{CameraDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
 use opticks_core::trace::{TraceSettings, trace_path};
 use std::f64::consts::PI;
-
-fn lambert(name: &str, albedo: f32, two_sided: bool) -> Material {
-    Material { name: name.into(), bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(albedo)).unwrap()), two_sided }
-}
-
-/// A quad a-b-c-d as a mesh (counter-clockwise seen from its front).
-fn quad(name: &str, q: [Vec3; 4], material: usize, emission: Option<Rgb>) -> MeshDesc {
-    MeshDesc {
-        name: name.into(),
-        positions: q.to_vec(),
-        triangles: vec![[0, 1, 2], [0, 2, 3]],
-        material,
-        emission,
-        ..Default::default()
-    }
-}
-
-/// The six inward-facing faces of the box [lo, hi].
-fn inward_box(lo: Vec3, hi: Vec3, material: usize, emission: Option<Rgb>) -> Vec<MeshDesc> {
-    let c = |x: bool, y: bool, z: bool| {
-        Vec3::new(if x { hi.x } else { lo.x }, if y { hi.y } else { lo.y }, if z { hi.z } else { lo.z })
-    };
-    let (f, t) = (false, true);
-    vec![
-        quad("floor", [c(f, f, f), c(f, f, t), c(t, f, t), c(t, f, f)], material, emission),
-        quad("ceiling", [c(f, t, f), c(t, t, f), c(t, t, t), c(f, t, t)], material, emission),
-        quad("x0", [c(f, f, f), c(f, t, f), c(f, t, t), c(f, f, t)], material, emission),
-        quad("x1", [c(t, f, f), c(t, f, t), c(t, t, t), c(t, t, f)], material, emission),
-        quad("z0", [c(f, f, f), c(t, f, f), c(t, t, f), c(f, t, f)], material, emission),
-        quad("z1", [c(f, f, t), c(f, t, t), c(t, t, t), c(t, f, t)], material, emission),
-    ]
-}
-
-/// Mean and standard error of the mean.
-fn mean_and_error(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
-}
 
 /// furnace/SCENE.md: in the closed grey room (ρ = 0.5) the flux incident on all surfaces over all
 /// bounces is Φ/(1−ρ) = 2.513274 W, and the first bounce puts 0.2986325 W on the floor (exact
@@ -92,42 +51,12 @@ fn furnace_energy_balance() {
 #[test]
 fn emissive_furnace_is_uniform() {
     let (le, rho) = (1.0f32, 0.8f32);
-    let desc = SceneDescription {
-        materials: vec![lambert("grey", rho, true)],
-        meshes: inward_box(Vec3::splat(-1.0), Vec3::splat(1.0), 0, Some(Rgb::splat(le))),
-        point_lights: vec![],
-        camera: Some(CameraDesc {
-            eye: Vec3::new(0.2, -0.3, 0.1),
-            target: Vec3::new(1.0, 0.2, -0.4),
-            up: Vec3::Y,
-            fov_x_degrees: 100.0,
-            width: 32,
-            height: 32,
-        }),
-        ..Default::default()
-    };
+    let desc = emissive_furnace(le, rho, Some(furnace_view(100.0, 32, 32)));
     let scene = Scene::build(&desc).unwrap();
     let cam = camera(&scene);
     let film = trace_and_render(&scene, &cam, 2_000_000, 3);
     let expected = (le / (1.0 - rho)) as f64;
-    let m = film.mean();
-    eprintln!("mean radiance {m:?}, expected {expected}");
-    for c in m {
-        assert!((c / expected - 1.0).abs() < 0.005, "mean {c} vs {expected}");
-    }
-    // Every 8×8 block of pixels, not only the mean.
-    for by in 0..4 {
-        for bx in 0..4 {
-            let mut s = 0.0;
-            for y in 0..8 {
-                for x in 0..8 {
-                    s += film.pixels[(by * 8 + y) * 32 + bx * 8 + x][1];
-                }
-            }
-            let block = s / 64.0;
-            assert!((block / expected - 1.0).abs() < 0.03, "block ({bx},{by}): {block} vs {expected}");
-        }
-    }
+    assert_uniform("mean radiance", &film, expected);
 }
 
 /// Radiance of a Lambertian plane lit by a point light of intensity I at height h:
@@ -214,25 +143,7 @@ fn point_light_over_lambertian_plane() {
 #[test]
 fn lambertian_emitter_reads_its_radiance() {
     let l = Rgb::new(3.0, 2.0, 0.5);
-    let emitter = quad(
-        "panel",
-        [
-            Vec3::new(-0.5, -0.5, 0.0),
-            Vec3::new(0.5, -0.5, 0.0),
-            Vec3::new(0.5, 0.5, 0.0),
-            Vec3::new(-0.5, 0.5, 0.0),
-        ],
-        0,
-        Some(l),
-    );
-    let desc = SceneDescription {
-        materials: vec![lambert("black", 0.0, false)],
-        meshes: vec![emitter],
-        point_lights: vec![],
-        camera: None,
-        ..Default::default()
-    };
-    let scene = Scene::build(&desc).unwrap();
+    let scene = Scene::build(&emitting_panel(l)).unwrap();
     let area = 1.0f32;
     assert!((scene.lights[0].power() - std::f32::consts::PI * l * area).abs().max_element() < 1e-5);
     let view = |eye: Vec3| {
@@ -252,14 +163,7 @@ fn lambertian_emitter_reads_its_radiance() {
     for (p, v) in film.pixels.iter().enumerate() {
         let (i, j) = (p % 32, p / 32);
         // Classify the pixel by its four corners' rays hitting the panel.
-        let hits = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
-            .iter()
-            .filter(|(a, b)| {
-                let d = front.direction((i as f32 + a) / 32.0, (j as f32 + b) / 32.0);
-                let x = front.eye + (-front.eye.z / d.z) * d;
-                x.x.abs() < 0.5 && x.y.abs() < 0.5
-            })
-            .count();
+        let hits = corners_on_panel(&front, p);
         if hits == 4 {
             inside += glam::DVec3::from_array(*v);
             n_inside += 1;

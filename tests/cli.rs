@@ -226,3 +226,21 @@ fn ctrl_c_saves_the_paths_traced_so_far_and_leaves_the_old_dataset() {
     left.sort();
     assert_eq!(left, ["data.opds", "data.partial.opds"], "no temporary file is left");
 }
+
+#[test]
+fn demo_exports_its_scene_as_vrml_that_traces_like_the_builtin() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(opticks(&["demo", "--export-scene", "cornell.wrl"], d));
+    let text = std::fs::read_to_string(d.join("cornell.wrl")).unwrap();
+    assert!(
+        text.starts_with("#VRML V2.0 utf8") && text.contains("PROTO PhysicalMaterial"),
+        "{}",
+        &text[..200]
+    );
+    ok(opticks(&["trace", "cornell.wrl", "--paths", "300000", "-o", "w.opds"], d));
+    ok(opticks(&["render", "w.opds", "-o", "w.exr"], d));
+    let (w, h, rgb) = read_exr_rgb(&d.join("w.exr")).unwrap();
+    assert_eq!((w, h), (256, 256));
+    assert_mean_close(&rgb, "cornell", 0.03);
+}

@@ -239,6 +239,16 @@ fn walkthrough_frames_come_from_one_dataset() {
     assert!(a.iter().zip(&b).all(|(x, y)| (x - y).abs() <= 1e-4 * x.abs().max(1e-3)));
     let last = image(d, "frames/frame_00003.exr");
     assert!(last != a, "the camera moved");
+    // A preview from a quarter of the chunks: renormalised, so the same image up to noise.
+    ok(
+        &["walk", "w.opds", "--path", "cam.json", "-o", "preview", "--format", "exr", "--fraction", "0.25"],
+        d,
+    );
+    let preview = image(d, "preview/frame_00000.exr");
+    let (m_full, m_preview) = (a.iter().sum::<f32>(), preview.iter().sum::<f32>());
+    assert!(preview != a && (m_preview / m_full - 1.0).abs() < 0.05, "{m_preview} vs {m_full}");
+    let e = fails(&["walk", "w.opds", "--path", "cam.json", "-o", "f3", "--fraction", "0"], d);
+    assert!(e.contains("fraction"), "{e}");
     // Bad camera paths are clear errors naming the file.
     std::fs::write(d.join("bad.json"), "{\"keyframes\": [{\"time\": 0, \"eye\": [0,0]}]}").unwrap();
     let e = fails(&["walk", "w.opds", "--path", "bad.json", "-o", "f2"], d);

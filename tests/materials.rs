@@ -12,7 +12,7 @@
 mod common;
 
 use common::*;
-use opticks_core::bsdf::{Bsdf, Lambert, Material, RoughDielectric, SmoothConductor, SmoothDielectric};
+use opticks_core::bsdf::{Bsdf, Material, RoughDielectric, SmoothConductor, SmoothDielectric};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{CameraDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
@@ -20,10 +20,6 @@ use opticks_core::trace::{TraceSettings, trace_path};
 
 fn material(name: &str, bsdf: Bsdf) -> Material {
     Material { name: name.into(), bsdf, two_sided: false }
-}
-
-fn lambert(albedo: f32) -> Bsdf {
-    Bsdf::Lambert(Lambert::new(Rgb::splat(albedo)).unwrap())
 }
 
 fn glass() -> Bsdf {
@@ -34,32 +30,11 @@ fn mirror() -> Bsdf {
     Bsdf::SmoothConductor(SmoothConductor::new(Rgb::ONE, None).unwrap())
 }
 
-/// A quad a-b-c-d (counter-clockwise seen from its front).
-fn quad(name: &str, q: [Vec3; 4], material: usize, emission: Option<Rgb>) -> MeshDesc {
-    MeshDesc {
-        name: name.into(),
-        positions: q.to_vec(),
-        triangles: vec![[0, 1, 2], [0, 2, 3]],
-        material,
-        emission,
-        ..Default::default()
-    }
-}
-
 /// The six inward-facing faces of [−1, 1]³; the floor (y = −1) gets `floor_material`.
 fn room(walls: usize, floor_material: usize) -> Vec<MeshDesc> {
-    let c = |x: bool, y: bool, z: bool| {
-        Vec3::new(if x { 1.0 } else { -1.0 }, if y { 1.0 } else { -1.0 }, if z { 1.0 } else { -1.0 })
-    };
-    let (f, t) = (false, true);
-    vec![
-        quad("floor", [c(f, f, f), c(f, f, t), c(t, f, t), c(t, f, f)], floor_material, None),
-        quad("ceiling", [c(f, t, f), c(t, t, f), c(t, t, t), c(f, t, t)], walls, None),
-        quad("x0", [c(f, f, f), c(f, t, f), c(f, t, t), c(f, f, t)], walls, None),
-        quad("x1", [c(t, f, f), c(t, f, t), c(t, t, t), c(t, t, f)], walls, None),
-        quad("z0", [c(f, f, f), c(t, f, f), c(t, t, f), c(f, t, f)], walls, None),
-        quad("z1", [c(f, f, t), c(f, t, t), c(t, t, t), c(t, f, t)], walls, None),
-    ]
+    let mut faces = inward_box(Vec3::splat(-1.0), Vec3::splat(1.0), walls, None);
+    faces[0].material = floor_material;
+    faces
 }
 
 /// An icosphere (icosahedron subdivided `levels` times), outward normals.
@@ -146,14 +121,6 @@ fn point_light(position: Vec3) -> PointLightDesc {
     }
 }
 
-/// Mean and standard error of the mean.
-fn mean_and_error(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
-}
-
 /// Traces `paths` paths of light 0 and returns the per-path incident flux Φ·Σβ over stored
 /// vertices, after checking that none of them lies where `forbidden` says (delta surfaces).
 fn incident_flux(scene: &Scene, paths: usize, seed: u64, forbidden: impl Fn(Vec3) -> bool) -> Vec<f64> {
@@ -189,7 +156,7 @@ fn glass_sphere_keeps_the_furnace_balance() {
     let rho = 0.5;
     let (centre, radius) = (Vec3::new(0.1, -0.45, -0.05), 0.5);
     let desc = SceneDescription {
-        materials: vec![material("grey", lambert(rho)), material("glass", glass())],
+        materials: vec![material("grey", lambert_bsdf(rho)), material("glass", glass())],
         meshes: [room(0, 0), vec![icosphere("ball", centre, radius, 3, 1)]].concat(),
         point_lights: vec![point_light(Vec3::new(-0.2, 0.6, 0.1))],
         camera: None,
@@ -212,7 +179,7 @@ fn mirror_floor_keeps_the_furnace_balance() {
     let (centre, radius) = (Vec3::new(0.0, -0.6, 0.0), 0.4);
     let desc = SceneDescription {
         materials: vec![
-            material("grey", lambert(rho)),
+            material("grey", lambert_bsdf(rho)),
             material("mirror", mirror()),
             material("glass", glass()),
         ],
@@ -249,7 +216,7 @@ fn mirror_floored_box_renders_finite_positive_images() {
     let build = |floor: Bsdf| {
         let desc = SceneDescription {
             materials: vec![
-                material("walls", lambert(0.6)),
+                material("walls", lambert_bsdf(0.6)),
                 material("floor", floor),
                 material("glass", glass()),
                 material("frosted", rough.clone()),
@@ -270,7 +237,7 @@ fn mirror_floored_box_renders_finite_positive_images() {
     };
     let pin = Pinhole::new(&cam).unwrap();
     let mirrored = trace_and_render(&build(mirror()), &pin, 400_000, 7).mean();
-    let black = trace_and_render(&build(lambert(0.0)), &pin, 400_000, 7).mean();
+    let black = trace_and_render(&build(lambert_bsdf(0.0)), &pin, 400_000, 7).mean();
     eprintln!("image mean: mirror floor {mirrored:?}, black floor {black:?}");
     for (m, b) in mirrored.iter().zip(black) {
         assert!(m.is_finite() && *m > 0.0 && b > 0.0, "{mirrored:?} {black:?}");

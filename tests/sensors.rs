@@ -11,7 +11,6 @@
 mod common;
 
 use common::*;
-use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
@@ -21,22 +20,6 @@ use opticks_core::scene::{
 use opticks_core::sensor::{Equirectangular, IlluminanceMeter, SampleBatch, Sensor, ThinLens, measure};
 use std::f64::consts::PI;
 
-fn lambert(name: &str, albedo: f32, two_sided: bool) -> Material {
-    Material { name: name.into(), bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(albedo)).unwrap()), two_sided }
-}
-
-/// A quad a-b-c-d as a mesh (counter-clockwise seen from its front).
-fn quad(name: &str, q: [Vec3; 4], material: usize, emission: Option<Rgb>) -> MeshDesc {
-    MeshDesc {
-        name: name.into(),
-        positions: q.to_vec(),
-        triangles: vec![[0, 1, 2], [0, 2, 3]],
-        material,
-        emission,
-        ..Default::default()
-    }
-}
-
 /// The floor y = 0, facing +y, half-size s.
 fn floor(s: f32, material: usize) -> MeshDesc {
     quad(
@@ -45,22 +28,6 @@ fn floor(s: f32, material: usize) -> MeshDesc {
         material,
         None,
     )
-}
-
-/// The six inward-facing faces of the box [lo, hi].
-fn inward_box(lo: Vec3, hi: Vec3, material: usize, emission: Option<Rgb>) -> Vec<MeshDesc> {
-    let c = |x: bool, y: bool, z: bool| {
-        Vec3::new(if x { hi.x } else { lo.x }, if y { hi.y } else { lo.y }, if z { hi.z } else { lo.z })
-    };
-    let (f, t) = (false, true);
-    vec![
-        quad("floor", [c(f, f, f), c(f, f, t), c(t, f, t), c(t, f, f)], material, emission),
-        quad("ceiling", [c(f, t, f), c(t, t, f), c(t, t, t), c(f, t, t)], material, emission),
-        quad("x0", [c(f, f, f), c(f, t, f), c(f, t, t), c(f, f, t)], material, emission),
-        quad("x1", [c(t, f, f), c(t, f, t), c(t, t, t), c(t, t, f)], material, emission),
-        quad("z0", [c(f, f, f), c(t, f, f), c(t, t, f), c(f, t, f)], material, emission),
-        quad("z1", [c(f, f, t), c(f, t, t), c(t, t, t), c(t, f, t)], material, emission),
-    ]
 }
 
 /// The meter on the floor square [−1,1]² (facing +y), n×n cells; cell (i, j) spans
@@ -88,13 +55,6 @@ fn cell_mean(n: u32, i: u32, j: u32, e: &dyn Fn(f64, f64) -> f64) -> f64 {
         }
     }
     s / (k * k) as f64
-}
-
-fn batch<'a>(table: &LightTable, chunks: &'a [Chunk], i: usize) -> Result<SampleBatch<'a>, ()> {
-    Ok(SampleBatch {
-        flux_per_path: table.flux_per_path(chunks[i].light as usize),
-        samples: &chunks[i].samples,
-    })
 }
 
 /// Measures, and the standard error of each cell (red channel) from the sum of squared
@@ -322,41 +282,14 @@ fn thin_lens_with_zero_radius_is_the_pinhole() {
 #[test]
 fn thin_lens_leaves_a_uniform_scene_unchanged() {
     let (le, rho) = (1.0f32, 0.8f32);
-    let cam_desc = CameraDesc {
-        eye: Vec3::new(0.2, -0.3, 0.1),
-        target: Vec3::new(1.0, 0.2, -0.4),
-        up: Vec3::Y,
-        fov_x_degrees: 100.0,
-        width: 32,
-        height: 32,
-    };
-    let desc = SceneDescription {
-        materials: vec![lambert("grey", rho, true)],
-        meshes: inward_box(Vec3::splat(-1.0), Vec3::splat(1.0), 0, Some(Rgb::splat(le))),
-        point_lights: vec![],
-        camera: Some(cam_desc),
-        ..Default::default()
-    };
+    let cam_desc = furnace_view(100.0, 32, 32);
+    let desc = emissive_furnace(le, rho, Some(cam_desc));
     let scene = Scene::build(&desc).unwrap();
     let lens = ThinLens::new(Pinhole::new(&cam_desc).unwrap(), 0.3, 0.4).unwrap();
     let (table, chunks) = trace_chunks(&scene, 1_500_000, 33);
     let film = render_chunks(&scene, &lens.into(), &table, &chunks);
     let expected = (le / (1.0 - rho)) as f64;
-    let m = film.mean();
-    eprintln!("thin lens mean {m:?}, expected {expected}");
-    for c in m {
-        assert!((c / expected - 1.0).abs() < 0.005, "mean {c} vs {expected}");
-    }
-    for by in 0..4 {
-        for bx in 0..4 {
-            let s: f64 = (0..64).map(|k| film.pixels[(by * 8 + k / 8) * 32 + bx * 8 + k % 8][1]).sum();
-            assert!(
-                (s / 64.0 / expected - 1.0).abs() < 0.03,
-                "block ({bx},{by}): {} vs {expected}",
-                s / 64.0
-            );
-        }
-    }
+    assert_uniform("thin lens mean", &film, expected);
 }
 
 /// A Lambertian panel on the plane of focus is as sharp as through a pinhole (pixels that do not
@@ -365,25 +298,7 @@ fn thin_lens_leaves_a_uniform_scene_unchanged() {
 #[test]
 fn thin_lens_focus_is_sharp_and_defocus_blurs() {
     let l = Rgb::new(3.0, 2.0, 0.5);
-    let panel = quad(
-        "panel",
-        [
-            Vec3::new(-0.5, -0.5, 0.0),
-            Vec3::new(0.5, -0.5, 0.0),
-            Vec3::new(0.5, 0.5, 0.0),
-            Vec3::new(-0.5, 0.5, 0.0),
-        ],
-        0,
-        Some(l),
-    );
-    let desc = SceneDescription {
-        materials: vec![lambert("black", 0.0, false)],
-        meshes: vec![panel],
-        point_lights: vec![],
-        camera: None,
-        ..Default::default()
-    };
-    let scene = Scene::build(&desc).unwrap();
+    let scene = Scene::build(&emitting_panel(l)).unwrap();
     let cam = Pinhole::new(&CameraDesc {
         eye: Vec3::new(0.0, 0.0, 2.0),
         target: Vec3::ZERO,
@@ -396,20 +311,9 @@ fn thin_lens_focus_is_sharp_and_defocus_blurs() {
     let (table, chunks) = trace_chunks(&scene, 2_000_000, 34);
     let sharp = render_chunks(&scene, &ThinLens::new(cam, 0.1, 2.0).unwrap().into(), &table, &chunks);
     let blurred = render_chunks(&scene, &ThinLens::new(cam, 0.1, 1.0).unwrap().into(), &table, &chunks);
-    let hits = |p: usize| {
-        let (i, j) = (p % 32, p / 32);
-        [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
-            .iter()
-            .filter(|(a, b)| {
-                let d = cam.direction((i as f32 + a) / 32.0, (j as f32 + b) / 32.0);
-                let x = cam.eye + (-cam.eye.z / d.z) * d;
-                x.x.abs() < 0.5 && x.y.abs() < 0.5
-            })
-            .count()
-    };
     let (mut inside, mut n_inside, mut blurred_off) = (0.0, 0, 0);
     for p in 0..32 * 32 {
-        match hits(p) {
+        match corners_on_panel(&cam, p) {
             4 => {
                 inside += sharp.pixels[p][0];
                 n_inside += 1;
@@ -439,21 +343,8 @@ fn thin_lens_focus_is_sharp_and_defocus_blurs() {
 #[test]
 fn equirect_reads_the_emissive_furnace_everywhere() {
     let (le, rho) = (1.0f32, 0.8f32);
-    let cam_desc = CameraDesc {
-        eye: Vec3::new(0.2, -0.3, 0.1),
-        target: Vec3::new(1.0, 0.2, -0.4),
-        up: Vec3::Y,
-        fov_x_degrees: 90.0,
-        width: 64,
-        height: 32,
-    };
-    let desc = SceneDescription {
-        materials: vec![lambert("grey", rho, true)],
-        meshes: inward_box(Vec3::splat(-1.0), Vec3::splat(1.0), 0, Some(Rgb::splat(le))),
-        point_lights: vec![],
-        camera: Some(cam_desc),
-        ..Default::default()
-    };
+    let cam_desc = furnace_view(90.0, 64, 32);
+    let desc = emissive_furnace(le, rho, Some(cam_desc));
     let scene = Scene::build(&desc).unwrap();
     let pano = Equirectangular::new(&cam_desc).unwrap();
     let (table, chunks) = trace_chunks(&scene, 1_500_000, 35);
@@ -467,16 +358,7 @@ fn equirect_reads_the_emissive_furnace_everywhere() {
     let sphere_mean = total / (4.0 * PI);
     eprintln!("panorama: sphere mean {sphere_mean:.4}, pixel mean {:?}, expected {expected}", film.mean());
     assert!((sphere_mean / expected - 1.0).abs() < 0.005);
-    for by in 0..4 {
-        for bx in 0..8 {
-            let s: f64 = (0..64).map(|k| film.pixels[(by * 8 + k / 8) * 64 + bx * 8 + k % 8][1]).sum();
-            assert!(
-                (s / 64.0 / expected - 1.0).abs() < 0.03,
-                "block ({bx},{by}): {} vs {expected}",
-                s / 64.0
-            );
-        }
-    }
+    assert_blocks_uniform(&film, expected);
 }
 
 /// Runs the `opticks` binary in `dir`.

@@ -21,8 +21,12 @@ pub fn load_description(spec: &str) -> Result<SceneDescription> {
 
 /// Loads and validates a scene (builds its BVH).
 pub fn load_scene(spec: &str) -> Result<Scene> {
-    let desc = load_description(spec)?;
-    let scene = Scene::build(&desc).with_context(|| format!("invalid scene {spec}"))?;
+    build_scene(spec, &load_description(spec)?)
+}
+
+/// Validates a loaded description into a scene, reporting dropped triangles.
+pub fn build_scene(spec: &str, desc: &SceneDescription) -> Result<Scene> {
+    let scene = Scene::build(desc).with_context(|| format!("invalid scene {spec}"))?;
     if scene.dropped_triangles > 0 {
         eprintln!("warning: {spec}: dropped {} degenerate (zero-area) triangles", scene.dropped_triangles);
     }

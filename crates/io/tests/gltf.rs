@@ -3,49 +3,17 @@
 //! transforms, primitive modes, punctual lights, cameras and the material mapping; errors that
 //! name the file; no panic on mangled input.
 
-use opticks_core::bsdf::{Bsdf, Material};
+mod common;
+
+use common::*;
+use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{Pinhole, Scene, SceneDescription};
 use opticks_io::{LoadedScene, SceneFileError, load_scene};
-use std::path::{Path, PathBuf};
-
-fn testdata(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata").join(rel)
-}
+use std::path::Path;
 
 fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
     (a - b).abs().max_element() <= tol
-}
-
-/// (centroid, unit normal, diffuse albedo, two-sided, emits) of every triangle.
-fn triangles_of(s: &Scene) -> Vec<(Vec3, Vec3, Rgb, bool, bool)> {
-    (0..s.triangles.len() as u32)
-        .map(|i| {
-            let t = &s.triangles[i as usize];
-            let m: &Material = s.material(i);
-            let albedo = match &m.bsdf {
-                Bsdf::Lambert(l) => l.reflectance,
-                other => panic!("expected Lambert, got {other:?}"),
-            };
-            (t.point(1.0 / 3.0, 1.0 / 3.0), t.normal(), albedo, m.two_sided, s.light_of(i).is_some())
-        })
-        .collect()
-}
-
-/// Same triangles (position, orientation, material, emission) in any order, same light power.
-fn assert_same_scene(a: &Scene, b: &Scene) {
-    assert_eq!(a.triangles.len(), b.triangles.len());
-    let (ta, tb) = (triangles_of(a), triangles_of(b));
-    for x in &ta {
-        let y = tb
-            .iter()
-            .find(|y| close(x.0, y.0, 1e-5) && x.1.dot(y.1) > 0.99999)
-            .unwrap_or_else(|| panic!("no triangle at {:?} facing {:?}", x.0, x.1));
-        assert_eq!((x.2, x.3, x.4), (y.2, y.3, y.4), "triangle at {:?}", x.0);
-    }
-    let power = |s: &Scene| s.light_powers().iter().fold(Rgb::ZERO, |acc, p| acc + *p);
-    let (pa, pb) = (power(a), power(b));
-    assert!(((pa - pb) / pb).abs().max_element() < 1e-4, "light power {pa:?} vs {pb:?}");
 }
 
 fn base64(data: &[u8]) -> String {
@@ -84,24 +52,9 @@ fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     out
 }
 
+/// Loads one file (see [`common::load_ok`]).
 fn load_ok(name: &str, data: &[u8]) -> LoadedScene {
-    let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join(name), data).unwrap();
-    let mut s = load_scene(&dir.path().join(name)).unwrap_or_else(|e| panic!("{e}"));
-    let tmp = dir.path().display().to_string();
-    for w in &mut s.warnings {
-        *w = w.replace(&tmp, "TMP");
-    }
-    s
-}
-
-fn error_of(files: &[(&str, &[u8])]) -> String {
-    let dir = tempfile::tempdir().unwrap();
-    for (name, data) in files {
-        std::fs::write(dir.path().join(name), data).unwrap();
-    }
-    let e = load_scene(&dir.path().join(files[0].0)).expect_err("should fail");
-    e.to_string().replace(&dir.path().display().to_string(), "TMP")
+    common::load_ok(&[(name, data)])
 }
 
 /// Geometry and materials, ignoring where they were declared (file names differ).
@@ -481,15 +434,6 @@ fn errors_name_the_file() {
     let e = load_scene(Path::new("no/such/scene.glb")).unwrap_err();
     assert!(matches!(e, SceneFileError::Read { .. }));
     assert!(e.to_string().starts_with("no/such/scene.glb: cannot read the scene file"), "{e}");
-}
-
-/// A tiny deterministic generator for mangling inputs.
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        self.0 >> 33
-    }
 }
 
 #[test]

@@ -35,7 +35,7 @@ pub struct Args {
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let (reader, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let mut header = reader.header().clone();
     let Some(scene_light) = scene.light_index(&a.light) else {
         let names: Vec<_> = scene.lights.iter().map(|l| l.name()).collect();

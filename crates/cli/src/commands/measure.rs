@@ -11,15 +11,12 @@
 //!
 //! The scene is resolved and checked against the dataset as `opticks render` does.
 
-use super::ThreadArgs;
+use super::{DatasetArgs, ThreadArgs};
 use crate::camera_args::parse_vec3;
 use crate::progress;
-use crate::scene_arg::load_description;
 use anyhow::{Context, Result, bail};
 use opticks_core::math::Vec3;
-use opticks_core::scene::Scene;
-use opticks_core::sensor::{IlluminanceMeter, SampleBatch, measure};
-use opticks_io::dataset_file::DatasetReader;
+use opticks_core::sensor::{IlluminanceMeter, measure};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -30,11 +27,8 @@ pub const LUMENS_PER_WATT: f64 = 683.0;
 /// Arguments of `opticks measure`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Dataset file written by `opticks trace`.
-    dataset: PathBuf,
-    /// Scene file the dataset was traced from (default: the path recorded in the dataset).
-    #[arg(long)]
-    scene: Option<String>,
+    #[command(flatten)]
+    input: DatasetArgs,
     /// Measure on the planar mesh of this name (its bounding rectangle in its plane, front side).
     #[arg(long, conflicts_with = "plane", required_unless_present = "plane")]
     surface: Option<String>,
@@ -82,28 +76,8 @@ fn parse_plane(s: &str) -> Result<(Vec3, Vec3, Vec3)> {
 /// Runs the measurement.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let reader = DatasetReader::open(&a.dataset)?;
-    let header = reader.header();
-    let scene_spec = a.scene.clone().unwrap_or_else(|| header.label.clone());
-    let desc = load_description(&scene_spec).with_context(|| {
-        format!("cannot load the dataset's scene (recorded as '{}'; pass --scene to name it)", header.label)
-    })?;
-    let scene = Scene::build(&desc).with_context(|| format!("invalid scene {scene_spec}"))?;
-    // The same checks as `opticks render` (a shared helper would be better: see the report).
-    if scene.fingerprint.geometry != header.fingerprint.geometry {
-        bail!(
-            "{} was traced from a different scene than {scene_spec}: geometry/material fingerprints differ",
-            a.dataset.display()
-        );
-    }
-    if scene.fingerprint.lights != header.fingerprint.lights
-        || scene.lights.len() != header.table.lights.len()
-    {
-        bail!(
-            "the lights of {scene_spec} differ from those {} was traced with; re-trace the scene",
-            a.dataset.display()
-        );
-    }
+    let data = a.input.open()?;
+    let desc = &data.description;
     let (nx, ny) = a.cells;
     let meter = match (&a.surface, &a.plane) {
         (Some(name), _) => IlluminanceMeter::on_mesh(&desc, name, nx, ny)?,
@@ -113,19 +87,12 @@ pub fn run(a: Args) -> Result<()> {
         }
         (None, None) => bail!("give --surface NAME or --plane ox,oy,oz,ux,uy,uz,vx,vy,vz"),
     };
-    let table = &header.table;
-    let pb = progress::bar(reader.total_samples(), "measuring", "samples");
+    let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
     let film = measure(
         &meter,
-        reader.chunk_count(),
-        |i| {
-            let c = reader.chunk(i)?;
-            Ok::<_, anyhow::Error>(SampleBatch {
-                flux_per_path: table.flux_per_path(c.light as usize),
-                samples: c.samples,
-            })
-        },
+        data.count(),
+        |i| data.batch(i),
         |n| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64),
     )?;
     pb.finish_and_clear();

@@ -18,7 +18,7 @@ use crate::progress;
 use anyhow::{Context, Result};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
-use opticks_core::scene::Scene;
+use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{SampleBatch, Sensor, render};
 use opticks_core::trace::{LightPlan, TraceSettings, trace_plan};
 use opticks_io::dataset_file::DatasetReader;
@@ -82,13 +82,17 @@ pub fn render_with_progress<'a>(
 /// Opens a dataset and the scene it is to be used with — `scene` if given, else the scene file
 /// recorded in the dataset — and checks that the geometry and materials are those it was traced
 /// in (lights are checked one by one where they are used: see `opticks_core::dataset::lighting`).
-pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<(DatasetReader, Scene)> {
+pub fn open_with_scene(
+    dataset: &Path,
+    scene: Option<&str>,
+) -> Result<(DatasetReader, SceneDescription, Scene)> {
     let reader = DatasetReader::open(dataset)?;
     let label = &reader.header().label;
     let spec = scene.unwrap_or(label);
-    let scene = crate::scene_arg::load_scene(spec).with_context(|| {
-        format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)")
-    })?;
+    let context =
+        || format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)");
+    let description = crate::scene_arg::load_description(spec).with_context(context)?;
+    let scene = crate::scene_arg::build_scene(spec, &description)?;
     let recorded = reader.header().fingerprint;
     if scene.fingerprint.geometry != recorded.geometry {
         anyhow::bail!(
@@ -98,7 +102,107 @@ pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<(DatasetRe
             scene.fingerprint.geometry_hex()
         );
     }
-    Ok((reader, scene))
+    Ok((reader, description, scene))
+}
+
+/// The dataset a view is rendered from, with its scene and relighting (`render`, `walk`,
+/// `measure`).
+#[derive(clap::Args, Debug)]
+pub struct DatasetArgs {
+    /// Dataset file written by `opticks trace`.
+    dataset: std::path::PathBuf,
+    /// Scene file the dataset was traced from (default: the path recorded in the dataset).
+    #[arg(long)]
+    scene: Option<String>,
+    /// Relight: NAME_OR_INDEX=SCALE or NAME_OR_INDEX=R,G,B multiplies that light's power
+    /// (0 switches it off); repeatable. No re-tracing: exact.
+    #[arg(long = "light", value_parser = light_args::parse_light_scale, allow_hyphen_values = true)]
+    light: Vec<opticks_core::dataset::LightScale>,
+}
+
+/// An opened dataset, its scene, and the flux each light's samples stand for — over all its
+/// chunks, or over a subset ([`LitDataset::keep_fraction`]).
+pub struct LitDataset {
+    /// The memory-mapped dataset.
+    pub reader: DatasetReader,
+    /// The scene as loaded (meters find surfaces by name in it).
+    pub description: SceneDescription,
+    /// The validated scene.
+    pub scene: Scene,
+    lighting: opticks_core::dataset::Lighting,
+    chunks: Vec<usize>,
+}
+
+impl DatasetArgs {
+    /// Opens the dataset against its scene and works out the lighting; prints the notes.
+    pub fn open(&self) -> Result<LitDataset> {
+        let (reader, description, scene) = open_with_scene(&self.dataset, self.scene.as_deref())?;
+        let lighting = opticks_core::dataset::lighting(&reader.header().table, &scene, &self.light)?;
+        for note in &lighting.notes {
+            eprintln!("note: {note}");
+        }
+        let chunks = (0..reader.chunk_count()).collect();
+        Ok(LitDataset { reader, description, scene, lighting, chunks })
+    }
+}
+
+impl LitDataset {
+    /// Number of batches.
+    pub fn count(&self) -> usize {
+        self.chunks.len()
+    }
+
+    /// Samples in the batches.
+    pub fn samples(&self) -> u64 {
+        self.chunks.iter().filter_map(|&i| self.reader.chunk_summary(i)).map(|(_, _, n)| n as u64).sum()
+    }
+
+    /// Batch `i`: a chunk's samples with their light's (relit) flux per path.
+    pub fn batch(&self, i: usize) -> Result<SampleBatch<'_>> {
+        let c = self.reader.chunk(self.chunks[i])?;
+        Ok(SampleBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
+    }
+
+    /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises: the kept
+    /// chunks hold N'_k of the light's paths, so their samples now stand for Φ_k/N'_k each. The
+    /// result is an unbiased estimate from fewer paths — a cheaper, noisier preview.
+    pub fn keep_fraction(&mut self, fraction: f64) -> Result<()> {
+        if !(fraction > 0.0 && fraction <= 1.0) {
+            anyhow::bail!("the fraction {fraction} must be in (0, 1]");
+        }
+        let lights = self.lighting.flux_per_path.len();
+        let (mut seen, mut kept_paths, mut all_paths) =
+            (vec![0u64; lights], vec![0u64; lights], vec![0u64; lights]);
+        let mut kept = Vec::new();
+        for i in 0..self.reader.chunk_count() {
+            let Some((light, paths, _)) = self.reader.chunk_summary(i) else { continue };
+            let k = light as usize;
+            // Keep chunk j of a light when ⌊(j+1)·f⌋ > ⌊j·f⌋: evenly spread, ≈ f of them.
+            let j = seen[k] as f64;
+            seen[k] += 1;
+            all_paths[k] += paths;
+            if ((j + 1.0) * fraction).floor() > (j * fraction).floor() {
+                kept.push(i);
+                kept_paths[k] += paths;
+            }
+        }
+        for k in 0..lights {
+            if kept_paths[k] == 0 && all_paths[k] > 0 {
+                // Too few chunks to thin this light: keep all of them rather than lose it.
+                kept.extend(
+                    (0..self.reader.chunk_count())
+                        .filter(|&i| self.reader.chunk_summary(i).is_some_and(|(l, _, _)| l as usize == k)),
+                );
+                kept_paths[k] = all_paths[k];
+            }
+            if kept_paths[k] > 0 {
+                self.lighting.flux_per_path[k] *= all_paths[k] as f32 / kept_paths[k] as f32;
+            }
+        }
+        kept.sort_unstable();
+        self.chunks = kept;
+        Ok(())
+    }
 }
 
 /// Writes the film to `path` (format from the extension).

@@ -35,7 +35,7 @@ pub fn run(a: Args) -> Result<()> {
         bail!("--paths must be at least 1");
     }
     a.threads.apply()?;
-    let (reader, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let mut header = reader.header().clone();
     let mut scene_lights = Vec::new();
     for record in &header.table.lights {

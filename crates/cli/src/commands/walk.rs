@@ -3,13 +3,11 @@
 //! same memory-mapped dataset; the time per frame is reported next to what the trace cost.
 //! With `ffmpeg` on the PATH the PNG frames also become `walk.mp4`.
 
-use super::light_args::parse_light_scale;
-use super::{ThreadArgs, open_with_scene, write_film};
+use super::{DatasetArgs, ThreadArgs, write_film};
 use crate::progress;
 use anyhow::{Context, Result, bail};
-use opticks_core::dataset::{LightScale, lighting};
 use opticks_core::scene::Pinhole;
-use opticks_core::sensor::{SampleBatch, render_pinhole};
+use opticks_core::sensor::render_pinhole;
 use opticks_io::camera_path_file::read_camera_path;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -18,23 +16,21 @@ use std::time::Instant;
 /// Arguments of `opticks walk`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Dataset file.
-    dataset: PathBuf,
+    #[command(flatten)]
+    input: DatasetArgs,
     /// Camera path (JSON keyframes).
     #[arg(long)]
     path: PathBuf,
     /// Output folder for the frames (created if missing).
     #[arg(short, long)]
     output: PathBuf,
-    /// Scene file (default: the one recorded in the dataset).
-    #[arg(long)]
-    scene: Option<String>,
+    /// Render each frame from this fraction of the dataset's chunks (renormalised, so still
+    /// unbiased): a cheaper, noisier preview of the walkthrough.
+    #[arg(long, default_value_t = 1.0)]
+    fraction: f64,
     /// Frame format: png or exr.
     #[arg(long, default_value = "png", value_parser = ["png", "exr"])]
     format: String,
-    /// Relight, as for `render`: NAME_OR_INDEX=SCALE or =R,G,B.
-    #[arg(long = "light", value_parser = parse_light_scale, allow_hyphen_values = true)]
-    light: Vec<LightScale>,
     /// Exposure for PNG frames, in stops.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
@@ -45,11 +41,9 @@ pub struct Args {
 /// Renders the walkthrough.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let (reader, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
-    let lit = lighting(&reader.header().table, &scene, &a.light)?;
-    for note in &lit.notes {
-        eprintln!("note: {note}");
-    }
+    let mut data = a.input.open()?;
+    data.keep_fraction(a.fraction)?;
+    let (reader, scene) = (&data.reader, &data.scene);
     let walk = read_camera_path(&a.path, scene.camera.map_or(45.0, |c| c.fov_x_degrees))?;
     let (w, h) = walk.size.or(scene.camera.map(|c| (c.width, c.height))).unwrap_or((512, 512));
     let (t0, t1) = walk.path.span();
@@ -66,19 +60,7 @@ pub fn run(a: Args) -> Result<()> {
         }
         let desc = walk.path.at(t0 + f as f32 / walk.fps, w, h);
         let camera = Pinhole::new(&desc).with_context(|| format!("frame {f}: invalid camera"))?;
-        let film = render_pinhole(
-            &scene,
-            &camera,
-            reader.chunk_count(),
-            |i| {
-                let c = reader.chunk(i)?;
-                Ok::<_, anyhow::Error>(SampleBatch {
-                    flux_per_path: lit.flux_per_path[c.light as usize],
-                    samples: c.samples,
-                })
-            },
-            |_| {},
-        )?;
+        let film = render_pinhole(scene, &camera, data.count(), |i| data.batch(i), |_| {})?;
         write_film(&film, &a.output.join(format!("frame_{f:05}.{}", a.format)), a.exposure)?;
         pb.inc(1);
     }

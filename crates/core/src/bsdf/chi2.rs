@@ -24,6 +24,7 @@
 //! fails when p < 0.01 / [`CHI2_FAMILY`] (Bonferroni over all χ² tests of the crate).
 //!
 //! The same grid and integrator also give accurate directional albedos ([`directional_albedo`]).
+//! [`incident`] and [`reflect`] are the test directions the BSDF tests share.
 
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::RandomStream;
@@ -224,6 +225,17 @@ impl SphereGrid {
     pub(crate) fn integrate(&self, f: impl Fn(Vec3) -> DVec3) -> DVec3 {
         self.integrate_cells(f).iter().sum()
     }
+}
+
+/// Incident direction at polar angle `deg` from the normal, azimuth 0.3 rad.
+pub(crate) fn incident(deg: f32) -> Vec3 {
+    let (st, ct) = deg.to_radians().sin_cos();
+    Vec3::new(st * 0.3f32.cos(), st * 0.3f32.sin(), ct)
+}
+
+/// The mirror direction of `wi` about the shading normal (+z).
+pub(crate) fn reflect(wi: Vec3) -> Vec3 {
+    Vec3::new(-wi.x, -wi.y, wi.z)
 }
 
 /// Directions from `count` calls of a sampler, `None`s skipped (for [`SphereGrid::adapted`]).

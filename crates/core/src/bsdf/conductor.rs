@@ -152,17 +152,8 @@ impl RoughConductor {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, pilot};
+    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, pilot, reflect};
     use crate::sampling::RandomStream;
-
-    fn incident(deg: f32) -> Vec3 {
-        let (st, ct) = deg.to_radians().sin_cos();
-        Vec3::new(st * 0.3f32.cos(), st * 0.3f32.sin(), ct)
-    }
-
-    fn reflect(wi: Vec3) -> Vec3 {
-        Vec3::new(-wi.x, -wi.y, wi.z)
-    }
 
     fn gold() -> ConductorIor {
         Some((Rgb::new(0.143, 0.374, 1.442), Rgb::new(3.983, 2.385, 1.603)))

@@ -260,14 +260,9 @@ impl RoughDielectric {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{Chi2Test, SphereGrid, pilot};
+    use crate::bsdf::chi2::{Chi2Test, SphereGrid, incident, pilot};
     use crate::sampling::RandomStream;
     use glam::DVec3;
-
-    fn incident(deg: f32) -> Vec3 {
-        let (st, ct) = deg.to_radians().sin_cos();
-        Vec3::new(st * 0.3f32.cos(), st * 0.3f32.sin(), ct)
-    }
 
     const IMP: TransportMode = TransportMode::Importance;
     const RAD: TransportMode = TransportMode::Radiance;

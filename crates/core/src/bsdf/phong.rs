@@ -158,19 +158,9 @@ impl ModifiedPhong {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, pilot};
+    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, pilot, reflect};
     use crate::sampling::RandomStream;
     use glam::DVec3;
-
-    /// Incident direction at polar angle `deg` from the normal, azimuth 0.3 rad.
-    fn incident(deg: f32) -> Vec3 {
-        let (st, ct) = deg.to_radians().sin_cos();
-        Vec3::new(st * 0.3f32.cos(), st * 0.3f32.sin(), ct)
-    }
-
-    fn reflect(wi: Vec3) -> Vec3 {
-        Vec3::new(-wi.x, -wi.y, wi.z)
-    }
 
     fn phong(kd: f32, ks: f32, n: f32) -> ModifiedPhong {
         ModifiedPhong::new(Rgb::splat(kd), Rgb::splat(ks), n).unwrap()

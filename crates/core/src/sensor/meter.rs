@@ -22,7 +22,7 @@
 //! origin's side — not an image's top row).
 
 use super::{SampleBatch, accumulate};
-use crate::film::Film;
+use crate::film::{Film, SplatTarget};
 use crate::math::Vec3;
 use crate::scene::SceneDescription;
 
@@ -178,7 +178,7 @@ impl IlluminanceMeter {
     }
 
     /// Adds the irradiance of a batch's samples to `film` (nx × ny).
-    pub fn splat(&self, batch: SampleBatch<'_>, film: &mut Film) {
+    pub fn splat(&self, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
         let scale = batch.flux_per_path / self.cell_area();
         for s in batch.samples {
             if s.is_emission() {

@@ -35,7 +35,7 @@ pub use meter::{IlluminanceMeter, MeterError, measure};
 pub use thin_lens::ThinLens;
 
 use crate::dataset::Sample;
-use crate::film::Film;
+use crate::film::{Accumulator, Film, SplatTarget};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::{Pinhole, Scene};
@@ -149,7 +149,7 @@ pub fn sample_hash_2d(s: &Sample) -> Vec2 {
 
 /// Adds the contribution of `batch` to `film` as seen by `sensor` — the one splat loop every
 /// image-forming sensor shares.
-pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut Film) {
+pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
     if batch.flux_per_path == Rgb::ZERO {
         return;
     }
@@ -191,30 +191,34 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
 }
 
 /// Adds the contribution of `samples` to `film` as seen by a pinhole `camera`.
-pub fn splat_pinhole(scene: &Scene, camera: &Pinhole, batch: SampleBatch<'_>, film: &mut Film) {
+pub fn splat_pinhole(scene: &Scene, camera: &Pinhole, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
     splat(scene, &Sensor::from(*camera), batch, film);
 }
 
 /// Accumulates `count` batches (fetched by index, possibly from a memory-mapped file) into a
-/// `width`×`height` film on all cores, with `add` doing the per-batch work.
+/// `width`×`height` film on all cores, with `add` doing the per-batch work. The batches are
+/// cut into a few contiguous runs per thread, each with one [`Accumulator`], so there are only a
+/// handful of films to clear and sum whatever the number of batches.
 pub(crate) fn accumulate<'a, E: Send>(
     (width, height): (u32, u32),
     count: usize,
     batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
     progress: impl Fn(usize) + Sync,
-    add: impl Fn(SampleBatch<'a>, &mut Film) + Sync,
+    add: impl Fn(SampleBatch<'a>, &mut Accumulator) + Sync,
 ) -> Result<Film, E> {
-    (0..count)
+    let runs = (rayon::current_num_threads() * 4).clamp(1, count.max(1));
+    let run_len = count.div_ceil(runs).max(1);
+    (0..runs)
         .into_par_iter()
-        .try_fold(
-            || Film::new(width, height),
-            |mut film, i| {
+        .map(|r| {
+            let mut acc = Accumulator::new(width, height);
+            for i in (r * run_len)..((r + 1) * run_len).min(count) {
                 let b = batch(i)?;
-                add(b, &mut film);
+                add(b, &mut acc);
                 progress(b.samples.len());
-                Ok(film)
-            },
-        )
+            }
+            Ok(acc.into_film())
+        })
         .try_reduce(
             || Film::new(width, height),
             |mut a, b| {

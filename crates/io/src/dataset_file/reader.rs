@@ -103,6 +103,16 @@ impl DatasetReader {
     /// Chunk `i`, borrowed from the mapped file after checking its payload CRC and that every
     /// sample has a finite position and a finite β ≥ 0.
     pub fn chunk(&self, i: usize) -> Result<ChunkView<'_>, DatasetError> {
+        self.chunk_checked(i)
+    }
+
+    /// Light index, path count and sample count of chunk `i`, from the index built by
+    /// [`open`](Self::open) (no payload is read).
+    pub fn chunk_summary(&self, i: usize) -> Option<(u32, u64, usize)> {
+        self.index.get(i).map(|e| (e.light, e.paths, e.count))
+    }
+
+    fn chunk_checked(&self, i: usize) -> Result<ChunkView<'_>, DatasetError> {
         let e = *self.index.get(i).ok_or_else(|| DatasetError::NoSuchChunk {
             path: self.path.clone(),
             index: i,

@@ -3,7 +3,8 @@
 //!
 //! | extension | format | module |
 //! |---|---|---|
-//! | `.xml` | Mitsuba 3 scene (the subset documented in [`mitsuba`], plus Mitsuba 0.6's `phong` BSDF as an extension) | [`mitsuba`] |
+//! | `.xml` | Mitsuba 3 scene (the subset documented in [`mitsuba`], plus Opticks extensions) | [`mitsuba`] |
+//! | `.wrl`, `.wrz`, `.wrl.gz` | VRML97 with the Opticks physical extension (the thesis's format) | [`vrml`] |
 //! | `.obj` | Wavefront OBJ with MTL materials (area lights from `Ke`), no camera | [`wavefront`] |
 //! | `.gltf`, `.glb` | glTF 2.0 (meshes, metallic-roughness materials, emission, point lights, cameras) | [`gltf`] |
 //!

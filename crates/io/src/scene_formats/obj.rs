@@ -51,104 +51,150 @@ pub struct ObjError {
 
 /// Parses OBJ text (see the module docs for what is read).
 pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
-    let mut positions: Vec<Vec3> = Vec::new();
+    let mut geometry = ObjGeometry::new(u32::MAX);
     let mut triangles: Vec<[u32; 3]> = Vec::new();
-    // Largest 0-based index referred to and its line: checked once the whole file is read, so
-    // faces may refer to vertices defined further down.
-    let mut max_index: Option<(u32, u32)> = None;
     let mut line_no = 0u32;
-    let mut corners: Vec<u32> = Vec::with_capacity(16);
 
     for raw in data.split(|&b| b == b'\n') {
         line_no += 1;
-        let mut tokens = raw.split(|&b| b == b' ' || b == b'\t' || b == b'\r').filter(|t| !t.is_empty());
+        let mut tokens = line_tokens(raw);
         let Some(keyword) = tokens.next() else { continue };
         match keyword {
-            b"v" => {
-                let mut p = [0.0f32; 3];
-                for (axis, c) in p.iter_mut().enumerate() {
-                    let tok = tokens.next().ok_or_else(|| ObjError {
-                        line: line_no,
-                        message: format!("vertex has {axis} coordinates, expected 3"),
-                    })?;
-                    *c = parse_f32(tok).ok_or_else(|| ObjError {
-                        line: line_no,
-                        message: format!("vertex coordinate {:?} is not a number", lossy(tok)),
-                    })?;
-                    if !c.is_finite() {
-                        return Err(ObjError {
-                            line: line_no,
-                            message: format!("vertex coordinate {:?} is not finite", lossy(tok)),
-                        });
-                    }
-                }
-                positions.push(Vec3::from_array(p));
-            }
-            b"f" => {
-                corners.clear();
-                for tok in tokens {
-                    if tok[0] == b'#' {
-                        break;
-                    }
-                    let v = tok.split(|&b| b == b'/').next().unwrap_or(tok);
-                    let i = parse_index(v).ok_or_else(|| ObjError {
-                        line: line_no,
-                        message: format!("face corner {:?} does not start with a vertex index", lossy(tok)),
-                    })?;
-                    let n = positions.len() as i64;
-                    let idx = match i {
-                        0 => {
-                            return Err(ObjError {
-                                line: line_no,
-                                message: "face refers to vertex 0 (OBJ indices start at 1)".into(),
-                            });
-                        }
-                        i if i > 0 => i - 1,
-                        i if n + i >= 0 => n + i,
-                        i => {
-                            return Err(ObjError {
-                                line: line_no,
-                                message: format!(
-                                    "face refers to relative vertex {i}, but only {n} vertices are defined before this line"
-                                ),
-                            });
-                        }
-                    };
-                    let idx = u32::try_from(idx).map_err(|_| ObjError {
-                        line: line_no,
-                        message: format!("face vertex index {i} is too large"),
-                    })?;
-                    if max_index.is_none_or(|(m, _)| idx > m) {
-                        max_index = Some((idx, line_no));
-                    }
-                    corners.push(idx);
-                }
-                if corners.len() < 3 {
-                    return Err(ObjError {
-                        line: line_no,
-                        message: format!("face has {} corners, at least 3 are needed", corners.len()),
-                    });
-                }
-                for k in 1..corners.len() - 1 {
-                    triangles.push([corners[0], corners[k], corners[k + 1]]);
-                }
-            }
+            b"v" => geometry.vertex(tokens, line_no)?,
+            b"f" => geometry.face(tokens, line_no, &mut triangles)?,
             _ => {}
         }
     }
-    if let Some((m, line)) = max_index {
-        if m as usize >= positions.len() {
+    Ok(ObjMesh { positions: geometry.finish()?, triangles })
+}
+
+/// The whitespace-separated tokens of one OBJ line.
+pub(super) fn line_tokens(raw: &[u8]) -> impl Iterator<Item = &[u8]> {
+    raw.split(|&b| b == b' ' || b == b'\t' || b == b'\r').filter(|t| !t.is_empty())
+}
+
+/// The `v` and `f` statements, shared by this reader and the OBJ/MTL scene loader
+/// ([`super::wavefront`]): vertex positions, face-corner index resolution, and the check, once the
+/// whole file is read, that no face refers past the last vertex.
+pub(super) struct ObjGeometry {
+    /// Vertex positions, in file order.
+    positions: Vec<Vec3>,
+    /// Largest 0-based index referred to and its line: checked by [`ObjGeometry::finish`], so
+    /// faces may refer to vertices defined further down.
+    max_index: Option<(u32, u32)>,
+    /// The current face's corners (kept to reuse its allocation).
+    corners: Vec<u32>,
+    /// The largest 0-based vertex index a face may use (a caller may reserve `u32::MAX`).
+    largest_index: u32,
+}
+
+impl ObjGeometry {
+    /// An empty geometry whose faces may use 0-based indices up to `largest_index`.
+    pub(super) fn new(largest_index: u32) -> Self {
+        ObjGeometry { positions: Vec::new(), max_index: None, corners: Vec::with_capacity(16), largest_index }
+    }
+
+    /// Reads the arguments of a `v` statement on line `line_no`.
+    pub(super) fn vertex<'a>(
+        &mut self,
+        mut tokens: impl Iterator<Item = &'a [u8]>,
+        line_no: u32,
+    ) -> Result<(), ObjError> {
+        let mut p = [0.0f32; 3];
+        for (axis, c) in p.iter_mut().enumerate() {
+            let tok = tokens.next().ok_or_else(|| ObjError {
+                line: line_no,
+                message: format!("vertex has {axis} coordinates, expected 3"),
+            })?;
+            *c = parse_f32(tok).ok_or_else(|| ObjError {
+                line: line_no,
+                message: format!("vertex coordinate {:?} is not a number", lossy(tok)),
+            })?;
+            if !c.is_finite() {
+                return Err(ObjError {
+                    line: line_no,
+                    message: format!("vertex coordinate {:?} is not finite", lossy(tok)),
+                });
+            }
+        }
+        self.positions.push(Vec3::from_array(p));
+        Ok(())
+    }
+
+    /// Reads the arguments of an `f` statement on line `line_no` (up to a `#` comment) and appends
+    /// its fan of triangles, 0-based, to `triangles`.
+    pub(super) fn face<'a>(
+        &mut self,
+        tokens: impl Iterator<Item = &'a [u8]>,
+        line_no: u32,
+        triangles: &mut Vec<[u32; 3]>,
+    ) -> Result<(), ObjError> {
+        let corners = &mut self.corners;
+        corners.clear();
+        for tok in tokens {
+            if tok[0] == b'#' {
+                break;
+            }
+            let v = tok.split(|&b| b == b'/').next().unwrap_or(tok);
+            let i = parse_index(v).ok_or_else(|| ObjError {
+                line: line_no,
+                message: format!("face corner {:?} does not start with a vertex index", lossy(tok)),
+            })?;
+            let n = self.positions.len() as i64;
+            let idx = match i {
+                0 => {
+                    return Err(ObjError {
+                        line: line_no,
+                        message: "face refers to vertex 0 (OBJ indices start at 1)".into(),
+                    });
+                }
+                i if i > 0 => i - 1,
+                i if n + i >= 0 => n + i,
+                i => {
+                    return Err(ObjError {
+                        line: line_no,
+                        message: format!(
+                            "face refers to relative vertex {i}, but only {n} vertices are defined before this line"
+                        ),
+                    });
+                }
+            };
+            let idx = u32::try_from(idx).ok().filter(|&x| x <= self.largest_index).ok_or_else(|| {
+                ObjError { line: line_no, message: format!("face vertex index {i} is too large") }
+            })?;
+            if self.max_index.is_none_or(|(m, _)| idx > m) {
+                self.max_index = Some((idx, line_no));
+            }
+            corners.push(idx);
+        }
+        if corners.len() < 3 {
             return Err(ObjError {
-                line,
-                message: format!(
-                    "face refers to vertex {}, but the file defines only {} vertices",
-                    m as u64 + 1,
-                    positions.len()
-                ),
+                line: line_no,
+                message: format!("face has {} corners, at least 3 are needed", corners.len()),
             });
         }
+        for k in 1..corners.len() - 1 {
+            triangles.push([corners[0], corners[k], corners[k + 1]]);
+        }
+        Ok(())
     }
-    Ok(ObjMesh { positions, triangles })
+
+    /// The positions, once every face is checked against the number of vertices in the file.
+    pub(super) fn finish(self) -> Result<Vec<Vec3>, ObjError> {
+        if let Some((m, line)) = self.max_index {
+            if m as usize >= self.positions.len() {
+                return Err(ObjError {
+                    line,
+                    message: format!(
+                        "face refers to vertex {}, but the file defines only {} vertices",
+                        m as u64 + 1,
+                        self.positions.len()
+                    ),
+                });
+            }
+        }
+        Ok(self.positions)
+    }
 }
 
 fn lossy(tok: &[u8]) -> String {

@@ -716,8 +716,8 @@ impl<'a> Parser<'a> {
     }
 }
 
-/// Words that cannot be node type or DEF names.
-fn is_keyword(s: &str) -> bool {
+/// Words that cannot be node type or DEF names (the writer avoids them as DEF names too).
+pub(super) fn is_keyword(s: &str) -> bool {
     matches!(
         s,
         "DEF"

@@ -9,6 +9,7 @@
 //! directional lights) are an `InvalidInput` error rather than silently dropped.
 
 use super::extension::DECLARATIONS;
+use super::parser::is_keyword;
 use glam::{DMat3, DQuat, DVec3};
 use opticks_core::bsdf::{Bsdf, Material};
 use opticks_core::light::EmissionProfile;
@@ -190,7 +191,7 @@ impl Names {
             .chars()
             .map(|ch| if ch.is_ascii_alphanumeric() || ch == '_' || !ch.is_ascii() { ch } else { '_' })
             .collect();
-        if id.is_empty() || id.starts_with(|ch: char| ch.is_ascii_digit()) || is_reserved(&id) {
+        if id.is_empty() || id.starts_with(|ch: char| ch.is_ascii_digit()) || is_keyword(&id) {
             id.insert(0, '_');
         }
         let mut candidate = id.clone();
@@ -201,26 +202,6 @@ impl Names {
         }
         candidate
     }
-}
-
-fn is_reserved(s: &str) -> bool {
-    matches!(
-        s,
-        "DEF"
-            | "USE"
-            | "PROTO"
-            | "EXTERNPROTO"
-            | "ROUTE"
-            | "TO"
-            | "IS"
-            | "NULL"
-            | "TRUE"
-            | "FALSE"
-            | "eventIn"
-            | "eventOut"
-            | "field"
-            | "exposedField"
-    )
 }
 
 #[cfg(test)]

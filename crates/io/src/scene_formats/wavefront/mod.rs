@@ -52,11 +52,12 @@
 //! `PositionParseError`, `MaterialParseError`) that name neither the file nor the line, it accepts
 //! `nan`/`inf` coordinates silently, a missing `.mtl` makes it fail the whole load or drop the
 //! materials without saying which file, and it allocates per line. This reader is one pass over the
-//! bytes that allocates nothing per vertex or face line (the same approach as [`super::obj`]), so
+//! bytes that allocates nothing per vertex or face line (the `v`/`f` parsing is shared with [`super::obj`]), so
 //! every message has `file:line` and a million triangles load in a fraction of a second.
 
 pub mod mtl;
 
+use super::obj::{ObjError, ObjGeometry, line_tokens};
 use super::{FileLocation, LoadedScene, SceneFileError};
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::math::{Rgb, Vec3};
@@ -82,41 +83,13 @@ struct ParsedObj {
     mtllibs: Vec<(String, u32)>,
 }
 
-fn err(file: &Path, line: u32, message: String) -> SceneFileError {
+/// An error in an OBJ or MTL file, at `file:line`.
+pub(super) fn err(file: &Path, line: u32, message: String) -> SceneFileError {
     SceneFileError::Obj {
         at: FileLocation { file: file.to_path_buf(), line, column: 0 },
         message,
         referenced_from: None,
     }
-}
-
-fn lossy(tok: &[u8]) -> String {
-    String::from_utf8_lossy(tok).into_owned()
-}
-
-#[inline]
-fn parse_f32(tok: &[u8]) -> Option<f32> {
-    std::str::from_utf8(tok).ok()?.parse().ok()
-}
-
-#[inline]
-fn parse_index(tok: &[u8]) -> Option<i64> {
-    let (neg, digits) = match tok.first()? {
-        b'-' => (true, &tok[1..]),
-        b'+' => (false, &tok[1..]),
-        _ => (false, tok),
-    };
-    if digits.is_empty() || digits.len() > 12 {
-        return None;
-    }
-    let mut v: i64 = 0;
-    for &d in digits {
-        if !d.is_ascii_digit() {
-            return None;
-        }
-        v = v * 10 + (d - b'0') as i64;
-    }
-    Some(if neg { -v } else { v })
 }
 
 /// The text after the keyword, trimmed (names may contain spaces).
@@ -126,15 +99,15 @@ fn rest_of_line(raw: &[u8], keyword: &[u8]) -> String {
 }
 
 fn parse(data: &[u8], file: &Path, default_group: &str) -> Result<ParsedObj, SceneFileError> {
-    let mut positions: Vec<Vec3> = Vec::new();
+    let obj_err = |e: ObjError| err(file, e.line, e.message);
+    // u32::MAX is reserved: it marks an unmapped vertex when meshes are compacted.
+    let mut geometry = ObjGeometry::new(u32::MAX - 1);
     let mut slots: Vec<Slot> = Vec::new();
     let mut slot_of: HashMap<(String, Option<String>), usize> = HashMap::new();
     let mut mtllibs = Vec::new();
     let mut group = default_group.to_string();
     let mut material: Option<(String, u32)> = None;
     let mut current: Option<usize> = None;
-    let mut max_index: Option<(u32, u32)> = None;
-    let mut corners: Vec<u32> = Vec::with_capacity(16);
     let mut line_no = 0u32;
 
     for raw in data.split(|&b| b == b'\n') {
@@ -143,76 +116,11 @@ fn parse(data: &[u8], file: &Path, default_group: &str) -> Result<ParsedObj, Sce
             Some(p) => &raw[..p],
             None => raw,
         };
-        let mut tokens = raw.split(|&b| b == b' ' || b == b'\t' || b == b'\r').filter(|t| !t.is_empty());
+        let mut tokens = line_tokens(raw);
         let Some(keyword) = tokens.next() else { continue };
         match keyword {
-            b"v" => {
-                let mut p = [0.0f32; 3];
-                for (axis, c) in p.iter_mut().enumerate() {
-                    let tok = tokens.next().ok_or_else(|| {
-                        err(file, line_no, format!("vertex has {axis} coordinates, expected 3"))
-                    })?;
-                    *c = parse_f32(tok).ok_or_else(|| {
-                        err(file, line_no, format!("vertex coordinate {:?} is not a number", lossy(tok)))
-                    })?;
-                    if !c.is_finite() {
-                        return Err(err(
-                            file,
-                            line_no,
-                            format!("vertex coordinate {:?} is not finite", lossy(tok)),
-                        ));
-                    }
-                }
-                positions.push(Vec3::from_array(p));
-            }
+            b"v" => geometry.vertex(tokens, line_no).map_err(obj_err)?,
             b"f" => {
-                corners.clear();
-                for tok in tokens {
-                    let v = tok.split(|&b| b == b'/').next().unwrap_or(tok);
-                    let i = parse_index(v).ok_or_else(|| {
-                        err(
-                            file,
-                            line_no,
-                            format!("face corner {:?} does not start with a vertex index", lossy(tok)),
-                        )
-                    })?;
-                    let n = positions.len() as i64;
-                    let idx = match i {
-                        0 => {
-                            return Err(err(
-                                file,
-                                line_no,
-                                "face refers to vertex 0 (OBJ indices start at 1)".into(),
-                            ));
-                        }
-                        i if i > 0 => i - 1,
-                        i if n + i >= 0 => n + i,
-                        i => {
-                            return Err(err(
-                                file,
-                                line_no,
-                                format!(
-                                    "face refers to relative vertex {i}, but only {n} vertices are defined before this line"
-                                ),
-                            ));
-                        }
-                    };
-                    let idx = u32::try_from(idx)
-                        .ok()
-                        .filter(|&x| x < u32::MAX)
-                        .ok_or_else(|| err(file, line_no, format!("face vertex index {i} is too large")))?;
-                    if max_index.is_none_or(|(m, _)| idx > m) {
-                        max_index = Some((idx, line_no));
-                    }
-                    corners.push(idx);
-                }
-                if corners.len() < 3 {
-                    return Err(err(
-                        file,
-                        line_no,
-                        format!("face has {} corners, at least 3 are needed", corners.len()),
-                    ));
-                }
                 let slot = match current {
                     Some(s) => s,
                     None => {
@@ -230,10 +138,7 @@ fn parse(data: &[u8], file: &Path, default_group: &str) -> Result<ParsedObj, Sce
                         s
                     }
                 };
-                let tris = &mut slots[slot].triangles;
-                for k in 1..corners.len() - 1 {
-                    tris.push([corners[0], corners[k], corners[k + 1]]);
-                }
+                geometry.face(tokens, line_no, &mut slots[slot].triangles).map_err(obj_err)?;
             }
             b"o" | b"g" => {
                 let name = rest_of_line(raw, keyword);
@@ -254,20 +159,7 @@ fn parse(data: &[u8], file: &Path, default_group: &str) -> Result<ParsedObj, Sce
             _ => {}
         }
     }
-    if let Some((m, line)) = max_index {
-        if m as usize >= positions.len() {
-            return Err(err(
-                file,
-                line,
-                format!(
-                    "face refers to vertex {}, but the file defines only {} vertices",
-                    m as u64 + 1,
-                    positions.len()
-                ),
-            ));
-        }
-    }
-    Ok(ParsedObj { positions, slots, mtllibs })
+    Ok(ParsedObj { positions: geometry.finish().map_err(obj_err)?, slots, mtllibs })
 }
 
 /// The `default` material: two-sided Lambertian of albedo 0.5.

@@ -8,6 +8,7 @@
 //! colour that is not one or three numbers, a non-finite number, `newmtl` without a name).
 
 use super::super::{FileLocation, SceneFileError};
+use super::err;
 use opticks_core::bsdf::{Bsdf, Lambert, Material, MaterialError, ModifiedPhong};
 use opticks_core::math::Rgb;
 use std::path::Path;
@@ -49,14 +50,6 @@ pub struct MtlLibrary {
     pub warnings: Vec<String>,
 }
 
-fn obj_error(file: &Path, line: u32, message: String) -> SceneFileError {
-    SceneFileError::Obj {
-        at: FileLocation { file: file.to_path_buf(), line, column: 0 },
-        message,
-        referenced_from: None,
-    }
-}
-
 /// Parses MTL text. `file` is used in messages only.
 pub fn parse_mtl(data: &[u8], file: &Path) -> Result<MtlLibrary, SceneFileError> {
     let text = String::from_utf8_lossy(data);
@@ -75,7 +68,7 @@ pub fn parse_mtl(data: &[u8], file: &Path) -> Result<MtlLibrary, SceneFileError>
         };
         if keyword == "newmtl" {
             if rest.is_empty() {
-                return Err(obj_error(file, line_no, "newmtl without a material name".into()));
+                return Err(err(file, line_no, "newmtl without a material name".into()));
             }
             if lib.materials.iter().any(|m| m.name == rest) {
                 warn(
@@ -119,7 +112,7 @@ pub fn parse_mtl(data: &[u8], file: &Path) -> Result<MtlLibrary, SceneFileError>
             }
             "Ns" => {
                 let [tok] = args[..] else {
-                    return Err(obj_error(file, line_no, format!("Ns takes one number, got {}", args.len())));
+                    return Err(err(file, line_no, format!("Ns takes one number, got {}", args.len())));
                 };
                 let ns = parse_number(tok, "Ns", file, line_no)?;
                 current.ns = Some(AtLine { value: ns, line: line_no });
@@ -179,8 +172,8 @@ pub fn parse_mtl(data: &[u8], file: &Path) -> Result<MtlLibrary, SceneFileError>
 fn parse_number(tok: &str, what: &str, file: &Path, line: u32) -> Result<f32, SceneFileError> {
     match tok.parse::<f32>() {
         Ok(v) if v.is_finite() => Ok(v),
-        Ok(_) => Err(obj_error(file, line, format!("{what} value {tok:?} is not finite"))),
-        Err(_) => Err(obj_error(file, line, format!("{what} value {tok:?} is not a number"))),
+        Ok(_) => Err(err(file, line, format!("{what} value {tok:?} is not finite"))),
+        Err(_) => Err(err(file, line, format!("{what} value {tok:?} is not a number"))),
     }
 }
 
@@ -196,7 +189,7 @@ fn parse_colour(what: &str, args: &[&str], file: &Path, line: u32) -> Result<Opt
             parse_number(g, what, file, line)?,
             parse_number(b, what, file, line)?,
         ))),
-        _ => Err(obj_error(file, line, format!("{what} takes 1 or 3 numbers, got {}", args.len()))),
+        _ => Err(err(file, line, format!("{what} takes 1 or 3 numbers, got {}", args.len()))),
     }
 }
 
