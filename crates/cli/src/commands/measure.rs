@@ -80,7 +80,7 @@ pub fn run(a: Args) -> Result<()> {
     let desc = &data.description;
     let (nx, ny) = a.cells;
     let meter = match (&a.surface, &a.plane) {
-        (Some(name), _) => IlluminanceMeter::on_mesh(&desc, name, nx, ny)?,
+        (Some(name), _) => IlluminanceMeter::on_mesh(desc, name, nx, ny)?,
         (None, Some(p)) => {
             let (o, u, v) = parse_plane(p)?;
             IlluminanceMeter::new(o, u, v, nx, ny).with_context(|| format!("--plane '{p}'"))?
