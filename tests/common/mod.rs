@@ -224,3 +224,84 @@ pub fn mean_and_error(xs: &[f64]) -> (f64, f64) {
     let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
     (mean, (var / n).sqrt())
 }
+
+/// An icosphere (icosahedron subdivided `levels` times), outward normals.
+pub fn icosphere(name: &str, centre: Vec3, radius: f32, levels: u32, material: usize) -> MeshDesc {
+    let p = (1.0 + 5f32.sqrt()) / 2.0;
+    let mut v: Vec<Vec3> = [
+        (-1.0, p, 0.0),
+        (1.0, p, 0.0),
+        (-1.0, -p, 0.0),
+        (1.0, -p, 0.0),
+        (0.0, -1.0, p),
+        (0.0, 1.0, p),
+        (0.0, -1.0, -p),
+        (0.0, 1.0, -p),
+        (p, 0.0, -1.0),
+        (p, 0.0, 1.0),
+        (-p, 0.0, -1.0),
+        (-p, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+    .collect();
+    let mut t: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..levels {
+        let mut mid = std::collections::HashMap::new();
+        let mut midpoint = |a: u32, b: u32, v: &mut Vec<Vec3>| -> u32 {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                v.push(((v[a as usize] + v[b as usize]) * 0.5).normalize());
+                v.len() as u32 - 1
+            })
+        };
+        let mut next = Vec::with_capacity(t.len() * 4);
+        for [a, b, c] in t {
+            let (ab, bc, ca) = (midpoint(a, b, &mut v), midpoint(b, c, &mut v), midpoint(c, a, &mut v));
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        t = next;
+    }
+    // Make every triangle wind counter-clockwise seen from outside.
+    for tri in &mut t {
+        let [a, b, c] = tri.map(|i| v[i as usize]);
+        if (b - a).cross(c - a).dot(a + b + c) < 0.0 {
+            tri.swap(1, 2);
+        }
+    }
+    MeshDesc {
+        name: name.into(),
+        positions: v.iter().map(|&x| centre + radius * x).collect(),
+        triangles: t,
+        material,
+        emission: None,
+        ..Default::default()
+    }
+}
+
+/// `mesh` with every triangle's winding reversed: its front faces the other way (an icosphere
+/// whose normals point to its centre, for closed measuring spheres).
+pub fn turned_inside_out(mut mesh: MeshDesc) -> MeshDesc {
+    mesh.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    mesh
+}
