@@ -244,3 +244,54 @@ fn demo_exports_its_scene_as_vrml_that_traces_like_the_builtin() {
     assert_eq!((w, h), (256, 256));
     assert_mean_close(&rgb, "cornell", 0.03);
 }
+
+/// Every verb `opticks --help` lists answers `--help` with its usage (exit 0); the list is read
+/// from the top-level help, so a verb added later is covered too.
+#[test]
+fn every_verb_has_help() {
+    let dir = tempfile::tempdir().unwrap();
+    let top = ok(opticks(&["--help"], dir.path()));
+    let verbs: Vec<&str> = top
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|&v| v != "help")
+        .collect();
+    for verb in ["demo", "trace", "render", "info", "refine", "merge", "walk", "bench", "measure"] {
+        assert!(verbs.contains(&verb), "`opticks --help` lists {verbs:?}, not {verb}");
+    }
+    for verb in verbs {
+        let help = ok(opticks(&[verb, "--help"], dir.path()));
+        assert!(help.contains(&format!("Usage: opticks {verb}")), "{verb} --help:\n{help}");
+    }
+}
+
+/// `opticks bench` reports trace and render speed and, with a reference, the image error; its
+/// JSON line carries the same figures for scripts.
+#[test]
+fn bench_reports_speed_and_quality() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = scene_file("cornell", "reference.exr");
+    let out = ok(opticks(
+        &["bench", "--paths", "65536", "--repeat", "1", "--reference", reference.to_str().unwrap()],
+        dir.path(),
+    ));
+    for field in ["M paths/s", "M samples/s", "samples/path", "relMSE", "efficiency"] {
+        assert!(out.contains(field), "bench output lacks {field}:\n{out}");
+    }
+    let json: serde_json::Value = serde_json::from_str(out.lines().last().unwrap()).unwrap();
+    assert_eq!(json["paths"], 65536);
+    assert!(json["trace_s"].as_f64().unwrap() > 0.0 && json["render_s"].as_f64().unwrap() > 0.0);
+    let samples = json["samples"].as_f64().unwrap();
+    assert!((3.0..6.0).contains(&(samples / 65536.0)), "{samples} samples for 65536 paths");
+    // 65536 paths: relMSE ≈ 4.0e-3 × 64 ≈ 0.26 against the Cornell reference (it scales as 1/N).
+    let relmse = json["relmse"].as_f64().unwrap();
+    assert!((0.15..0.4).contains(&relmse), "relMSE {relmse}");
+    // Mean radiance of the reference (SCENE.md), to 3%: 65536 paths give ~0.5% noise per channel.
+    for (got, want) in json["mean_rgb"].as_array().unwrap().iter().zip([0.244475, 0.141444, 0.060009]) {
+        let got = got.as_f64().unwrap();
+        assert!((got / want - 1.0).abs() < 0.03, "mean {got} vs reference {want}");
+    }
+}

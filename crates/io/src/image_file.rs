@@ -131,12 +131,7 @@ pub fn write_image(
     rgb: &[f32],
     exposure_stops: f32,
 ) -> Result<(), ImageError> {
-    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
-    let format = match ext.as_str() {
-        "exr" => Format::Exr,
-        "png" => Format::Png,
-        _ => return Err(ImageError::UnsupportedFormat { path: path.to_path_buf(), ext }),
-    };
+    let format = output_format(path)?;
     check_pixels(path, width, height, rgb)?;
     match format {
         Format::Exr => atomic_write(path, |file| write_exr_to(file, path, width, height, rgb)),
@@ -147,6 +142,21 @@ pub fn write_image(
             let bytes = srgb8_from_linear(rgb, exposure_stops);
             atomic_write(path, |file| write_png_to(file, path, width, height, &bytes))
         }
+    }
+}
+
+/// The format [`write_image`] would write to `path`, chosen by its extension; an error for an
+/// unsupported one. Commands call it before long work, so a typo in `-o` costs nothing.
+pub fn check_output_path(path: &Path) -> Result<(), ImageError> {
+    output_format(path).map(|_| ())
+}
+
+fn output_format(path: &Path) -> Result<Format, ImageError> {
+    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    match ext.as_str() {
+        "exr" => Ok(Format::Exr),
+        "png" => Ok(Format::Png),
+        _ => Err(ImageError::UnsupportedFormat { path: path.to_path_buf(), ext }),
     }
 }
 

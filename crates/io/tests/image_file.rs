@@ -218,9 +218,11 @@ fn compare_hand_computed() {
 }
 
 /// Runs `imgcmp.py` (the project's judge) on a perturbed copy of the cornell reference and checks
-/// that [`compare`] prints the same numbers. Skipped (with a message) unless python3 with numpy
-/// and imgcmp.py are available: set `OPTICKS_PYTHON` (default `python3`) and `OPTICKS_IMGCMP`
-/// (default `../shared/tools/imgcmp.py` beside the repository, where CI puts it).
+/// that [`compare`] prints the same numbers. Outside CI it is skipped (with a message) unless
+/// python3 with numpy and imgcmp.py are available; under CI (`CI` set, as `.ci/run` runs) a
+/// missing tool is a failure, so the cross-check cannot silently stop running. Set
+/// `OPTICKS_PYTHON` (default `python3`) and `OPTICKS_IMGCMP` (default `../shared/tools/imgcmp.py`
+/// beside the repository, where CI puts it).
 #[test]
 fn compare_matches_imgcmp_py() {
     let python = std::env::var("OPTICKS_PYTHON").unwrap_or_else(|_| "python3".into());
@@ -234,6 +236,11 @@ fn compare_matches_imgcmp_py() {
         .map(|o| o.status.success())
         .unwrap_or(false);
     if !has_numpy || !imgcmp.is_file() {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "under CI, compare_matches_imgcmp_py needs {python} with numpy and {}",
+            imgcmp.display()
+        );
         eprintln!(
             "SKIPPED compare_matches_imgcmp_py: needs {python} with numpy and {} \
              (hand-computed tests still run)",

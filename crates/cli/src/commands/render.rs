@@ -28,6 +28,7 @@ pub struct Args {
 /// Runs the render.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    opticks_io::image_file::check_output_path(&a.output)?;
     let data = a.input.open()?;
     let scene = &data.scene;
     let camera = a.camera.resolve(scene.camera)?;
