@@ -8,6 +8,11 @@
 //! standard error, measured. (With Russian roulette also acting on delta vertices the glass
 //! sphere came out 4σ low over four seeds: light trapped by total internal reflection became
 //! rare, huge weights; `trace_path` therefore roulettes at stored vertices only.)
+//!
+//! Two more cases close gaps the furnace balance leaves: a diffuse receiver *inside* closed glass
+//! (the only place a wrong 1/η² on light paths does not cancel), and absorbing glass
+//! (Beer–Lambert): exact per-vertex attenuation through an index-matched slab, a full shadow
+//! under an opaque rough slab, and the furnace's energy accounting with an absorbing ball.
 
 mod common;
 
@@ -240,28 +245,14 @@ fn absorbing_clear(sigma_a: Rgb) -> Bsdf {
     )
 }
 
-/// Sunlight straight down through a slab of absorbing, index-matched glass (thickness L = 0.4 m,
-/// wider than the floor under it) onto a grey floor: every path reaching the floor crossed
-/// exactly L of glass, so every floor vertex carries β = exp(−σ_a·L) per channel — exactly, not
-/// just on average. (Leaving the floor, paths cross the slab again and escape.)
-#[test]
-fn absorbing_slab_attenuates_by_beer_lambert_per_channel() {
-    let sigma_a = Rgb::new(0.5, 1.0, 2.0);
-    let thickness = 0.4;
+/// Sunlight (irradiance 1, straight down) onto a grey floor [−1, 1]² at y = 0 under a slab
+/// [−1.5, 1.5] × [0.3, 0.3 + thickness] × [−1.5, 1.5] of `slab` (wider than the floor).
+fn sunlit_slab(slab: Bsdf, thickness: f32) -> Scene {
+    let floor = [(-1.0, -1.0), (-1.0, 1.0), (1.0, 1.0), (1.0, -1.0)].map(|(x, z)| Vec3::new(x, 0.0, z));
     let desc = SceneDescription {
-        materials: vec![material("floor", lambert_bsdf(0.5)), material("tinted", absorbing_clear(sigma_a))],
+        materials: vec![material("floor", lambert_bsdf(0.5)), material("slab", slab)],
         meshes: [
-            vec![quad(
-                "floor",
-                [
-                    Vec3::new(-1.0, 0.0, -1.0),
-                    Vec3::new(-1.0, 0.0, 1.0),
-                    Vec3::new(1.0, 0.0, 1.0),
-                    Vec3::new(1.0, 0.0, -1.0),
-                ],
-                0,
-                None,
-            )],
+            vec![quad("floor", floor, 0, None)],
             block(Vec3::new(-1.5, 0.3, -1.5), Vec3::new(1.5, 0.3 + thickness, 1.5), 1),
         ]
         .concat(),
@@ -273,7 +264,18 @@ fn absorbing_slab_attenuates_by_beer_lambert_per_channel() {
         }],
         ..Default::default()
     };
-    let scene = Scene::build(&desc).unwrap();
+    Scene::build(&desc).unwrap()
+}
+
+/// Sunlight straight down through a slab of absorbing, index-matched glass (thickness L = 0.4 m)
+/// onto the floor: every path reaching the floor crossed exactly L of glass, so every floor
+/// vertex carries β = exp(−σ_a·L) per channel — exactly, not just on average. (Leaving the
+/// floor, paths cross the slab again and escape.)
+#[test]
+fn absorbing_slab_attenuates_by_beer_lambert_per_channel() {
+    let sigma_a = Rgb::new(0.5, 1.0, 2.0);
+    let thickness = 0.4;
+    let scene = sunlit_slab(absorbing_clear(sigma_a), thickness);
     let expected = (-sigma_a * thickness).exp();
     let mut rng = RandomStream::new(5, &[]);
     let (mut out, mut stack) = (Vec::new(), Vec::new());
@@ -301,35 +303,7 @@ fn opaque_rough_absorbing_slab_casts_a_full_shadow() {
     let floor_flux = |sigma_a: f32| {
         let rough = RoughDielectric::new(1.5, 1.0, 0.3, Rgb::ONE, Rgb::ONE).unwrap();
         let rough = rough.with_absorption(Rgb::splat(sigma_a)).unwrap();
-        let desc = SceneDescription {
-            materials: vec![
-                material("floor", lambert_bsdf(0.5)),
-                material("dark", Bsdf::RoughDielectric(rough)),
-            ],
-            meshes: [
-                vec![quad(
-                    "floor",
-                    [
-                        Vec3::new(-1.0, 0.0, -1.0),
-                        Vec3::new(-1.0, 0.0, 1.0),
-                        Vec3::new(1.0, 0.0, 1.0),
-                        Vec3::new(1.0, 0.0, -1.0),
-                    ],
-                    0,
-                    None,
-                )],
-                block(Vec3::new(-1.5, 0.3, -1.5), Vec3::new(1.5, 0.7, 1.5), 1),
-            ]
-            .concat(),
-            directional_lights: vec![DirectionalLightDesc {
-                name: "sun".into(),
-                source: Default::default(),
-                direction: -Vec3::Y,
-                irradiance: Rgb::ONE,
-            }],
-            ..Default::default()
-        };
-        let scene = Scene::build(&desc).unwrap();
+        let scene = sunlit_slab(Bsdf::RoughDielectric(rough), 0.4);
         incident_flux_on(&scene, 20_000, 6, |_| false, |p| p.y.abs() < 1e-4).iter().sum::<f64>() / 20_000.0
     };
     let (clear, dark) = (floor_flux(0.0), floor_flux(1000.0));

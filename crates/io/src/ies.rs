@@ -308,7 +308,7 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
     } else {
         1.0
     };
-    if version == IesVersion::Lm63_2019 && !(field2 >= 1.0 && field2 < 2.0) {
+    if version == IesVersion::Lm63_2019 && !(1.0..2.0).contains(&field2) {
         return Err(err(
             line2,
             format!("the {second} must be a code from 1.00000 to 1.99999, found {field2}"),
