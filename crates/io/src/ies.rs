@@ -1,14 +1,17 @@
-//! IES LM-63 photometric files (`.ies`): the 1986, 1995 (`IESNA:LM-63-1995`) and 2002
-//! (`IESNA:LM-63-2002`) variants, read into a core [`IesProfile`] (angles and a candela grid).
+//! IES LM-63 photometric files (`.ies`): the 1986 (no format line), 1991 (`IESNA91`), 1995
+//! (`IESNA:LM-63-1995`), 2002 (`IESNA:LM-63-2002`) and 2019 (`IESNA:LM-63-2019`, also spelled
+//! `IES:LM-63-2019`) variants, read into a core [`IesProfile`] (angles and a candela grid).
 //!
 //! # Layout
 //!
 //! ```text
 //! IESNA:LM-63-2002                 optional format line (absent in LM-63-1986 files)
-//! [TEST] ...  [MANUFAC] ...        keyword lines, kept in `IesFile::keywords`
+//! [TEST] ...  [MANUFAC] ...        keyword lines, kept in `IesFile::keywords` (1986: free text)
 //! TILT=NONE                        required; TILT=INCLUDE / TILT=<file> are refused
 //! lamps lumens/lamp multiplier #vertical #horizontal photometric-type units width length height
-//! ballast-factor ballast-lamp-factor(1995) or future-use(2002) input-watts
+//! ballast-factor  field-2  input-watts
+//!     field-2: ballast-lamp photometric factor (1986, 1991, 1995), "future use" (2002),
+//!              file generation type (2019, e.g. 1.00001)
 //! vertical angles (#vertical numbers)
 //! horizontal angles (#horizontal numbers)
 //! candela: for each horizontal angle, #vertical values
@@ -20,8 +23,11 @@
 //! error. The horizontal angles must start at 0° and end at 0° (rotational symmetry), 90°
 //! (quadrant), 180° (bilateral) or 360° (none).
 //!
-//! The candela values in the profile have the **candela multiplier, the ballast factor and the
-//! ballast-lamp photometric factor** applied (the LM-63 reading). The file's rated flux
+//! The candela values in the profile have the **candela multiplier and the ballast factor**
+//! applied, and in 1995-and-earlier files also the **ballast-lamp photometric factor** (the
+//! LM-63 reading). The 2002 edition turned that field into "future use" and the 2019 edition
+//! into the *file generation type* (a code, not a factor: it is kept in
+//! [`IesFile::file_generation_type`] and never multiplied in). The file's rated flux
 //! (lamps × lumens per lamp × multiplier, `None` for −1 "absolute photometry") is reported in
 //! [`IesFile::rated_lumens`], but a light's power comes from integrating the candela
 //! distribution (see `opticks_core::light::profile`): that is the flux the file's distribution
@@ -37,9 +43,48 @@ use opticks_core::light::IesProfile;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+/// The LM-63 edition a file follows, from its first line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum IesVersion {
+    /// No format line.
+    Lm63_1986,
+    /// `IESNA91`.
+    Lm63_1991,
+    /// `IESNA:LM-63-1995`.
+    Lm63_1995,
+    /// `IESNA:LM-63-2002`.
+    Lm63_2002,
+    /// `IESNA:LM-63-2019` (or `IES:LM-63-2019`).
+    Lm63_2019,
+}
+
+impl IesVersion {
+    /// The edition named by a first line, `None` if it is not a format line.
+    fn from_format_line(line: &str) -> Option<Result<Self, ()>> {
+        let v = line.trim().to_ascii_uppercase();
+        if v == "IESNA91" {
+            return Some(Ok(IesVersion::Lm63_1991));
+        }
+        if !(v.starts_with("IESNA") || v.starts_with("IES:")) {
+            return None;
+        }
+        Some(if v.contains("LM-63-1995") {
+            Ok(IesVersion::Lm63_1995)
+        } else if v.contains("LM-63-2002") {
+            Ok(IesVersion::Lm63_2002)
+        } else if v.contains("LM-63-2019") {
+            Ok(IesVersion::Lm63_2019)
+        } else {
+            Err(())
+        })
+    }
+}
+
 /// A parsed IES file.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IesFile {
+    /// The edition (from the format line).
+    pub version: IesVersion,
     /// The photometric grid (candela with all multipliers applied).
     pub profile: IesProfile,
     /// `[KEYWORD] value` lines, in file order.
@@ -50,8 +95,10 @@ pub struct IesFile {
     pub lumens_per_lamp: Option<f32>,
     /// Candela multiplier.
     pub multiplier: f32,
-    /// Ballast factor × ballast-lamp photometric factor.
+    /// Ballast factor, times the ballast-lamp photometric factor in 1995-and-earlier files.
     pub ballast_factor: f32,
+    /// The 2019 edition's file generation type (the second field of the ballast line).
+    pub file_generation_type: Option<f32>,
     /// Luminous opening width, length, height (as given, in `units`).
     pub dimensions: [f32; 3],
     /// Units type: 1 = feet, 2 = metres.
@@ -142,21 +189,26 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
     let lines: Vec<&str> = text.lines().collect();
     let mut keywords = Vec::new();
     let mut tilt_line = None;
+    let mut version = IesVersion::Lm63_1986;
     for (i, raw) in lines.iter().enumerate() {
         let l = raw.trim();
-        if i == 0 && l.to_ascii_uppercase().starts_with("IESNA") {
-            let v = l.to_ascii_uppercase();
-            if !(v.contains("LM-63-1995")
-                || v.contains("LM-63-2002")
-                || v.contains("LM-63-2019")
-                || v == "IESNA91")
-            {
-                return Err(err(
-                    1,
-                    format!("unknown IES format line \"{l}\" (supported: LM-63-1986, -1995, -2002)"),
-                ));
+        if i == 0 {
+            match IesVersion::from_format_line(l) {
+                Some(Ok(v)) => {
+                    version = v;
+                    continue;
+                }
+                Some(Err(())) => {
+                    return Err(err(
+                        1,
+                        format!(
+                            "unknown IES format line \"{l}\" (supported: none for LM-63-1986, IESNA91, \
+                             IESNA:LM-63-1995, IESNA:LM-63-2002, IESNA:LM-63-2019)"
+                        ),
+                    ));
+                }
+                None => {}
             }
-            continue;
         }
         if let Some(rest) = l.strip_prefix("TILT=").or_else(|| l.strip_prefix("TILT =")) {
             let rest = rest.trim();
@@ -236,15 +288,30 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
         *d = t.number(&format!("luminous opening {what}"))?.0 as f32;
     }
     let (ballast, bline) = t.number("ballast factor")?;
-    let (ballast_lamp, blline) = t.number("ballast-lamp photometric factor (future use)")?;
+    let second = match version {
+        IesVersion::Lm63_2019 => "file generation type",
+        IesVersion::Lm63_2002 => "future-use field of the ballast line",
+        _ => "ballast-lamp photometric factor",
+    };
+    let (field2, line2) = t.number(second)?;
     let (watts, _) = t.number("input watts")?;
     if !(ballast > 0.0) {
         return Err(err(bline, format!("the ballast factor must be positive, found {ballast}")));
     }
-    if !(ballast_lamp > 0.0) {
+    // Only 1995-and-earlier files carry a photometric factor there; 2002 reserved the field and
+    // 2019 made it the file generation type (a code such as 1.00001, not a factor).
+    let ballast_lamp = if version <= IesVersion::Lm63_1995 {
+        if !(field2 > 0.0) {
+            return Err(err(line2, format!("the {second} must be positive, found {field2}")));
+        }
+        field2
+    } else {
+        1.0
+    };
+    if version == IesVersion::Lm63_2019 && !(1.0..2.0).contains(&field2) {
         return Err(err(
-            blline,
-            format!("the ballast-lamp photometric factor must be positive, found {ballast_lamp}"),
+            line2,
+            format!("the {second} must be a code from 1.00000 to 1.99999, found {field2}"),
         ));
     }
     let factor = multiplier * ballast * ballast_lamp;
@@ -317,12 +384,14 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
         ));
     }
     Ok(IesFile {
+        version,
         profile: IesProfile { vertical_angles: va, horizontal_angles: ha, candela },
         keywords,
         lamps: lamps as f32,
         lumens_per_lamp: (lumens > 0.0).then_some(lumens as f32),
         multiplier: multiplier as f32,
         ballast_factor: (ballast * ballast_lamp) as f32,
+        file_generation_type: (version == IesVersion::Lm63_2019).then_some(field2 as f32),
         dimensions: dims,
         units: units as u32,
         input_watts: watts as f32,
@@ -347,6 +416,51 @@ mod tests {
         assert_eq!(f.profile.candela, vec![400.0, 200.0, 0.0], "multiplier 2 applied");
         assert_eq!(f.keywords[0], ("TEST".into(), "unit".into()));
         assert_eq!(f.rated_lumens(), Some(2000.0));
+    }
+
+    /// The hand-written per-edition files of testdata/ies/ (testdata/README.md): the same
+    /// 3-angle symmetric distribution (multiplier 2, ballast factor 0.9) with 0.5 in the
+    /// ballast line's second field, which is a photometric factor only up to LM-63-1995.
+    #[test]
+    fn every_lm63_edition_is_read_with_its_own_ballast_line() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/ies");
+        let cases = [
+            ("lm63-1986.ies", IesVersion::Lm63_1986, 0.45, None),
+            ("lm63-1991.ies", IesVersion::Lm63_1991, 0.45, None),
+            ("lm63-1995.ies", IesVersion::Lm63_1995, 0.45, None),
+            ("lm63-2002.ies", IesVersion::Lm63_2002, 0.9, None),
+            ("lm63-2019.ies", IesVersion::Lm63_2019, 0.9, Some(1.10001)),
+        ];
+        for (name, version, ballast, generation) in cases {
+            let f = load_ies(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(f.version, version, "{name}");
+            assert!((f.ballast_factor - ballast).abs() < 1e-6, "{name}: {}", f.ballast_factor);
+            assert_eq!(f.file_generation_type, generation, "{name}");
+            let want = [200.0, 100.0, 0.0].map(|c| c * 2.0 * ballast);
+            for (c, w) in f.profile.candela.iter().zip(want) {
+                assert!((c - w).abs() < 1e-3, "{name}: candela {:?} vs {want:?}", f.profile.candela);
+            }
+            assert_eq!(f.profile.vertical_angles, vec![0.0, 90.0, 180.0], "{name}");
+        }
+        let f = load_ies(&dir.join("lm63-1986.ies")).unwrap();
+        assert!(f.keywords.is_empty(), "1986 header lines are free text: {:?}", f.keywords);
+    }
+
+    #[test]
+    fn edition_specific_fields_are_checked() {
+        let body = "TILT=NONE\n1 1000 1 3 1 1 2 0 0 0\n1 X 10\n0 90 180\n0\n1 1 1\n";
+        let with = |first: &str, x: &str| format!("{first}{}", body.replace('X', x));
+        // A zero factor is refused only where it is a factor; 2019 wants a generation code.
+        let e = parse(&with("IESNA:LM-63-1995\n", "0")).unwrap_err().to_string();
+        assert!(e.starts_with("t.ies:4: the ballast-lamp photometric factor must be positive"), "{e}");
+        assert!(parse(&with("", "-1")).is_err());
+        assert_eq!(parse(&with("IESNA:LM-63-2002\n", "0")).unwrap().ballast_factor, 1.0);
+        let e = parse(&with("IESNA:LM-63-2019\n", "0.5")).unwrap_err().to_string();
+        assert!(e.starts_with("t.ies:4: the file generation type must be a code"), "{e}");
+        let f = parse(&with("IES:LM-63-2019\n", "1.00001")).unwrap();
+        assert_eq!((f.version, f.profile.candela[0]), (IesVersion::Lm63_2019, 1.0));
+        let e = parse(&with("IESNA:LM-63-2031\n", "1")).unwrap_err().to_string();
+        assert!(e.starts_with("t.ies:1: unknown IES format line"), "{e}");
     }
 
     #[test]

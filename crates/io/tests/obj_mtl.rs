@@ -155,6 +155,13 @@ fn errors_name_the_file_and_line() {
         (
             &[
                 ("a.obj", b"mtllib m.mtl\nv 0 0 0\nusemtl x\nf 1 1 1\n"),
+                ("m.mtl", b"newmtl x\nKd nan 0.5 0.5\n"),
+            ],
+            "TMP/m.mtl:2: Kd value \"nan\" is not finite",
+        ),
+        (
+            &[
+                ("a.obj", b"mtllib m.mtl\nv 0 0 0\nusemtl x\nf 1 1 1\n"),
                 ("m.mtl", b"newmtl x\nKs 0.5\nNs 1e9\n"),
             ],
             "TMP/m.mtl:3: newmtl x: invalid material: exponent = 1000000000 exceeds the supported maximum",

@@ -28,6 +28,16 @@
 //!   probability F(wi·m), else refracts; the weight is (R or T)·G₂/G₁(wi) in importance mode and
 //!   the transmission weight is divided by η² in radiance mode, since f(b→a) = f(a→b)·η_a²/η_b².
 //!
+//! # Absorption (Beer–Lambert)
+//!
+//! Both carry an `absorption` coefficient σ_a (RGB, 1/m, each channel finite and ≥ 0; zero by
+//! default, set with `with_absorption`): the object the interface bounds is filled with a
+//! purely absorbing medium, so flux travelling a distance t inside it is multiplied by
+//! exp(−σ_a·t) per channel. The BSDF itself is unchanged; the light tracer applies the factor to
+//! path segments inside the object (see the `trace` module docs for how it knows it is
+//! inside). A BSDF's `absorption` is part of the material, so it is covered by the scene
+//! fingerprint.
+//!
 //! See the transport-mode discussion in the [module docs of `bsdf`](super) for why the sensor's
 //! connection and the tracer's weight update both call the same `eval`.
 
@@ -53,6 +63,17 @@ fn check_iors(int_ior: f32, ext_ior: f32) -> Result<f32, MaterialError> {
     Ok(eta)
 }
 
+/// An absorption coefficient σ_a: finite and ≥ 0 per channel (1/m).
+fn check_absorption(sigma_a: Rgb) -> Result<Rgb, MaterialError> {
+    if !sigma_a.is_finite() {
+        Err(MaterialError::NotFinite("absorption"))
+    } else if sigma_a.min_element() < 0.0 {
+        Err(MaterialError::Negative("absorption"))
+    } else {
+        Ok(sigma_a)
+    }
+}
+
 /// Smooth dielectric interface.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SmoothDielectric {
@@ -62,6 +83,8 @@ pub struct SmoothDielectric {
     pub specular_reflectance: Rgb,
     /// Multiplier of the transmitted part, each channel in [0, 1].
     pub specular_transmittance: Rgb,
+    /// Absorption coefficient σ_a of the inside (1/m, ≥ 0; module docs).
+    pub absorption: Rgb,
 }
 
 impl SmoothDielectric {
@@ -75,7 +98,18 @@ impl SmoothDielectric {
         let eta = check_iors(int_ior, ext_ior)?;
         check_unit_colour("specular_reflectance", reflectance)?;
         check_unit_colour("specular_transmittance", transmittance)?;
-        Ok(SmoothDielectric { eta, specular_reflectance: reflectance, specular_transmittance: transmittance })
+        Ok(SmoothDielectric {
+            eta,
+            specular_reflectance: reflectance,
+            specular_transmittance: transmittance,
+            absorption: Rgb::ZERO,
+        })
+    }
+
+    /// The same interface bounding an absorbing inside of coefficient σ_a (1/m, per channel
+    /// finite and ≥ 0).
+    pub fn with_absorption(self, sigma_a: Rgb) -> Result<Self, MaterialError> {
+        Ok(SmoothDielectric { absorption: check_absorption(sigma_a)?, ..self })
     }
 
     /// Reflects with probability F (`u_lobe < F`), else refracts; see the module docs for the
@@ -114,6 +148,8 @@ pub struct RoughDielectric {
     pub specular_reflectance: Rgb,
     /// Multiplier of the transmitted part, each channel in [0, 1].
     pub specular_transmittance: Rgb,
+    /// Absorption coefficient σ_a of the inside (1/m, ≥ 0; module docs).
+    pub absorption: Rgb,
 }
 
 /// The generalized half vector of (wi, wo) for wi.z > 0 (oriented to +z) and whether the pair is
@@ -152,7 +188,14 @@ impl RoughDielectric {
             alpha,
             specular_reflectance: reflectance,
             specular_transmittance: transmittance,
+            absorption: Rgb::ZERO,
         })
+    }
+
+    /// The same interface bounding an absorbing inside of coefficient σ_a (1/m, per channel
+    /// finite and ≥ 0).
+    pub fn with_absorption(self, sigma_a: Rgb) -> Result<Self, MaterialError> {
+        Ok(RoughDielectric { absorption: check_absorption(sigma_a)?, ..self })
     }
 
     /// (wi, wo, η) mirrored so that wi.z > 0; `None` for wi in the plane.
@@ -269,6 +312,24 @@ mod tests {
 
     fn glass() -> SmoothDielectric {
         SmoothDielectric::new(1.5, 1.0, Rgb::ONE, Rgb::ONE).unwrap()
+    }
+
+    #[test]
+    fn absorption_must_be_finite_and_non_negative() {
+        let rough = RoughDielectric::new(1.5, 1.0, 0.3, Rgb::ONE, Rgb::ONE).unwrap();
+        assert_eq!(glass().absorption, Rgb::ZERO);
+        assert_eq!(rough.absorption, Rgb::ZERO);
+        let sigma = Rgb::new(0.0, 0.5, 2.0);
+        assert_eq!(glass().with_absorption(sigma).unwrap().absorption, sigma);
+        assert_eq!(rough.clone().with_absorption(sigma).unwrap().absorption, sigma);
+        for bad in [Rgb::new(-0.1, 0.0, 0.0), Rgb::new(0.0, f32::NAN, 0.0), Rgb::splat(f32::INFINITY)] {
+            let e = glass().with_absorption(bad).unwrap_err();
+            assert!(matches!(
+                e,
+                MaterialError::Negative("absorption") | MaterialError::NotFinite("absorption")
+            ));
+            assert!(rough.clone().with_absorption(bad).is_err());
+        }
     }
 
     /// Mean and standard error of the first channel of the weights of `m` samples (None = 0).

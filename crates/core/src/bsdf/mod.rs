@@ -149,6 +149,17 @@ impl Bsdf {
         matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_))
     }
 
+    /// The absorption coefficient σ_a (1/m) of the inside of a dielectric (zero for every other
+    /// BSDF): flux travelling a distance t inside is multiplied by exp(−σ_a·t).
+    #[inline]
+    pub fn absorption(&self) -> Rgb {
+        match self {
+            Bsdf::SmoothDielectric(b) => b.absorption,
+            Bsdf::RoughDielectric(b) => b.absorption,
+            _ => Rgb::ZERO,
+        }
+    }
+
     /// Upper bound of the directional albedo per channel (kd for Lambert, kd + ks for Phong, the
     /// specular reflectance for conductors, the larger of the specular reflectance and
     /// transmittance for dielectrics).

@@ -12,7 +12,8 @@
 //! | `<bsdf id="…">` | a named material, used by `<ref id="…"/>` inside shapes (references may point forward) |
 //! | `<shape>` | a triangle mesh (below) |
 //! | `<emitter type="point">`, `"spot"`, `"directional"`, `"ies"` | a light (below) |
-//! | anything else (`texture`, `medium`, `include`, …) | error |
+//! | `<medium id="…" type="homogeneous">` | an absorbing medium, used as a dielectric shape's `interior` (below) |
+//! | anything else (`texture`, `include`, …) | error |
 //!
 //! Properties are `<float>`, `<integer>`, `<boolean>`, `<string>`, `<rgb>`, `<spectrum>`,
 //! `<point>`, `<vector>` and `<transform>` elements with a `name`. Colours are
@@ -110,6 +111,24 @@
 //! follow the transformed vertices, as in Mitsuba). A shape's name is its `id`, else
 //! `<type>_<index>` (index among the scene's shapes, from 0).
 //!
+//! ## Absorbing glass: `interior` media
+//!
+//! A shape with a `dielectric` or `roughdielectric` BSDF may name its inside medium,
+//! `<ref name="interior" id="…"/>` (a top-level `<medium>`) or an inline
+//! `<medium name="interior" type="homogeneous">`. Opticks renders **purely absorbing** media
+//! only, as the glass's Beer–Lambert absorption σ_a (per metre of path inside the shape, see
+//! [`SmoothDielectric`]):
+//!
+//! | parameter | type | default | |
+//! |---|---|---|---|
+//! | `albedo` | colour | 0.75 (Mitsuba's) | must be **0**: a scattering medium is an error naming the line |
+//! | `sigma_t` | colour | 1 | extinction, 1/(scene unit); with albedo 0 it is all absorption |
+//! | `scale` | float | 1 | σ_a = `sigma_t` · `scale`, each channel finite and ≥ 0 |
+//! | `<phase>` | | | accepted and ignored (nothing scatters); `sample_emitters` is ignored |
+//!
+//! An `interior` on a shape whose BSDF is not a dielectric, an `exterior` medium (the outside is
+//! always vacuum) and a medium of another type are errors.
+//!
 //! # `<emitter>`
 //!
 //! | type | where | parameters |
@@ -144,7 +163,7 @@ use std::path::{Path, PathBuf};
 
 type Result<T> = std::result::Result<T, SceneFileError>;
 
-const TOP_LEVEL: &str = "default, integrator, sensor, bsdf, shape, emitter";
+const TOP_LEVEL: &str = "default, integrator, sensor, bsdf, medium, shape, emitter";
 const BSDF_TYPES: &str =
     "diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric";
 const PROPERTY_TAGS: &[&str] =
@@ -213,6 +232,7 @@ pub fn parse(text: &str, path: &Path, options: &LoadOptions) -> Result<LoadedSce
     for n in elements(root) {
         match n.tag_name().name() {
             "default" => {}
+            "medium" => {} // read where a shape refers to it
             "integrator" => cx.integrator(n)?,
             "sensor" => {
                 if desc.camera.is_none() {
@@ -249,14 +269,15 @@ pub fn parse(text: &str, path: &Path, options: &LoadOptions) -> Result<LoadedSce
             }
         }
     }
-    // Unused named BSDFs: Mitsuba would not mind either, but it is usually a typo.
+    // Unused named BSDFs and media: Mitsuba would not mind either, but it is usually a typo.
     let mut unused: Vec<Node> = elements(root)
-        .filter(|n| n.tag_name().name() == "bsdf")
+        .filter(|n| matches!(n.tag_name().name(), "bsdf" | "medium"))
         .filter(|n| n.attribute("id").is_some_and(|id| !b.used.contains(id)))
         .collect();
     unused.sort_by_key(|n| n.range().start);
     for n in unused {
-        cx.warn(n, "this BSDF is never used");
+        let what = if n.tag_name().name() == "medium" { "medium" } else { "BSDF" };
+        cx.warn(n, format!("this {what} is never used"));
     }
     Ok(LoadedScene { description: desc, warnings: cx.warnings })
 }
@@ -303,6 +324,15 @@ struct ParsedBsdf {
     name: String,
     bsdf: Bsdf,
     two_sided: bool,
+}
+
+/// A shape's interior medium: its absorption, where it is declared, its id if top-level (for
+/// sharing materials) and a name for the material.
+struct Interior<'a, 'i> {
+    sigma_a: Rgb,
+    node: Node<'a, 'i>,
+    id: Option<String>,
+    name: String,
 }
 
 /// Named objects and the materials made of them.
@@ -1238,13 +1268,28 @@ impl<'a, 'i> Ctx<'a, 'i> {
             triangles.iter_mut().for_each(|t| t.swap(1, 2));
         }
 
-        let mut material = None;
+        let mut chosen = None;
+        let mut interior = None;
         let mut emission = None;
         let mut emission_profile = None;
         for c in p.objects.clone() {
-            match c.tag_name().name() {
-                "bsdf" | "ref" => {
-                    if material.is_some() {
+            match (c.tag_name().name(), c.attribute("name")) {
+                ("ref" | "medium", Some("interior")) => {
+                    if interior.is_some() {
+                        return Err(self.err(c, "a shape can have only one interior medium"));
+                    }
+                    interior = Some(self.interior_medium(c, b)?);
+                }
+                ("ref" | "medium", Some("exterior")) => {
+                    return Err(
+                        self.err(c, "exterior media are not supported: the outside of every shape is vacuum")
+                    );
+                }
+                ("medium", _) => {
+                    return Err(self.err(c, "a <medium> inside a shape needs name=\"interior\""));
+                }
+                ("bsdf" | "ref", _) => {
+                    if chosen.is_some() {
                         return Err(self.err(c, "a shape can have only one BSDF"));
                     }
                     let (parsed, ref_id) = if c.tag_name().name() == "ref" {
@@ -1258,9 +1303,9 @@ impl<'a, 'i> Ctx<'a, 'i> {
                         }
                         (parsed, None)
                     };
-                    material = Some(self.material_index(&parsed, ref_id.as_deref(), b, materials));
+                    chosen = Some((parsed, ref_id));
                 }
-                "emitter" => {
+                ("emitter", _) => {
                     if emission.is_some() {
                         return Err(self.err(c, "a shape can have only one emitter"));
                     }
@@ -1268,19 +1313,52 @@ impl<'a, 'i> Ctx<'a, 'i> {
                     emission = Some(radiance);
                     emission_profile = profile;
                 }
-                other => {
+                (other, _) => {
                     return Err(self.err(
                         c,
                         format!(
-                            "unsupported element <{other}> inside <shape> (supported: bsdf, ref, emitter)"
+                            "unsupported element <{other}> inside <shape> (supported: bsdf, ref, emitter, medium)"
                         ),
                     ));
                 }
             }
         }
-        let material = match material {
-            Some(m) => m,
-            None => {
+        let material = match (chosen, interior) {
+            (Some((parsed, ref_id)), None) => self.material_index(&parsed, ref_id.as_deref(), b, materials),
+            (Some((parsed, ref_id)), Some(medium)) => {
+                let bsdf = match parsed.bsdf {
+                    Bsdf::SmoothDielectric(d) => {
+                        d.with_absorption(medium.sigma_a).map(Bsdf::SmoothDielectric)
+                    }
+                    Bsdf::RoughDielectric(d) => d.with_absorption(medium.sigma_a).map(Bsdf::RoughDielectric),
+                    _ => {
+                        return Err(self.err(
+                            medium.node,
+                            format!(
+                                "an interior medium needs a dielectric BSDF on the shape (BSDF \"{}\" is not one): \
+                                 Opticks models absorbing glass only",
+                                parsed.name
+                            ),
+                        ));
+                    }
+                };
+                let bsdf = bsdf.map_err(|source| SceneFileError::Material {
+                    at: self.loc(medium.node),
+                    element: describe(medium.node),
+                    source,
+                })?;
+                let name = format!("{}+{}", parsed.name, medium.name);
+                let key = ref_id.zip(medium.id).map(|(r, m)| format!("{r}\u{0}{m}"));
+                let parsed = ParsedBsdf { name, bsdf, two_sided: parsed.two_sided };
+                self.material_index(&parsed, key.as_deref(), b, materials)
+            }
+            (None, Some(medium)) => {
+                return Err(self.err(
+                    medium.node,
+                    "an interior medium needs a dielectric BSDF on the shape (this shape has none)",
+                ));
+            }
+            (None, None) => {
                 // Mitsuba's default: a one-sided diffuse of reflectance 0.5 (shared by all shapes).
                 const DEFAULT: &str = "\u{0}default";
                 let parsed = ParsedBsdf {
@@ -1301,6 +1379,78 @@ impl<'a, 'i> Ctx<'a, 'i> {
             emission,
             emission_profile,
         })
+    }
+
+    /// A shape's `<ref name="interior" id="…"/>` or inline `<medium name="interior">`.
+    fn interior_medium(&mut self, n: Node<'a, 'i>, b: &mut Builder<'a, 'i>) -> Result<Interior<'a, 'i>> {
+        if n.tag_name().name() == "medium" {
+            return Ok(Interior {
+                sigma_a: self.absorbing_medium(n)?,
+                node: n,
+                id: None,
+                name: "medium".into(),
+            });
+        }
+        let id = self.required(n, "id")?;
+        let target = match b.ids.get(&id) {
+            Some(&t) if t.tag_name().name() == "medium" => t,
+            Some(&t) => {
+                let at = self.loc(t);
+                return Err(self.err(
+                    n,
+                    format!("id \"{id}\" is a <{}> (at {at}), not a <medium>", t.tag_name().name()),
+                ));
+            }
+            None => return Err(self.attr_err(n, "id", format!("reference to unknown medium id \"{id}\""))),
+        };
+        b.used.insert(id.clone());
+        Ok(Interior { sigma_a: self.absorbing_medium(target)?, node: target, id: Some(id.clone()), name: id })
+    }
+
+    /// σ_a of a purely absorbing `<medium type="homogeneous">` (module docs).
+    fn absorbing_medium(&mut self, n: Node<'a, 'i>) -> Result<Rgb> {
+        let ty = self.required(n, "type")?;
+        if ty != "homogeneous" {
+            return Err(self.attr_err(
+                n,
+                "type",
+                format!("unsupported medium type \"{ty}\" (supported: homogeneous, with albedo 0)"),
+            ));
+        }
+        let mut p = self.props(n)?;
+        if let Some(c) = p.objects.iter().find(|c| c.tag_name().name() != "phase") {
+            return Err(self.err(*c, "unsupported element inside a medium (supported: phase)"));
+        }
+        let albedo = self.get_color(&mut p, "albedo")?;
+        match albedo {
+            Some((a, _)) if a == Rgb::ZERO => {}
+            Some((a, anode)) => {
+                return Err(self.err(
+                    anode,
+                    format!(
+                        "a scattering medium (albedo {a}) is not supported: Opticks renders purely \
+                         absorbing interiors only (albedo 0)"
+                    ),
+                ));
+            }
+            None => {
+                return Err(self.err(
+                    n,
+                    "a homogeneous medium scatters by default (Mitsuba's albedo is 0.75); Opticks renders \
+                     purely absorbing interiors only: give <float name=\"albedo\" value=\"0\"/>",
+                ));
+            }
+        }
+        let (sigma_t, tnode) = self.get_color(&mut p, "sigma_t")?.unwrap_or((Rgb::ONE, n));
+        let (scale, snode) = self.get_float(&mut p, "scale")?.unwrap_or((1.0, n));
+        p.ignore(&["sample_emitters"]);
+        self.finish(&p);
+        let sigma_a = sigma_t * scale as f32;
+        if !sigma_a.is_finite() || sigma_a.min_element() < 0.0 {
+            let at = if scale < 0.0 || !scale.is_finite() { snode } else { tnode };
+            return Err(self.err(at, format!("sigma_t · scale = {sigma_a} must be finite and not negative")));
+        }
+        Ok(sigma_a)
     }
 
     fn area_emitter(&mut self, n: Node<'a, 'i>) -> Result<(Rgb, Option<EmissionProfile>)> {
@@ -1977,6 +2127,74 @@ mod tests {
         assert_eq!(m(4).bsdf, Bsdf::RoughConductor(RoughConductor::new(0.3, Rgb::ONE, None).unwrap()));
         let rough = RoughDielectric::new(1.5046, 1.000277, 0.2, Rgb::ONE, Rgb::ONE).unwrap();
         assert_eq!(m(5).bsdf, Bsdf::RoughDielectric(rough));
+    }
+
+    #[test]
+    fn interior_media_make_absorbing_glass() {
+        let s = scene(
+            r#"<medium type="homogeneous" id="ink"><float name="albedo" value="0"/>
+                 <rgb name="sigma_t" value="1, 2, 3"/><float name="scale" value="0.5"/>
+                 <phase type="isotropic"/></medium>
+               <bsdf type="dielectric" id="glass"/>
+               <shape type="cube"><ref id="glass"/><ref name="interior" id="ink"/></shape>
+               <shape type="cube"><ref name="interior" id="ink"/><ref id="glass"/></shape>
+               <shape type="cube"><bsdf type="roughdielectric"><string name="distribution" value="ggx"/></bsdf>
+                 <medium name="interior" type="homogeneous"><rgb name="albedo" value="0, 0, 0"/></medium></shape>
+               <shape type="cube"><ref id="glass"/></shape>"#,
+        );
+        assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+        let d = &s.description;
+        let m = |i: usize| &d.materials[d.meshes[i].material];
+        assert_eq!(m(0).bsdf.absorption(), Rgb::new(0.5, 1.0, 1.5));
+        assert_eq!(m(0).name, "glass+ink");
+        assert_eq!(d.meshes[0].material, d.meshes[1].material, "the same glass and ink share a material");
+        assert_eq!(m(2).bsdf.absorption(), Rgb::ONE);
+        assert!(matches!(m(2).bsdf, Bsdf::RoughDielectric(_)));
+        assert_eq!(m(3).bsdf.absorption(), Rgb::ZERO);
+    }
+
+    #[test]
+    fn unsupported_media_are_located_errors() {
+        let ink = |params: &str| {
+            format!(
+                "<bsdf type=\"dielectric\" id=\"g\"/>\n<medium type=\"homogeneous\" id=\"m\">\n  {params}</medium>\n\
+                 <shape type=\"cube\"><ref id=\"g\"/><ref name=\"interior\" id=\"m\"/></shape>"
+            )
+        };
+        let cases = [
+            (ink(r#"<float name="albedo" value="0.5"/>"#), "dir/test.xml:4:3: <float name=\"albedo\">: a scattering medium"),
+            (ink(""), "dir/test.xml:3:1: <medium type=\"homogeneous\" id=\"m\">: a homogeneous medium scatters by default"),
+            (
+                ink(r#"<float name="albedo" value="0"/><float name="scale" value="-1"/>"#),
+                "dir/test.xml:4:35: <float name=\"scale\">: sigma_t · scale",
+            ),
+            (
+                ink(r#"<float name="albedo" value="0"/><float name="sigma_t" value="nan"/>"#),
+                "dir/test.xml:4:64: <float name=\"sigma_t\">: attribute `value`: \"nan\" is not a finite number",
+            ),
+            (
+                "<shape type=\"cube\"><medium name=\"interior\" type=\"heterogeneous\"/></shape>".into(),
+                "unsupported medium type \"heterogeneous\"",
+            ),
+            (
+                "<shape type=\"cube\"><medium name=\"interior\" type=\"homogeneous\"><float name=\"albedo\" value=\"0\"/></medium></shape>"
+                    .into(),
+                "needs a dielectric BSDF on the shape (this shape has none)",
+            ),
+            (
+                "<shape type=\"cube\"><bsdf type=\"diffuse\"/>\n<medium name=\"interior\" type=\"homogeneous\"><float name=\"albedo\" value=\"0\"/></medium></shape>"
+                    .into(),
+                "dir/test.xml:3:1: <medium type=\"homogeneous\" name=\"interior\">: an interior medium needs a dielectric BSDF",
+            ),
+            (
+                "<shape type=\"cube\"><ref name=\"exterior\" id=\"x\"/></shape>".into(),
+                "exterior media are not supported",
+            ),
+        ];
+        for (body, expected) in cases {
+            let e = err(&body);
+            assert!(e.contains(expected), "{e}\nexpected: {expected}\n{body}");
+        }
     }
 
     #[test]

@@ -334,16 +334,20 @@ impl Converter {
             }
             None => None,
         };
-        // (kd, ks, exponent, two-sided, emission)
+        // (kd, ks, exponent, two-sided, emission); `physical`: the extension's explicit Modified
+        // Phong parameters, which must be possible as given (legacy colours are rescaled).
+        let mut physical = false;
         let (kd, ks, exponent, two_sided, emission) = match mat {
             None => ([0.8; 3], [0.0; 3], 0.2 * 128.0, !solid, Emission::None),
             Some(m) => {
                 if let Some(p) = self.extension(m, "PhysicalMaterial") {
+                    physical = true;
                     let f = |k: &str| p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]);
                     let e = p.get("exponent").and_then(FieldValue::as_float).unwrap_or(0.0);
                     let two = matches!(p.get("twoSided"), Some(FieldValue::Bool(true)));
                     (f("diffuse"), f("specular"), e, two, Emission::None)
                 } else if let Some(p) = self.extension(m, "AreaLight") {
+                    physical = true;
                     self.area_light(m, p)
                 } else if m.type_name == "Material" {
                     if m.float("transparency", 0.0) > 0.0 {
@@ -383,7 +387,7 @@ impl Converter {
             }
             None => "default".to_string(),
         };
-        let bsdf = self.bsdf(mat, rgb(kd), rgb(ks), exponent)?;
+        let bsdf = self.bsdf(mat, rgb(kd), rgb(ks), exponent, !physical)?;
         let index = self.out.materials.len();
         self.out.materials.push(Material { name, bsdf, two_sided });
         self.materials.insert(key, (index, emission));
@@ -419,26 +423,31 @@ impl Converter {
         (f("diffuse"), f("specular"), e, two, emission)
     }
 
-    /// Lambert if there is no specular part, else Modified Phong; kd + ks > 1 is scaled down.
-    fn bsdf(&mut self, mat: Option<&Node>, kd: Rgb, ks: Rgb, exponent: f32) -> Result<Bsdf> {
+    /// Lambert if there is no specular part, else Modified Phong. Legacy colours (`rescale`)
+    /// with kd + ks > 1 are scaled down with a warning; the extension's physical parameters are
+    /// taken as given, so an impossible value is an error.
+    fn bsdf(&mut self, mat: Option<&Node>, kd: Rgb, ks: Rgb, exponent: f32, rescale: bool) -> Result<Bsdf> {
         let material_error = |s: &Self, source| match mat {
             Some(m) => SceneFileError::Material { at: s.loc(m.pos), element: m.type_name.clone(), source },
             None => SceneFileError::Material { at: s.loc(Pos::default()), element: "default".into(), source },
         };
         let sum = kd + ks;
-        let (kd, ks) = if sum.max_element() > 1.0 && kd.min_element() >= 0.0 && ks.min_element() >= 0.0 {
-            let scale = Rgb::ONE / sum.max(Rgb::ONE);
-            if let Some(m) = mat {
-                self.warn_once(
-                    m,
-                    "energy",
-                    format!("diffuse + specular = {sum:?} exceeds 1: both scaled down to conserve energy"),
-                );
-            }
-            (kd * scale, ks * scale)
-        } else {
-            (kd, ks)
-        };
+        let (kd, ks) =
+            if rescale && sum.max_element() > 1.0 && kd.min_element() >= 0.0 && ks.min_element() >= 0.0 {
+                let scale = Rgb::ONE / sum.max(Rgb::ONE);
+                if let Some(m) = mat {
+                    self.warn_once(
+                        m,
+                        "energy",
+                        format!(
+                            "diffuse + specular = {sum:?} exceeds 1: both scaled down to conserve energy"
+                        ),
+                    );
+                }
+                (kd * scale, ks * scale)
+            } else {
+                (kd, ks)
+            };
         if ks == Rgb::ZERO {
             Lambert::new(kd).map(Bsdf::Lambert).map_err(|e| material_error(self, e))
         } else {
@@ -646,6 +655,26 @@ mod tests {
         // Φ = π·L·A with A = 6 m².
         let l = d.meshes[3].emission.unwrap();
         assert!((l * (std::f32::consts::PI * 6.0) - Rgb::splat(3.0)).abs().max_element() < 1e-5, "{l:?}");
+    }
+
+    /// The extension's explicit Modified Phong parameters are physical: kd + ks > 1 or a negative
+    /// value is an error at the node (only legacy `Material` colours are rescaled).
+    #[test]
+    fn impossible_physical_materials_are_errors() {
+        let cases = [
+            ("PhysicalMaterial { diffuse 0.7 0.7 0.7 specular 0.5 0 0 exponent 10 }", "kd + ks"),
+            ("PhysicalMaterial { diffuse 0.5 -0.1 0.5 }", "must not be negative"),
+            ("AreaLight { power 1 1 1 diffuse 0.9 0.9 0.9 specular 0.2 0.2 0.2 }", "kd + ks"),
+        ];
+        for (material, want) in cases {
+            let body =
+                format!("Shape {{ appearance Appearance {{ material\n  {material} }} geometry Box {{}} }}");
+            let text = format!("#VRML V2.0 utf8\n{}\n{body}", extension::DECLARATIONS);
+            let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
+            let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
+            let line = text.lines().count();
+            assert!(e.starts_with(&format!("t.wrl:{line}:3")) && e.contains(want), "{material}: {e}");
+        }
     }
 
     #[test]
