@@ -377,11 +377,8 @@ mod tests {
         ];
         for (i, (alpha, deg)) in cases.into_iter().enumerate() {
             let b = rough_with(alpha);
-            // Tilted 30° about z: the plane of incidence is off both anisotropy axes.
-            let (s, c) = 30f32.to_radians().sin_cos();
-            let w = incident(deg);
-            let w = Vec3::new(c * w.x - s * w.y, s * w.x + c * w.y, w.z);
-            for (j, wi) in [w, flip(w)].into_iter().enumerate() {
+            // `incident` has azimuth 0.3 rad: the plane of incidence is off both anisotropy axes.
+            for (j, wi) in [incident(deg), flip(incident(deg))].into_iter().enumerate() {
                 // Pole on the refracted direction (the transmission lobe is usually the
                 // larger one); the pilot-adapted θ edges resolve the reflection lobe too.
                 let axis = Vec3::new(-wi.x, -wi.y, -wi.z);
