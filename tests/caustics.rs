@@ -1,11 +1,13 @@
-//! Caustics against Mitsuba 3's particle tracer (issue #5): the two caustic showcase scenes
-//! (`scenes/caustics`, a glass sphere; `scenes/ring`, a mirror ring), copied with their
-//! references into `testdata/mitsuba/NAME/`, are traced and rendered by Opticks and compared
-//! with Mitsuba's `ptracer` reference (`reference.exr`, made by `tests/mitsuba/render_reference.py`;
-//! spp, time, self-noise and the competitor figure are in `reference_stats.json`).
+//! Caustics and rough materials against Mitsuba 3's particle tracer (issue #5): the two caustic
+//! showcase scenes (`scenes/caustics`, a glass sphere; `scenes/ring`, a mirror ring), copied
+//! with their references into `testdata/mitsuba/NAME/`, and the test-only `testdata/mitsuba/rough`
+//! (a GGX gold sphere and a Beckmann rough-glass sphere, see the end of these docs) are traced and
+//! rendered by Opticks and compared with Mitsuba's `ptracer` reference (`reference.exr`, made by
+//! `tests/mitsuba/render_reference.py`; spp, time, self-noise and the competitor figure are in
+//! `reference_stats.json`).
 //!
-//! What must hold, at PATHS = 64 × 320 × 240 = 4,915,200 light paths (exactly the count of
-//! Mitsuba's competitor run, 64 spp), for four seeds:
+//! What must hold, at 64 light paths per pixel of the film (exactly the count of Mitsuba's
+//! competitor runs; PATHS = 64 × 320 × 240 = 4,915,200 for the caustics), for four seeds:
 //! * per-channel mean within MEAN_TOL = 2% of the reference for every seed. Measured seed-to-seed
 //!   standard deviation of the image mean at PATHS: 0.4% on the ring (seeds 1–4: −0.27%, +0.41%,
 //!   −0.18%, −0.50%; Mitsuba's two competitor seeds +0.12%, −0.16%) and 0.015% on the sphere
@@ -27,7 +29,24 @@
 //!   19.7 M paths with the same method: 1.0019 (sphere), 0.9999 (ring); in this test 0.9994 and
 //!   0.9917 (the ring's bright pixels have about 1% noise at 3 × 4.9 M paths).
 //!
-//! Runtime: two scenes × 4 × 4.9 M paths, about 35 s on 2 busy cores.
+//! **Rough materials** (`rough`, 128 × 128, 64 × 128² = 1,048,576 paths): a rough gold conductor
+//! (GGX, α = 0.25, gold's η + iκ) and a rough glass sphere (Beckmann, Mitsuba's default, α = 0.2,
+//! η = 1.5) on a grey floor, side-lit; both spheres are seen by the camera, so their microfacet
+//! BSDFs are tested both in the tracer's sampling and in the sensor's connection. Reference:
+//! 8192 spp (134 M paths, 167 s on 2 busy cores), self-noise 2.0e-3 (≈ 1/140 of the 1× error).
+//! Light traced through rough glass is heavy-tailed (camera connections to vertices inside
+//! the glass), so relMSE scatters much more from seed to seed than on the other scenes:
+//! Mitsuba at 64 spp, ten seeds: 2.677e-1 ± 0.510e-1 (19%; 1.90–3.47e-1), mean ratio within
+//! ±1.4%; Opticks, seeds 1–4: 3.116, 2.858, 2.682, 2.814e-1 (mean 2.868e-1 ± 0.18e-1, 1.07×
+//! Mitsuba's mean), mean ratio −0.85% … +0.67%. The difference of the means, 7%, is 1.0
+//! standard error of the comparison (Mitsuba's ten-seed mean is known to ±6%, Opticks's
+//! four-seed mean to ±3%), so the bound is ROUGH_RELMSE_TOL = 1.25× (3 standard errors) rather
+//! than 1.1×. 4×: error ÷ 4.05, mean within 0.37%; the brightest 1% of pixels (the spheres'
+//! highlights and the glass's caustic) 0.987 of the reference's. Opticks's G₂ is the
+//! height-correlated Smith term while Mitsuba's is the separable G₁·G₁ (with Walter's rational
+//! fit for Beckmann): at these roughnesses the difference is below this test's resolution.
+//!
+//! Runtime: two scenes × 4 × 4.9 M paths plus 4 × 1 M, about 40 s on 2 busy cores.
 
 mod common;
 
@@ -35,7 +54,6 @@ use opticks_core::scene::{Pinhole, Scene};
 use opticks_io::compare::compare;
 use std::path::PathBuf;
 
-const PATHS: u64 = 64 * 320 * 240;
 const MEAN_TOL: f64 = 0.02;
 const MEAN_TOL_4: f64 = 0.01;
 const CAUSTIC_TOL: f64 = 0.05;
@@ -68,7 +86,7 @@ fn mean_image(films: &[Vec<f32>]) -> Vec<f32> {
     (0..films[0].len()).map(|i| films.iter().map(|f| f[i]).sum::<f32>() / n).collect()
 }
 
-fn check_scene(name: &str) {
+fn check_scene(name: &str, relmse_tol: f64) {
     let loaded = opticks_io::scene_formats::load_scene(&dir(name).join("scene.xml")).unwrap();
     let scene = Scene::build(&loaded.description).unwrap();
     let cam = Pinhole::new(scene.camera.as_ref().expect("scene has a camera")).unwrap();
@@ -76,10 +94,14 @@ fn check_scene(name: &str) {
     let stats = stats(name);
     let reference_noise = stats["reference"]["relmse_reference_est"].as_f64().unwrap();
     let competitor = stats["competitor"]["relmse"].as_f64().unwrap();
-    assert_eq!(stats["competitor"]["light_paths"].as_u64().unwrap(), PATHS);
+    // The competitor's path count: 64 spp of the scene's film.
+    let paths = stats["competitor"]["light_paths"].as_u64().unwrap();
+    let (w, h) =
+        (stats["reference"]["width"].as_u64().unwrap(), stats["reference"]["height"].as_u64().unwrap());
+    assert_eq!(paths, 64 * w * h);
 
     let films: Vec<Vec<f32>> =
-        (1..=4).map(|seed| common::trace_and_render(&scene, &cam, PATHS, seed).to_rgb_f32()).collect();
+        (1..=4).map(|seed| common::trace_and_render(&scene, &cam, paths, seed).to_rgb_f32()).collect();
     let mut single = 0.0;
     for (k, film) in films.iter().enumerate() {
         let c = compare(film, &reference);
@@ -95,8 +117,8 @@ fn check_scene(name: &str) {
     }
     eprintln!("{name}: mean relMSE {single:.4e}; Mitsuba ptracer at the same paths {competitor:.4e}");
     assert!(
-        single <= 1.1 * competitor,
-        "{name}: relMSE {single:.4e} is above 1.1× Mitsuba's ptracer ({competitor:.4e}) at {PATHS} paths"
+        single <= relmse_tol * competitor,
+        "{name}: relMSE {single:.4e} is above {relmse_tol}× Mitsuba's ptracer ({competitor:.4e}) at {paths} paths"
     );
 
     let four = compare(&mean_image(&films), &reference);
@@ -122,10 +144,18 @@ fn check_scene(name: &str) {
 
 #[test]
 fn glass_sphere_caustic_matches_mitsuba() {
-    check_scene("caustics");
+    check_scene("caustics", 1.1);
 }
 
 #[test]
 fn mirror_ring_caustic_matches_mitsuba() {
-    check_scene("ring");
+    check_scene("ring", 1.1);
+}
+
+/// Rough scene's relMSE bound (module docs): 3 standard errors of the two measured means.
+const ROUGH_RELMSE_TOL: f64 = 1.25;
+
+#[test]
+fn rough_gold_and_glass_match_mitsuba() {
+    check_scene("rough", ROUGH_RELMSE_TOL);
 }

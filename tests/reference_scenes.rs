@@ -3,11 +3,26 @@
 //!
 //! What must hold (issue #2):
 //! * at 4,194,304 light paths the per-channel mean is within 1% of the reference and the
-//!   relative MSE is no worse than Mitsuba's own particle tracer (`ptracer`) at the same path
-//!   count (figures from each SCENE.md), allowing 5% for the seed-to-seed spread of relMSE
-//!   itself (measured: 1.2% standard deviation over four seeds on the Cornell box);
+//!   relative MSE is no worse than 1.05 × Mitsuba's own particle tracer (`ptracer`) at the same
+//!   path count (its mean over eight seeds);
 //! * four times the paths divides the error (less the reference's own noise) by about four: no
 //!   bias floor; and the mean is then within 0.5%.
+//!
+//! Where the 5% comes from: relMSE at 4,194,304 paths over seeds 0–7 (mean ± standard deviation
+//! of a single run; Mitsuba 3.9.1 `llvm_ad_rgb` via `benches/mitsuba_ptracer.py`, Opticks
+//! `trace` + `render`):
+//!
+//! | scene | Mitsuba `ptracer` | Opticks | Opticks / Mitsuba |
+//! |---|---|---|---|
+//! | cornell | 3.979e-3 ± 0.044e-3 (1.1%), 3.898–4.036e-3 | 4.069e-3 ± 0.021e-3 (0.5%), 4.032–4.095e-3 | 1.023 |
+//! | furnace | 1.705e-3 ± 0.021e-3 (1.2%), 1.679–1.745e-3 | 1.690e-3 ± 0.028e-3 (1.7%), 1.637–1.728e-3 | 0.991 |
+//!
+//! On the Cornell box Opticks is 2.3% noisier than Mitsuba, significantly (the means differ by
+//! 5 standard errors); on the furnace the two agree (−0.9%, 1.2 standard errors). The bound
+//! 1.05 × Mitsuba's mean is 5.6 of Opticks's standard deviations above its Cornell mean and 4.1
+//! above its furnace mean, so the seed-to-seed spread cannot fail the test, while a loss of
+//! efficiency of a few percent would. A single Mitsuba run (the SCENE.md figures) carries ±1.2%
+//! noise of its own, hence the eight-seed means here.
 
 mod common;
 
@@ -58,12 +73,14 @@ fn check_scene(name: &str, mitsuba_ptracer_relmse: f64) {
 
 #[test]
 fn cornell_box_matches_mitsuba() {
-    // SCENE.md, "Competitor figures": ptracer, 4.19 M light paths, relMSE 3.99e-3.
-    check_scene("cornell", 3.99e-3);
+    // Mitsuba's ptracer, 4.19 M light paths, mean of seeds 0–7 (module docs; SCENE.md's single
+    // run: 3.99e-3).
+    check_scene("cornell", 3.979e-3);
 }
 
 #[test]
 fn furnace_matches_mitsuba() {
-    // SCENE.md, "Competitor figures": ptracer, 4.19 M light paths, two seeds: 1.74e-3, 1.70e-3.
-    check_scene("furnace", 1.72e-3);
+    // Mitsuba's ptracer, 4.19 M light paths, mean of seeds 0–7 (module docs; SCENE.md's two
+    // seeds: 1.74e-3, 1.70e-3).
+    check_scene("furnace", 1.705e-3);
 }

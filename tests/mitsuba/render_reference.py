@@ -3,7 +3,8 @@
 
 For each scene NAME (default: caustics ring) this script
   1. copies scenes/NAME/scene.xml and scenes/NAME/meshes/ to testdata/mitsuba/NAME/ (the test
-     inputs live in testdata, so editing a showcase does not silently break the test);
+     inputs live in testdata, so editing a showcase does not silently break the test); a scene
+     with no scenes/NAME (e.g. `rough`, a test-only scene) is rendered from testdata in place;
   2. renders testdata/mitsuba/NAME/scene.xml with Mitsuba's `ptracer` (max_depth -1, the scene's
      box filter) in PASSES passes of SPP samples (light paths per pixel) each, with seeds
      0..PASSES-1, in one process (the first, JIT-compiling pass is rendered once more to time the
@@ -66,10 +67,11 @@ def main():
 
     for name in args.names:
         src, dst = os.path.join(REPO, 'scenes', name), os.path.join(REPO, 'testdata', 'mitsuba', name)
-        os.makedirs(dst, exist_ok=True)
-        shutil.copy(os.path.join(src, 'scene.xml'), dst)
-        shutil.rmtree(os.path.join(dst, 'meshes'), ignore_errors=True)
-        shutil.copytree(os.path.join(src, 'meshes'), os.path.join(dst, 'meshes'))
+        if os.path.isdir(src):  # a showcase: test a copy; else a test-only scene, in place
+            os.makedirs(dst, exist_ok=True)
+            shutil.copy(os.path.join(src, 'scene.xml'), dst)
+            shutil.rmtree(os.path.join(dst, 'meshes'), ignore_errors=True)
+            shutil.copytree(os.path.join(src, 'meshes'), os.path.join(dst, 'meshes'))
         scene = mi.load_file(os.path.join(dst, 'scene.xml'))
         w, h = (int(v) for v in scene.sensors()[0].film().crop_size())
 

@@ -33,7 +33,7 @@ use std::f64::consts::{PI, TAU};
 
 /// Upper bound on the number of χ² tests run by the crate's test suite; the Bonferroni
 /// correction divides the 1 % family-wise significance by it.
-pub(crate) const CHI2_FAMILY: usize = 64;
+pub(crate) const CHI2_FAMILY: usize = 96;
 
 /// Per-test significance level (Bonferroni-corrected).
 pub(crate) const ALPHA: f64 = 0.01 / CHI2_FAMILY as f64;

@@ -48,6 +48,7 @@ pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 
 use crate::math::{Frame, Rgb, Vec2, Vec3};
+use crate::sampling::microfacet::Microfacet;
 
 /// A direction sampled from a BSDF.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -86,9 +87,9 @@ pub enum Bsdf {
     SmoothConductor(SmoothConductor),
     /// Smooth glass-like interface: Fresnel reflection and refraction (delta, oriented).
     SmoothDielectric(SmoothDielectric),
-    /// GGX microfacet conductor.
+    /// Microfacet conductor (GGX or Beckmann, isotropic or anisotropic).
     RoughConductor(RoughConductor),
-    /// GGX microfacet dielectric interface (oriented).
+    /// Microfacet dielectric interface (GGX or Beckmann; oriented).
     RoughDielectric(RoughDielectric),
 }
 
@@ -299,16 +300,27 @@ pub(crate) fn check_positive(name: &'static str, x: f32) -> Result<(), MaterialE
     }
 }
 
-/// A microfacet roughness α in (0, [`MAX_ALPHA`]].
-pub(crate) fn check_alpha(alpha: f32) -> Result<(), MaterialError> {
-    check_positive("alpha", alpha)?;
+/// A microfacet roughness α in (0, [`MAX_ALPHA`]], named `name` in the error.
+fn check_alpha(name: &'static str, alpha: f32) -> Result<(), MaterialError> {
+    check_positive(name, alpha)?;
     if alpha > MAX_ALPHA {
-        return Err(MaterialError::TooLarge { name: "alpha", value: alpha, max: MAX_ALPHA });
+        return Err(MaterialError::TooLarge { name, value: alpha, max: MAX_ALPHA });
     }
     Ok(())
 }
 
-/// Largest accepted microfacet roughness α (GGX with α = 1 is already a very rough surface;
+/// Both roughnesses of a microfacet distribution in (0, [`MAX_ALPHA`]] (errors name `alpha`
+/// when isotropic, else `alpha_u` / `alpha_v`, as the scene file does).
+pub(crate) fn check_microfacet(m: &Microfacet) -> Result<(), MaterialError> {
+    if m.alpha_u.to_bits() == m.alpha_v.to_bits() {
+        check_alpha("alpha", m.alpha_u)
+    } else {
+        check_alpha("alpha_u", m.alpha_u)?;
+        check_alpha("alpha_v", m.alpha_v)
+    }
+}
+
+/// Largest accepted microfacet roughness α (α = 1 is already a very rough surface;
 /// beyond it single-scattering microfacet models lose most of their energy).
 pub const MAX_ALPHA: f32 = 1.0;
 

@@ -1,6 +1,8 @@
 //! Random numbers and warps: seeded per-block random streams ([`RandomStream`]) and the maps
-//! from the unit square to directions and points ([`warp`]).
+//! from the unit square to directions and points ([`warp`]), and the microfacet normal
+//! distributions of the rough BSDFs ([`microfacet`]).
 
+pub mod microfacet;
 mod rng;
 pub mod warp;
 

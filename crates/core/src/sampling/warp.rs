@@ -8,10 +8,7 @@
 //! because near the axis of a narrow lobe cos α rounds to 1 in f32 and `powf` would lose all
 //! precision (for n = 10⁵ one ulp of cos α changes cosⁿα by ~1 %).
 //!
-//! The GGX functions ([`ggx_d`], [`ggx_lambda`], [`square_to_ggx_visible_normal`],
-//! [`ggx_visible_normal_pdf`]) serve the microfacet BSDFs: the isotropic Trowbridge–Reitz (GGX)
-//! normal distribution of roughness α and Heitz 2018's exact sampling of the normals *visible*
-//! from a direction ("Sampling the GGX Distribution of Visible Normals", JCGT 7(4)).
+//! Microfacet normal distributions (GGX, Beckmann) live in [`super::microfacet`].
 
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
@@ -119,62 +116,6 @@ pub fn phong_lobe_pdf(cos_alpha: f32, n: f32) -> f32 {
     phong_lobe_pdf_from_versine(1.0 - cos_alpha, n)
 }
 
-/// Isotropic GGX normal distribution D(m) = α² / (π·((α² − 1)·cos²θ_m + 1)²) for `m.z > 0`
-/// (unit `m`), 0 below. ∫ D(m)·cos θ_m dω_m = 1.
-#[inline]
-pub fn ggx_d(m: Vec3, alpha: f32) -> f32 {
-    if m.z <= 0.0 {
-        return 0.0;
-    }
-    let a2 = alpha * alpha;
-    // (m.x² + m.y²)/α² + m.z², scaled by α²: exact for unit m, no cancellation.
-    let t = m.x * m.x + m.y * m.y + a2 * m.z * m.z;
-    a2 / (PI * t * t)
-}
-
-/// Smith's Λ for GGX: (−1 + √(1 + α²·tan²θ))/2 for the direction `w` (any hemisphere: |cos θ|
-/// is used). G₁(w) = 1/(1 + Λ(w)); the height-correlated G₂(wi, wo) = 1/(1 + Λ(wi) + Λ(wo)).
-#[inline]
-pub fn ggx_lambda(w: Vec3, alpha: f32) -> f32 {
-    let z2 = w.z * w.z;
-    if z2 <= 0.0 {
-        return f32::INFINITY;
-    }
-    let a2tan2 = alpha * alpha * (w.x * w.x + w.y * w.y) / z2;
-    // (√(1 + x) − 1)/2 = x / (2(√(1 + x) + 1)): no cancellation for small x.
-    a2tan2 / (2.0 * ((1.0 + a2tan2).sqrt() + 1.0))
-}
-
-/// A microfacet normal m distributed by the GGX distribution of normals visible from `wi`
-/// (which must have `wi.z > 0`): density D_wi(m) = G₁(wi)·max(0, wi·m)·D(m)/cos θ_i
-/// ([`ggx_visible_normal_pdf`]). Heitz 2018, listing 1: stretch `wi` to the α = 1 configuration,
-/// sample the projected hemisphere, unstretch.
-#[inline]
-pub fn square_to_ggx_visible_normal(wi: Vec3, alpha: f32, u: Vec2) -> Vec3 {
-    let vh = Vec3::new(alpha * wi.x, alpha * wi.y, wi.z).normalize();
-    let lensq = vh.x * vh.x + vh.y * vh.y;
-    let t1 = if lensq > 0.0 { Vec3::new(-vh.y, vh.x, 0.0) / lensq.sqrt() } else { Vec3::X };
-    let t2 = vh.cross(t1);
-    let r = u.x.sqrt();
-    let phi = TAU * u.y;
-    let p1 = r * phi.cos();
-    let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * (1.0 - p1 * p1).max(0.0).sqrt() + s * r * phi.sin();
-    let nh = t1 * p1 + t2 * p2 + vh * (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
-    Vec3::new(alpha * nh.x, alpha * nh.y, nh.z.max(1e-7)).normalize()
-}
-
-/// Density of [`square_to_ggx_visible_normal`] w.r.t. solid angle of m: G₁(wi)·max(0, wi·m)·
-/// D(m)/cos θ_i, for `wi.z > 0`.
-#[inline]
-pub fn ggx_visible_normal_pdf(wi: Vec3, m: Vec3, alpha: f32) -> f32 {
-    let wm = wi.dot(m);
-    if wi.z <= 0.0 || wm <= 0.0 {
-        return 0.0;
-    }
-    ggx_d(m, alpha) * wm / (wi.z * (1.0 + ggx_lambda(wi, alpha)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -252,47 +193,5 @@ mod tests {
         assert_eq!(pow_cos_from_versine(0.0, 0.0), 1.0);
         // Versine form agrees with powf where powf is accurate.
         assert!((pow_cos_from_versine(0.5, 3.0) - 0.125).abs() < 1e-6);
-    }
-
-    #[test]
-    fn ggx_is_normalised_and_visible_normals_integrate_to_one() {
-        // ∫ D(m) cos θ_m dω = 1 and ∫ D_wi(m) dω = 1, by the midpoint rule in (cos θ, φ).
-        for alpha in [0.05f32, 0.3, 1.0] {
-            for wi in [Vec3::Z, Vec3::new(0.6, 0.2, 0.5).normalize(), Vec3::new(0.99, 0.0, 0.05).normalize()]
-            {
-                let (nt, np) = (4000, 64);
-                let (mut d, mut v) = (0.0f64, 0.0f64);
-                for i in 0..nt {
-                    // cos θ = 1 − x², x uniform: dense near the pole where narrow lobes live.
-                    let x = (i as f64 + 0.5) / nt as f64;
-                    let ct = 1.0 - x * x;
-                    let st = (1.0 - ct * ct).max(0.0).sqrt();
-                    for j in 0..np {
-                        let phi = std::f64::consts::TAU * (j as f64 + 0.5) / np as f64;
-                        let m = Vec3::new((st * phi.cos()) as f32, (st * phi.sin()) as f32, ct as f32);
-                        let dw = 2.0 * x / nt as f64 * std::f64::consts::TAU / np as f64;
-                        d += ggx_d(m, alpha) as f64 * ct * dw;
-                        v += ggx_visible_normal_pdf(wi, m, alpha) as f64 * dw;
-                    }
-                }
-                assert!((d - 1.0).abs() < 2e-3, "α={alpha}: ∫D cos = {d}");
-                assert!((v - 1.0).abs() < 2e-3, "α={alpha} wi={wi}: ∫D_wi = {v}");
-            }
-        }
-    }
-
-    #[test]
-    fn ggx_visible_normals_face_the_viewer() {
-        let mut s = RandomStream::new(7, &[]);
-        for alpha in [1e-3f32, 0.2, 1.0] {
-            for wi in [Vec3::Z, Vec3::new(1.0, 0.0, 1e-4).normalize(), Vec3::new(0.3, -0.4, 0.8).normalize()]
-            {
-                for _ in 0..10_000 {
-                    let m = square_to_ggx_visible_normal(wi, alpha, s.next_2d());
-                    assert!(m.is_finite() && m.z > 0.0 && (m.length() - 1.0).abs() < 1e-5, "{m}");
-                    assert!(wi.dot(m) > -1e-5, "α={alpha} wi={wi} m={m}");
-                }
-            }
-        }
     }
 }

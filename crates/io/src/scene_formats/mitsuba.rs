@@ -63,16 +63,18 @@
 //! | `phong` | see below | Modified Phong, **one-sided**; an **Opticks extension** |
 //! | `twosided` | one nested `<bsdf>` or `<ref>` | the nested BSDF on both faces (not around a dielectric) |
 //! | `conductor` | `specular_reflectance` (1), `material` (only `"none"`: a perfect mirror), `eta`, `k` (colours; `k` defaults to 1 when `eta` is given) | ideal mirror, **one-sided**; `eta`/`k` give the conductor's Fresnel reflectance |
-//! | `roughconductor` | as `conductor`, plus `distribution` (must be `"ggx"`), `alpha` (0.1; or equal `alpha_u`, `alpha_v`), `sample_visible` (accepted) | GGX microfacet metal, **one-sided** |
+//! | `roughconductor` | as `conductor`, plus `distribution` (`"beckmann"`, the default, or `"ggx"`), `alpha` (0.1) or both `alpha_u`, `alpha_v` (anisotropic), `sample_visible` (accepted) | microfacet metal, **one-sided** |
 //! | `dielectric` | `int_ior` (`"bk7"` = 1.5046), `ext_ior` (`"air"` = 1.000277): numbers or Mitsuba's named indices; `specular_reflectance`, `specular_transmittance` (1) | smooth glass: Fresnel reflection and refraction, both faces (the inside is behind the normal) |
-//! | `roughdielectric` | as `dielectric`, plus `distribution`, `alpha`, `sample_visible` as for `roughconductor` | GGX microfacet glass |
+//! | `roughdielectric` | as `dielectric`, plus `distribution`, `alpha` or `alpha_u`/`alpha_v`, `sample_visible` as for `roughconductor` | microfacet glass |
 //!
-//! Defaults are Mitsuba 3's. Mitsuba's microfacet plugins default to the Beckmann distribution,
-//! which Opticks does not implement: a `roughconductor`/`roughdielectric` without
-//! `<string name="distribution" value="ggx"/>` is an error rather than a silently different
-//! material. Named conductor presets (`material="Au"`) are refused for the same reason (Mitsuba
-//! derives their RGB values from spectra); give `eta` and `k`. Anisotropic roughness
-//! (`alpha_u` ≠ `alpha_v`) is refused: Opticks meshes carry no tangents to orient it. Impossible
+//! Defaults are Mitsuba 3's, including the Beckmann distribution of the microfacet plugins.
+//! Named conductor presets (`material="Au"`) are refused rather than silently approximated
+//! (Mitsuba derives their RGB values from spectra); give `eta` and `k`. Anisotropic roughness
+//! (`alpha_u` along the local frame's tangent, `alpha_v` along its bitangent) uses the tangent of
+//! Duff et al.'s orthonormal basis of the normal, which is what Mitsuba uses on meshes without
+//! texture coordinates (its `dp_du` is then `coordinate_system(n)`); on meshes with texture
+//! coordinates Mitsuba orients it along ∂p/∂u instead, which Opticks does not follow. Giving
+//! `alpha` together with `alpha_u`/`alpha_v`, or only one of the two, is an error. Impossible
 //! values (an index ≤ 0, `alpha` ≤ 0 or > 1, a reflectance or transmittance outside [0, 1],
 //! NaN) are errors located at the offending parameter.
 //!
@@ -154,6 +156,7 @@ use opticks_core::bsdf::{
 use opticks_core::light::{EmissionProfile, lumens_to_watts};
 use opticks_core::math::Frame;
 use opticks_core::math::{Rgb, Vec3};
+use opticks_core::sampling::microfacet::{Distribution, Microfacet};
 use opticks_core::scene::{
     CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
 };
@@ -1067,36 +1070,43 @@ impl<'a, 'i> Ctx<'a, 'i> {
         let rough = ty.starts_with("rough");
         let (r, rnode) = self.get_color(p, "specular_reflectance")?.unwrap_or((Rgb::ONE, n));
         nodes.push(("specular_reflectance", rnode));
-        let alpha = if rough {
+        let microfacet = if rough {
             let (dist, dnode) = self.get_string(p, "distribution")?.unwrap_or(("beckmann".into(), n));
-            if !dist.trim().eq_ignore_ascii_case("ggx") {
-                return Err(self.err(
-                    dnode,
-                    format!(
-                        "microfacet distribution \"{dist}\" is not supported (Mitsuba's default is \
-                         \"beckmann\"); Opticks implements <string name=\"distribution\" value=\"ggx\"/>"
-                    ),
-                ));
-            }
-            let _ = self.get_bool(p, "sample_visible")?; // a sampling strategy: same expectation
-            let (a, anode) = self.get_float(p, "alpha")?.unwrap_or((0.1, n));
-            let au = self.get_float(p, "alpha_u")?;
-            let av = self.get_float(p, "alpha_v")?;
-            let (a, anode) = match (au, av) {
-                (None, None) => (a, anode),
-                (Some((u, un)), Some((v, _))) if u == v => (u, un),
-                (Some((_, un)), _) | (_, Some((_, un))) => {
+            let distribution = match dist.trim().to_ascii_lowercase().as_str() {
+                "beckmann" => Distribution::Beckmann,
+                "ggx" => Distribution::Ggx,
+                _ => {
                     return Err(self.err(
-                        un,
-                        "anisotropic roughness is not supported (alpha_u must equal alpha_v): \
-                         Opticks meshes have no tangents to orient it",
+                        dnode,
+                        format!("unknown microfacet distribution \"{dist}\" (known: beckmann, ggx)"),
                     ));
                 }
             };
-            nodes.push(("alpha", anode));
-            a as f32
+            let _ = self.get_bool(p, "sample_visible")?; // a sampling strategy: same expectation
+            let a = self.get_float(p, "alpha")?;
+            let au = self.get_float(p, "alpha_u")?;
+            let av = self.get_float(p, "alpha_v")?;
+            // Mitsuba's rules: `alpha`, or both `alpha_u` and `alpha_v`, never a mixture.
+            let (u, v) = match (a, au, av) {
+                (Some((a, an)), None, None) => {
+                    nodes.push(("alpha", an));
+                    (a, a)
+                }
+                (None, None, None) => (0.1, 0.1),
+                (None, Some((u, un)), Some((v, vn))) => {
+                    nodes.extend([("alpha_u", un), ("alpha_v", vn), ("alpha", un)]);
+                    (u, v)
+                }
+                (Some(_), Some((_, xn)), _) | (Some(_), _, Some((_, xn))) => {
+                    return Err(self.err(xn, "give either alpha or alpha_u and alpha_v, not both"));
+                }
+                (None, Some((_, xn)), None) | (None, None, Some((_, xn))) => {
+                    return Err(self.err(xn, "alpha_u and alpha_v must be given together"));
+                }
+            };
+            Microfacet::anisotropic(distribution, u as f32, v as f32)
         } else {
-            0.0
+            Microfacet::ggx(0.1) // unused
         };
         let result = if ty.ends_with("conductor") {
             let (material, mnode) = self.get_string(p, "material")?.unwrap_or(("none".into(), n));
@@ -1119,7 +1129,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
             }
             let ior = eta.map(|(e, _)| (e, k.map_or(Rgb::ONE, |(k, _)| k)));
             if rough {
-                RoughConductor::new(alpha, r, ior).map(Bsdf::RoughConductor)
+                RoughConductor::with_microfacet(microfacet, r, ior).map(Bsdf::RoughConductor)
             } else {
                 SmoothConductor::new(r, ior).map(Bsdf::SmoothConductor)
             }
@@ -1131,7 +1141,9 @@ impl<'a, 'i> Ctx<'a, 'i> {
             nodes.push(("int_ior", inode));
             nodes.push(("ext_ior", enode));
             if rough {
-                RoughDielectric::new(int_ior, ext_ior, alpha, r, t).map(Bsdf::RoughDielectric)
+                RoughDielectric::new(int_ior, ext_ior, 0.1, r, t)
+                    .and_then(|d| d.with_microfacet(microfacet))
+                    .map(Bsdf::RoughDielectric)
             } else {
                 SmoothDielectric::new(int_ior, ext_ior, r, t).map(Bsdf::SmoothDielectric)
             }
@@ -2108,7 +2120,11 @@ mod tests {
                  <string name="distribution" value="ggx"/><float name="alpha" value="0.3"/></bsdf></shape>
                <shape type="rectangle"><bsdf type="roughdielectric">
                  <string name="distribution" value="ggx"/><float name="alpha_u" value="0.2"/>
-                 <float name="alpha_v" value="0.2"/><boolean name="sample_visible" value="true"/></bsdf></shape>"#,
+                 <float name="alpha_v" value="0.2"/><boolean name="sample_visible" value="true"/></bsdf></shape>
+               <shape type="rectangle"><bsdf type="roughconductor"/></shape>
+               <shape type="rectangle"><bsdf type="roughdielectric">
+                 <string name="distribution" value="GGX"/><float name="alpha_u" value="0.05"/>
+                 <float name="alpha_v" value="0.4"/></bsdf></shape>"#,
         );
         assert!(s.warnings.is_empty(), "{:?}", s.warnings);
         let d = &s.description;
@@ -2126,7 +2142,12 @@ mod tests {
         assert_eq!(m(3).bsdf, Bsdf::SmoothDielectric(water));
         assert_eq!(m(4).bsdf, Bsdf::RoughConductor(RoughConductor::new(0.3, Rgb::ONE, None).unwrap()));
         let rough = RoughDielectric::new(1.5046, 1.000277, 0.2, Rgb::ONE, Rgb::ONE).unwrap();
-        assert_eq!(m(5).bsdf, Bsdf::RoughDielectric(rough));
+        assert_eq!(m(5).bsdf, Bsdf::RoughDielectric(rough.clone()));
+        // Mitsuba's defaults: Beckmann, α = 0.1; anisotropic α along the frame's axes.
+        let beckmann = RoughConductor::with_microfacet(Microfacet::beckmann(0.1), Rgb::ONE, None).unwrap();
+        assert_eq!(m(6).bsdf, Bsdf::RoughConductor(beckmann));
+        let aniso = rough.with_microfacet(Microfacet::anisotropic(Distribution::Ggx, 0.05, 0.4)).unwrap();
+        assert_eq!(m(7).bsdf, Bsdf::RoughDielectric(aniso));
     }
 
     #[test]
@@ -2220,10 +2241,21 @@ mod tests {
                 "<bsdf type=\"roughdielectric\"><string name=\"distribution\" value=\"ggx\"/>\n  <float name=\"alpha\" value=\"3\"/></bsdf>",
                 "dir/test.xml:3:3: <float name=\"alpha\">: invalid material: alpha = 3 exceeds the supported maximum 1",
             ),
-            ("<bsdf type=\"roughconductor\"/>", "microfacet distribution \"beckmann\" is not supported"),
             (
-                "<bsdf type=\"roughconductor\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha_u\" value=\"0.1\"/><float name=\"alpha_v\" value=\"0.2\"/></bsdf>",
-                "anisotropic roughness is not supported",
+                "<bsdf type=\"roughconductor\">\n  <string name=\"distribution\" value=\"phong\"/></bsdf>",
+                "dir/test.xml:3:3: <string name=\"distribution\">: unknown microfacet distribution \"phong\" (known: beckmann, ggx)",
+            ),
+            (
+                "<bsdf type=\"roughconductor\"><float name=\"alpha\" value=\"0.1\"/>\n  <float name=\"alpha_v\" value=\"0.2\"/></bsdf>",
+                "dir/test.xml:3:3: <float name=\"alpha_v\">: give either alpha or alpha_u and alpha_v, not both",
+            ),
+            (
+                "<bsdf type=\"roughdielectric\">\n  <float name=\"alpha_u\" value=\"0.2\"/></bsdf>",
+                "dir/test.xml:3:3: <float name=\"alpha_u\">: alpha_u and alpha_v must be given together",
+            ),
+            (
+                "<bsdf type=\"roughdielectric\"><float name=\"alpha_u\" value=\"0.2\"/>\n  <float name=\"alpha_v\" value=\"-1\"/></bsdf>",
+                "dir/test.xml:3:3: <float name=\"alpha_v\">: invalid material: alpha_v must be positive",
             ),
             (
                 "<bsdf type=\"conductor\"><string name=\"material\" value=\"Au\"/></bsdf>",
