@@ -22,6 +22,9 @@ pub struct Args {
     /// Light paths per run.
     #[arg(long, default_value_t = 4_194_304)]
     paths: u64,
+    /// Random seed of the traced paths.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
     /// Runs per phase (the fastest is reported).
     #[arg(long, default_value_t = 3)]
     repeat: u32,
@@ -42,7 +45,7 @@ pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
     let camera = a.camera.resolve(scene.camera)?;
-    let settings = a.strategy.settings(a.paths, 1);
+    let settings = a.strategy.settings(a.paths, a.seed);
     let mut best_trace = f64::INFINITY;
     let mut chunks: Vec<Chunk> = Vec::new();
     let mut table = Default::default();
