@@ -256,3 +256,90 @@ fn walkthrough_frames_come_from_one_dataset() {
     let e = fails(&["walk", "w.opds", "--path", "missing.json", "-o", "f2"], d);
     assert!(e.contains("missing.json"), "{e}");
 }
+
+/// Runs opticks as if Ctrl-C were pressed once `paths` paths are traced; returns its stderr.
+fn interrupted(args: &[&str], dir: &Path, paths: u64) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_opticks"))
+        .args(args)
+        .current_dir(dir)
+        .env("OPTICKS_INTERRUPT_AFTER_PATHS", paths.to_string())
+        .output()
+        .unwrap();
+    let se = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success() && se.contains("interrupted") && se.contains("opticks resume"), "{se}");
+    se
+}
+
+/// Header (without wall-clock times) and chunks: what must be identical between two runs.
+fn contents(path: &Path) -> (opticks_io::dataset_file::DatasetHeader, Vec<opticks_core::dataset::Chunk>) {
+    let (mut h, chunks) = opticks_io::dataset_file::read_all(path).unwrap();
+    h.trace.passes.iter_mut().for_each(|p| p.seconds = 0.0);
+    (h, chunks)
+}
+
+#[test]
+fn an_interrupted_trace_or_refine_resumes_to_exactly_the_uninterrupted_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    let cornell = cornell.to_str().unwrap();
+    // More than one batch of blocks (64 × 4096 paths), so the interruption falls inside the plan;
+    // a non-default strategy, which the resumed part and the refinement must keep using.
+    let n = "300000";
+    let trace = ["trace", cornell, "--paths", n, "--seed", "3", "--roulette", "fixed", "--rr-depth", "2"];
+    ok(&[&trace[..], &["-o", "whole.opds"]].concat(), d);
+    interrupted(&[&trace[..], &["-o", "cut.opds"]].concat(), d, 1);
+    assert!(!d.join("cut.opds").exists());
+    let info = ok(&["info", "cut.partial.opds"], d);
+    assert!(info.contains("interrupted: 262144 of 300000 planned paths"), "{info}");
+    ok(&["resume", "cut.partial.opds"], d);
+    assert!(!d.join("cut.partial.opds").exists(), "the partial file is used up");
+    assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")), "resumed trace ≠ trace");
+    let e = fails(&["resume", "cut.opds"], d);
+    assert!(e.contains("nothing to resume"), "{e}");
+
+    // Refine reuses the dataset's strategy; an interrupted refine leaves the dataset as it was.
+    ok(&["refine", "whole.opds", "--paths", n], d);
+    let info = ok(&["info", "whole.opds"], d);
+    assert_eq!(info.matches("roulette Fixed from depth 2").count(), 2, "{info}");
+    let before = std::fs::read(d.join("cut.opds")).unwrap();
+    interrupted(&["refine", "cut.opds", "--paths", n], d, 1);
+    assert!(std::fs::read(d.join("cut.opds")).unwrap() == before, "the dataset is intact");
+    ok(&["resume", "cut.partial.opds"], d);
+    assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")), "resumed refine ≠ refine");
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_during_refine_or_add_light_leaves_the_dataset_intact() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = two_light_scene(d);
+    let cornell = scene_file("cornell", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "10000", "-o", "data.opds"], d);
+    let before = std::fs::read(d.join("data.opds")).unwrap();
+    for args in [
+        vec!["refine", "data.opds", "--paths", "2000000000"],
+        vec!["add-light", "data.opds", "bulb", "--scene", &two, "--paths", "2000000000"],
+    ] {
+        let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
+            .args(&args)
+            .current_dir(d)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains("data.partial.opds"), "{args:?}: {err}");
+        assert!(std::fs::read(d.join("data.opds")).unwrap() == before, "{args:?} changed the dataset");
+        let partial = opticks_io::dataset_file::DatasetReader::open(&d.join("data.partial.opds")).unwrap();
+        partial.verify().unwrap();
+        assert!(partial.header().table.total_paths() >= 10000);
+        std::fs::remove_file(d.join("data.partial.opds")).unwrap();
+    }
+    let mut left: Vec<_> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name()).collect();
+    left.sort();
+    assert_eq!(left, ["data.opds", "two.xml"], "no temporary file is left");
+}

@@ -2,6 +2,9 @@
 //! the trace loop checks between batches; the paths traced so far are saved as a valid dataset
 //! beside the target (`NAME.partial.opds`), and whatever was on disk before stays intact.
 //! A second Ctrl-C exits at once.
+//!
+//! For tests, `OPTICKS_INTERRUPT_AFTER_PATHS=N` acts as a Ctrl-C pressed as soon as a trace has
+//! completed N paths: interrupted runs (and their resumption) become reproducible.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -21,4 +24,13 @@ pub fn install() {
 /// Whether Ctrl-C was pressed.
 pub fn requested() -> bool {
     INTERRUPTED.load(Ordering::SeqCst)
+}
+
+/// Raises the flag once `paths_done` reaches `$OPTICKS_INTERRUPT_AFTER_PATHS` (if set).
+pub fn simulate_after(paths_done: u64) {
+    static AFTER: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
+    let after = AFTER.get_or_init(|| std::env::var("OPTICKS_INTERRUPT_AFTER_PATHS").ok()?.parse().ok());
+    if after.is_some_and(|n| paths_done >= n) {
+        INTERRUPTED.store(true, Ordering::SeqCst);
+    }
 }

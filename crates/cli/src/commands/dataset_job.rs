@@ -4,13 +4,15 @@
 //! Tracing and writing overlap (a writer thread drains finished chunks while the next batch
 //! traces). On Ctrl-C the paths completed so far are saved beside the target as
 //! `NAME.partial.opds` — a valid dataset with those N_k — and the target is left as it was.
+//! Its last pass records the plan, so `opticks resume` traces exactly the missing blocks.
 
 use super::trace_with_progress;
+use crate::strategy_args::StrategyArgs;
 use anyhow::{Context, Result, anyhow, bail};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::scene::Scene;
 use opticks_core::trace::{LightPlan, TraceSettings};
-use opticks_io::dataset_file::{DatasetHeader, DatasetReader, DatasetSummary, DatasetWriter, TracePass};
+use opticks_io::dataset_file::{DatasetHeader, DatasetReader, DatasetSummary, DatasetWriter};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -22,6 +24,8 @@ pub struct NewPaths<'a> {
     pub settings: TraceSettings,
     /// Which lights, filed under which table index, how many paths.
     pub plan: Vec<LightPlan>,
+    /// Blocks of the plan already in the sources (non-zero when resuming an interrupted pass).
+    pub first_block: usize,
 }
 
 /// What the job produced.
@@ -62,10 +66,9 @@ pub fn write_dataset(
             header.table.lights[p.table_index as usize].paths += n;
         }
         let pass = header.trace.passes.last_mut().ok_or_else(|| anyhow!("a new pass needs a pass record"))?;
-        pass.paths = traced.iter().sum();
-        pass.seconds = trace_seconds as f32;
-        let planned: u64 = new.plan.iter().map(|p| p.paths).sum();
-        interrupted = pass.paths < planned;
+        pass.paths += traced.iter().sum::<u64>();
+        pass.seconds += trace_seconds as f32;
+        interrupted = !pass.is_complete();
     }
     let target = if interrupted { partial_path(output) } else { output.to_owned() };
     writer.retarget(&target);
@@ -75,9 +78,10 @@ pub fn write_dataset(
     if interrupted {
         bail!(
             "interrupted: {} was left as it was; the {} paths completed are saved in {} \
-             (a valid dataset: render it, or `opticks refine` it to continue)",
+             (a valid dataset: render it, or `opticks resume {}` to finish the run)",
             output.display(),
             header.trace.passes.last().map_or(0, |p| p.paths),
+            target.display(),
             target.display()
         );
     }
@@ -90,15 +94,41 @@ pub fn partial_path(output: &Path) -> PathBuf {
     output.with_file_name(format!("{stem}.partial.opds"))
 }
 
-/// A new trace pass record (its paths and time are filled in when the job ends).
-pub fn new_pass(settings: &TraceSettings) -> TracePass {
-    TracePass {
-        seed: settings.seed,
-        stream: settings.stream,
-        paths: 0,
-        rr_depth: settings.rr_depth,
-        seconds: 0.0,
-    }
+/// The settings of a pass that continues a dataset (`refine`, `add-light`): `seed` or the
+/// dataset's first, a stream no pass of that seed has used, and the strategy of the dataset's
+/// last pass unless `strategy` overrides it — so that the new paths are drawn by the same
+/// estimator as the old ones.
+pub fn continued_settings(
+    header: &DatasetHeader,
+    paths: u64,
+    seed: Option<u64>,
+    strategy: &StrategyArgs,
+) -> TraceSettings {
+    let seed = seed.unwrap_or(header.trace.passes.first().map_or(0, |p| p.seed));
+    let last = header.trace.passes.last().map(|p| p.settings()).unwrap_or_default();
+    let base = TraceSettings { paths, seed, stream: header.trace.next_stream(seed), ..last };
+    let s = strategy.over(base);
+    TraceSettings { rr_depth: s.rr_depth.max(1), ..s }
+}
+
+/// The scene light of each light of the dataset's table, found by name; refuses lights that
+/// are gone or emit from another place or in another way (their shape hash differs).
+pub fn scene_lights(table: &LightTable, scene: &Scene, verb: &str) -> Result<Vec<usize>> {
+    table
+        .lights
+        .iter()
+        .map(|record| match scene.light_index(&record.name) {
+            Some(i) if scene.light_shapes[i] == record.shape => Ok(i),
+            Some(_) => bail!(
+                "light '{}' has moved or changed shape since the trace: {verb} needs the same scene",
+                record.name
+            ),
+            None => bail!(
+                "light '{}' of the dataset is not in the scene any more: {verb} needs the same scene",
+                record.name
+            ),
+        })
+        .collect()
 }
 
 /// Traces `new.plan` on the rayon pool while a writer thread appends the chunks.
@@ -111,7 +141,7 @@ fn trace_overlapped(mut writer: DatasetWriter, new: &NewPaths<'_>) -> Result<(Ve
             }
             Ok(writer)
         });
-        let traced = trace_with_progress(new.scene, &new.settings, &new.plan, |c| {
+        let traced = trace_with_progress(new.scene, &new.settings, &new.plan, new.first_block, |c| {
             send.send(c).map_err(|_| anyhow!("the dataset writer stopped"))
         });
         drop(send);

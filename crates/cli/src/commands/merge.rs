@@ -48,7 +48,7 @@ pub fn run(a: Args) -> Result<()> {
                     p.stream
                 );
             }
-            header.trace.passes.push(*p);
+            header.trace.passes.push(p.clone());
         }
     }
     let sources: Vec<&DatasetReader> = readers.iter().collect();

@@ -11,6 +11,7 @@ pub mod measure;
 pub mod merge;
 pub mod refine;
 pub mod render;
+pub mod resume;
 pub mod trace;
 pub mod walk;
 
@@ -20,7 +21,7 @@ use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{SampleBatch, Sensor, render};
-use opticks_core::trace::{LightPlan, TraceSettings, trace_plan};
+use opticks_core::trace::{LightPlan, TraceSettings, trace_plan_from};
 use opticks_io::dataset_file::DatasetReader;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -47,16 +48,22 @@ impl ThreadArgs {
 }
 
 /// Traces `plan` with a progress bar, handing chunks to `sink`; stops early (between batches)
-/// on Ctrl-C. Returns the paths traced per plan entry.
+/// on Ctrl-C. Skips the plan's first `first_block` blocks (see `trace_plan_from`). Returns the
+/// paths traced per plan entry.
 pub fn trace_with_progress(
     scene: &Scene,
     settings: &TraceSettings,
     plan: &[LightPlan],
+    first_block: usize,
     sink: impl FnMut(Chunk) -> Result<()>,
 ) -> Result<Vec<u64>> {
     let pb = progress::bar(plan.iter().map(|p| p.paths).sum(), "tracing", "paths");
+    let progress = |done| {
+        pb.set_position(done);
+        crate::interrupt::simulate_after(done);
+    };
     let traced =
-        trace_plan(scene, settings, plan, sink, |done| pb.set_position(done), crate::interrupt::requested)?;
+        trace_plan_from(scene, settings, plan, first_block, sink, progress, crate::interrupt::requested)?;
     pb.finish_and_clear();
     Ok(traced)
 }
