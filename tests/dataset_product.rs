@@ -343,3 +343,54 @@ fn ctrl_c_during_refine_or_add_light_leaves_the_dataset_intact() {
     left.sort();
     assert_eq!(left, ["data.opds", "two.xml"], "no temporary file is left");
 }
+
+/// The Cornell box with `edit` applied to its scene file (mesh paths made absolute).
+fn edited_cornell(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> String {
+    let xml = std::fs::read_to_string(scene_file("cornell", "scene.xml")).unwrap();
+    let meshes = scene_file("cornell", "meshes");
+    let xml = edit(xml.replace("meshes/", &format!("{}/", meshes.display())));
+    let path = dir.join(name);
+    std::fs::write(&path, xml).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn a_surface_that_becomes_a_light_is_added_while_a_changed_material_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let green = "<ref id=\"green\"/>";
+    let glow = edited_cornell(d, "glow.xml", |x| {
+        assert!(x.contains(green));
+        x.replace(
+            green,
+            &format!(
+                "{green}<emitter type=\"area\"><rgb name=\"radiance\" value=\"0.3, 0.8, 0.3\"/></emitter>"
+            ),
+        )
+    });
+    let repainted =
+        edited_cornell(d, "repainted.xml", |x| x.replace("0.570068, 0.0430135", "0.470068, 0.0430135"));
+    let cornell = scene_file("cornell", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "400000", "-o", "grow.opds", "--seed", "5"], d);
+    // Another reflectance: the stored paths were reflected differently — refused.
+    let e = fails(&["add-light", "grow.opds", "green_wall", "--scene", &repainted], d);
+    assert!(e.contains("different scene"), "{e}");
+    // The green wall becomes a light: same triangles, same BSDFs — accepted.
+    ok(&["add-light", "grow.opds", "green_wall", "--scene", &glow, "--paths", "200000"], d);
+    ok(&["render", "grow.opds", "--scene", &glow, "-o", "grow.exr"], d);
+    ok(&["trace", &glow, "--paths", "600000", "-o", "fresh.opds", "--seed", "6"], d);
+    ok(&["trace", &glow, "--paths", "600000", "-o", "fresh2.opds", "--seed", "7"], d);
+    ok(&["render", "fresh.opds", "-o", "fresh.exr"], d);
+    ok(&["render", "fresh2.opds", "-o", "fresh2.exr"], d);
+    let noise = compare(&image(d, "fresh.exr"), &image(d, "fresh2.exr")).relmse;
+    let grown = compare(&image(d, "grow.exr"), &image(d, "fresh.exr"));
+    eprintln!(
+        "two traces of the glowing box: relMSE {noise:.3e}; traced + added surface light vs trace: {:.3e}, \
+         mean ratios {:?}",
+        grown.relmse, grown.mean_ratio
+    );
+    assert!(grown.relmse < 1.3 * noise, "{} vs {noise}", grown.relmse);
+    for r in grown.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
+    }
+}

@@ -73,7 +73,7 @@ pub fn run(a: Args) -> Result<()> {
         power,
         paths: 0,
     });
-    header.fingerprint.lights = scene.fingerprint.lights;
+    header.fingerprint = scene.fingerprint; // matched (perhaps as a version-1 hash): now current
     let settings = continued_settings(&header, paths, a.seed, &a.strategy);
     let plan = vec![LightPlan { scene_light, table_index, paths }];
     header.trace.passes.push(TracePass::new(&settings, &plan));

@@ -101,7 +101,7 @@ pub fn open_with_scene(
     let description = crate::scene_arg::load_description(spec).with_context(context)?;
     let scene = crate::scene_arg::build_scene(spec, &description)?;
     let recorded = reader.header().fingerprint;
-    if scene.fingerprint.geometry != recorded.geometry {
+    if scene.fingerprint.geometry != recorded.geometry && scene.geometry_v1 != recorded.geometry {
         anyhow::bail!(
             "{} was traced from a different scene than {spec}: geometry/material fingerprint {} ≠ {}",
             dataset.display(),

@@ -45,6 +45,7 @@ pub fn run(a: Args) -> Result<()> {
     let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let mut header = reader.header().clone();
     let scene_lights = scene_lights(&header.table, &scene, "refine")?;
+    header.fingerprint.geometry = scene.fingerprint.geometry; // matched: record the current hash
     let powers: Vec<_> = scene_lights.iter().map(|&i| scene.lights[i].power()).collect();
     let plan: Vec<LightPlan> = path_quotas(&powers, a.paths)
         .into_iter()
