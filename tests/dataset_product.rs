@@ -394,3 +394,43 @@ fn a_surface_that_becomes_a_light_is_added_while_a_changed_material_is_refused()
         assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
     }
 }
+
+#[test]
+fn merge_unites_datasets_whose_lights_differ_and_refuses_a_light_that_moved() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = two_light_scene(d);
+    let cornell = scene_file("cornell", "scene.xml");
+    let cornell = cornell.to_str().unwrap();
+    // Worker 1 traced the box; worker 2 too, and then added the bulb.
+    ok(&["trace", cornell, "--paths", "300000", "-o", "w1.opds", "--seed", "1"], d);
+    ok(&["trace", cornell, "--paths", "300000", "-o", "w2.opds", "--seed", "2"], d);
+    ok(&["add-light", "w2.opds", "bulb", "--scene", &two, "--paths", "200000"], d);
+    let out = ok(&["merge", "w1.opds", "w2.opds", "-o", "m.opds"], d);
+    assert!(out.contains("800000 paths, 2 lights"), "{out}");
+    let info = ok(&["info", "m.opds"], d);
+    assert!(info.contains("600000") && info.contains("bulb"), "{info}");
+    ok(&["render", "m.opds", "--scene", &two, "-o", "m.exr"], d);
+    ok(&["trace", &two, "--paths", "800000", "-o", "f1.opds", "--seed", "3"], d);
+    ok(&["trace", &two, "--paths", "800000", "-o", "f2.opds", "--seed", "4"], d);
+    ok(&["render", "f1.opds", "-o", "f1.exr"], d);
+    ok(&["render", "f2.opds", "-o", "f2.exr"], d);
+    let noise = compare(&image(d, "f1.exr"), &image(d, "f2.exr")).relmse;
+    let merged = compare(&image(d, "m.exr"), &image(d, "f1.exr"));
+    eprintln!(
+        "two traces of both lights: relMSE {noise:.3e}; merged {{box}} + {{box, bulb}}: {:.3e}",
+        merged.relmse
+    );
+    assert!(merged.relmse < 1.3 * noise, "{} vs {noise}", merged.relmse);
+    for r in merged.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
+    }
+    // The same name emitting from elsewhere is another light: refused.
+    let moved = two.replace("two.xml", "moved.xml");
+    std::fs::write(&moved, std::fs::read_to_string(&two).unwrap().replace("x=\"0.3\"", "x=\"-0.3\""))
+        .unwrap();
+    ok(&["trace", &moved, "--paths", "20000", "-o", "moved.opds", "--seed", "5"], d);
+    let e = fails(&["merge", "m.opds", "moved.opds", "-o", "bad.opds"], d);
+    assert!(e.contains("'bulb' differs in shape"), "{e}");
+    assert!(!d.join("bad.opds").exists());
+}

@@ -2,7 +2,7 @@
 //! The other lights' samples are reused untouched (geometry and materials must be unchanged —
 //! the fingerprint says so — while the light table may grow).
 
-use super::dataset_job::{NewPaths, continued_settings, write_dataset};
+use super::dataset_job::{NewPaths, Source, continued_settings, write_dataset};
 use super::{ThreadArgs, open_with_scene};
 use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, bail};
@@ -81,7 +81,7 @@ pub fn run(a: Args) -> Result<()> {
     let report = write_dataset(
         &output,
         header,
-        &[&reader],
+        &[Source::as_is(&reader)],
         Some(NewPaths { scene: &scene, settings, plan, first_block: 0 }),
     )?;
     println!(

@@ -28,6 +28,21 @@ pub struct NewPaths<'a> {
     pub first_block: usize,
 }
 
+/// A dataset whose chunks are copied into the new one.
+pub struct Source<'a> {
+    /// The dataset.
+    pub reader: &'a DatasetReader,
+    /// Where each of its lights is in the new table (`None`: at the same index).
+    pub lights: Option<Vec<u32>>,
+}
+
+impl<'a> Source<'a> {
+    /// All chunks of `reader`, under their own light indices.
+    pub fn as_is(reader: &'a DatasetReader) -> Self {
+        Source { reader, lights: None }
+    }
+}
+
 /// What the job produced.
 pub struct JobReport {
     /// The file written.
@@ -44,15 +59,22 @@ pub struct JobReport {
 pub fn write_dataset(
     output: &Path,
     mut header: DatasetHeader,
-    sources: &[&DatasetReader],
+    sources: &[Source<'_>],
     new: Option<NewPaths<'_>>,
 ) -> Result<JobReport> {
     let mut writer = DatasetWriter::create(output, &header)
         .with_context(|| format!("cannot create dataset {}", output.display()))?;
-    for r in sources {
+    for source in sources {
+        let r = source.reader;
         for i in 0..r.chunk_count() {
-            let c = r.chunk(i)?;
-            writer.write_chunk(&c.to_chunk())?;
+            let mut c = r.chunk(i)?.to_chunk();
+            if let Some(map) = &source.lights {
+                c.light = map[c.light as usize];
+            }
+            if crate::interrupt::requested() {
+                bail!("interrupted: {} was left as it was (nothing written)", output.display());
+            }
+            writer.write_chunk(&c)?;
         }
     }
     let mut trace_seconds = 0.0;

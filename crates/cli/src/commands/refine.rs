@@ -4,7 +4,7 @@
 //! `NAME.partial.opds`, which `opticks resume` completes). The new paths use the strategy of the
 //! dataset's last pass unless overridden, so the estimator stays the one the dataset was made by.
 
-use super::dataset_job::{NewPaths, continued_settings, scene_lights, write_dataset};
+use super::dataset_job::{NewPaths, Source, continued_settings, scene_lights, write_dataset};
 use super::{ThreadArgs, open_with_scene};
 use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, bail};
@@ -60,7 +60,7 @@ pub fn run(a: Args) -> Result<()> {
     let report = write_dataset(
         &output,
         header,
-        &[&reader],
+        &[Source::as_is(&reader)],
         Some(NewPaths { scene: &scene, settings, plan, first_block: 0 }),
     )?;
     println!(

@@ -4,7 +4,7 @@
 //! own random stream, so the blocks already saved are a known prefix and only the rest is
 //! traced. The result holds exactly the samples of an uninterrupted run.
 
-use super::dataset_job::{NewPaths, scene_lights, write_dataset};
+use super::dataset_job::{NewPaths, Source, scene_lights, write_dataset};
 use super::{ThreadArgs, open_with_scene};
 use anyhow::{Result, bail};
 use opticks_core::trace::{LightPlan, blocks_done};
@@ -57,7 +57,7 @@ pub fn run(a: Args) -> Result<()> {
     let report = write_dataset(
         &output,
         header,
-        &[&reader],
+        &[Source::as_is(&reader)],
         Some(NewPaths { scene: &scene, settings, plan, first_block }),
     )?;
     if output != a.partial {
