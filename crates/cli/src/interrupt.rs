@@ -1,6 +1,8 @@
 //! Ctrl-C: long work stops cleanly instead of dying mid-write. The first Ctrl-C sets a flag that
 //! the trace loop checks between batches; the paths traced so far are saved as a valid dataset
 //! beside the target (`NAME.partial.opds`), and whatever was on disk before stays intact.
+//! Verbs that only read a dataset (`render`, `walk`, `measure`) and `merge` stop at the next
+//! batch and write nothing (`commands::unless_interrupted`).
 //! A second Ctrl-C exits at once.
 //!
 //! For tests, `OPTICKS_INTERRUPT_AFTER_PATHS=N` acts as a Ctrl-C pressed as soon as a trace has
@@ -17,7 +19,7 @@ pub fn install() {
         if INTERRUPTED.swap(true, Ordering::SeqCst) {
             std::process::exit(130);
         }
-        eprintln!("\ninterrupted: stopping after the current batch (Ctrl-C again to quit at once)");
+        eprintln!("\ninterrupted: stopping at the next batch (Ctrl-C again to quit at once)");
     });
 }
 

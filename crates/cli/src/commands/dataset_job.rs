@@ -71,9 +71,8 @@ pub fn write_dataset(
             if let Some(map) = &source.lights {
                 c.light = map[c.light as usize];
             }
-            if crate::interrupt::requested() {
-                bail!("interrupted: {} was left as it was (nothing written)", output.display());
-            }
+            super::unless_interrupted()
+                .with_context(|| format!("{} was left as it was", output.display()))?;
             writer.write_chunk(&c)?;
         }
     }

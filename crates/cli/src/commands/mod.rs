@@ -68,7 +68,17 @@ pub fn trace_with_progress(
     Ok(traced)
 }
 
-/// Renders `count` sample batches through `camera` with a progress bar over `total_samples`.
+/// An error once Ctrl-C was pressed: reading and rendering stop at the next batch, and the
+/// verb writes nothing (`render`, `walk`, `measure`, `merge`; traces save their work instead).
+pub fn unless_interrupted() -> Result<()> {
+    if crate::interrupt::requested() {
+        anyhow::bail!("interrupted: stopped, nothing written");
+    }
+    Ok(())
+}
+
+/// Renders `count` sample batches through `camera` with a progress bar over `total_samples`;
+/// stops with an error on Ctrl-C.
 pub fn render_with_progress<'a>(
     scene: &Scene,
     camera: &Sensor,
@@ -78,6 +88,10 @@ pub fn render_with_progress<'a>(
 ) -> Result<Film> {
     let pb = progress::bar(total_samples, "rendering", "samples");
     let done = AtomicU64::new(0);
+    let batch = |i| {
+        unless_interrupted()?;
+        batch(i)
+    };
     let film = render(scene, camera, count, batch, |n| {
         let d = done.fetch_add(n as u64, Ordering::Relaxed) + n as u64;
         pb.set_position(d);
