@@ -434,3 +434,80 @@ fn merge_unites_datasets_whose_lights_differ_and_refuses_a_light_that_moved() {
     assert!(e.contains("'bulb' differs in shape"), "{e}");
     assert!(!d.join("bad.opds").exists());
 }
+
+#[cfg(unix)]
+#[test]
+fn walk_hands_ffmpeg_exactly_this_runs_frames_and_moves_the_video_into_place() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A fake ffmpeg first on the PATH: it logs its arguments and writes its output file.
+    let bin = d.join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let fake = bin.join("ffmpeg");
+    std::fs::write(
+        &fake,
+        "#!/bin/sh\n[ \"$1\" = -version ] && exit 0\necho \"$@\" >> \"$FAKE_FFMPEG_LOG\"\n\
+         for last; do :; done\necho video > \"$last\"\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let walk = |format: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_opticks"))
+            .args(["walk", "w.opds", "--path", "cam.json", "-o", "frames", "--format", format])
+            .current_dir(d)
+            .env("PATH", &path)
+            .env("FAKE_FFMPEG_LOG", d.join("ffmpeg.log"))
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let cornell = scene_file("cornell", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "w.opds"], d);
+    std::fs::write(
+        d.join("cam.json"),
+        r#"{"fps": 2, "size": [32, 24], "keyframes": [
+            {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]},
+            {"time": 1.5, "eye": [0.6, 0.3, 3.0], "target": [0, -0.3, 0]}]}"#,
+    )
+    .unwrap();
+    std::fs::create_dir(d.join("frames")).unwrap();
+    std::fs::write(d.join("frames/frame_00009.png"), b"stale frame of an earlier run").unwrap();
+    let out = walk("png");
+    assert!(out.contains("video →"), "{out}");
+    let log = std::fs::read_to_string(d.join("ffmpeg.log")).unwrap();
+    assert!(log.contains("-start_number 0") && log.contains("-frames:v 4"), "{log}");
+    assert_eq!(std::fs::read_to_string(d.join("frames/walk.mp4")).unwrap(), "video\n");
+    let mut names: Vec<_> = std::fs::read_dir(d.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    let expected = [
+        "frame_00000.png",
+        "frame_00001.png",
+        "frame_00002.png",
+        "frame_00003.png",
+        "frame_00009.png",
+        "walk.mp4",
+    ];
+    assert_eq!(names, expected, "no temporary video is left");
+    let out = walk("exr");
+    assert!(out.contains("no video"), "{out}");
+    assert_eq!(
+        std::fs::read_to_string(d.join("ffmpeg.log")).unwrap(),
+        log,
+        "ffmpeg is not run for EXR frames"
+    );
+    // A bad keyframe is refused before the output folder exists.
+    std::fs::write(d.join("same.json"), r#"{"keyframes": [{"time": 0, "eye": [1,1,1], "target": [1,1,1]}]}"#)
+        .unwrap();
+    let e = fails(&["walk", "w.opds", "--path", "same.json", "-o", "never"], d);
+    assert!(
+        e.contains("same.json") && e.contains("keyframe 0") && e.matches("same point").count() == 1,
+        "{e}"
+    );
+    assert!(!d.join("never").exists());
+}
