@@ -48,6 +48,26 @@ fn two_light_scene(dir: &Path) -> String {
     path.to_str().unwrap().to_string()
 }
 
+/// Asserts that `image` (rendered in `d`) is a render of `scene` traced with `paths` paths: its
+/// relMSE against a fresh trace is within 1.3× what two fresh traces (seeds 90, 91) show between
+/// themselves, and its mean within 1 %.
+fn assert_like_fresh_traces(d: &Path, image_name: &str, scene: &str, paths: &str, what: &str) {
+    for seed in ["90", "91"] {
+        ok(&["trace", scene, "--paths", paths, "-o", &format!("fresh{seed}.opds"), "--seed", seed], d);
+        ok(&["render", &format!("fresh{seed}.opds"), "-o", &format!("fresh{seed}.exr")], d);
+    }
+    let noise = compare(&image(d, "fresh90.exr"), &image(d, "fresh91.exr")).relmse;
+    let got = compare(&image(d, image_name), &image(d, "fresh90.exr"));
+    eprintln!(
+        "two fresh traces: relMSE {noise:.3e}; {what} vs a fresh trace: {:.3e}, mean ratios {:?}",
+        got.relmse, got.mean_ratio
+    );
+    assert!(got.relmse < 1.3 * noise, "{what}: {} vs {noise}", got.relmse);
+    for r in got.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "{what}: mean ratio {r}");
+    }
+}
+
 #[test]
 fn relighting_is_exact_and_switching_off_matches_a_trace_without_the_light() {
     let dir = tempfile::tempdir().unwrap();
@@ -164,20 +184,7 @@ fn add_light_equals_tracing_both_lights() {
     assert!(e.contains("bulb") && e.contains("add-light"), "{e}");
     ok(&["add-light", "grow.opds", "bulb", "--scene", &two, "--paths", "300000"], d);
     ok(&["render", "grow.opds", "--scene", &two, "-o", "grow.exr"], d);
-    ok(&["trace", &two, "--paths", "1300000", "-o", "both.opds", "--seed", "6"], d);
-    ok(&["trace", &two, "--paths", "1300000", "-o", "both2.opds", "--seed", "7"], d);
-    ok(&["render", "both.opds", "-o", "both.exr"], d);
-    ok(&["render", "both2.opds", "-o", "both2.exr"], d);
-    let noise = compare(&image(d, "both.exr"), &image(d, "both2.exr")).relmse;
-    let grown = compare(&image(d, "grow.exr"), &image(d, "both.exr"));
-    eprintln!(
-        "two traces of both lights: relMSE {noise:.3e}; traced + added light vs trace: {:.3e}",
-        grown.relmse
-    );
-    assert!(grown.relmse < 1.3 * noise, "{} vs {noise}", grown.relmse);
-    for r in grown.mean_ratio {
-        assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
-    }
+    assert_like_fresh_traces(d, "grow.exr", &two, "1300000", "traced + added light");
     let e = fails(&["add-light", "grow.opds", "bulb", "--scene", &two], d);
     assert!(e.contains("already"), "{e}");
 }
@@ -378,21 +385,7 @@ fn a_surface_that_becomes_a_light_is_added_while_a_changed_material_is_refused()
     // The green wall becomes a light: same triangles, same BSDFs — accepted.
     ok(&["add-light", "grow.opds", "green_wall", "--scene", &glow, "--paths", "200000"], d);
     ok(&["render", "grow.opds", "--scene", &glow, "-o", "grow.exr"], d);
-    ok(&["trace", &glow, "--paths", "600000", "-o", "fresh.opds", "--seed", "6"], d);
-    ok(&["trace", &glow, "--paths", "600000", "-o", "fresh2.opds", "--seed", "7"], d);
-    ok(&["render", "fresh.opds", "-o", "fresh.exr"], d);
-    ok(&["render", "fresh2.opds", "-o", "fresh2.exr"], d);
-    let noise = compare(&image(d, "fresh.exr"), &image(d, "fresh2.exr")).relmse;
-    let grown = compare(&image(d, "grow.exr"), &image(d, "fresh.exr"));
-    eprintln!(
-        "two traces of the glowing box: relMSE {noise:.3e}; traced + added surface light vs trace: {:.3e}, \
-         mean ratios {:?}",
-        grown.relmse, grown.mean_ratio
-    );
-    assert!(grown.relmse < 1.3 * noise, "{} vs {noise}", grown.relmse);
-    for r in grown.mean_ratio {
-        assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
-    }
+    assert_like_fresh_traces(d, "grow.exr", &glow, "600000", "traced + added surface light");
 }
 
 #[test]
@@ -411,20 +404,7 @@ fn merge_unites_datasets_whose_lights_differ_and_refuses_a_light_that_moved() {
     let info = ok(&["info", "m.opds"], d);
     assert!(info.contains("600000") && info.contains("bulb"), "{info}");
     ok(&["render", "m.opds", "--scene", &two, "-o", "m.exr"], d);
-    ok(&["trace", &two, "--paths", "800000", "-o", "f1.opds", "--seed", "3"], d);
-    ok(&["trace", &two, "--paths", "800000", "-o", "f2.opds", "--seed", "4"], d);
-    ok(&["render", "f1.opds", "-o", "f1.exr"], d);
-    ok(&["render", "f2.opds", "-o", "f2.exr"], d);
-    let noise = compare(&image(d, "f1.exr"), &image(d, "f2.exr")).relmse;
-    let merged = compare(&image(d, "m.exr"), &image(d, "f1.exr"));
-    eprintln!(
-        "two traces of both lights: relMSE {noise:.3e}; merged {{box}} + {{box, bulb}}: {:.3e}",
-        merged.relmse
-    );
-    assert!(merged.relmse < 1.3 * noise, "{} vs {noise}", merged.relmse);
-    for r in merged.mean_ratio {
-        assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
-    }
+    assert_like_fresh_traces(d, "m.exr", &two, "800000", "merged {box} + {box, bulb}");
     // The same name emitting from elsewhere is another light: refused.
     let moved = two.replace("two.xml", "moved.xml");
     std::fs::write(&moved, std::fs::read_to_string(&two).unwrap().replace("x=\"0.3\"", "x=\"-0.3\""))

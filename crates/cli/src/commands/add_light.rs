@@ -2,13 +2,12 @@
 //! The other lights' samples are reused untouched (geometry and materials must be unchanged —
 //! the fingerprint says so — while the light table may grow).
 
-use super::dataset_job::{NewPaths, Source, continued_settings, write_dataset};
+use super::dataset_job::{continued_settings, extend_dataset};
 use super::{ThreadArgs, open_with_scene};
 use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, bail};
 use opticks_core::dataset::LightRecord;
 use opticks_core::trace::LightPlan;
-use opticks_io::dataset_file::TracePass;
 use std::path::PathBuf;
 
 /// Arguments of `opticks add-light`.
@@ -76,14 +75,8 @@ pub fn run(a: Args) -> Result<()> {
     header.fingerprint = scene.fingerprint; // matched (perhaps as a version-1 hash): now current
     let settings = continued_settings(&header, paths, a.seed, &a.strategy);
     let plan = vec![LightPlan { scene_light, table_index, paths }];
-    header.trace.passes.push(TracePass::new(&settings, &plan));
     let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
-    let report = write_dataset(
-        &output,
-        header,
-        &[Source::as_is(&reader)],
-        Some(NewPaths { scene: &scene, settings, plan, first_block: 0 }),
-    )?;
+    let report = extend_dataset(&reader, header, &output, &scene, settings, plan)?;
     println!(
         "added light '{}' with {paths} paths ({:.2} s) → {} ({} lights, {} samples)",
         a.light,

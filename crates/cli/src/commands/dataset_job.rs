@@ -12,7 +12,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::scene::Scene;
 use opticks_core::trace::{LightPlan, TraceSettings};
-use opticks_io::dataset_file::{DatasetHeader, DatasetReader, DatasetSummary, DatasetWriter};
+use opticks_io::dataset_file::{DatasetHeader, DatasetReader, DatasetSummary, DatasetWriter, TracePass};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -107,6 +107,21 @@ pub fn write_dataset(
         );
     }
     Ok(JobReport { summary, table: header.table, trace_seconds })
+}
+
+/// Writes `reader`'s chunks and then the new paths of `plan` (a new pass of `settings`) to
+/// `output`: `refine` and `add-light`.
+pub fn extend_dataset(
+    reader: &DatasetReader,
+    mut header: DatasetHeader,
+    output: &Path,
+    scene: &Scene,
+    settings: TraceSettings,
+    plan: Vec<LightPlan>,
+) -> Result<JobReport> {
+    header.trace.passes.push(TracePass::new(&settings, &plan));
+    let new = NewPaths { scene, settings, plan, first_block: 0 };
+    write_dataset(output, header, &[Source::as_is(reader)], Some(new))
 }
 
 /// `dir/NAME.partial.opds` for `dir/NAME.opds`.

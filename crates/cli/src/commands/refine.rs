@@ -4,12 +4,11 @@
 //! `NAME.partial.opds`, which `opticks resume` completes). The new paths use the strategy of the
 //! dataset's last pass unless overridden, so the estimator stays the one the dataset was made by.
 
-use super::dataset_job::{NewPaths, Source, continued_settings, scene_lights, write_dataset};
+use super::dataset_job::{continued_settings, extend_dataset, scene_lights};
 use super::{ThreadArgs, open_with_scene};
 use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, bail};
 use opticks_core::trace::{LightPlan, path_quotas};
-use opticks_io::dataset_file::TracePass;
 use std::path::PathBuf;
 
 /// Arguments of `opticks refine`.
@@ -54,15 +53,9 @@ pub fn run(a: Args) -> Result<()> {
         .map(|(k, (paths, &scene_light))| LightPlan { scene_light, table_index: k as u32, paths })
         .collect();
     let settings = continued_settings(&header, a.paths, a.seed, &a.strategy);
-    header.trace.passes.push(TracePass::new(&settings, &plan));
     let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
     let before = header.table.total_paths();
-    let report = write_dataset(
-        &output,
-        header,
-        &[Source::as_is(&reader)],
-        Some(NewPaths { scene: &scene, settings, plan, first_block: 0 }),
-    )?;
+    let report = extend_dataset(&reader, header, &output, &scene, settings, plan)?;
     println!(
         "refined {}: {} + {} paths = {} paths, {} samples ({:.2} s) → {}",
         a.dataset.display(),
