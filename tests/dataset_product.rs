@@ -48,6 +48,26 @@ fn two_light_scene(dir: &Path) -> String {
     path.to_str().unwrap().to_string()
 }
 
+/// Asserts that `image` (rendered in `d`) is a render of `scene` traced with `paths` paths: its
+/// relMSE against a fresh trace is within 1.3× what two fresh traces (seeds 90, 91) show between
+/// themselves, and its mean within 1 %.
+fn assert_like_fresh_traces(d: &Path, image_name: &str, scene: &str, paths: &str, what: &str) {
+    for seed in ["90", "91"] {
+        ok(&["trace", scene, "--paths", paths, "-o", &format!("fresh{seed}.opds"), "--seed", seed], d);
+        ok(&["render", &format!("fresh{seed}.opds"), "-o", &format!("fresh{seed}.exr")], d);
+    }
+    let noise = compare(&image(d, "fresh90.exr"), &image(d, "fresh91.exr")).relmse;
+    let got = compare(&image(d, image_name), &image(d, "fresh90.exr"));
+    eprintln!(
+        "two fresh traces: relMSE {noise:.3e}; {what} vs a fresh trace: {:.3e}, mean ratios {:?}",
+        got.relmse, got.mean_ratio
+    );
+    assert!(got.relmse < 1.3 * noise, "{what}: {} vs {noise}", got.relmse);
+    for r in got.mean_ratio {
+        assert!((r - 1.0).abs() < 0.01, "{what}: mean ratio {r}");
+    }
+}
+
 #[test]
 fn relighting_is_exact_and_switching_off_matches_a_trace_without_the_light() {
     let dir = tempfile::tempdir().unwrap();
@@ -164,20 +184,7 @@ fn add_light_equals_tracing_both_lights() {
     assert!(e.contains("bulb") && e.contains("add-light"), "{e}");
     ok(&["add-light", "grow.opds", "bulb", "--scene", &two, "--paths", "300000"], d);
     ok(&["render", "grow.opds", "--scene", &two, "-o", "grow.exr"], d);
-    ok(&["trace", &two, "--paths", "1300000", "-o", "both.opds", "--seed", "6"], d);
-    ok(&["trace", &two, "--paths", "1300000", "-o", "both2.opds", "--seed", "7"], d);
-    ok(&["render", "both.opds", "-o", "both.exr"], d);
-    ok(&["render", "both2.opds", "-o", "both2.exr"], d);
-    let noise = compare(&image(d, "both.exr"), &image(d, "both2.exr")).relmse;
-    let grown = compare(&image(d, "grow.exr"), &image(d, "both.exr"));
-    eprintln!(
-        "two traces of both lights: relMSE {noise:.3e}; traced + added light vs trace: {:.3e}",
-        grown.relmse
-    );
-    assert!(grown.relmse < 1.3 * noise, "{} vs {noise}", grown.relmse);
-    for r in grown.mean_ratio {
-        assert!((r - 1.0).abs() < 0.01, "mean ratio {r}");
-    }
+    assert_like_fresh_traces(d, "grow.exr", &two, "1300000", "traced + added light");
     let e = fails(&["add-light", "grow.opds", "bulb", "--scene", &two], d);
     assert!(e.contains("already"), "{e}");
 }
@@ -255,4 +262,232 @@ fn walkthrough_frames_come_from_one_dataset() {
     assert!(e.contains("bad.json") && e.contains("line"), "{e}");
     let e = fails(&["walk", "w.opds", "--path", "missing.json", "-o", "f2"], d);
     assert!(e.contains("missing.json"), "{e}");
+}
+
+/// Runs opticks as if Ctrl-C were pressed once `paths` paths are traced; returns its stderr.
+fn interrupted(args: &[&str], dir: &Path, paths: u64) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_opticks"))
+        .args(args)
+        .current_dir(dir)
+        .env("OPTICKS_INTERRUPT_AFTER_PATHS", paths.to_string())
+        .output()
+        .unwrap();
+    let se = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!out.status.success() && se.contains("interrupted") && se.contains("opticks resume"), "{se}");
+    se
+}
+
+/// Header (without wall-clock times) and chunks: what must be identical between two runs.
+fn contents(path: &Path) -> (opticks_io::dataset_file::DatasetHeader, Vec<opticks_core::dataset::Chunk>) {
+    let (mut h, chunks) = opticks_io::dataset_file::read_all(path).unwrap();
+    h.trace.passes.iter_mut().for_each(|p| p.seconds = 0.0);
+    (h, chunks)
+}
+
+#[test]
+fn an_interrupted_trace_or_refine_resumes_to_exactly_the_uninterrupted_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    let cornell = cornell.to_str().unwrap();
+    // More than one batch of blocks (64 × 4096 paths), so the interruption falls inside the plan;
+    // a non-default strategy, which the resumed part and the refinement must keep using.
+    let n = "300000";
+    let trace = ["trace", cornell, "--paths", n, "--seed", "3", "--roulette", "fixed", "--rr-depth", "2"];
+    ok(&[&trace[..], &["-o", "whole.opds"]].concat(), d);
+    interrupted(&[&trace[..], &["-o", "cut.opds"]].concat(), d, 1);
+    assert!(!d.join("cut.opds").exists());
+    let info = ok(&["info", "cut.partial.opds"], d);
+    assert!(info.contains("interrupted: 262144 of 300000 planned paths"), "{info}");
+    ok(&["resume", "cut.partial.opds"], d);
+    assert!(!d.join("cut.partial.opds").exists(), "the partial file is used up");
+    assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")), "resumed trace ≠ trace");
+    let e = fails(&["resume", "cut.opds"], d);
+    assert!(e.contains("nothing to resume"), "{e}");
+
+    // Refine reuses the dataset's strategy; an interrupted refine leaves the dataset as it was.
+    ok(&["refine", "whole.opds", "--paths", n], d);
+    let info = ok(&["info", "whole.opds"], d);
+    assert_eq!(info.matches("roulette Fixed from depth 2").count(), 2, "{info}");
+    let before = std::fs::read(d.join("cut.opds")).unwrap();
+    interrupted(&["refine", "cut.opds", "--paths", n], d, 1);
+    assert!(std::fs::read(d.join("cut.opds")).unwrap() == before, "the dataset is intact");
+    ok(&["resume", "cut.partial.opds"], d);
+    assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")), "resumed refine ≠ refine");
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_during_refine_or_add_light_leaves_the_dataset_intact() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = two_light_scene(d);
+    let cornell = scene_file("cornell", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "10000", "-o", "data.opds"], d);
+    let before = std::fs::read(d.join("data.opds")).unwrap();
+    for args in [
+        vec!["refine", "data.opds", "--paths", "2000000000"],
+        vec!["add-light", "data.opds", "bulb", "--scene", &two, "--paths", "2000000000"],
+    ] {
+        let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
+            .args(&args)
+            .current_dir(d)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains("data.partial.opds"), "{args:?}: {err}");
+        assert!(std::fs::read(d.join("data.opds")).unwrap() == before, "{args:?} changed the dataset");
+        let partial = opticks_io::dataset_file::DatasetReader::open(&d.join("data.partial.opds")).unwrap();
+        partial.verify().unwrap();
+        assert!(partial.header().table.total_paths() >= 10000);
+        std::fs::remove_file(d.join("data.partial.opds")).unwrap();
+    }
+    let mut left: Vec<_> = std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name()).collect();
+    left.sort();
+    assert_eq!(left, ["data.opds", "two.xml"], "no temporary file is left");
+}
+
+/// The Cornell box with `edit` applied to its scene file (mesh paths made absolute).
+fn edited_cornell(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> String {
+    let xml = std::fs::read_to_string(scene_file("cornell", "scene.xml")).unwrap();
+    let meshes = scene_file("cornell", "meshes");
+    let xml = edit(xml.replace("meshes/", &format!("{}/", meshes.display())));
+    let path = dir.join(name);
+    std::fs::write(&path, xml).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn a_surface_that_becomes_a_light_is_added_while_a_changed_material_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let green = "<ref id=\"green\"/>";
+    let glow = edited_cornell(d, "glow.xml", |x| {
+        assert!(x.contains(green));
+        x.replace(
+            green,
+            &format!(
+                "{green}<emitter type=\"area\"><rgb name=\"radiance\" value=\"0.3, 0.8, 0.3\"/></emitter>"
+            ),
+        )
+    });
+    let repainted =
+        edited_cornell(d, "repainted.xml", |x| x.replace("0.570068, 0.0430135", "0.470068, 0.0430135"));
+    let cornell = scene_file("cornell", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "400000", "-o", "grow.opds", "--seed", "5"], d);
+    // Another reflectance: the stored paths were reflected differently — refused.
+    let e = fails(&["add-light", "grow.opds", "green_wall", "--scene", &repainted], d);
+    assert!(e.contains("different scene"), "{e}");
+    // The green wall becomes a light: same triangles, same BSDFs — accepted.
+    ok(&["add-light", "grow.opds", "green_wall", "--scene", &glow, "--paths", "200000"], d);
+    ok(&["render", "grow.opds", "--scene", &glow, "-o", "grow.exr"], d);
+    assert_like_fresh_traces(d, "grow.exr", &glow, "600000", "traced + added surface light");
+}
+
+#[test]
+fn merge_unites_datasets_whose_lights_differ_and_refuses_a_light_that_moved() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = two_light_scene(d);
+    let cornell = scene_file("cornell", "scene.xml");
+    let cornell = cornell.to_str().unwrap();
+    // Worker 1 traced the box; worker 2 too, and then added the bulb.
+    ok(&["trace", cornell, "--paths", "300000", "-o", "w1.opds", "--seed", "1"], d);
+    ok(&["trace", cornell, "--paths", "300000", "-o", "w2.opds", "--seed", "2"], d);
+    ok(&["add-light", "w2.opds", "bulb", "--scene", &two, "--paths", "200000"], d);
+    let out = ok(&["merge", "w1.opds", "w2.opds", "-o", "m.opds"], d);
+    assert!(out.contains("800000 paths, 2 lights"), "{out}");
+    let info = ok(&["info", "m.opds"], d);
+    assert!(info.contains("600000") && info.contains("bulb"), "{info}");
+    ok(&["render", "m.opds", "--scene", &two, "-o", "m.exr"], d);
+    assert_like_fresh_traces(d, "m.exr", &two, "800000", "merged {box} + {box, bulb}");
+    // The same name emitting from elsewhere is another light: refused.
+    let moved = two.replace("two.xml", "moved.xml");
+    std::fs::write(&moved, std::fs::read_to_string(&two).unwrap().replace("x=\"0.3\"", "x=\"-0.3\""))
+        .unwrap();
+    ok(&["trace", &moved, "--paths", "20000", "-o", "moved.opds", "--seed", "5"], d);
+    let e = fails(&["merge", "m.opds", "moved.opds", "-o", "bad.opds"], d);
+    assert!(e.contains("'bulb' differs in shape"), "{e}");
+    assert!(!d.join("bad.opds").exists());
+}
+
+#[cfg(unix)]
+#[test]
+fn walk_hands_ffmpeg_exactly_this_runs_frames_and_moves_the_video_into_place() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // A fake ffmpeg first on the PATH: it logs its arguments and writes its output file.
+    let bin = d.join("bin");
+    std::fs::create_dir(&bin).unwrap();
+    let fake = bin.join("ffmpeg");
+    std::fs::write(
+        &fake,
+        "#!/bin/sh\n[ \"$1\" = -version ] && exit 0\necho \"$@\" >> \"$FAKE_FFMPEG_LOG\"\n\
+         for last; do :; done\necho video > \"$last\"\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&fake, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let walk = |format: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_opticks"))
+            .args(["walk", "w.opds", "--path", "cam.json", "-o", "frames", "--format", format])
+            .current_dir(d)
+            .env("PATH", &path)
+            .env("FAKE_FFMPEG_LOG", d.join("ffmpeg.log"))
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let cornell = scene_file("cornell", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "w.opds"], d);
+    std::fs::write(
+        d.join("cam.json"),
+        r#"{"fps": 2, "size": [32, 24], "keyframes": [
+            {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]},
+            {"time": 1.5, "eye": [0.6, 0.3, 3.0], "target": [0, -0.3, 0]}]}"#,
+    )
+    .unwrap();
+    std::fs::create_dir(d.join("frames")).unwrap();
+    std::fs::write(d.join("frames/frame_00009.png"), b"stale frame of an earlier run").unwrap();
+    let out = walk("png");
+    assert!(out.contains("video →"), "{out}");
+    let log = std::fs::read_to_string(d.join("ffmpeg.log")).unwrap();
+    assert!(log.contains("-start_number 0") && log.contains("-frames:v 4"), "{log}");
+    assert_eq!(std::fs::read_to_string(d.join("frames/walk.mp4")).unwrap(), "video\n");
+    let mut names: Vec<_> = std::fs::read_dir(d.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    let expected = [
+        "frame_00000.png",
+        "frame_00001.png",
+        "frame_00002.png",
+        "frame_00003.png",
+        "frame_00009.png",
+        "walk.mp4",
+    ];
+    assert_eq!(names, expected, "no temporary video is left");
+    let out = walk("exr");
+    assert!(out.contains("no video"), "{out}");
+    assert_eq!(
+        std::fs::read_to_string(d.join("ffmpeg.log")).unwrap(),
+        log,
+        "ffmpeg is not run for EXR frames"
+    );
+    // A bad keyframe is refused before the output folder exists.
+    std::fs::write(d.join("same.json"), r#"{"keyframes": [{"time": 0, "eye": [1,1,1], "target": [1,1,1]}]}"#)
+        .unwrap();
+    let e = fails(&["walk", "w.opds", "--path", "same.json", "-o", "never"], d);
+    assert!(
+        e.contains("same.json") && e.contains("keyframe 0") && e.matches("same point").count() == 1,
+        "{e}"
+    );
+    assert!(!d.join("never").exists());
 }

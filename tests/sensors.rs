@@ -1,5 +1,6 @@
 //! Sensors against closed forms: the illuminance meter under a point light (E = I·cosθ/d²) and
-//! under a Lambertian rectangle (the parallel-rectangle corner formula), the meter against the
+//! under a Lambertian rectangle (the parallel-rectangle corner formula), its lux under a lamp
+//! given in lumens (E_v = Φ_v/4π·cosθ/d²), the meter against the
 //! camera on a Lambertian floor (L = ρE/π), the thin lens (r → 0 is the pinhole; in focus is
 //! sharp; a uniform scene is unchanged) and the equirectangular camera in the emissive furnace.
 //!
@@ -427,4 +428,47 @@ fn measure_and_sensor_options_on_the_command_line() {
     ));
     let o = opticks(&["render", "c.opds", "-o", "x.exr", "--lens-radius", "-1"], d);
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("lens radius"));
+}
+
+/// Photometry end to end: an isotropic IES lamp given in lumens (Mitsuba `lumens`, white) over
+/// a black floor. Its luminous intensity is I_v = Φ_v/4π, so the illuminance is
+/// E_v = I_v·cosθ/d²; the meter's lux, 683·(0.2126 E_R + 0.7152 E_G + 0.0722 E_B), must match
+/// it within the measured noise (the same 4σ / 1 % rule as the radiometric checks).
+#[test]
+fn meter_lux_matches_a_lamp_given_in_lumens() {
+    let dir = tempfile::tempdir().unwrap();
+    let ies = "IESNA:LM-63-2002\n[TEST] isotropic\nTILT=NONE\n1 1000 1.0 2 1 1 2 0.0 0.0 0.0\n1.0 1.0 60\n0 180\n0\n100 100\n";
+    std::fs::write(dir.path().join("iso.ies"), ies).unwrap();
+    let (lumens, light) = (2000.0f64, Vec3::new(0.2, 0.5, -0.1));
+    let xml = format!(
+        r#"<scene version="3.0.0"><emitter type="ies" id="lamp"><string name="filename" value="iso.ies"/>
+  <transform name="to_world"><translate x="{}" y="{}" z="{}"/></transform><float name="lumens" value="{lumens}"/></emitter></scene>"#,
+        light.x, light.y, light.z
+    );
+    std::fs::write(dir.path().join("scene.xml"), xml).unwrap();
+    let mut desc = opticks_io::load_scene(&dir.path().join("scene.xml")).unwrap().description;
+    desc.materials.push(lambert("black", 0.0, false));
+    desc.meshes.push(floor(50.0, desc.materials.len() - 1));
+    let scene = Scene::build(&desc).unwrap();
+    let (table, chunks) = trace_chunks(&scene, 4_000_000, 22);
+    let meter = floor_meter(2);
+    let (film, err) = measure_with_error(&meter, &table, &chunks);
+    let lux: Vec<f64> =
+        film.pixels.iter().map(|e| 683.0 * (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2])).collect();
+    let e_v = |x: f64, z: f64| {
+        let d2 = (x - light.x as f64).powi(2) + (light.y as f64).powi(2) + (z - light.z as f64).powi(2);
+        lumens / (4.0 * PI) * light.y as f64 / (d2 * d2.sqrt())
+    };
+    let expected: Vec<f64> = (0..4).map(|k| cell_mean(2, k % 2, k / 2, &e_v)).collect();
+    for (k, (l, e)) in lux.iter().zip(&expected).enumerate() {
+        eprintln!("lux cell {k}: {l:.2} lx vs E_v = {e:.2} lx");
+        let p = film.pixels[k];
+        assert!(
+            (p[0] - p[1]).abs() <= 1e-6 * p[0] && (p[0] - p[2]).abs() <= 1e-6 * p[0],
+            "white light: {p:?}"
+        );
+    }
+    // White light: lux = 683·E_R, so checking E_R against E_v/683 checks the lux, with its noise.
+    let expected_w: Vec<f64> = expected.iter().map(|e| e / 683.0).collect();
+    check_cells("lamp in lumens 2x2", &film, &err, &expected_w, 4);
 }

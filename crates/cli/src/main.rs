@@ -34,6 +34,8 @@ enum Command {
     Refine(commands::refine::Args),
     /// Trace a light the scene file gained into an existing dataset.
     AddLight(commands::add_light::Args),
+    /// Finish an interrupted trace, refine or add-light from its NAME.partial.opds.
+    Resume(commands::resume::Args),
     /// Combine datasets of the same scene traced independently.
     Merge(commands::merge::Args),
     /// Render a walkthrough (a camera path of keyframes) from one dataset.
@@ -55,6 +57,7 @@ fn main() -> ExitCode {
         Command::Render(a) => commands::render::run(a),
         Command::Refine(a) => commands::refine::run(a),
         Command::AddLight(a) => commands::add_light::run(a),
+        Command::Resume(a) => commands::resume::run(a),
         Command::Merge(a) => commands::merge::run(a),
         Command::Walk(a) => commands::walk::run(a),
         Command::Info(a) => commands::info::run(a),

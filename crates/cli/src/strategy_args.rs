@@ -1,4 +1,4 @@
-//! Tracing options shared by `trace` and `bench`: the thesis's improvements (§6.2) as switches,
+//! Tracing options shared by `trace`, `refine`, `add-light` and `bench`: the thesis's improvements (§6.2) as switches,
 //! so their effect can be measured (`docs/convergence.md`). Defaults follow the thesis (energy
 //! roulette, importance sampling) and start roulette at depth 5 as Mitsuba does; roulette from
 //! depth 1 measured 1.1-1.2x more efficient on the Cornell box, at a little more noise per path.
@@ -33,43 +33,48 @@ pub enum SelectionArg {
     Priority,
 }
 
-/// How paths continue.
+/// How paths continue. Every option is optional: `trace` and `bench` fill in the defaults
+/// below, `refine` and `add-light` the strategy of the dataset's last pass (so refining a
+/// dataset traced with, say, `--roulette fixed` continues it with the same estimator).
 #[derive(Args, Debug, Clone)]
 pub struct StrategyArgs {
-    /// Path depth from which Russian roulette may end paths.
-    #[arg(long, default_value_t = 5)]
-    pub rr_depth: u32,
-    /// Russian roulette rule (thesis §6.2.1).
-    #[arg(long, value_enum, default_value = "energy")]
-    pub roulette: RouletteArg,
-    /// Direction sampling (thesis §6.2.2).
-    #[arg(long, value_enum, default_value = "importance")]
-    pub directions: DirectionsArg,
-    /// Priority sample selection (thesis §6.2.3).
-    #[arg(long, value_enum, default_value = "single")]
-    pub selection: SelectionArg,
+    /// Path depth from which Russian roulette may end paths [default: 5].
+    #[arg(long)]
+    pub rr_depth: Option<u32>,
+    /// Russian roulette rule (thesis §6.2.1) [default: energy].
+    #[arg(long, value_enum)]
+    pub roulette: Option<RouletteArg>,
+    /// Direction sampling (thesis §6.2.2) [default: importance].
+    #[arg(long, value_enum)]
+    pub directions: Option<DirectionsArg>,
+    /// Priority sample selection (thesis §6.2.3) [default: single].
+    #[arg(long, value_enum)]
+    pub selection: Option<SelectionArg>,
 }
 
 impl StrategyArgs {
-    /// Trace settings with these options.
+    /// Trace settings with these options over the defaults.
     pub fn settings(&self, paths: u64, seed: u64) -> TraceSettings {
+        self.over(TraceSettings { paths, seed, ..Default::default() })
+    }
+
+    /// `base` with the options given on the command line replacing its strategy.
+    pub fn over(&self, base: TraceSettings) -> TraceSettings {
         TraceSettings {
-            paths,
-            seed,
-            stream: 0,
-            rr_depth: self.rr_depth,
-            roulette: match self.roulette {
+            rr_depth: self.rr_depth.unwrap_or(base.rr_depth),
+            roulette: self.roulette.map_or(base.roulette, |r| match r {
                 RouletteArg::Energy => Roulette::Energy,
                 RouletteArg::Fixed => Roulette::Fixed,
-            },
-            directions: match self.directions {
+            }),
+            directions: self.directions.map_or(base.directions, |d| match d {
                 DirectionsArg::Importance => Directions::Importance,
                 DirectionsArg::Uniform => Directions::Uniform,
-            },
-            selection: match self.selection {
+            }),
+            selection: self.selection.map_or(base.selection, |s| match s {
                 SelectionArg::Single => Selection::Single,
                 SelectionArg::Priority => Selection::Priority,
-            },
+            }),
+            ..base
         }
     }
 }

@@ -42,24 +42,25 @@ pub struct Walkthrough {
 /// Why a camera path file cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum CameraPathFileError {
-    /// Cannot read the file.
-    #[error("{path}: {source}")]
+    /// Cannot read the file. (The cause is part of the message, not a `source`, so that error
+    /// chains print it once.)
+    #[error("{}: {cause}", path.display())]
     Read {
         /// The file.
         path: PathBuf,
         /// Why.
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// Not valid JSON, or not of the documented shape (serde's message has line and column).
-    #[error("{path}: {source}")]
+    #[error("{}: {cause}", path.display())]
     Json {
         /// The file.
         path: PathBuf,
         /// Why, with line and column.
-        source: serde_json::Error,
+        cause: serde_json::Error,
     },
     /// Valid JSON with impossible values.
-    #[error("{path}: {detail}")]
+    #[error("{}: {detail}", path.display())]
     Invalid {
         /// The file.
         path: PathBuf,
@@ -89,9 +90,9 @@ struct File {
 /// Reads a camera path file; `default_fov` is used until a keyframe gives one.
 pub fn read_camera_path(path: &Path, default_fov: f32) -> Result<Walkthrough, CameraPathFileError> {
     let text = std::fs::read_to_string(path)
-        .map_err(|source| CameraPathFileError::Read { path: path.to_owned(), source })?;
+        .map_err(|cause| CameraPathFileError::Read { path: path.to_owned(), cause })?;
     let file: File = serde_json::from_str(&text)
-        .map_err(|source| CameraPathFileError::Json { path: path.to_owned(), source })?;
+        .map_err(|cause| CameraPathFileError::Json { path: path.to_owned(), cause })?;
     let invalid = |detail: String| CameraPathFileError::Invalid { path: path.to_owned(), detail };
     let fps = file.fps.unwrap_or(24.0);
     if !(fps > 0.0 && fps <= 1000.0) {
@@ -109,16 +110,38 @@ pub fn read_camera_path(path: &Path, default_fov: f32) -> Result<Walkthrough, Ca
         if !(fov > 0.0 && fov < 180.0) {
             return Err(invalid(format!("keyframe {i}: field of view {fov}° is outside (0°, 180°)")));
         }
-        keys.push(CameraKey {
+        let key = CameraKey {
             time: k.time,
             eye: Vec3::from_array(k.eye),
             target: Vec3::from_array(k.target),
             up: Vec3::from_array(k.up.unwrap_or([0.0, 1.0, 0.0])),
             fov_x_degrees: fov,
-        });
+        };
+        if let Some(problem) = key_problem(&key) {
+            return Err(invalid(format!("keyframe {i}: {problem}")));
+        }
+        keys.push(key);
     }
     let path_ = CameraPath::new(keys).map_err(|e| invalid(e.to_string()))?;
     Ok(Walkthrough { path: path_, fps, size: file.size.map(|[w, h]| (w, h)) })
+}
+
+/// What makes a keyframe's camera impossible (the spline between valid keyframes may still
+/// pass through such a camera; `walk` then names the frame).
+fn key_problem(k: &CameraKey) -> Option<String> {
+    let finite = [k.eye, k.target, k.up].iter().all(|v| v.is_finite()) && k.time.is_finite();
+    let view = k.target - k.eye;
+    if !finite {
+        Some("every number must be finite".into())
+    } else if view.length_squared() == 0.0 {
+        Some(format!("eye and target are the same point {:?}: no view direction", k.eye.to_array()))
+    } else if k.up.length_squared() == 0.0 {
+        Some("the up vector is zero".into())
+    } else if view.normalize().cross(k.up.normalize()).length() < 1e-6 {
+        Some(format!("the up vector {:?} is parallel to the view direction", k.up.to_array()))
+    } else {
+        None
+    }
 }
 
 #[cfg(test)]
@@ -167,5 +190,26 @@ mod tests {
             .to_string();
         assert!(e.contains("zoom"), "{e}");
         assert!(read("not json").is_err());
+        let key =
+            |k: &str| format!(r#"{{"keyframes": [{{"time": 0, "eye": [0,0,4], "target": [0,0,0]}}, {k}]}}"#);
+        for (k, needle) in [
+            (r#"{"time": 1, "eye": [1,1,1], "target": [1,1,1]}"#, "keyframe 1: eye and target are the same"),
+            (
+                r#"{"time": 1, "eye": [0,0,4], "target": [0,0,0], "up": [0,0,0]}"#,
+                "keyframe 1: the up vector is zero",
+            ),
+            (
+                r#"{"time": 1, "eye": [0,0,4], "target": [0,0,0], "up": [0,0,2]}"#,
+                "keyframe 1: the up vector [0.0, 0.0, 2.0] is parallel",
+            ),
+            (r#"{"time": 0, "eye": [0,0,4], "target": [0,0,1]}"#, "keyframe 1: times must increase"),
+            (r#"{"time": 1e39, "eye": [0,0,4], "target": [0,0,1]}"#, "keyframe 1"),
+        ] {
+            let e = read(&key(k)).unwrap_err().to_string();
+            assert!(e.contains("cam.json") && e.contains(needle), "{needle}: {e}");
+        }
+        // The JSON error is the whole message: no `source` chain that would print it again.
+        let e = read("not json").unwrap_err();
+        assert!(std::error::Error::source(&e).is_none());
     }
 }

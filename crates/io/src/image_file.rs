@@ -308,6 +308,14 @@ fn write_png_to(
         .map_err(|source| ImageError::Png { path: path.to_path_buf(), source })
 }
 
+/// Writes `bytes` to `path` atomically (temporary file, sync, rename), like every image: a
+/// failure or an interruption leaves any previous file intact. For non-image outputs (CSV).
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+    atomic_write(path, |file| {
+        file.write_all(bytes).map_err(|source| ImageError::Io { path: path.to_path_buf(), source })
+    })
+}
+
 /// Writes through `write` into a fresh temporary file next to `path`, flushes and syncs it, then
 /// renames it to `path`. On any failure the temporary file is removed.
 fn atomic_write(

@@ -59,6 +59,7 @@ fn header(paths: &[u64]) -> DatasetHeader {
                 paths: 0,
                 rr_depth: 5,
                 seconds: 0.0,
+                ..Default::default()
             }],
         },
         table: table(paths),
@@ -89,7 +90,7 @@ fn tiny(path: &Path) -> (DatasetHeader, Vec<Chunk>) {
         fingerprint: Fingerprint { geometry: [0x11; 16], lights: [0x22; 16] },
         label: "tiny".into(),
         trace: TraceInfo {
-            passes: vec![TracePass { seed: 42, stream: 0, paths: 0, rr_depth: 3, seconds: 0.0 }],
+            passes: vec![TracePass { seed: 42, stream: 0, paths: 0, rr_depth: 3, ..Default::default() }],
         },
         table: LightTable {
             lights: vec![
@@ -414,8 +415,8 @@ fn huge_length_fields_are_errors_not_allocations() {
     tiny(&good);
     let bytes = std::fs::read(&good).unwrap();
     let path = dir.path().join("huge.opds");
-    let label_len_at = 84; // 48 fixed bytes, the pass count, one 32-byte pass
-    let light_count_at = 88 + "tiny".len();
+    let label_len_at = 92; // 48 fixed bytes, the pass count, one 40-byte pass (with an empty plan)
+    let light_count_at = 96 + "tiny".len();
     let c0 = first_chunk(&bytes);
 
     // Header length beyond the file, and not a multiple of 32.
@@ -473,7 +474,7 @@ fn path_count_mismatch_is_detected() {
     let bytes = std::fs::read(&good).unwrap();
     // N_k of light 1 ("lamp"): after the label, the count, light 0 (4+3+16+12+8), light 1's name,
     // shape and power.
-    let at = 88 + 4 + 4 + (4 + 3 + 16 + 12 + 8) + (4 + 4 + 16 + 12);
+    let at = 96 + 4 + 4 + (4 + 3 + 16 + 12 + 8) + (4 + 4 + 16 + 12);
     assert_eq!(u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()), 3);
     let mut b = bytes.clone();
     b[at..at + 8].copy_from_slice(&4u64.to_le_bytes());
@@ -575,7 +576,15 @@ fn write_tiny_example() {
         fingerprint: Fingerprint { geometry: [0xaa; 16], lights: [0xbb; 16] },
         label: "box.xml".into(),
         trace: TraceInfo {
-            passes: vec![TracePass { seed: 1, stream: 0, paths: 4, rr_depth: 5, seconds: 0.5 }],
+            passes: vec![TracePass {
+                seed: 1,
+                stream: 0,
+                paths: 4,
+                rr_depth: 5,
+                seconds: 0.5,
+                planned: vec![(0, 4)],
+                ..Default::default()
+            }],
         },
         table: LightTable {
             lights: vec![LightRecord {
@@ -602,4 +611,31 @@ fn write_tiny_example() {
         &h.trace,
     )
     .unwrap();
+}
+
+/// A version-1 file (pass records without strategy and plan) still reads: the default strategy
+/// and an unknown plan, i.e. a complete pass.
+#[test]
+fn version_1_files_are_still_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    let (h, chunks) = tiny(&good);
+    let v2 = std::fs::read(&good).unwrap();
+    let header_len = u32::from_le_bytes(v2[12..16].try_into().unwrap()) as usize;
+    // The tiny header's contents end after the label and both lights (see its builder).
+    let end = 92 + (4 + 4) + 4 + (4 + 3 + 36) + (4 + 4 + 36);
+    // Drop the pass's strategy bytes and plan length (the 8 bytes after its 32 version-1 bytes).
+    let mut b = [&v2[..84], &v2[92..end]].concat();
+    let len = (b.len() + 4).div_ceil(32) * 32;
+    b.resize(len - 4, 0);
+    b[8..12].copy_from_slice(&1u32.to_le_bytes());
+    b[12..16].copy_from_slice(&(len as u32).to_le_bytes());
+    b.extend_from_slice(&crc32fast::hash(&b).to_le_bytes());
+    b.extend_from_slice(&v2[header_len..]);
+    let old = dir.path().join("v1.opds");
+    std::fs::write(&old, &b).unwrap();
+    let (read, read_chunks) = read_all(&old).unwrap();
+    assert_eq!(read, DatasetHeader { table: read.table.clone(), ..h });
+    assert_eq!(read_chunks, chunks);
+    assert!(read.trace.passes[0].is_complete() && read.trace.passes[0].planned.is_empty());
 }

@@ -2,11 +2,12 @@
 //! The other lights' samples are reused untouched (geometry and materials must be unchanged —
 //! the fingerprint says so — while the light table may grow).
 
-use super::dataset_job::{NewPaths, new_pass, write_dataset};
+use super::dataset_job::{continued_settings, extend_dataset};
 use super::{ThreadArgs, open_with_scene};
+use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, bail};
 use opticks_core::dataset::LightRecord;
-use opticks_core::trace::{LightPlan, TraceSettings};
+use opticks_core::trace::LightPlan;
 use std::path::PathBuf;
 
 /// Arguments of `opticks add-light`.
@@ -28,6 +29,9 @@ pub struct Args {
     /// Seed (default: the dataset's first; a stream not used yet is picked either way).
     #[arg(long)]
     seed: Option<u64>,
+    /// Strategy options (default: those of the dataset's last pass).
+    #[command(flatten)]
+    strategy: StrategyArgs,
     #[command(flatten)]
     threads: ThreadArgs,
 }
@@ -68,21 +72,11 @@ pub fn run(a: Args) -> Result<()> {
         power,
         paths: 0,
     });
-    header.fingerprint.lights = scene.fingerprint.lights;
-    let last = header.trace.passes.last().copied().unwrap_or_default();
-    let seed = a.seed.unwrap_or(header.trace.passes.first().map_or(0, |p| p.seed));
-    let settings = TraceSettings {
-        paths,
-        seed,
-        stream: header.trace.next_stream(seed),
-        rr_depth: last.rr_depth.max(1),
-        ..Default::default()
-    };
-    header.trace.passes.push(new_pass(&settings));
+    header.fingerprint = scene.fingerprint; // matched (perhaps as a version-1 hash): now current
+    let settings = continued_settings(&header, paths, a.seed, &a.strategy);
     let plan = vec![LightPlan { scene_light, table_index, paths }];
     let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
-    let report =
-        write_dataset(&output, header, &[&reader], Some(NewPaths { scene: &scene, settings, plan }))?;
+    let report = extend_dataset(&reader, header, &output, &scene, settings, plan)?;
     println!(
         "added light '{}' with {paths} paths ({:.2} s) → {} ({} lights, {} samples)",
         a.light,

@@ -48,7 +48,7 @@ pub fn run(a: Args) -> Result<()> {
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
     let t0 = Instant::now();
     let mut chunks = Vec::new();
-    trace_with_progress(&scene, &settings, &plan_all(&scene, a.paths), |c| {
+    trace_with_progress(&scene, &settings, &plan_all(&scene, a.paths), 0, |c| {
         chunks.push(c);
         Ok(())
     })?;

@@ -23,9 +23,19 @@ pub fn run(a: Args) -> Result<()> {
     println!("geometry  {}", h.fingerprint.geometry_hex());
     println!("lights    {}", h.fingerprint.lights_hex());
     for p in &h.trace.passes {
+        let state = if p.is_complete() {
+            String::new()
+        } else {
+            format!(
+                " — interrupted: {} of {} planned paths (`opticks resume` finishes it)",
+                p.paths,
+                p.planned_paths()
+            )
+        };
         println!(
-            "pass      seed {}, stream {}: {} paths in {:.2} s, roulette from depth {}",
-            p.seed, p.stream, p.paths, p.seconds, p.rr_depth
+            "pass      seed {}, stream {}: {} paths in {:.2} s; roulette {:?} from depth {}, directions {:?}, \
+             selection {:?}{state}",
+            p.seed, p.stream, p.paths, p.seconds, p.roulette, p.rr_depth, p.directions, p.selection
         );
     }
     println!("paths     {paths}");

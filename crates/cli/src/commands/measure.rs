@@ -92,7 +92,10 @@ pub fn run(a: Args) -> Result<()> {
     let film = measure(
         &meter,
         data.count(),
-        |i| data.batch(i),
+        |i| {
+            super::unless_interrupted()?;
+            data.batch(i)
+        },
         |n| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64),
     )?;
     pb.finish_and_clear();
@@ -115,7 +118,8 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
     }
-    std::fs::write(&a.output, csv).with_context(|| format!("cannot write {}", a.output.display()))?;
+    opticks_io::image_file::write_file_atomically(&a.output, csv.as_bytes())
+        .with_context(|| format!("cannot write {}", a.output.display()))?;
     if let Some(png) = &a.png {
         opticks_io::heatmap::write_heatmap(
             png,

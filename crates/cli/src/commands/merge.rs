@@ -1,8 +1,11 @@
 //! `opticks merge`: datasets of the same scene traced independently (other seeds, other
-//! machines) become one — the thesis's master/worker merge (§6.2.4). N_k are summed; datasets
-//! that share a random stream are refused, since their paths would be copies, not new samples.
+//! machines) become one — the thesis's master/worker merge (§6.2.4). Lights are matched by name
+//! and N_k summed; a light only some inputs have (one of them gained it by `add-light`) keeps
+//! those inputs' paths, and a light whose shape differs is refused. Datasets that share a random
+//! stream are refused, since their paths would be copies, not new samples. On Ctrl-C nothing
+//! is written.
 
-use super::dataset_job::write_dataset;
+use super::dataset_job::{Source, write_dataset};
 use anyhow::{Result, bail};
 use opticks_core::dataset::merge_tables;
 use opticks_io::dataset_file::DatasetReader;
@@ -24,6 +27,7 @@ pub fn run(a: Args) -> Result<()> {
     let readers: Vec<DatasetReader> =
         a.inputs.iter().map(|p| DatasetReader::open(p)).collect::<Result<_, _>>()?;
     let mut header = readers[0].header().clone();
+    let mut sources = vec![Source::as_is(&readers[0])];
     for (r, path) in readers.iter().zip(&a.inputs).skip(1) {
         let h = r.header();
         if h.fingerprint.geometry != header.fingerprint.geometry {
@@ -35,9 +39,13 @@ pub fn run(a: Args) -> Result<()> {
                 h.fingerprint.geometry_hex()
             );
         }
-        header.table = merge_tables(&header.table, &h.table).map_err(|e| {
+        let (table, lights) = merge_tables(&header.table, &h.table).map_err(|e| {
             anyhow::anyhow!("cannot merge {} into {}: {e}", path.display(), a.inputs[0].display())
         })?;
+        if table.lights.len() == h.table.lights.len() {
+            header.fingerprint.lights = h.fingerprint.lights; // this input has every light
+        }
+        header.table = table;
         for p in &h.trace.passes {
             if header.trace.passes.iter().any(|q| q.seed == p.seed && q.stream == p.stream) {
                 bail!(
@@ -48,15 +56,18 @@ pub fn run(a: Args) -> Result<()> {
                     p.stream
                 );
             }
-            header.trace.passes.push(*p);
+            let mut p = p.clone();
+            p.planned.iter_mut().for_each(|(light, _)| *light = lights[*light as usize]);
+            header.trace.passes.push(p);
         }
+        sources.push(Source { reader: r, lights: Some(lights) });
     }
-    let sources: Vec<&DatasetReader> = readers.iter().collect();
     let report = write_dataset(&a.output, header, &sources, None)?;
     println!(
-        "merged {} datasets: {} paths, {} samples → {}",
+        "merged {} datasets: {} paths, {} lights, {} samples → {}",
         readers.len(),
         report.table.total_paths(),
+        report.table.lights.len(),
         report.summary.samples,
         a.output.display()
     );

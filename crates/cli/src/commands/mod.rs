@@ -11,6 +11,7 @@ pub mod measure;
 pub mod merge;
 pub mod refine;
 pub mod render;
+pub mod resume;
 pub mod trace;
 pub mod walk;
 
@@ -20,7 +21,7 @@ use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{SampleBatch, Sensor, render};
-use opticks_core::trace::{LightPlan, TraceSettings, trace_plan};
+use opticks_core::trace::{LightPlan, TraceSettings, trace_plan_from};
 use opticks_io::dataset_file::DatasetReader;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -47,21 +48,37 @@ impl ThreadArgs {
 }
 
 /// Traces `plan` with a progress bar, handing chunks to `sink`; stops early (between batches)
-/// on Ctrl-C. Returns the paths traced per plan entry.
+/// on Ctrl-C. Skips the plan's first `first_block` blocks (see `trace_plan_from`). Returns the
+/// paths traced per plan entry.
 pub fn trace_with_progress(
     scene: &Scene,
     settings: &TraceSettings,
     plan: &[LightPlan],
+    first_block: usize,
     sink: impl FnMut(Chunk) -> Result<()>,
 ) -> Result<Vec<u64>> {
     let pb = progress::bar(plan.iter().map(|p| p.paths).sum(), "tracing", "paths");
+    let progress = |done| {
+        pb.set_position(done);
+        crate::interrupt::simulate_after(done);
+    };
     let traced =
-        trace_plan(scene, settings, plan, sink, |done| pb.set_position(done), crate::interrupt::requested)?;
+        trace_plan_from(scene, settings, plan, first_block, sink, progress, crate::interrupt::requested)?;
     pb.finish_and_clear();
     Ok(traced)
 }
 
-/// Renders `count` sample batches through `camera` with a progress bar over `total_samples`.
+/// An error once Ctrl-C was pressed: reading and rendering stop at the next batch, and the
+/// verb writes nothing (`render`, `walk`, `measure`, `merge`; traces save their work instead).
+pub fn unless_interrupted() -> Result<()> {
+    if crate::interrupt::requested() {
+        anyhow::bail!("interrupted: stopped, nothing written");
+    }
+    Ok(())
+}
+
+/// Renders `count` sample batches through `camera` with a progress bar over `total_samples`;
+/// stops with an error on Ctrl-C.
 pub fn render_with_progress<'a>(
     scene: &Scene,
     camera: &Sensor,
@@ -71,6 +88,10 @@ pub fn render_with_progress<'a>(
 ) -> Result<Film> {
     let pb = progress::bar(total_samples, "rendering", "samples");
     let done = AtomicU64::new(0);
+    let batch = |i| {
+        unless_interrupted()?;
+        batch(i)
+    };
     let film = render(scene, camera, count, batch, |n| {
         let d = done.fetch_add(n as u64, Ordering::Relaxed) + n as u64;
         pb.set_position(d);
@@ -94,7 +115,7 @@ pub fn open_with_scene(
     let description = crate::scene_arg::load_description(spec).with_context(context)?;
     let scene = crate::scene_arg::build_scene(spec, &description)?;
     let recorded = reader.header().fingerprint;
-    if scene.fingerprint.geometry != recorded.geometry {
+    if scene.fingerprint.geometry != recorded.geometry && scene.geometry_v1 != recorded.geometry {
         anyhow::bail!(
             "{} was traced from a different scene than {spec}: geometry/material fingerprint {} ≠ {}",
             dataset.display(),

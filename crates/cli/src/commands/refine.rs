@@ -1,11 +1,14 @@
 //! `opticks refine`: more paths for an existing dataset, from a fresh random stream. The result
 //! is statistically the same as having traced all the paths at once (N_k simply grows); the
-//! dataset is rewritten atomically, so an interrupted refine leaves it as it was.
+//! dataset is rewritten atomically, so an interrupted refine leaves it as it was (and saves
+//! `NAME.partial.opds`, which `opticks resume` completes). The new paths use the strategy of the
+//! dataset's last pass unless overridden, so the estimator stays the one the dataset was made by.
 
-use super::dataset_job::{NewPaths, new_pass, write_dataset};
+use super::dataset_job::{continued_settings, extend_dataset, scene_lights};
 use super::{ThreadArgs, open_with_scene};
+use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, bail};
-use opticks_core::trace::{LightPlan, TraceSettings, path_quotas};
+use opticks_core::trace::{LightPlan, path_quotas};
 use std::path::PathBuf;
 
 /// Arguments of `opticks refine`.
@@ -25,6 +28,9 @@ pub struct Args {
     /// Seed (default: the dataset's first; a stream not used yet is picked either way).
     #[arg(long)]
     seed: Option<u64>,
+    /// Strategy options (default: those of the dataset's last pass).
+    #[command(flatten)]
+    strategy: StrategyArgs,
     #[command(flatten)]
     threads: ThreadArgs,
 }
@@ -37,20 +43,8 @@ pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let mut header = reader.header().clone();
-    let mut scene_lights = Vec::new();
-    for record in &header.table.lights {
-        match scene.light_index(&record.name) {
-            Some(i) if scene.light_shapes[i] == record.shape => scene_lights.push(i),
-            Some(_) => bail!(
-                "light '{}' has moved or changed shape since the trace: refine needs the same scene",
-                record.name
-            ),
-            None => bail!(
-                "light '{}' of the dataset is not in the scene any more: refine needs the same scene",
-                record.name
-            ),
-        }
-    }
+    let scene_lights = scene_lights(&header.table, &scene, "refine")?;
+    header.fingerprint.geometry = scene.fingerprint.geometry; // matched: record the current hash
     let powers: Vec<_> = scene_lights.iter().map(|&i| scene.lights[i].power()).collect();
     let plan: Vec<LightPlan> = path_quotas(&powers, a.paths)
         .into_iter()
@@ -58,20 +52,10 @@ pub fn run(a: Args) -> Result<()> {
         .enumerate()
         .map(|(k, (paths, &scene_light))| LightPlan { scene_light, table_index: k as u32, paths })
         .collect();
-    let last = header.trace.passes.last().copied().unwrap_or_default();
-    let seed = a.seed.unwrap_or(header.trace.passes.first().map_or(0, |p| p.seed));
-    let settings = TraceSettings {
-        paths: a.paths,
-        seed,
-        stream: header.trace.next_stream(seed),
-        rr_depth: last.rr_depth.max(1),
-        ..Default::default()
-    };
-    header.trace.passes.push(new_pass(&settings));
+    let settings = continued_settings(&header, a.paths, a.seed, &a.strategy);
     let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
     let before = header.table.total_paths();
-    let report =
-        write_dataset(&output, header, &[&reader], Some(NewPaths { scene: &scene, settings, plan }))?;
+    let report = extend_dataset(&reader, header, &output, &scene, settings, plan)?;
     println!(
         "refined {}: {} + {} paths = {} paths, {} samples ({:.2} s) → {}",
         a.dataset.display(),

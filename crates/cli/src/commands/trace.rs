@@ -1,12 +1,12 @@
 //! `opticks trace`: light sampling of a scene file into a dataset file (written atomically).
 
 use super::ThreadArgs;
-use super::dataset_job::{NewPaths, new_pass, write_dataset};
+use super::dataset_job::{NewPaths, write_dataset};
 use crate::scene_arg::load_scene;
 use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, bail};
 use opticks_core::trace::{plan_all, planned_table};
-use opticks_io::dataset_file::{DatasetHeader, TraceInfo};
+use opticks_io::dataset_file::{DatasetHeader, TraceInfo, TracePass};
 use std::path::PathBuf;
 
 /// Arguments of `opticks trace`.
@@ -37,16 +37,21 @@ pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
     let settings = a.strategy.settings(a.paths, a.seed);
+    let plan = plan_all(&scene, a.paths);
     let mut table = planned_table(&scene, a.paths);
     table.lights.iter_mut().for_each(|l| l.paths = 0);
     let header = DatasetHeader {
         fingerprint: scene.fingerprint,
         label: a.scene.clone(),
-        trace: TraceInfo { passes: vec![new_pass(&settings)] },
+        trace: TraceInfo { passes: vec![TracePass::new(&settings, &plan)] },
         table,
     };
-    let plan = plan_all(&scene, a.paths);
-    let report = write_dataset(&a.output, header, &[], Some(NewPaths { scene: &scene, settings, plan }))?;
+    let report = write_dataset(
+        &a.output,
+        header,
+        &[],
+        Some(NewPaths { scene: &scene, settings, plan, first_block: 0 }),
+    )?;
     let paths = report.table.total_paths();
     println!(
         "traced {paths} paths → {} samples in {:.2} s ({:.2} M paths/s) → {} ({:.1} MB)",

@@ -1,7 +1,8 @@
 //! `opticks walk`: a walkthrough — one dataset, many cameras. Keyframes from a JSON camera path
 //! (see `opticks_io::camera_path_file`) are interpolated into frames, each rendered from the
 //! same memory-mapped dataset; the time per frame is reported next to what the trace cost.
-//! With `ffmpeg` on the PATH the PNG frames also become `walk.mp4`.
+//! With `ffmpeg` on the PATH the PNG frames of this run also become `walk.mp4`, written
+//! atomically; the camera path is validated before the output folder is created.
 
 use super::{DatasetArgs, ThreadArgs, write_film};
 use crate::progress;
@@ -74,21 +75,46 @@ pub fn run(a: Args) -> Result<()> {
         100.0 * per_frame / trace.max(1e-9),
         a.output.display()
     );
-    if a.format == "png" && ffmpeg_available() {
+    if a.format != "png" {
+        println!("no video: ffmpeg is given PNG frames only (this run wrote {} frames)", a.format);
+    } else if ffmpeg_available() {
         let video = a.output.join("walk.mp4");
-        let status = Command::new("ffmpeg")
-            .args(["-y", "-loglevel", "error", "-framerate", &walk.fps.to_string(), "-i"])
-            .arg(a.output.join("frame_%05d.png"))
-            .args(["-pix_fmt", "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"])
-            .arg(&video)
-            .status()
-            .context("cannot run ffmpeg")?;
-        if !status.success() {
-            bail!("ffmpeg failed to encode {} ({status})", video.display());
-        }
+        encode_video(&a.output, frames, walk.fps, &video)?;
         println!("video → {}", video.display());
+    } else {
+        println!("no video: ffmpeg is not on the PATH");
     }
     Ok(())
+}
+
+/// Encodes this run's `frames` PNG frames into `video`: exactly frames 0..frames (stale frames
+/// of an earlier, longer run in the same folder are not read), into a temporary file renamed
+/// into place only when ffmpeg succeeded.
+fn encode_video(folder: &std::path::Path, frames: usize, fps: f32, video: &std::path::Path) -> Result<()> {
+    let tmp = folder.join(format!(".walk.tmp-{}.mp4", std::process::id()));
+    let status = Command::new("ffmpeg")
+        .args(["-y", "-loglevel", "error", "-framerate", &fps.to_string(), "-start_number", "0", "-i"])
+        .arg(folder.join("frame_%05d.png"))
+        .args([
+            "-frames:v",
+            &frames.to_string(),
+            "-pix_fmt",
+            "yuv420p",
+            "-vf",
+            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+        ])
+        .arg(&tmp)
+        .status();
+    let done = match status {
+        Ok(s) if s.success() && tmp.exists() => std::fs::rename(&tmp, video)
+            .with_context(|| format!("cannot move the video into place as {}", video.display())),
+        Ok(s) => Err(anyhow::anyhow!("ffmpeg failed to encode {} ({s})", video.display())),
+        Err(e) => Err(anyhow::anyhow!("cannot run ffmpeg: {e}")),
+    };
+    if done.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    done
 }
 
 fn ffmpeg_available() -> bool {

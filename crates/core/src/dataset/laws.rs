@@ -119,27 +119,68 @@ pub fn lighting(table: &LightTable, scene: &Scene, scales: &[LightScale]) -> Res
 /// Why two light tables cannot be merged.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MergeError {
-    /// The tables list different lights.
-    #[error("the datasets have different lights ({0:?} vs {1:?})")]
-    DifferentLights(Vec<String>, Vec<String>),
     /// A light has the same name but another shape.
     #[error("light '{0}' differs in shape between the datasets: they were traced from different scenes")]
     ShapeChanged(String),
 }
 
-/// The light table of the union of two independent datasets of the same scene: N_k summed per
-/// light. Powers are taken from `a` (samples do not depend on power; a difference is relighting).
-pub fn merge_tables(a: &LightTable, b: &LightTable) -> Result<LightTable, MergeError> {
-    let names = |t: &LightTable| t.lights.iter().map(|l| l.name.clone()).collect::<Vec<_>>();
-    if names(a) != names(b) {
-        return Err(MergeError::DifferentLights(names(a), names(b)));
-    }
+/// The light table of the union of two independent datasets of the same scene, and where each
+/// of `b`'s lights went in it. Lights are matched by name (and must have the same shape): a
+/// light in both has N_k summed; a light in only one keeps its N_k (e.g. `b` is a copy of `a`
+/// that gained a light by `add-light`) — exact too, since each light's energy is split only among
+/// its own paths. `a`'s lights keep their indices; `b`'s new lights follow in `b`'s order.
+/// Powers are taken from `a` (samples do not depend on power; a difference is relighting).
+pub fn merge_tables(a: &LightTable, b: &LightTable) -> Result<(LightTable, Vec<u32>), MergeError> {
     let mut out = a.clone();
-    for (x, y) in out.lights.iter_mut().zip(&b.lights) {
-        if x.shape != y.shape {
-            return Err(MergeError::ShapeChanged(x.name.clone()));
+    let mut b_index = Vec::with_capacity(b.lights.len());
+    for y in &b.lights {
+        match out.lights.iter().position(|x| x.name == y.name) {
+            Some(k) if out.lights[k].shape != y.shape => {
+                return Err(MergeError::ShapeChanged(y.name.clone()));
+            }
+            Some(k) => {
+                out.lights[k].paths += y.paths;
+                b_index.push(k as u32);
+            }
+            None => {
+                b_index.push(out.lights.len() as u32);
+                out.lights.push(y.clone());
+            }
         }
-        x.paths += y.paths;
     }
-    Ok(out)
+    Ok((out, b_index))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset::LightRecord;
+
+    fn table(lights: &[(&str, u8, u64)]) -> LightTable {
+        LightTable {
+            lights: lights
+                .iter()
+                .map(|&(name, shape, paths)| LightRecord {
+                    name: name.into(),
+                    shape: [shape; 16],
+                    power: Rgb::ONE,
+                    paths,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn merging_unites_light_tables_by_name_and_sums_their_paths() {
+        let a = table(&[("sun", 1, 10), ("lamp", 2, 20)]);
+        let b = table(&[("bulb", 3, 5), ("lamp", 2, 7), ("sun", 1, 1)]);
+        let (m, map) = merge_tables(&a, &b).unwrap();
+        assert_eq!(m, table(&[("sun", 1, 11), ("lamp", 2, 27), ("bulb", 3, 5)]));
+        assert_eq!(map, [2, 1, 0]);
+        let (m, map) = merge_tables(&b, &a).unwrap();
+        assert_eq!(m, table(&[("bulb", 3, 5), ("lamp", 2, 27), ("sun", 1, 11)]));
+        assert_eq!(map, [2, 1]);
+        let moved = table(&[("lamp", 9, 1)]);
+        assert_eq!(merge_tables(&a, &moved), Err(MergeError::ShapeChanged("lamp".into())));
+    }
 }

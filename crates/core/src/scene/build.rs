@@ -65,6 +65,9 @@ pub struct Scene {
     pub camera: Option<CameraDesc>,
     /// Content hashes.
     pub fingerprint: Fingerprint,
+    /// The geometry hash as format-version-1 datasets recorded it (which also covered which
+    /// triangles emit): such a dataset matches this scene if its hash equals this one.
+    pub geometry_v1: [u8; 16],
     /// Zero-area triangles that were dropped.
     pub dropped_triangles: usize,
     accel: Accel,
@@ -228,7 +231,22 @@ impl Scene {
         let mut light_of = Vec::new();
         let mut lights = Vec::new();
         let mut dropped = 0usize;
-        let mut geo = Hasher::new("opticks geometry v1");
+        // The geometry fingerprint covers each triangle's corners and material, not whether it
+        // emits: emission is the lights' business (each light has its own shape hash), so a
+        // surface may become a light without invalidating the samples of the others.
+        let mut geo = Hasher::new("opticks geometry v2");
+        let material_hashes: Vec<[u8; 16]> = desc
+            .materials
+            .iter()
+            .map(|m| {
+                let mut h = Hasher::new("opticks material");
+                // Debug formatting of f32 is the shortest round-trip form: stable and exact.
+                h.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
+                h.finish()
+            })
+            .collect();
+        // The hash datasets of format version 1 recorded (it also covered emitter assignment).
+        let mut geo_v1 = Hasher::new("opticks geometry v1");
 
         for mesh in &desc.meshes {
             if mesh.material >= desc.materials.len() {
@@ -279,8 +297,11 @@ impl Scene {
                     continue;
                 }
                 let index = triangles.len() as u32;
-                geo.f32s(&[a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z]);
-                geo.u32s(&[mesh.material as u32, light_index]);
+                let corners = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z];
+                geo.f32s(&corners);
+                geo.0.update(&material_hashes[mesh.material]);
+                geo_v1.f32s(&corners);
+                geo_v1.u32s(&[mesh.material as u32, light_index]);
                 if light_index != NO_LIGHT {
                     emitter_tris.push(index);
                     area_sum += area as f64;
@@ -407,8 +428,7 @@ impl Scene {
             return Err(SceneError::NoLight);
         }
         for m in &desc.materials {
-            // Debug formatting of f32 is the shortest round-trip form: stable and exact.
-            geo.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
+            geo_v1.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
         }
         let mut names = std::collections::HashSet::new();
         if let Some(dup) = lights.iter().map(Light::name).find(|n| !names.insert(*n)) {
@@ -432,6 +452,7 @@ impl Scene {
             light_shapes,
             camera: desc.camera,
             fingerprint: Fingerprint { geometry: geo.finish(), lights: lit.finish() },
+            geometry_v1: geo_v1.finish(),
             dropped_triangles: dropped,
             accel,
         })

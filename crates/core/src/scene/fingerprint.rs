@@ -1,14 +1,22 @@
 //! Content fingerprints: a dataset is only valid for the scene it was traced in.
 //!
-//! Two hashes (BLAKE3, 128 bits each): `geometry` covers triangles and materials — it must match
-//! for a dataset to be rendered; `lights` covers the lights' names and shapes (where and how they
-//! emit, not how much) — it may change (adding a light) without invalidating the stored samples
-//! of the other lights, which are checked one by one with their own shape hashes.
+//! Two hashes (BLAKE3, 128 bits each): `geometry` covers triangles and their materials (the
+//! reflectance each triangle has, not the index of its material in the scene's list) — it must
+//! match for a dataset to be rendered; `lights` covers the lights' names and shapes (where and
+//! how they emit, not how much) — it may change (adding a light) without invalidating the stored
+//! samples of the other lights, which are checked one by one with their own shape hashes.
+//!
+//! Which triangles emit is deliberately not part of `geometry`: a surface that becomes a light
+//! changes nothing the stored paths saw (they were reflected by the same triangles with the same
+//! BSDFs), so `add-light` accepts it. New or moved triangles, or a changed reflectance, are
+//! refused: they would occlude or reflect the old lights' light, and the stored paths never saw
+//! them. (Datasets of format version 1 recorded an older hash that also covered emission; the
+//! scene keeps it as `Scene::geometry_v1` so they still match their scene.)
 
 /// The scene's content hashes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Fingerprint {
-    /// Hash of world-space triangles, their materials and emitter assignment.
+    /// Hash of world-space triangles and their materials (not of which emit).
     pub geometry: [u8; 16],
     /// Hash of the lights' names and shapes (not their powers).
     pub lights: [u8; 16],
@@ -53,5 +61,38 @@ impl Hasher {
         let mut out = [0u8; 16];
         out.copy_from_slice(&self.0.finalize().as_bytes()[..16]);
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::bsdf::{Bsdf, Lambert};
+    use crate::math::Rgb;
+    use crate::scene::{Scene, demo::cornell_box};
+
+    #[test]
+    fn emission_is_not_geometry_but_reflectance_and_triangles_are() {
+        let base = cornell_box();
+        let fp = |d: &crate::scene::SceneDescription| Scene::build(d).unwrap().fingerprint;
+        let original = fp(&base);
+        let non_emitting = base.meshes.iter().position(|m| m.emission.is_none()).unwrap();
+
+        let mut glowing = base.clone();
+        glowing.meshes[non_emitting].emission = Some(Rgb::splat(0.5));
+        assert_eq!(fp(&glowing).geometry, original.geometry, "a surface turned light is the same geometry");
+        assert_ne!(fp(&glowing).lights, original.lights, "but the lights changed");
+
+        let mut extra_material = base.clone();
+        extra_material.materials.push(extra_material.materials[0].clone());
+        assert_eq!(fp(&extra_material).geometry, original.geometry, "an unused material changes nothing");
+
+        let mut repainted = base.clone();
+        let m = repainted.meshes[non_emitting].material;
+        repainted.materials[m].bsdf = Bsdf::Lambert(Lambert { reflectance: Rgb::splat(0.123) });
+        assert_ne!(fp(&repainted).geometry, original.geometry, "another reflectance is another scene");
+
+        let mut moved = base.clone();
+        moved.meshes[non_emitting].positions[0].x += 1e-3;
+        assert_ne!(fp(&moved).geometry, original.geometry, "moved triangles are another scene");
     }
 }

@@ -370,6 +370,35 @@ pub fn trace_plan<E>(
     scene: &Scene,
     settings: &TraceSettings,
     plan: &[LightPlan],
+    sink: impl FnMut(Chunk) -> Result<(), E>,
+    progress: impl Fn(u64),
+    stop: impl Fn() -> bool,
+) -> Result<Vec<u64>, E> {
+    trace_plan_from(scene, settings, plan, 0, sink, progress, stop)
+}
+
+/// How many blocks of `plan`, in the order [`trace_plan`] traces them, hold exactly `paths`
+/// paths: the blocks an interrupted run of the plan completed (it stops between blocks, in
+/// order). `None` if no prefix of blocks holds that many.
+pub fn blocks_done(plan: &[LightPlan], paths: u64) -> Option<usize> {
+    let mut sum = 0;
+    for (i, &(_, _, n)) in interleaved_blocks(plan).iter().enumerate() {
+        if sum == paths {
+            return Some(i);
+        }
+        sum += n;
+    }
+    (sum == paths).then_some(interleaved_blocks(plan).len())
+}
+
+/// [`trace_plan`] without its first `first_block` blocks: resumes a run of the plan that was
+/// stopped after that many ([`blocks_done`]). Every block has its own random stream, so the
+/// chunks are exactly those the uninterrupted run would have produced after them.
+pub fn trace_plan_from<E>(
+    scene: &Scene,
+    settings: &TraceSettings,
+    plan: &[LightPlan],
+    first_block: usize,
     mut sink: impl FnMut(Chunk) -> Result<(), E>,
     progress: impl Fn(u64),
     stop: impl Fn() -> bool,
@@ -377,7 +406,7 @@ pub fn trace_plan<E>(
     let blocks = interleaved_blocks(plan);
     let mut traced = vec![0u64; plan.len()];
     let mut done = 0u64;
-    for batch in blocks.chunks(BATCH_BLOCKS) {
+    for batch in blocks[first_block.min(blocks.len())..].chunks(BATCH_BLOCKS) {
         if stop() {
             break;
         }
@@ -423,5 +452,22 @@ mod tests {
         assert_eq!(q.iter().sum::<u64>(), 11, "a dim light still gets a path");
         assert!(q[1] >= 1);
         assert_eq!(path_quotas(&[Rgb::splat(2.0); 3], 7).iter().sum::<u64>(), 7);
+    }
+
+    #[test]
+    fn blocks_done_finds_the_prefix_an_interrupted_run_traced() {
+        let plan = [
+            LightPlan { scene_light: 0, table_index: 0, paths: 3 * BLOCK_PATHS },
+            LightPlan { scene_light: 1, table_index: 1, paths: BLOCK_PATHS + 7 },
+        ];
+        let order = interleaved_blocks(&plan);
+        let mut sum = 0;
+        for (i, &(_, _, n)) in order.iter().enumerate() {
+            assert_eq!(blocks_done(&plan, sum), Some(i));
+            assert_eq!(blocks_done(&plan, sum + 1), None, "not a block boundary");
+            sum += n;
+        }
+        assert_eq!(blocks_done(&plan, sum), Some(order.len()));
+        assert_eq!(blocks_done(&plan, sum + 1), None);
     }
 }

@@ -1,18 +1,24 @@
 //! Byte layout of the header, chunk headers and end record (see `docs/dataset-format.md`).
 
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, DatasetHeader, END_MAGIC, FORMAT_VERSION};
-use super::{MAGIC, TRAILER_LEN, TraceInfo, TracePass};
+use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN, TraceInfo, TracePass};
 use opticks_core::dataset::{LightRecord, LightTable, Sample};
 use opticks_core::math::Rgb;
 use opticks_core::scene::Fingerprint;
+use opticks_core::trace::{Directions, Roulette, Selection};
 use std::path::Path;
 
 /// Size of the fixed part of the header, up to and including the pass count.
 pub(crate) const FIXED_HEADER_LEN: usize = 52;
 /// Smallest possible header: fixed part, label length 0, light count, CRC, padded.
 pub(crate) const MIN_HEADER_LEN: usize = align_up(FIXED_HEADER_LEN + 4 + 4 + 4);
-/// Bytes of a pass record: seed, stream, paths, roulette depth, seconds.
-const PASS_RECORD_LEN: usize = 8 + 8 + 8 + 4 + 4;
+/// Bytes of a version-1 pass record: seed, stream, paths, roulette depth, seconds.
+const PASS_RECORD_V1_LEN: usize = 8 + 8 + 8 + 4 + 4;
+/// Bytes of a version-2 pass record besides its plan: the version-1 fields, roulette,
+/// directions, selection, a zero byte, the plan's length.
+const PASS_RECORD_LEN: usize = PASS_RECORD_V1_LEN + 4 + 4;
+/// Bytes of one entry of a pass's plan: light table index, planned paths.
+const PLAN_ENTRY_LEN: usize = 4 + 8;
 /// Bytes of a light record besides its name: name length, shape hash, power, paths.
 const LIGHT_RECORD_MIN: usize = 4 + 16 + 12 + 8;
 
@@ -37,6 +43,19 @@ pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
         b.extend_from_slice(&p.paths.to_le_bytes());
         b.extend_from_slice(&p.rr_depth.to_le_bytes());
         b.extend_from_slice(&p.seconds.to_le_bytes());
+        b.extend_from_slice(&[
+            roulette_code(p.roulette),
+            directions_code(p.directions),
+            selection_code(p.selection),
+            0,
+        ]);
+        let planned =
+            u32::try_from(p.planned.len()).map_err(|_| "more than 2^32 planned lights".to_string())?;
+        b.extend_from_slice(&planned.to_le_bytes());
+        for &(light, paths) in &p.planned {
+            b.extend_from_slice(&light.to_le_bytes());
+            b.extend_from_slice(&paths.to_le_bytes());
+        }
     }
     let label_len = u32::try_from(h.label.len()).map_err(|_| "label longer than 4 GiB".to_string())?;
     b.extend_from_slice(&label_len.to_le_bytes());
@@ -132,8 +151,8 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
             supported: FORMAT_VERSION,
         });
     }
-    if version == 0 {
-        return Err(corrupt(8, "format version 0 does not exist".into()));
+    if version < OLDEST_VERSION {
+        return Err(corrupt(8, format!("format version {version} does not exist")));
     }
 
     let body = &file[..len - 4];
@@ -143,7 +162,8 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
     fingerprint.lights.copy_from_slice(c.take(16, "light hash")?);
     let pass_count_at = c.pos;
     let pass_count = c.u32("pass count")? as usize;
-    if pass_count > (body.len() - c.pos) / PASS_RECORD_LEN {
+    let record_len = if version == 1 { PASS_RECORD_V1_LEN } else { PASS_RECORD_LEN };
+    if pass_count > (body.len() - c.pos) / record_len {
         return Err(corrupt(
             pass_count_at,
             format!(
@@ -153,7 +173,7 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
         ));
     }
     let mut passes = Vec::with_capacity(pass_count);
-    for _ in 0..pass_count {
+    for i in 0..pass_count {
         let (seed, stream, paths) = (c.u64("pass seed")?, c.u64("pass stream")?, c.u64("pass paths")?);
         let rr_depth = c.u32("pass roulette depth")?;
         let seconds = f32::from_le_bytes(c.take(4, "pass seconds")?.try_into().unwrap());
@@ -163,7 +183,40 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
                 format!("pass duration {seconds} is not a valid number of seconds"),
             ));
         }
-        passes.push(TracePass { seed, stream, paths, rr_depth, seconds });
+        let mut pass = TracePass { seed, stream, paths, rr_depth, seconds, ..Default::default() };
+        if version >= 2 {
+            let at = c.pos;
+            let codes = c.take(4, "pass strategy")?;
+            let bad = |what: &str, code: u8| corrupt(at, format!("pass {i}: unknown {what} code {code}"));
+            pass.roulette = roulette_from(codes[0]).ok_or_else(|| bad("roulette", codes[0]))?;
+            pass.directions = directions_from(codes[1]).ok_or_else(|| bad("directions", codes[1]))?;
+            pass.selection = selection_from(codes[2]).ok_or_else(|| bad("selection", codes[2]))?;
+            if codes[3] != 0 {
+                return Err(corrupt(at + 3, format!("pass {i}: non-zero reserved byte")));
+            }
+            let planned_at = c.pos;
+            let n = c.u32("pass plan length")? as usize;
+            if n > (body.len() - c.pos) / PLAN_ENTRY_LEN {
+                return Err(corrupt(
+                    planned_at,
+                    format!(
+                        "pass {i}: plan of {n} lights cannot fit in the {} bytes left",
+                        body.len() - c.pos
+                    ),
+                ));
+            }
+            for _ in 0..n {
+                let light = c.u32("planned light")?;
+                pass.planned.push((light, c.u64("planned paths")?));
+            }
+            if pass.paths > pass.planned_paths() {
+                return Err(corrupt(
+                    planned_at,
+                    format!("pass {i} traced {} paths but planned only {}", pass.paths, pass.planned_paths()),
+                ));
+            }
+        }
+        passes.push(pass);
     }
     let label = c.string("scene label")?;
     let label_end = c.pos;
@@ -192,6 +245,14 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
         let paths = c.u64("light path count")?;
         lights.push(LightRecord { name, shape, power: Rgb::from_array(p), paths });
     }
+    for (i, p) in passes.iter().enumerate() {
+        if let Some(&(light, _)) = p.planned.iter().find(|q| q.0 as usize >= n) {
+            return Err(corrupt(
+                pass_count_at,
+                format!("pass {i} plans paths for light {light}, but the light table has {n} lights"),
+            ));
+        }
+    }
     if align_up(c.pos + 4) != len {
         return Err(corrupt(
             12,
@@ -211,6 +272,35 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
         len,
         paths_offsets,
     })
+}
+
+// Strategy codes of a pass record (a closed set each; unknown codes are corruption).
+fn roulette_code(r: Roulette) -> u8 {
+    match r {
+        Roulette::Energy => 0,
+        Roulette::Fixed => 1,
+    }
+}
+fn roulette_from(c: u8) -> Option<Roulette> {
+    [Roulette::Energy, Roulette::Fixed].into_iter().find(|&r| roulette_code(r) == c)
+}
+fn directions_code(d: Directions) -> u8 {
+    match d {
+        Directions::Importance => 0,
+        Directions::Uniform => 1,
+    }
+}
+fn directions_from(c: u8) -> Option<Directions> {
+    [Directions::Importance, Directions::Uniform].into_iter().find(|&d| directions_code(d) == c)
+}
+fn selection_code(s: Selection) -> u8 {
+    match s {
+        Selection::Single => 0,
+        Selection::Priority => 1,
+    }
+}
+fn selection_from(c: u8) -> Option<Selection> {
+    [Selection::Single, Selection::Priority].into_iter().find(|&s| selection_code(s) == c)
 }
 
 struct Cursor<'a> {

@@ -30,12 +30,16 @@ pub use writer::{DatasetSummary, DatasetWriter};
 
 use opticks_core::dataset::LightTable;
 use opticks_core::scene::Fingerprint;
+use opticks_core::trace::{Directions, LightPlan, Roulette, Selection, TraceSettings};
 
 /// The first 8 bytes of every dataset file (PNG-style: a high-bit byte, `OPK`, CR LF, DOS EOF,
 /// LF — so 7-bit transfers and newline translation are detected as a foreign file).
 pub const MAGIC: [u8; 8] = *b"\x89OPK\r\n\x1a\n";
 /// The format version this build writes, and the newest it reads.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
+/// The oldest format version this build still reads (version 1 had no strategy or plan in its
+/// pass records: they read as the default strategy and a complete pass).
+pub const OLDEST_VERSION: u32 = 1;
 /// Conventional file extension (without the dot).
 pub const EXTENSION: &str = "opds";
 /// Magic of a chunk header.
@@ -50,10 +54,11 @@ pub const TRAILER_LEN: usize = 32;
 pub const ALIGN: usize = 32;
 
 /// One run of light sampling that contributed paths to the dataset: a trace, a refinement, an
-/// added light, or a dataset merged in. Kept so that refinements pick a fresh random stream,
-/// merges refuse datasets that share one (their paths would be identical, not independent), and
-/// `info` can say how the dataset was made.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// added light, or a dataset merged in. Kept so that refinements pick a fresh random stream and
+/// reuse the strategy, merges refuse datasets that share a stream (their paths would be
+/// identical, not independent), an interrupted pass can be resumed (its plan says which blocks
+/// are missing), and `info` can say how the dataset was made.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct TracePass {
     /// Seed of the random streams.
     pub seed: u64,
@@ -65,6 +70,56 @@ pub struct TracePass {
     pub rr_depth: u32,
     /// Wall-clock seconds the pass took.
     pub seconds: f32,
+    /// Russian roulette rule.
+    pub roulette: Roulette,
+    /// Continuation direction sampling.
+    pub directions: Directions,
+    /// Vertex selection for extension.
+    pub selection: Selection,
+    /// What the pass set out to trace: (light table index, planned paths) per light, in plan
+    /// order. The pass is complete when `paths` reaches their sum; empty = unknown (format
+    /// version 1), taken as complete.
+    pub planned: Vec<(u32, u64)>,
+}
+
+impl TracePass {
+    /// A new pass of `settings` planning `plan` (its paths and time are filled in when it ends).
+    pub fn new(settings: &TraceSettings, plan: &[LightPlan]) -> Self {
+        TracePass {
+            seed: settings.seed,
+            stream: settings.stream,
+            paths: 0,
+            rr_depth: settings.rr_depth,
+            seconds: 0.0,
+            roulette: settings.roulette,
+            directions: settings.directions,
+            selection: settings.selection,
+            planned: plan.iter().map(|p| (p.table_index, p.paths)).collect(),
+        }
+    }
+
+    /// Paths the pass planned (= `paths` when the plan is unknown).
+    pub fn planned_paths(&self) -> u64 {
+        if self.planned.is_empty() { self.paths } else { self.planned.iter().map(|p| p.1).sum() }
+    }
+
+    /// Whether the pass traced everything it planned (false for an interrupted run).
+    pub fn is_complete(&self) -> bool {
+        self.paths >= self.planned_paths()
+    }
+
+    /// The settings the pass traced with (`paths` = the planned total).
+    pub fn settings(&self) -> TraceSettings {
+        TraceSettings {
+            paths: self.planned_paths(),
+            seed: self.seed,
+            stream: self.stream,
+            rr_depth: self.rr_depth,
+            roulette: self.roulette,
+            directions: self.directions,
+            selection: self.selection,
+        }
+    }
 }
 
 /// How the dataset was traced: its passes, oldest first.

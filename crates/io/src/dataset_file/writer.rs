@@ -35,8 +35,8 @@ pub struct DatasetSummary {
 ///
 /// The header is written first with the light table given to `create` and rewritten in place by
 /// `finish`, so the final table must have the same lights (same count and names, hence the same
-/// encoded length) and the trace record the same number of passes; only the powers Φ_k, path
-/// counts N_k and the passes' figures may change.
+/// encoded length) and the trace record the same passes with the same plans; only the powers
+/// Φ_k, path counts N_k and the passes' figures (paths, seconds) may change.
 #[derive(Debug)]
 pub struct DatasetWriter {
     path: PathBuf,
@@ -175,6 +175,10 @@ impl DatasetWriter {
                     l.name, l.paths
                 )));
             }
+        }
+        let plans = |t: &TraceInfo| t.passes.iter().map(|p| p.planned.clone()).collect::<Vec<_>>();
+        if trace.passes.len() == self.header.trace.passes.len() && plans(trace) != plans(&self.header.trace) {
+            return Err(invalid("the final trace record changes a pass's plan".into()));
         }
         if trace.passes.len() != self.header.trace.passes.len() {
             return Err(invalid(format!(
