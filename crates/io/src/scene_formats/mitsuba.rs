@@ -1182,6 +1182,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
         let ty = self.required(n, "type")?;
         let name = self.attr(n, "id")?.unwrap_or_else(|| format!("{ty}_{index}"));
         let mut p = self.props(n)?;
+        let mut normals = Vec::new();
         let (positions, mut triangles, analytic) = match ty.as_str() {
             "obj" => {
                 let (file, _) = self
@@ -1192,6 +1193,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 if mesh.triangles.is_empty() {
                     self.warn(n, format!("{} has no faces", path.display()));
                 }
+                normals = mesh.normals;
                 (mesh.positions, mesh.triangles, false)
             }
             "rectangle" => {
@@ -1212,7 +1214,10 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 ));
             }
         };
-        self.get_bool(&mut p, "face_normals")?; // accepted: Opticks always shades flat
+        // Mitsuba's default (false) shades with the file's vertex normals when it has them.
+        if self.get_bool(&mut p, "face_normals")?.unwrap_or(false) {
+            normals.clear();
+        }
         p.ignore(&["flip_tex_coords"]);
         let flip = self.get_bool(&mut p, "flip_normals")?.unwrap_or(false);
         let mut positions = positions;
@@ -1232,10 +1237,16 @@ impl<'a, 'i> Ctx<'a, 'i> {
                         self.err(tnode, format!("to_world maps vertex {} to a non-finite point", i + 1))
                     );
                 }
+                // Normals transform by the inverse transpose (the core normalises them).
+                let nm = glam::Mat3::from_mat4(mf).inverse().transpose();
+                normals.iter_mut().for_each(|v| *v = nm * *v);
             }
         }
         if flip ^ (analytic && mirrored) {
             triangles.iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        if flip {
+            normals.iter_mut().for_each(|v| *v = -*v);
         }
 
         let mut material = None;
@@ -1297,6 +1308,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
             source: self.source(n),
             positions,
             triangles,
+            normals,
             material,
             emission,
             emission_profile,
