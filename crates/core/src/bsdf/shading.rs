@@ -102,3 +102,86 @@ impl LocalFrame {
         Some(BsdfSample { wo, weight, ..s })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::{Bsdf, Lambert, Material, ModifiedPhong};
+    use crate::math::Rgb;
+    use crate::sampling::{RandomStream, warp};
+
+    /// Mean and standard error of `n` draws of `f`.
+    fn estimate(n: usize, mut f: impl FnMut() -> f64) -> (f64, f64) {
+        let (mut s, mut s2) = (0.0, 0.0);
+        for _ in 0..n {
+            let x = f();
+            s += x;
+            s2 += x * x;
+        }
+        let m = s / n as f64;
+        (m, ((s2 / n as f64 - m * m) / n as f64).sqrt())
+    }
+
+    /// The trace's β update must be f_eff·|ω_o·n_g|/p: importance-mode sampling averages
+    /// ∫ f_eff(ω_i→ω)·g(ω)·|ω·n_g| dω, as integrated by uniform sphere sampling of `eval_world`
+    /// (the sensor's f_r). Radiance-mode weights, which lack the correction, must not.
+    #[test]
+    fn importance_sampling_agrees_with_eval_and_differs_from_radiance_mode() {
+        let normals = SurfaceNormals { geometric: Vec3::Y, shading: Vec3::new(0.35, 1.0, -0.1).normalize() };
+        let wi = Vec3::new(-0.5, 0.6, 0.2).normalize();
+        let g = |w: Vec3| 1.0 + 0.8 * w.x as f64 + 0.3 * w.z as f64;
+        let phong = ModifiedPhong::new(Rgb::splat(0.4), Rgb::splat(0.3), 12.0).unwrap();
+        for bsdf in [Bsdf::Lambert(Lambert::new(Rgb::splat(0.7)).unwrap()), Bsdf::ModifiedPhong(phong)] {
+            let m = Material { name: "m".into(), bsdf, two_sided: true };
+            let n = 400_000;
+            let mut rng = RandomStream::new(7, &[1]);
+            let mut sampled = |mode| {
+                estimate(n, || {
+                    let (ul, u) = (rng.next_f32(), rng.next_2d());
+                    m.sample_world(normals, wi, ul, u, mode).map_or(0.0, |s| s.weight.x as f64 * g(s.wo))
+                })
+            };
+            let (imp, imp_e) = sampled(TransportMode::Importance);
+            let (rad, rad_e) = sampled(TransportMode::Radiance);
+            let (ev, ev_e) = estimate(n, || {
+                let w = warp::square_to_uniform_sphere(rng.next_2d());
+                m.eval_world(normals, wi, w).x as f64 * w.y.abs() as f64 * g(w) * 4.0 * std::f64::consts::PI
+            });
+            let sigma = (imp_e * imp_e + ev_e * ev_e).sqrt();
+            eprintln!(
+                "{:?}: importance {imp:.4}±{imp_e:.4}, eval {ev:.4}±{ev_e:.4}, radiance {rad:.4}±{rad_e:.4}",
+                m.bsdf
+            );
+            assert!((imp - ev).abs() < 4.0 * sigma, "importance {imp} vs eval {ev} (σ {sigma})");
+            assert!(
+                (rad - ev).abs() > 10.0 * (rad_e * rad_e + ev_e * ev_e).sqrt(),
+                "radiance mode {rad} vs {ev}"
+            );
+        }
+    }
+
+    /// A direction above the shading hemisphere but below the geometric surface is discarded
+    /// by sampling and evaluates to zero (the light-leak guard).
+    #[test]
+    fn leaking_directions_are_zero_both_ways() {
+        let m = Material {
+            name: "m".into(),
+            bsdf: Bsdf::Lambert(Lambert::new(Rgb::ONE).unwrap()),
+            two_sided: false,
+        };
+        let normals = SurfaceNormals { geometric: Vec3::Y, shading: Vec3::new(0.8, 0.6, 0.0) };
+        let wi = Vec3::new(0.6, 0.8, 0.0);
+        let below = Vec3::new(0.9, -0.1, 0.0).normalize(); // above n_s, below n_g
+        assert!(below.dot(normals.shading) > 0.0);
+        assert_eq!(m.eval_world(normals, wi, below), Rgb::ZERO);
+        let mut rng = RandomStream::new(1, &[2]);
+        let mut discarded = 0;
+        for _ in 0..10_000 {
+            match m.sample_world(normals, wi, rng.next_f32(), rng.next_2d(), TransportMode::Importance) {
+                Some(s) => assert!(s.wo.y > 0.0 && m.eval_world(normals, wi, s.wo).x > 0.0),
+                None => discarded += 1,
+            }
+        }
+        assert!(discarded > 0, "some cosine samples fall below the geometric surface");
+    }
+}
