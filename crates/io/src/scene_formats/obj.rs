@@ -10,8 +10,8 @@
 //!
 //! Vertex normals: a corner `v//vn` is a vertex of its own (position v, normal vn; corners
 //! sharing both share the vertex). In a file that uses normals, a face corner without one is
-//! shaded flat: it gets a vertex of its own with its face's geometric normal. `s` (smoothing
-//! groups) does not generate normals. A file without `vn` gives exactly the mesh it gave before.
+//! shaded flat: it gets a vertex of its own with its face's geometric normal. Normal indices
+//! on faces before the first `vn` are ignored. `s` (smoothing groups) does not generate normals. A file without `vn` gives exactly the mesh it gave before.
 //!
 //! Winding is kept as written: a triangle's front face is the one from which it is
 //! counter-clockwise (normal `(v1 − v0) × (v2 − v0)`). Degenerate (zero-area) triangles are kept;
@@ -171,7 +171,8 @@ impl ObjGeometry {
             }
             let mut fields = tok.split(|&b| b == b'/');
             let v = fields.next().unwrap_or(tok);
-            let vn = fields.nth(1).filter(|f| !f.is_empty());
+            // Normal indices before any `vn` are ignored (as they always were).
+            let vn = fields.nth(1).filter(|f| !f.is_empty() && !self.normals.is_empty());
             let i = parse_index(v).ok_or_else(|| ObjError {
                 line: line_no,
                 message: format!("face corner {:?} does not start with a vertex index", lossy(tok)),
@@ -465,9 +466,38 @@ mod tests {
         let src = b"# comment\no quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\r\nv 0 1 0 1.0\nvt 0 0\nvn 0 0 1\ns off\nusemtl x\n\
                     f 1/1/1 2/1/1 3/1/1 4/1/1\nf -4//1 -2//1 -1//1 # tail comment\n\tf\t1 2 3\n";
         let m = parse_obj(src).unwrap();
-        assert_eq!(m.positions.len(), 4);
+        // Four (position, normal) corners, then the three flat corners of `f 1 2 3`.
+        assert_eq!(m.positions.len(), 7);
         assert_eq!(m.positions[2], Vec3::new(1.0, 1.0, 0.0));
-        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 2, 3], [0, 1, 2]]);
+        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 2, 3], [4, 5, 6]]);
+    }
+
+    #[test]
+    fn vertex_normals_split_corners_and_unnormalled_corners_are_flat() {
+        let src = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 2\nvn 0.1 0 1\n\
+                    f 1//1 2//2 3//1\nf 2//2 4//1 3//1\nf 1 2 4\n";
+        let m = parse_obj(src).unwrap();
+        // Corners (1,1) (2,2) (3,1) (4,1), then three flat corners of their own.
+        assert_eq!(m.triangles, vec![[0, 1, 2], [1, 3, 2], [4, 5, 6]]);
+        assert_eq!(m.positions.len(), 7);
+        assert_eq!(m.normals.len(), 7);
+        assert_eq!(m.normals[1], Vec3::new(0.1, 0.0, 1.0));
+        assert_eq!(m.positions[5], Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(m.normals[6], Vec3::Z); // the face normal
+        // Without vn the mesh is what it always was.
+        assert!(parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap().normals.is_empty());
+        for (src, text) in [
+            (
+                &b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n"[..],
+                "normal 2, but the file defines only 1",
+            ),
+            (b"v 0 0 0\nvn 0 0 0\n", "zero"),
+            (b"v 0 0 0\nvn 0 nan 1\n", "not finite"),
+            (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//x 2 3\n", "normal index"),
+        ] {
+            let e = parse_obj(src).unwrap_err();
+            assert!(e.message.contains(text), "{e:?} should mention {text:?}");
+        }
     }
 
     #[test]
