@@ -149,3 +149,26 @@ fn geometric_vertex_normals_change_nothing() {
     assert_eq!(ta, tb);
     assert_eq!(ca, cb);
 }
+
+/// Bad vertex normals are errors naming the mesh; normals pointing against the winding turn the
+/// triangle's front to their side (as pbrt and Mitsuba orient the geometric normal).
+#[test]
+fn vertex_normals_are_checked_and_orient_the_front() {
+    let cam = furnace_view(60.0, 8, 8);
+    let light = Vec3::new(0.0, 1.0, 0.0);
+    let with = |normals: Vec<Vec3>| {
+        let mut m = bent_plane(false);
+        m.normals = normals;
+        Scene::build(&scene(m, light, cam))
+    };
+    let e = with(vec![Vec3::Y; 3]).unwrap_err().to_string();
+    assert!(e.contains("mesh 'plane': 3 vertex normals for 4 vertices"), "{e}");
+    let e = with(vec![Vec3::Y, Vec3::ZERO, Vec3::Y, Vec3::Y]).unwrap_err().to_string();
+    assert!(e.contains("vertex normal 1"), "{e}");
+    let e = with(vec![Vec3::Y, Vec3::Y, Vec3::new(f32::NAN, 1.0, 0.0), Vec3::Y]).unwrap_err().to_string();
+    assert!(e.contains("vertex normal 2"), "{e}");
+    let down = with(vec![Vec3::new(0.1, -1.0, 0.0); 4]).unwrap();
+    let n = down.normals_at(0, Vec3::ZERO);
+    assert_eq!(n.geometric, -Vec3::Y);
+    assert!(n.shading.dot(n.geometric) > 0.99);
+}
