@@ -98,7 +98,7 @@
 //!
 //! | type | parameters | geometry |
 //! |---|---|---|
-//! | `obj` | `filename` (relative to the XML file's folder), `face_normals` (accepted; Opticks always shades flat), `flip_normals`, `to_world` | the OBJ's triangles, transformed ([`super::obj`]) |
+//! | `obj` | `filename` (relative to the XML file's folder), `face_normals` (default false: the OBJ's `vn` vertex normals are the shading normals; true: faceted), `flip_normals` (also negates the normals), `to_world` (normals by its inverse transpose) | the OBJ's triangles, transformed ([`super::obj`]) |
 //! | `rectangle` | `flip_normals`, `to_world` | [-1, 1]² at z = 0, normal +z |
 //! | `cube` | `flip_normals`, `to_world` | [-1, 1]³, normals outward |
 //!
