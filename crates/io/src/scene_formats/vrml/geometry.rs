@@ -189,7 +189,7 @@ fn corner_normals(
         return Ok(Some(normals));
     }
     let crease = g.float("creaseAngle", 0.0);
-    if !(crease > 0.0) {
+    if crease.is_nan() || crease <= 0.0 {
         return Ok(None);
     }
     // Area-weighted face normals (Newell's), facing VRML's front.
