@@ -24,6 +24,10 @@ use std::f32::consts::PI;
 /// 64 segments keep the area within 0.2 % of the true surface.
 pub const SEGMENTS: usize = 64;
 
+/// Most face-pair comparisons `creaseAngle` normal generation may make (Σ over points of the
+/// square of the number of faces at the point); beyond it the face set stays faceted.
+pub const MAX_CREASE_WORK: u64 = 50_000_000;
+
 /// Triangles in a node's local coordinates.
 #[derive(Debug, Default)]
 pub struct LocalMesh {
@@ -129,7 +133,7 @@ fn indexed_face_set(g: &Node, warn: &mut Vec<String>) -> Result<LocalMesh, Strin
     }
     let mut mesh =
         LocalMesh { positions: points, triangles, solid: g.bool("solid", true), ..Default::default() };
-    if let Some(corner_normal) = corner_normals(g, index, &mesh.positions, ccw)? {
+    if let Some(corner_normal) = corner_normals(g, index, &mesh.positions, ccw, warn)? {
         split_by_normal(&mut mesh, index, &corner_normal);
     }
     Ok(mesh)
@@ -142,6 +146,7 @@ fn corner_normals(
     index: &[i32],
     points: &[Vec3],
     ccw: bool,
+    warn: &mut Vec<String>,
 ) -> Result<Option<Vec<Option<Vec3>>>, String> {
     let faces: Vec<std::ops::Range<usize>> = {
         let mut out = Vec::new();
@@ -208,6 +213,15 @@ fn corner_normals(
             faces_of[index[k] as usize].push(f as u32);
         }
     }
+    // Each corner compares its face with every face at its point: Σ degree² comparisons. A
+    // hostile (or merely fan-shaped) file could make that quadratic, so it is bounded.
+    let work: u64 = faces_of.iter().map(|f| (f.len() as u64).pow(2)).sum();
+    if work > MAX_CREASE_WORK {
+        warn.push(format!(
+            "creaseAngle: too many faces share a point ({work} comparisons > {MAX_CREASE_WORK}); normals not generated, the face set is faceted"
+        ));
+        return Ok(None);
+    }
     let cos_crease = crease.min(PI).cos();
     for (f, face) in faces.iter().enumerate() {
         let nf = face_normal[f].normalize_or_zero();
@@ -236,9 +250,20 @@ fn split_by_normal(mesh: &mut LocalMesh, index: &[i32], corner_normal: &[Option<
     let mut triangles = std::mem::take(&mut mesh.triangles);
     for (face_len, ntri) in counts {
         let run = &index[face_start..face_start + face_len];
+        // Long faces look their corners up in a map: a linear search would be quadratic.
+        let corner_of: std::collections::HashMap<u32, usize> = if face_len > 32 {
+            run.iter().enumerate().rev().map(|(k, &i)| (i as u32, k)).collect()
+        } else {
+            Default::default()
+        };
         for t in &mut triangles[tri..tri + ntri] {
             for p in t.iter_mut() {
-                let k = face_start + run.iter().position(|&i| i as u32 == *p).unwrap_or(0);
+                let local = if face_len > 32 {
+                    corner_of.get(p).copied()
+                } else {
+                    run.iter().position(|&i| i as u32 == *p)
+                };
+                let k = face_start + local.unwrap_or(0);
                 let n = corner_normal[k].unwrap_or(Vec3::Y);
                 let key = (*p, n.to_array().map(f32::to_bits));
                 let next = positions.len() as u32;
