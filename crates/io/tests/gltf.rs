@@ -480,3 +480,22 @@ fn mangled_inputs_never_panic() {
     }
     assert!(ok > 0 && err > 0, "ok {ok}, err {err}");
 }
+
+#[test]
+fn normal_attribute_gives_shading_normals_in_world_space() {
+    // The quad's positions double as normals (accessor 0); (0,0,0) is a bad normal for the core,
+    // but the loader only carries them: check the transform, then the count check.
+    let mesh = r#""meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 0}, "indices": 1}]}]"#;
+    let s = load_ok(
+        "n.gltf",
+        doc(&format!(r#""scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"scale": [2, 1, 1], "mesh": 0}}], {mesh}"#))
+            .as_bytes(),
+    );
+    let m = &s.description.meshes[0];
+    // Inverse transpose of diag(2, 1, 1): x halves.
+    assert_eq!(m.normals, vec![Vec3::ZERO, Vec3::new(0.5, 0.0, 0.0), Vec3::new(0.5, 1.0, 0.0), Vec3::Y]);
+    let bad = r#""meshes": [{"name": "quad", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 2}, "indices": 1}]}]"#;
+    let bad = doc(&format!(r#""scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}], {bad}"#));
+    let e = common::error_of(&[("b.gltf", bad.as_bytes())]);
+    assert!(e.contains("NORMAL has 3 entries for 4 positions"), "{e}");
+}

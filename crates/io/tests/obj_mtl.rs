@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use opticks_core::bsdf::Bsdf;
-use opticks_core::math::Rgb;
+use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::Scene;
 use opticks_io::load_scene;
 use std::path::Path;
@@ -120,6 +120,20 @@ fn groups_and_materials_make_separate_meshes() {
     // Negative (relative) indices and `v/vt/vn` corners.
     let s = load_ok(&[("n.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf -3/1/1 -2/1/1 -1/1/1\n")]);
     assert_eq!(s.description.meshes[0].triangles, [[0, 1, 2]]);
+    assert_eq!(s.description.meshes[0].normals, [Vec3::Z; 3]);
+}
+
+#[test]
+fn vertex_normals_go_to_each_mesh_that_uses_them() {
+    // Two groups share positions with different normals; each mesh gets its own vertices.
+    let obj =
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0.5 0 1\ng a\nf 1//1 2//2 3//1\ng b\nf 1//2 2//2 3//2\n";
+    let s = load_ok(&[("n.obj", obj)]);
+    let d = &s.description;
+    assert_eq!(d.meshes.len(), 2);
+    assert_eq!(d.meshes[0].normals, [Vec3::Z, Vec3::new(0.5, 0.0, 1.0), Vec3::Z]);
+    assert_eq!(d.meshes[1].normals, [Vec3::new(0.5, 0.0, 1.0); 3]);
+    assert_eq!(d.meshes[1].positions, [Vec3::ZERO, Vec3::X, Vec3::Y]);
 }
 
 #[test]

@@ -291,3 +291,26 @@ fn impossible_phong_material() {
     let e = bad("<float name=\"exponent\" value=\"1e7\"/>");
     assert!(e.starts_with("TMP/s.xml:5:5: <float name=\"exponent\">: invalid material: exponent = "), "{e}");
 }
+
+#[test]
+fn obj_vertex_normals_follow_face_normals_and_to_world() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 1 0 1\nf 1//1 2//2 3//1\n";
+    let xml = |extra: &str| {
+        format!(
+            "{HEAD}<shape type=\"obj\">\n  <string name=\"filename\" value=\"m.obj\"/>\n{extra}</shape>\n</scene>"
+        )
+    };
+    // Mitsuba's default (face_normals false) uses the file's normals; a non-uniform scale carries
+    // them by the inverse transpose: (1, 0, 1) under diag(2, 1, 1) → (0.5, 0, 1).
+    let scaled = xml("  <transform name=\"to_world\"><scale x=\"2\"/></transform>\n");
+    let (_d, r) = load_files(&[("s.xml", &scaled), ("m.obj", obj)]);
+    let m = &r.unwrap().description.meshes[0];
+    assert_eq!(m.normals, vec![Vec3::Z, Vec3::new(0.5, 0.0, 1.0), Vec3::Z]);
+    let faceted = xml("  <boolean name=\"face_normals\" value=\"true\"/>\n");
+    let (_d, r) = load_files(&[("s.xml", &faceted), ("m.obj", obj)]);
+    assert!(r.unwrap().description.meshes[0].normals.is_empty());
+    // flip_normals turns the normals with the faces.
+    let flipped = xml("  <boolean name=\"flip_normals\" value=\"true\"/>\n");
+    let (_d, r) = load_files(&[("s.xml", &flipped), ("m.obj", obj)]);
+    assert_eq!(r.unwrap().description.meshes[0].normals[0], -Vec3::Z);
+}

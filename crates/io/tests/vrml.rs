@@ -492,3 +492,120 @@ fn instancing_bombs_are_bounded() {
     assert!(e.contains("more than"), "{e}");
     assert!(t.elapsed().as_secs() < 30);
 }
+
+/// The normals of the (only) mesh of a VRML body.
+fn mesh_of(body: &str) -> opticks_core::scene::MeshDesc {
+    load_text(&with_header(body)).unwrap().description.meshes.remove(0)
+}
+
+/// A cube of 8 shared points and 6 quads (outward), with `extra` fields on the IndexedFaceSet.
+fn cube(extra: &str) -> String {
+    format!(
+        "Shape {{ geometry IndexedFaceSet {{ {extra} coord Coordinate {{ point [ -1 -1 -1, 1 -1 -1, 1 1 -1, -1 1 -1, \
+         -1 -1 1, 1 -1 1, 1 1 1, -1 1 1 ] }} coordIndex [ 0 3 2 1 -1, 4 5 6 7 -1, 0 1 5 4 -1, 3 7 6 2 -1, \
+         0 4 7 3 -1, 1 2 6 5 -1 ] }} }} PointLight {{ location 0 3 0 }}"
+    )
+}
+
+#[test]
+fn indexed_face_set_normals_follow_vrml97() {
+    // Given per point (normalPerVertex TRUE, no normalIndex): one normal per position.
+    let m = mesh_of(
+        "Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } \
+         normal Normal { vector [ 0 0 1, 0.2 0 1, 0 0.2 1 ] } coordIndex [ 0 1 2 ] } }",
+    );
+    assert_eq!(m.normals, vec![Vec3::Z, Vec3::new(0.2, 0.0, 1.0), Vec3::new(0.0, 0.2, 1.0)]);
+    // normalIndex per corner, and per face.
+    let m = mesh_of(
+        "Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } \
+         normal Normal { vector [ 0 0 1, 0.2 0 1 ] } coordIndex [ 0 1 2 -1 ] normalIndex [ 1 1 0 -1 ] } }",
+    );
+    assert_eq!(m.normals, vec![Vec3::new(0.2, 0.0, 1.0), Vec3::new(0.2, 0.0, 1.0), Vec3::Z]);
+    let m = mesh_of(
+        "Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } \
+         normal Normal { vector [ 0 0 1, 0.2 0 1 ] } normalPerVertex FALSE normalIndex [ 1 ] coordIndex [ 0 1 2 ] } }",
+    );
+    assert_eq!(m.normals, vec![Vec3::new(0.2, 0.0, 1.0); 3]);
+    // An index past the Normal node is an error naming the field.
+    let e = load_text(&with_header(
+        "Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } \
+         normal Normal { vector [ 0 0 1 ] } coordIndex [ 0 1 2 ] normalIndex [ 0 0 4 ] } }",
+    ))
+    .unwrap_err();
+    assert!(e.to_string().contains("normalIndex[2] = 4"), "{e}");
+
+    // Without normals: creaseAngle 0 (default) and 1 rad (< the cube's 90° edges) are faceted,
+    // 2 rad smooths every corner to the cube's diagonal.
+    let build =
+        |extra: &str| Scene::build(&load_text(&with_header(&cube(extra))).unwrap().description).unwrap();
+    assert!(mesh_of(&cube("")).normals.is_empty());
+    assert!(!build("").has_shading_normals() && !build("creaseAngle 1").has_shading_normals());
+    let smooth = build("creaseAngle 2");
+    assert!(smooth.has_shading_normals());
+    let n = smooth.normals_at(0, Vec3::new(-1.0, -1.0, -1.0)).shading;
+    assert!((n - Vec3::splat(-1.0).normalize()).length() < 1e-5, "{n}");
+    // The faceted cube is the one that was always loaded (same geometry fingerprint).
+    let faceted = build("creaseAngle 1");
+    assert_eq!(faceted.fingerprint.geometry, build("").fingerprint.geometry);
+}
+
+#[test]
+fn sphere_and_cylinder_sides_have_smooth_normals() {
+    let m = mesh_of("Shape { geometry Sphere { radius 2 } }");
+    for (p, n) in m.positions.iter().zip(&m.normals) {
+        assert!((p.normalize() - n.normalize()).length() < 1e-6);
+    }
+    let m = mesh_of("Shape { geometry Cylinder { } }");
+    assert_eq!(m.normals.len(), m.positions.len());
+    for (p, n) in m.positions.iter().zip(&m.normals) {
+        let n = n.normalize();
+        // Side: horizontal and radial; caps (|y| = 1 at the centre or the rim): ±y.
+        let radial = Vec3::new(p.x, 0.0, p.z).normalize_or_zero();
+        assert!((n - radial).length() < 1e-5 || (n.y.abs() - 1.0).abs() < 1e-6, "{p} {n}");
+    }
+    assert!(mesh_of("Shape { geometry Box { } }").normals.is_empty());
+}
+
+#[test]
+fn a_huge_smooth_face_loads_in_linear_time() {
+    // One 200 000-corner polygon (fanned) with per-point normals.
+    let n = 200_000;
+    let points: String = (0..n)
+        .map(|k| {
+            let a = k as f32 / n as f32 * std::f32::consts::TAU;
+            format!("{} {} 0,", a.cos(), a.sin())
+        })
+        .collect();
+    let normals = "0 0 1,".repeat(n);
+    let index: String = (0..n).map(|k| format!("{k} ")).collect();
+    let body = format!(
+        "Shape {{ geometry IndexedFaceSet {{ coord Coordinate {{ point [ {points} ] }} normal Normal {{ vector [ {normals} ] }} coordIndex [ {index} ] }} }}"
+    );
+    let t = std::time::Instant::now();
+    let m = mesh_of(&body);
+    assert_eq!(m.triangles.len(), n - 2);
+    assert!(t.elapsed().as_secs_f32() < 10.0, "{:?}", t.elapsed());
+}
+
+#[test]
+fn crease_angle_generation_is_bounded() {
+    // A fan of 20 000 triangles around one centre point: 4·10⁸ comparisons → faceted, a warning.
+    let n = 20_000;
+    let mut points = String::from("0 0 0,");
+    let mut index = String::new();
+    for k in 0..=n {
+        let a = k as f32 / n as f32 * std::f32::consts::TAU;
+        points += &format!("{} {} 0,", a.cos(), a.sin());
+        if k < n {
+            index += &format!("0 {} {} -1 ", k + 1, k + 2);
+        }
+    }
+    let body = format!(
+        "Shape {{ geometry IndexedFaceSet {{ creaseAngle 1 coord Coordinate {{ point [ {points} ] }} coordIndex [ {index} ] }} }}"
+    );
+    let t = std::time::Instant::now();
+    let s = load_text(&with_header(&body)).unwrap();
+    assert!(s.description.meshes[0].normals.is_empty());
+    assert!(s.warnings.iter().any(|w| w.contains("creaseAngle: too many faces")), "{:?}", s.warnings);
+    assert!(t.elapsed().as_secs_f32() < 5.0, "{:?}", t.elapsed());
+}

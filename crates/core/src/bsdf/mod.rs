@@ -41,14 +41,17 @@ mod dielectric;
 pub mod fresnel;
 mod lambert;
 mod phong;
+pub mod shading;
 
 pub use conductor::{RoughConductor, SmoothConductor};
 pub use dielectric::{RoughDielectric, SmoothDielectric};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 
+use crate::geometry::SurfaceNormals;
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::microfacet::Microfacet;
+pub use shading::LocalFrame;
 
 /// A direction sampled from a BSDF.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -190,56 +193,76 @@ pub struct Material {
 }
 
 impl Material {
-    /// The local frame for light arriving from world direction `wi` at a surface with unit
-    /// geometric normal `n`; `None` if that side does not scatter. Dielectrics always get the
-    /// frame of `n` (their inside is behind it).
+    /// The local frame for light arriving from world direction `wi` at a surface with normals
+    /// `n`; `None` if that side does not scatter. The side is decided by the geometric normal;
+    /// dielectrics always get the unflipped frame (their inside is behind it). A reflecting
+    /// surface whose shading normal faces away from `wi` does not scatter either (see
+    /// [`shading`]).
     #[inline]
-    pub fn frame_for(&self, n: Vec3, wi: Vec3) -> Option<Frame> {
-        let c = n.dot(wi);
-        if self.bsdf.transmits() {
-            (c != 0.0).then(|| Frame::from_normal(n))
+    pub fn frame_for(&self, n: SurfaceNormals, wi: Vec3) -> Option<LocalFrame> {
+        let c = n.geometric.dot(wi);
+        let flip = if self.bsdf.transmits() {
+            if c == 0.0 {
+                return None;
+            }
+            false
         } else if c > 0.0 {
-            Some(Frame::from_normal(n))
+            false
         } else if c < 0.0 && self.two_sided {
-            Some(Frame::from_normal(-n))
+            true
         } else {
-            None
+            return None;
+        };
+        let f = LocalFrame::new(n, flip);
+        if !f.flat && !self.bsdf.transmits() && !(f.frame.n.dot(wi) > 0.0) {
+            return None;
         }
+        Some(f)
     }
 
-    /// f_r for world directions at a surface of unit geometric normal `n`.
+    /// f_r for world directions in light-flow order at a surface of normals `n`: the physical
+    /// BSDF, or with shading normals the adjoint-consistent f_eff of [`shading`].
     #[inline]
-    pub fn eval_world(&self, n: Vec3, wi: Vec3, wo: Vec3) -> Rgb {
-        match self.frame_for(n, wi) {
-            Some(f) => self.bsdf.eval(f.to_local(wi), f.to_local(wo)),
-            None => Rgb::ZERO,
+    pub fn eval_world(&self, n: SurfaceNormals, wi: Vec3, wo: Vec3) -> Rgb {
+        let Some(f) = self.frame_for(n, wi) else { return Rgb::ZERO };
+        let (a, b) = (f.frame.to_local(wi), f.frame.to_local(wo));
+        if f.flat {
+            return self.bsdf.eval(a, b);
         }
+        if !f.agrees(wi, wo, a, b) {
+            return Rgb::ZERO;
+        }
+        self.bsdf.eval(a, b) * f.incident_factor(wi, a)
     }
 
     /// Samples a world-space outgoing direction uniformly over the scattering hemisphere (the
-    /// baseline of the thesis's §6.2.2, for measuring what importance sampling buys).
+    /// baseline of the thesis's §6.2.2, for measuring what importance sampling buys); weights
+    /// as [`Material::sample_world`] in importance mode.
     #[inline]
-    pub fn sample_uniform_world(&self, n: Vec3, wi: Vec3, u: Vec2) -> Option<BsdfSample> {
+    pub fn sample_uniform_world(&self, n: SurfaceNormals, wi: Vec3, u: Vec2) -> Option<BsdfSample> {
         let f = self.frame_for(n, wi)?;
+        let a = f.frame.to_local(wi);
         let wo = crate::sampling::warp::square_to_uniform_hemisphere(u);
         let pdf = crate::sampling::warp::UNIFORM_HEMISPHERE_PDF;
-        let weight = self.bsdf.eval(f.to_local(wi), wo) * wo.z / pdf;
-        Some(BsdfSample { wo: f.to_world(wo), weight, pdf, delta: false })
+        let weight = self.bsdf.eval(a, wo) * wo.z / pdf;
+        f.finish(wi, a, BsdfSample { wo, weight, pdf, delta: false }, TransportMode::Importance)
     }
 
-    /// Samples a world-space direction given `wi`; `weight` as [`Bsdf::sample`] in `mode`.
+    /// Samples a world-space direction given `wi`; `weight` as [`Bsdf::sample`] in `mode`, with
+    /// the shading-normal correction of `mode` (see [`shading`]).
     #[inline]
     pub fn sample_world(
         &self,
-        n: Vec3,
+        n: SurfaceNormals,
         wi: Vec3,
         u_lobe: f32,
         u: Vec2,
         mode: TransportMode,
     ) -> Option<BsdfSample> {
         let f = self.frame_for(n, wi)?;
-        let s = self.bsdf.sample(f.to_local(wi), u_lobe, u, mode)?;
-        Some(BsdfSample { wo: f.to_world(s.wo), ..s })
+        let a = f.frame.to_local(wi);
+        let s = self.bsdf.sample(a, u_lobe, u, mode)?;
+        f.finish(wi, a, s, mode)
     }
 }
 
@@ -333,7 +356,7 @@ mod tests {
         let bsdf = Bsdf::Lambert(Lambert::new(Rgb::splat(0.5)).unwrap());
         let one = Material { name: "a".into(), bsdf: bsdf.clone(), two_sided: false };
         let two = Material { name: "b".into(), bsdf, two_sided: true };
-        let n = Vec3::Y;
+        let n = SurfaceNormals::flat(Vec3::Y);
         let (up, up2) = (Vec3::new(0.3, 0.9, 0.1).normalize(), Vec3::new(-0.5, 0.7, 0.2).normalize());
         let down = |v: Vec3| Vec3::new(v.x, -v.y, v.z);
         assert!(one.eval_world(n, up, up2).x > 0.0);
@@ -345,14 +368,14 @@ mod tests {
 
     #[test]
     fn dielectrics_scatter_on_both_faces_and_delta_bsdfs_evaluate_to_zero() {
-        let n = Vec3::Y;
+        let n = SurfaceNormals::flat(Vec3::Y);
         let rough = Bsdf::RoughDielectric(RoughDielectric::new(1.5, 1.0, 0.3, Rgb::ONE, Rgb::ONE).unwrap());
         let m = Material { name: "g".into(), bsdf: rough, two_sided: false };
         let above = Vec3::new(0.3, 0.9, 0.1).normalize();
         let below = Vec3::new(-0.2, -0.8, 0.3).normalize();
         // The frame is never flipped: its z is the geometric normal from either side.
-        assert_eq!(m.frame_for(n, above).unwrap().n, n);
-        assert_eq!(m.frame_for(n, below).unwrap().n, n);
+        assert_eq!(m.frame_for(n, above).unwrap().frame.n, Vec3::Y);
+        assert_eq!(m.frame_for(n, below).unwrap().frame.n, Vec3::Y);
         assert!(m.frame_for(n, Vec3::X).is_none());
         // Transmission both ways, related by generalized reciprocity (η_out = 1, η_in = 1.5).
         let (down, up) = (m.eval_world(n, above, below), m.eval_world(n, below, above));

@@ -31,6 +31,32 @@ pub struct Hit {
     pub normal: Vec3,
 }
 
+/// The two normals at a surface point: the triangle's geometric normal (which decides the
+/// surface's sides, emission and ray offsets) and the shading normal the BSDF is oriented by
+/// (interpolated vertex normals; equal to the geometric one on faceted meshes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceNormals {
+    /// Unit geometric normal (front side, not flipped toward any ray).
+    pub geometric: Vec3,
+    /// Unit shading normal, on the geometric normal's side of the surface.
+    pub shading: Vec3,
+}
+
+impl SurfaceNormals {
+    /// A faceted point: the shading normal is the geometric one.
+    #[inline]
+    pub fn flat(n: Vec3) -> Self {
+        SurfaceNormals { geometric: n, shading: n }
+    }
+
+    /// Whether the shading normal is the geometric one (then nothing about shading normals
+    /// applies and every result is bit-identical to a mesh without normals).
+    #[inline]
+    pub fn is_flat(&self) -> bool {
+        self.geometric == self.shading
+    }
+}
+
 /// Moves `p` (on a surface of geometric normal `n`) off the surface toward the side that
 /// `dir` leaves into, so a ray from the result does not hit the surface it starts on.
 #[inline]

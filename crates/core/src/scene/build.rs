@@ -9,7 +9,7 @@ use super::fingerprint::Hasher;
 use super::{CameraDesc, Fingerprint, SceneDescription, Source};
 use crate::accel::Accel;
 use crate::bsdf::Material;
-use crate::geometry::{Hit, Ray};
+use crate::geometry::{Hit, Ray, SurfaceNormals};
 use crate::light::{AreaLight, BuiltProfile, DirectionalLight, EmissionProfile, Light, PointLight};
 use crate::math::{Frame, Rgb, Vec3};
 
@@ -40,7 +40,24 @@ impl Triangle {
     pub fn area(&self) -> f32 {
         0.5 * self.e1.cross(self.e2).length()
     }
+    /// Barycentrics (b1, b2) of the point of the triangle's plane nearest to `p` (so a stored
+    /// position, which does not record where on its triangle it lies, gives them back).
+    #[inline]
+    pub fn barycentrics(&self, p: Vec3) -> (f32, f32) {
+        let d = p - self.v0;
+        let (d00, d01, d11) = (self.e1.dot(self.e1), self.e1.dot(self.e2), self.e2.dot(self.e2));
+        let (d20, d21) = (d.dot(self.e1), d.dot(self.e2));
+        let inv = 1.0 / (d00 * d11 - d01 * d01);
+        ((d11 * d20 - d01 * d21) * inv, (d00 * d21 - d01 * d20) * inv)
+    }
 }
+
+/// A triangle's vertex normals are ignored (the triangle is faceted) when each is within this
+/// distance of its geometric normal: they could only change results by rounding.
+const FLAT_TOLERANCE: f32 = 1e-5;
+
+/// No shading normals on a triangle.
+const NO_SHADING: u32 = u32::MAX;
 
 /// No light index.
 const NO_LIGHT: u32 = u32::MAX;
@@ -51,6 +68,10 @@ pub struct Scene {
     /// Triangles (scene order; sample records refer to these indices).
     pub triangles: Vec<Triangle>,
     normals: Vec<Vec3>,
+    /// Per triangle: index into `shading_normals`, or [`NO_SHADING`].
+    shading_of: Vec<u32>,
+    /// Unit vertex normals of the triangles that have them.
+    shading_normals: Vec<[Vec3; 3]>,
     material_of: Vec<u32>,
     light_of: Vec<u32>,
     /// Materials.
@@ -103,6 +124,16 @@ pub enum SceneError {
         index: u32,
         /// Vertex count.
         count: usize,
+    },
+    /// A mesh's vertex normals do not match its vertices, or one is zero or not finite.
+    #[error("{at}: mesh '{mesh}': {message}")]
+    BadNormals {
+        /// Where the mesh was declared.
+        at: Source,
+        /// Mesh name.
+        mesh: String,
+        /// What is wrong.
+        message: String,
     },
     /// A mesh refers to a material that does not exist.
     #[error("{at}: mesh '{mesh}' refers to material {material}, but the scene has {count}")]
@@ -207,6 +238,44 @@ fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
     h.finish()
 }
 
+/// The triangle of `positions` with vertex indices `t`.
+fn triangle(positions: &[Vec3], t: [u32; 3]) -> Triangle {
+    let [a, b, c] = t.map(|i| positions[i as usize]);
+    Triangle { v0: a, e1: b - a, e2: c - a }
+}
+
+/// The mesh's vertex normals, normalised and checked (one per vertex, finite, non-zero); empty
+/// for a faceted mesh.
+fn unit_normals(mesh: &super::MeshDesc) -> Result<Vec<Vec3>, SceneError> {
+    let bad = |message: String| SceneError::BadNormals {
+        at: mesh.source.clone(),
+        mesh: mesh.name.clone(),
+        message,
+    };
+    if mesh.normals.is_empty() {
+        return Ok(Vec::new());
+    }
+    if mesh.normals.len() != mesh.positions.len() {
+        return Err(bad(format!(
+            "{} vertex normals for {} vertices (there must be one per vertex)",
+            mesh.normals.len(),
+            mesh.positions.len()
+        )));
+    }
+    mesh.normals
+        .iter()
+        .enumerate()
+        .map(|(i, n)| {
+            let u = n.normalize_or_zero();
+            if n.is_finite() && u != Vec3::ZERO && u.is_finite() {
+                Ok(u)
+            } else {
+                Err(bad(format!("vertex normal {i} {:?} is zero or not finite", n.to_array())))
+            }
+        })
+        .collect()
+}
+
 /// `f` re-orthonormalised (Gram–Schmidt from its z axis), if it is finite and close to
 /// orthonormal (within 10⁻³).
 fn orthonormal(f: Frame) -> Option<Frame> {
@@ -229,6 +298,8 @@ impl Scene {
         let mut vertices = Vec::new();
         let mut material_of = Vec::new();
         let mut light_of = Vec::new();
+        let mut shading_of = Vec::new();
+        let mut shading_normals = Vec::new();
         let mut lights = Vec::new();
         let mut dropped = 0usize;
         // The geometry fingerprint covers each triangle's corners and material, not whether it
@@ -265,6 +336,7 @@ impl Scene {
                     value: p.to_array(),
                 });
             }
+            let normals = unit_normals(mesh)?;
             let light_index = match mesh.emission {
                 Some(l) if !(l.is_finite() && l.min_element() >= 0.0) => {
                     return Err(SceneError::BadEmission {
@@ -289,19 +361,44 @@ impl Scene {
                         count: mesh.positions.len(),
                     });
                 }
-                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
-                let tri = Triangle { v0: a, e1: b - a, e2: c - a };
+                let mut t = *t;
+                let mut tri = triangle(&mesh.positions, t);
                 let area = tri.area();
                 if !(area > 0.0) || !tri.normal().is_finite() {
                     dropped += 1;
                     continue;
                 }
+                let mut shading = NO_SHADING;
+                if !normals.is_empty() {
+                    let mut ns = t.map(|i| normals[i as usize]);
+                    if (ns[0] + ns[1] + ns[2]).dot(tri.normal()) < 0.0 {
+                        // The front is where the vertex normals point (as pbrt and Mitsuba
+                        // orient the geometric normal by the shading one): rewind.
+                        t.swap(1, 2);
+                        ns.swap(1, 2);
+                        tri = triangle(&mesh.positions, t);
+                    }
+                    let ng = tri.normal();
+                    if ns.iter().any(|n| (*n - ng).length() > FLAT_TOLERANCE) {
+                        shading = shading_normals.len() as u32;
+                        shading_normals.push(ns);
+                    }
+                }
+                let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
                 let index = triangles.len() as u32;
                 let corners = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z];
                 geo.f32s(&corners);
                 geo.0.update(&material_hashes[mesh.material]);
                 geo_v1.f32s(&corners);
                 geo_v1.u32s(&[mesh.material as u32, light_index]);
+                if shading != NO_SHADING {
+                    // Shading normals change what every stored vertex reflects; a version-1
+                    // dataset (traced before they were honoured) must not match such a scene.
+                    let normals = shading_normals[shading as usize].map(|n| n.to_array()).concat();
+                    geo.f32s(&normals);
+                    geo_v1.f32s(&normals);
+                }
+                shading_of.push(shading);
                 if light_index != NO_LIGHT {
                     emitter_tris.push(index);
                     area_sum += area as f64;
@@ -445,6 +542,8 @@ impl Scene {
         Ok(Scene {
             triangles,
             normals,
+            shading_of,
+            shading_normals,
             material_of,
             light_of,
             materials: desc.materials.clone(),
@@ -475,6 +574,33 @@ impl Scene {
     #[inline]
     pub fn normal(&self, prim: u32) -> Vec3 {
         self.normals[prim as usize]
+    }
+
+    /// The normals of triangle `prim` at the point `p` on it: the geometric normal and the
+    /// vertex normals interpolated at p's barycentrics (recomputed from p, so a stored sample
+    /// needs no more than its position and triangle).
+    #[inline]
+    pub fn normals_at(&self, prim: u32, p: Vec3) -> SurfaceNormals {
+        let ng = self.normals[prim as usize];
+        let k = self.shading_of[prim as usize];
+        if k == NO_SHADING {
+            return SurfaceNormals::flat(ng);
+        }
+        let [n0, n1, n2] = self.shading_normals[k as usize];
+        let (b1, b2) = self.triangles[prim as usize].barycentrics(p);
+        let ns = ((1.0 - b1 - b2) * n0 + b1 * n1 + b2 * n2).normalize_or_zero();
+        // Interpolated normals can cancel (opposite vertex normals) or, at a crease, lean
+        // through the surface: keep the shading normal on the geometric side.
+        if ns.dot(ng) > 0.0 {
+            SurfaceNormals { geometric: ng, shading: ns }
+        } else {
+            SurfaceNormals::flat(ng)
+        }
+    }
+
+    /// Whether any triangle has shading normals.
+    pub fn has_shading_normals(&self) -> bool {
+        !self.shading_normals.is_empty()
     }
 
     /// Material of triangle `prim`.

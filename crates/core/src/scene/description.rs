@@ -37,6 +37,11 @@ pub struct MeshDesc {
     pub positions: Vec<Vec3>,
     /// Counter-clockwise triangles (front face normal = (v1-v0)×(v2-v0)).
     pub triangles: Vec<[u32; 3]>,
+    /// Optional per-vertex **shading** normals, one per position (any length, normalised when
+    /// the scene is built), or empty for a faceted mesh. They are interpolated across each
+    /// triangle by barycentrics and change only how the BSDF is oriented; the geometric normal
+    /// still decides the sides, the emission and ray offsets (see [`crate::bsdf`]).
+    pub normals: Vec<Vec3>,
     /// Index into [`SceneDescription::materials`].
     pub material: usize,
     /// If set, the mesh is a one-sided area light of this radiance (along the normal),

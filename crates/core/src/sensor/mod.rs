@@ -12,7 +12,9 @@
 //! Δpixel = (Φ_k/N_k) · β · f_r(x; ω_in → ω_c) · |cos θ_x| · V(x, c) · W
 //! ```
 //!
-//! (a light tracer's t = 1 connection, Veach ch. 10, DESIGN.md §2). For the pinhole,
+//! (a light tracer's t = 1 connection, Veach ch. 10, DESIGN.md §2). θ_x is measured from the
+//! geometric normal; on meshes with shading normals f_r is the adjoint f_eff of
+//! [`crate::bsdf::shading`], evaluated at the normals interpolated at x. For the pinhole,
 //! W = 1/(d²·a·cos³θ_c), so each pixel converges to the radiance at the pinhole averaged over its
 //! square of the image plane (a box filter). Emission vertices use L_e·A_k/Φ_k = f_e(ω_c)/cos θ
 //! ([`crate::light::Light::emitted_fraction`]; 1/π for a Lambertian emitter) in place of f_r,
@@ -167,6 +169,8 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
         let wc = to_c / d;
         let prim = s.triangle();
         let n = scene.normal(prim);
+        // |cos θ_x| is the connection's geometry term: always the geometric normal's. Shading
+        // normals enter only through f_r (the adjoint f_eff, see `crate::bsdf::shading`).
         let cos_x = n.dot(wc);
         let f = if s.is_emission() {
             if cos_x <= 0.0 {
@@ -174,7 +178,7 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
             }
             Rgb::splat(scene.light_of(prim).map_or(0.0, |k| scene.lights[k].emitted_fraction(n, wc)))
         } else {
-            let f = scene.material(prim).eval_world(n, s.from_dir(), wc);
+            let f = scene.material(prim).eval_world(scene.normals_at(prim, x), s.from_dir(), wc);
             if f == Rgb::ZERO {
                 continue;
             }

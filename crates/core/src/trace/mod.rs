@@ -13,7 +13,9 @@
 //! [`TransportMode::Importance`]: a light path carries flux, which an interface transmits
 //! unchanged (times 1 − F), so refraction's 1/η² radiance scaling does **not** apply here
 //! (DESIGN.md §2; the adjoint BSDF, Veach's thesis §5.2; see the `bsdf` module docs).
-//! Dielectrics scatter on both faces, so a path may enter a glass object, bounce inside it
+//! With shading normals the weight is the adjoint one, f_eff·|cos θ_o,geometric|/p
+//! ([`crate::bsdf::shading`] derives it); sides and ray offsets always follow the geometric
+//! normal. Dielectrics scatter on both faces, so a path may enter a glass object, bounce inside it
 //! (total internal reflection) and leave it.
 //!
 //! Absorbing glass (Beer–Lambert): a dielectric may bound an absorbing inside of coefficient
@@ -213,7 +215,8 @@ pub fn trace_path(
         let depth = b.depth + 1;
         let wi = -b.dir;
         let material = scene.material(hit.prim);
-        if material.frame_for(hit.normal, wi).is_none() {
+        let normals = scene.normals_at(hit.prim, hit.position);
+        if material.frame_for(normals, wi).is_none() {
             continue; // the back of a one-sided surface: black, absorbs everything
         }
         let mut b = b;
@@ -236,9 +239,9 @@ pub fn trace_path(
             // Uniform directions only make sense for reflecting, non-delta surfaces.
             let uniform = settings.directions == Directions::Uniform && !delta && !material.bsdf.transmits();
             let sampled = if uniform {
-                material.sample_uniform_world(hit.normal, wi, u)
+                material.sample_uniform_world(normals, wi, u)
             } else {
-                material.sample_world(hit.normal, wi, u_lobe, u, TransportMode::Importance)
+                material.sample_world(normals, wi, u_lobe, u, TransportMode::Importance)
             };
             let Some(s) = sampled else { continue };
             let mut beta = b.beta * s.weight / c;

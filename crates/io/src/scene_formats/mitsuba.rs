@@ -101,7 +101,7 @@
 //!
 //! | type | parameters | geometry |
 //! |---|---|---|
-//! | `obj` | `filename` (relative to the XML file's folder), `face_normals` (accepted; Opticks always shades flat), `flip_normals`, `to_world` | the OBJ's triangles, transformed ([`super::obj`]) |
+//! | `obj` | `filename` (relative to the XML file's folder), `face_normals` (default false: the OBJ's `vn` vertex normals are the shading normals; true: faceted), `flip_normals` (also negates the normals), `to_world` (normals by its inverse transpose) | the OBJ's triangles, transformed ([`super::obj`]) |
 //! | `rectangle` | `flip_normals`, `to_world` | [-1, 1]² at z = 0, normal +z |
 //! | `cube` | `flip_normals`, `to_world` | [-1, 1]³, normals outward |
 //!
@@ -1224,6 +1224,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
         let ty = self.required(n, "type")?;
         let name = self.attr(n, "id")?.unwrap_or_else(|| format!("{ty}_{index}"));
         let mut p = self.props(n)?;
+        let mut normals = Vec::new();
         let (positions, mut triangles, analytic) = match ty.as_str() {
             "obj" => {
                 let (file, _) = self
@@ -1234,6 +1235,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 if mesh.triangles.is_empty() {
                     self.warn(n, format!("{} has no faces", path.display()));
                 }
+                normals = mesh.normals;
                 (mesh.positions, mesh.triangles, false)
             }
             "rectangle" => {
@@ -1254,7 +1256,10 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 ));
             }
         };
-        self.get_bool(&mut p, "face_normals")?; // accepted: Opticks always shades flat
+        // Mitsuba's default (false) shades with the file's vertex normals when it has them.
+        if self.get_bool(&mut p, "face_normals")?.unwrap_or(false) {
+            normals.clear();
+        }
         p.ignore(&["flip_tex_coords"]);
         let flip = self.get_bool(&mut p, "flip_normals")?.unwrap_or(false);
         let mut positions = positions;
@@ -1274,10 +1279,16 @@ impl<'a, 'i> Ctx<'a, 'i> {
                         self.err(tnode, format!("to_world maps vertex {} to a non-finite point", i + 1))
                     );
                 }
+                // Normals transform by the inverse transpose (the core normalises them).
+                let nm = glam::Mat3::from_mat4(mf).inverse().transpose();
+                normals.iter_mut().for_each(|v| *v = nm * *v);
             }
         }
         if flip ^ (analytic && mirrored) {
             triangles.iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        if flip {
+            normals.iter_mut().for_each(|v| *v = -*v);
         }
 
         let mut chosen = None;
@@ -1387,6 +1398,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
             source: self.source(n),
             positions,
             triangles,
+            normals,
             material,
             emission,
             emission_profile,

@@ -1,11 +1,17 @@
-//! Wavefront OBJ meshes: positions and faces only.
+//! Wavefront OBJ meshes: positions, vertex normals and faces.
 //!
 //! | statement | handling |
 //! |---|---|
 //! | `v x y z [w] [r g b]` | a position; `w` and vertex colours are ignored |
-//! | `f i j k …` | a polygon, triangulated as a fan `(i, j, k), (i, k, l), …`; each corner may be `v`, `v/vt`, `v//vn` or `v/vt/vn` (only `v` is used) |
-//! | indices | 1-based; negative indices count back from the last vertex defined so far (`-1` = the latest) |
-//! | `vt`, `vn`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, `#…`, anything else | ignored |
+//! | `vn x y z` | a vertex normal (a shading normal, normalised by the core) |
+//! | `f i j k …` | a polygon, triangulated as a fan `(i, j, k), (i, k, l), …`; each corner may be `v`, `v/vt`, `v//vn` or `v/vt/vn` (`vt` is ignored) |
+//! | indices | 1-based; negative indices count back from the last vertex (or normal) defined so far (`-1` = the latest) |
+//! | `vt`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, `#…`, anything else | ignored |
+//!
+//! Vertex normals: a corner `v//vn` is a vertex of its own (position v, normal vn; corners
+//! sharing both share the vertex). In a file that uses normals, a face corner without one is
+//! shaded flat: it gets a vertex of its own with its face's geometric normal. Normal indices
+//! on faces before the first `vn` are ignored. `s` (smoothing groups) does not generate normals. A file without `vn` gives exactly the mesh it gave before.
 //!
 //! Winding is kept as written: a triangle's front face is the one from which it is
 //! counter-clockwise (normal `(v1 − v0) × (v2 − v0)`). Degenerate (zero-area) triangles are kept;
@@ -38,6 +44,9 @@ pub struct ObjMesh {
     pub positions: Vec<Vec3>,
     /// Triangles (0-based indices into `positions`), polygons fanned.
     pub triangles: Vec<[u32; 3]>,
+    /// One vertex normal per position (as written, not normalised), or empty if the file has
+    /// no `v//vn` corners.
+    pub normals: Vec<Vec3>,
 }
 
 /// What is wrong with an OBJ file's content, and on which line.
@@ -61,12 +70,22 @@ pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
         let Some(keyword) = tokens.next() else { continue };
         match keyword {
             b"v" => geometry.vertex(tokens, line_no)?,
+            b"vn" => geometry.normal(tokens, line_no)?,
             b"f" => geometry.face(tokens, line_no, &mut triangles)?,
             _ => {}
         }
     }
-    Ok(ObjMesh { positions: geometry.finish()?, triangles })
+    let vertices = geometry.finish()?;
+    if !vertices.has_normals() {
+        return Ok(ObjMesh { positions: vertices.positions, triangles, normals: Vec::new() });
+    }
+    let mut remap = vertices.remap_table();
+    Ok(vertices.gather(&triangles, &mut remap))
 }
+
+/// Marks a face-corner id that names a (position, normal) pair of [`ObjGeometry`] rather than a
+/// bare position.
+const NORMAL_CORNER: u32 = 1 << 31;
 
 /// The whitespace-separated tokens of one OBJ line.
 pub(super) fn line_tokens(raw: &[u8]) -> impl Iterator<Item = &[u8]> {
@@ -79,6 +98,14 @@ pub(super) fn line_tokens(raw: &[u8]) -> impl Iterator<Item = &[u8]> {
 pub(super) struct ObjGeometry {
     /// Vertex positions, in file order.
     positions: Vec<Vec3>,
+    /// Vertex normals (`vn`), in file order.
+    normals: Vec<Vec3>,
+    /// The distinct (position, normal) pairs of `v//vn` corners; a corner id
+    /// `NORMAL_CORNER | k` names pair k.
+    pairs: Vec<(u32, u32)>,
+    pair_of: std::collections::HashMap<(u32, u32), u32>,
+    /// Largest 0-based normal index referred to and its line (checked like `max_index`).
+    max_normal: Option<(u32, u32)>,
     /// Largest 0-based index referred to and its line: checked by [`ObjGeometry::finish`], so
     /// faces may refer to vertices defined further down.
     max_index: Option<(u32, u32)>,
@@ -91,33 +118,40 @@ pub(super) struct ObjGeometry {
 impl ObjGeometry {
     /// An empty geometry whose faces may use 0-based indices up to `largest_index`.
     pub(super) fn new(largest_index: u32) -> Self {
-        ObjGeometry { positions: Vec::new(), max_index: None, corners: Vec::with_capacity(16), largest_index }
+        ObjGeometry {
+            positions: Vec::new(),
+            normals: Vec::new(),
+            pairs: Vec::new(),
+            pair_of: std::collections::HashMap::new(),
+            max_normal: None,
+            max_index: None,
+            corners: Vec::with_capacity(16),
+            largest_index: largest_index.min(NORMAL_CORNER - 1),
+        }
     }
 
     /// Reads the arguments of a `v` statement on line `line_no`.
     pub(super) fn vertex<'a>(
         &mut self,
-        mut tokens: impl Iterator<Item = &'a [u8]>,
+        tokens: impl Iterator<Item = &'a [u8]>,
         line_no: u32,
     ) -> Result<(), ObjError> {
-        let mut p = [0.0f32; 3];
-        for (axis, c) in p.iter_mut().enumerate() {
-            let tok = tokens.next().ok_or_else(|| ObjError {
-                line: line_no,
-                message: format!("vertex has {axis} coordinates, expected 3"),
-            })?;
-            *c = parse_f32(tok).ok_or_else(|| ObjError {
-                line: line_no,
-                message: format!("vertex coordinate {:?} is not a number", lossy(tok)),
-            })?;
-            if !c.is_finite() {
-                return Err(ObjError {
-                    line: line_no,
-                    message: format!("vertex coordinate {:?} is not finite", lossy(tok)),
-                });
-            }
+        let p = read_vec3(tokens, line_no, "vertex")?;
+        self.positions.push(p);
+        Ok(())
+    }
+
+    /// Reads the arguments of a `vn` statement on line `line_no`.
+    pub(super) fn normal<'a>(
+        &mut self,
+        tokens: impl Iterator<Item = &'a [u8]>,
+        line_no: u32,
+    ) -> Result<(), ObjError> {
+        let n = read_vec3(tokens, line_no, "vertex normal")?;
+        if n == Vec3::ZERO {
+            return Err(ObjError { line: line_no, message: "vertex normal is zero".into() });
         }
-        self.positions.push(Vec3::from_array(p));
+        self.normals.push(n);
         Ok(())
     }
 
@@ -135,7 +169,10 @@ impl ObjGeometry {
             if tok[0] == b'#' {
                 break;
             }
-            let v = tok.split(|&b| b == b'/').next().unwrap_or(tok);
+            let mut fields = tok.split(|&b| b == b'/');
+            let v = fields.next().unwrap_or(tok);
+            // Normal indices before any `vn` are ignored (as they always were).
+            let vn = fields.nth(1).filter(|f| !f.is_empty() && !self.normals.is_empty());
             let i = parse_index(v).ok_or_else(|| ObjError {
                 line: line_no,
                 message: format!("face corner {:?} does not start with a vertex index", lossy(tok)),
@@ -165,7 +202,42 @@ impl ObjGeometry {
             if self.max_index.is_none_or(|(m, _)| idx > m) {
                 self.max_index = Some((idx, line_no));
             }
-            corners.push(idx);
+            let id = match vn {
+                None => idx,
+                Some(vn) => {
+                    let j = parse_index(vn).ok_or_else(|| ObjError {
+                        line: line_no,
+                        message: format!("face corner {:?}: normal index is not a number", lossy(tok)),
+                    })?;
+                    let count = self.normals.len() as i64;
+                    let jdx = match j {
+                        j if j > 0 => j - 1,
+                        j if j < 0 && count + j >= 0 => count + j,
+                        _ => {
+                            return Err(ObjError {
+                                line: line_no,
+                                message: format!(
+                                    "face corner {:?} refers to normal {j}, but only {count} normals are defined before this line",
+                                    lossy(tok)
+                                ),
+                            });
+                        }
+                    };
+                    let jdx = u32::try_from(jdx).ok().filter(|&x| x < NORMAL_CORNER).ok_or_else(|| {
+                        ObjError { line: line_no, message: format!("face normal index {j} is too large") }
+                    })?;
+                    if self.max_normal.is_none_or(|(m, _)| jdx > m) {
+                        self.max_normal = Some((jdx, line_no));
+                    }
+                    let next = self.pairs.len() as u32;
+                    let k = *self.pair_of.entry((idx, jdx)).or_insert(next);
+                    if k == next {
+                        self.pairs.push((idx, jdx));
+                    }
+                    NORMAL_CORNER | k
+                }
+            };
+            corners.push(id);
         }
         if corners.len() < 3 {
             return Err(ObjError {
@@ -179,8 +251,21 @@ impl ObjGeometry {
         Ok(())
     }
 
-    /// The positions, once every face is checked against the number of vertices in the file.
-    pub(super) fn finish(self) -> Result<Vec<Vec3>, ObjError> {
+    /// The vertices, once every face is checked against the number of vertices and normals in
+    /// the file.
+    pub(super) fn finish(self) -> Result<ObjVertices, ObjError> {
+        if let Some((m, line)) = self.max_normal {
+            if m as usize >= self.normals.len() {
+                return Err(ObjError {
+                    line,
+                    message: format!(
+                        "face refers to normal {}, but the file defines only {} normals",
+                        m as u64 + 1,
+                        self.normals.len()
+                    ),
+                });
+            }
+        }
         if let Some((m, line)) = self.max_index {
             if m as usize >= self.positions.len() {
                 return Err(ObjError {
@@ -193,8 +278,100 @@ impl ObjGeometry {
                 });
             }
         }
-        Ok(self.positions)
+        Ok(ObjVertices { positions: self.positions, normals: self.normals, pairs: self.pairs })
     }
+}
+
+/// An OBJ file's vertex data, resolved once the whole file is read; faces refer to it by corner
+/// ids (a position index, or `NORMAL_CORNER | k` for the k-th (position, normal) pair).
+pub(super) struct ObjVertices {
+    /// Positions, in file order.
+    pub(super) positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    pairs: Vec<(u32, u32)>,
+}
+
+impl ObjVertices {
+    /// Whether any face corner has a normal.
+    pub(super) fn has_normals(&self) -> bool {
+        !self.pairs.is_empty()
+    }
+
+    /// A table for [`ObjVertices::gather`]: one unmapped entry per position and pair.
+    pub(super) fn remap_table(&self) -> Vec<u32> {
+        vec![u32::MAX; self.positions.len() + self.pairs.len()]
+    }
+
+    /// The mesh of triangles `tris` (corner ids): the vertices they use, in order of first use,
+    /// with one normal each if the file has normals (see the module docs). `remap` comes from
+    /// [`ObjVertices::remap_table`] and is left unmapped again, so it can be reused.
+    pub(super) fn gather(&self, tris: &[[u32; 3]], remap: &mut [u32]) -> ObjMesh {
+        let with_normals = self.has_normals();
+        let mut mesh = ObjMesh { triangles: Vec::with_capacity(tris.len()), ..Default::default() };
+        let mut used = Vec::new();
+        let p_count = self.positions.len();
+        for t in tris {
+            let position = |c: u32| {
+                let p = if c & NORMAL_CORNER != 0 { self.pairs[(c & !NORMAL_CORNER) as usize].0 } else { c };
+                self.positions[p as usize]
+            };
+            let [a, b, c] = t.map(position);
+            // Corners without a normal, in a file with normals, are shaded flat.
+            let face = (b - a).cross(c - a).try_normalize().unwrap_or(Vec3::Z);
+            let local = t.map(|c| {
+                let (slot, normal) = if c & NORMAL_CORNER != 0 {
+                    let k = (c & !NORMAL_CORNER) as usize;
+                    (p_count + k, self.normals[self.pairs[k].1 as usize])
+                } else if with_normals {
+                    mesh.positions.push(position(c));
+                    mesh.normals.push(face);
+                    return mesh.positions.len() as u32 - 1;
+                } else {
+                    (c as usize, Vec3::ZERO)
+                };
+                if remap[slot] == u32::MAX {
+                    remap[slot] = mesh.positions.len() as u32;
+                    mesh.positions.push(position(c));
+                    if with_normals {
+                        mesh.normals.push(normal);
+                    }
+                    used.push(slot);
+                }
+                remap[slot]
+            });
+            mesh.triangles.push(local);
+        }
+        for slot in used {
+            remap[slot] = u32::MAX;
+        }
+        mesh
+    }
+}
+
+/// Three finite coordinates of a `what` statement (`v`, `vn`) on line `line_no`.
+fn read_vec3<'a>(
+    mut tokens: impl Iterator<Item = &'a [u8]>,
+    line_no: u32,
+    what: &str,
+) -> Result<Vec3, ObjError> {
+    let mut p = [0.0f32; 3];
+    for (axis, c) in p.iter_mut().enumerate() {
+        let tok = tokens.next().ok_or_else(|| ObjError {
+            line: line_no,
+            message: format!("{what} has {axis} coordinates, expected 3"),
+        })?;
+        *c = parse_f32(tok).ok_or_else(|| ObjError {
+            line: line_no,
+            message: format!("{what} coordinate {:?} is not a number", lossy(tok)),
+        })?;
+        if !c.is_finite() {
+            return Err(ObjError {
+                line: line_no,
+                message: format!("{what} coordinate {:?} is not finite", lossy(tok)),
+            });
+        }
+    }
+    Ok(Vec3::from_array(p))
 }
 
 fn lossy(tok: &[u8]) -> String {
@@ -268,6 +445,7 @@ pub fn load_obj_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             source: Source { file: path.display().to_string(), line: 0 },
             positions: mesh.positions,
             triangles: mesh.triangles,
+            normals: mesh.normals,
             material: 0,
             emission: None,
             ..Default::default()
@@ -288,9 +466,38 @@ mod tests {
         let src = b"# comment\no quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\r\nv 0 1 0 1.0\nvt 0 0\nvn 0 0 1\ns off\nusemtl x\n\
                     f 1/1/1 2/1/1 3/1/1 4/1/1\nf -4//1 -2//1 -1//1 # tail comment\n\tf\t1 2 3\n";
         let m = parse_obj(src).unwrap();
-        assert_eq!(m.positions.len(), 4);
+        // Four (position, normal) corners, then the three flat corners of `f 1 2 3`.
+        assert_eq!(m.positions.len(), 7);
         assert_eq!(m.positions[2], Vec3::new(1.0, 1.0, 0.0));
-        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 2, 3], [0, 1, 2]]);
+        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 2, 3], [4, 5, 6]]);
+    }
+
+    #[test]
+    fn vertex_normals_split_corners_and_unnormalled_corners_are_flat() {
+        let src = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvn 0 0 2\nvn 0.1 0 1\n\
+                    f 1//1 2//2 3//1\nf 2//2 4//1 3//1\nf 1 2 4\n";
+        let m = parse_obj(src).unwrap();
+        // Corners (1,1) (2,2) (3,1) (4,1), then three flat corners of their own.
+        assert_eq!(m.triangles, vec![[0, 1, 2], [1, 3, 2], [4, 5, 6]]);
+        assert_eq!(m.positions.len(), 7);
+        assert_eq!(m.normals.len(), 7);
+        assert_eq!(m.normals[1], Vec3::new(0.1, 0.0, 1.0));
+        assert_eq!(m.positions[5], Vec3::new(1.0, 0.0, 0.0));
+        assert_eq!(m.normals[6], Vec3::Z); // the face normal
+        // Without vn the mesh is what it always was.
+        assert!(parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap().normals.is_empty());
+        for (src, text) in [
+            (
+                &b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n"[..],
+                "normal 2, but the file defines only 1",
+            ),
+            (b"v 0 0 0\nvn 0 0 0\n", "zero"),
+            (b"v 0 0 0\nvn 0 nan 1\n", "not finite"),
+            (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//x 2 3\n", "normal index"),
+        ] {
+            let e = parse_obj(src).unwrap_err();
+            assert!(e.message.contains(text), "{e:?} should mention {text:?}");
+        }
     }
 
     #[test]

@@ -7,6 +7,7 @@
 //! | scene | the default `scene`, else the first; with no scene at all, every root node (warning) |
 //! | node transforms | `matrix` or TRS (`T·R·S`), multiplied down the tree; vertices are baked to world space; a negative determinant flips the winding so front faces stay front faces |
 //! | mesh primitives, mode `TRIANGLES` | one [`MeshDesc`] per primitive instance, named after the node (else the mesh), `.k` appended for primitive k of several; indexed (`u8`/`u16`/`u32`) and non-indexed; positions must be `VEC3`/`FLOAT` |
+//! | `NORMAL` | per-vertex shading normals (`VEC3`/`FLOAT`, one per position), taken to world space by the inverse transpose of the node transform; without it the primitive is faceted (glTF's flat normals) |
 //! | other primitive modes (points, lines, strips, fans) | warning, skipped |
 //! | materials (metallic-roughness) | Lambert or Modified Phong, see [`materials`]; no material → glTF's default (white metal, roughness 1) |
 //! | `emissiveFactor` × `KHR_materials_emissive_strength` | area light of that radiance in W/(m²·sr) (see [`materials`]) |
@@ -210,6 +211,22 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     .collect();
                 let positions: Vec<Vec3> =
                     local.iter().map(|p| m.transform_point3(Vec3::from_array(*p))).collect();
+                // NORMAL: shading normals, carried to world space by the inverse transpose.
+                let normals = match prim.get(&::gltf::Semantic::Normals) {
+                    None => Vec::new(),
+                    Some(acc) => {
+                        let local =
+                            buffers::read_vec3(&acc, &buffers).map_err(|e| invalid(pel.clone(), e))?;
+                        if local.len() != n {
+                            return Err(invalid(
+                                pel,
+                                format!("NORMAL has {} entries for {n} positions", local.len()),
+                            ));
+                        }
+                        let nm = glam::Mat3::from_mat4(m).inverse().transpose();
+                        local.iter().map(|v| nm * Vec3::from_array(*v)).collect()
+                    }
+                };
 
                 let key = prim.material().index().map_or(0, |i| i + 1);
                 let (material, emission) = match material_of.get(key).copied().flatten() {
@@ -242,6 +259,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     source: source.clone(),
                     positions,
                     triangles,
+                    normals,
                     material,
                     emission,
                     ..Default::default()

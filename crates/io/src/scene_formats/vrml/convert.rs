@@ -279,9 +279,13 @@ impl Converter {
         }
         let (material, emission) = self.material(n.node("appearance").map(|a| &**a), local.solid)?;
         let mut triangles = local.triangles;
+        let mut normals = local.normals;
         let positions: Vec<Vec3> = if *m == DMat4::IDENTITY {
             local.positions
         } else {
+            // Shading normals go by the inverse transpose (the core normalises them).
+            let nm = glam::DMat3::from_mat4(*m).inverse().transpose();
+            normals.iter_mut().for_each(|v| *v = (nm * v.as_dvec3()).as_vec3());
             if m.determinant() < 0.0 {
                 // A mirror turns counter-clockwise into clockwise: keep VRML's front face.
                 triangles.iter_mut().for_each(|t| t.swap(1, 2));
@@ -311,6 +315,7 @@ impl Converter {
             source: self.source(n),
             positions,
             triangles,
+            normals,
             material,
             emission,
             ..Default::default()

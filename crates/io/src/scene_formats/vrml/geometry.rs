@@ -3,8 +3,17 @@
 //! `Box`, `Sphere`, `Cylinder`, `Cone` with VRML's default sizes.
 //!
 //! Every triangle is counter-clockwise seen from the side VRML calls the front (`ccw FALSE`
-//! reverses the winding; primitives face outward). Normals, colours and texture coordinates are
-//! read by the parser and ignored here: Opticks shades with flat geometric normals.
+//! reverses the winding; primitives face outward). Colours and texture coordinates are read by
+//! the parser and ignored here.
+//!
+//! Shading normals ([`LocalMesh::normals`]): an `IndexedFaceSet` with a `Normal` node uses it as
+//! VRML97 §6.23 says — `normalPerVertex TRUE` (default): corner k gets `vector[normalIndex[k]]`,
+//! or `vector[coordIndex[k]]` without `normalIndex`; `FALSE`: face f gets
+//! `vector[normalIndex[f]]`, or `vector[f]`. Without a `Normal` node, normals are generated from
+//! `creaseAngle` (§4.6.3.5): a corner's normal is the area-weighted mean of the normals of the
+//! faces around its point that are within `creaseAngle` of its own face; the default 0 gives a
+//! faceted mesh (no normals at all, exactly as before). `Sphere`, and the sides of `Cylinder` and
+//! `Cone`, get their smooth analytic normals; `Box`, caps and `ElevationGrid` stay faceted.
 
 use super::tree::{FieldValue, Node};
 use super::triangulate::triangulate;
@@ -15,6 +24,10 @@ use std::f32::consts::PI;
 /// 64 segments keep the area within 0.2 % of the true surface.
 pub const SEGMENTS: usize = 64;
 
+/// Most face-pair comparisons `creaseAngle` normal generation may make (Σ over points of the
+/// square of the number of faces at the point); beyond it the face set stays faceted.
+pub const MAX_CREASE_WORK: u64 = 50_000_000;
+
 /// Triangles in a node's local coordinates.
 #[derive(Debug, Default)]
 pub struct LocalMesh {
@@ -22,6 +35,8 @@ pub struct LocalMesh {
     pub positions: Vec<Vec3>,
     /// Counter-clockwise triangles (front = VRML's front).
     pub triangles: Vec<[u32; 3]>,
+    /// One shading normal per position (not necessarily unit length), or empty: faceted.
+    pub normals: Vec<Vec3>,
     /// VRML's `solid`: only the front is meant to be seen.
     pub solid: bool,
 }
@@ -112,10 +127,175 @@ fn indexed_face_set(g: &Node, warn: &mut Vec<String>) -> Result<LocalMesh, Strin
             super::triangulate::EAR_CLIP_MAX
         ));
     }
-    if !g.bool("ccw", true) {
+    let ccw = g.bool("ccw", true);
+    if !ccw {
         triangles.iter_mut().for_each(|t| t.swap(1, 2));
     }
-    Ok(LocalMesh { positions: points, triangles, solid: g.bool("solid", true) })
+    let mut mesh =
+        LocalMesh { positions: points, triangles, solid: g.bool("solid", true), ..Default::default() };
+    if let Some(corner_normal) = corner_normals(g, index, &mesh.positions, ccw, warn)? {
+        split_by_normal(&mut mesh, index, &corner_normal);
+    }
+    Ok(mesh)
+}
+
+/// The shading normal of every corner of `coordIndex` (`None` for the `-1` separators), from the
+/// `Normal` node or generated from `creaseAngle`; `None` if the face set is faceted.
+fn corner_normals(
+    g: &Node,
+    index: &[i32],
+    points: &[Vec3],
+    ccw: bool,
+    warn: &mut Vec<String>,
+) -> Result<Option<Vec<Option<Vec3>>>, String> {
+    let faces: Vec<std::ops::Range<usize>> = {
+        let mut out = Vec::new();
+        let mut start = 0;
+        for (k, &i) in index.iter().enumerate() {
+            if i == -1 {
+                out.push(start..k);
+                start = k + 1;
+            }
+        }
+        if start < index.len() {
+            out.push(start..index.len());
+        }
+        out
+    };
+    let mut normals = vec![None; index.len()];
+    if let Some(node) = g.node("normal") {
+        if node.type_name != "Normal" {
+            return Err(format!("normal must be a Normal node, not `{}`", node.type_name));
+        }
+        let vector: Vec<Vec3> = match node.get("vector") {
+            Some(FieldValue::Vec3s(v)) => v.iter().map(|&v| Vec3::from(v)).collect(),
+            _ => Vec::new(),
+        };
+        let normal_index: &[i32] = match g.get("normalIndex") {
+            Some(FieldValue::Ints(v)) => v,
+            _ => &[],
+        };
+        let pick = |what: &str, k: usize, i: i32| -> Result<Vec3, String> {
+            usize::try_from(i).ok().and_then(|i| vector.get(i).copied()).ok_or_else(|| {
+                format!("{what}[{k}] = {i} is out of range: the Normal node has {} vectors", vector.len())
+            })
+        };
+        let per_vertex = g.bool("normalPerVertex", true);
+        for (f, face) in faces.iter().enumerate() {
+            for k in face.clone() {
+                normals[k] = Some(match (per_vertex, normal_index.is_empty()) {
+                    (true, true) => pick("coordIndex", k, index[k])?,
+                    (true, false) => pick("normalIndex", k, *normal_index.get(k).unwrap_or(&-1))?,
+                    (false, true) => pick("face", f, f as i32)?,
+                    (false, false) => pick("normalIndex", f, *normal_index.get(f).unwrap_or(&-1))?,
+                });
+            }
+        }
+        return Ok(Some(normals));
+    }
+    let crease = g.float("creaseAngle", 0.0);
+    if crease.is_nan() || crease <= 0.0 {
+        return Ok(None);
+    }
+    // Area-weighted face normals (Newell's), facing VRML's front.
+    let sign = if ccw { 1.0 } else { -1.0 };
+    let face_normal: Vec<Vec3> = faces
+        .iter()
+        .map(|face| {
+            let c: Vec<Vec3> = face.clone().map(|k| points[index[k] as usize]).collect();
+            let n = (0..c.len()).map(|i| c[i].cross(c[(i + 1) % c.len()])).sum::<Vec3>();
+            sign * 0.5 * n
+        })
+        .collect();
+    let mut faces_of: Vec<Vec<u32>> = vec![Vec::new(); points.len()];
+    for (f, face) in faces.iter().enumerate() {
+        for k in face.clone() {
+            faces_of[index[k] as usize].push(f as u32);
+        }
+    }
+    // Each corner compares its face with every face at its point: Σ degree² comparisons. A
+    // hostile (or merely fan-shaped) file could make that quadratic, so it is bounded.
+    let work: u64 = faces_of.iter().map(|f| (f.len() as u64).pow(2)).sum();
+    if work > MAX_CREASE_WORK {
+        warn.push(format!(
+            "creaseAngle: too many faces share a point ({work} comparisons > {MAX_CREASE_WORK}); normals not generated, the face set is faceted"
+        ));
+        return Ok(None);
+    }
+    let cos_crease = crease.min(PI).cos();
+    for (f, face) in faces.iter().enumerate() {
+        let nf = face_normal[f].normalize_or_zero();
+        for k in face.clone() {
+            let sum: Vec3 = faces_of[index[k] as usize]
+                .iter()
+                .map(|&o| face_normal[o as usize])
+                .filter(|n| n.normalize_or_zero().dot(nf) >= cos_crease)
+                .sum();
+            normals[k] = Some(if sum == Vec3::ZERO { nf } else { sum });
+        }
+    }
+    Ok(Some(normals))
+}
+
+/// Gives every corner of `mesh` (triangles of point indices, triangulated from `index`) its own
+/// normal: a point is split into one vertex per distinct normal it has at its corners.
+fn split_by_normal(mesh: &mut LocalMesh, index: &[i32], corner_normal: &[Option<Vec3>]) {
+    // The normal of each (face, point): faces are runs of `index`; a triangle's corners are
+    // points of the face it came from, found in the face's run.
+    let mut vertex_of: std::collections::HashMap<(u32, [u32; 3]), u32> = std::collections::HashMap::new();
+    let (mut positions, mut normals) = (Vec::new(), Vec::new());
+    let mut face_start = 0usize;
+    let mut tri = 0usize;
+    let counts = triangles_per_face(index, &mesh.positions);
+    let mut triangles = std::mem::take(&mut mesh.triangles);
+    for (face_len, ntri) in counts {
+        let run = &index[face_start..face_start + face_len];
+        // Long faces look their corners up in a map: a linear search would be quadratic.
+        let corner_of: std::collections::HashMap<u32, usize> = if face_len > 32 {
+            run.iter().enumerate().rev().map(|(k, &i)| (i as u32, k)).collect()
+        } else {
+            Default::default()
+        };
+        for t in &mut triangles[tri..tri + ntri] {
+            for p in t.iter_mut() {
+                let local = if face_len > 32 {
+                    corner_of.get(p).copied()
+                } else {
+                    run.iter().position(|&i| i as u32 == *p)
+                };
+                let k = face_start + local.unwrap_or(0);
+                let n = corner_normal[k].unwrap_or(Vec3::Y);
+                let key = (*p, n.to_array().map(f32::to_bits));
+                let next = positions.len() as u32;
+                let v = *vertex_of.entry(key).or_insert(next);
+                if v == next {
+                    positions.push(mesh.positions[*p as usize]);
+                    normals.push(n);
+                }
+                *p = v;
+            }
+        }
+        face_start += face_len + 1;
+        tri += ntri;
+    }
+    mesh.triangles = triangles;
+    mesh.positions = positions;
+    mesh.normals = normals;
+}
+
+/// (corners, triangles) of each face of `index`, as [`indexed_face_set`] triangulated them.
+fn triangles_per_face(index: &[i32], points: &[Vec3]) -> Vec<(usize, usize)> {
+    let mut out = Vec::new();
+    let mut scratch = Vec::new();
+    for run in index.split(|&i| i == -1) {
+        let poly: Vec<u32> = run.iter().map(|&i| i as u32).collect();
+        scratch.clear();
+        if poly.len() >= 3 {
+            triangulate(points, &poly, &mut scratch);
+        }
+        out.push((run.len(), scratch.len()));
+    }
+    out
 }
 
 fn elevation_grid(g: &Node) -> Result<LocalMesh, String> {
@@ -151,7 +331,7 @@ fn elevation_grid(g: &Node) -> Result<LocalMesh, String> {
     if !g.bool("ccw", true) {
         triangles.iter_mut().for_each(|t| t.swap(1, 2));
     }
-    Ok(LocalMesh { positions, triangles, solid: g.bool("solid", true) })
+    Ok(LocalMesh { positions, triangles, solid: g.bool("solid", true), ..Default::default() })
 }
 
 /// Adds a triangle of a shape convex about the origin, turned to face away from it.
@@ -203,6 +383,9 @@ fn sphere(r: f32) -> LocalMesh {
             }
         }
     }
+    if r > 0.0 {
+        m.normals = m.positions.clone(); // radial: the true sphere's normal
+    }
     m
 }
 
@@ -210,17 +393,22 @@ fn sphere(r: f32) -> LocalMesh {
 /// optional side and caps (bottom, top). Used for cylinders and cones.
 fn revolved(profile: &[(f32, f32); 2], side: bool, caps: [bool; 2]) -> LocalMesh {
     let mut m = LocalMesh { solid: true, ..Default::default() };
-    let ring = |m: &mut LocalMesh, (r, y): (f32, f32)| -> u32 {
+    // The side's smooth normal at angle φ: (dy·sin φ, r0 − r1, dy·cos φ) (zero if degenerate).
+    let ((r0, y0), (r1, y1)) = (profile[0], profile[1]);
+    let slope = Vec3::new(y1 - y0, r0 - r1, y1 - y0);
+    let smooth = slope.x > 0.0 && r0 >= 0.0 && r1 >= 0.0;
+    let ring = |m: &mut LocalMesh, (r, y): (f32, f32), normal: Option<Vec3>| -> u32 {
         let base = m.positions.len() as u32;
         for i in 0..SEGMENTS {
             let phi = 2.0 * PI * i as f32 / SEGMENTS as f32;
             m.positions.push(Vec3::new(r * phi.sin(), y, r * phi.cos()));
+            m.normals.push(normal.unwrap_or(slope * Vec3::new(phi.sin(), 1.0, phi.cos())));
         }
         base
     };
     let next = |b: u32, i: usize| b + ((i + 1) % SEGMENTS) as u32;
     if side {
-        let (lo, hi) = (ring(&mut m, profile[0]), ring(&mut m, profile[1]));
+        let (lo, hi) = (ring(&mut m, profile[0], None), ring(&mut m, profile[1], None));
         for i in 0..SEGMENTS {
             let (a, b, c, d) = (lo + i as u32, next(lo, i), next(hi, i), hi + i as u32);
             push_outward(&mut m, [a, b, c]);
@@ -231,13 +419,18 @@ fn revolved(profile: &[(f32, f32); 2], side: bool, caps: [bool; 2]) -> LocalMesh
     }
     for (k, &cap) in caps.iter().enumerate() {
         if cap && profile[k].0 > 0.0 {
-            let b = ring(&mut m, profile[k]);
+            let axis = Vec3::new(0.0, if k == 0 { -1.0 } else { 1.0 }, 0.0);
+            let b = ring(&mut m, profile[k], Some(axis));
             let centre = m.positions.len() as u32;
             m.positions.push(Vec3::new(0.0, profile[k].1, 0.0));
+            m.normals.push(axis);
             for i in 0..SEGMENTS {
                 push_outward(&mut m, [centre, b + i as u32, next(b, i)]);
             }
         }
+    }
+    if !smooth {
+        m.normals.clear();
     }
     m
 }

@@ -7,12 +7,13 @@
 //! | statement | handling |
 //! |---|---|
 //! | `v x y z [w] [r g b]` | a position (`w` and vertex colours ignored) |
-//! | `f i j k …` | a polygon, fanned into triangles `(i, j, k), (i, k, l), …`; corners `v`, `v/vt`, `v//vn`, `v/vt/vn` (only `v` is used); 1-based, negative = relative to the latest vertex; forward references accepted |
+//! | `vn x y z` | a vertex normal, used by corners `v//vn` and `v/vt/vn` as the shading normal (see [`super::obj`] for corners without one) |
+//! | `f i j k …` | a polygon, fanned into triangles `(i, j, k), (i, k, l), …`; corners `v`, `v/vt`, `v//vn`, `v/vt/vn` (`vt` ignored); 1-based, negative = relative to the latest vertex; forward references accepted |
 //! | `o name`, `g name …` | starts a new group: later faces go to a mesh named after it |
 //! | `usemtl name` | later faces use that material |
 //! | `mtllib a.mtl …` | material libraries, relative to the OBJ file's folder (a name with spaces is tried whole first) |
 //! | `#…` | comment (to the end of the line) |
-//! | `vt`, `vn`, `vp`, `s`, `l`, `p`, curves, anything else | ignored |
+//! | `vt`, `vp`, `s`, `l`, `p`, curves, anything else | ignored |
 //!
 //! Every distinct (group, material) pair becomes one
 //! [`MeshDesc`](opticks_core::scene::MeshDesc), in order of first appearance, holding only the
@@ -57,10 +58,10 @@
 
 pub mod mtl;
 
-use super::obj::{ObjError, ObjGeometry, line_tokens};
+use super::obj::{ObjError, ObjGeometry, ObjVertices, line_tokens};
 use super::{FileLocation, LoadedScene, SceneFileError};
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
-use opticks_core::math::{Rgb, Vec3};
+use opticks_core::math::Rgb;
 use opticks_core::scene::{MeshDesc, SceneDescription, Source};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -77,7 +78,7 @@ struct Slot {
 
 /// What the OBJ text says, before materials are resolved.
 struct ParsedObj {
-    positions: Vec<Vec3>,
+    vertices: ObjVertices,
     slots: Vec<Slot>,
     /// `mtllib` arguments with their lines.
     mtllibs: Vec<(String, u32)>,
@@ -120,6 +121,7 @@ fn parse(data: &[u8], file: &Path, default_group: &str) -> Result<ParsedObj, Sce
         let Some(keyword) = tokens.next() else { continue };
         match keyword {
             b"v" => geometry.vertex(tokens, line_no).map_err(obj_err)?,
+            b"vn" => geometry.normal(tokens, line_no).map_err(obj_err)?,
             b"f" => {
                 let slot = match current {
                     Some(s) => s,
@@ -159,7 +161,7 @@ fn parse(data: &[u8], file: &Path, default_group: &str) -> Result<ParsedObj, Sce
             _ => {}
         }
     }
-    Ok(ParsedObj { positions: geometry.finish().map_err(obj_err)?, slots, mtllibs })
+    Ok(ParsedObj { vertices: geometry.finish().map_err(obj_err)?, slots, mtllibs })
 }
 
 /// The `default` material: two-sided Lambertian of albedo 0.5.
@@ -222,7 +224,7 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let mut resolved: HashMap<Option<String>, (usize, Option<Rgb>)> = HashMap::new();
     let mut default_index: Option<usize> = None;
     let source_file = path.display().to_string();
-    let mut remap: Vec<u32> = vec![u32::MAX; parsed.positions.len()];
+    let mut remap = parsed.vertices.remap_table();
     // Groups split by several materials get `group[material]` names.
     let mut materials_per_group: HashMap<&str, usize> = HashMap::new();
     for s in &parsed.slots {
@@ -264,25 +266,7 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             }
         };
         // Compact the vertices this mesh uses, in order of first use.
-        let mut positions = Vec::new();
-        let mut triangles = Vec::with_capacity(slot.triangles.len());
-        let mut used = Vec::new();
-        for t in &slot.triangles {
-            let mut local = [0u32; 3];
-            for (l, &g) in local.iter_mut().zip(t) {
-                let r = &mut remap[g as usize];
-                if *r == u32::MAX {
-                    *r = positions.len() as u32;
-                    positions.push(parsed.positions[g as usize]);
-                    used.push(g);
-                }
-                *l = *r;
-            }
-            triangles.push(local);
-        }
-        for g in used {
-            remap[g as usize] = u32::MAX;
-        }
+        let mesh = parsed.vertices.gather(&slot.triangles, &mut remap);
         let name = match (&slot.material, materials_per_group.get(slot.group.as_str())) {
             (Some(m), Some(&n)) if n > 1 => format!("{}[{m}]", slot.group),
             _ => slot.group.clone(),
@@ -290,8 +274,9 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
         desc.meshes.push(MeshDesc {
             name,
             source: Source { file: source_file.clone(), line: 0 },
-            positions,
-            triangles,
+            positions: mesh.positions,
+            triangles: mesh.triangles,
+            normals: mesh.normals,
             material,
             emission,
             ..Default::default()
