@@ -123,28 +123,125 @@ fn ies_flux_on_closed_sphere() {
         ..Default::default()
     };
     let (phi, m, e) = sphere_flux(light, 400_000, 2);
-    // Independent midpoint quadrature of the bilinear interpolant (bilateral symmetry: φ in
-    // [0°, 180°], doubled).
-    let (va, ha, cd) = (&ies.profile.vertical_angles, &ies.profile.horizontal_angles, &ies.profile.candela);
+    let lm = wallwasher_lumens(&ies.profile, 0.0, 180.0);
+    eprintln!("asymmetric IES: Φ = {:.3} lm by the table, {lm:.3} lm by quadrature", phi * 683.0);
+    assert!((phi * LUMENS_PER_WATT as f64 / lm - 1.0).abs() < 1e-4);
+    check("asymmetric IES, sphere flux", m, e, phi, 0.005);
+}
+
+/// Lumens of testdata/ies/asymmetric-wallwasher.ies (bilateral: φ in [0°, 180°] mirrored; θ up
+/// to 90°) between the horizontal angles `from`° and `to`° and their mirror images, by an
+/// independent midpoint quadrature of the bilinear interpolant.
+fn wallwasher_lumens(ies: &opticks_core::light::IesProfile, from: f64, to: f64) -> f64 {
+    let (va, ha, cd) = (&ies.vertical_angles, &ies.horizontal_angles, &ies.candela);
+    assert_eq!((ha[ha.len() - 1], va[va.len() - 1]), (180.0, 90.0), "bilateral, lower hemisphere");
     let lerp = |xs: &[f32], x: f64, f: &dyn Fn(usize) -> f64| -> f64 {
         let i = xs.iter().position(|&a| a as f64 > x).unwrap_or(xs.len() - 1).max(1);
         let t = (x - xs[i - 1] as f64) / (xs[i] - xs[i - 1]) as f64;
         f(i - 1) * (1.0 - t) + f(i) * t
     };
-    let (nt, np) = (900, 360);
+    let (nt, np) = (900, (2.0 * (to - from)).round() as usize);
     let mut lm = 0.0;
     for i in 0..nt {
         let th = (i as f64 + 0.5) / nt as f64 * 90.0;
         for j in 0..np {
-            let ph = (j as f64 + 0.5) / np as f64 * 180.0;
+            let ph = from + (j as f64 + 0.5) / np as f64 * (to - from);
             let c = lerp(ha, ph, &|h| lerp(va, th, &|v| cd[h * va.len() + v] as f64));
             lm += c * th.to_radians().sin();
         }
     }
-    lm *= 2.0 * (90f64.to_radians() / nt as f64) * (180f64.to_radians() / np as f64);
-    eprintln!("asymmetric IES: Φ = {:.3} lm by the table, {lm:.3} lm by quadrature", phi * 683.0);
-    assert!((phi * LUMENS_PER_WATT as f64 / lm - 1.0).abs() < 1e-4);
-    check("asymmetric IES, sphere flux", m, e, phi, 0.005);
+    lm * 2.0 * (90f64.to_radians() / nt as f64) * ((to - from).to_radians() / np as f64)
+}
+
+/// A 1 cm² area light facing −y at the origin (counter-clockwise seen from below) inside a
+/// closed black sphere, with `profile`, radiance `radiance` and horizontal-0° `tangent`.
+fn ies_panel_in_sphere(profile: EmissionProfile, radiance: f32, tangent: Option<Vec3>) -> Scene {
+    let s = 0.005;
+    let panel = MeshDesc {
+        emission_profile: Some(profile),
+        emission_tangent: tangent,
+        ..quad(
+            "panel",
+            [Vec3::new(-s, 0.0, -s), Vec3::new(s, 0.0, -s), Vec3::new(s, 0.0, s), Vec3::new(-s, 0.0, s)],
+            Some(Rgb::splat(radiance)),
+        )
+    };
+    let desc = SceneDescription {
+        materials: vec![black()],
+        meshes: vec![panel, inward_icosphere(2.0, 3)],
+        ..Default::default()
+    };
+    Scene::build(&desc).unwrap()
+}
+
+/// An area light with testdata/ies/symmetric-3.ies emits the file's flux into its front
+/// hemisphere, 2π·(200 − 200/π) = 400π − 400 lm per unit radiance·area (the 400 lm above 90° are
+/// cut: the light is one-sided), and a closed sphere receives it within 0.5 %; with a power
+/// given, the radiance follows so that Φ is that power.
+#[test]
+fn ies_area_light_flux_on_closed_sphere() {
+    let ies = load_ies(&testdata("ies/symmetric-3.ies")).unwrap();
+    let expected = (400.0 * PI - 400.0) / LUMENS_PER_WATT as f64;
+    let scene = ies_panel_in_sphere(EmissionProfile::Ies(ies.profile.clone()), 1e4, None);
+    let phi = scene.lights[0].power().x as f64;
+    assert!((phi / expected - 1.0).abs() < 1e-5, "Φ = {phi} W, expected {expected}");
+    let (m, e) = mean_and_error(&trace_fluxes(&scene, 400_000, 31, |_| true));
+    check("symmetric IES area light, sphere flux", m, e, expected, 0.005);
+
+    let mut desc = SceneDescription {
+        materials: vec![black()],
+        meshes: vec![MeshDesc {
+            emission_power: Some(Rgb::new(1.0, 2.0, 3.0)),
+            emission_profile: Some(EmissionProfile::Ies(ies.profile)),
+            ..quad("p", [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Z, Vec3::Z], Some(Rgb::ONE))
+        }],
+        ..Default::default()
+    };
+    let scene = Scene::build(&desc).unwrap();
+    let p = scene.lights[0].power();
+    assert!((p - Rgb::new(1.0, 2.0, 3.0)).abs().max_element() < 1e-5, "Φ = {p}");
+    desc.meshes[0].emission_power = Some(Rgb::new(1.0, -1.0, 1.0));
+    let e = Scene::build(&desc).unwrap_err().to_string();
+    assert!(e.contains("'p'") && e.contains("power"), "{e}");
+    desc.meshes[0].emission_power = None;
+    desc.meshes[0].emission_tangent = Some(Vec3::ZERO);
+    let e = Scene::build(&desc).unwrap_err().to_string();
+    assert!(e.contains("'p'") && e.contains("tangent"), "{e}");
+}
+
+/// An area light with the asymmetric wall washer: its Φ is the table's integral, and the lobe
+/// points along the tangent: the flux reaching the sphere on the +x side vs the −x side matches
+/// the quadrature of φ ∈ [−90°, 90°] vs [90°, 270°] for tangent +x, and the two swap for
+/// tangent −x. The sensor's factor for emitters seen directly uses the same frame.
+#[test]
+fn ies_area_light_lobe_follows_tangent() {
+    let ies = load_ies(&testdata("ies/asymmetric-wallwasher.ies")).unwrap();
+    let (front, back) = (wallwasher_lumens(&ies.profile, 0.0, 90.0), wallwasher_lumens(&ies.profile, 90.0, 180.0));
+    let total = (front + back) / LUMENS_PER_WATT as f64;
+    eprintln!("wall washer: {front:.2} lm towards φ = 0°, {back:.2} lm away");
+    for (tangent, seed) in [(Vec3::X, 41), (-Vec3::X, 42)] {
+        let scene = ies_panel_in_sphere(EmissionProfile::Ies(ies.profile.clone()), 1e4, Some(tangent));
+        let phi = scene.lights[0].power().x as f64;
+        assert!((phi / total - 1.0).abs() < 1e-4, "Φ = {phi} W, quadrature {total}");
+        let plus = mean_and_error(&trace_fluxes(&scene, 400_000, seed, |p| p.x > 0.0));
+        let minus = mean_and_error(&trace_fluxes(&scene, 400_000, seed + 10, |p| p.x < 0.0));
+        let (want_plus, want_minus) = if tangent.x > 0.0 { (front, back) } else { (back, front) };
+        let w = |lm: f64| lm / LUMENS_PER_WATT as f64;
+        check(&format!("tangent {tangent}: flux into x > 0"), plus.0, plus.1, w(want_plus), 0.01);
+        check(&format!("tangent {tangent}: flux into x < 0"), minus.0, minus.1, w(want_minus), 0.01);
+
+        // Seen directly at θ = 40° on the tangent's side (φ = 0°) vs the opposite side (φ = 180°):
+        // L_e·A/Φ = candela/683/Φ/cos θ (radiance·area = 1 here), from the file's grid nodes.
+        let (c, s) = (40f32.to_radians().cos(), 40f32.to_radians().sin());
+        let cd = |h: usize| ies.profile.candela[h * ies.profile.vertical_angles.len() + 4] as f64;
+        assert_eq!(ies.profile.vertical_angles[4], 40.0);
+        for (side, h) in [(1.0f32, 0), (-1.0, ies.profile.horizontal_angles.len() - 1)] {
+            let dir = Vec3::new(side * tangent.x * s, -c, 0.0);
+            let got = scene.lights[0].emitted_fraction(-Vec3::Y, dir) as f64;
+            let want = cd(h) / LUMENS_PER_WATT as f64 / phi / c as f64;
+            assert!((got / want - 1.0).abs() < 1e-3, "side {side}: {got} vs {want}");
+        }
+    }
 }
 
 /// Mitsuba's spot: Φ = I·2π·(1 − (sin γ − sin β)/(γ − β)); the sphere receives it.
