@@ -513,6 +513,73 @@ fn mitsuba_light_extensions() {
     }
 }
 
+/// The Mitsuba area emitter's extensions: an IES `filename` (Φ = the file's front-hemisphere
+/// flux by default, a warning when that differs from the file's rated lumens), a `tangent`, and
+/// `power` or `lumens`; bad values are errors naming the line.
+#[test]
+fn mitsuba_area_light_ies_tangent_power() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(testdata("ies/symmetric-3.ies"), dir.path().join("lamp.ies")).unwrap();
+    std::fs::copy(testdata("ies/asymmetric-wallwasher.ies"), dir.path().join("ww.ies")).unwrap();
+    let xml = r#"<scene version="3.0.0">
+  <shape type="rectangle" id="lamp">
+    <emitter type="area"><string name="filename" value="lamp.ies"/></emitter>
+  </shape>
+  <shape type="rectangle" id="washer">
+    <transform name="to_world"><translate y="3"/></transform>
+    <emitter type="area">
+      <string name="filename" value="ww.ies"/><vector name="tangent" x="0" y="2" z="0"/>
+      <rgb name="radiance" value="1, 0.5, 0.25"/><float name="scale" value="3"/><float name="lumens" value="683"/>
+    </emitter>
+  </shape>
+  <shape type="rectangle" id="plain">
+    <transform name="to_world"><translate y="6"/></transform>
+    <emitter type="area"><rgb name="power" value="3"/></emitter>
+  </shape>
+  <shape type="rectangle" id="focused">
+    <transform name="to_world"><translate y="9"/></transform>
+    <emitter type="area"><float name="exponent" value="4"/><float name="lumens" value="1366"/></emitter>
+  </shape>
+</scene>"#;
+    let path = dir.path().join("scene.xml");
+    std::fs::write(&path, xml).unwrap();
+    let loaded = opticks_io::load_scene(&path).unwrap();
+    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
+    assert!(loaded.warnings[0].to_string().contains("front hemisphere"), "{:?}", loaded.warnings);
+    let scene = Scene::build(&loaded.description).unwrap();
+    let light = |name: &str| &scene.lights[scene.light_index(name).unwrap()];
+    let lamp = light("lamp").power();
+    let want = ((400.0 * PI - 400.0) / LUMENS_PER_WATT as f64) as f32;
+    assert!((lamp - Rgb::splat(want)).abs().max_element() < 1e-5 * want, "{lamp} vs {want}");
+    let Light::Area(washer) = light("washer") else { panic!() };
+    assert_eq!(washer.tangent, Vec3::Y);
+    let y = opticks_core::math::luminance(light("washer").power());
+    assert!((y - 1.0).abs() < 1e-5, "683 lm = luminance 1 W: {}", light("washer").power());
+    let p = light("washer").power();
+    assert!((p.x / p.y - 2.0).abs() < 1e-5 && (p.y / p.z - 2.0).abs() < 1e-5, "keeps the colour: {p}");
+    assert!((light("plain").power() - Rgb::splat(3.0)).abs().max_element() < 1e-5);
+    assert!((light("focused").power() - Rgb::splat(2.0)).abs().max_element() < 1e-5);
+
+    for (emitter, want) in [
+        (r#"<vector name="tangent" x="0" y="0" z="0"/>"#, "tangent must not be zero"),
+        (
+            r#"<float name="exponent" value="2"/><string name="filename" value="lamp.ies"/>"#,
+            "either `exponent` or `filename`",
+        ),
+        (r#"<rgb name="power" value="1"/><float name="lumens" value="1"/>"#, "either `power` or `lumens`"),
+        (r#"<float name="lumens" value="-5"/>"#, "lumens must not be negative"),
+        (r#"<rgb name="power" value="-1"/>"#, "power must not be negative"),
+        (r#"<string name="filename" value="lamp.ies"/><float name="scale" value="-1"/>"#, "scale must not"),
+        (r#"<string name="filename" value="none.ies"/>"#, "cannot read the IES file"),
+        (r#"<rgb name="radiance" value="0"/><float name="lumens" value="5"/>"#, "non-zero luminance"),
+    ] {
+        let body = format!("<shape type=\"rectangle\"><emitter type=\"area\">{emitter}</emitter></shape>");
+        std::fs::write(&path, format!("<scene version=\"3.0.0\">\n{body}\n</scene>")).unwrap();
+        let e = opticks_io::load_scene(&path).unwrap_err().to_string();
+        assert!(e.contains("scene.xml:2") && e.contains(want), "{body}: {e}\nwant: {want}");
+    }
+}
+
 /// The sensor's emission-vertex factor f_e(ω_c)/cos θ: a cosⁿ panel (n = 3) seen by a camera at
 /// 60° from its normal has radiance e·cos²60° = e/4; a Lambertian one (no profile) e.
 #[test]
