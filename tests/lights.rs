@@ -19,7 +19,7 @@ use opticks_core::scene::{
 use opticks_core::trace::{TraceSettings, trace_path};
 use opticks_io::ies::load_ies;
 use std::f64::consts::PI;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn testdata(p: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata").join(p)
@@ -216,7 +216,8 @@ fn ies_area_light_flux_on_closed_sphere() {
 #[test]
 fn ies_area_light_lobe_follows_tangent() {
     let ies = load_ies(&testdata("ies/asymmetric-wallwasher.ies")).unwrap();
-    let (front, back) = (wallwasher_lumens(&ies.profile, 0.0, 90.0), wallwasher_lumens(&ies.profile, 90.0, 180.0));
+    let (front, back) =
+        (wallwasher_lumens(&ies.profile, 0.0, 90.0), wallwasher_lumens(&ies.profile, 90.0, 180.0));
     let total = (front + back) / LUMENS_PER_WATT as f64;
     eprintln!("wall washer: {front:.2} lm towards φ = 0°, {back:.2} lm away");
     for (tangent, seed) in [(Vec3::X, 41), (-Vec3::X, 42)] {
@@ -437,6 +438,12 @@ fn malformed_ies_files_name_file_and_line() {
     assert!(e.contains("nope.ies") && e.contains("cannot read"), "{e}");
 }
 
+/// Writes `xml` to `path` and loads it.
+fn load_xml(path: &Path, xml: &str) -> Result<opticks_io::LoadedScene, opticks_io::SceneFileError> {
+    std::fs::write(path, xml).unwrap();
+    opticks_io::load_scene(path)
+}
+
 /// The Mitsuba extensions: spot, directional, ies (file relative to the XML) and the area
 /// emitter's `exponent`.
 #[test]
@@ -459,8 +466,7 @@ fn mitsuba_light_extensions() {
   </shape>
 </scene>"#;
     let path = dir.path().join("scene.xml");
-    std::fs::write(&path, xml).unwrap();
-    let loaded = opticks_io::load_scene(&path).unwrap();
+    let loaded = load_xml(&path, xml).unwrap();
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     let d = &loaded.description;
     assert_eq!(d.point_lights.len(), 2);
@@ -507,8 +513,8 @@ fn mitsuba_light_extensions() {
         ),
         (r#"<emitter type="spot"><float name="cutoff_angle" value="nan"/></emitter>"#, "not a finite number"),
     ] {
-        std::fs::write(&path, format!("<scene version=\"3.0.0\">\n{body}\n</scene>")).unwrap();
-        let e = opticks_io::load_scene(&path).unwrap_err().to_string();
+        let e =
+            load_xml(&path, &format!("<scene version=\"3.0.0\">\n{body}\n</scene>")).unwrap_err().to_string();
         assert!(e.contains("scene.xml:2") && e.contains(want), "{body}: {e}\nwant: {want}");
     }
 }
@@ -542,8 +548,7 @@ fn mitsuba_area_light_ies_tangent_power() {
   </shape>
 </scene>"#;
     let path = dir.path().join("scene.xml");
-    std::fs::write(&path, xml).unwrap();
-    let loaded = opticks_io::load_scene(&path).unwrap();
+    let loaded = load_xml(&path, xml).unwrap();
     assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
     assert!(loaded.warnings[0].to_string().contains("front hemisphere"), "{:?}", loaded.warnings);
     let scene = Scene::build(&loaded.description).unwrap();
@@ -574,8 +579,8 @@ fn mitsuba_area_light_ies_tangent_power() {
         (r#"<rgb name="radiance" value="0"/><float name="lumens" value="5"/>"#, "non-zero luminance"),
     ] {
         let body = format!("<shape type=\"rectangle\"><emitter type=\"area\">{emitter}</emitter></shape>");
-        std::fs::write(&path, format!("<scene version=\"3.0.0\">\n{body}\n</scene>")).unwrap();
-        let e = opticks_io::load_scene(&path).unwrap_err().to_string();
+        let e =
+            load_xml(&path, &format!("<scene version=\"3.0.0\">\n{body}\n</scene>")).unwrap_err().to_string();
         assert!(e.contains("scene.xml:2") && e.contains(want), "{body}: {e}\nwant: {want}");
     }
 }

@@ -240,7 +240,7 @@ mod tests {
             (Vec3::X, Vec3::X),
             (Vec3::Y, Vec3::new(0.0, 1.0, 1.0).normalize()),
             (-Vec3::Y, Vec3::new(0.0, -1.0, -1.0).normalize()),
-            (n, Vec3::X),                             // parallel to the normal: world +x
+            (n, Vec3::X),                                       // parallel to the normal: world +x
             (Vec3::new(0.0, -1.0, 1.001).normalize(), Vec3::X), // within 0.6°: still the fallback
         ] {
             let f = tangent_frame(n, tangent);

@@ -133,16 +133,25 @@
 //!
 //! | type | where | parameters |
 //! |---|---|---|
-//! | `area` | inside a `<shape>` | `radiance`: colour, default 1: one-sided Lambertian emission on the front face |
+//! | `area` | inside a `<shape>` | `radiance`: colour, default 1: one-sided Lambertian emission on the front face; extensions below (`exponent`, `filename`, `tangent`, `power`, `lumens`) |
 //! | `point` | top level | `position`: point (or the translation of `to_world`), `intensity`: colour, default 1 (W/sr) |
 //! | `spot` | top level | `to_world` (position M·0, axis M·(0,0,1)), `intensity` (W/sr on the axis, 1), `cutoff_angle` (degrees, 20), `beam_width` (¾ cutoff): Mitsuba's linear falloff in angle |
 //! | `directional` | top level | `irradiance` (W/m², 1), `direction` or `to_world` (M·(0,0,1)): parallel light over the scene's bounding disk |
 //! | `ies` | top level | **Opticks extension**: `filename` (relative to the XML file's folder), `to_world` (vertical 0° along M·(0,0,1), horizontal 0° along M·(1,0,0)), `intensity` (colour scale, 1), `scale`, and `power` (W) or `lumens` overriding the flux of the candela distribution |
 //!
-//! `area` also takes `<float name="exponent">` (**Opticks extension**): a cosⁿ (focused) emitter,
-//! f_e = (n+1)/(2π)·cosⁿθ, with `radiance` the radiance along the normal. Lumens are converted at
-//! 683 lm/W keeping the colour (683·luminance = lumens). See `docs/scene-formats.md`, "Mitsuba
-//! 3 XML: Opticks extensions", and [`crate::ies`] for the IES subset.
+//! `area` also takes these **Opticks extensions**:
+//!
+//! | parameter | type | |
+//! |---|---|---|
+//! | `exponent` | float | a cosⁿ (focused) emitter, f_e = (n+1)/(2π)·cosⁿθ, with `radiance` the radiance along the normal; n in [0, 10⁶] |
+//! | `filename` | string | an IES file (relative to the XML file's folder; not with `exponent`), vertical 0° along the geometric normal, cut at 90°; `radiance` (colour, 1) and `scale` (float, 1) scale it, and Φ defaults to radiance·scale·(the file's front-hemisphere flux)/683 W: the panel is the luminaire |
+//! | `tangent` | vector | world direction of the profile's horizontal 0°, projected onto each triangle (default +x; +x then +z where it is parallel to the normal); not transformed by the shape's `to_world` |
+//! | `power`, `lumens` | colour, float | Φ in W per channel, or lumens keeping the `radiance` colour (not both); the radiance follows |
+//!
+//! Lumens are converted at 683 lm/W keeping the colour (683·luminance = lumens). The `ies` and
+//! area emitters share one reader for `filename`/`scale` and one for `power`/`lumens`. See
+//! `docs/scene-formats.md`, "Mitsuba 3 XML: Opticks extensions", and [`crate::ies`] for the IES
+//! subset.
 
 use super::obj::read_obj;
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
@@ -1509,7 +1518,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
         };
         let tangent = match self.get_point(&mut p, "tangent")? {
             Some((t, tnode)) => {
-                if !(t.length() > 0.0) {
+                if t.as_vec3().length() == 0.0 {
                     return Err(self.err(tnode, "the tangent must not be zero"));
                 }
                 Some(t.as_vec3())
@@ -1525,7 +1534,11 @@ impl<'a, 'i> Ctx<'a, 'i> {
     /// `filename` is given: the file, checked (as an area light's profile, cut at 90°, if
     /// `hemisphere`), with the flux its candela distribution carries (in W: lumens/683), the scale
     /// and the `filename` element. Warns when the file's rated lumens differ from that flux.
-    fn ies_file(&mut self, p: &mut Props<'a, 'i>, hemisphere: bool) -> Result<Option<(Ies, f32, Node<'a, 'i>)>> {
+    fn ies_file(
+        &mut self,
+        p: &mut Props<'a, 'i>,
+        hemisphere: bool,
+    ) -> Result<Option<(Ies, f32, Node<'a, 'i>)>> {
         let Some((file, fnode)) = self.get_string(p, "filename")? else { return Ok(None) };
         let path = self.dir.join(&file);
         let ies = crate::ies::load_ies(&path).map_err(|e| self.err(fnode, e.to_string()))?;
@@ -1536,7 +1549,8 @@ impl<'a, 'i> Ctx<'a, 'i> {
         if let Some(rated) = ies.rated_lumens() {
             let actual = watts * opticks_core::light::LUMENS_PER_WATT;
             if (actual / rated - 1.0).abs() > 0.05 {
-                let part = if hemisphere { " into the front hemisphere (an area light is one-sided)" } else { "" };
+                let part =
+                    if hemisphere { " into the front hemisphere (an area light is one-sided)" } else { "" };
                 self.warn(
                     fnode,
                     format!(
@@ -1572,7 +1586,10 @@ impl<'a, 'i> Ctx<'a, 'i> {
                     return Err(self.err(lnode, "lumens must not be negative"));
                 }
                 lumens_to_watts(lm as f32, colour).map(Some).ok_or_else(|| {
-                    self.err(lnode, format!("`lumens` needs the `{colour_name}` colour to have non-zero luminance"))
+                    self.err(
+                        lnode,
+                        format!("`lumens` needs the `{colour_name}` colour to have non-zero luminance"),
+                    )
                 })
             }
             (None, None) => Ok(None),
@@ -1644,8 +1661,9 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 beam_width: (beam as f32).to_radians(),
             });
         } else {
-            let (ies, scale, _) =
-                self.ies_file(&mut p, false)?.ok_or_else(|| self.err(n, "an ies emitter needs a `filename`"))?;
+            let (ies, scale, _) = self
+                .ies_file(&mut p, false)?
+                .ok_or_else(|| self.err(n, "an ies emitter needs a `filename`"))?;
             light.intensity *= scale;
             light.power = self.power_or_lumens(&mut p, light.intensity, "intensity")?;
             light.profile = Some(EmissionProfile::Ies(ies.profile));
