@@ -648,6 +648,28 @@ fn light_shape_hash_covers_profile_not_power() {
     assert_ne!(shape(spot(0.5, 1.0)), shape(PointLightDesc::default()), "spot vs isotropic");
 }
 
+/// An area light's shape hash covers its tangent when the profile depends on φ (IES), not its
+/// power; a Lambertian one ignores the tangent (so existing datasets keep their hashes).
+#[test]
+fn area_light_shape_hash_covers_tangent_of_ies_only() {
+    let ies = load_ies(&testdata("ies/asymmetric-wallwasher.ies")).unwrap();
+    let shape = |profile: Option<EmissionProfile>, tangent: Option<Vec3>, power: Option<Rgb>| {
+        let panel = MeshDesc {
+            emission_profile: profile,
+            emission_tangent: tangent,
+            emission_power: power,
+            ..quad("p", [Vec3::ZERO, Vec3::Z, Vec3::X + Vec3::Z, Vec3::X], Some(Rgb::ONE))
+        };
+        let desc = SceneDescription { materials: vec![black()], meshes: vec![panel], ..Default::default() };
+        Scene::build(&desc).unwrap().light_shapes[0]
+    };
+    let ies = Some(EmissionProfile::Ies(ies.profile));
+    assert_ne!(shape(ies.clone(), None, None), shape(ies.clone(), Some(Vec3::Z), None), "the tangent is");
+    assert_eq!(shape(ies.clone(), None, None), shape(ies.clone(), Some(Vec3::X * 2.0), None), "unit");
+    assert_eq!(shape(ies.clone(), None, None), shape(ies, None, Some(Rgb::splat(5.0))), "power is not");
+    assert_eq!(shape(None, None, None), shape(None, Some(Vec3::Z), None), "Lambertian: no tangent");
+}
+
 /// The VRML writer refuses lights its extension cannot express instead of dropping them.
 #[test]
 fn vrml_writer_refuses_profiled_lights() {
