@@ -19,7 +19,7 @@ use opticks_core::scene::{
 use opticks_core::trace::{TraceSettings, trace_path};
 use opticks_io::ies::load_ies;
 use std::f64::consts::PI;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn testdata(p: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata").join(p)
@@ -123,28 +123,126 @@ fn ies_flux_on_closed_sphere() {
         ..Default::default()
     };
     let (phi, m, e) = sphere_flux(light, 400_000, 2);
-    // Independent midpoint quadrature of the bilinear interpolant (bilateral symmetry: φ in
-    // [0°, 180°], doubled).
-    let (va, ha, cd) = (&ies.profile.vertical_angles, &ies.profile.horizontal_angles, &ies.profile.candela);
+    let lm = wallwasher_lumens(&ies.profile, 0.0, 180.0);
+    eprintln!("asymmetric IES: Φ = {:.3} lm by the table, {lm:.3} lm by quadrature", phi * 683.0);
+    assert!((phi * LUMENS_PER_WATT as f64 / lm - 1.0).abs() < 1e-4);
+    check("asymmetric IES, sphere flux", m, e, phi, 0.005);
+}
+
+/// Lumens of testdata/ies/asymmetric-wallwasher.ies (bilateral: φ in [0°, 180°] mirrored; θ up
+/// to 90°) between the horizontal angles `from`° and `to`° and their mirror images, by an
+/// independent midpoint quadrature of the bilinear interpolant.
+fn wallwasher_lumens(ies: &opticks_core::light::IesProfile, from: f64, to: f64) -> f64 {
+    let (va, ha, cd) = (&ies.vertical_angles, &ies.horizontal_angles, &ies.candela);
+    assert_eq!((ha[ha.len() - 1], va[va.len() - 1]), (180.0, 90.0), "bilateral, lower hemisphere");
     let lerp = |xs: &[f32], x: f64, f: &dyn Fn(usize) -> f64| -> f64 {
         let i = xs.iter().position(|&a| a as f64 > x).unwrap_or(xs.len() - 1).max(1);
         let t = (x - xs[i - 1] as f64) / (xs[i] - xs[i - 1]) as f64;
         f(i - 1) * (1.0 - t) + f(i) * t
     };
-    let (nt, np) = (900, 360);
+    let (nt, np) = (900, (2.0 * (to - from)).round() as usize);
     let mut lm = 0.0;
     for i in 0..nt {
         let th = (i as f64 + 0.5) / nt as f64 * 90.0;
         for j in 0..np {
-            let ph = (j as f64 + 0.5) / np as f64 * 180.0;
+            let ph = from + (j as f64 + 0.5) / np as f64 * (to - from);
             let c = lerp(ha, ph, &|h| lerp(va, th, &|v| cd[h * va.len() + v] as f64));
             lm += c * th.to_radians().sin();
         }
     }
-    lm *= 2.0 * (90f64.to_radians() / nt as f64) * (180f64.to_radians() / np as f64);
-    eprintln!("asymmetric IES: Φ = {:.3} lm by the table, {lm:.3} lm by quadrature", phi * 683.0);
-    assert!((phi * LUMENS_PER_WATT as f64 / lm - 1.0).abs() < 1e-4);
-    check("asymmetric IES, sphere flux", m, e, phi, 0.005);
+    lm * 2.0 * (90f64.to_radians() / nt as f64) * ((to - from).to_radians() / np as f64)
+}
+
+/// A 1 cm² area light facing −y at the origin (counter-clockwise seen from below) inside a
+/// closed black sphere, with `profile`, radiance `radiance` and horizontal-0° `tangent`.
+fn ies_panel_in_sphere(profile: EmissionProfile, radiance: f32, tangent: Option<Vec3>) -> Scene {
+    let s = 0.005;
+    let panel = MeshDesc {
+        emission_profile: Some(profile),
+        emission_tangent: tangent,
+        ..quad(
+            "panel",
+            [Vec3::new(-s, 0.0, -s), Vec3::new(s, 0.0, -s), Vec3::new(s, 0.0, s), Vec3::new(-s, 0.0, s)],
+            Some(Rgb::splat(radiance)),
+        )
+    };
+    let desc = SceneDescription {
+        materials: vec![black()],
+        meshes: vec![panel, inward_icosphere(2.0, 3)],
+        ..Default::default()
+    };
+    Scene::build(&desc).unwrap()
+}
+
+/// An area light with testdata/ies/symmetric-3.ies emits the file's flux into its front
+/// hemisphere, 2π·(200 − 200/π) = 400π − 400 lm per unit radiance·area (the 400 lm above 90° are
+/// cut: the light is one-sided), and a closed sphere receives it within 0.5 %; with a power
+/// given, the radiance follows so that Φ is that power.
+#[test]
+fn ies_area_light_flux_on_closed_sphere() {
+    let ies = load_ies(&testdata("ies/symmetric-3.ies")).unwrap();
+    let expected = (400.0 * PI - 400.0) / LUMENS_PER_WATT as f64;
+    let scene = ies_panel_in_sphere(EmissionProfile::Ies(ies.profile.clone()), 1e4, None);
+    let phi = scene.lights[0].power().x as f64;
+    assert!((phi / expected - 1.0).abs() < 1e-5, "Φ = {phi} W, expected {expected}");
+    let (m, e) = mean_and_error(&trace_fluxes(&scene, 400_000, 31, |_| true));
+    check("symmetric IES area light, sphere flux", m, e, expected, 0.005);
+
+    let mut desc = SceneDescription {
+        materials: vec![black()],
+        meshes: vec![MeshDesc {
+            emission_power: Some(Rgb::new(1.0, 2.0, 3.0)),
+            emission_profile: Some(EmissionProfile::Ies(ies.profile)),
+            ..quad("p", [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Z, Vec3::Z], Some(Rgb::ONE))
+        }],
+        ..Default::default()
+    };
+    let scene = Scene::build(&desc).unwrap();
+    let p = scene.lights[0].power();
+    assert!((p - Rgb::new(1.0, 2.0, 3.0)).abs().max_element() < 1e-5, "Φ = {p}");
+    desc.meshes[0].emission_power = Some(Rgb::new(1.0, -1.0, 1.0));
+    let e = Scene::build(&desc).unwrap_err().to_string();
+    assert!(e.contains("'p'") && e.contains("power"), "{e}");
+    desc.meshes[0].emission_power = None;
+    desc.meshes[0].emission_tangent = Some(Vec3::ZERO);
+    let e = Scene::build(&desc).unwrap_err().to_string();
+    assert!(e.contains("'p'") && e.contains("tangent"), "{e}");
+}
+
+/// An area light with the asymmetric wall washer: its Φ is the table's integral, and the lobe
+/// points along the tangent: the flux reaching the sphere on the +x side vs the −x side matches
+/// the quadrature of φ ∈ [−90°, 90°] vs [90°, 270°] for tangent +x, and the two swap for
+/// tangent −x. The sensor's factor for emitters seen directly uses the same frame.
+#[test]
+fn ies_area_light_lobe_follows_tangent() {
+    let ies = load_ies(&testdata("ies/asymmetric-wallwasher.ies")).unwrap();
+    let (front, back) =
+        (wallwasher_lumens(&ies.profile, 0.0, 90.0), wallwasher_lumens(&ies.profile, 90.0, 180.0));
+    let total = (front + back) / LUMENS_PER_WATT as f64;
+    eprintln!("wall washer: {front:.2} lm towards φ = 0°, {back:.2} lm away");
+    for (tangent, seed) in [(Vec3::X, 41), (-Vec3::X, 42)] {
+        let scene = ies_panel_in_sphere(EmissionProfile::Ies(ies.profile.clone()), 1e4, Some(tangent));
+        let phi = scene.lights[0].power().x as f64;
+        assert!((phi / total - 1.0).abs() < 1e-4, "Φ = {phi} W, quadrature {total}");
+        let plus = mean_and_error(&trace_fluxes(&scene, 400_000, seed, |p| p.x > 0.0));
+        let minus = mean_and_error(&trace_fluxes(&scene, 400_000, seed + 10, |p| p.x < 0.0));
+        let (want_plus, want_minus) = if tangent.x > 0.0 { (front, back) } else { (back, front) };
+        let w = |lm: f64| lm / LUMENS_PER_WATT as f64;
+        check(&format!("tangent {tangent}: flux into x > 0"), plus.0, plus.1, w(want_plus), 0.01);
+        check(&format!("tangent {tangent}: flux into x < 0"), minus.0, minus.1, w(want_minus), 0.01);
+
+        // Seen directly at θ = 40° on the tangent's side (φ = 0°) vs the opposite side (φ = 180°):
+        // L_e·A/Φ = candela/683/Φ/cos θ (radiance·area = 1 here), from the file's grid nodes.
+        let (c, s) = (40f32.to_radians().cos(), 40f32.to_radians().sin());
+        let cd = |h: usize| ies.profile.candela[h * ies.profile.vertical_angles.len() + 4] as f64;
+        assert_eq!(ies.profile.vertical_angles[4], 40.0);
+        for (side, h) in [(1.0f32, 0), (-1.0, ies.profile.horizontal_angles.len() - 1)] {
+            let dir = Vec3::new(side * tangent.x * s, -c, 0.0);
+            let got = scene.lights[0].emitted_fraction(-Vec3::Y, dir) as f64;
+            let want = cd(h) / LUMENS_PER_WATT as f64 / phi / c as f64;
+            assert!((got / want - 1.0).abs() < 1e-3, "side {side}: {got} vs {want}");
+        }
+    }
 }
 
 /// Mitsuba's spot: Φ = I·2π·(1 − (sin γ − sin β)/(γ − β)); the sphere receives it.
@@ -340,6 +438,12 @@ fn malformed_ies_files_name_file_and_line() {
     assert!(e.contains("nope.ies") && e.contains("cannot read"), "{e}");
 }
 
+/// Writes `xml` to `path` and loads it.
+fn load_xml(path: &Path, xml: &str) -> Result<opticks_io::LoadedScene, opticks_io::SceneFileError> {
+    std::fs::write(path, xml).unwrap();
+    opticks_io::load_scene(path)
+}
+
 /// The Mitsuba extensions: spot, directional, ies (file relative to the XML) and the area
 /// emitter's `exponent`.
 #[test]
@@ -362,8 +466,7 @@ fn mitsuba_light_extensions() {
   </shape>
 </scene>"#;
     let path = dir.path().join("scene.xml");
-    std::fs::write(&path, xml).unwrap();
-    let loaded = opticks_io::load_scene(&path).unwrap();
+    let loaded = load_xml(&path, xml).unwrap();
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     let d = &loaded.description;
     assert_eq!(d.point_lights.len(), 2);
@@ -410,8 +513,74 @@ fn mitsuba_light_extensions() {
         ),
         (r#"<emitter type="spot"><float name="cutoff_angle" value="nan"/></emitter>"#, "not a finite number"),
     ] {
-        std::fs::write(&path, format!("<scene version=\"3.0.0\">\n{body}\n</scene>")).unwrap();
-        let e = opticks_io::load_scene(&path).unwrap_err().to_string();
+        let e =
+            load_xml(&path, &format!("<scene version=\"3.0.0\">\n{body}\n</scene>")).unwrap_err().to_string();
+        assert!(e.contains("scene.xml:2") && e.contains(want), "{body}: {e}\nwant: {want}");
+    }
+}
+
+/// The Mitsuba area emitter's extensions: an IES `filename` (Φ = the file's front-hemisphere
+/// flux by default, a warning when that differs from the file's rated lumens), a `tangent`, and
+/// `power` or `lumens`; bad values are errors naming the line.
+#[test]
+fn mitsuba_area_light_ies_tangent_power() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(testdata("ies/symmetric-3.ies"), dir.path().join("lamp.ies")).unwrap();
+    std::fs::copy(testdata("ies/asymmetric-wallwasher.ies"), dir.path().join("ww.ies")).unwrap();
+    let xml = r#"<scene version="3.0.0">
+  <shape type="rectangle" id="lamp">
+    <emitter type="area"><string name="filename" value="lamp.ies"/></emitter>
+  </shape>
+  <shape type="rectangle" id="washer">
+    <transform name="to_world"><translate y="3"/></transform>
+    <emitter type="area">
+      <string name="filename" value="ww.ies"/><vector name="tangent" x="0" y="2" z="0"/>
+      <rgb name="radiance" value="1, 0.5, 0.25"/><float name="scale" value="3"/><float name="lumens" value="683"/>
+    </emitter>
+  </shape>
+  <shape type="rectangle" id="plain">
+    <transform name="to_world"><translate y="6"/></transform>
+    <emitter type="area"><rgb name="power" value="3"/></emitter>
+  </shape>
+  <shape type="rectangle" id="focused">
+    <transform name="to_world"><translate y="9"/></transform>
+    <emitter type="area"><float name="exponent" value="4"/><float name="lumens" value="1366"/></emitter>
+  </shape>
+</scene>"#;
+    let path = dir.path().join("scene.xml");
+    let loaded = load_xml(&path, xml).unwrap();
+    assert_eq!(loaded.warnings.len(), 1, "{:?}", loaded.warnings);
+    assert!(loaded.warnings[0].to_string().contains("front hemisphere"), "{:?}", loaded.warnings);
+    let scene = Scene::build(&loaded.description).unwrap();
+    let light = |name: &str| &scene.lights[scene.light_index(name).unwrap()];
+    let lamp = light("lamp").power();
+    let want = ((400.0 * PI - 400.0) / LUMENS_PER_WATT as f64) as f32;
+    assert!((lamp - Rgb::splat(want)).abs().max_element() < 1e-5 * want, "{lamp} vs {want}");
+    let Light::Area(washer) = light("washer") else { panic!() };
+    assert_eq!(washer.tangent, Vec3::Y);
+    let y = opticks_core::math::luminance(light("washer").power());
+    assert!((y - 1.0).abs() < 1e-5, "683 lm = luminance 1 W: {}", light("washer").power());
+    let p = light("washer").power();
+    assert!((p.x / p.y - 2.0).abs() < 1e-5 && (p.y / p.z - 2.0).abs() < 1e-5, "keeps the colour: {p}");
+    assert!((light("plain").power() - Rgb::splat(3.0)).abs().max_element() < 1e-5);
+    assert!((light("focused").power() - Rgb::splat(2.0)).abs().max_element() < 1e-5);
+
+    for (emitter, want) in [
+        (r#"<vector name="tangent" x="0" y="0" z="0"/>"#, "tangent must not be zero"),
+        (
+            r#"<float name="exponent" value="2"/><string name="filename" value="lamp.ies"/>"#,
+            "either `exponent` or `filename`",
+        ),
+        (r#"<rgb name="power" value="1"/><float name="lumens" value="1"/>"#, "either `power` or `lumens`"),
+        (r#"<float name="lumens" value="-5"/>"#, "lumens must not be negative"),
+        (r#"<rgb name="power" value="-1"/>"#, "power must not be negative"),
+        (r#"<string name="filename" value="lamp.ies"/><float name="scale" value="-1"/>"#, "scale must not"),
+        (r#"<string name="filename" value="none.ies"/>"#, "cannot read the IES file"),
+        (r#"<rgb name="radiance" value="0"/><float name="lumens" value="5"/>"#, "non-zero luminance"),
+    ] {
+        let body = format!("<shape type=\"rectangle\"><emitter type=\"area\">{emitter}</emitter></shape>");
+        let e =
+            load_xml(&path, &format!("<scene version=\"3.0.0\">\n{body}\n</scene>")).unwrap_err().to_string();
         assert!(e.contains("scene.xml:2") && e.contains(want), "{body}: {e}\nwant: {want}");
     }
 }
@@ -477,6 +646,28 @@ fn light_shape_hash_covers_profile_not_power() {
         "the orientation is"
     );
     assert_ne!(shape(spot(0.5, 1.0)), shape(PointLightDesc::default()), "spot vs isotropic");
+}
+
+/// An area light's shape hash covers its tangent when the profile depends on φ (IES), not its
+/// power; a Lambertian one ignores the tangent (so existing datasets keep their hashes).
+#[test]
+fn area_light_shape_hash_covers_tangent_of_ies_only() {
+    let ies = load_ies(&testdata("ies/asymmetric-wallwasher.ies")).unwrap();
+    let shape = |profile: Option<EmissionProfile>, tangent: Option<Vec3>, power: Option<Rgb>| {
+        let panel = MeshDesc {
+            emission_profile: profile,
+            emission_tangent: tangent,
+            emission_power: power,
+            ..quad("p", [Vec3::ZERO, Vec3::Z, Vec3::X + Vec3::Z, Vec3::X], Some(Rgb::ONE))
+        };
+        let desc = SceneDescription { materials: vec![black()], meshes: vec![panel], ..Default::default() };
+        Scene::build(&desc).unwrap().light_shapes[0]
+    };
+    let ies = Some(EmissionProfile::Ies(ies.profile));
+    assert_ne!(shape(ies.clone(), None, None), shape(ies.clone(), Some(Vec3::Z), None), "the tangent is");
+    assert_eq!(shape(ies.clone(), None, None), shape(ies.clone(), Some(Vec3::X * 2.0), None), "unit");
+    assert_eq!(shape(ies.clone(), None, None), shape(ies, None, Some(Rgb::splat(5.0))), "power is not");
+    assert_eq!(shape(None, None, None), shape(None, Some(Vec3::Z), None), "Lambertian: no tangent");
 }
 
 /// The VRML writer refuses lights its extension cannot express instead of dropping them.

@@ -7,6 +7,18 @@
 //! density f_e, see [`profile`]): cosine (Lambertian, the default of area lights), uniform (the
 //! default of point lights), cosⁿ, Mitsuba's spot cone, or IES photometric data.
 //!
+//! ## An area light's photometric frame
+//! An area light evaluates and samples its profile in a frame per triangle: the vertical 0°
+//! axis (local z) is the triangle's geometric normal, and the horizontal 0° reference (local x,
+//! φ = 0; local y = z × x is φ = 90°) is the light's [`AreaLight::tangent`] projected onto the
+//! triangle's plane. The tangent is world +x unless the scene sets one
+//! ([`crate::scene::MeshDesc::emission_tangent`]); where it is (within 0.6° of) parallel to a
+//! triangle's normal, world +x and then world +z are projected instead
+//! ([`AreaLight::frame`]). Only profiles that depend on φ (IES tables) need this frame; the
+//! rotationally symmetric ones use the equivalent, cheaper `Frame::from_normal`. The tracer
+//! (emission sampling) and the sensor (emitters seen directly, through
+//! [`Light::emitted_fraction`]) both go through [`AreaLight::frame`], so they agree.
+//!
 //! A [`DirectionalLight`] sends parallel rays of irradiance E (W/m² on a plane perpendicular to
 //! them) over the whole scene: paths start uniformly on a disk perpendicular to the direction,
 //! just outside the scene's bounding sphere, whose radius is the bounding radius r, so
@@ -32,8 +44,11 @@ pub struct AreaLight {
     /// of [`profile`]).
     pub radiance: Rgb,
     /// The emission density over the front hemisphere, in each triangle's frame
-    /// `Frame::from_normal(normal)` (its x axis is φ = 0 for asymmetric profiles).
+    /// [`AreaLight::frame`].
     pub profile: BuiltProfile,
+    /// Unit world direction whose projection onto each triangle's plane is the profile's
+    /// horizontal 0° (module docs); world +x by default.
+    pub tangent: Vec3,
     /// Scene triangle indices of the emitter.
     pub triangles: Vec<u32>,
     /// Cumulative areas (for picking a triangle ∝ area); last entry = total area.
@@ -45,6 +60,34 @@ impl AreaLight {
     pub fn area(&self) -> f32 {
         self.cumulative_area.last().copied().unwrap_or(0.0)
     }
+
+    /// The profile's frame on a triangle of unit geometric normal `normal`: z = `normal`,
+    /// x = the first of [`AreaLight::tangent`], world +x, world +z whose projection onto the
+    /// triangle's plane is not (nearly) zero, normalised (module docs). For profiles that do not
+    /// depend on the azimuth, `Frame::from_normal(normal)`.
+    #[inline]
+    pub fn frame(&self, normal: Vec3) -> Frame {
+        if !self.profile.depends_on_azimuth() {
+            return Frame::from_normal(normal);
+        }
+        tangent_frame(normal, self.tangent)
+    }
+}
+
+/// The frame of z = `normal` (unit) whose x axis is `tangent` (unit) projected onto the plane ⊥ `normal`,
+/// falling back to world +x, then +z, when that projection is shorter than 10⁻² (the tangent
+/// within 0.6° of the normal).
+fn tangent_frame(normal: Vec3, tangent: Vec3) -> Frame {
+    let project = |t: Vec3| t - normal * t.dot(normal);
+    let mut s = project(tangent);
+    for fallback in [Vec3::X, Vec3::Z] {
+        if s.length_squared() >= 1e-4 {
+            break;
+        }
+        s = project(fallback);
+    }
+    let s = s.normalize();
+    Frame { s, t: normal.cross(s), n: normal }
 }
 
 /// A point light: intensity I(ω) = Φ·f_e(ω).
@@ -137,7 +180,7 @@ impl Light {
         match self {
             Light::Area(l) => match l.profile {
                 BuiltProfile::Cosine => std::f32::consts::FRAC_1_PI,
-                ref p => p.emitted_fraction(Frame::from_normal(normal).to_local(dir)),
+                ref p => p.emitted_fraction(l.frame(normal).to_local(dir)),
             },
             _ => 0.0,
         }
@@ -162,7 +205,7 @@ impl Light {
                 let origin = tri.point(b.x, b.y);
                 let normal = tri.normal();
                 let (local, w) = l.profile.sample(u_dir);
-                let dir = Frame::from_normal(normal).to_world(local);
+                let dir = l.frame(normal).to_world(local);
                 Emission { origin, surface: Some((normal, prim)), dir, weight: Rgb::splat(w) }
             }
             Light::Point(l) => {
@@ -183,5 +226,29 @@ impl Light {
                 Emission { origin, surface: None, dir: l.direction, weight: Rgb::ONE }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tangent_frame_follows_the_projected_tangent_and_falls_back() {
+        let n = Vec3::new(0.0, -1.0, 1.0).normalize();
+        for (tangent, want_s) in [
+            (Vec3::X, Vec3::X),
+            (Vec3::Y, Vec3::new(0.0, 1.0, 1.0).normalize()),
+            (-Vec3::Y, Vec3::new(0.0, -1.0, -1.0).normalize()),
+            (n, Vec3::X),                                       // parallel to the normal: world +x
+            (Vec3::new(0.0, -1.0, 1.001).normalize(), Vec3::X), // within 0.6°: still the fallback
+        ] {
+            let f = tangent_frame(n, tangent);
+            assert!((f.s - want_s).length() < 1e-5, "{tangent}: s = {}", f.s);
+            assert!(f.s.dot(f.n).abs() < 1e-6 && (f.t - n.cross(f.s)).length() < 1e-6 && f.n == n);
+        }
+        // Normal along +x with tangent +x: +x projects to zero, +z is used.
+        assert!((tangent_frame(Vec3::X, Vec3::X).s - Vec3::Z).length() < 1e-6);
+        assert!((tangent_frame(-Vec3::Y, Vec3::X).s - Vec3::X).length() < 1e-6);
     }
 }

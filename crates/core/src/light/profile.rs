@@ -305,6 +305,14 @@ impl BuiltProfile {
         }
     }
 
+    /// Whether the distribution depends on the azimuth φ (IES tables). A profile that does not
+    /// is invariant under rotations about its axis, so any frame with that axis evaluates and
+    /// samples it alike; one that does needs a defined φ = 0 direction.
+    #[inline]
+    pub fn depends_on_azimuth(&self) -> bool {
+        matches!(self, BuiltProfile::Table(_))
+    }
+
     /// Feeds what defines the distribution (not its scale) to a hash.
     pub(crate) fn hash_into(&self, h: &mut blake3::Hasher) {
         match self {

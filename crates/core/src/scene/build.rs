@@ -6,7 +6,7 @@
 //! hit nor emit; their count is reported in [`Scene::dropped_triangles`].
 
 use super::fingerprint::Hasher;
-use super::{CameraDesc, Fingerprint, SceneDescription, Source};
+use super::{CameraDesc, Fingerprint, MeshDesc, SceneDescription, Source};
 use crate::accel::Accel;
 use crate::bsdf::Material;
 use crate::geometry::{Hit, Ray, SurfaceNormals};
@@ -215,6 +215,9 @@ fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
             if a.profile != BuiltProfile::Cosine {
                 a.profile.hash_into(&mut h.0);
             }
+            if a.profile.depends_on_azimuth() {
+                h.f32s(&a.tangent.to_array());
+            }
             for &t in &a.triangles {
                 let t = &triangles[t as usize];
                 h.f32s(&[t.v0.x, t.v0.y, t.v0.z, t.e1.x, t.e1.y, t.e1.z, t.e2.x, t.e2.y, t.e2.z]);
@@ -274,6 +277,54 @@ fn unit_normals(mesh: &super::MeshDesc) -> Result<Vec<Vec3>, SceneError> {
             }
         })
         .collect()
+}
+
+/// The area light of an emissive `mesh` (emission `radiance`) made of the scene triangles
+/// `triangles` with their cumulative areas: builds the profile, checks the tangent and derives
+/// the radiance from `emission_power` when one is given.
+fn area_light(
+    mesh: &MeshDesc,
+    radiance: Rgb,
+    triangles: Vec<u32>,
+    cumulative_area: Vec<f32>,
+) -> Result<AreaLight, SceneError> {
+    let bad_profile = |message: String| SceneError::BadProfile {
+        at: mesh.source.clone(),
+        light: mesh.name.clone(),
+        message,
+    };
+    let profile = mesh.emission_profile.as_ref().unwrap_or(&EmissionProfile::Cosine);
+    let profile = BuiltProfile::build(profile, true).map_err(|e| bad_profile(e.0))?;
+    let tangent = match mesh.emission_tangent {
+        None => Vec3::X,
+        Some(t) if t.is_finite() && t.length() > 0.0 => t.normalize(),
+        Some(t) => {
+            return Err(SceneError::BadOrientation {
+                at: mesh.source.clone(),
+                light: mesh.name.clone(),
+                message: format!("emission tangent {:?} must be finite and non-zero", t.to_array()),
+            });
+        }
+    };
+    let area = cumulative_area.last().copied().unwrap_or(0.0);
+    let radiance = match mesh.emission_power {
+        None => radiance,
+        Some(phi) if !(phi.is_finite() && phi.min_element() >= 0.0) => {
+            return Err(bad_profile(format!("power {:?} W must be finite and non-negative", phi.to_array())));
+        }
+        Some(phi) => {
+            let per_radiance = profile.integral() * area;
+            if !(per_radiance > 0.0) && phi.max_element() > 0.0 {
+                return Err(bad_profile(format!(
+                    "power {:?} W cannot be reached: the emission profile carries no flux into the front \
+                     hemisphere",
+                    phi.to_array()
+                )));
+            }
+            if per_radiance > 0.0 { phi / per_radiance } else { Rgb::ZERO }
+        }
+    };
+    Ok(AreaLight { name: mesh.name.clone(), radiance, profile, tangent, triangles, cumulative_area })
 }
 
 /// `f` re-orthonormalised (Gram–Schmidt from its z axis), if it is finite and close to
@@ -416,19 +467,7 @@ impl Scene {
                         light: mesh.name.clone(),
                     });
                 }
-                let profile = mesh.emission_profile.as_ref().unwrap_or(&EmissionProfile::Cosine);
-                let profile = BuiltProfile::build(profile, true).map_err(|e| SceneError::BadProfile {
-                    at: mesh.source.clone(),
-                    light: mesh.name.clone(),
-                    message: e.0,
-                })?;
-                lights.push(Light::Area(AreaLight {
-                    name: mesh.name.clone(),
-                    radiance,
-                    profile,
-                    triangles: emitter_tris,
-                    cumulative_area: cumulative,
-                }));
+                lights.push(Light::Area(area_light(mesh, radiance, emitter_tris, cumulative)?));
             }
         }
         for p in &desc.point_lights {

@@ -48,8 +48,16 @@ pub struct MeshDesc {
     /// W/(m²·sr).
     pub emission: Option<Rgb>,
     /// The emitter's directional distribution; `None` = [`EmissionProfile::Cosine`]
-    /// (Lambertian). Evaluated in each triangle's frame `Frame::from_normal(normal)`.
+    /// (Lambertian). Evaluated in each triangle's photometric frame: z = the geometric normal,
+    /// x (horizontal 0°) = `emission_tangent` projected onto the triangle
+    /// ([`crate::light::AreaLight::frame`]).
     pub emission_profile: Option<EmissionProfile>,
+    /// World direction of the profile's horizontal 0° (projected onto each triangle's plane;
+    /// only IES profiles depend on it). `None` = world +x. Must be finite and non-zero.
+    pub emission_tangent: Option<Vec3>,
+    /// If set (with `emission`), the area light's power Φ (W per channel), overriding the
+    /// value of `emission` (the radiance then follows: Φ/(A·∫s dω)).
+    pub emission_power: Option<Rgb>,
 }
 
 /// A point light.

@@ -135,16 +135,25 @@
 //!
 //! | type | where | parameters |
 //! |---|---|---|
-//! | `area` | inside a `<shape>` | `radiance`: colour, default 1: one-sided Lambertian emission on the front face |
+//! | `area` | inside a `<shape>` | `radiance`: colour, default 1: one-sided Lambertian emission on the front face; extensions below (`exponent`, `filename`, `tangent`, `power`, `lumens`) |
 //! | `point` | top level | `position`: point (or the translation of `to_world`), `intensity`: colour, default 1 (W/sr) |
 //! | `spot` | top level | `to_world` (position M·0, axis M·(0,0,1)), `intensity` (W/sr on the axis, 1), `cutoff_angle` (degrees, 20), `beam_width` (¾ cutoff): Mitsuba's linear falloff in angle |
 //! | `directional` | top level | `irradiance` (W/m², 1), `direction` or `to_world` (M·(0,0,1)): parallel light over the scene's bounding disk |
 //! | `ies` | top level | **Opticks extension**: `filename` (relative to the XML file's folder), `to_world` (vertical 0° along M·(0,0,1), horizontal 0° along M·(1,0,0)), `intensity` (colour scale, 1), `scale`, and `power` (W) or `lumens` overriding the flux of the candela distribution |
 //!
-//! `area` also takes `<float name="exponent">` (**Opticks extension**): a cosⁿ (focused) emitter,
-//! f_e = (n+1)/(2π)·cosⁿθ, with `radiance` the radiance along the normal. Lumens are converted at
-//! 683 lm/W keeping the colour (683·luminance = lumens). See `docs/scene-formats.md`, "Mitsuba
-//! 3 XML: Opticks extensions", and [`crate::ies`] for the IES subset.
+//! `area` also takes these **Opticks extensions**:
+//!
+//! | parameter | type | |
+//! |---|---|---|
+//! | `exponent` | float | a cosⁿ (focused) emitter, f_e = (n+1)/(2π)·cosⁿθ, with `radiance` the radiance along the normal; n in [0, 10⁶] |
+//! | `filename` | string | an IES file (relative to the XML file's folder; not with `exponent`), vertical 0° along the geometric normal, cut at 90°; `radiance` (colour, 1) and `scale` (float, 1) scale it, and Φ defaults to radiance·scale·(the file's front-hemisphere flux)/683 W: the panel is the luminaire |
+//! | `tangent` | vector | world direction of the profile's horizontal 0°, projected onto each triangle (default +x; +x then +z where it is parallel to the normal); not transformed by the shape's `to_world` |
+//! | `power`, `lumens` | colour, float | Φ in W per channel, or lumens keeping the `radiance` colour (not both); the radiance follows |
+//!
+//! Lumens are converted at 683 lm/W keeping the colour (683·luminance = lumens). The `ies` and
+//! area emitters share one reader for `filename`/`scale` and one for `power`/`lumens`. See
+//! `docs/scene-formats.md`, "Mitsuba 3 XML: Opticks extensions", and [`crate::ies`] for the IES
+//! subset.
 
 use super::obj::read_obj;
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
@@ -331,6 +340,21 @@ struct ParsedBsdf {
 
 /// A shape's interior medium: its absorption, where it is declared, its id if top-level (for
 /// sharing materials) and a name for the material.
+/// What a shape's `<emitter type="area">` sets on its mesh (the `emission*` fields of
+/// [`MeshDesc`]).
+struct AreaEmission {
+    radiance: Rgb,
+    profile: Option<EmissionProfile>,
+    tangent: Option<Vec3>,
+    power: Option<Rgb>,
+}
+
+/// An IES file's photometric grid and the flux it carries, W per unit colour.
+struct Ies {
+    profile: opticks_core::light::IesProfile,
+    watts: f32,
+}
+
 struct Interior<'a, 'i> {
     sigma_a: Rgb,
     node: Node<'a, 'i>,
@@ -1293,8 +1317,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
 
         let mut chosen = None;
         let mut interior = None;
-        let mut emission = None;
-        let mut emission_profile = None;
+        let mut emission: Option<AreaEmission> = None;
         for c in p.objects.clone() {
             match (c.tag_name().name(), c.attribute("name")) {
                 ("ref" | "medium", Some("interior")) => {
@@ -1332,9 +1355,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                     if emission.is_some() {
                         return Err(self.err(c, "a shape can have only one emitter"));
                     }
-                    let (radiance, profile) = self.area_emitter(c)?;
-                    emission = Some(radiance);
-                    emission_profile = profile;
+                    emission = Some(self.area_emitter(c)?);
                 }
                 (other, _) => {
                     return Err(self.err(
@@ -1400,8 +1421,10 @@ impl<'a, 'i> Ctx<'a, 'i> {
             triangles,
             normals,
             material,
-            emission,
-            emission_profile,
+            emission: emission.as_ref().map(|e| e.radiance),
+            emission_tangent: emission.as_ref().and_then(|e| e.tangent),
+            emission_power: emission.as_ref().and_then(|e| e.power),
+            emission_profile: emission.and_then(|e| e.profile),
         })
     }
 
@@ -1477,7 +1500,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
         Ok(sigma_a)
     }
 
-    fn area_emitter(&mut self, n: Node<'a, 'i>) -> Result<(Rgb, Option<EmissionProfile>)> {
+    fn area_emitter(&mut self, n: Node<'a, 'i>) -> Result<AreaEmission> {
         let ty = self.required(n, "type")?;
         if ty != "area" {
             return Err(self.attr_err(
@@ -1496,19 +1519,105 @@ impl<'a, 'i> Ctx<'a, 'i> {
         if radiance.min_element() < 0.0 {
             return Err(self.err(node, "radiance must not be negative"));
         }
-        // Opticks extension: a cosⁿ (focused) emitter; `radiance` is then the radiance along the
-        // normal.
-        let profile = match self.get_float(&mut p, "exponent")? {
-            Some((e, enode)) => {
+        // Opticks extensions: a cosⁿ (focused) emitter, `radiance` being the radiance along the
+        // normal; or an IES file, `radiance` being a colour scale; the horizontal 0° tangent; the
+        // power in watts or lumens.
+        let exponent = self.get_float(&mut p, "exponent")?;
+        let ies = self.ies_file(&mut p, true)?;
+        let (profile, colour, default_power) = match (exponent, ies) {
+            (Some(_), Some((_, _, fnode))) => {
+                return Err(self.err(fnode, "give either `exponent` or `filename`, not both"));
+            }
+            (Some((e, enode)), None) => {
                 if !(0.0..=1e6).contains(&e) {
                     return Err(self.err(enode, format!("exponent {e} must be in [0, 10⁶]")));
                 }
-                Some(EmissionProfile::CosinePower { exponent: e as f32 })
+                (Some(EmissionProfile::CosinePower { exponent: e as f32 }), radiance, None)
+            }
+            (None, Some((ies, scale, _))) => {
+                let colour = radiance * scale;
+                (Some(EmissionProfile::Ies(ies.profile)), colour, Some(colour * ies.watts))
+            }
+            (None, None) => (None, radiance, None),
+        };
+        let tangent = match self.get_point(&mut p, "tangent")? {
+            Some((t, tnode)) => {
+                if t.as_vec3().length() == 0.0 {
+                    return Err(self.err(tnode, "the tangent must not be zero"));
+                }
+                Some(t.as_vec3())
             }
             None => None,
         };
+        let power = self.power_or_lumens(&mut p, colour, "radiance")?.or(default_power);
         self.finish(&p);
-        Ok((radiance, profile))
+        Ok(AreaEmission { radiance: colour, profile, tangent, power })
+    }
+
+    /// An IES emitter's `filename` (relative to the XML file's folder) and `scale`, if a
+    /// `filename` is given: the file, checked (as an area light's profile, cut at 90°, if
+    /// `hemisphere`), with the flux its candela distribution carries (in W: lumens/683), the scale
+    /// and the `filename` element. Warns when the file's rated lumens differ from that flux.
+    fn ies_file(
+        &mut self,
+        p: &mut Props<'a, 'i>,
+        hemisphere: bool,
+    ) -> Result<Option<(Ies, f32, Node<'a, 'i>)>> {
+        let Some((file, fnode)) = self.get_string(p, "filename")? else { return Ok(None) };
+        let path = self.dir.join(&file);
+        let ies = crate::ies::load_ies(&path).map_err(|e| self.err(fnode, e.to_string()))?;
+        let built =
+            opticks_core::light::BuiltProfile::build(&EmissionProfile::Ies(ies.profile.clone()), hemisphere)
+                .map_err(|e| self.err(fnode, format!("{}: {e}", path.display())))?;
+        let watts = built.integral();
+        if let Some(rated) = ies.rated_lumens() {
+            let actual = watts * opticks_core::light::LUMENS_PER_WATT;
+            if (actual / rated - 1.0).abs() > 0.05 {
+                let part =
+                    if hemisphere { " into the front hemisphere (an area light is one-sided)" } else { "" };
+                self.warn(
+                    fnode,
+                    format!(
+                        "the file rates {rated} lm but its candela distribution carries {actual:.1} lm{part}; \
+                         the distribution's flux is used"
+                    ),
+                );
+            }
+        }
+        let scale = match self.get_float(p, "scale")? {
+            Some((scale, snode)) if scale < 0.0 => return Err(self.err(snode, "scale must not be negative")),
+            Some((scale, _)) => scale as f32,
+            None => 1.0,
+        };
+        Ok(Some((Ies { profile: ies.profile, watts }, scale, fnode)))
+    }
+
+    /// An emitter's `power` (W per channel) or `lumens` (converted keeping the colour `colour`,
+    /// the value of the parameter `colour_name`), at most one of them; `None` if neither.
+    fn power_or_lumens(&self, p: &mut Props<'a, 'i>, colour: Rgb, colour_name: &str) -> Result<Option<Rgb>> {
+        let power = self.get_color(p, "power")?;
+        let lumens = self.get_float(p, "lumens")?;
+        match (power, lumens) {
+            (Some(_), Some((_, lnode))) => Err(self.err(lnode, "give either `power` or `lumens`, not both")),
+            (Some((w, pnode)), None) => {
+                if w.min_element() < 0.0 {
+                    return Err(self.err(pnode, "power must not be negative"));
+                }
+                Ok(Some(w))
+            }
+            (None, Some((lm, lnode))) => {
+                if lm < 0.0 {
+                    return Err(self.err(lnode, "lumens must not be negative"));
+                }
+                lumens_to_watts(lm as f32, colour).map(Some).ok_or_else(|| {
+                    self.err(
+                        lnode,
+                        format!("`lumens` needs the `{colour_name}` colour to have non-zero luminance"),
+                    )
+                })
+            }
+            (None, None) => Ok(None),
+        }
     }
 
     /// The frame of an emitter's `to_world`: z = M·(0,0,1) (the axis), x = M·(1,0,0) made
@@ -1576,54 +1685,11 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 beam_width: (beam as f32).to_radians(),
             });
         } else {
-            let (file, fnode) = self
-                .get_string(&mut p, "filename")?
+            let (ies, scale, _) = self
+                .ies_file(&mut p, false)?
                 .ok_or_else(|| self.err(n, "an ies emitter needs a `filename`"))?;
-            let path = self.dir.join(&file);
-            let ies = crate::ies::load_ies(&path).map_err(|e| self.err(fnode, e.to_string()))?;
-            let built =
-                opticks_core::light::BuiltProfile::build(&EmissionProfile::Ies(ies.profile.clone()), false)
-                    .map_err(|e| self.err(fnode, format!("{}: {e}", path.display())))?;
-            if let Some(rated) = ies.rated_lumens() {
-                let actual = built.integral() * opticks_core::light::LUMENS_PER_WATT;
-                if (actual / rated - 1.0).abs() > 0.05 {
-                    self.warn(
-                        fnode,
-                        format!(
-                            "the file rates {rated} lm but its candela distribution carries {actual:.1} lm; \
-                             the distribution's flux is used"
-                        ),
-                    );
-                }
-            }
-            if let Some((scale, snode)) = self.get_float(&mut p, "scale")? {
-                if scale < 0.0 {
-                    return Err(self.err(snode, "scale must not be negative"));
-                }
-                light.intensity *= scale as f32;
-            }
-            let power = self.get_color(&mut p, "power")?;
-            let lumens = self.get_float(&mut p, "lumens")?;
-            match (power, lumens) {
-                (Some(_), Some((_, lnode))) => {
-                    return Err(self.err(lnode, "give either `power` or `lumens`, not both"));
-                }
-                (Some((w, pnode)), None) => {
-                    if w.min_element() < 0.0 {
-                        return Err(self.err(pnode, "power must not be negative"));
-                    }
-                    light.power = Some(w);
-                }
-                (None, Some((lm, lnode))) => {
-                    if lm < 0.0 {
-                        return Err(self.err(lnode, "lumens must not be negative"));
-                    }
-                    light.power = Some(lumens_to_watts(lm as f32, light.intensity).ok_or_else(|| {
-                        self.err(lnode, "`lumens` needs an `intensity` colour with non-zero luminance")
-                    })?);
-                }
-                (None, None) => {}
-            }
+            light.intensity *= scale;
+            light.power = self.power_or_lumens(&mut p, light.intensity, "intensity")?;
             light.profile = Some(EmissionProfile::Ies(ies.profile));
         }
         self.finish(&p);
