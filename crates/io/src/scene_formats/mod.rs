@@ -6,7 +6,7 @@
 //! | `.xml` | Mitsuba 3 scene (the subset documented in [`mitsuba`], plus Opticks extensions) | [`mitsuba`] |
 //! | `.wrl`, `.wrz`, `.wrl.gz` | VRML97 with the Opticks physical extension (the thesis's format) | [`vrml`] |
 //! | `.obj` | Wavefront OBJ with MTL materials (area lights from `Ke`), no camera | [`wavefront`] |
-//! | `.gltf`, `.glb` | glTF 2.0 (meshes, metallic-roughness materials, emission, point lights, cameras) | [`gltf`] |
+//! | `.gltf`, `.glb` | glTF 2.0 (meshes, metallic-roughness materials, emission, point, spot and directional lights, cameras) | [`gltf`] |
 //!
 //! The extension is matched case-insensitively; anything else is a
 //! [`SceneFileError::UnsupportedExtension`].
@@ -29,6 +29,7 @@
 //! reported as human-readable lines in [`LoadedScene::warnings`], in the same format.
 
 pub mod gltf;
+pub mod lights;
 pub mod mitsuba;
 pub mod obj;
 pub mod vrml;

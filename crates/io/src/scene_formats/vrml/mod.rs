@@ -7,7 +7,7 @@
 //! |---|---|
 //! | [`lexer`] | text → tokens with line:column |
 //! | [`parser`] | tokens → generic node tree ([`tree`]), typed by [`nodes`]; PROTOs expanded by [`proto`] |
-//! | [`convert`] | node tree → [`SceneDescription`](opticks_core::scene::SceneDescription) ([`geometry`], [`triangulate`]) |
+//! | [`convert`] | node tree → [`SceneDescription`](opticks_core::scene::SceneDescription) ([`geometry`], [`triangulate`], [`lights`]) |
 //! | [`writer`] | [`SceneDescription`](opticks_core::scene::SceneDescription) → VRML97 with the extension |
 //!
 //! `.wrl`, `.wrz` and `.wrl.gz` files are read; gzip compression is recognised by its magic
@@ -27,6 +27,7 @@ pub mod convert;
 pub mod extension;
 pub mod geometry;
 pub mod lexer;
+pub mod lights;
 pub mod nodes;
 pub mod parser;
 pub mod proto;
