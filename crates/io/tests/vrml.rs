@@ -166,6 +166,22 @@ fn real_exporter_output_loads() {
     assert_eq!(s.triangles.len(), 80);
 }
 
+/// A UTF-8 byte order mark (as Windows editors write) before the header: the file loads, and
+/// positions after it are unchanged (regression: the header check skipped it, the lexer did not).
+#[test]
+fn a_byte_order_mark_is_skipped() {
+    let body = "Shape { geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] } coordIndex [ 0 1 2 ] } }";
+    let s = load_text(&format!("\u{feff}#VRML V2.0 utf8\n{body}")).unwrap();
+    assert_eq!(s.description.meshes.len(), 1);
+    assert_eq!(s.description.meshes[0].name, "Shape_2_1");
+    let e = load_text("\u{feff}#VRML V2.0 utf8\nShape { bogus 1 }").unwrap();
+    assert!(e.warnings.iter().any(|w| w.starts_with("t.wrl:2:9: ")), "{:?}", e.warnings);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bom.wrl");
+    std::fs::write(&path, format!("\u{feff}#VRML V2.0 utf8\n{body}")).unwrap();
+    assert_eq!(load_scene(&path).unwrap().description.meshes.len(), 1);
+}
+
 #[test]
 fn gzip_compressed_files_load() {
     let text = std::fs::read(testdata("vrml/cornell.wrl")).unwrap();

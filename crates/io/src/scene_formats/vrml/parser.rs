@@ -62,7 +62,6 @@ pub struct Parsed {
 /// Checks the `#VRML V2.0 utf8` header.
 fn check_header(src: &str) -> Result<()> {
     let first = src.lines().next().unwrap_or("");
-    let first = first.strip_prefix('\u{feff}').unwrap_or(first);
     let at = Pos { line: 1, col: 1 };
     if first.starts_with("#VRML V2.0 utf8") {
         Ok(())
@@ -76,8 +75,9 @@ fn check_header(src: &str) -> Result<()> {
     }
 }
 
-/// Parses a whole VRML97 file.
+/// Parses a whole VRML97 file (a leading UTF-8 byte order mark is skipped: it is not a column).
 pub fn parse(src: &str) -> Result<Parsed> {
+    let src = src.strip_prefix('\u{feff}').unwrap_or(src);
     check_header(src)?;
     let mut p = Parser {
         lex: Lexer::new(src),
