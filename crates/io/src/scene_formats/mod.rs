@@ -98,7 +98,7 @@ pub enum SceneFileError {
     },
     /// The extension is not one [`load_scene`] knows.
     #[error(
-        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .obj for OBJ/MTL, .gltf and .glb for glTF 2.0)",
+        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .wrl, .wrz and .wrl.gz for VRML97, .obj for OBJ/MTL, .gltf and .glb for glTF 2.0)",
         .path.display()
     )]
     UnsupportedExtension {
@@ -207,7 +207,9 @@ mod tests {
         let e = load_scene(Path::new("dir/scene.ply")).unwrap_err();
         let msg = e.to_string();
         assert!(msg.starts_with("dir/scene.ply: unsupported scene file type"), "{msg}");
-        assert!(msg.contains(".xml") && msg.contains(".obj"), "{msg}");
+        for ext in [".xml", ".wrl", ".wrz", ".wrl.gz", ".obj", ".gltf", ".glb"] {
+            assert!(msg.contains(ext), "{ext}: {msg}");
+        }
         assert!(matches!(load_scene(Path::new("noext")), Err(SceneFileError::UnsupportedExtension { .. })));
     }
 
