@@ -8,11 +8,14 @@
 //! recursion guarded). Nodes that do not change the image (sensors, interpolators, `Script`,
 //! `WorldInfo`, `NavigationInfo`, sound) are ignored silently; what would change it and is not
 //! supported (`Background`, `Fog`, textures, transparency) gives a warning. Lights are converted
-//! in [`super::lights`]. Output is bounded ([`MAX_TRIANGLES`], [`MAX_VISITS`]) because `DEF`/`USE` can
-//! multiply geometry exponentially.
+//! in [`super::lights`]. Output is bounded ([`MAX_TRIANGLES`], [`MAX_VISITS`],
+//! and the mesh bytes, positions counted as well as triangles, by [`MAX_MESH_BYTES`] and
+//! max([`MIN_MESH_BUDGET`], [`MAX_AMPLIFICATION`] × the source)) because `DEF`/`USE` can
+//! multiply geometry exponentially; a geometry node is triangulated once however often it is
+//! `USE`d, and an Inlined file is parsed once however often it is included.
 
 use super::extension;
-use super::geometry::{self, Geometry};
+use super::geometry::{self, Geometry, LocalMesh};
 use super::lexer::Pos;
 use super::tree::{FieldValue, Node, NodeRef, ProtoInstance};
 use crate::scene_formats::{FileLocation, LoadedScene, SceneFileError};
@@ -24,9 +27,17 @@ use opticks_core::scene::{CameraDesc, MeshDesc, SceneDescription, Source};
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 /// Most triangles a file (with its Inlines and instancing) may produce.
 pub const MAX_TRIANGLES: usize = 50_000_000;
+/// Most bytes of positions and triangles (12 bytes each) the instanced meshes may add up to.
+pub const MAX_MESH_BYTES: usize = 2 << 30;
+/// Mesh bytes any file may produce however small it is (see [`MAX_AMPLIFICATION`]).
+pub const MIN_MESH_BUDGET: usize = 64 << 20;
+/// Beyond [`MIN_MESH_BUDGET`], the mesh bytes may be at most this many times the source text
+/// (the file and its Inlines): instancing that amplifies more is a bomb, refused early.
+pub const MAX_AMPLIFICATION: usize = 1024;
 /// Most nodes the walk may visit (counting every `USE` again).
 pub const MAX_VISITS: usize = 10_000_000;
 /// Deepest scene graph, Inlines included.
@@ -98,7 +109,21 @@ impl AreaProfile {
 
 /// Converts the parsed top-level `nodes` of `file` (whose parser warnings are `warnings`).
 pub fn convert(nodes: &[NodeRef], file: &Path, warnings: Vec<String>) -> Result<LoadedScene> {
+    convert_sized(nodes, file, warnings, 0)
+}
+
+/// [`convert`] for a source text of `source_bytes` bytes (which sets the mesh budget).
+pub fn convert_sized(
+    nodes: &[NodeRef],
+    file: &Path,
+    warnings: Vec<String>,
+    source_bytes: usize,
+) -> Result<LoadedScene> {
     let mut c = Converter {
+        source_bytes,
+        mesh_bytes: 0,
+        geometries: HashMap::new(),
+        inlines: HashMap::new(),
         out: SceneDescription::default(),
         warnings,
         materials: HashMap::new(),
@@ -136,6 +161,15 @@ pub(super) struct Converter {
     visits: usize,
     triangles: usize,
     extra_viewpoints: usize,
+    /// Bytes of source text read (the file and its Inlines), for the mesh budget.
+    source_bytes: usize,
+    /// Bytes of positions and triangles produced so far.
+    mesh_bytes: usize,
+    /// Each geometry node's triangulation, made once however often it is `USE`d (`None`:
+    /// skipped). Keyed by node address: every tree stays alive for the whole conversion.
+    geometries: HashMap<usize, Option<Rc<LocalMesh>>>,
+    /// Each Inlined file (canonical path), read and parsed once however often it is included.
+    inlines: HashMap<PathBuf, Rc<Vec<NodeRef>>>,
 }
 
 fn ptr(n: &Node) -> usize {
@@ -304,17 +338,40 @@ impl Converter {
     #[inline(never)] // keeps the recursive walk's stack frame small
     fn shape(&mut self, n: &Node, m: &DMat4) -> Result<()> {
         let Some(g) = n.node("geometry") else { return Ok(()) };
-        let mut notes = Vec::new();
-        let local = match geometry::geometry(g, &mut notes) {
-            Err(msg) => return Err(self.invalid(g, msg)),
-            Ok(Geometry::Skipped(msg)) => {
-                self.warn_once(g, "geometry", msg);
-                return Ok(());
+        let local = match self.geometries.get(&ptr(g)) {
+            Some(cached) => cached.clone(),
+            None => {
+                let mut notes = Vec::new();
+                let local = match geometry::geometry(g, &mut notes) {
+                    Err(msg) => return Err(self.invalid(g, msg)),
+                    Ok(Geometry::Skipped(msg)) => {
+                        self.warn_once(g, "geometry", msg);
+                        None
+                    }
+                    Ok(Geometry::Mesh(mesh)) => Some(Rc::new(mesh)),
+                };
+                for note in notes {
+                    self.warn_once(g, "geometry-note", note);
+                }
+                self.geometries.insert(ptr(g), local.clone());
+                local
             }
-            Ok(Geometry::Mesh(mesh)) => mesh,
         };
-        for note in notes {
-            self.warn_once(g, "geometry-note", note);
+        let Some(local) = local else { return Ok(()) };
+        // Budgets, checked before anything is copied: each USE costs its positions too.
+        self.mesh_bytes += 12 * (local.positions.len() + local.triangles.len());
+        let budget =
+            MAX_MESH_BYTES.min(MIN_MESH_BUDGET.max(MAX_AMPLIFICATION.saturating_mul(self.source_bytes)));
+        if self.mesh_bytes > budget {
+            return Err(self.invalid(
+                n,
+                format!(
+                    "the meshes take more than {} MB ({MAX_AMPLIFICATION} × the source text or {} MB, at most {} MB): DEF/USE or Inline multiplies geometry too much",
+                    budget >> 20,
+                    MIN_MESH_BUDGET >> 20,
+                    MAX_MESH_BYTES >> 20
+                ),
+            ));
         }
         self.triangles += local.triangles.len();
         if self.triangles > MAX_TRIANGLES {
@@ -324,9 +381,9 @@ impl Converter {
             ));
         }
         let (material, emission) = self.material(n.node("appearance").map(|a| &**a), local.solid)?;
-        let mut triangles = local.triangles;
+        let mut triangles = local.triangles.clone();
         let positions: Vec<Vec3> = if *m == DMat4::IDENTITY {
-            local.positions
+            local.positions.clone()
         } else {
             if m.determinant() < 0.0 {
                 // A mirror turns counter-clockwise into clockwise: keep VRML's front face.
@@ -595,11 +652,20 @@ impl Converter {
         if self.files.len() > MAX_INLINE_DEPTH {
             return Err(self.invalid(n, format!("Inlines nested more than {MAX_INLINE_DEPTH} deep")));
         }
-        let text = super::read_source(&path)?;
-        let parsed = super::parse_text(&text, &path)?;
-        self.warnings.extend(parsed.1);
+        let nodes = match self.inlines.get(&canonical) {
+            Some(nodes) => nodes.clone(),
+            None => {
+                let text = super::read_source(&path)?;
+                self.source_bytes += text.len();
+                let (nodes, warnings) = super::parse_text(&text, &path)?;
+                self.warnings.extend(warnings);
+                let nodes = Rc::new(nodes);
+                self.inlines.insert(canonical, nodes.clone());
+                nodes
+            }
+        };
         self.files.push(path);
-        let result = self.children(&parsed.0, m, depth);
+        let result = self.children(&nodes, m, depth);
         self.files.pop();
         result
     }

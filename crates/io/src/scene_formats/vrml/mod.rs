@@ -57,7 +57,7 @@ pub fn load(path: &Path) -> Result<LoadedScene, SceneFileError> {
 /// Loads VRML97 text; `path` names it in messages and resolves `Inline` URLs.
 pub fn load_str(text: &str, path: &Path) -> Result<LoadedScene, SceneFileError> {
     let (nodes, warnings) = parse_text(text, path)?;
-    convert::convert(&nodes, path, warnings)
+    convert::convert_sized(&nodes, path, warnings, text.len())
 }
 
 /// Reads a file's text, gunzipping it if it starts with the gzip magic bytes.
