@@ -285,5 +285,9 @@ fn bench_a_million_triangles() {
     let scene = load_scene(&path).unwrap();
     let dt = t.elapsed().as_secs_f64();
     assert_eq!(scene.description.meshes.iter().map(|m| m.triangles.len()).sum::<usize>(), 1_000_000);
-    println!("1M-triangle OBJ/MTL: {mb:.1} MB loaded at {:.0} MB/s; raw read {:.0} MB/s", mb / dt, mb / t_raw);
+    println!(
+        "1M-triangle OBJ/MTL: {mb:.1} MB loaded at {:.0} MB/s; raw read {:.0} MB/s",
+        mb / dt,
+        mb / t_raw
+    );
 }

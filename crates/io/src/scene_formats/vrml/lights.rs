@@ -7,8 +7,10 @@
 //! within `beamWidth` of its axis and falls linearly in angle to zero at `cutOffAngle` (VRML97
 //! §6.45; a `beamWidth` at or above `cutOffAngle` means no fall-off). Not kept, with a warning:
 //! `attenuation` other than 1/r² (physically only inverse-square is right), `radius` (light
-//! has no range), `ambientIntensity` (there is no ambient term), and a `DirectionalLight`'s
-//! scoping to its group: it becomes a sun lighting the whole scene.
+//! has no range), `ambientIntensity` (there is no ambient term), a standard `SpotLight`'s
+//! `cutOffAngle` beyond VRML97's π/2 (clamped: VTK's exporter writes degrees), and a
+//! `DirectionalLight`'s scoping to its group: it becomes a sun lighting the whole scene. Lights
+//! that emit nothing (black colour or intensity 0) are left out.
 
 use super::convert::{Converter, dv, rgb};
 use super::tree::{FieldValue, Node, ProtoInstance};
@@ -17,6 +19,7 @@ use crate::scene_formats::lights::{self, LightError};
 use glam::{DMat4, DVec3};
 use opticks_core::math::Rgb;
 use opticks_core::scene::PointLightDesc;
+use std::f64::consts::FRAC_PI_2;
 
 /// Radiant intensity of a standard PointLight or SpotLight of `intensity` 1 and white `color`,
 /// W/sr.
@@ -129,9 +132,20 @@ impl Converter {
                     )
                 }
             };
-        if !on {
-            return Ok(());
+        if !on || intensity == Rgb::ZERO && power.is_none() {
+            return Ok(()); // emits nothing
         }
+        let cutoff = if cutoff > FRAC_PI_2 && n.proto.is_none() {
+            // VTK's exporter, for one, writes degrees.
+            self.warn_once(
+                n,
+                "cutoff",
+                format!("cutOffAngle {cutoff} is beyond VRML97's range [0, π/2] radians: π/2 used"),
+            );
+            FRAC_PI_2
+        } else {
+            cutoff
+        };
         if cutoff == 0.0 {
             self.warn_once(n, "cutoff", "cutOffAngle 0: the spot emits nothing: ignored");
             return Ok(());
@@ -166,8 +180,8 @@ impl Converter {
                 (dv(n.vec3("direction", [0.0, 0.0, -1.0])), e, n.bool("on", true))
             }
         };
-        if !on {
-            return Ok(());
+        if !on || irradiance == Rgb::ZERO {
+            return Ok(()); // emits nothing (VTK writes its ambient light so)
         }
         if depth > 0 {
             self.warn_once(
