@@ -183,6 +183,38 @@ fn a_byte_order_mark_is_skipped() {
     assert_eq!(load_scene(&path).unwrap().description.meshes.len(), 1);
 }
 
+/// EXTERNPROTO with a readable local library file: the PROTO (interface defaults and body)
+/// comes from it and instances expand; an unreachable URL, a missing PROTO and a library that
+/// includes itself are warnings, with the instance skipped.
+#[test]
+fn externprotos_load_from_local_library_files() {
+    let s = load_scene(&testdata("vrml/uses-protolib.wrl")).unwrap();
+    let d = &s.description;
+    assert_eq!(d.meshes.len(), 2, "{:#?}", s.warnings);
+    assert_eq!(d.meshes[1].positions[0], Vec3::new(0.0, 0.0, -1.0));
+    let colours: Vec<Rgb> = d
+        .materials
+        .iter()
+        .map(|m| match &m.bsdf {
+            Bsdf::Lambert(l) => l.reflectance,
+            b => panic!("{b:?}"),
+        })
+        .collect();
+    assert_eq!(
+        colours,
+        [Rgb::new(0.2, 0.4, 0.6), Rgb::splat(0.5)],
+        "the instance's value, then the library default"
+    );
+    let w = s.warnings.join("\n");
+    assert!(w.contains("`Remote` is an EXTERNPROTO"), "{w}");
+    assert!(w.contains("EXTERNPROTO Absent") && w.contains("has no PROTO Absent"), "{w}");
+    assert!(w.contains("EXTERNPROTO Loop") && w.contains("includes itself"), "{w}");
+    // Without a file there is no directory to resolve against: skipped as before.
+    let text = std::fs::read_to_string(testdata("vrml/uses-protolib.wrl")).unwrap();
+    let parsed = vrml::parser::parse(&text).unwrap();
+    assert!(parsed.warnings.iter().any(|(_, m)| m.contains("`Triangle` is an EXTERNPROTO")));
+}
+
 #[test]
 fn gzip_compressed_files_load() {
     let text = std::fs::read(testdata("vrml/cornell.wrl")).unwrap();

@@ -87,7 +87,7 @@ pub fn read_source(path: &Path) -> Result<String, SceneFileError> {
 /// `file:line:col: message` lines).
 pub fn parse_text(text: &str, path: &Path) -> Result<(Vec<NodeRef>, Vec<String>), SceneFileError> {
     let loc = |pos: lexer::Pos| FileLocation { file: path.to_path_buf(), line: pos.line, column: pos.col };
-    let parsed = parser::parse(text).map_err(|e| SceneFileError::Invalid {
+    let parsed = parser::parse_file(text, path).map_err(|e| SceneFileError::Invalid {
         at: loc(e.pos),
         element: "VRML syntax".into(),
         message: e.message,
