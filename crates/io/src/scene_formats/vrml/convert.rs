@@ -628,15 +628,7 @@ impl Converter {
             _ => Vec::new(),
         };
         let dir = self.file().parent().map(Path::to_path_buf).unwrap_or_default();
-        let Some(path) = urls.iter().find_map(|u| {
-            let u = u.split('#').next().unwrap_or("");
-            let local = u.strip_prefix("file://").unwrap_or(u);
-            if u.is_empty() || (u.contains("://") && !u.starts_with("file://")) {
-                return None;
-            }
-            let p = dir.join(local);
-            p.is_file().then_some(p)
-        }) else {
+        let Some(path) = urls.iter().find_map(|u| super::local_url(&dir, u).map(|(p, _)| p)) else {
             self.warn_once(
                 n,
                 "inline",

@@ -48,6 +48,18 @@ pub fn is_vrml_path(path: &Path) -> bool {
     name.ends_with(".wrl") || name.ends_with(".wrz") || name.ends_with(".wrl.gz")
 }
 
+/// The local file a VRML `url` names relative to `dir` (`file://` accepted; other schemes are
+/// not fetched), with its `#fragment` (empty if none); `None` unless it is an existing file.
+/// Used by `Inline` and `EXTERNPROTO`.
+pub fn local_url<'u>(dir: &Path, url: &'u str) -> Option<(std::path::PathBuf, &'u str)> {
+    let (file, fragment) = url.split_once('#').unwrap_or((url, ""));
+    if file.is_empty() || (file.contains("://") && !file.starts_with("file://")) {
+        return None;
+    }
+    let path = dir.join(file.strip_prefix("file://").unwrap_or(file));
+    path.is_file().then_some((path, fragment))
+}
+
 /// Loads a VRML97 file (gzip-compressed or not).
 pub fn load(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let text = read_source(path)?;

@@ -485,16 +485,7 @@ impl<'a> Parser<'a> {
     fn library_proto(&mut self, name: &str, urls: &[String], pos: Pos) -> Result<Option<Rc<ProtoDef>>> {
         let Some(chain) = &self.chain else { return Ok(None) };
         let dir = chain.last().and_then(|f| f.parent()).map(Path::to_path_buf).unwrap_or_default();
-        for url in urls {
-            let (file, fragment) = url.split_once('#').unwrap_or((url, ""));
-            let local = file.strip_prefix("file://").unwrap_or(file);
-            if file.is_empty() || (file.contains("://") && !file.starts_with("file://")) {
-                continue;
-            }
-            let path = dir.join(local);
-            if !path.is_file() {
-                continue;
-            }
+        for (path, fragment) in urls.iter().filter_map(|u| super::local_url(&dir, u)) {
             let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
             let protos = match self.libraries.get(&canonical) {
                 Some(p) => p.clone(),
