@@ -670,16 +670,33 @@ fn area_light_shape_hash_covers_tangent_of_ies_only() {
     assert_eq!(shape(None, None, None), shape(None, Some(Vec3::Z), None), "Lambertian: no tangent");
 }
 
-/// The VRML writer refuses lights its extension cannot express instead of dropping them.
+/// The VRML writer writes spot and directional lights and cosⁿ emitters in the extension, and
+/// refuses what it cannot express (an IES table) instead of dropping it.
 #[test]
-fn vrml_writer_refuses_profiled_lights() {
-    use opticks_io::scene_formats::vrml::writer::write_vrml;
+fn vrml_writer_round_trips_spots_suns_and_refuses_ies() {
+    use opticks_io::scene_formats::vrml::{load_str, writer::write_vrml};
+    let spot = EmissionProfile::Spot { cutoff_angle: 0.5, beam_width: 0.4 };
+    let mut emitter = inward_icosphere(1.0, 0);
+    emitter.emission = Some(Rgb::splat(2.0));
+    emitter.emission_profile = Some(EmissionProfile::CosinePower { exponent: 7.5 });
     let mut desc = SceneDescription {
         materials: vec![black()],
-        meshes: vec![inward_icosphere(1.0, 0)],
-        point_lights: vec![PointLightDesc {
-            name: "bulb".into(),
-            power: Some(Rgb::splat(4.0)),
+        meshes: vec![emitter],
+        point_lights: vec![
+            PointLightDesc { name: "bulb".into(), power: Some(Rgb::splat(4.0)), ..Default::default() },
+            PointLightDesc {
+                name: "spot".into(),
+                position: Vec3::new(0.0, 1.0, 0.0),
+                power: Some(Rgb::new(1.0, 2.0, 3.0)),
+                profile: Some(spot.clone()),
+                orientation: Some(Frame::from_normal(Vec3::NEG_Y)),
+                ..Default::default()
+            },
+        ],
+        directional_lights: vec![DirectionalLightDesc {
+            name: "sun".into(),
+            direction: Vec3::new(0.6, -0.8, 0.0),
+            irradiance: Rgb::new(5.0, 4.0, 3.0),
             ..Default::default()
         }],
         ..Default::default()
@@ -689,15 +706,41 @@ fn vrml_writer_refuses_profiled_lights() {
     let text = String::from_utf8(out).unwrap();
     let i = (4.0 / (4.0 * std::f32::consts::PI)).to_string();
     assert!(text.contains(&format!("intensity {i} {i} {i}")), "power written as intensity Φ/4π");
-    desc.point_lights[0].profile = Some(EmissionProfile::Spot { cutoff_angle: 0.5, beam_width: 0.4 });
+    let back = load_str(&text, std::path::Path::new("w.wrl")).unwrap();
+    assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+    let d = &back.description;
+    assert_eq!(
+        (d.point_lights[1].profile.as_ref(), d.point_lights[1].power),
+        (Some(&spot), Some(Rgb::new(1.0, 2.0, 3.0)))
+    );
+    assert_eq!(d.point_lights[1].orientation.unwrap().n, Vec3::NEG_Y);
+    assert_eq!(d.point_lights[1].position, Vec3::new(0.0, 1.0, 0.0));
+    assert_eq!(d.directional_lights.len(), 1);
+    assert_eq!(
+        (d.directional_lights[0].direction, d.directional_lights[0].irradiance),
+        (Vec3::new(0.6, -0.8, 0.0), Rgb::new(5.0, 4.0, 3.0))
+    );
+    assert_eq!(d.meshes[0].emission_profile, Some(EmissionProfile::CosinePower { exponent: 7.5 }));
+    assert_eq!(d.meshes[0].emission, Some(Rgb::splat(2.0)));
+    let ies = load_ies(&testdata("ies/symmetric-3.ies")).unwrap();
+    desc.point_lights[1].profile = Some(EmissionProfile::Ies(ies.profile));
     let e = write_vrml(&desc, &mut Vec::new()).unwrap_err().to_string();
-    assert!(e.contains("bulb") && e.contains("profile"), "{e}");
-    desc.point_lights.clear();
-    desc.directional_lights.push(DirectionalLightDesc {
-        name: "sun".into(),
-        direction: -Vec3::Y,
-        ..Default::default()
-    });
-    let e = write_vrml(&desc, &mut Vec::new()).unwrap_err().to_string();
-    assert!(e.contains("sun"), "{e}");
+    assert!(e.contains("spot") && e.contains("profile"), "{e}");
+}
+
+/// A VRML97 `SpotLight` (color × intensity W/sr, beamWidth, cutOffAngle) emits the closed-form
+/// power of the core's spot, measured on an enclosing sphere: the loader's parameters arrive.
+#[test]
+fn vrml_spot_light_power_matches_closed_form() {
+    let (g, b) = (0.6f64, 0.3f64);
+    let text = format!(
+        "#VRML V2.0 utf8\nTransform {{ rotation 1 0 0 0.7 children SpotLight {{ location 0.1 0 0 direction 0 0 -1 \
+         color 1 0.5 0.25 intensity 0.8 beamWidth {b} cutOffAngle {g} }} }}"
+    );
+    let loaded = opticks_io::scene_formats::vrml::load_str(&text, std::path::Path::new("s.wrl")).unwrap();
+    let light = loaded.description.point_lights[0].clone();
+    let expected = 0.8 * 2.0 * PI * (1.0 - (g.sin() - b.sin()) / (g - b));
+    let (phi, m, e) = sphere_flux(light, 300_000, 9);
+    assert!((phi / expected - 1.0).abs() < 1e-5, "Φ = {phi}, closed form {expected}");
+    check("VRML SpotLight, sphere flux", m, e, expected, 0.005);
 }

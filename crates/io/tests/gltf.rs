@@ -7,6 +7,7 @@ mod common;
 
 use common::*;
 use opticks_core::bsdf::Bsdf;
+use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{Pinhole, Scene, SceneDescription};
 use opticks_io::{LoadedScene, SceneFileError, load_scene};
@@ -228,36 +229,55 @@ fn only_triangle_primitives_are_loaded_indexed_or_not() {
 }
 
 #[test]
-fn point_lights_convert_candela_and_others_are_skipped() {
+fn punctual_lights_convert_candela_and_lux() {
     let s = load_ok(
         "l.gltf",
         doc(&format!(
             r#""extensionsUsed": ["KHR_lights_punctual"],
   "extensions": {{"KHR_lights_punctual": {{"lights": [
     {{"name": "bulb", "type": "point", "color": [1, 0.5, 0.25], "intensity": 683, "range": 3}},
-    {{"name": "spot", "type": "spot", "intensity": 10, "spot": {{"outerConeAngle": 0.5}}}},
-    {{"name": "sun", "type": "directional", "intensity": 3}}
+    {{"name": "spot", "type": "spot", "intensity": 6830, "spot": {{"outerConeAngle": 0.5}}}},
+    {{"name": "sun", "type": "directional", "color": [1, 1, 0.5], "intensity": 1366}},
+    {{"name": "cone", "type": "spot", "intensity": 683, "spot": {{"innerConeAngle": 0.2, "outerConeAngle": 0.6}}}}
   ]}}}},
   "scenes": [{{"nodes": [0, 3]}}],
   "nodes": [
     {{"translation": [1, 0, 0], "children": [1, 2]}},
     {{"translation": [0, 5, 0], "extensions": {{"KHR_lights_punctual": {{"light": 0}}}}}},
     {{"extensions": {{"KHR_lights_punctual": {{"light": 1}}}}}},
-    {{"extensions": {{"KHR_lights_punctual": {{"light": 2}}}}, "mesh": 0}}
+    {{"extensions": {{"KHR_lights_punctual": {{"light": 2}}}}, "mesh": 0, "rotation": [-0.7071068, 0, 0, 0.7071068],
+      "children": [4]}},
+    {{"translation": [0, 0, 2], "extensions": {{"KHR_lights_punctual": {{"light": 3}}}}}}
   ],
   {QUAD_MESH}"#
         ))
         .as_bytes(),
     );
     let d = &s.description;
-    assert_eq!(d.point_lights.len(), 1);
+    assert_eq!(d.point_lights.len(), 3);
     let l = &d.point_lights[0];
     assert_eq!(l.name, "bulb");
     assert!(close(l.intensity, Rgb::new(1.0, 0.5, 0.25), 1e-6), "683 cd = 1 W/sr: {:?}", l.intensity);
     assert!(close(l.position, Vec3::new(1.0, 5.0, 0.0), 1e-6));
-    let w = s.warnings.join("\n");
-    assert!(w.contains("node 2: spot: spot lights are not supported yet; skipped"), "{w}");
-    assert!(w.contains("node 3: sun: directional lights are not supported yet; skipped"), "{w}");
+    assert_eq!(l.profile, None);
+    let spot = |c: f32, b: f32| Some(EmissionProfile::Spot { cutoff_angle: c, beam_width: b });
+    // Default innerConeAngle 0: the narrowest beam the core allows.
+    let l = &d.point_lights[1];
+    assert_eq!((l.name.as_str(), l.profile.clone()), ("spot", spot(0.5, 0.5e-3)));
+    assert!(close(l.intensity, Rgb::splat(10.0), 1e-5), "{:?}", l.intensity);
+    assert!(close(l.position, Vec3::new(1.0, 0.0, 0.0), 1e-6));
+    assert!(close(l.orientation.unwrap().n, Vec3::NEG_Z, 1e-6));
+    // Node 4 sits 2 m along +z of node 3, which is turned −90° about x: its −Z points down −y.
+    let l = &d.point_lights[2];
+    assert_eq!((l.name.as_str(), l.profile.clone()), ("cone", spot(0.6, 0.2)));
+    assert!(close(l.position, Vec3::new(0.0, 2.0, 0.0), 1e-5), "{:?}", l.position);
+    assert!(close(l.orientation.unwrap().n, Vec3::NEG_Y, 1e-5), "{:?}", l.orientation);
+    assert_eq!(d.directional_lights.len(), 1);
+    let sun = &d.directional_lights[0];
+    assert_eq!(sun.name, "sun");
+    assert!(close(sun.irradiance, Rgb::new(2.0, 2.0, 1.0), 1e-5), "1366 lx = 2 W/m²: {:?}", sun.irradiance);
+    assert!(close(sun.direction, Vec3::NEG_Y, 1e-5), "{:?}", sun.direction);
+    assert!(s.warnings.iter().all(|w| !w.contains("light")), "{:?}", s.warnings);
     // The point light makes the scene buildable on its own.
     Scene::build(d).unwrap();
 }

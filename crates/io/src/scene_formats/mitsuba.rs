@@ -155,6 +155,7 @@
 //! `docs/scene-formats.md`, "Mitsuba 3 XML: Opticks extensions", and [`crate::ies`] for the IES
 //! subset.
 
+use super::lights;
 use super::obj::read_obj;
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
 use glam::{DMat3, DMat4, DVec3};
@@ -1624,17 +1625,9 @@ impl<'a, 'i> Ctx<'a, 'i> {
     /// perpendicular; and the position M·(0,0,0).
     fn emitter_frame(&self, t: &Transform, tnode: Node) -> Result<(Frame, DVec3)> {
         let m = t.matrix;
-        let z = m.transform_vector3(DVec3::Z);
-        let x = m.transform_vector3(DVec3::X);
-        if !z.is_finite() || z.length() <= 0.0 {
-            return Err(self.err(tnode, "to_world maps the emitter's axis (0, 0, 1) to zero"));
-        }
-        let n = z.normalize();
-        let s = x - n * x.dot(n);
-        let s =
-            if s.length() > 1e-9 * x.length().max(1e-300) { s.normalize() } else { coordinate_system(n).0 };
-        let t = n.cross(s);
-        Ok((Frame { s: s.as_vec3(), t: t.as_vec3(), n: n.as_vec3() }, m.transform_point3(DVec3::ZERO)))
+        let frame = lights::axis_frame(m.transform_vector3(DVec3::Z), m.transform_vector3(DVec3::X))
+            .map_err(|_| self.err(tnode, "to_world maps the emitter's axis (0, 0, 1) to zero"))?;
+        Ok((frame, m.transform_point3(DVec3::ZERO)))
     }
 
     fn top_emitter(&mut self, n: Node<'a, 'i>, index: usize) -> Result<TopEmitter> {
@@ -1671,19 +1664,18 @@ impl<'a, 'i> Ctx<'a, 'i> {
         };
         if ty == "spot" {
             let (cutoff, cnode) = self.get_float(&mut p, "cutoff_angle")?.unwrap_or((20.0, n));
-            if !(cutoff > 0.0 && cutoff <= 180.0) {
-                return Err(self.err(cnode, format!("cutoff_angle {cutoff}° must be in (0°, 180°]")));
-            }
             let (beam, bnode) = self.get_float(&mut p, "beam_width")?.unwrap_or((cutoff * 0.75, n));
-            if !(beam > 0.0 && beam <= cutoff) {
-                return Err(
-                    self.err(bnode, format!("beam_width {beam}° must be in (0°, cutoff_angle = {cutoff}°]"))
-                );
-            }
-            light.profile = Some(EmissionProfile::Spot {
-                cutoff_angle: (cutoff as f32).to_radians(),
-                beam_width: (beam as f32).to_radians(),
-            });
+            light.profile =
+                Some(lights::spot_profile(cutoff.to_radians(), beam.to_radians()).map_err(|e| {
+                    if e == lights::LightError::Cutoff {
+                        self.err(cnode, format!("cutoff_angle {cutoff}° must be in (0°, 180°]"))
+                    } else {
+                        self.err(
+                            bnode,
+                            format!("beam_width {beam}° must be in (0°, cutoff_angle = {cutoff}°]"),
+                        )
+                    }
+                })?);
         } else {
             let (ies, scale, _) = self
                 .ies_file(&mut p, false)?
@@ -1718,16 +1710,9 @@ impl<'a, 'i> Ctx<'a, 'i> {
             (None, None) => DVec3::Z,
         };
         let (irradiance, inode) = self.get_color(&mut p, "irradiance")?.unwrap_or((Rgb::ONE, n));
-        if irradiance.min_element() < 0.0 {
-            return Err(self.err(inode, "irradiance must not be negative"));
-        }
         self.finish(&p);
-        Ok(DirectionalLightDesc {
-            name,
-            source: self.source(n),
-            direction: direction.normalize().as_vec3(),
-            irradiance,
-        })
+        lights::directional_light(name, self.source(n), direction, irradiance)
+            .map_err(|_| self.err(inode, "irradiance must not be negative"))
     }
 
     fn point_emitter(&mut self, n: Node<'a, 'i>, index: usize) -> Result<PointLightDesc> {

@@ -6,7 +6,7 @@
 //! | `.xml` | Mitsuba 3 scene (the subset documented in [`mitsuba`], plus Opticks extensions) | [`mitsuba`] |
 //! | `.wrl`, `.wrz`, `.wrl.gz` | VRML97 with the Opticks physical extension (the thesis's format) | [`vrml`] |
 //! | `.obj` | Wavefront OBJ with MTL materials (area lights from `Ke`), no camera | [`wavefront`] |
-//! | `.gltf`, `.glb` | glTF 2.0 (meshes, metallic-roughness materials, emission, point lights, cameras) | [`gltf`] |
+//! | `.gltf`, `.glb` | glTF 2.0 (meshes, metallic-roughness materials, emission, point, spot and directional lights, cameras) | [`gltf`] |
 //!
 //! The extension is matched case-insensitively; anything else is a
 //! [`SceneFileError::UnsupportedExtension`].
@@ -29,6 +29,7 @@
 //! reported as human-readable lines in [`LoadedScene::warnings`], in the same format.
 
 pub mod gltf;
+pub mod lights;
 pub mod mitsuba;
 pub mod obj;
 pub mod vrml;
@@ -97,7 +98,7 @@ pub enum SceneFileError {
     },
     /// The extension is not one [`load_scene`] knows.
     #[error(
-        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .obj for OBJ/MTL, .gltf and .glb for glTF 2.0)",
+        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .wrl, .wrz and .wrl.gz for VRML97, .obj for OBJ/MTL, .gltf and .glb for glTF 2.0)",
         .path.display()
     )]
     UnsupportedExtension {
@@ -206,7 +207,9 @@ mod tests {
         let e = load_scene(Path::new("dir/scene.ply")).unwrap_err();
         let msg = e.to_string();
         assert!(msg.starts_with("dir/scene.ply: unsupported scene file type"), "{msg}");
-        assert!(msg.contains(".xml") && msg.contains(".obj"), "{msg}");
+        for ext in [".xml", ".wrl", ".wrz", ".wrl.gz", ".obj", ".gltf", ".glb"] {
+            assert!(msg.contains(ext), "{ext}: {msg}");
+        }
         assert!(matches!(load_scene(Path::new("noext")), Err(SceneFileError::UnsupportedExtension { .. })));
     }
 

@@ -12,7 +12,8 @@
 //! | materials (metallic-roughness) | Lambert or Modified Phong, see [`materials`]; no material → glTF's default (white metal, roughness 1) |
 //! | `emissiveFactor` × `KHR_materials_emissive_strength` | area light of that radiance in W/(m²·sr) (see [`materials`]) |
 //! | `KHR_lights_punctual` point | [`PointLightDesc`] of intensity `color × intensity / 683` W/sr (glTF gives candela = lm/sr; 683 lm/W is the luminous efficacy at 555 nm, the convention glTF exporters such as Blender's use); `range` is ignored (physical inverse-square falloff) |
-//! | `KHR_lights_punctual` spot, directional | warning, skipped (the core has neither yet) |
+//! | `KHR_lights_punctual` spot | a spot [`PointLightDesc`] on the node's −Z, `color × intensity / 683` W/sr on the axis, full within `innerConeAngle` (at least [`SPOT_MIN_BEAM`] × outer) and falling **linearly in angle** to zero at `outerConeAngle` (glTF leaves the fall-off curve to the renderer); `range` ignored |
+//! | `KHR_lights_punctual` directional | a [`DirectionalLightDesc`](opticks_core::scene::DirectionalLightDesc) along the node's −Z of irradiance `color × intensity / 683` W/m² (glTF gives lux), a sun covering the scene |
 //! | cameras | the perspective camera of the lowest-index node in the scene is the scene camera; it looks down its local −Z with +Y up; `yfov` is vertical: `fov_x = 2·atan(tan(yfov/2)·W/H)`; the image is 512 pixels high and `round(512·aspectRatio)` wide (512×512 without `aspectRatio`) |
 //! | orthographic cameras, skins, morph targets, animations, textures | ignored (warnings for the ones that change what is seen) |
 //!
@@ -27,6 +28,7 @@
 pub mod buffers;
 pub mod materials;
 
+use super::lights::{self, LightError};
 use super::{FileLocation, LoadedScene, SceneFileError};
 use ::gltf::camera::Projection;
 use ::gltf::khr_lights_punctual::Kind;
@@ -37,6 +39,10 @@ use std::path::Path;
 
 /// Luminous efficacy used to turn candela into W/sr, lm/W.
 pub const LUMENS_PER_WATT: f32 = 683.0;
+
+/// The narrowest full-intensity cone of a glTF spot, as a fraction of its outer cone (the core's
+/// spot needs a positive beam; glTF allows `innerConeAngle` 0).
+pub const SPOT_MIN_BEAM: f64 = 1e-3;
 
 /// Image height (and width without `aspectRatio`) of a glTF camera, pixels.
 pub const DEFAULT_IMAGE_HEIGHT: u32 = 512;
@@ -275,7 +281,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     if !intensity.is_finite() || intensity.min_element() < 0.0 {
                         return Err(invalid(
                             format!("{element}: {lname}"),
-                            "light color × intensity must be finite and non-negative".into(),
+                            light_message(LightError::Negative, "color × intensity"),
                         ));
                     }
                     desc.point_lights.push(PointLightDesc {
@@ -286,16 +292,41 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                         ..Default::default()
                     });
                 }
-                Kind::Spot { .. } => warn(
-                    &mut warnings,
-                    &format!("{element}: {lname}"),
-                    "spot lights are not supported yet; skipped".into(),
-                ),
-                Kind::Directional => warn(
-                    &mut warnings,
-                    &format!("{element}: {lname}"),
-                    "directional lights are not supported yet; skipped".into(),
-                ),
+                Kind::Spot { inner_cone_angle, outer_cone_angle } => {
+                    let [r, g, b] = light.color();
+                    let intensity = Rgb::new(r, g, b) * (light.intensity() / LUMENS_PER_WATT);
+                    let (outer, inner) = (f64::from(outer_cone_angle), f64::from(inner_cone_angle));
+                    // The core's spot needs a positive beam: an inner cone of 0 falls off from
+                    // (almost) the axis.
+                    let beam = inner.clamp(outer * SPOT_MIN_BEAM, outer);
+                    let spot = lights::spot_light(
+                        lname.clone(),
+                        source.clone(),
+                        m.transform_point3(Vec3::ZERO).as_dvec3(),
+                        m.transform_vector3(Vec3::NEG_Z).as_dvec3(),
+                        intensity,
+                        outer,
+                        beam,
+                    )
+                    .map_err(|e| {
+                        invalid(format!("{element}: {lname}"), light_message(e, "color × intensity"))
+                    })?;
+                    desc.point_lights.push(spot);
+                }
+                Kind::Directional => {
+                    let [r, g, b] = light.color();
+                    let irradiance = Rgb::new(r, g, b) * (light.intensity() / LUMENS_PER_WATT);
+                    let sun = lights::directional_light(
+                        lname.clone(),
+                        source.clone(),
+                        m.transform_vector3(Vec3::NEG_Z).as_dvec3(),
+                        irradiance,
+                    )
+                    .map_err(|e| {
+                        invalid(format!("{element}: {lname}"), light_message(e, "color × intensity"))
+                    })?;
+                    desc.directional_lights.push(sun);
+                }
             }
         }
         if let Some(cam) = node.camera() {
@@ -345,6 +376,16 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
         warn(&mut warnings, "scene", "no triangle mesh was loaded".into());
     }
     Ok(LoadedScene { description: desc, warnings })
+}
+
+/// A located message for a light the shared constructors reject.
+fn light_message(e: LightError, what: &str) -> String {
+    match e {
+        LightError::Cutoff => "spot.outerConeAngle must be in (0, π/2]".into(),
+        LightError::Beam => "spot.innerConeAngle must be in [0, outerConeAngle)".into(),
+        LightError::Axis => "the node transform collapses the light's direction".into(),
+        LightError::Negative => format!("light {what} must be finite and non-negative"),
+    }
 }
 
 fn node_element(node: &::gltf::Node<'_>) -> String {

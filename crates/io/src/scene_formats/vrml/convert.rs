@@ -7,25 +7,37 @@
 //! `Switch` (`whichChoice`), `LOD` (its first, most detailed level), `Inline` (relative URLs,
 //! recursion guarded). Nodes that do not change the image (sensors, interpolators, `Script`,
 //! `WorldInfo`, `NavigationInfo`, sound) are ignored silently; what would change it and is not
-//! supported (`SpotLight`, `DirectionalLight`, `Background`, `Fog`, textures, transparency) gives
-//! a warning. Output is bounded ([`MAX_TRIANGLES`], [`MAX_VISITS`]) because `DEF`/`USE` can
-//! multiply geometry exponentially.
+//! supported (`Background`, `Fog`, textures, transparency) gives a warning. Lights are converted
+//! in [`super::lights`]. Output is bounded ([`MAX_TRIANGLES`], [`MAX_VISITS`],
+//! and the mesh bytes, positions counted as well as triangles, by [`MAX_MESH_BYTES`] and
+//! max([`MIN_MESH_BUDGET`], [`MAX_AMPLIFICATION`] × the source)) because `DEF`/`USE` can
+//! multiply geometry exponentially; a geometry node is triangulated once however often it is
+//! `USE`d, and an Inlined file is parsed once however often it is included.
 
 use super::extension;
-use super::geometry::{self, Geometry};
+use super::geometry::{self, Geometry, LocalMesh};
 use super::lexer::Pos;
 use super::tree::{FieldValue, Node, NodeRef, ProtoInstance};
 use crate::scene_formats::{FileLocation, LoadedScene, SceneFileError};
 use glam::{DMat4, DQuat, DVec3};
 use opticks_core::bsdf::{Bsdf, Lambert, Material, ModifiedPhong};
+use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
+use opticks_core::scene::{CameraDesc, MeshDesc, SceneDescription, Source};
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 /// Most triangles a file (with its Inlines and instancing) may produce.
 pub const MAX_TRIANGLES: usize = 50_000_000;
+/// Most bytes of positions and triangles (12 bytes each) the instanced meshes may add up to.
+pub const MAX_MESH_BYTES: usize = 2 << 30;
+/// Mesh bytes any file may produce however small it is (see [`MAX_AMPLIFICATION`]).
+pub const MIN_MESH_BUDGET: usize = 64 << 20;
+/// Beyond [`MIN_MESH_BUDGET`], the mesh bytes may be at most this many times the source text
+/// (the file and its Inlines): instancing that amplifies more is a bomb, refused early.
+pub const MAX_AMPLIFICATION: usize = 1024;
 /// Most nodes the walk may visit (counting every `USE` again).
 pub const MAX_VISITS: usize = 10_000_000;
 /// Deepest scene graph, Inlines included.
@@ -34,8 +46,6 @@ pub const MAX_WALK_DEPTH: usize = 400;
 pub const MAX_INLINE_DEPTH: usize = 16;
 /// Radiance of a standard Material's `emissiveColor` of 1, W/(m²·sr).
 pub const EMISSIVE_RADIANCE: f32 = 1.0;
-/// Radiant intensity of a standard PointLight of `intensity` 1 and white `color`, W/sr.
-pub const POINT_LIGHT_INTENSITY: f32 = 1.0;
 /// Image size when the file has no `PhysicalViewpoint` saying otherwise.
 pub const DEFAULT_IMAGE_SIZE: u32 = 512;
 
@@ -44,13 +54,76 @@ type Result<T> = std::result::Result<T, SceneFileError>;
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Emission {
     None,
-    Radiance(Rgb),
-    Power(Rgb),
+    Radiance(Rgb, AreaProfile),
+    Power(Rgb, AreaProfile),
+}
+
+/// An AreaLight's `emission` function.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum AreaProfile {
+    /// `"lambertian"`: cos θ.
+    Lambertian,
+    /// `"uniform"`: the same radiant intensity in every front direction.
+    Uniform,
+    /// `"cosine n"`: cosⁿ θ (n = 1 is Lambertian).
+    CosinePower(f32),
+}
+
+impl AreaProfile {
+    /// Parses an `emission` string.
+    fn parse(s: &str) -> Option<Self> {
+        let mut words = s.split_whitespace();
+        let p = match (words.next()?, words.next()) {
+            ("lambertian", None) => AreaProfile::Lambertian,
+            ("uniform", None) => AreaProfile::Uniform,
+            ("cosine", Some(n)) => {
+                let n: f32 = n.parse().ok()?;
+                if !(0.0..=1e6).contains(&n) {
+                    return None;
+                }
+                AreaProfile::CosinePower(n)
+            }
+            _ => return None,
+        };
+        words.next().is_none().then_some(p)
+    }
+
+    /// The core's profile (`None` is the Lambertian default).
+    fn core(self) -> Option<EmissionProfile> {
+        match self {
+            AreaProfile::Lambertian => None,
+            AreaProfile::Uniform => Some(EmissionProfile::Uniform),
+            AreaProfile::CosinePower(exponent) => Some(EmissionProfile::CosinePower { exponent }),
+        }
+    }
+
+    /// ∫ s dω over the front hemisphere: Φ = L·A·this (π for Lambertian).
+    fn integral(self) -> f64 {
+        match self {
+            AreaProfile::Lambertian => PI,
+            AreaProfile::Uniform => 2.0 * PI,
+            AreaProfile::CosinePower(n) => 2.0 * PI / (f64::from(n) + 1.0),
+        }
+    }
 }
 
 /// Converts the parsed top-level `nodes` of `file` (whose parser warnings are `warnings`).
 pub fn convert(nodes: &[NodeRef], file: &Path, warnings: Vec<String>) -> Result<LoadedScene> {
+    convert_sized(nodes, file, warnings, 0)
+}
+
+/// [`convert`] for a source text of `source_bytes` bytes (which sets the mesh budget).
+pub fn convert_sized(
+    nodes: &[NodeRef],
+    file: &Path,
+    warnings: Vec<String>,
+    source_bytes: usize,
+) -> Result<LoadedScene> {
     let mut c = Converter {
+        source_bytes,
+        mesh_bytes: 0,
+        geometries: HashMap::new(),
+        inlines: HashMap::new(),
         out: SceneDescription::default(),
         warnings,
         materials: HashMap::new(),
@@ -76,9 +149,9 @@ pub fn convert(nodes: &[NodeRef], file: &Path, warnings: Vec<String>) -> Result<
     Ok(LoadedScene { description: c.out, warnings: c.warnings })
 }
 
-struct Converter {
-    out: SceneDescription,
-    warnings: Vec<String>,
+pub(super) struct Converter {
+    pub(super) out: SceneDescription,
+    pub(super) warnings: Vec<String>,
     /// (material node, two-sided) → (material index, emission).
     materials: HashMap<(usize, bool), (usize, Emission)>,
     /// Nodes already warned about (a USEd node warns once).
@@ -88,17 +161,26 @@ struct Converter {
     visits: usize,
     triangles: usize,
     extra_viewpoints: usize,
+    /// Bytes of source text read (the file and its Inlines), for the mesh budget.
+    source_bytes: usize,
+    /// Bytes of positions and triangles produced so far.
+    mesh_bytes: usize,
+    /// Each geometry node's triangulation, made once however often it is `USE`d (`None`:
+    /// skipped). Keyed by node address: every tree stays alive for the whole conversion.
+    geometries: HashMap<usize, Option<Rc<LocalMesh>>>,
+    /// Each Inlined file (canonical path), read and parsed once however often it is included.
+    inlines: HashMap<PathBuf, Rc<Vec<NodeRef>>>,
 }
 
 fn ptr(n: &Node) -> usize {
     n as *const Node as usize
 }
 
-fn dv(v: [f32; 3]) -> DVec3 {
+pub(super) fn dv(v: [f32; 3]) -> DVec3 {
     DVec3::new(f64::from(v[0]), f64::from(v[1]), f64::from(v[2]))
 }
 
-fn rgb(v: [f32; 3]) -> Rgb {
+pub(super) fn rgb(v: [f32; 3]) -> Rgb {
     Rgb::from(v)
 }
 
@@ -139,28 +221,28 @@ impl Converter {
         FileLocation { file: self.file().to_path_buf(), line: pos.line, column: pos.col }
     }
 
-    fn warn(&mut self, n: &Node, message: impl std::fmt::Display) {
+    pub(super) fn warn(&mut self, n: &Node, message: impl std::fmt::Display) {
         let w = format!("{}: {}: {message}", self.loc(n.pos), n.type_name);
         self.warnings.push(w);
     }
 
     /// Warns once per node about `what`.
-    fn warn_once(&mut self, n: &Node, what: &'static str, message: impl std::fmt::Display) {
+    pub(super) fn warn_once(&mut self, n: &Node, what: &'static str, message: impl std::fmt::Display) {
         if self.warned.insert((ptr(n), what)) {
             self.warn(n, message);
         }
     }
 
-    fn invalid(&self, n: &Node, message: impl Into<String>) -> SceneFileError {
+    pub(super) fn invalid(&self, n: &Node, message: impl Into<String>) -> SceneFileError {
         SceneFileError::Invalid { at: self.loc(n.pos), element: n.type_name.clone(), message: message.into() }
     }
 
-    fn source(&self, n: &Node) -> Source {
+    pub(super) fn source(&self, n: &Node) -> Source {
         Source { file: self.file().display().to_string(), line: n.pos.line }
     }
 
     /// The extension PROTO instance `name` this node is, if declared as documented.
-    fn extension<'n>(&mut self, n: &'n Node, name: &str) -> Option<&'n ProtoInstance> {
+    pub(super) fn extension<'n>(&mut self, n: &'n Node, name: &str) -> Option<&'n ProtoInstance> {
         let inst = n.proto.as_deref()?;
         if inst.proto.name != name {
             return None;
@@ -224,10 +306,8 @@ impl Converter {
                 self.point_light(n, m);
                 Ok(())
             }
-            "SpotLight" | "DirectionalLight" => {
-                self.warn_once(n, "light", "this light type is not supported yet: ignored");
-                Ok(())
-            }
+            "SpotLight" => self.spot_light(n, m),
+            "DirectionalLight" => self.directional_light(n, m, depth),
             "Inline" => self.inline(n, m, depth),
             "Background" | "Fog" => {
                 self.warn_once(
@@ -258,17 +338,40 @@ impl Converter {
     #[inline(never)] // keeps the recursive walk's stack frame small
     fn shape(&mut self, n: &Node, m: &DMat4) -> Result<()> {
         let Some(g) = n.node("geometry") else { return Ok(()) };
-        let mut notes = Vec::new();
-        let local = match geometry::geometry(g, &mut notes) {
-            Err(msg) => return Err(self.invalid(g, msg)),
-            Ok(Geometry::Skipped(msg)) => {
-                self.warn_once(g, "geometry", msg);
-                return Ok(());
+        let local = match self.geometries.get(&ptr(g)) {
+            Some(cached) => cached.clone(),
+            None => {
+                let mut notes = Vec::new();
+                let local = match geometry::geometry(g, &mut notes) {
+                    Err(msg) => return Err(self.invalid(g, msg)),
+                    Ok(Geometry::Skipped(msg)) => {
+                        self.warn_once(g, "geometry", msg);
+                        None
+                    }
+                    Ok(Geometry::Mesh(mesh)) => Some(Rc::new(mesh)),
+                };
+                for note in notes {
+                    self.warn_once(g, "geometry-note", note);
+                }
+                self.geometries.insert(ptr(g), local.clone());
+                local
             }
-            Ok(Geometry::Mesh(mesh)) => mesh,
         };
-        for note in notes {
-            self.warn_once(g, "geometry-note", note);
+        let Some(local) = local else { return Ok(()) };
+        // Budgets, checked before anything is copied: each USE costs its positions too.
+        self.mesh_bytes += 12 * (local.positions.len() + local.triangles.len());
+        let budget =
+            MAX_MESH_BYTES.min(MIN_MESH_BUDGET.max(MAX_AMPLIFICATION.saturating_mul(self.source_bytes)));
+        if self.mesh_bytes > budget {
+            return Err(self.invalid(
+                n,
+                format!(
+                    "the meshes take more than {} MB ({MAX_AMPLIFICATION} × the source text or {} MB, at most {} MB): DEF/USE or Inline multiplies geometry too much",
+                    budget >> 20,
+                    MIN_MESH_BUDGET >> 20,
+                    MAX_MESH_BYTES >> 20
+                ),
+            ));
         }
         self.triangles += local.triangles.len();
         if self.triangles > MAX_TRIANGLES {
@@ -278,10 +381,10 @@ impl Converter {
             ));
         }
         let (material, emission) = self.material(n.node("appearance").map(|a| &**a), local.solid)?;
-        let mut triangles = local.triangles;
-        let mut normals = local.normals;
+        let mut triangles = local.triangles.clone();
+        let mut normals = local.normals.clone();
         let positions: Vec<Vec3> = if *m == DMat4::IDENTITY {
-            local.positions
+            local.positions.clone()
         } else {
             // Shading normals go by the inverse transpose (the core normalises them).
             let nm = glam::DMat3::from_mat4(*m).inverse().transpose();
@@ -292,10 +395,10 @@ impl Converter {
             }
             local.positions.iter().map(|p| m.transform_point3(p.as_dvec3()).as_vec3()).collect()
         };
-        let emission = match emission {
-            Emission::None => None,
-            Emission::Radiance(l) => Some(l),
-            Emission::Power(phi) => {
+        let (emission, emission_profile) = match emission {
+            Emission::None => (None, None),
+            Emission::Radiance(l, p) => (Some(l), p.core()),
+            Emission::Power(phi, p) => {
                 let area: f64 = triangles
                     .iter()
                     .map(|t| {
@@ -306,10 +409,12 @@ impl Converter {
                 if area.is_nan() || area <= 0.0 {
                     return Err(self.invalid(n, "an AreaLight with `power` on a Shape of zero area"));
                 }
-                Some(phi / (PI * area) as f32)
+                (Some(phi / (p.integral() * area) as f32), p.core())
             }
         };
         let name = n.def_name.clone().unwrap_or_else(|| format!("Shape_{}_{}", n.pos.line, n.pos.col));
+        // `..Default::default()` keeps this literal valid when MeshDesc gains fields.
+        #[allow(clippy::needless_update)]
         self.out.meshes.push(MeshDesc {
             name,
             source: self.source(n),
@@ -318,6 +423,7 @@ impl Converter {
             normals,
             material,
             emission,
+            emission_profile,
             ..Default::default()
         });
         Ok(())
@@ -364,7 +470,7 @@ impl Converter {
                     }
                     let e = m.vec3("emissiveColor", [0.0; 3]);
                     let emission = if e.iter().any(|&c| c != 0.0) {
-                        Emission::Radiance(rgb(e) * EMISSIVE_RADIANCE)
+                        Emission::Radiance(rgb(e) * EMISSIVE_RADIANCE, AreaProfile::Lambertian)
                     } else {
                         Emission::None
                     };
@@ -402,23 +508,27 @@ impl Converter {
     fn area_light(&mut self, m: &Node, p: &ProtoInstance) -> ([f32; 3], [f32; 3], f32, bool, Emission) {
         let f = |k: &str| p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]);
         let (radiance, power) = (f("radiance"), f("power"));
-        if let Some(FieldValue::Str(e)) = p.get("emission") {
-            if e != "lambertian" {
+        let profile = match p.get("emission") {
+            Some(FieldValue::Str(e)) => AreaProfile::parse(e).unwrap_or_else(|| {
                 self.warn_once(
                     m,
                     "emission",
-                    format!("emission function \"{e}\" is not supported yet: lambertian used"),
+                    format!(
+                        "emission function \"{e}\" is not one of \"lambertian\", \"uniform\", \"cosine n\" (0 ≤ n ≤ 10⁶): lambertian used"
+                    ),
                 );
-            }
-        }
+                AreaProfile::Lambertian
+            }),
+            _ => AreaProfile::Lambertian,
+        };
         let nonzero = |c: [f32; 3]| c.iter().any(|&v| v != 0.0);
         let emission = if nonzero(radiance) {
             if nonzero(power) {
                 self.warn_once(m, "power", "both radiance and power are given: radiance is used");
             }
-            Emission::Radiance(rgb(radiance))
+            Emission::Radiance(rgb(radiance), profile)
         } else if nonzero(power) {
-            Emission::Power(rgb(power))
+            Emission::Power(rgb(power), profile)
         } else {
             self.warn_once(m, "dark", "AreaLight with zero radiance and zero power: it does not emit");
             Emission::None
@@ -523,42 +633,6 @@ impl Converter {
         Ok(())
     }
 
-    #[inline(never)] // keeps the recursive walk's stack frame small
-    fn point_light(&mut self, n: &Node, m: &DMat4) {
-        let (location, intensity, on) = match self.extension(n, "PhysicalPointLight") {
-            Some(p) => {
-                let f = |k: &str| rgb(p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]));
-                let (i, phi) = (f("intensity"), f("power"));
-                let intensity = if i != Rgb::ZERO { i } else { phi / (4.0 * std::f32::consts::PI) };
-                let on = !matches!(p.get("on"), Some(FieldValue::Bool(false)));
-                (p.get("location").and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]), intensity, on)
-            }
-            None => {
-                let a = n.vec3("attenuation", [1.0, 0.0, 0.0]);
-                if a != [1.0, 0.0, 0.0] && a != [0.0, 0.0, 1.0] {
-                    self.warn_once(
-                        n,
-                        "attenuation",
-                        "attenuation ignored: light falls off with 1/r² physically",
-                    );
-                }
-                let i = n.float("intensity", 1.0) * POINT_LIGHT_INTENSITY;
-                (n.vec3("location", [0.0; 3]), rgb(n.vec3("color", [1.0; 3])) * i, n.bool("on", true))
-            }
-        };
-        if !on {
-            return;
-        }
-        let name = n.def_name.clone().unwrap_or_else(|| format!("PointLight_{}_{}", n.pos.line, n.pos.col));
-        self.out.point_lights.push(PointLightDesc {
-            name,
-            source: self.source(n),
-            position: m.transform_point3(dv(location)).as_vec3(),
-            intensity,
-            ..Default::default()
-        });
-    }
-
     // ----- Inline -----
 
     #[inline(never)] // keeps the recursive walk's stack frame small
@@ -568,15 +642,7 @@ impl Converter {
             _ => Vec::new(),
         };
         let dir = self.file().parent().map(Path::to_path_buf).unwrap_or_default();
-        let Some(path) = urls.iter().find_map(|u| {
-            let u = u.split('#').next().unwrap_or("");
-            let local = u.strip_prefix("file://").unwrap_or(u);
-            if u.is_empty() || (u.contains("://") && !u.starts_with("file://")) {
-                return None;
-            }
-            let p = dir.join(local);
-            p.is_file().then_some(p)
-        }) else {
+        let Some(path) = urls.iter().find_map(|u| super::local_url(&dir, u).map(|(p, _)| p)) else {
             self.warn_once(
                 n,
                 "inline",
@@ -592,11 +658,20 @@ impl Converter {
         if self.files.len() > MAX_INLINE_DEPTH {
             return Err(self.invalid(n, format!("Inlines nested more than {MAX_INLINE_DEPTH} deep")));
         }
-        let text = super::read_source(&path)?;
-        let parsed = super::parse_text(&text, &path)?;
-        self.warnings.extend(parsed.1);
+        let nodes = match self.inlines.get(&canonical) {
+            Some(nodes) => nodes.clone(),
+            None => {
+                let text = super::read_source(&path)?;
+                self.source_bytes += text.len();
+                let (nodes, warnings) = super::parse_text(&text, &path)?;
+                self.warnings.extend(warnings);
+                let nodes = Rc::new(nodes);
+                self.inlines.insert(canonical, nodes.clone());
+                nodes
+            }
+        };
         self.files.push(path);
-        let result = self.children(&parsed.0, m, depth);
+        let result = self.children(&nodes, m, depth);
         self.files.pop();
         result
     }
@@ -702,18 +777,52 @@ mod tests {
     fn lights_in_physical_units() {
         let s = load(
             "Transform { translation 1 2 3 children [ PointLight { intensity 0.5 color 1 0.5 0 location 1 0 0 } \
-             PhysicalPointLight { power 12.566371 0 0 } PointLight { on FALSE } SpotLight {} ] }",
+             PhysicalPointLight { power 12.566371 0 0 } PointLight { on FALSE } \
+             SpotLight { location 0 1 0 direction 0 -2 0 beamWidth 0.2 cutOffAngle 0.5 intensity 0.5 attenuation 0 1 0 } \
+             SpotLight { cutOffAngle 0.3 } PhysicalSpotLight { power 2 2 2 cutOffAngle 0.4 beamWidth 0.1 } \
+             DirectionalLight { direction 1 0 0 intensity 0.25 color 1 1 0 } \
+             PhysicalDirectionalLight { direction 0 0 -3 irradiance 100 50 25 } PhysicalDirectionalLight { on FALSE } ] }",
         );
         let l = &s.description.point_lights;
-        assert_eq!(l.len(), 2);
+        assert_eq!(l.len(), 5, "{l:?}");
         assert_eq!(l[0].position, Vec3::new(2.0, 2.0, 3.0));
         assert_eq!(l[0].intensity, Rgb::new(0.5, 0.25, 0.0));
         assert!((l[1].intensity.x - 1.0).abs() < 1e-6);
-        assert!(
-            s.warnings.iter().any(|w| w.contains("SpotLight") && w.contains("not supported")),
-            "{:?}",
-            s.warnings
+        let spot = |c: f32, b: f32| {
+            Some(opticks_core::light::EmissionProfile::Spot { cutoff_angle: c, beam_width: b })
+        };
+        assert_eq!(l[2].position, Vec3::new(1.0, 3.0, 3.0));
+        assert_eq!(l[2].orientation.unwrap().n, Vec3::NEG_Y);
+        assert_eq!(l[2].intensity, Rgb::splat(0.5));
+        assert_eq!(l[2].profile, spot(0.5, 0.2));
+        // VRML's default beamWidth (π/2) exceeds the cutoff: no fall-off.
+        assert_eq!(l[3].profile, spot(0.3, 0.3));
+        assert_eq!(l[3].orientation.unwrap().n, Vec3::NEG_Z);
+        assert_eq!((l[4].power, l[4].profile.clone()), (Some(Rgb::splat(2.0)), spot(0.4, 0.1)));
+        let d = &s.description.directional_lights;
+        assert_eq!(d.len(), 2, "{d:?}");
+        assert_eq!((d[0].direction, d[0].irradiance), (Vec3::X, Rgb::new(0.25, 0.25, 0.0)));
+        assert_eq!((d[1].direction, d[1].irradiance), (Vec3::NEG_Z, Rgb::new(100.0, 50.0, 25.0)));
+        let w = s.warnings.join("\n");
+        assert!(w.contains("SpotLight: attenuation ignored"), "{w}");
+        assert!(w.contains("DirectionalLight: lights the whole scene"), "{w}");
+    }
+
+    #[test]
+    fn area_light_emission_functions() {
+        let s = load(
+            "Shape { appearance Appearance { material AreaLight { power 3 3 3 emission \"cosine 4\" } } geometry Box { size 1 1 1 } }\n\
+             Shape { appearance Appearance { material AreaLight { radiance 1 1 1 emission \"uniform\" } } geometry Box {} }\n\
+             Shape { appearance Appearance { material AreaLight { radiance 1 1 1 emission \"cosine -1\" } } geometry Box {} }",
         );
+        let m = &s.description.meshes;
+        assert_eq!(m[0].emission_profile, Some(EmissionProfile::CosinePower { exponent: 4.0 }));
+        // Φ = L·A·2π/(n+1) with A = 6 m².
+        let l = m[0].emission.unwrap().x as f64;
+        assert!((l * 6.0 * 2.0 * PI / 5.0 - 3.0).abs() < 1e-5, "{l}");
+        assert_eq!(m[1].emission_profile, Some(EmissionProfile::Uniform));
+        assert_eq!(m[2].emission_profile, None);
+        assert!(s.warnings.iter().any(|w| w.contains("\"cosine -1\" is not one of")), "{:?}", s.warnings);
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! The Opticks extension of VRML97: four PROTOs a file declares itself (so it stays valid VRML97
+//! The Opticks extension of VRML97: six PROTOs a file declares itself (so it stays valid VRML97
 //! for every other reader, which shows the standard node each body maps to) and whose physical
 //! fields the converter reads when the declaration has exactly the interface below. See
 //! `docs/scene-formats.md` for the meaning of each field.
@@ -16,7 +16,7 @@ PROTO PhysicalMaterial [
 PROTO AreaLight [
   field SFColor  radiance 0 0 0          # emitted radiance, W/(m^2 sr), front face only
   field SFColor  power 0 0 0             # or: total power of the Shape, W (if radiance is 0)
-  field SFString emission "lambertian"   # emission function (only lambertian so far)
+  field SFString emission "lambertian"   # emission function: "lambertian", "uniform" or "cosine n"
   field SFColor  diffuse 0 0 0           # the emitter's own surface: Modified Phong kd,
   field SFColor  specular 0 0 0          #   ks,
   field SFFloat  exponent 0              #   n
@@ -28,6 +28,20 @@ PROTO PhysicalPointLight [
   field SFColor power 0 0 0       # or: power, W (I = power / 4 pi; used if intensity is 0)
   field SFBool  on TRUE
 ] { PointLight { location IS location on IS on } }
+PROTO PhysicalSpotLight [
+  field SFVec3f location 0 0 0
+  field SFVec3f direction 0 0 -1
+  field SFColor intensity 0 0 0       # radiant intensity on the axis, W/sr
+  field SFColor power 0 0 0           # or: power, W (used if intensity is 0)
+  field SFFloat beamWidth 1.570796    # radians: full intensity within this angle of the axis,
+  field SFFloat cutOffAngle 0.785398  #   falling linearly in angle to 0 here (radians)
+  field SFBool  on TRUE
+] { SpotLight { location IS location direction IS direction beamWidth IS beamWidth cutOffAngle IS cutOffAngle on IS on } }
+PROTO PhysicalDirectionalLight [
+  field SFVec3f direction 0 0 -1      # the direction the light travels
+  field SFColor irradiance 0 0 0      # W/m^2 on a plane perpendicular to it; lights the whole scene
+  field SFBool  on TRUE
+] { DirectionalLight { direction IS direction on IS on } }
 PROTO PhysicalViewpoint [
   field SFVec3f    position 0 0 10
   field SFRotation orientation 0 0 1 0
@@ -38,7 +52,7 @@ PROTO PhysicalViewpoint [
 ] { Viewpoint { position IS position orientation IS orientation fieldOfView IS fieldOfView description IS description } }
 "#;
 
-/// The four extension PROTOs and their interfaces (names and types, in any order).
+/// The six extension PROTOs and their interfaces (names and types, in any order).
 const INTERFACES: &[(&str, &[(&str, FieldType)])] = {
     use FieldType::*;
     &[
@@ -62,6 +76,19 @@ const INTERFACES: &[(&str, &[(&str, FieldType)])] = {
             "PhysicalPointLight",
             &[("location", SFVec3f), ("intensity", SFColor), ("power", SFColor), ("on", SFBool)],
         ),
+        (
+            "PhysicalSpotLight",
+            &[
+                ("location", SFVec3f),
+                ("direction", SFVec3f),
+                ("intensity", SFColor),
+                ("power", SFColor),
+                ("beamWidth", SFFloat),
+                ("cutOffAngle", SFFloat),
+                ("on", SFBool),
+            ],
+        ),
+        ("PhysicalDirectionalLight", &[("direction", SFVec3f), ("irradiance", SFColor), ("on", SFBool)]),
         (
             "PhysicalViewpoint",
             &[
@@ -102,10 +129,11 @@ mod tests {
     #[test]
     fn the_declarations_have_the_documented_interfaces() {
         let src = format!(
-            "#VRML V2.0 utf8\n{DECLARATIONS}\nPhysicalMaterial {{}} AreaLight {{}} PhysicalPointLight {{}} PhysicalViewpoint {{}}"
+            "#VRML V2.0 utf8\n{DECLARATIONS}\nPhysicalMaterial {{}} AreaLight {{}} PhysicalPointLight {{}} PhysicalSpotLight {{}} \
+             PhysicalDirectionalLight {{}} PhysicalViewpoint {{}}"
         );
         let p = parse(&src).unwrap();
-        assert_eq!(p.nodes.len(), 4);
+        assert_eq!(p.nodes.len(), 6);
         for (n, (name, _)) in p.nodes.iter().zip(INTERFACES) {
             let inst = n.proto.as_ref().unwrap();
             assert_eq!(inst.proto.name, *name);

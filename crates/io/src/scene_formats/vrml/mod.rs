@@ -7,7 +7,7 @@
 //! |---|---|
 //! | [`lexer`] | text → tokens with line:column |
 //! | [`parser`] | tokens → generic node tree ([`tree`]), typed by [`nodes`]; PROTOs expanded by [`proto`] |
-//! | [`convert`] | node tree → [`SceneDescription`](opticks_core::scene::SceneDescription) ([`geometry`], [`triangulate`]) |
+//! | [`convert`] | node tree → [`SceneDescription`](opticks_core::scene::SceneDescription) ([`geometry`], [`triangulate`], [`lights`]) |
 //! | [`writer`] | [`SceneDescription`](opticks_core::scene::SceneDescription) → VRML97 with the extension |
 //!
 //! `.wrl`, `.wrz` and `.wrl.gz` files are read; gzip compression is recognised by its magic
@@ -27,6 +27,7 @@ pub mod convert;
 pub mod extension;
 pub mod geometry;
 pub mod lexer;
+pub mod lights;
 pub mod nodes;
 pub mod parser;
 pub mod proto;
@@ -47,6 +48,18 @@ pub fn is_vrml_path(path: &Path) -> bool {
     name.ends_with(".wrl") || name.ends_with(".wrz") || name.ends_with(".wrl.gz")
 }
 
+/// The local file a VRML `url` names relative to `dir` (`file://` accepted; other schemes are
+/// not fetched), with its `#fragment` (empty if none); `None` unless it is an existing file.
+/// Used by `Inline` and `EXTERNPROTO`.
+pub fn local_url<'u>(dir: &Path, url: &'u str) -> Option<(std::path::PathBuf, &'u str)> {
+    let (file, fragment) = url.split_once('#').unwrap_or((url, ""));
+    if file.is_empty() || (file.contains("://") && !file.starts_with("file://")) {
+        return None;
+    }
+    let path = dir.join(file.strip_prefix("file://").unwrap_or(file));
+    path.is_file().then_some((path, fragment))
+}
+
 /// Loads a VRML97 file (gzip-compressed or not).
 pub fn load(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let text = read_source(path)?;
@@ -56,7 +69,7 @@ pub fn load(path: &Path) -> Result<LoadedScene, SceneFileError> {
 /// Loads VRML97 text; `path` names it in messages and resolves `Inline` URLs.
 pub fn load_str(text: &str, path: &Path) -> Result<LoadedScene, SceneFileError> {
     let (nodes, warnings) = parse_text(text, path)?;
-    convert::convert(&nodes, path, warnings)
+    convert::convert_sized(&nodes, path, warnings, text.len())
 }
 
 /// Reads a file's text, gunzipping it if it starts with the gzip magic bytes.
@@ -86,7 +99,7 @@ pub fn read_source(path: &Path) -> Result<String, SceneFileError> {
 /// `file:line:col: message` lines).
 pub fn parse_text(text: &str, path: &Path) -> Result<(Vec<NodeRef>, Vec<String>), SceneFileError> {
     let loc = |pos: lexer::Pos| FileLocation { file: path.to_path_buf(), line: pos.line, column: pos.col };
-    let parsed = parser::parse(text).map_err(|e| SceneFileError::Invalid {
+    let parsed = parser::parse_file(text, path).map_err(|e| SceneFileError::Invalid {
         at: loc(e.pos),
         element: "VRML syntax".into(),
         message: e.message,

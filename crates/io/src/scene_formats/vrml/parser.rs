@@ -10,6 +10,11 @@
 //! * PROTO instances are expanded as they are read ([`super::proto`]); inside a PROTO body they
 //!   are kept unexpanded until the enclosing PROTO is instantiated, since their field values may
 //!   be `IS` references.
+//! * `EXTERNPROTO`s whose `url` names a readable local file (relative to the including file,
+//!   `file://` accepted, `#Name` choosing the PROTO, else the one of the EXTERNPROTO's name) take
+//!   that file's PROTO (its interface defaults and body); each library file is parsed once per
+//!   file, a chain of them at most [`MAX_EXTERN_DEPTH`] deep, a cycle is a warning. Without a
+//!   readable file (or without a base directory: [`parse`]) instances are skipped with a warning.
 //! * `Script` nodes' interface declarations are read and dropped.
 //! * An unknown node type or an unknown field is a warning (with its position); the node's body
 //!   or the field's value is skipped and reading goes on. Malformed syntax is an error saying
@@ -22,10 +27,14 @@ use super::nodes;
 use super::proto::{ExpandError, Expander};
 use super::tree::{Field, FieldType, FieldValue, InterfaceDecl, Node, NodeRef, ProtoDef, ProtoInstance};
 use std::collections::HashMap;
+use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 /// Deepest nesting of nodes (and PROTO declarations) the parser accepts.
 pub const MAX_DEPTH: usize = 200;
+/// Deepest chain of EXTERNPROTO library files (a file whose PROTOs come from a file whose PROTOs
+/// come from …).
+pub const MAX_EXTERN_DEPTH: usize = 8;
 
 /// A syntax error.
 #[derive(Clone, Debug, PartialEq)]
@@ -57,12 +66,13 @@ pub struct Parsed {
     pub nodes: Vec<NodeRef>,
     /// (position, message) of each unknown node or field, skipped EXTERNPROTO instance…
     pub warnings: Vec<(Pos, String)>,
+    /// The file's top-level PROTOs (and EXTERNPROTOs), by name.
+    pub protos: HashMap<String, Rc<ProtoDef>>,
 }
 
 /// Checks the `#VRML V2.0 utf8` header.
 fn check_header(src: &str) -> Result<()> {
     let first = src.lines().next().unwrap_or("");
-    let first = first.strip_prefix('\u{feff}').unwrap_or(first);
     let at = Pos { line: 1, col: 1 };
     if first.starts_with("#VRML V2.0 utf8") {
         Ok(())
@@ -76,10 +86,26 @@ fn check_header(src: &str) -> Result<()> {
     }
 }
 
-/// Parses a whole VRML97 file.
+/// Parses a whole VRML97 file (a leading UTF-8 byte order mark is skipped: it is not a column).
+/// EXTERNPROTOs are not loaded ([`parse_file`] does).
 pub fn parse(src: &str) -> Result<Parsed> {
+    parse_in(src, None)
+}
+
+/// Parses the text of file `path` (which must be its real location): EXTERNPROTO URLs are
+/// resolved relative to it.
+pub fn parse_file(src: &str, path: &Path) -> Result<Parsed> {
+    let canonical = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+    parse_in(src, Some(vec![canonical]))
+}
+
+/// `chain`: the files being parsed, outermost first (this one last); `None`: no file.
+fn parse_in(src: &str, chain: Option<Vec<PathBuf>>) -> Result<Parsed> {
+    let src = src.strip_prefix('\u{feff}').unwrap_or(src);
     check_header(src)?;
     let mut p = Parser {
+        chain,
+        libraries: HashMap::new(),
         lex: Lexer::new(src),
         peeked: None,
         protos: vec![HashMap::new()],
@@ -90,10 +116,15 @@ pub fn parse(src: &str) -> Result<Parsed> {
         warnings: Vec::new(),
     };
     let nodes = p.statements(false)?;
-    Ok(Parsed { nodes, warnings: p.warnings })
+    let protos = p.protos.pop().unwrap_or_default();
+    Ok(Parsed { nodes, warnings: p.warnings, protos })
 }
 
 struct Parser<'a> {
+    /// The files being parsed, outermost first (`None`: text without a file).
+    chain: Option<Vec<PathBuf>>,
+    /// EXTERNPROTO library files already parsed: their top-level PROTOs.
+    libraries: HashMap<PathBuf, Rc<HashMap<String, Rc<ProtoDef>>>>,
     lex: Lexer<'a>,
     peeked: Option<(Token<'a>, Pos)>,
     /// PROTO names in scope: the file's, then those of each enclosing PROTO body.
@@ -433,11 +464,79 @@ impl<'a> Parser<'a> {
             FieldValue::Strs(v) => v,
             _ => Vec::new(),
         };
-        let def = ProtoDef { name: name.to_string(), pos, interface, body: None, urls };
+        let def = match self.library_proto(name, &urls, pos)? {
+            // The library's interface carries the defaults the EXTERNPROTO's lacks.
+            Some(lib) => ProtoDef {
+                name: name.to_string(),
+                pos,
+                interface: lib.interface.clone(),
+                body: lib.body.clone(),
+                urls: Vec::new(),
+            },
+            None => ProtoDef { name: name.to_string(), pos, interface, body: None, urls },
+        };
         if let Some(scope) = self.protos.last_mut() {
             scope.insert(name.to_string(), Rc::new(def));
         }
         Ok(())
+    }
+
+    /// The PROTO an EXTERNPROTO's `urls` name in a readable local file, if any (module docs).
+    fn library_proto(&mut self, name: &str, urls: &[String], pos: Pos) -> Result<Option<Rc<ProtoDef>>> {
+        let Some(chain) = &self.chain else { return Ok(None) };
+        let dir = chain.last().and_then(|f| f.parent()).map(Path::to_path_buf).unwrap_or_default();
+        for (path, fragment) in urls.iter().filter_map(|u| super::local_url(&dir, u)) {
+            let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
+            let protos = match self.libraries.get(&canonical) {
+                Some(p) => p.clone(),
+                None => {
+                    if chain.contains(&canonical) {
+                        self.warnings.push((
+                            pos,
+                            format!("EXTERNPROTO {name}: {} includes itself: not loaded", path.display()),
+                        ));
+                        return Ok(None);
+                    }
+                    if chain.len() >= MAX_EXTERN_DEPTH {
+                        return Err(ParseError {
+                            pos,
+                            message: format!(
+                                "EXTERNPROTO libraries nested more than {MAX_EXTERN_DEPTH} deep"
+                            ),
+                        });
+                    }
+                    let text = super::read_source(&path)
+                        .map_err(|e| ParseError { pos, message: format!("EXTERNPROTO {name}: {e}") })?;
+                    let mut inner = chain.clone();
+                    inner.push(canonical.clone());
+                    let parsed = parse_in(&text, Some(inner)).map_err(|e| ParseError {
+                        pos,
+                        message: format!(
+                            "EXTERNPROTO {name}: {}:{}:{}: {}",
+                            path.display(),
+                            e.pos.line,
+                            e.pos.col,
+                            e.message
+                        ),
+                    })?;
+                    for (at, m) in parsed.warnings {
+                        self.warnings
+                            .push((pos, format!("in {}:{}:{}: {m}", path.display(), at.line, at.col)));
+                    }
+                    let protos = Rc::new(parsed.protos);
+                    self.libraries.insert(canonical, protos.clone());
+                    protos
+                }
+            };
+            let want = if fragment.is_empty() { name } else { fragment };
+            match protos.get(want) {
+                Some(p) if p.body.is_some() => return Ok(Some(p.clone())),
+                _ => self
+                    .warnings
+                    .push((pos, format!("EXTERNPROTO {name}: {} has no PROTO {want}", path.display()))),
+            }
+        }
+        Ok(None)
     }
 
     fn interface(&mut self, with_values: bool) -> Result<Vec<InterfaceDecl>> {

@@ -3,8 +3,10 @@
 //! PROTO instance nested in the body is expanded in turn.
 //!
 //! `DEF`/`USE` sharing inside a body is kept within each copy. Expansion is bounded: at most
-//! [`MAX_EXPANDED_NODES`] nodes are created in a whole file and instances nest at most
-//! [`MAX_EXPANSION_DEPTH`] levels, so a small hostile file cannot exhaust memory or the stack.
+//! [`MAX_EXPANDED_NODES`] nodes and [`MAX_EXPANDED_BYTES`] bytes of copied field values (a
+//! PROTO carrying a big point list would otherwise multiply it under the node limit) are
+//! created in a whole file, and instances nest at most [`MAX_EXPANSION_DEPTH`] levels, so a
+//! small hostile file cannot exhaust memory or the stack.
 
 use super::lexer::Pos;
 use super::tree::{Field, FieldValue, Node, NodeRef, ProtoDef, ProtoInstance};
@@ -13,6 +15,8 @@ use std::rc::Rc;
 
 /// Most nodes all PROTO expansions of one file may create.
 pub const MAX_EXPANDED_NODES: usize = 2_000_000;
+/// Most bytes of field values (arrays, strings) all PROTO expansions of one file may copy.
+pub const MAX_EXPANDED_BYTES: usize = 256 << 20;
 /// Deepest node nesting an expansion may reach (counting the nodes around the instance).
 pub const MAX_EXPANSION_DEPTH: usize = 400;
 
@@ -29,6 +33,7 @@ pub struct ExpandError {
 #[derive(Debug, Default)]
 pub struct Expander {
     created: usize,
+    bytes: usize,
 }
 
 type Memo = HashMap<*const Node, NodeRef>;
@@ -131,9 +136,23 @@ impl Expander {
         pos: Pos,
         depth: usize,
     ) -> Result<Option<FieldValue>, ExpandError> {
+        let mut count = |v: &FieldValue| {
+            self.bytes += value_bytes(v);
+            if self.bytes > MAX_EXPANDED_BYTES {
+                Err(ExpandError {
+                    pos,
+                    message: format!(
+                        "PROTO expansion would copy more than {} MB of field values",
+                        MAX_EXPANDED_BYTES >> 20
+                    ),
+                })
+            } else {
+                Ok(v.clone())
+            }
+        };
         Ok(Some(match v {
             FieldValue::Is(name) => match env.iter().find(|(n, _)| n == name) {
-                Some((_, v)) => v.clone(),
+                Some((_, v)) => count(v)?,
                 None => return Ok(None),
             },
             FieldValue::Node(Some(c)) => FieldValue::Node(Some(self.copy(c, env, memo, pos, depth + 1)?)),
@@ -144,8 +163,24 @@ impl Expander {
                 }
                 FieldValue::Nodes(out)
             }
-            other => other.clone(),
+            other => count(other)?,
         }))
+    }
+}
+
+/// The heap bytes a field value's copy takes (nodes are counted as nodes, not here).
+fn value_bytes(v: &FieldValue) -> usize {
+    use std::mem::size_of_val;
+    match v {
+        FieldValue::Str(s) | FieldValue::Is(s) => s.len(),
+        FieldValue::Image(v) | FieldValue::Ints(v) => size_of_val(&v[..]),
+        FieldValue::Floats(v) => size_of_val(&v[..]),
+        FieldValue::Times(v) => size_of_val(&v[..]),
+        FieldValue::Strs(v) => v.iter().map(|s| s.len() + size_of::<String>()).sum(),
+        FieldValue::Vec2s(v) => size_of_val(&v[..]),
+        FieldValue::Vec3s(v) => size_of_val(&v[..]),
+        FieldValue::Rotations(v) => size_of_val(&v[..]),
+        _ => 0,
     }
 }
 
@@ -229,5 +264,24 @@ mod tests {
         s += "P39 {}";
         let e = parse(&format!("#VRML V2.0 utf8\n{s}")).unwrap_err();
         assert!(e.message.contains("more than"), "{}", e.message);
+    }
+
+    #[test]
+    fn expansion_is_bounded_in_bytes_too() {
+        // 2^20 copies of a 10 000-point field (120 kB each): the byte limit stops it after
+        // ~2 200 copies (~9 000 nodes, far under the node limit), before 125 GB.
+        let points: String = (0..10_000).map(|i| format!("{i} 0 0,")).collect();
+        let mut s = format!(
+            "PROTO P0 [ ] {{ Shape {{ geometry IndexedFaceSet {{ coord Coordinate {{ point [ {points} ] }} }} }} }}\n"
+        );
+        for i in 1..21 {
+            let p = i - 1;
+            s += &format!("PROTO P{i} [ ] {{ Group {{ children [ P{p} {{}} P{p} {{}} ] }} }}\n");
+        }
+        s += "P20 {}";
+        let t = std::time::Instant::now();
+        let e = parse(&format!("#VRML V2.0 utf8\n{s}")).unwrap_err();
+        assert!(e.message.contains("MB of field values"), "{}", e.message);
+        assert!(t.elapsed().as_secs_f64() < 2.0, "{:?}", t.elapsed());
     }
 }

@@ -4,9 +4,11 @@
 //!
 //! The plane is the one of the Newell normal (robust for non-planar and partly collinear
 //! polygons); the polygon is projected on the coordinate plane most perpendicular to it, with
-//! the axes ordered so that the projection keeps the polygon's orientation. Triangles and
-//! quads of convex shape take the fast path; polygons with more than [`EAR_CLIP_MAX`] corners
-//! are fanned (ear clipping is quadratic), which the caller reports.
+//! the axes ordered so that the projection keeps the polygon's orientation. Triangles are
+//! passed through as they are; every bigger polygon, quads included, is ear-clipped (a quad
+//! costs a few dozen operations, so it needs no separate path), except polygons with more than
+//! [`EAR_CLIP_MAX`] corners, which are fanned (ear clipping is quadratic) and reported by the
+//! caller.
 
 use opticks_core::math::Vec3;
 

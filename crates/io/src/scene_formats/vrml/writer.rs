@@ -1,12 +1,13 @@
 //! Writes a [`SceneDescription`] as VRML97 with the Opticks extension ([`super::extension`]):
-//! the PROTO declarations, a `PhysicalViewpoint`, `PhysicalPointLight`s, and one `Shape` with a
-//! world-space `IndexedFaceSet` per mesh, its material a `PhysicalMaterial` (shared with
-//! `DEF`/`USE`) or, for an emitter, an `AreaLight` carrying its radiance and reflectance.
+//! the PROTO declarations, a `PhysicalViewpoint`, `PhysicalPointLight`s, `PhysicalSpotLight`s,
+//! `PhysicalDirectionalLight`s, and one `Shape` with a world-space `IndexedFaceSet` per mesh, its
+//! material a `PhysicalMaterial` (shared with `DEF`/`USE`) or, for an emitter, an `AreaLight`
+//! carrying its radiance, emission function (Lambertian, uniform or cosⁿ) and reflectance.
 //!
 //! Numbers are written in Rust's shortest round-trip form, so reading the file back gives the
 //! same positions, colours and exponents bit for bit. A `.gz` path is gzip-compressed. Lights
-//! the extension cannot express (emission profiles other than isotropic / Lambertian,
-//! directional lights) are an `InvalidInput` error rather than silently dropped.
+//! the extension cannot express (IES tables, a spot profile on an area light) are an
+//! `InvalidInput` error rather than silently dropped.
 
 use super::extension::DECLARATIONS;
 use super::parser::is_keyword;
@@ -36,23 +37,18 @@ pub fn write_vrml_file(desc: &SceneDescription, path: &Path) -> io::Result<()> {
 
 /// Writes `desc` as VRML97 text.
 pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()> {
-    // The VRML extension has isotropic point lights and Lambertian area lights only: refuse
-    // rather than silently drop a light's distribution.
+    // Refuse rather than silently drop a light's distribution the extension cannot express.
     let unsupported = desc
         .point_lights
         .iter()
-        .find(|l| l.profile.as_ref().is_some_and(|p| *p != EmissionProfile::Uniform))
-        .map(|l| format!("point light {} has a non-isotropic emission profile", l.name))
+        .find(|l| !matches!(l.profile, None | Some(EmissionProfile::Uniform | EmissionProfile::Spot { .. })))
+        .map(|l| format!("point light {} has an emission profile other than isotropic or spot", l.name))
         .or_else(|| {
             desc.meshes
                 .iter()
-                .find(|m| {
-                    m.emission.is_some()
-                        && m.emission_profile.as_ref().is_some_and(|p| *p != EmissionProfile::Cosine)
-                })
-                .map(|m| format!("area light {} has a non-Lambertian emission profile", m.name))
-        })
-        .or_else(|| desc.directional_lights.first().map(|d| format!("directional light {}", d.name)));
+                .find(|m| m.emission.is_some() && area_emission(m.emission_profile.as_ref()).is_none())
+                .map(|m| format!("area light {} has a tabulated (IES) emission profile", m.name))
+        });
     if let Some(what) = unsupported {
         return Err(io::Error::new(
             io::ErrorKind::InvalidInput,
@@ -77,9 +73,24 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
         camera(w, c)?;
     }
     for l in &desc.point_lights {
-        writeln!(w, "DEF {} PhysicalPointLight {{", names.fresh(&l.name))?;
-        let intensity = l.power.map_or(l.intensity, |p| p / (4.0 * std::f32::consts::PI));
-        writeln!(w, "  location {}\n  intensity {}\n}}", v3(l.position), v3(intensity))?;
+        if let Some(EmissionProfile::Spot { cutoff_angle, beam_width }) = l.profile {
+            writeln!(w, "DEF {} PhysicalSpotLight {{", names.fresh(&l.name))?;
+            let axis = l.orientation.map_or(opticks_core::math::Vec3::Z, |f| f.n);
+            writeln!(w, "  location {}\n  direction {}", v3(l.position), v3(axis))?;
+            match l.power {
+                Some(p) => writeln!(w, "  power {}", v3(p))?,
+                None => writeln!(w, "  intensity {}", v3(l.intensity))?,
+            }
+            writeln!(w, "  beamWidth {beam_width}\n  cutOffAngle {cutoff_angle}\n}}")?;
+        } else {
+            writeln!(w, "DEF {} PhysicalPointLight {{", names.fresh(&l.name))?;
+            let intensity = l.power.map_or(l.intensity, |p| p / (4.0 * std::f32::consts::PI));
+            writeln!(w, "  location {}\n  intensity {}\n}}", v3(l.position), v3(intensity))?;
+        }
+    }
+    for d in &desc.directional_lights {
+        writeln!(w, "DEF {} PhysicalDirectionalLight {{", names.fresh(&d.name))?;
+        writeln!(w, "  direction {}\n  irradiance {}\n}}", v3(d.direction), v3(d.irradiance))?;
     }
     for m in &desc.meshes {
         writeln!(w, "DEF {} Shape {{", names.fresh(&m.name))?;
@@ -92,7 +103,8 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
         write!(w, "  appearance Appearance {{ material ")?;
         match m.emission {
             Some(l) => {
-                write!(w, "AreaLight {{ radiance {} ", v3(l))?;
+                let emission = area_emission(m.emission_profile.as_ref()).unwrap_or_default();
+                write!(w, "AreaLight {{ radiance {} emission \"{emission}\" ", v3(l))?;
                 phong_fields(w, mat)?;
                 writeln!(w, "}} }}")?;
             }
@@ -121,6 +133,16 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
         writeln!(w, "    ]\n  }}\n}}")?;
     }
     Ok(())
+}
+
+/// The AreaLight `emission` string of an area light's profile (`None`: not expressible).
+fn area_emission(p: Option<&EmissionProfile>) -> Option<String> {
+    match p {
+        None | Some(EmissionProfile::Cosine) => Some("lambertian".into()),
+        Some(EmissionProfile::Uniform) => Some("uniform".into()),
+        Some(EmissionProfile::CosinePower { exponent }) => Some(format!("cosine {exponent}")),
+        Some(EmissionProfile::Spot { .. } | EmissionProfile::Ies(_)) => None,
+    }
 }
 
 fn v3(v: Rgb) -> String {

@@ -1,0 +1,199 @@
+//! VRML97 lights → the core's lights: `PointLight`, `SpotLight` and `DirectionalLight`, and the
+//! extension's `PhysicalPointLight`, `PhysicalSpotLight` and `PhysicalDirectionalLight` (in
+//! W/sr, W or W/m²). The spot and directional lights are built by the loaders' shared
+//! [`crate::scene_formats::lights`], so they mean what Mitsuba's `spot` and `directional` mean.
+//!
+//! VRML97 semantics kept: `location`, `direction`, `color` × `intensity`, `on`; a spot is full
+//! within `beamWidth` of its axis and falls linearly in angle to zero at `cutOffAngle` (VRML97
+//! §6.45; a `beamWidth` at or above `cutOffAngle` means no fall-off). Not kept, with a warning:
+//! `attenuation` other than 1/r² (physically only inverse-square is right), `radius` (light
+//! has no range), `ambientIntensity` (there is no ambient term), a standard `SpotLight`'s
+//! `cutOffAngle` beyond VRML97's π/2 (clamped: VTK's exporter writes degrees), and a
+//! `DirectionalLight`'s scoping to its group: it becomes a sun lighting the whole scene. Lights
+//! that emit nothing (black colour or intensity 0) are left out.
+
+use super::convert::{Converter, dv, rgb};
+use super::tree::{FieldValue, Node, ProtoInstance};
+use crate::scene_formats::SceneFileError;
+use crate::scene_formats::lights::{self, LightError};
+use glam::{DMat4, DVec3};
+use opticks_core::math::Rgb;
+use opticks_core::scene::PointLightDesc;
+use std::f64::consts::FRAC_PI_2;
+
+/// Radiant intensity of a standard PointLight or SpotLight of `intensity` 1 and white `color`,
+/// W/sr.
+pub const POINT_LIGHT_INTENSITY: f32 = 1.0;
+/// Irradiance of a standard DirectionalLight of `intensity` 1 and white `color`, W/m².
+pub const DIRECTIONAL_IRRADIANCE: f32 = 1.0;
+
+type Result<T> = std::result::Result<T, SceneFileError>;
+
+fn colour(p: &ProtoInstance, k: &str) -> Rgb {
+    rgb(p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]))
+}
+
+fn vec3(p: &ProtoInstance, k: &str, default: [f32; 3]) -> DVec3 {
+    dv(p.get(k).and_then(FieldValue::as_vec3).unwrap_or(default))
+}
+
+fn float(p: &ProtoInstance, k: &str, default: f32) -> f64 {
+    f64::from(p.get(k).and_then(FieldValue::as_float).unwrap_or(default))
+}
+
+fn on(p: &ProtoInstance) -> bool {
+    !matches!(p.get("on"), Some(FieldValue::Bool(false)))
+}
+
+fn name(n: &Node) -> String {
+    n.def_name.clone().unwrap_or_else(|| format!("{}_{}_{}", n.type_name, n.pos.line, n.pos.col))
+}
+
+fn message(e: LightError, what: &str) -> String {
+    match e {
+        LightError::Cutoff => "cutOffAngle must be in (0, π] radians".into(),
+        LightError::Beam => "beamWidth must be positive".into(),
+        LightError::Axis => "the direction (after the transforms) must not be zero".into(),
+        LightError::Negative => format!("the {what} must be finite and not negative"),
+    }
+}
+
+impl Converter {
+    /// Warnings for the standard fields a physical light cannot honour.
+    fn standard_light_notes(&mut self, n: &Node) {
+        let a = n.vec3("attenuation", [1.0, 0.0, 0.0]);
+        if a != [1.0, 0.0, 0.0] && a != [0.0, 0.0, 1.0] {
+            self.warn_once(n, "attenuation", "attenuation ignored: light falls off with 1/r² physically");
+        }
+        if n.get("radius").is_some() {
+            self.warn_once(n, "radius", "radius ignored: light has no range (it falls off with 1/r²)");
+        }
+        if n.float("ambientIntensity", 0.0) != 0.0 {
+            self.warn_once(n, "ambient", "ambientIntensity ignored: there is no ambient light physically");
+        }
+    }
+
+    /// The standard `color` × `intensity`, scaled to physical units.
+    fn standard_colour(&mut self, n: &Node, unit: f32) -> Rgb {
+        rgb(n.vec3("color", [1.0; 3])) * (n.float("intensity", 1.0) * unit)
+    }
+
+    pub(super) fn point_light(&mut self, n: &Node, m: &DMat4) {
+        let (location, intensity, on) = match self.extension(n, "PhysicalPointLight") {
+            Some(p) => {
+                let (i, phi) = (colour(p, "intensity"), colour(p, "power"));
+                let intensity = if i != Rgb::ZERO { i } else { phi / (4.0 * std::f32::consts::PI) };
+                (vec3(p, "location", [0.0; 3]), intensity, on(p))
+            }
+            None => {
+                self.standard_light_notes(n);
+                let i = self.standard_colour(n, POINT_LIGHT_INTENSITY);
+                (dv(n.vec3("location", [0.0; 3])), i, n.bool("on", true))
+            }
+        };
+        if !on {
+            return;
+        }
+        self.out.point_lights.push(PointLightDesc {
+            name: name(n),
+            source: self.source(n),
+            position: m.transform_point3(location).as_vec3(),
+            intensity,
+            ..Default::default()
+        });
+    }
+
+    pub(super) fn spot_light(&mut self, n: &Node, m: &DMat4) -> Result<()> {
+        let (location, direction, intensity, power, beam, cutoff, on) =
+            match self.extension(n, "PhysicalSpotLight") {
+                Some(p) => {
+                    let (i, phi) = (colour(p, "intensity"), colour(p, "power"));
+                    let power = (i == Rgb::ZERO && phi != Rgb::ZERO).then_some(phi);
+                    (
+                        vec3(p, "location", [0.0; 3]),
+                        vec3(p, "direction", [0.0, 0.0, -1.0]),
+                        i,
+                        power,
+                        float(p, "beamWidth", std::f32::consts::FRAC_PI_2),
+                        float(p, "cutOffAngle", std::f32::consts::FRAC_PI_4),
+                        on(p),
+                    )
+                }
+                None => {
+                    self.standard_light_notes(n);
+                    (
+                        dv(n.vec3("location", [0.0; 3])),
+                        dv(n.vec3("direction", [0.0, 0.0, -1.0])),
+                        self.standard_colour(n, POINT_LIGHT_INTENSITY),
+                        None,
+                        f64::from(n.float("beamWidth", std::f32::consts::FRAC_PI_2)),
+                        f64::from(n.float("cutOffAngle", std::f32::consts::FRAC_PI_4)),
+                        n.bool("on", true),
+                    )
+                }
+            };
+        if !on || intensity == Rgb::ZERO && power.is_none() {
+            return Ok(()); // emits nothing
+        }
+        let cutoff = if cutoff > FRAC_PI_2 && n.proto.is_none() {
+            // VTK's exporter, for one, writes degrees.
+            self.warn_once(
+                n,
+                "cutoff",
+                format!("cutOffAngle {cutoff} is beyond VRML97's range [0, π/2] radians: π/2 used"),
+            );
+            FRAC_PI_2
+        } else {
+            cutoff
+        };
+        if cutoff == 0.0 {
+            self.warn_once(n, "cutoff", "cutOffAngle 0: the spot emits nothing: ignored");
+            return Ok(());
+        }
+        let mut light = lights::spot_light(
+            name(n),
+            self.source(n),
+            m.transform_point3(location),
+            m.transform_vector3(direction),
+            intensity,
+            cutoff,
+            // VRML97: a beamWidth wider than the cutOffAngle means no fall-off.
+            beam.min(cutoff),
+        )
+        .map_err(|e| self.invalid(n, message(e, "intensity")))?;
+        if let Some(phi) = power {
+            if !phi.is_finite() || phi.min_element() < 0.0 {
+                return Err(self.invalid(n, message(LightError::Negative, "power")));
+            }
+            light.power = Some(phi);
+        }
+        self.out.point_lights.push(light);
+        Ok(())
+    }
+
+    pub(super) fn directional_light(&mut self, n: &Node, m: &DMat4, depth: usize) -> Result<()> {
+        let (direction, irradiance, on) = match self.extension(n, "PhysicalDirectionalLight") {
+            Some(p) => (vec3(p, "direction", [0.0, 0.0, -1.0]), colour(p, "irradiance"), on(p)),
+            None => {
+                self.standard_light_notes(n);
+                let e = self.standard_colour(n, DIRECTIONAL_IRRADIANCE);
+                (dv(n.vec3("direction", [0.0, 0.0, -1.0])), e, n.bool("on", true))
+            }
+        };
+        if !on || irradiance == Rgb::ZERO {
+            return Ok(()); // emits nothing (VTK writes its ambient light so)
+        }
+        if depth > 0 {
+            self.warn_once(
+                n,
+                "scope",
+                "lights the whole scene (a sun), not only the nodes of its group as VRML97 scopes it",
+            );
+        }
+        let light =
+            lights::directional_light(name(n), self.source(n), m.transform_vector3(direction), irradiance)
+                .map_err(|e| self.invalid(n, message(e, "irradiance")))?;
+        self.out.directional_lights.push(light);
+        Ok(())
+    }
+}
