@@ -49,7 +49,7 @@ pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 
 use crate::geometry::SurfaceNormals;
-use crate::math::{Frame, Rgb, Vec2, Vec3};
+use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::microfacet::Microfacet;
 pub use shading::LocalFrame;
 
