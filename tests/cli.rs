@@ -189,6 +189,10 @@ fn bad_arguments_are_refused() {
     assert!(e.contains("image.bmp"), "{e}");
     let e = fails(&["demo", "--paths", "1000", "--size", "0x5"], d);
     assert!(e.contains("0x5") || e.contains("size"), "{e}");
+    for verb in [&["demo"][..], &["trace", "builtin:cornell", "-o", "x.opds"], &["bench"]] {
+        let e = fails(&[verb, &["--paths", "0"]].concat(), d);
+        assert!(e.contains("--paths") && e.contains('0'), "{e}");
+    }
 }
 
 #[cfg(unix)]

@@ -21,7 +21,7 @@ pub struct Args {
     #[arg(long)]
     scene: Option<String>,
     /// Paths for the new light (default: its fair share, N·Φ_new/ΣΦ of the lights already traced).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     paths: Option<u64>,
     /// Where to write the result (default: replace the dataset).
     #[arg(short, long)]

@@ -20,7 +20,7 @@ pub struct Args {
     #[arg(default_value = BUILTIN_CORNELL)]
     scene: String,
     /// Light paths per run.
-    #[arg(long, default_value_t = 4_194_304)]
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..), default_value_t = 4_194_304)]
     paths: u64,
     /// Random seed of the traced paths.
     #[arg(long, default_value_t = 1)]

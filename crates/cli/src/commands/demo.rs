@@ -15,7 +15,7 @@ pub struct Args {
     #[arg(short, long, default_value = "cornell.png")]
     output: PathBuf,
     /// Light paths to trace.
-    #[arg(long, default_value_t = 4_000_000)]
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..), default_value_t = 4_000_000)]
     paths: u64,
     /// Random seed.
     #[arg(long, default_value_t = 0)]

@@ -7,7 +7,7 @@
 use super::dataset_job::{continued_settings, extend_dataset, scene_lights};
 use super::{ThreadArgs, open_with_scene};
 use crate::strategy_args::StrategyArgs;
-use anyhow::{Result, bail};
+use anyhow::Result;
 use opticks_core::trace::{LightPlan, path_quotas};
 use std::path::PathBuf;
 
@@ -17,7 +17,7 @@ pub struct Args {
     /// Dataset to refine.
     dataset: PathBuf,
     /// Light paths to add, over all lights (split in proportion to their power).
-    #[arg(long)]
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     paths: u64,
     /// Where to write the result (default: replace the dataset).
     #[arg(short, long)]
@@ -37,9 +37,6 @@ pub struct Args {
 
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
-    if a.paths == 0 {
-        bail!("--paths must be at least 1");
-    }
     a.threads.apply()?;
     let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let mut header = reader.header().clone();

@@ -4,7 +4,7 @@ use super::ThreadArgs;
 use super::dataset_job::{NewPaths, write_dataset};
 use crate::scene_arg::load_scene;
 use crate::strategy_args::StrategyArgs;
-use anyhow::{Result, bail};
+use anyhow::Result;
 use opticks_core::trace::{plan_all, planned_table};
 use opticks_io::dataset_file::{DatasetHeader, TraceInfo, TracePass};
 use std::path::PathBuf;
@@ -15,7 +15,7 @@ pub struct Args {
     /// Scene file (Mitsuba 3 XML or OBJ), or `builtin:cornell`.
     scene: String,
     /// Light paths to trace, over all lights (split in proportion to their power).
-    #[arg(long, default_value_t = 4_000_000)]
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..), default_value_t = 4_000_000)]
     paths: u64,
     /// Output dataset file.
     #[arg(short, long)]
@@ -31,9 +31,6 @@ pub struct Args {
 
 /// Runs the trace.
 pub fn run(a: Args) -> Result<()> {
-    if a.paths == 0 {
-        bail!("--paths must be at least 1");
-    }
     a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
     let settings = a.strategy.settings(a.paths, a.seed);
