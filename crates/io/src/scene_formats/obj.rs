@@ -24,7 +24,7 @@
 //!
 //! # Why not `tobj`
 //!
-//! `tobj` (a dependency of this crate) reports errors as a bare enum (`FaceVertexOutOfBounds`,
+//! `tobj` (used by the tests as an independent reader to cross-check this one) reports errors as a bare enum (`FaceVertexOutOfBounds`,
 //! `PositionParseError`) without a line number, accepts `nan`/`inf` coordinates silently, and
 //! allocates a `String` per line. This reader is a single pass over the file's bytes that
 //! allocates nothing per line (tokens are sub-slices; numbers use the standard library's

@@ -48,7 +48,7 @@
 //!
 //! # Why a hand-written reader and not `tobj`
 //!
-//! `tobj` 4 (already a dependency) was checked: it reads `Kd`, `Ks`, `Ns` and leaves `Ke` in an
+//! `tobj` 4 was checked (the tests use it as an independent reader to cross-check this one): it reads `Kd`, `Ks`, `Ns` and leaves `Ke` in an
 //! untyped map, which would do; but its errors are bare enum values (`FaceVertexOutOfBounds`,
 //! `PositionParseError`, `MaterialParseError`) that name neither the file nor the line, it accepts
 //! `nan`/`inf` coordinates silently, a missing `.mtl` makes it fail the whole load or drop the
