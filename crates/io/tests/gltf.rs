@@ -399,7 +399,9 @@ fn errors_name_the_file() {
         "{\"bufferView\": 1, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}",
         "{\"bufferView\": 1, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}, {\"bufferView\": 1, \"byteOffset\": 4, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}",
     );
-    let cases: Vec<(Vec<(&str, Vec<u8>)>, &str)> = vec![
+    // (files to write, the error expected)
+    type Case<'a> = (Vec<(&'a str, Vec<u8>)>, &'a str);
+    let cases: Vec<Case> = vec![
         (
             vec![("bad.gltf", b"{\"asset\": {\"version\": \"2.0\"},\n  \"nodes\": [ }".to_vec())],
             "TMP/bad.gltf:2:14: glTF JSON: malformed JSON: expected value",

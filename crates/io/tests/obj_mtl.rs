@@ -139,7 +139,9 @@ fn vertex_normals_go_to_each_mesh_that_uses_them() {
 
 #[test]
 fn errors_name_the_file_and_line() {
-    let cases: &[(&[(&str, &[u8])], &str)] = &[
+    // (files to write, the error expected)
+    type Case<'a> = (&'a [(&'a str, &'a [u8])], &'a str);
+    let cases: &[Case] = &[
         (&[("a.obj", b"v 0 0 0\nv 1 x 0\n")], "TMP/a.obj:2: vertex coordinate \"x\" is not a number"),
         (
             &[("a.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n")],

@@ -2,9 +2,8 @@
 //! The other lights' samples are reused untouched (geometry and materials must be unchanged —
 //! the fingerprint says so — while the light table may grow).
 
-use super::dataset_job::{continued_settings, extend_dataset};
-use super::{ThreadArgs, open_with_scene};
-use crate::strategy_args::StrategyArgs;
+use super::dataset_job::{ExtendArgs, continued_settings, extend_dataset};
+use super::open_with_scene;
 use anyhow::{Result, bail};
 use opticks_core::dataset::LightRecord;
 use opticks_core::trace::LightPlan;
@@ -23,22 +22,13 @@ pub struct Args {
     /// Paths for the new light (default: its fair share, N·Φ_new/ΣΦ of the lights already traced).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     paths: Option<u64>,
-    /// Where to write the result (default: replace the dataset).
-    #[arg(short, long)]
-    output: Option<PathBuf>,
-    /// Seed (default: the dataset's first; a stream not used yet is picked either way).
-    #[arg(long)]
-    seed: Option<u64>,
-    /// Strategy options (default: those of the dataset's last pass).
     #[command(flatten)]
-    strategy: StrategyArgs,
-    #[command(flatten)]
-    threads: ThreadArgs,
+    extend: ExtendArgs,
 }
 
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
-    a.threads.apply()?;
+    a.extend.threads.apply()?;
     let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let mut header = reader.header().clone();
     let Some(scene_light) = scene.light_index(&a.light) else {
@@ -73,9 +63,9 @@ pub fn run(a: Args) -> Result<()> {
         paths: 0,
     });
     header.fingerprint = scene.fingerprint; // matched (perhaps as a version-1 hash): now current
-    let settings = continued_settings(&header, paths, a.seed, &a.strategy);
+    let settings = continued_settings(&header, paths, a.extend.seed, &a.extend.strategy);
     let plan = vec![LightPlan { scene_light, table_index, paths }];
-    let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
+    let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
     let report = extend_dataset(&reader, header, &output, &scene, settings, plan)?;
     println!(
         "added light '{}' with {paths} paths ({:.2} s) → {} ({} lights, {} samples)",

@@ -16,6 +16,23 @@ use opticks_io::dataset_file::{DatasetHeader, DatasetReader, DatasetSummary, Dat
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// The arguments `refine` and `add-light` share: where the extended dataset goes, and the
+/// seed, strategy and threads of the pass they add.
+#[derive(clap::Args, Debug)]
+pub struct ExtendArgs {
+    /// Where to write the result (default: replace the dataset).
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Seed (default: the dataset's first; a stream not used yet is picked either way).
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Strategy options (default: those of the dataset's last pass).
+    #[command(flatten)]
+    pub strategy: StrategyArgs,
+    #[command(flatten)]
+    pub threads: super::ThreadArgs,
+}
+
 /// New paths to trace into the dataset.
 pub struct NewPaths<'a> {
     /// The scene (its geometry fingerprint is the header's).

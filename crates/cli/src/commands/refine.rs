@@ -4,9 +4,8 @@
 //! `NAME.partial.opds`, which `opticks resume` completes). The new paths use the strategy of the
 //! dataset's last pass unless overridden, so the estimator stays the one the dataset was made by.
 
-use super::dataset_job::{continued_settings, extend_dataset, scene_lights};
-use super::{ThreadArgs, open_with_scene};
-use crate::strategy_args::StrategyArgs;
+use super::dataset_job::{ExtendArgs, continued_settings, extend_dataset, scene_lights};
+use super::open_with_scene;
 use anyhow::Result;
 use opticks_core::trace::{LightPlan, path_quotas};
 use std::path::PathBuf;
@@ -19,25 +18,16 @@ pub struct Args {
     /// Light paths to add, over all lights (split in proportion to their power).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     paths: u64,
-    /// Where to write the result (default: replace the dataset).
-    #[arg(short, long)]
-    output: Option<PathBuf>,
     /// Scene file (default: the one recorded in the dataset).
     #[arg(long)]
     scene: Option<String>,
-    /// Seed (default: the dataset's first; a stream not used yet is picked either way).
-    #[arg(long)]
-    seed: Option<u64>,
-    /// Strategy options (default: those of the dataset's last pass).
     #[command(flatten)]
-    strategy: StrategyArgs,
-    #[command(flatten)]
-    threads: ThreadArgs,
+    extend: ExtendArgs,
 }
 
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
-    a.threads.apply()?;
+    a.extend.threads.apply()?;
     let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let mut header = reader.header().clone();
     let scene_lights = scene_lights(&header.table, &scene, "refine")?;
@@ -49,8 +39,8 @@ pub fn run(a: Args) -> Result<()> {
         .enumerate()
         .map(|(k, (paths, &scene_light))| LightPlan { scene_light, table_index: k as u32, paths })
         .collect();
-    let settings = continued_settings(&header, a.paths, a.seed, &a.strategy);
-    let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
+    let settings = continued_settings(&header, a.paths, a.extend.seed, &a.extend.strategy);
+    let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
     let before = header.table.total_paths();
     let report = extend_dataset(&reader, header, &output, &scene, settings, plan)?;
     println!(
