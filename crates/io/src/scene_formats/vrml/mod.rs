@@ -20,7 +20,7 @@
 //! (Annex A) but not self-describing — a field's value can only be read knowing the field's
 //! type, from the standard node table or a PROTO interface — so a parser that is exact, gives
 //! `file:line:col` for every error and warning, bounds recursion and expansion against hostile
-//! input, and reads a 40 MB mesh at disk speed is less code written here than adapted. Lexing,
+//! input, and parses a 40 MB mesh at hundreds of MB/s is less code written here than adapted. Lexing,
 //! parsing and conversion are kept apart so that each can be tested (and fuzzed) on its own.
 
 pub mod convert;
