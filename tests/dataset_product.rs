@@ -308,7 +308,7 @@ fn an_interrupted_trace_or_refine_resumes_to_exactly_the_uninterrupted_dataset()
     // Refine reuses the dataset's strategy; an interrupted refine leaves the dataset as it was.
     ok(&["refine", "whole.opds", "--paths", n], d);
     let info = ok(&["info", "whole.opds"], d);
-    assert_eq!(info.matches("roulette Fixed from depth 2").count(), 2, "{info}");
+    assert_eq!(info.matches("--roulette fixed --rr-depth 2").count(), 2, "{info}");
     let before = std::fs::read(d.join("cut.opds")).unwrap();
     interrupted(&["refine", "cut.opds", "--paths", n], d, 1);
     assert!(std::fs::read(d.join("cut.opds")).unwrap() == before, "the dataset is intact");

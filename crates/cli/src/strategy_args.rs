@@ -38,16 +38,16 @@ pub enum SelectionArg {
 /// dataset traced with, say, `--roulette fixed` continues it with the same estimator).
 #[derive(Args, Debug, Clone)]
 pub struct StrategyArgs {
-    /// Path depth from which Russian roulette may end paths [default: 5].
+    /// Path depth from which Russian roulette may end paths [default: 5; refine and add-light: the dataset's last pass].
     #[arg(long)]
     pub rr_depth: Option<u32>,
-    /// Russian roulette rule (thesis §6.2.1) [default: energy].
+    /// Russian roulette rule (thesis §6.2.1) [default: energy; refine and add-light: the dataset's last pass].
     #[arg(long, value_enum)]
     pub roulette: Option<RouletteArg>,
-    /// Direction sampling (thesis §6.2.2) [default: importance].
+    /// Direction sampling (thesis §6.2.2) [default: importance; refine and add-light: the dataset's last pass].
     #[arg(long, value_enum)]
     pub directions: Option<DirectionsArg>,
-    /// Priority sample selection (thesis §6.2.3) [default: single].
+    /// Priority sample selection (thesis §6.2.3) [default: single; refine and add-light: the dataset's last pass].
     #[arg(long, value_enum)]
     pub selection: Option<SelectionArg>,
 }

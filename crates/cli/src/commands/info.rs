@@ -33,9 +33,16 @@ pub fn run(a: Args) -> Result<()> {
             )
         };
         println!(
-            "pass      seed {}, stream {}: {} paths in {:.2} s; roulette {:?} from depth {}, directions {:?}, \
-             selection {:?}{state}",
-            p.seed, p.stream, p.paths, p.seconds, p.roulette, p.rr_depth, p.directions, p.selection
+            "pass      seed {}, stream {}: {} paths in {:.2} s; --roulette {} --rr-depth {} --directions {} \
+             --selection {}{state}",
+            p.seed,
+            p.stream,
+            p.paths,
+            p.seconds,
+            flag(p.roulette),
+            p.rr_depth,
+            flag(p.directions),
+            flag(p.selection)
         );
     }
     println!("paths     {paths}");
@@ -54,4 +61,10 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// A strategy value as its command-line spelling (`Energy` → `energy`), so `info` shows the
+/// options that would repeat the pass.
+fn flag(value: impl std::fmt::Debug) -> String {
+    format!("{value:?}").to_lowercase()
 }
