@@ -1,6 +1,6 @@
 //! Caustics, rough materials and generated smooth normals against Mitsuba 3's particle tracer
-//! (issue #5): the two caustic showcase scenes (`scenes/caustics`, a glass sphere; `scenes/ring`, a mirror ring), copied
-//! with their references into `testdata/mitsuba/NAME/`, and the test-only `testdata/mitsuba/rough`
+//! (issue #5): the two caustic showcase scenes (`scenes/caustics`, a glass sphere;
+//! `scenes/ring`, a mirror ring), copied with their references into `testdata/mitsuba/NAME/`, and the test-only `testdata/mitsuba/rough`
 //! (a GGX gold sphere and a Beckmann rough-glass sphere, see the end of these docs) are traced and
 //! rendered by Opticks and compared with Mitsuba's `ptracer` reference (`reference.exr`, made by
 //! `tests/mitsuba/render_reference.py`; spp, time, self-noise and the competitor figure are in
