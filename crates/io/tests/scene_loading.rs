@@ -314,3 +314,66 @@ fn obj_vertex_normals_follow_face_normals_and_to_world() {
     let (_d, r) = load_files(&[("s.xml", &flipped), ("m.obj", obj)]);
     assert_eq!(r.unwrap().description.meshes[0].normals[0], -Vec3::Z);
 }
+
+/// A UV sphere of radius 1 (`segments` × `rings`, one vertex per pole), wound outward, as OBJ
+/// text without `vn`.
+fn uv_sphere_obj(segments: usize, rings: usize) -> String {
+    use std::f32::consts::PI;
+    use std::fmt::Write;
+    let mut s = String::from("v 0 0 1\n");
+    for r in 1..rings {
+        let theta = PI * r as f32 / rings as f32;
+        for k in 0..segments {
+            let phi = 2.0 * PI * k as f32 / segments as f32;
+            writeln!(s, "v {} {} {}", theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()).unwrap();
+        }
+    }
+    writeln!(s, "v 0 0 -1").unwrap();
+    let south = 1 + segments * (rings - 1) + 1; // 1-based
+    let at = |r: usize, k: usize| 2 + (r - 1) * segments + k % segments; // ring r ≥ 1
+    for k in 0..segments {
+        writeln!(s, "f 1 {} {}", at(1, k), at(1, k + 1)).unwrap();
+        for r in 1..rings - 1 {
+            writeln!(s, "f {} {} {} {}", at(r, k), at(r + 1, k), at(r + 1, k + 1), at(r, k + 1)).unwrap();
+        }
+        writeln!(s, "f {} {} {}", at(rings - 1, k), south, at(rings - 1, k + 1)).unwrap();
+    }
+    s
+}
+
+#[test]
+fn obj_without_normals_gets_mitsubas_smooth_normals() {
+    let obj = uv_sphere_obj(12, 6);
+    let xml = |extra: &str| {
+        format!(
+            "{HEAD}<shape type=\"obj\">\n  <string name=\"filename\" value=\"m.obj\"/>\n{extra}</shape>\n</scene>"
+        )
+    };
+    let (_d, r) = load_files(&[("s.xml", &xml("")), ("m.obj", &obj)]);
+    let m = &r.unwrap().description.meshes[0];
+    assert_eq!(m.normals.len(), m.positions.len());
+    // Every vertex's normal is close to radial (measured: within 2.07°, the rings next to the
+    // poles tilting as their triangles and quads differ); the faces are up to 20.8° off it.
+    let worst = m.positions.iter().zip(&m.normals).map(|(p, n)| p.angle_between(*n).to_degrees());
+    let worst = worst.fold(0.0f32, f32::max);
+    let face_worst = (0..m.triangles.len())
+        .map(|t| {
+            let [a, b, c] = m.triangles[t].map(|i| m.positions[i as usize]);
+            a.angle_between((b - a).cross(c - a)).to_degrees()
+        })
+        .fold(0.0f32, f32::max);
+    assert!(worst < 2.5, "generated normals up to {worst}° off radial");
+    assert!(face_worst > 15.0, "{face_worst}");
+    // flip_normals turns them inward with the faces; face_normals keeps the mesh faceted.
+    let (_d, r) = load_files(&[
+        ("s.xml", &xml("  <boolean name=\"flip_normals\" value=\"true\"/>\n")),
+        ("m.obj", &obj),
+    ]);
+    let m = &r.unwrap().description.meshes[0];
+    assert!(m.positions.iter().zip(&m.normals).all(|(p, n)| p.angle_between(-*n).to_degrees() < 2.5));
+    let (_d, r) = load_files(&[
+        ("s.xml", &xml("  <boolean name=\"face_normals\" value=\"true\"/>\n")),
+        ("m.obj", &obj),
+    ]);
+    assert!(r.unwrap().description.meshes[0].normals.is_empty());
+}

@@ -101,7 +101,7 @@
 //!
 //! | type | parameters | geometry |
 //! |---|---|---|
-//! | `obj` | `filename` (relative to the XML file's folder), `face_normals` (default false: the OBJ's `vn` vertex normals are the shading normals; true: faceted), `flip_normals` (also negates the normals), `to_world` (normals by its inverse transpose) | the OBJ's triangles, transformed ([`super::obj`]) |
+//! | `obj` | `filename` (relative to the XML file's folder), `face_normals` (default false: the OBJ's `vn` vertex normals are the shading normals, and an OBJ without `vn` gets smooth normals generated as Mitsuba does, below; true: faceted), `flip_normals` (also negates the normals), `to_world` (normals by its inverse transpose) | the OBJ's triangles, transformed ([`super::obj`]) |
 //! | `rectangle` | `flip_normals`, `to_world` | [-1, 1]² at z = 0, normal +z |
 //! | `cube` | `flip_normals`, `to_world` | [-1, 1]³, normals outward |
 //!
@@ -112,6 +112,13 @@
 //! normal keeps pointing where Mitsuba's does; OBJ meshes keep their winding (their face normals
 //! follow the transformed vertices, as in Mitsuba). A shape's name is its `id`, else
 //! `<type>_<index>` (index among the scene's shapes, from 0).
+//!
+//! **Generated normals.** Mitsuba 3 gives an OBJ without `vn` smooth vertex normals unless
+//! `face_normals` is true (`Mesh::recompute_vertex_normals`), and so does this loader
+//! ([`super::obj::generated_vertex_normals`]): angle-weighted sums of the face normals, over the
+//! vertices of Mitsuba's OBJ reader (one per distinct `v`/`vt` index pair), computed after
+//! `to_world` on the world positions and before `flip_normals` (which then negates them with the
+//! winding). A faceted-looking low-poly OBJ therefore renders smooth here as in Mitsuba.
 //!
 //! ## Absorbing glass: `interior` media
 //!
@@ -156,7 +163,7 @@
 //! subset.
 
 use super::lights;
-use super::obj::read_obj;
+use super::obj::{generated_vertex_normals, read_obj};
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
 use glam::{DMat3, DMat4, DVec3};
 use opticks_core::bsdf::{
@@ -1250,6 +1257,8 @@ impl<'a, 'i> Ctx<'a, 'i> {
         let name = self.attr(n, "id")?.unwrap_or_else(|| format!("{ty}_{index}"));
         let mut p = self.props(n)?;
         let mut normals = Vec::new();
+        // An OBJ's texture-coordinate indices, for generated normals (None: not an OBJ).
+        let mut obj_texcoords = None;
         let (positions, mut triangles, analytic) = match ty.as_str() {
             "obj" => {
                 let (file, _) = self
@@ -1261,6 +1270,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                     self.warn(n, format!("{} has no faces", path.display()));
                 }
                 normals = mesh.normals;
+                obj_texcoords = Some(mesh.texcoords);
                 (mesh.positions, mesh.triangles, false)
             }
             "rectangle" => {
@@ -1281,8 +1291,10 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 ));
             }
         };
-        // Mitsuba's default (false) shades with the file's vertex normals when it has them.
-        if self.get_bool(&mut p, "face_normals")?.unwrap_or(false) {
+        // Mitsuba's default (false) shades with the file's vertex normals when it has them, and
+        // generates smooth ones (after `to_world`, below) when it has none.
+        let face_normals = self.get_bool(&mut p, "face_normals")?.unwrap_or(false);
+        if face_normals {
             normals.clear();
         }
         p.ignore(&["flip_tex_coords"]);
@@ -1308,6 +1320,10 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 let nm = glam::Mat3::from_mat4(mf).inverse().transpose();
                 normals.iter_mut().for_each(|v| *v = nm * *v);
             }
+        }
+        if let Some(texcoords) = obj_texcoords.filter(|_| !face_normals && normals.is_empty()) {
+            let smooth = generated_vertex_normals(positions, triangles, &texcoords);
+            (positions, triangles, normals) = (smooth.positions, smooth.triangles, smooth.normals);
         }
         if flip ^ (analytic && mirrored) {
             triangles.iter_mut().for_each(|t| t.swap(1, 2));

@@ -4,14 +4,21 @@
 //! |---|---|
 //! | `v x y z [w] [r g b]` | a position; `w` and vertex colours are ignored |
 //! | `vn x y z` | a vertex normal (a shading normal, normalised by the core) |
-//! | `f i j k …` | a polygon, triangulated as a fan `(i, j, k), (i, k, l), …`; each corner may be `v`, `v/vt`, `v//vn` or `v/vt/vn` (`vt` is ignored) |
+//! | `f i j k …` | a polygon, triangulated as a fan `(i, j, k), (i, k, l), …`; each corner may be `v`, `v/vt`, `v//vn` or `v/vt/vn` (`vt` indices only split vertices for [`generated_vertex_normals`], below) |
 //! | indices | 1-based; negative indices count back from the last vertex (or normal) defined so far (`-1` = the latest) |
-//! | `vt`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, `#…`, anything else | ignored |
+//! | `vt` | counted (for relative `vt` indices); its coordinates are ignored |
+//! | `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, `#…`, anything else | ignored |
 //!
 //! Vertex normals: a corner `v//vn` is a vertex of its own (position v, normal vn; corners
 //! sharing both share the vertex). In a file that uses normals, a face corner without one is
 //! shaded flat: it gets a vertex of its own with its face's geometric normal. Normal indices
 //! on faces before the first `vn` are ignored. `s` (smoothing groups) does not generate normals. A file without `vn` gives exactly the mesh it gave before.
+//!
+//! Generated normals (for Mitsuba's `<shape type="obj">` without `vn`):
+//! [`generated_vertex_normals`] computes Mitsuba 3's angle-weighted smooth normals; for it a file
+//! without `vn` also reports each corner's `vt` index ([`ObjMesh::texcoords`]; `vt` values are
+//! not read, and a `vt` index that is 0, not a number or reaches before the first `vt` counts
+//! as none rather than an error, since texture coordinates are otherwise ignored).
 //!
 //! Winding is kept as written: a triangle's front face is the one from which it is
 //! counter-clockwise (normal `(v1 − v0) × (v2 − v0)`). Degenerate (zero-area) triangles are kept;
@@ -47,7 +54,14 @@ pub struct ObjMesh {
     /// One vertex normal per position (as written, not normalised), or empty if the file has
     /// no `v//vn` corners.
     pub normals: Vec<Vec3>,
+    /// For a file without normals whose faces use `v/vt` corners: each triangle's 0-based
+    /// texture-coordinate indices ([`NO_TEXCOORD`] for a corner without one). Empty otherwise.
+    /// Only [`generated_vertex_normals`] uses them (Mitsuba splits vertices by them).
+    pub texcoords: Vec<[u32; 3]>,
 }
+
+/// A corner without a (readable) texture-coordinate index in [`ObjMesh::texcoords`].
+pub const NO_TEXCOORD: u32 = u32::MAX;
 
 /// What is wrong with an OBJ file's content, and on which line.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -62,6 +76,7 @@ pub struct ObjError {
 pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
     let mut geometry = ObjGeometry::new(u32::MAX);
     let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut texcoords: Vec<[u32; 3]> = Vec::new();
     let mut line_no = 0u32;
 
     for raw in data.split(|&b| b == b'\n') {
@@ -71,13 +86,17 @@ pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
         match keyword {
             b"v" => geometry.vertex(tokens, line_no)?,
             b"vn" => geometry.normal(tokens, line_no)?,
-            b"f" => geometry.face(tokens, line_no, &mut triangles)?,
+            b"vt" => geometry.texcoord_count += 1,
+            b"f" => geometry.face(tokens, line_no, &mut triangles, Some(&mut texcoords))?,
             _ => {}
         }
     }
     let vertices = geometry.finish()?;
     if !vertices.has_normals() {
-        return Ok(ObjMesh { positions: vertices.positions, triangles, normals: Vec::new() });
+        if texcoords.iter().all(|t| *t == [NO_TEXCOORD; 3]) {
+            texcoords = Vec::new();
+        }
+        return Ok(ObjMesh { positions: vertices.positions, triangles, normals: Vec::new(), texcoords });
     }
     let mut remap = vertices.remap_table();
     Ok(vertices.gather(&triangles, &mut remap))
@@ -113,6 +132,10 @@ pub(super) struct ObjGeometry {
     corners: Vec<u32>,
     /// The largest 0-based vertex index a face may use (a caller may reserve `u32::MAX`).
     largest_index: u32,
+    /// How many `vt` statements were read so far (for relative texture-coordinate indices).
+    texcoord_count: u32,
+    /// The current face's texture-coordinate indices (kept to reuse its allocation).
+    corner_texcoords: Vec<u32>,
 }
 
 impl ObjGeometry {
@@ -127,6 +150,8 @@ impl ObjGeometry {
             max_index: None,
             corners: Vec::with_capacity(16),
             largest_index: largest_index.min(NORMAL_CORNER - 1),
+            texcoord_count: 0,
+            corner_texcoords: Vec::with_capacity(16),
         }
     }
 
@@ -162,17 +187,23 @@ impl ObjGeometry {
         tokens: impl Iterator<Item = &'a [u8]>,
         line_no: u32,
         triangles: &mut Vec<[u32; 3]>,
+        mut texcoords: Option<&mut Vec<[u32; 3]>>,
     ) -> Result<(), ObjError> {
         let corners = &mut self.corners;
         corners.clear();
+        self.corner_texcoords.clear();
         for tok in tokens {
             if tok[0] == b'#' {
                 break;
             }
             let mut fields = tok.split(|&b| b == b'/');
             let v = fields.next().unwrap_or(tok);
+            let vt = fields.next();
+            if texcoords.is_some() {
+                self.corner_texcoords.push(texcoord_index(vt, self.texcoord_count));
+            }
             // Normal indices before any `vn` are ignored (as they always were).
-            let vn = fields.nth(1).filter(|f| !f.is_empty() && !self.normals.is_empty());
+            let vn = fields.next().filter(|f| !f.is_empty() && !self.normals.is_empty());
             let i = parse_index(v).ok_or_else(|| ObjError {
                 line: line_no,
                 message: format!("face corner {:?} does not start with a vertex index", lossy(tok)),
@@ -247,6 +278,10 @@ impl ObjGeometry {
         }
         for k in 1..corners.len() - 1 {
             triangles.push([corners[0], corners[k], corners[k + 1]]);
+        }
+        if let Some(texcoords) = texcoords.as_mut() {
+            let t = &self.corner_texcoords;
+            texcoords.extend((1..t.len() - 1).map(|k| [t[0], t[k], t[k + 1]]));
         }
         Ok(())
     }
@@ -345,6 +380,91 @@ impl ObjVertices {
             remap[slot] = u32::MAX;
         }
         mesh
+    }
+}
+
+/// Smooth vertex normals as Mitsuba 3 generates them for a mesh without normals
+/// (`Mesh::recompute_vertex_normals`, after Thürmer and Wüthrich, "Computing Vertex Normals from
+/// Polygonal Facets", JGT 1998): a vertex's normal is the sum of the unit normals of the
+/// triangles using it, each weighted by the triangle's angle at that vertex, normalised.
+/// Zero-area triangles add nothing; a vertex whose sum is zero gets Mitsuba's placeholder +x.
+///
+/// The vertices are those of Mitsuba's OBJ reader, which shares a vertex between corners with
+/// the same (position, texture coordinate) indices: with `texcoords` (see
+/// [`ObjMesh::texcoords`]) a position used with several texture coordinates is split, and
+/// each copy is smoothed over its own triangles only, as in Mitsuba. Without them the mesh keeps
+/// its vertices. `positions` should already be in world space, as Mitsuba computes the normals
+/// after `to_world` (angles are not preserved by a non-uniform scale).
+pub fn generated_vertex_normals(
+    positions: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    texcoords: &[[u32; 3]],
+) -> ObjMesh {
+    let (positions, triangles) = if texcoords.len() == triangles.len() {
+        split_by_texcoord(&positions, &triangles, texcoords)
+    } else {
+        (positions, triangles)
+    };
+    let mut normals = vec![Vec3::ZERO; positions.len()];
+    for t in &triangles {
+        let v = t.map(|i| positions[i as usize]);
+        let Some(n) = (v[1] - v[0]).cross(v[2] - v[0]).try_normalize() else { continue };
+        for j in 0..3 {
+            let angle = unit_angle(
+                (v[(j + 1) % 3] - v[j]).normalize_or_zero(),
+                (v[(j + 2) % 3] - v[j]).normalize_or_zero(),
+            );
+            normals[t[j] as usize] += n * angle;
+        }
+    }
+    for n in &mut normals {
+        *n = n.try_normalize().unwrap_or(Vec3::X);
+    }
+    ObjMesh { positions, triangles, normals, texcoords: Vec::new() }
+}
+
+/// The vertices of Mitsuba's OBJ reader: one per distinct (position, texture coordinate) pair,
+/// in order of first use.
+fn split_by_texcoord(
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+    texcoords: &[[u32; 3]],
+) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mut vertex_of = std::collections::HashMap::new();
+    let mut split = Vec::new();
+    let tris = triangles
+        .iter()
+        .zip(texcoords)
+        .map(|(t, tc)| {
+            std::array::from_fn(|j| {
+                *vertex_of.entry((t[j], tc[j])).or_insert_with(|| {
+                    split.push(positions[t[j] as usize]);
+                    split.len() as u32 - 1
+                })
+            })
+        })
+        .collect();
+    (split, tris)
+}
+
+/// The angle between unit vectors `a` and `b`, accurate also near 0 and π (as Mitsuba's
+/// `unit_angle`).
+fn unit_angle(a: Vec3, b: Vec3) -> f32 {
+    if a.dot(b) < 0.0 {
+        std::f32::consts::PI - 2.0 * ((a + b).length() / 2.0).min(1.0).asin()
+    } else {
+        2.0 * ((a - b).length() / 2.0).min(1.0).asin()
+    }
+}
+
+/// The 0-based texture-coordinate index of a corner's `vt` field given `count` `vt` statements
+/// so far, or [`NO_TEXCOORD`] if there is none or it cannot be read (`vt` is otherwise ignored,
+/// so a bad one is not an error).
+fn texcoord_index(vt: Option<&[u8]>, count: u32) -> u32 {
+    match vt.and_then(parse_index) {
+        Some(j) if j > 0 => u32::try_from(j - 1).unwrap_or(NO_TEXCOORD),
+        Some(j) if j < 0 && i64::from(count) + j >= 0 => (i64::from(count) + j) as u32,
+        _ => NO_TEXCOORD,
     }
 }
 
@@ -572,5 +692,71 @@ mod tests {
         // Generous bound: two shared cores, other builds running. Typically ~0.15 s in release.
         assert!(dt.as_secs_f32() < 3.0, "parsing 1M triangles took {dt:?}");
         eprintln!("1M-triangle OBJ ({} MB) parsed in {dt:?}", s.len() / 1_000_000);
+    }
+
+    #[test]
+    fn texcoord_indices_are_kept_only_for_files_without_normals() {
+        let src = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/-1 4\nf 1 2 3/x\n";
+        let m = parse_obj(src).unwrap();
+        let none = NO_TEXCOORD;
+        assert_eq!(m.texcoords, vec![[0, 1, 1], [0, 1, none], [none, none, none]]);
+        assert!(parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap().texcoords.is_empty());
+        let with_vn = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\n";
+        assert!(parse_obj(with_vn).unwrap().texcoords.is_empty());
+    }
+
+    /// The three faces of a unit cube meeting at its corner at the origin, outward (−z, −x, −y),
+    /// split unevenly around the corner: −x and −y by two triangles of area ½, −z by three
+    /// small ones (26.6°, 18.4° and 45°, of total area ¼).
+    fn uneven_corner() -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let v = |x, y, z| Vec3::new(x, y, z);
+        let positions = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::Z,
+            v(0.0, 1.0, 1.0),
+            v(1.0, 0.0, 1.0),
+            v(0.5, 0.25, 0.0),
+            v(0.5, 0.5, 0.0),
+            v(0.5, 0.0, 0.0),
+            v(0.0, 0.5, 0.0),
+        ];
+        let triangles = vec![[0, 6, 8], [0, 7, 6], [0, 9, 7], [0, 3, 4], [0, 4, 2], [0, 1, 5], [0, 5, 3]];
+        (positions, triangles)
+    }
+
+    #[test]
+    fn generated_normals_are_angle_weighted() {
+        // Each face spans a right angle at the corner however it is split, so the angle-weighted
+        // normal is the diagonal; weighting by triangle count (3:2:2) would tilt it towards −z,
+        // by area (¼:1:1) away from it.
+        let (positions, triangles) = uneven_corner();
+        let m = generated_vertex_normals(positions, triangles, &[]);
+        let d = -Vec3::ONE.normalize();
+        assert!((m.normals[0] - d).length() < 1e-6, "{} != {d}", m.normals[0]);
+        // (0.5, 0.5, 0) is only on −z.
+        assert!((m.normals[7] - -Vec3::Z).length() < 1e-6);
+    }
+
+    #[test]
+    fn generated_normals_split_vertices_by_texcoord() {
+        let (positions, triangles) = uneven_corner();
+        // The −z triangles use texture coordinate 0 at the corner, the others 1: the corner
+        // becomes two vertices, each smoothed over its own triangles.
+        let tc: Vec<[u32; 3]> = (0..7).map(|i| if i < 3 { [0; 3] } else { [1; 3] }).collect();
+        let m = generated_vertex_normals(positions, triangles, &tc);
+        let corners: Vec<u32> = m.triangles.iter().map(|t| t[0]).collect();
+        let (z, xy) = (corners[0], corners[3]);
+        assert_eq!(corners, [vec![z; 3], vec![xy; 4]].concat());
+        assert_ne!(z, xy);
+        let (z, xy) = (z as usize, xy as usize);
+        assert_eq!(m.positions[z], m.positions[xy]);
+        assert!((m.normals[z] - -Vec3::Z).length() < 1e-6);
+        let d = -Vec3::new(1.0, 1.0, 0.0).normalize();
+        assert!((m.normals[xy] - d).length() < 1e-6, "{}", m.normals[xy]);
+        // A vertex no triangle with area uses gets Mitsuba's placeholder.
+        let m = generated_vertex_normals(vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0], vec![[0, 1, 2]], &[]);
+        assert_eq!(m.normals, vec![Vec3::X; 3]);
     }
 }

@@ -140,7 +140,7 @@ fn parse(data: &[u8], file: &Path, default_group: &str) -> Result<ParsedObj, Sce
                         s
                     }
                 };
-                geometry.face(tokens, line_no, &mut slots[slot].triangles).map_err(obj_err)?;
+                geometry.face(tokens, line_no, &mut slots[slot].triangles, None).map_err(obj_err)?;
             }
             b"o" | b"g" => {
                 let name = rest_of_line(raw, keyword);
