@@ -1,7 +1,8 @@
 //! VRML97 scenes through the public API: the hand-written Cornell box against the Mitsuba XML
 //! one, the `--export-scene` round trip, a file from a real exporter (admesh), gzip, concave
-//! faces, Inline, error positions, fuzzing (no panic, no hang), a grid loaded exactly and (ignored:
-//! a measurement) the loading speed against a raw read.
+//! faces, Inline, error positions, fuzzing (no panic, no hang), a grid loaded exactly, IES point
+//! lights (candela vs the file, errors, writer round trips, from Mitsuba XML) and (ignored: a
+//! measurement) the loading speed against a raw read.
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
@@ -820,4 +821,32 @@ fn ies_point_lights_round_trip_by_their_file() {
     unknown.point_lights[0].ies_file = None;
     let e = vrml::write_vrml(&unknown, &mut Vec::new()).unwrap_err().to_string();
     assert!(e.contains("IES profile but not the file it came from"), "{e}");
+}
+
+#[test]
+fn mitsuba_ies_emitters_convert_to_vrml_by_their_file() {
+    let (dir, _) = ies_scene("");
+    let xml = dir.path().join("scene.xml");
+    std::fs::write(
+        &xml,
+        r#"<scene version="3.0.0">
+  <emitter type="ies" id="lamp">
+    <string name="filename" value="lum/ww.ies"/>
+    <transform name="to_world"><lookat origin="1, 2, 0" target="1, 0, 0" up="0, 0, 1"/></transform>
+    <float name="lumens" value="683"/>
+  </emitter>
+  <shape type="rectangle"><bsdf type="diffuse"/></shape>
+</scene>"#,
+    )
+    .unwrap();
+    let a = load_scene(&xml).unwrap().description;
+    let written = dir.path().join("from-xml.wrl");
+    vrml::write_vrml_file(&a, &written).unwrap();
+    let b = load_scene(&written).unwrap().description;
+    let (la, lb) = (&a.point_lights[0], &b.point_lights[0]);
+    assert_eq!(la.ies_file, Some(dir.path().join("lum/ww.ies").canonicalize().unwrap()));
+    assert_eq!((&la.profile, &la.ies_file, la.position), (&lb.profile, &lb.ies_file, lb.position));
+    assert_eq!((la.intensity, la.power), (lb.intensity, lb.power));
+    let (fa, fb) = (la.orientation.unwrap(), lb.orientation.unwrap());
+    assert!((fa.n - fb.n).length() < 1e-6 && (fa.s - fb.s).length() < 1e-6, "{fa:?} vs {fb:?}");
 }
