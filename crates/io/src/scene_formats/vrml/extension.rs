@@ -27,11 +27,11 @@ PROTO PhysicalPointLight [
   field SFColor intensity 0 0 0   # radiant intensity, W/sr
   field SFColor power 0 0 0       # or: power, W (I = power / 4 pi; used if intensity is 0)
   field SFBool  on TRUE
-  field MFString iesUrl []        # optional: an IES LM-63 file (relative to this file), then
-  field SFVec3f direction 0 -1 0  #   its vertical 0 degrees (nadir) axis,
-  field SFVec3f horizontal 1 0 0  #   its horizontal 0 degrees (made perpendicular to the axis),
-  field SFFloat lumens 0          #   and intensity a colour scale of its candela (0: white)
-] { PointLight { location IS location on IS on } }  # lumens: or power in lm (if power is 0)
+  field SFFloat lumens 0          # or: power in lumens, keeping the intensity's colour
+  field MFString iesUrl []        # optional: an IES LM-63 file (relative to this file); then
+  field SFVec3f direction 0 -1 0  #   its vertical 0 degrees (nadir) axis, its horizontal
+  field SFVec3f horizontal 1 0 0  #   0 degrees, and intensity scales its candela (0: white)
+] { PointLight { location IS location on IS on } }
 PROTO PhysicalSpotLight [
   field SFVec3f location 0 0 0
   field SFVec3f direction 0 0 -1
