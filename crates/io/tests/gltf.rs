@@ -385,6 +385,53 @@ fn metallic_roughness_materials_map_to_phong_and_lambert() {
 }
 
 #[test]
+fn khr_materials_ior_follows_the_extension_and_refuses_invalid_values() {
+    // (ior, F0 expected: ((ior − 1)/(ior + 1))², 1 for the special value 0; None: an error)
+    let cases = [
+        (1.5, Some(0.04)),
+        (1.0, Some(0.0)),
+        (2.0, Some(1.0 / 9.0)),
+        (0.0, Some(1.0)),
+        (0.5, None),
+        (-1.5, None),
+        (1e39, None),
+    ];
+    for (ior, f0) in cases {
+        let text = doc(&format!(
+            r#""extensionsUsed": ["KHR_materials_ior"],
+  "materials": [{{"name": "glaze", "pbrMetallicRoughness": {{"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0, "roughnessFactor": 0.5}},
+    "extensions": {{"KHR_materials_ior": {{"ior": {ior}}}}}}}],
+  "scenes": [{{"nodes": [0]}}], "nodes": [{{"mesh": 0}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0}}, "indices": 1, "material": 0}}]}}]"#
+        ));
+        match f0 {
+            Some(f0) => {
+                let s = load_ok("ior.gltf", text.as_bytes());
+                let m = &s.description.materials[0];
+                // kd = (1 − F0)·b, ks = F0; F0 = 0 (ior 1) is a Lambert.
+                let (kd, ks) = match &m.bsdf {
+                    Bsdf::ModifiedPhong(p) => (p.kd, p.ks),
+                    Bsdf::Lambert(l) => (l.reflectance, Rgb::ZERO),
+                    other => panic!("{other:?}"),
+                };
+                assert!(
+                    close(ks, Rgb::splat(f0), 1e-6) && close(kd, Rgb::splat(0.5 * (1.0 - f0)), 1e-6),
+                    "ior {ior}: {kd:?} {ks:?}"
+                );
+            }
+            None => {
+                let e = error_of(&[("ior.gltf", text.as_bytes())]);
+                let want = "TMP/ior.gltf: material 0 (glaze): KHR_materials_ior: ior ";
+                assert!(
+                    e.starts_with(want) && e.contains("is invalid"),
+                    "ior {ior}: {e}\n  should start with\n{want}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
 fn errors_name_the_file() {
     let missing_bin = std::fs::read(testdata("gltf/cornell.gltf")).unwrap();
     let mut bad_index = quad_buffer();

@@ -1,7 +1,8 @@
 //! VRML97 scenes through the public API: the hand-written Cornell box against the Mitsuba XML
 //! one, the `--export-scene` round trip, a file from a real exporter (admesh), gzip, concave
-//! faces, Inline, error positions, fuzzing (no panic, no hang), a grid loaded exactly and (ignored:
-//! a measurement) the loading speed against a raw read.
+//! faces, Inline, error positions, fuzzing (no panic, no hang), a grid loaded exactly, IES point
+//! lights (candela vs the file, errors, writer round trips, from Mitsuba XML) and (ignored: a
+//! measurement) the loading speed against a raw read.
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
@@ -712,4 +713,140 @@ fn crease_angle_generation_is_bounded() {
     assert!(s.description.meshes[0].normals.is_empty());
     assert!(s.warnings.iter().any(|w| w.contains("creaseAngle: too many faces")), "{:?}", s.warnings);
     assert!(t.elapsed().as_secs_f32() < 5.0, "{:?}", t.elapsed());
+}
+
+/// A folder holding `lum/ww.ies` (the asymmetric wall washer test file) and `scene.wrl` with
+/// `body` after the extension's declarations and a floor triangle.
+fn ies_scene(body: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("lum")).unwrap();
+    std::fs::copy(testdata("ies/asymmetric-wallwasher.ies"), dir.path().join("lum/ww.ies")).unwrap();
+    let floor = "Shape { geometry IndexedFaceSet { coord Coordinate { point [ -5 0 -5, 5 0 -5, 0 0 5 ] } coordIndex [ 0 1 2 ] } }";
+    let path = dir.path().join("scene.wrl");
+    std::fs::write(&path, with_header(&format!("{body}\n{floor}\n"))).unwrap();
+    (dir, path)
+}
+
+/// Candela of a built point light towards world direction `d` (red channel).
+fn candela(l: &opticks_core::light::PointLight, d: Vec3) -> f32 {
+    opticks_core::light::LUMENS_PER_WATT * l.intensity.x * l.profile.shape(l.frame.to_local(d.normalize()))
+}
+
+#[test]
+fn ies_point_lights_carry_the_files_candela_in_their_frame() {
+    // Rotated 90° about z: the vertical 0° axis (0 -1 0) points along +x, horizontal 0° along +y.
+    let (_dir, path) = ies_scene(
+        "Transform { rotation 0 0 1 1.5707963267948966 children [\n\
+         DEF ww PhysicalPointLight { location 0 2 0 iesUrl [ \"http://example.com/ww.ies\" \"lum/ww.ies\" ] \
+         direction 0 -1 0 horizontal 1 0 0 }\n\
+         DEF bright PhysicalPointLight { iesUrl \"lum/ww.ies\" intensity 1 0.5 0.25 lumens 1000 }\n] }",
+    );
+    let loaded = load_scene(&path).unwrap();
+    let lights = &loaded.description.point_lights;
+    assert_eq!(lights.len(), 2);
+    let file = path.parent().unwrap().join("lum/ww.ies").canonicalize().unwrap();
+    assert_eq!(lights[0].ies_file.as_ref(), Some(&file));
+    assert_eq!((lights[0].intensity, lights[0].power), (Rgb::ONE, None));
+    assert!((lights[0].position - Vec3::new(-2.0, 0.0, 0.0)).length() < 1e-6);
+    // lumens set the flux keeping the intensity's colour (683·luminance = lumens).
+    let want = opticks_core::light::lumens_to_watts(1000.0, Rgb::new(1.0, 0.5, 0.25)).unwrap();
+    assert_eq!(lights[1].power, Some(want));
+    let scene = Scene::build(&loaded.description).unwrap();
+    let l = match &scene.lights[0] {
+        opticks_core::light::Light::Point(l) => l,
+        other => panic!("{other:?}"),
+    };
+    // The file's values × its multiplier 2 at grid angles (θ from the axis, φ = 0 or 180°).
+    let (axis, h0) = (Vec3::X, Vec3::Y);
+    let at = |theta: f32, phi0: bool| {
+        let t = theta.to_radians();
+        axis * t.cos() + h0 * (if phi0 { t.sin() } else { -t.sin() })
+    };
+    for (theta, phi0, cd) in [
+        (0.0, true, 800.0),
+        (30.0, true, 860.0),
+        (30.0, false, 360.0),
+        (60.0, true, 400.0),
+        (60.0, false, 60.0),
+        (120.0, true, 0.0),
+    ] {
+        let got = candela(l, at(theta, phi0));
+        assert!(
+            (got - cd).abs() <= 1e-3 * cd.max(1.0),
+            "θ {theta}, φ {}: {got} cd, the file {cd}",
+            if phi0 { 0 } else { 180 }
+        );
+    }
+}
+
+#[test]
+fn bad_ies_urls_and_files_are_errors_at_the_light() {
+    let cases: &[(&str, &str, &str)] = &[
+        ("PhysicalPointLight { iesUrl \"lum/none.ies\" }", "none of the URLs", ""),
+        ("PhysicalPointLight { iesUrl \"lum/bad.ies\" }", "bad.ies", "TILT"),
+        ("PhysicalPointLight { iesUrl \"lum/ww.ies\" power 1 1 1 lumens 10 }", "either power or lumens", ""),
+    ];
+    for (body, want, also) in cases {
+        let (dir, path) = ies_scene(&format!("\n\n{body}"));
+        std::fs::write(dir.path().join("lum/bad.ies"), "IESNA:LM-63-2002\n[TEST] x\n1 2 3\n").unwrap();
+        let e = load_scene(&path).unwrap_err().to_string();
+        let line = DECLARATIONS.lines().count() + 4; // the header, the declarations, two blank lines
+        let at = format!("{}:{line}:1: ", path.display());
+        assert!(
+            e.starts_with(&at) && e.contains(want) && e.contains(also),
+            "got:  {e}\nwant: {at}… {want} … {also}"
+        );
+    }
+}
+
+#[test]
+fn ies_point_lights_round_trip_by_their_file() {
+    let (_dir, path) = ies_scene(
+        "PhysicalPointLight { location 1 2 3 iesUrl \"lum/ww.ies\" direction 0.3 -1 0.1 horizontal 0 0 1 \
+         intensity 0.5 1 2 power 7 8 9 }",
+    );
+    let a = load_scene(&path).unwrap().description;
+    // Written elsewhere: the URL is the file's absolute path.
+    let out = tempfile::tempdir().unwrap();
+    let written = out.path().join("copy.wrl");
+    vrml::write_vrml_file(&a, &written).unwrap();
+    let b = load_scene(&written).unwrap().description;
+    let (la, lb) = (&a.point_lights[0], &b.point_lights[0]);
+    assert_eq!((&la.profile, &la.ies_file, la.position), (&lb.profile, &lb.ies_file, lb.position));
+    assert_eq!((la.intensity, la.power), (lb.intensity, lb.power));
+    let (fa, fb) = (la.orientation.unwrap(), lb.orientation.unwrap());
+    assert!((fa.n - fb.n).length() < 1e-6 && (fa.s - fb.s).length() < 1e-6, "{fa:?} vs {fb:?}");
+    // A table whose file is not known cannot be written by reference.
+    let mut unknown = a.clone();
+    unknown.point_lights[0].ies_file = None;
+    let e = vrml::write_vrml(&unknown, &mut Vec::new()).unwrap_err().to_string();
+    assert!(e.contains("IES profile but not the file it came from"), "{e}");
+}
+
+#[test]
+fn mitsuba_ies_emitters_convert_to_vrml_by_their_file() {
+    let (dir, _) = ies_scene("");
+    let xml = dir.path().join("scene.xml");
+    std::fs::write(
+        &xml,
+        r#"<scene version="3.0.0">
+  <emitter type="ies" id="lamp">
+    <string name="filename" value="lum/ww.ies"/>
+    <transform name="to_world"><lookat origin="1, 2, 0" target="1, 0, 0" up="0, 0, 1"/></transform>
+    <float name="lumens" value="683"/>
+  </emitter>
+  <shape type="rectangle"><bsdf type="diffuse"/></shape>
+</scene>"#,
+    )
+    .unwrap();
+    let a = load_scene(&xml).unwrap().description;
+    let written = dir.path().join("from-xml.wrl");
+    vrml::write_vrml_file(&a, &written).unwrap();
+    let b = load_scene(&written).unwrap().description;
+    let (la, lb) = (&a.point_lights[0], &b.point_lights[0]);
+    assert_eq!(la.ies_file, Some(dir.path().join("lum/ww.ies").canonicalize().unwrap()));
+    assert_eq!((&la.profile, &la.ies_file, la.position), (&lb.profile, &lb.ies_file, lb.position));
+    assert_eq!((la.intensity, la.power), (lb.intensity, lb.power));
+    let (fa, fb) = (la.orientation.unwrap(), lb.orientation.unwrap());
+    assert!((fa.n - fb.n).length() < 1e-6 && (fa.s - fb.s).length() < 1e-6, "{fa:?} vs {fb:?}");
 }

@@ -81,6 +81,9 @@ pub struct PointLightDesc {
     /// If set, the power Φ (W per channel), overriding `intensity` (which then follows from
     /// it: intensity = Φ/∫s dω).
     pub power: Option<Rgb>,
+    /// The IES file an [`EmissionProfile::Ies`] profile was read from, if known (so a writer
+    /// can refer to it rather than drop the table).
+    pub ies_file: Option<std::path::PathBuf>,
 }
 
 /// A directional (sun) light covering the whole scene.

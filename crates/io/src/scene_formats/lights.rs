@@ -1,5 +1,5 @@
 //! Light conversions shared by the scene loaders (Mitsuba, VRML97, glTF): a spot light's profile
-//! and frame, and a directional light, built and checked once so every format maps its fields to
+//! and frame, an IES luminaire file, and a directional light, built and checked once so every format maps its fields to
 //! the same core lights. Each loader turns a [`LightError`] into its own located message (with
 //! its own field names and units).
 
@@ -19,6 +19,39 @@ pub enum LightError {
     Axis,
     /// The intensity or irradiance is negative or not finite.
     Negative,
+}
+
+/// An IES (LM-63) file read and checked as a light's profile: its candela grid, the flux that
+/// distribution carries (W per unit colour: lumens/683) and, when the file's rated lumens
+/// differ from that flux by more than 5 %, a warning saying so.
+pub struct IesLuminaire {
+    /// The photometric grid.
+    pub profile: opticks_core::light::IesProfile,
+    /// Flux of the candela distribution, W (into the front hemisphere if built so).
+    pub watts: f32,
+    /// The rated-lumens mismatch, if any, as a message for the loader to place.
+    pub warning: Option<String>,
+}
+
+/// Reads the IES file at `path` and builds it as a point light's profile, or an area light's
+/// (cut at 90°) if `hemisphere`. The error message names the IES file (and its line).
+pub fn ies_luminaire(path: &std::path::Path, hemisphere: bool) -> Result<IesLuminaire, String> {
+    let ies = crate::ies::load_ies(path).map_err(|e| e.to_string())?;
+    let built =
+        opticks_core::light::BuiltProfile::build(&EmissionProfile::Ies(ies.profile.clone()), hemisphere)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    let watts = built.integral();
+    let warning = ies.rated_lumens().and_then(|rated| {
+        let actual = watts * opticks_core::light::LUMENS_PER_WATT;
+        let part = if hemisphere { " into the front hemisphere (an area light is one-sided)" } else { "" };
+        ((actual / rated - 1.0).abs() > 0.05).then(|| {
+            format!(
+                "the file rates {rated} lm but its candela distribution carries {actual:.1} lm{part}; \
+                 the distribution's flux is used"
+            )
+        })
+    });
+    Ok(IesLuminaire { profile: ies.profile, watts, warning })
 }
 
 /// The core's spot profile: full intensity within `beam` of the axis, falling linearly in angle
@@ -69,6 +102,7 @@ pub fn spot_light(
         profile: Some(spot_profile(cutoff, beam)?),
         orientation: Some(axis_frame(axis, DVec3::X)?),
         power: None,
+        ies_file: None,
     })
 }
 

@@ -361,6 +361,8 @@ struct AreaEmission {
 struct Ies {
     profile: opticks_core::light::IesProfile,
     watts: f32,
+    /// The file it was read from (kept on point lights, for writers).
+    path: std::path::PathBuf,
 }
 
 struct Interior<'a, 'i> {
@@ -1582,31 +1584,17 @@ impl<'a, 'i> Ctx<'a, 'i> {
     ) -> Result<Option<(Ies, f32, Node<'a, 'i>)>> {
         let Some((file, fnode)) = self.get_string(p, "filename")? else { return Ok(None) };
         let path = self.dir.join(&file);
-        let ies = crate::ies::load_ies(&path).map_err(|e| self.err(fnode, e.to_string()))?;
-        let built =
-            opticks_core::light::BuiltProfile::build(&EmissionProfile::Ies(ies.profile.clone()), hemisphere)
-                .map_err(|e| self.err(fnode, format!("{}: {e}", path.display())))?;
-        let watts = built.integral();
-        if let Some(rated) = ies.rated_lumens() {
-            let actual = watts * opticks_core::light::LUMENS_PER_WATT;
-            if (actual / rated - 1.0).abs() > 0.05 {
-                let part =
-                    if hemisphere { " into the front hemisphere (an area light is one-sided)" } else { "" };
-                self.warn(
-                    fnode,
-                    format!(
-                        "the file rates {rated} lm but its candela distribution carries {actual:.1} lm{part}; \
-                         the distribution's flux is used"
-                    ),
-                );
-            }
+        let ies = lights::ies_luminaire(&path, hemisphere).map_err(|e| self.err(fnode, e))?;
+        if let Some(w) = ies.warning {
+            self.warn(fnode, w);
         }
         let scale = match self.get_float(p, "scale")? {
             Some((scale, snode)) if scale < 0.0 => return Err(self.err(snode, "scale must not be negative")),
             Some((scale, _)) => scale as f32,
             None => 1.0,
         };
-        Ok(Some((Ies { profile: ies.profile, watts }, scale, fnode)))
+        let path = path.canonicalize().unwrap_or(path); // absolute, for writers
+        Ok(Some((Ies { profile: ies.profile, watts: ies.watts, path }, scale, fnode)))
     }
 
     /// An emitter's `power` (W per channel) or `lumens` (converted keeping the colour `colour`,
@@ -1699,6 +1687,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
             light.intensity *= scale;
             light.power = self.power_or_lumens(&mut p, light.intensity, "intensity")?;
             light.profile = Some(EmissionProfile::Ies(ies.profile));
+            light.ies_file = Some(ies.path);
         }
         self.finish(&p);
         Ok(light)

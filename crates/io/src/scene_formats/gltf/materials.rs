@@ -4,7 +4,8 @@
 //! ```text
 //! F0  = 0.04 · specularFactor · specularColorFactor    (dielectric reflectance at normal incidence;
 //!                                                       0.04 is ((ior−1)/(ior+1))² for ior = 1.5,
-//!                                                       KHR_materials_ior changes it)
+//!                                                       KHR_materials_ior changes it: ior ≥ 1,
+//!                                                       or 0 for F0 = 1; other values are errors)
 //! ks  = (1 − m) · F0 + m · b                           (metals reflect their base colour)
 //! kd  = (1 − m) · (1 − F0) · b                         (what the dielectric's Fresnel layer lets through)
 //! α   = r²,  n = 2/α² − 2  (clamped to [0, 10⁶])       (Phong exponent of the GGX/Beckmann roughness α)
@@ -101,8 +102,15 @@ pub fn convert(mat: &::gltf::Material<'_>, name: &str) -> Result<Converted, Stri
             return Err(format!("{what} must be finite and non-negative"));
         }
     }
+    // KHR_materials_ior allows ior ≥ 1 and the special value 0, "the Fresnel term evaluates to
+    // 1": ((0 − 1)/(0 + 1))² = 1 gives that F0. Anything else breaks the schema.
     let ior = mat.ior().unwrap_or(1.5);
-    let f0_ior = if ior.is_finite() && ior >= 1.0 { ((ior - 1.0) / (ior + 1.0)).powi(2) } else { 0.04 };
+    if !(ior == 0.0 || (ior.is_finite() && ior >= 1.0)) {
+        return Err(format!(
+            "KHR_materials_ior: ior {ior} is invalid (the extension allows a finite value ≥ 1, or 0 for a Fresnel term of 1)"
+        ));
+    }
+    let f0_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
     let f0 = match mat.specular() {
         Some(s) => {
             let [cr, cg, cb] = s.specular_color_factor();

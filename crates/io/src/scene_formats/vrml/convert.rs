@@ -213,7 +213,7 @@ pub fn transform_matrix(n: &Node) -> DMat4 {
 impl Converter {
     // ----- messages -----
 
-    fn file(&self) -> &Path {
+    pub(super) fn file(&self) -> &Path {
         self.files.last().map(PathBuf::as_path).unwrap_or(Path::new(""))
     }
 
@@ -302,10 +302,7 @@ impl Converter {
             },
             "Shape" => self.shape(n, m),
             "Viewpoint" => self.viewpoint(n, m),
-            "PointLight" => {
-                self.point_light(n, m);
-                Ok(())
-            }
+            "PointLight" => self.point_light(n, m),
             "SpotLight" => self.spot_light(n, m),
             "DirectionalLight" => self.directional_light(n, m, depth),
             "Inline" => self.inline(n, m, depth),

@@ -27,6 +27,10 @@ PROTO PhysicalPointLight [
   field SFColor intensity 0 0 0   # radiant intensity, W/sr
   field SFColor power 0 0 0       # or: power, W (I = power / 4 pi; used if intensity is 0)
   field SFBool  on TRUE
+  field SFFloat lumens 0          # or: power in lumens, keeping the intensity's colour
+  field MFString iesUrl []        # optional: an IES LM-63 file (relative to this file); then
+  field SFVec3f direction 0 -1 0  #   its vertical 0 degrees (nadir) axis, its horizontal
+  field SFVec3f horizontal 1 0 0  #   0 degrees, and intensity scales its candela (0: white)
 ] { PointLight { location IS location on IS on } }
 PROTO PhysicalSpotLight [
   field SFVec3f location 0 0 0
@@ -52,7 +56,16 @@ PROTO PhysicalViewpoint [
 ] { Viewpoint { position IS position orientation IS orientation fieldOfView IS fieldOfView description IS description } }
 "#;
 
-/// The six extension PROTOs and their interfaces (names and types, in any order).
+/// Optional fields of an extension PROTO (added after files were written without them).
+const OPTIONAL: &[(&str, &[(&str, FieldType)])] = {
+    use FieldType::*;
+    &[(
+        "PhysicalPointLight",
+        &[("iesUrl", MFString), ("direction", SFVec3f), ("horizontal", SFVec3f), ("lumens", SFFloat)],
+    )]
+};
+
+/// The six extension PROTOs and their required interfaces (names and types, in any order).
 const INTERFACES: &[(&str, &[(&str, FieldType)])] = {
     use FieldType::*;
     &[
@@ -109,15 +122,19 @@ pub fn is_extension_name(name: &str) -> bool {
 }
 
 /// Whether `p` is an extension PROTO declared with the documented interface (field or
-/// exposedField, any order; nothing missing, nothing extra).
+/// exposedField, any order; no required field missing, nothing extra; optional fields may be
+/// left out).
 pub fn conforms(p: &ProtoDef) -> bool {
     let Some((_, want)) = INTERFACES.iter().find(|(n, _)| *n == p.name) else { return false };
+    let optional = OPTIONAL.iter().find(|(n, _)| *n == p.name).map_or(&[][..], |(_, o)| o);
+    let documented =
+        |name: &str, ty: FieldType| want.iter().chain(optional).any(|&(n, t)| n == name && t == ty);
     p.body.is_some()
-        && p.interface.len() == want.len()
-        && want.iter().all(|(name, ty)| {
-            p.interface
-                .iter()
-                .any(|d| d.name == *name && d.ty == *ty && matches!(d.kind, "field" | "exposedField"))
+        && want.iter().all(|(name, _)| p.interface.iter().any(|d| d.name == *name))
+        && p.interface.iter().enumerate().all(|(i, d)| {
+            documented(&d.name, d.ty)
+                && matches!(d.kind, "field" | "exposedField")
+                && p.interface[..i].iter().all(|e| e.name != d.name)
         })
 }
 
@@ -143,5 +160,18 @@ mod tests {
         let other = parse("#VRML V2.0 utf8\nPROTO PhysicalMaterial [ field SFColor diffuse 1 1 1 ] { Material {} } PhysicalMaterial {}")
             .unwrap();
         assert!(!conforms(&other.nodes[0].proto.as_ref().unwrap().proto));
+        // The optional fields may be left out (files written before they existed), not retyped.
+        let old = parse(
+            "#VRML V2.0 utf8\nPROTO PhysicalPointLight [ field SFVec3f location 0 0 0 field SFColor intensity 0 0 0 \
+             field SFColor power 0 0 0 field SFBool on TRUE ] { PointLight {} } PhysicalPointLight {}",
+        )
+        .unwrap();
+        assert!(conforms(&old.nodes[0].proto.as_ref().unwrap().proto));
+        let retyped = parse(
+            "#VRML V2.0 utf8\nPROTO PhysicalPointLight [ field SFVec3f location 0 0 0 field SFColor intensity 0 0 0 \
+             field SFColor power 0 0 0 field SFBool on TRUE field SFString iesUrl \"\" ] { PointLight {} } PhysicalPointLight {}",
+        )
+        .unwrap();
+        assert!(!conforms(&retyped.nodes[0].proto.as_ref().unwrap().proto));
     }
 }

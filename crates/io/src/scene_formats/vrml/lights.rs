@@ -1,6 +1,7 @@
 //! VRML97 lights → the core's lights: `PointLight`, `SpotLight` and `DirectionalLight`, and the
 //! extension's `PhysicalPointLight`, `PhysicalSpotLight` and `PhysicalDirectionalLight` (in
-//! W/sr, W or W/m²). The spot and directional lights are built by the loaders' shared
+//! W/sr, W or W/m²; a `PhysicalPointLight` may carry an IES LM-63 file, `iesUrl`, read by the
+//! loaders' shared [`lights::ies_luminaire`], and give its power in lumens). The spot and directional lights are built by the loaders' shared
 //! [`crate::scene_formats::lights`], so they mean what Mitsuba's `spot` and `directional` mean.
 //!
 //! VRML97 semantics kept: `location`, `direction`, `color` × `intensity`, `on`; a spot is full
@@ -17,9 +18,11 @@ use super::tree::{FieldValue, Node, ProtoInstance};
 use crate::scene_formats::SceneFileError;
 use crate::scene_formats::lights::{self, LightError};
 use glam::{DMat4, DVec3};
+use opticks_core::light::{EmissionProfile, lumens_to_watts};
 use opticks_core::math::Rgb;
 use opticks_core::scene::PointLightDesc;
 use std::f64::consts::FRAC_PI_2;
+use std::path::{Path, PathBuf};
 
 /// Radiant intensity of a standard PointLight or SpotLight of `intensity` 1 and white `color`,
 /// W/sr.
@@ -78,29 +81,83 @@ impl Converter {
         rgb(n.vec3("color", [1.0; 3])) * (n.float("intensity", 1.0) * unit)
     }
 
-    pub(super) fn point_light(&mut self, n: &Node, m: &DMat4) {
-        let (location, intensity, on) = match self.extension(n, "PhysicalPointLight") {
-            Some(p) => {
-                let (i, phi) = (colour(p, "intensity"), colour(p, "power"));
-                let intensity = if i != Rgb::ZERO { i } else { phi / (4.0 * std::f32::consts::PI) };
-                (vec3(p, "location", [0.0; 3]), intensity, on(p))
+    pub(super) fn point_light(&mut self, n: &Node, m: &DMat4) -> Result<()> {
+        let Some(p) = self.extension(n, "PhysicalPointLight") else {
+            self.standard_light_notes(n);
+            let intensity = self.standard_colour(n, POINT_LIGHT_INTENSITY);
+            if n.bool("on", true) {
+                let position = m.transform_point3(dv(n.vec3("location", [0.0; 3])));
+                self.out.point_lights.push(PointLightDesc {
+                    name: name(n),
+                    source: self.source(n),
+                    position: position.as_vec3(),
+                    intensity,
+                    ..Default::default()
+                });
             }
-            None => {
-                self.standard_light_notes(n);
-                let i = self.standard_colour(n, POINT_LIGHT_INTENSITY);
-                (dv(n.vec3("location", [0.0; 3])), i, n.bool("on", true))
-            }
+            return Ok(());
         };
-        if !on {
-            return;
+        if !on(p) {
+            return Ok(());
         }
-        self.out.point_lights.push(PointLightDesc {
+        let (i, phi, lumens) = (colour(p, "intensity"), colour(p, "power"), float(p, "lumens", 0.0));
+        let mut light = PointLightDesc {
             name: name(n),
             source: self.source(n),
-            position: m.transform_point3(location).as_vec3(),
-            intensity,
+            position: m.transform_point3(vec3(p, "location", [0.0; 3])).as_vec3(),
+            intensity: if i != Rgb::ZERO { i } else { phi / (4.0 * std::f32::consts::PI) },
             ..Default::default()
-        });
+        };
+        if let Some((path, ies)) = self.ies_url(n, p)? {
+            // The file's candela, scaled per channel by `intensity` (white if not given).
+            light.intensity = if i != Rgb::ZERO { i } else { Rgb::ONE };
+            light.power = (phi != Rgb::ZERO).then_some(phi);
+            let axis = m.transform_vector3(vec3(p, "direction", [0.0, -1.0, 0.0]));
+            let horizontal = m.transform_vector3(vec3(p, "horizontal", [1.0, 0.0, 0.0]));
+            light.orientation = Some(
+                lights::axis_frame(axis, horizontal).map_err(|e| self.invalid(n, message(e, "intensity")))?,
+            );
+            light.profile = Some(EmissionProfile::Ies(ies.profile));
+            if let Some(w) = ies.warning {
+                self.warn(n, format!("{}: {w}", path.display()));
+            }
+            light.ies_file = Some(path);
+        }
+        if lumens != 0.0 {
+            if phi != Rgb::ZERO {
+                return Err(self.invalid(n, "give either power or lumens, not both"));
+            }
+            if !(lumens.is_finite() && lumens > 0.0) {
+                return Err(self.invalid(n, message(LightError::Negative, "lumens")));
+            }
+            // The colour is the intensity's (white if not given); lumens set the flux.
+            light.intensity = if i != Rgb::ZERO { i } else { Rgb::ONE };
+            light.power = Some(lumens_to_watts(lumens as f32, light.intensity).ok_or_else(|| {
+                self.invalid(n, "lumens need the intensity colour to have non-zero luminance")
+            })?);
+        }
+        self.out.point_lights.push(light);
+        Ok(())
+    }
+
+    /// A `PhysicalPointLight`'s `iesUrl`: the first URL naming a local file (relative to the
+    /// file being read, as for `Inline`), read and checked; `None` if no URL is given. A URL
+    /// list naming no readable file, or a malformed file, is an error at the node.
+    fn ies_url(&self, n: &Node, p: &ProtoInstance) -> Result<Option<(PathBuf, lights::IesLuminaire)>> {
+        let urls = match p.get("iesUrl") {
+            Some(FieldValue::Strs(v)) if !v.is_empty() => v,
+            _ => return Ok(None),
+        };
+        let dir = self.file().parent().map(Path::to_path_buf).unwrap_or_default();
+        let Some(path) = urls.iter().find_map(|u| super::local_url(&dir, u).map(|(p, _)| p)) else {
+            return Err(
+                self.invalid(n, format!("iesUrl: none of the URLs {urls:?} is a readable local file"))
+            );
+        };
+        // Absolute, so a writer can refer to it from anywhere.
+        let path = path.canonicalize().unwrap_or(path);
+        let ies = lights::ies_luminaire(&path, false).map_err(|e| self.invalid(n, format!("iesUrl: {e}")))?;
+        Ok(Some((path, ies)))
     }
 
     pub(super) fn spot_light(&mut self, n: &Node, m: &DMat4) -> Result<()> {

@@ -1,20 +1,24 @@
 //! Writes a [`SceneDescription`] as VRML97 with the Opticks extension ([`super::extension`]):
-//! the PROTO declarations, a `PhysicalViewpoint`, `PhysicalPointLight`s, `PhysicalSpotLight`s,
+//! the PROTO declarations, a `PhysicalViewpoint`, `PhysicalPointLight`s (isotropic or IES),
+//! `PhysicalSpotLight`s,
 //! `PhysicalDirectionalLight`s, and one `Shape` with a world-space `IndexedFaceSet` per mesh, its
 //! material a `PhysicalMaterial` (shared with `DEF`/`USE`) or, for an emitter, an `AreaLight`
 //! carrying its radiance, emission function (Lambertian, uniform or cosⁿ) and reflectance.
 //!
 //! Numbers are written in Rust's shortest round-trip form, so reading the file back gives the
-//! same positions, colours and exponents bit for bit. A `.gz` path is gzip-compressed. Lights
-//! the extension cannot express (IES tables, a spot profile on an area light) are an
-//! `InvalidInput` error rather than silently dropped.
+//! same positions, colours and exponents bit for bit. A `.gz` path is gzip-compressed. A point
+//! light with an IES profile is written as a `PhysicalPointLight` whose `iesUrl` is the file it
+//! was read from ([`PointLightDesc::ies_file`](opticks_core::scene::PointLightDesc), absolute as
+//! the loaders keep it). Lights the extension cannot express (an IES table whose file is not
+//! known, an IES or spot profile on an area light) are an `InvalidInput` error rather than
+//! silently dropped.
 
 use super::extension::DECLARATIONS;
 use super::parser::is_keyword;
 use glam::{DMat3, DQuat, DVec3};
 use opticks_core::bsdf::{Bsdf, Material};
 use opticks_core::light::EmissionProfile;
-use opticks_core::math::Rgb;
+use opticks_core::math::{Frame, Rgb, Vec3};
 use opticks_core::scene::{CameraDesc, SceneDescription};
 use std::collections::HashSet;
 use std::io::{self, BufWriter, Write};
@@ -41,8 +45,20 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
     let unsupported = desc
         .point_lights
         .iter()
-        .find(|l| !matches!(l.profile, None | Some(EmissionProfile::Uniform | EmissionProfile::Spot { .. })))
-        .map(|l| format!("point light {} has an emission profile other than isotropic or spot", l.name))
+        .find_map(|l| match (&l.profile, &l.ies_file) {
+            (None | Some(EmissionProfile::Uniform | EmissionProfile::Spot { .. }), _) => None,
+            (Some(EmissionProfile::Ies(_)), Some(f)) if f.to_str().is_some() => None,
+            (Some(EmissionProfile::Ies(_)), Some(f)) => {
+                Some(format!("point light {}'s IES file {} is not a UTF-8 path", l.name, f.display()))
+            }
+            (Some(EmissionProfile::Ies(_)), None) => Some(format!(
+                "point light {} has an IES profile but not the file it came from (the extension refers to IES files by URL)",
+                l.name
+            )),
+            (Some(_), _) => {
+                Some(format!("point light {} has an emission profile other than isotropic, spot or IES", l.name))
+            }
+        })
         .or_else(|| {
             desc.meshes
                 .iter()
@@ -82,6 +98,16 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
                 None => writeln!(w, "  intensity {}", v3(l.intensity))?,
             }
             writeln!(w, "  beamWidth {beam_width}\n  cutOffAngle {cutoff_angle}\n}}")?;
+        } else if let (Some(EmissionProfile::Ies(_)), Some(file)) = (&l.profile, &l.ies_file) {
+            writeln!(w, "DEF {} PhysicalPointLight {{", names.fresh(&l.name))?;
+            let frame = l.orientation.unwrap_or(Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z });
+            writeln!(w, "  location {}\n  iesUrl {}", v3(l.position), vrml_string(&file.to_string_lossy()))?;
+            writeln!(w, "  direction {}\n  horizontal {}", v3(frame.n), v3(frame.s))?;
+            writeln!(w, "  intensity {}", v3(l.intensity))?;
+            if let Some(p) = l.power {
+                writeln!(w, "  power {}", v3(p))?;
+            }
+            writeln!(w, "}}")?;
         } else {
             writeln!(w, "DEF {} PhysicalPointLight {{", names.fresh(&l.name))?;
             let intensity = l.power.map_or(l.intensity, |p| p / (4.0 * std::f32::consts::PI));
@@ -143,6 +169,11 @@ fn area_emission(p: Option<&EmissionProfile>) -> Option<String> {
         Some(EmissionProfile::CosinePower { exponent }) => Some(format!("cosine {exponent}")),
         Some(EmissionProfile::Spot { .. } | EmissionProfile::Ies(_)) => None,
     }
+}
+
+/// `text` as a VRML SFString: quoted, with `"` and `\` escaped.
+fn vrml_string(text: &str) -> String {
+    format!("\"{}\"", text.replace('\\', "\\\\").replace('"', "\\\""))
 }
 
 fn v3(v: Rgb) -> String {
