@@ -10,7 +10,7 @@ use common::*;
 use opticks_core::bsdf::{Bsdf, Material, ModifiedPhong};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
-use opticks_core::scene::{CameraDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, Pinhole, Scene, SceneDescription};
 use opticks_core::trace::{TraceSettings, trace_path};
 use std::f64::consts::PI;
 
@@ -112,13 +112,7 @@ fn point_light_over_plane(material: Material, brdf: &dyn Fn([f64; 3], [f64; 3]) 
     let desc = SceneDescription {
         materials: vec![material],
         meshes: vec![plane],
-        point_lights: vec![PointLightDesc {
-            name: "bulb".into(),
-            source: Default::default(),
-            position: light_pos,
-            intensity: Rgb::splat(intensity),
-            ..Default::default()
-        }],
+        point_lights: vec![point_light("bulb", light_pos, Rgb::splat(intensity))],
         camera: Some(cam_desc),
         ..Default::default()
     };
@@ -193,13 +187,7 @@ fn phong_floor_reflects_its_directional_albedo() {
             lambert("black", 0.0, false),
         ],
         meshes,
-        point_lights: vec![PointLightDesc {
-            name: "bulb".into(),
-            source: Default::default(),
-            position: light,
-            intensity: Rgb::splat(intensity),
-            ..Default::default()
-        }],
+        point_lights: vec![point_light("bulb", light, Rgb::splat(intensity))],
         ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();

@@ -103,13 +103,7 @@ fn meter_matches_point_light_inverse_square_law() {
     let desc = SceneDescription {
         materials: vec![lambert("black", 0.0, false)],
         meshes: vec![floor(50.0, 0)],
-        point_lights: vec![PointLightDesc {
-            name: "bulb".into(),
-            source: Default::default(),
-            position: light,
-            intensity: Rgb::splat(intensity),
-            ..Default::default()
-        }],
+        point_lights: vec![point_light("bulb", light, Rgb::splat(intensity))],
         camera: None,
         ..Default::default()
     };

@@ -8,7 +8,7 @@ use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, Pinhole, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
 use opticks_core::sensor::{SampleBatch, Sensor, render};
 use opticks_core::trace::{TraceSettings, trace};
 use std::path::{Path, PathBuf};
@@ -304,4 +304,9 @@ pub fn icosphere(name: &str, centre: Vec3, radius: f32, levels: u32, material: u
 pub fn turned_inside_out(mut mesh: MeshDesc) -> MeshDesc {
     mesh.triangles.iter_mut().for_each(|t| t.swap(1, 2));
     mesh
+}
+
+/// An isotropic point light named `name` at `position`, of intensity `intensity` (W/sr).
+pub fn point_light(name: &str, position: Vec3, intensity: Rgb) -> PointLightDesc {
+    PointLightDesc { name: name.into(), position, intensity, ..Default::default() }
 }
