@@ -208,7 +208,7 @@ pub fn trace_path(
     }
     stack.clear();
     stack.push(Branch { origin, dir: e.dir, beta: e.weight, depth: 0, delta_run: 0, absorption: Rgb::ZERO });
-    while let Some(b) = stack.pop() {
+    while let Some(mut b) = stack.pop() {
         let Some(hit) = scene.intersect(&Ray { origin: b.origin, dir: b.dir, t_max: f32::INFINITY }) else {
             continue;
         };
@@ -219,7 +219,6 @@ pub fn trace_path(
         if material.frame_for(normals, wi).is_none() {
             continue; // the back of a one-sided surface: black, absorbs everything
         }
-        let mut b = b;
         if b.absorption != Rgb::ZERO {
             b.beta *= (-b.absorption * hit.t).exp(); // Beer–Lambert along the segment
         }
@@ -384,14 +383,15 @@ pub fn trace_plan<E>(
 /// paths: the blocks an interrupted run of the plan completed (it stops between blocks, in
 /// order). `None` if no prefix of blocks holds that many.
 pub fn blocks_done(plan: &[LightPlan], paths: u64) -> Option<usize> {
+    let blocks = interleaved_blocks(plan);
     let mut sum = 0;
-    for (i, &(_, _, n)) in interleaved_blocks(plan).iter().enumerate() {
+    for (i, &(_, _, n)) in blocks.iter().enumerate() {
         if sum == paths {
             return Some(i);
         }
         sum += n;
     }
-    (sum == paths).then_some(interleaved_blocks(plan).len())
+    (sum == paths).then_some(blocks.len())
 }
 
 /// [`trace_plan`] without its first `first_block` blocks: resumes a run of the plan that was
