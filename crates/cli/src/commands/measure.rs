@@ -15,14 +15,12 @@ use super::{DatasetArgs, ThreadArgs};
 use crate::camera_args::parse_vec3;
 use crate::progress;
 use anyhow::{Context, Result, bail};
+use opticks_core::light::LUMENS_PER_WATT;
 use opticks_core::math::Vec3;
 use opticks_core::sensor::{IlluminanceMeter, measure};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
-
-/// Luminous efficacy used for the photometric column, lm/W.
-pub const LUMENS_PER_WATT: f64 = 683.0;
 
 /// Arguments of `opticks measure`.
 #[derive(clap::Args, Debug)]
@@ -103,7 +101,7 @@ pub fn run(a: Args) -> Result<()> {
     let lux: Vec<f64> = film
         .pixels
         .iter()
-        .map(|e| LUMENS_PER_WATT * (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]))
+        .map(|e| f64::from(LUMENS_PER_WATT) * (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]))
         .collect();
     let mut csv = String::from("i,j,x,y,z,E_R,E_G,E_B,E_v_lux\n");
     for j in 0..ny {

@@ -33,12 +33,10 @@ use super::{FileLocation, LoadedScene, SceneFileError};
 use ::gltf::camera::Projection;
 use ::gltf::khr_lights_punctual::Kind;
 use ::gltf::mesh::Mode;
+use opticks_core::light::LUMENS_PER_WATT;
 use opticks_core::math::{Mat4, Rgb, Vec3};
 use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
 use std::path::Path;
-
-/// Luminous efficacy used to turn candela into W/sr, lm/W.
-pub const LUMENS_PER_WATT: f32 = 683.0;
 
 /// The narrowest full-intensity cone of a glTF spot, as a fraction of its outer cone (the core's
 /// spot needs a positive beam; glTF allows `innerConeAngle` 0).
@@ -274,27 +272,26 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
         }
         if let Some(light) = node.light() {
             let lname = light.name().map_or_else(|| format!("light {}", light.index()), str::to_string);
+            let bad =
+                |e: LightError| invalid(format!("{element}: {lname}"), light_message(e, "color × intensity"));
+            // glTF gives candela (point, spot) or lux (directional): ÷ 683 is W/sr or W/m².
+            let [r, g, b] = light.color();
+            let amount = Rgb::new(r, g, b) * (light.intensity() / LUMENS_PER_WATT);
+            let (position, axis) = (m.transform_point3(Vec3::ZERO), m.transform_vector3(Vec3::NEG_Z));
             match light.kind() {
                 Kind::Point => {
-                    let [r, g, b] = light.color();
-                    let intensity = Rgb::new(r, g, b) * (light.intensity() / LUMENS_PER_WATT);
-                    if !intensity.is_finite() || intensity.min_element() < 0.0 {
-                        return Err(invalid(
-                            format!("{element}: {lname}"),
-                            light_message(LightError::Negative, "color × intensity"),
-                        ));
+                    if !amount.is_finite() || amount.min_element() < 0.0 {
+                        return Err(bad(LightError::Negative));
                     }
                     desc.point_lights.push(PointLightDesc {
-                        name: lname,
+                        name: lname.clone(),
                         source: source.clone(),
-                        position: m.transform_point3(Vec3::ZERO),
-                        intensity,
+                        position,
+                        intensity: amount,
                         ..Default::default()
                     });
                 }
                 Kind::Spot { inner_cone_angle, outer_cone_angle } => {
-                    let [r, g, b] = light.color();
-                    let intensity = Rgb::new(r, g, b) * (light.intensity() / LUMENS_PER_WATT);
                     let (outer, inner) = (f64::from(outer_cone_angle), f64::from(inner_cone_angle));
                     // The core's spot needs a positive beam: an inner cone of 0 falls off from
                     // (almost) the axis.
@@ -302,29 +299,19 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     let spot = lights::spot_light(
                         lname.clone(),
                         source.clone(),
-                        m.transform_point3(Vec3::ZERO).as_dvec3(),
-                        m.transform_vector3(Vec3::NEG_Z).as_dvec3(),
-                        intensity,
+                        position.as_dvec3(),
+                        axis.as_dvec3(),
+                        amount,
                         outer,
                         beam,
                     )
-                    .map_err(|e| {
-                        invalid(format!("{element}: {lname}"), light_message(e, "color × intensity"))
-                    })?;
+                    .map_err(bad)?;
                     desc.point_lights.push(spot);
                 }
                 Kind::Directional => {
-                    let [r, g, b] = light.color();
-                    let irradiance = Rgb::new(r, g, b) * (light.intensity() / LUMENS_PER_WATT);
-                    let sun = lights::directional_light(
-                        lname.clone(),
-                        source.clone(),
-                        m.transform_vector3(Vec3::NEG_Z).as_dvec3(),
-                        irradiance,
-                    )
-                    .map_err(|e| {
-                        invalid(format!("{element}: {lname}"), light_message(e, "color × intensity"))
-                    })?;
+                    let sun =
+                        lights::directional_light(lname.clone(), source.clone(), axis.as_dvec3(), amount)
+                            .map_err(bad)?;
                     desc.directional_lights.push(sun);
                 }
             }
