@@ -312,6 +312,9 @@ fn area_light(
         Some(phi) if !(phi.is_finite() && phi.min_element() >= 0.0) => {
             return Err(bad_profile(format!("power {:?} W must be finite and non-negative", phi.to_array())));
         }
+        Some(phi) if !(area > 0.0) && phi.max_element() > 0.0 => {
+            return Err(bad_profile(format!("power {:?} W on an emitter of zero area", phi.to_array())));
+        }
         Some(phi) => {
             let per_radiance = profile.integral() * area;
             if !(per_radiance > 0.0) && phi.max_element() > 0.0 {

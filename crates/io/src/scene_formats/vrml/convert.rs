@@ -25,7 +25,6 @@ use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{CameraDesc, MeshDesc, SceneDescription, Source};
 use std::collections::{HashMap, HashSet};
-use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -94,15 +93,6 @@ impl AreaProfile {
             AreaProfile::Lambertian => None,
             AreaProfile::Uniform => Some(EmissionProfile::Uniform),
             AreaProfile::CosinePower(exponent) => Some(EmissionProfile::CosinePower { exponent }),
-        }
-    }
-
-    /// ∫ s dω over the front hemisphere: Φ = L·A·this (π for Lambertian).
-    fn integral(self) -> f64 {
-        match self {
-            AreaProfile::Lambertian => PI,
-            AreaProfile::Uniform => 2.0 * PI,
-            AreaProfile::CosinePower(n) => 2.0 * PI / (f64::from(n) + 1.0),
         }
     }
 }
@@ -392,22 +382,12 @@ impl Converter {
             }
             local.positions.iter().map(|p| m.transform_point3(p.as_dvec3()).as_vec3()).collect()
         };
-        let (emission, emission_profile) = match emission {
-            Emission::None => (None, None),
-            Emission::Radiance(l, p) => (Some(l), p.core()),
-            Emission::Power(phi, p) => {
-                let area: f64 = triangles
-                    .iter()
-                    .map(|t| {
-                        let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
-                        0.5 * (b - a).cross(c - a).length()
-                    })
-                    .sum();
-                if area.is_nan() || area <= 0.0 {
-                    return Err(self.invalid(n, "an AreaLight with `power` on a Shape of zero area"));
-                }
-                (Some(phi / (p.integral() * area) as f32), p.core())
-            }
+        // A power is the core's to turn into radiance (Φ/(A·∫s dω), `MeshDesc::emission_power`),
+        // with the scene's own areas; the radiance given then only marks the Shape as a light.
+        let (emission, emission_power, emission_profile) = match emission {
+            Emission::None => (None, None, None),
+            Emission::Radiance(l, p) => (Some(l), None, p.core()),
+            Emission::Power(phi, p) => (Some(phi), Some(phi), p.core()),
         };
         let name = n.def_name.clone().unwrap_or_else(|| format!("Shape_{}_{}", n.pos.line, n.pos.col));
         // `..Default::default()` keeps this literal valid when MeshDesc gains fields.
@@ -420,6 +400,7 @@ impl Converter {
             normals,
             material,
             emission,
+            emission_power,
             emission_profile,
             ..Default::default()
         });
@@ -677,6 +658,19 @@ impl Converter {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use opticks_core::light::Light;
+    use opticks_core::scene::Scene;
+    use std::f64::consts::PI;
+
+    /// The radiance of the area light that mesh `mesh` of `d` becomes in the built scene.
+    fn built_radiance(d: &SceneDescription, mesh: usize) -> Rgb {
+        let scene = Scene::build(d).unwrap();
+        let k = scene.light_index(&d.meshes[mesh].name).unwrap();
+        match &scene.lights[k] {
+            Light::Area(a) => a.radiance,
+            other => panic!("{other:?}"),
+        }
+    }
 
     fn load(body: &str) -> LoadedScene {
         let text = format!("#VRML V2.0 utf8\n{}\n{body}", extension::DECLARATIONS);
@@ -729,8 +723,8 @@ mod tests {
         assert!(d.materials[1].two_sided);
         assert_eq!(d.materials[1].name, "M");
         assert_eq!(d.meshes[2].material, 1);
-        // Φ = π·L·A with A = 6 m².
-        let l = d.meshes[3].emission.unwrap();
+        // Φ = π·L·A with A = 6 m² (the scene turns the given power into radiance).
+        let l = built_radiance(d, 3);
         assert!((l * (std::f32::consts::PI * 6.0) - Rgb::splat(3.0)).abs().max_element() < 1e-5, "{l:?}");
     }
 
@@ -814,12 +808,25 @@ mod tests {
         );
         let m = &s.description.meshes;
         assert_eq!(m[0].emission_profile, Some(EmissionProfile::CosinePower { exponent: 4.0 }));
-        // Φ = L·A·2π/(n+1) with A = 6 m².
-        let l = m[0].emission.unwrap().x as f64;
+        // Φ = L·A·2π/(n+1) with A = 6 m² (the scene turns the given power into radiance).
+        let l = built_radiance(&s.description, 0).x as f64;
         assert!((l * 6.0 * 2.0 * PI / 5.0 - 3.0).abs() < 1e-5, "{l}");
         assert_eq!(m[1].emission_profile, Some(EmissionProfile::Uniform));
         assert_eq!(m[2].emission_profile, None);
         assert!(s.warnings.iter().any(|w| w.contains("\"cosine -1\" is not one of")), "{:?}", s.warnings);
+    }
+
+    /// An AreaLight given by its power is written back by its power, so the light keeps Φ.
+    #[test]
+    fn the_writer_keeps_an_area_light_given_by_power() {
+        let s = load(
+            "Shape { appearance Appearance { material AreaLight { power 3 2 1 emission \"cosine 4\" } } geometry Box { size 1 1 1 } }",
+        );
+        let mut text = Vec::new();
+        super::super::writer::write_vrml(&s.description, &mut text).unwrap();
+        let back = super::super::load_str(std::str::from_utf8(&text).unwrap(), Path::new("w.wrl")).unwrap();
+        assert_eq!(back.description.meshes[0].emission_power, Some(Rgb::new(3.0, 2.0, 1.0)));
+        assert_eq!(built_radiance(&back.description, 0), built_radiance(&s.description, 0));
     }
 
     #[test]

@@ -130,7 +130,11 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
         match m.emission {
             Some(l) => {
                 let emission = area_emission(m.emission_profile.as_ref()).unwrap_or_default();
-                write!(w, "AreaLight {{ radiance {} emission \"{emission}\" ", v3(l))?;
+                // A power overrides the radiance (MeshDesc::emission_power): write it as such.
+                match m.emission_power {
+                    Some(phi) => write!(w, "AreaLight {{ power {} emission \"{emission}\" ", v3(phi))?,
+                    None => write!(w, "AreaLight {{ radiance {} emission \"{emission}\" ", v3(l))?,
+                }
                 phong_fields(w, mat)?;
                 writeln!(w, "}} }}")?;
             }
