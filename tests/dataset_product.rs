@@ -278,7 +278,7 @@ fn interrupted(args: &[&str], dir: &Path, paths: u64) -> String {
 }
 
 /// Header (without wall-clock times) and chunks: what must be identical between two runs.
-fn contents(path: &Path) -> (opticks_io::dataset_file::DatasetHeader, Vec<opticks_core::dataset::Chunk>) {
+fn contents(path: &Path) -> (opticks_core::dataset::DatasetHeader, Vec<opticks_core::dataset::Chunk>) {
     let (mut h, chunks) = opticks_io::dataset_file::read_all(path).unwrap();
     h.trace.passes.iter_mut().for_each(|p| p.seconds = 0.0);
     (h, chunks)

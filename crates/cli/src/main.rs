@@ -1,8 +1,9 @@
 //! `opticks`: the command line of the Opticks light-sampling renderer.
 //!
 //! A thin layer: arguments are parsed (clap), validated, and handed to the library crates;
-//! errors are reported with their whole chain and a non-zero exit code. No rendering logic
-//! lives here.
+//! errors are reported with their whole chain and a non-zero exit code. No rendering or
+//! dataset logic lives here: every dataset law and operation is a function of
+//! `opticks_core::dataset`, and every dataset is written by `opticks_io::dataset_job`.
 
 mod camera_args;
 mod commands;

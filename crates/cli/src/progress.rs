@@ -1,7 +1,11 @@
 //! Progress bars (indicatif) for long work: light paths traced and samples rendered, with rates.
 //! Bars draw on stderr only when it is a terminal, so scripts and CI logs stay clean.
+//! [`TraceProgress`] is what the dataset jobs of `opticks_io` report to: a bar while tracing,
+//! and Ctrl-C as the request to stop.
 
 use indicatif::{ProgressBar, ProgressStyle};
+use opticks_io::dataset_job::JobProgress;
+use std::cell::RefCell;
 
 /// A bar counting `total` items of `unit` (e.g. "paths"), showing the rate per second.
 pub fn bar(total: u64, what: &str, unit: &str) -> ProgressBar {
@@ -13,4 +17,34 @@ pub fn bar(total: u64, what: &str, unit: &str) -> ProgressBar {
         ProgressStyle::with_template(&template).expect("static template is valid").progress_chars("=> "),
     );
     pb
+}
+
+/// A "tracing … paths" bar for a dataset job, which stops on Ctrl-C (and, for tests, once
+/// `$OPTICKS_INTERRUPT_AFTER_PATHS` paths are traced: see `crate::interrupt`).
+#[derive(Default)]
+pub struct TraceProgress {
+    bar: RefCell<Option<ProgressBar>>,
+}
+
+impl JobProgress for TraceProgress {
+    fn tracing(&self, paths: u64) {
+        *self.bar.borrow_mut() = Some(bar(paths, "tracing", "paths"));
+    }
+
+    fn traced(&self, done: u64) {
+        if let Some(pb) = &*self.bar.borrow() {
+            pb.set_position(done);
+        }
+        crate::interrupt::simulate_after(done);
+    }
+
+    fn traced_all(&self) {
+        if let Some(pb) = self.bar.borrow_mut().take() {
+            pb.finish_and_clear();
+        }
+    }
+
+    fn stop(&self) -> bool {
+        crate::interrupt::requested()
+    }
 }

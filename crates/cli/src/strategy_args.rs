@@ -4,7 +4,7 @@
 //! depth 1 measured 1.1-1.2x more efficient on the Cornell box, at a little more noise per path.
 
 use clap::{Args, ValueEnum};
-use opticks_core::trace::{Directions, Roulette, Selection, TraceSettings};
+use opticks_core::dataset::{Directions, Roulette, Selection, StrategyChoice, TraceSettings};
 
 /// Russian roulette rule.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -55,26 +55,25 @@ pub struct StrategyArgs {
 impl StrategyArgs {
     /// Trace settings with these options over the defaults.
     pub fn settings(&self, paths: u64, seed: u64) -> TraceSettings {
-        self.over(TraceSettings { paths, seed, ..Default::default() })
+        self.choice().over(TraceSettings { paths, seed, ..Default::default() })
     }
 
-    /// `base` with the options given on the command line replacing its strategy.
-    pub fn over(&self, base: TraceSettings) -> TraceSettings {
-        TraceSettings {
-            rr_depth: self.rr_depth.unwrap_or(base.rr_depth),
-            roulette: self.roulette.map_or(base.roulette, |r| match r {
+    /// The options given on the command line (each replaces the strategy it is applied to).
+    pub fn choice(&self) -> StrategyChoice {
+        StrategyChoice {
+            rr_depth: self.rr_depth,
+            roulette: self.roulette.map(|r| match r {
                 RouletteArg::Energy => Roulette::Energy,
                 RouletteArg::Fixed => Roulette::Fixed,
             }),
-            directions: self.directions.map_or(base.directions, |d| match d {
+            directions: self.directions.map(|d| match d {
                 DirectionsArg::Importance => Directions::Importance,
                 DirectionsArg::Uniform => Directions::Uniform,
             }),
-            selection: self.selection.map_or(base.selection, |s| match s {
+            selection: self.selection.map(|s| match s {
                 SelectionArg::Single => Selection::Single,
                 SelectionArg::Priority => Selection::Priority,
             }),
-            ..base
         }
     }
 }

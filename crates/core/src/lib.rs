@@ -11,8 +11,9 @@
 //!   a light table and a content fingerprint.
 //! * [`trace`] runs the thesis's Algorithm 1: paths start at the lights and every non-specular
 //!   vertex is kept as a [`dataset::Sample`]. **Trace never sees a camera.**
-//! * [`dataset`] holds the sample record, the light table (Φ_k, N_k) and the laws that make
-//!   relighting and merging exact.
+//! * [`dataset`] holds the sample record, the light table (Φ_k, N_k), the header and the trace
+//!   plan, and every law and operation of the dataset (relighting, merging, refining, adding a
+//!   light, resuming, previews).
 //! * [`sensor`] connects stored samples to a sensor (pinhole camera) and accumulates a [`film::Film`].
 //!
 //! This crate does no file IO and is deterministic for a given seed.

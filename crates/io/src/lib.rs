@@ -4,6 +4,8 @@
 //!
 //! * [`scene_formats`]: scene files (Mitsuba 3 XML, OBJ) → `opticks_core::scene::SceneDescription`;
 //! * [`dataset_file`]: the persistent dataset (`.opds`): atomic writer, memory-mapped reader;
+//! * [`dataset_job`]: writing a dataset — copying chunks, tracing into it, finishing it
+//!   atomically, saving an interrupted run as `NAME.partial.opds`;
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
@@ -13,6 +15,7 @@
 pub mod camera_path_file;
 pub mod compare;
 pub mod dataset_file;
+pub mod dataset_job;
 pub mod heatmap;
 pub mod ies;
 pub mod image_file;

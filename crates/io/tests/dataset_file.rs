@@ -1,7 +1,7 @@
 //! The dataset file: round trips, atomic writes, and that every kind of damage is an error
 //! (never a panic, never a huge allocation) naming the file and the offset.
 
-use opticks_core::dataset::{Chunk, LightRecord, LightTable, Sample};
+use opticks_core::dataset::{Chunk, DatasetHeader, LightRecord, LightTable, Sample, TraceInfo, TracePass};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::Fingerprint;
 use opticks_io::dataset_file::*;

@@ -1,10 +1,12 @@
 //! `opticks demo`: the built-in Cornell box, traced and rendered in one go — no files needed.
 
-use super::{ThreadArgs, render_chunks, trace_with_progress, write_film};
+use super::{ThreadArgs, render_chunks, write_film};
 use crate::camera_args::CameraArgs;
+use crate::progress::TraceProgress;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
 use anyhow::{Context, Result};
-use opticks_core::trace::{TraceSettings, plan_all, planned_table};
+use opticks_core::dataset::{PassPlan, TraceSettings, plan_all, planned_table};
+use opticks_io::dataset_job::trace_observed;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -48,10 +50,12 @@ pub fn run(a: Args) -> Result<()> {
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
     let t0 = Instant::now();
     let mut chunks = Vec::new();
-    trace_with_progress(&scene, &settings, &plan_all(&scene, a.paths), 0, |c| {
+    let pass = PassPlan { settings, lights: plan_all(&scene, a.paths), first_block: 0 };
+    let sink = |c| {
         chunks.push(c);
-        Ok(())
-    })?;
+        Ok::<(), std::convert::Infallible>(())
+    };
+    trace_observed(&scene, &pass, sink, &TraceProgress::default())?;
     if crate::interrupt::requested() {
         anyhow::bail!("interrupted by the user");
     }

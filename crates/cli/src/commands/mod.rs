@@ -1,10 +1,13 @@
-//! One module per verb. The shared steps — trace with a progress bar, render with a progress
-//! bar, write the image(s) — live here so every verb does them the same way.
+//! One module per verb: each parses its arguments, calls the core (`opticks_core::dataset` for
+//! every dataset operation) and io (`opticks_io::dataset_job` writes every dataset), and prints.
+//! The shared steps — open a dataset against its scene, render with a progress bar, write the
+//! image(s), word the library's errors the command line's way — live here so every verb does
+//! them the same way.
 
 pub mod add_light;
 pub mod bench;
-pub mod dataset_job;
 pub mod demo;
+pub mod extend_args;
 pub mod info;
 pub mod light_args;
 pub mod measure;
@@ -16,13 +19,13 @@ pub mod trace;
 pub mod walk;
 
 use crate::progress;
-use anyhow::{Context, Result};
-use opticks_core::dataset::{Chunk, LightTable};
+use anyhow::{Context, Result, anyhow};
+use opticks_core::dataset::{Chunk, LightTable, LightingError, check_scene, lighting, subset};
 use opticks_core::film::Film;
 use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{SampleBatch, Sensor, render};
-use opticks_core::trace::{LightPlan, TraceSettings, trace_plan_from};
 use opticks_io::dataset_file::DatasetReader;
+use opticks_io::dataset_job::JobError;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -47,25 +50,16 @@ impl ThreadArgs {
     }
 }
 
-/// Traces `plan` with a progress bar, handing chunks to `sink`; stops early (between batches)
-/// on Ctrl-C. Skips the plan's first `first_block` blocks (see `trace_plan_from`). Returns the
-/// paths traced per plan entry.
-pub fn trace_with_progress(
-    scene: &Scene,
-    settings: &TraceSettings,
-    plan: &[LightPlan],
-    first_block: usize,
-    sink: impl FnMut(Chunk) -> Result<()>,
-) -> Result<Vec<u64>> {
-    let pb = progress::bar(plan.iter().map(|p| p.paths).sum(), "tracing", "paths");
-    let progress = |done| {
-        pb.set_position(done);
-        crate::interrupt::simulate_after(done);
-    };
-    let traced =
-        trace_plan_from(scene, settings, plan, first_block, sink, progress, crate::interrupt::requested)?;
-    pb.finish_and_clear();
-    Ok(traced)
+/// A failed dataset job as the command line says it: an interrupted run names the verb that
+/// finishes it.
+pub fn job_error(e: JobError) -> anyhow::Error {
+    match &e {
+        JobError::Interrupted { partial, .. } => anyhow!(
+            "{e} (a valid dataset: render it, or `opticks resume {}` to finish the run)",
+            partial.display()
+        ),
+        _ => e.into(),
+    }
 }
 
 /// An error once Ctrl-C was pressed: reading and rendering stop at the next batch, and the
@@ -102,7 +96,8 @@ pub fn render_with_progress<'a>(
 
 /// Opens a dataset and the scene it is to be used with — `scene` if given, else the scene file
 /// recorded in the dataset — and checks that the geometry and materials are those it was traced
-/// in (lights are checked one by one where they are used: see `opticks_core::dataset::lighting`).
+/// in (`opticks_core::dataset::check_scene`; lights are checked one by one where they are used:
+/// see `opticks_core::dataset::lighting`).
 pub fn open_with_scene(
     dataset: &Path,
     scene: Option<&str>,
@@ -114,15 +109,14 @@ pub fn open_with_scene(
         || format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)");
     let description = crate::scene_arg::load_description(spec).with_context(context)?;
     let scene = crate::scene_arg::build_scene(spec, &description)?;
-    let recorded = reader.header().fingerprint;
-    if scene.fingerprint.geometry != recorded.geometry && scene.geometry_v1 != recorded.geometry {
-        anyhow::bail!(
+    check_scene(reader.header(), &scene).map_err(|e| {
+        anyhow!(
             "{} was traced from a different scene than {spec}: geometry/material fingerprint {} ≠ {}",
             dataset.display(),
-            recorded.geometry_hex(),
-            scene.fingerprint.geometry_hex()
-        );
-    }
+            e.recorded.geometry_hex(),
+            e.current.geometry_hex()
+        )
+    })?;
     Ok((reader, description, scene))
 }
 
@@ -158,7 +152,12 @@ impl DatasetArgs {
     /// Opens the dataset against its scene and works out the lighting; prints the notes.
     pub fn open(&self) -> Result<LitDataset> {
         let (reader, description, scene) = open_with_scene(&self.dataset, self.scene.as_deref())?;
-        let lighting = opticks_core::dataset::lighting(&reader.header().table, &scene, &self.light)?;
+        let lighting = lighting(&reader.header().table, &scene, &self.light).map_err(|e| match &e {
+            LightingError::NotTraced(name) => {
+                anyhow!("{e}: add it with `opticks add-light`, or switch it off with --light '{name}=0'")
+            }
+            _ => e.into(),
+        })?;
         for note in &lighting.notes {
             eprintln!("note: {note}");
         }
@@ -184,44 +183,19 @@ impl LitDataset {
         Ok(SampleBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
     }
 
-    /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises: the kept
-    /// chunks hold N'_k of the light's paths, so their samples now stand for Φ_k/N'_k each. The
-    /// result is an unbiased estimate from fewer paths — a cheaper, noisier preview.
+    /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises, by the
+    /// preview-subset law (`opticks_core::dataset::subset`): the kept chunks' samples stand for
+    /// Φ_k/N'_k each — an unbiased estimate from fewer paths, a cheaper, noisier preview.
     pub fn keep_fraction(&mut self, fraction: f64) -> Result<()> {
-        if !(fraction > 0.0 && fraction <= 1.0) {
-            anyhow::bail!("the fraction {fraction} must be in (0, 1]");
+        let chunks: Vec<(u32, u64)> = (0..self.reader.chunk_count())
+            .filter_map(|i| self.reader.chunk_summary(i))
+            .map(|(light, paths, _)| (light, paths))
+            .collect();
+        let kept = subset(&chunks, self.lighting.flux_per_path.len(), fraction)?;
+        for (flux, scale) in self.lighting.flux_per_path.iter_mut().zip(kept.flux_scale) {
+            *flux *= scale;
         }
-        let lights = self.lighting.flux_per_path.len();
-        let (mut seen, mut kept_paths, mut all_paths) =
-            (vec![0u64; lights], vec![0u64; lights], vec![0u64; lights]);
-        let mut kept = Vec::new();
-        for i in 0..self.reader.chunk_count() {
-            let Some((light, paths, _)) = self.reader.chunk_summary(i) else { continue };
-            let k = light as usize;
-            // Keep chunk j of a light when ⌊(j+1)·f⌋ > ⌊j·f⌋: evenly spread, ≈ f of them.
-            let j = seen[k] as f64;
-            seen[k] += 1;
-            all_paths[k] += paths;
-            if ((j + 1.0) * fraction).floor() > (j * fraction).floor() {
-                kept.push(i);
-                kept_paths[k] += paths;
-            }
-        }
-        for k in 0..lights {
-            if kept_paths[k] == 0 && all_paths[k] > 0 {
-                // Too few chunks to thin this light: keep all of them rather than lose it.
-                kept.extend(
-                    (0..self.reader.chunk_count())
-                        .filter(|&i| self.reader.chunk_summary(i).is_some_and(|(l, _, _)| l as usize == k)),
-                );
-                kept_paths[k] = all_paths[k];
-            }
-            if kept_paths[k] > 0 {
-                self.lighting.flux_per_path[k] *= all_paths[k] as f32 / kept_paths[k] as f32;
-            }
-        }
-        kept.sort_unstable();
-        self.chunks = kept;
+        self.chunks = kept.chunks;
         Ok(())
     }
 }

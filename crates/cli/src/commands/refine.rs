@@ -2,12 +2,14 @@
 //! is statistically the same as having traced all the paths at once (N_k simply grows); the
 //! dataset is rewritten atomically, so an interrupted refine leaves it as it was (and saves
 //! `NAME.partial.opds`, which `opticks resume` completes). The new paths use the strategy of the
-//! dataset's last pass unless overridden, so the estimator stays the one the dataset was made by.
+//! dataset's last pass unless overridden, so the estimator stays the one the dataset was made by
+//! (`opticks_core::dataset::refine`).
 
-use super::dataset_job::{ExtendArgs, continued_settings, extend_dataset, scene_lights};
-use super::open_with_scene;
-use anyhow::Result;
-use opticks_core::trace::{LightPlan, path_quotas};
+use super::extend_args::ExtendArgs;
+use super::{job_error, open_with_scene};
+use crate::progress::TraceProgress;
+use anyhow::{Result, anyhow};
+use opticks_io::dataset_job::{NewPaths, Source, write_dataset};
 use std::path::PathBuf;
 
 /// Arguments of `opticks refine`.
@@ -29,20 +31,15 @@ pub struct Args {
 pub fn run(a: Args) -> Result<()> {
     a.extend.threads.apply()?;
     let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
-    let mut header = reader.header().clone();
-    let scene_lights = scene_lights(&header.table, &scene, "refine")?;
-    header.fingerprint.geometry = scene.fingerprint.geometry; // matched: record the current hash
-    let powers: Vec<_> = scene_lights.iter().map(|&i| scene.lights[i].power()).collect();
-    let plan: Vec<LightPlan> = path_quotas(&powers, a.paths)
-        .into_iter()
-        .zip(&scene_lights)
-        .enumerate()
-        .map(|(k, (paths, &scene_light))| LightPlan { scene_light, table_index: k as u32, paths })
-        .collect();
-    let settings = continued_settings(&header, a.paths, a.extend.seed, &a.extend.strategy);
+    let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
+    let (header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)
+        .map_err(|e| anyhow!("{e}: refine needs the same scene"))?;
     let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
-    let before = header.table.total_paths();
-    let report = extend_dataset(&reader, header, &output, &scene, settings, plan)?;
+    let before = reader.header().table.total_paths();
+    let new = NewPaths { scene: &scene, pass };
+    let report =
+        write_dataset(&output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
+            .map_err(job_error)?;
     println!(
         "refined {}: {} + {} paths = {} paths, {} samples ({:.2} s) → {}",
         a.dataset.display(),

@@ -1,12 +1,12 @@
 //! `opticks trace`: light sampling of a scene file into a dataset file (written atomically).
 
-use super::ThreadArgs;
-use super::dataset_job::{NewPaths, write_dataset};
+use super::{ThreadArgs, job_error};
+use crate::progress::TraceProgress;
 use crate::scene_arg::load_scene;
 use crate::strategy_args::StrategyArgs;
 use anyhow::Result;
-use opticks_core::trace::{plan_all, planned_table};
-use opticks_io::dataset_file::{DatasetHeader, TraceInfo, TracePass};
+use opticks_core::dataset::new_trace;
+use opticks_io::dataset_job::{NewPaths, write_dataset};
 use std::path::PathBuf;
 
 /// Arguments of `opticks trace`.
@@ -33,22 +33,10 @@ pub struct Args {
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
-    let settings = a.strategy.settings(a.paths, a.seed);
-    let plan = plan_all(&scene, a.paths);
-    let mut table = planned_table(&scene, a.paths);
-    table.lights.iter_mut().for_each(|l| l.paths = 0);
-    let header = DatasetHeader {
-        fingerprint: scene.fingerprint,
-        label: a.scene.clone(),
-        trace: TraceInfo { passes: vec![TracePass::new(&settings, &plan)] },
-        table,
-    };
-    let report = write_dataset(
-        &a.output,
-        header,
-        &[],
-        Some(NewPaths { scene: &scene, settings, plan, first_block: 0 }),
-    )?;
+    let (header, pass) = new_trace(&scene, &a.scene, a.strategy.settings(a.paths, a.seed));
+    let new = NewPaths { scene: &scene, pass };
+    let report =
+        write_dataset(&a.output, header, &[], Some(new), &TraceProgress::default()).map_err(job_error)?;
     let paths = report.table.total_paths();
     println!(
         "traced {paths} paths → {} samples in {:.2} s ({:.2} M paths/s) → {} ({:.1} MB)",

@@ -4,11 +4,43 @@
 //! The estimator contract (DESIGN.md §2): a sample of light k with weight β stands for the
 //! incident flux Φ_k·β/N_k. Each light's energy is split only among its own N_k paths, so
 //! relighting (scaling Φ_k) and merging (summing N_k) are exact laws, not approximations.
+//!
+//! Every law and operation of the dataset is a function here; the file format
+//! (`opticks_io::dataset_file`) only encodes and decodes, and the command line only parses and
+//! prints:
+//!
+//! * the model — [`Sample`], [`Chunk`], [`LightTable`] (`sample.rs`, `table.rs`) and the
+//!   header: fingerprint, label, passes ([`DatasetHeader`], `header.rs`);
+//! * the trace plan — [`TraceSettings`] and the strategy, quotas ∝ power, the block order
+//!   (`plan.rs`), carried out by `crate::trace`;
+//! * the passes a dataset gains — a first trace, a refinement, an added light (`extend.rs`),
+//!   the rest of an interrupted pass (`resume.rs`) — and their bookkeeping
+//!   ([`DatasetHeader::record_traced`]);
+//! * the laws of using one — relighting (`relight.rs`), merging (`merge.rs`), a preview from a
+//!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`).
 
-mod laws;
+mod extend;
+mod header;
+mod merge;
+mod plan;
+mod relight;
+mod resume;
 mod sample;
+mod scene_check;
+mod subset;
 mod table;
+#[cfg(test)]
+mod testing;
 
-pub use laws::{LightScale, Lighting, LightingError, MergeError, lighting, merge_tables};
+pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
+pub use header::{DatasetHeader, NoPassRecord, TraceInfo, TracePass};
+pub use merge::{MergeError, merge_header, merge_tables};
+pub use plan::{BLOCK_PATHS, Block, Directions, LightPlan, PassPlan, Roulette, Selection, StrategyChoice};
+pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quotas, plan_all, plan_lights};
+pub use plan::{planned_table, quota_weight};
+pub use relight::{LightScale, Lighting, LightingError, lighting};
+pub use resume::{ResumeError, resume_plan};
 pub use sample::{EMISSION_FLAG, Sample};
+pub use scene_check::{LightMismatch, SceneMismatch, check_scene, scene_lights};
+pub use subset::{BadFraction, Subset, subset};
 pub use table::{Chunk, LightRecord, LightTable};

@@ -29,26 +29,27 @@
 //! non-nested dielectric objects with lights outside them; a dielectric inside another one is
 //! not modelled (leaving the inner one puts the path back in vacuum, not in the outer medium).
 //!
+//! What to trace is the dataset's plan (`crate::dataset`'s `plan.rs`, re-exported here where
+//! call sites want it): the [`TraceSettings`] and strategy, and a [`LightPlan`] per light saying
+//! how far to trace it — all lights for a new dataset, all of them again with a fresh stream for
+//! a refinement, or only a new light when one is added to an existing dataset.
+//!
 //! Parallelism and determinism: each light's quota N_k is cut into blocks of
 //! [`BLOCK_PATHS`] paths; block b of light k draws from its own random stream named by
-//! (seed, stream, k, b) and becomes one [`Chunk`]. Blocks are traced in parallel (rayon) and
-//! handed to the sink in order, so the dataset is the same whatever the thread count. Blocks of
-//! different lights are interleaved, so a trace stopped early is still balanced.
-//!
-//! A [`LightPlan`] says which lights to trace and how far: all of them for a new dataset,
-//! all of them again with a fresh stream for a refinement, or only a new light when one is
-//! added to an existing dataset.
+//! (seed, stream, k, b) and becomes one [`Chunk`]. Blocks are traced in parallel (rayon) in the
+//! plan's [`block_order`] and handed to the sink in that order, so the dataset is the same
+//! whatever the thread count. Blocks of different lights are interleaved, so a trace stopped
+//! early is still balanced.
 
 use crate::bsdf::TransportMode;
-use crate::dataset::{Chunk, LightRecord, LightTable, Sample};
+use crate::dataset::{Chunk, LightTable, Sample, block_order, plan_all, planned_table};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
 use rayon::prelude::*;
 
-/// Paths per block (one block = one chunk = one random stream).
-pub const BLOCK_PATHS: u64 = 4096;
+pub use crate::dataset::{BLOCK_PATHS, Directions, LightPlan, Roulette, Selection, TraceSettings};
 
 /// Russian roulette survival probability is q = min(0.95, ROULETTE_SCALE · max β): a path still
 /// carrying half of its light's share is never culled more often than one time in twenty.
@@ -74,106 +75,10 @@ const DELTA_RUN_SURVIVAL: f32 = 0.95;
 /// Blocks traced per parallel batch before they are handed to the sink in order.
 const BATCH_BLOCKS: usize = 64;
 
-/// How a light path continues at a vertex: the thesis's improvements (§6.2), each an option
-/// whose effect is measured (`docs/convergence.md`) and none of which biases the estimator.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Roulette {
-    /// Survival driven by the path's energy (§6.2.1): q = min(0.95, 2·max β).
-    #[default]
-    Energy,
-    /// Survival with a fixed probability q = 0.95, whatever the path carries.
-    Fixed,
-}
-
-/// How continuation directions are drawn (§6.2.2).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Directions {
-    /// Importance sampling of the BSDF (Lafortune & Willems for Modified Phong).
-    #[default]
-    Importance,
-    /// Uniform over the hemisphere (the baseline the thesis improves on).
-    Uniform,
-}
-
-/// Which vertices are extended how often (§6.2.3, priority sample selection, in unbiased form).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Selection {
-    /// Every vertex is extended once (then roulette).
-    #[default]
-    Single,
-    /// A vertex carrying energy β is extended c = max β / [`PRIORITY_TARGET`] times on average
-    /// (at most [`MAX_SPLIT`]): ⌊c⌋ or ⌈c⌉ children, each with weight divided by c, so high-energy
-    /// samples get more descendants and the expectation is unchanged. Below c = 1, roulette.
-    Priority,
-}
-
 /// The energy a path is kept at under [`Selection::Priority`].
 pub const PRIORITY_TARGET: f32 = 0.5;
 /// Most children a vertex gets under [`Selection::Priority`].
 pub const MAX_SPLIT: f32 = 8.0;
-
-/// What to trace.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TraceSettings {
-    /// Total light paths over all lights (split ∝ power).
-    pub paths: u64,
-    /// Seed of all random streams.
-    pub seed: u64,
-    /// Which independent stream family to use (0 for a first trace; refinement passes use others).
-    pub stream: u64,
-    /// Path depth from which Russian roulette may end a path.
-    pub rr_depth: u32,
-    /// Russian roulette rule.
-    pub roulette: Roulette,
-    /// Continuation direction sampling.
-    pub directions: Directions,
-    /// Vertex selection for extension.
-    pub selection: Selection,
-}
-
-impl Default for TraceSettings {
-    fn default() -> Self {
-        TraceSettings {
-            paths: 1 << 20,
-            seed: 0,
-            stream: 0,
-            rr_depth: 5,
-            roulette: Roulette::default(),
-            directions: Directions::default(),
-            selection: Selection::default(),
-        }
-    }
-}
-
-/// Splits `total` paths over lights in proportion to their power (sum of channels), by largest
-/// remainder; every light with non-zero power gets at least one path.
-pub fn path_quotas(powers: &[Rgb], total: u64) -> Vec<u64> {
-    let weights: Vec<f64> = powers.iter().map(|p| (p.x + p.y + p.z).max(0.0) as f64).collect();
-    let sum: f64 = weights.iter().sum();
-    if sum <= 0.0 || total == 0 {
-        return vec![0; powers.len()];
-    }
-    let ideal: Vec<f64> = weights.iter().map(|w| w / sum * total as f64).collect();
-    let mut quotas: Vec<u64> = ideal.iter().map(|x| x.floor() as u64).collect();
-    let mut left = total - quotas.iter().sum::<u64>();
-    let mut order: Vec<usize> = (0..powers.len()).collect();
-    order.sort_by(|&a, &b| (ideal[b] - ideal[b].floor()).total_cmp(&(ideal[a] - ideal[a].floor())));
-    for &i in order.iter().cycle().take(powers.len() * 2) {
-        if left == 0 {
-            break;
-        }
-        if weights[i] > 0.0 {
-            quotas[i] += 1;
-            left -= 1;
-        }
-    }
-    for (q, w) in quotas.iter_mut().zip(&weights) {
-        if *w > 0.0 && *q == 0 && total >= powers.len() as u64 {
-            *q = 1;
-        }
-    }
-    quotas
-}
 
 /// A path continuation waiting to be traced (splitting makes a path a tree).
 #[derive(Clone, Copy, Debug)]
@@ -307,63 +212,6 @@ pub fn trace_block(
     Chunk { light: table_index, paths, samples }
 }
 
-/// One light's share of a trace: which scene light, under which index of the dataset's light
-/// table its chunks are filed (and its random streams named), and how many paths.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LightPlan {
-    /// Index into `Scene::lights`.
-    pub scene_light: usize,
-    /// Index into the dataset's light table (`Chunk::light`).
-    pub table_index: u32,
-    /// Paths to trace.
-    pub paths: u64,
-}
-
-/// The plan for a fresh trace: every scene light, table index = scene index, quotas ∝ power.
-pub fn plan_all(scene: &Scene, paths: u64) -> Vec<LightPlan> {
-    path_quotas(&scene.light_powers(), paths)
-        .into_iter()
-        .enumerate()
-        .map(|(k, paths)| LightPlan { scene_light: k, table_index: k as u32, paths })
-        .collect()
-}
-
-/// The light table of a fresh trace of `paths` paths: each light's name, shape, power Φ_k and
-/// quota N_k. Known before tracing, so a dataset header can be written first.
-pub fn planned_table(scene: &Scene, paths: u64) -> LightTable {
-    let plan = plan_all(scene, paths);
-    LightTable {
-        lights: plan
-            .iter()
-            .map(|p| {
-                let l = &scene.lights[p.scene_light];
-                LightRecord {
-                    name: l.name().to_string(),
-                    shape: scene.light_shapes[p.scene_light],
-                    power: l.power(),
-                    paths: p.paths,
-                }
-            })
-            .collect(),
-    }
-}
-
-/// The blocks of a plan, interleaved across lights in proportion to their quotas (block b of a
-/// light with B blocks comes at "time" (b + ½)/B), so that a trace stopped early has traced
-/// every light about equally far.
-fn interleaved_blocks(plan: &[LightPlan]) -> Vec<(LightPlan, u64, u64)> {
-    let mut blocks: Vec<(f64, LightPlan, u64, u64)> = plan
-        .iter()
-        .flat_map(|&p| {
-            let n = p.paths.div_ceil(BLOCK_PATHS);
-            (0..n)
-                .map(move |b| ((b as f64 + 0.5) / n as f64, p, b, BLOCK_PATHS.min(p.paths - b * BLOCK_PATHS)))
-        })
-        .collect();
-    blocks.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.table_index.cmp(&b.1.table_index)));
-    blocks.into_iter().map(|(_, p, b, n)| (p, b, n)).collect()
-}
-
 /// Traces the plan, handing chunks to `sink` in a deterministic order and calling
 /// `progress(paths_done)` after each batch. Between batches `stop()` is asked whether to end
 /// early (Ctrl-C). Returns the paths actually traced per plan entry: every chunk handed to the
@@ -379,23 +227,8 @@ pub fn trace_plan<E>(
     trace_plan_from(scene, settings, plan, 0, sink, progress, stop)
 }
 
-/// How many blocks of `plan`, in the order [`trace_plan`] traces them, hold exactly `paths`
-/// paths: the blocks an interrupted run of the plan completed (it stops between blocks, in
-/// order). `None` if no prefix of blocks holds that many.
-pub fn blocks_done(plan: &[LightPlan], paths: u64) -> Option<usize> {
-    let blocks = interleaved_blocks(plan);
-    let mut sum = 0;
-    for (i, &(_, _, n)) in blocks.iter().enumerate() {
-        if sum == paths {
-            return Some(i);
-        }
-        sum += n;
-    }
-    (sum == paths).then_some(blocks.len())
-}
-
 /// [`trace_plan`] without its first `first_block` blocks: resumes a run of the plan that was
-/// stopped after that many ([`blocks_done`]). Every block has its own random stream, so the
+/// stopped after that many ([`crate::dataset::blocks_done`]). Every block has its own random stream, so the
 /// chunks are exactly those the uninterrupted run would have produced after them.
 pub fn trace_plan_from<E>(
     scene: &Scene,
@@ -406,7 +239,7 @@ pub fn trace_plan_from<E>(
     progress: impl Fn(u64),
     stop: impl Fn() -> bool,
 ) -> Result<Vec<u64>, E> {
-    let blocks = interleaved_blocks(plan);
+    let blocks = block_order(plan);
     let mut traced = vec![0u64; plan.len()];
     let mut done = 0u64;
     for batch in blocks[first_block.min(blocks.len())..].chunks(BATCH_BLOCKS) {
@@ -415,7 +248,7 @@ pub fn trace_plan_from<E>(
         }
         let chunks: Vec<Chunk> = batch
             .par_iter()
-            .map(|&(p, b, n)| trace_block(scene, settings, p.scene_light, p.table_index, b, n))
+            .map(|b| trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths))
             .collect();
         for c in chunks {
             done += c.paths;
@@ -440,37 +273,4 @@ pub fn trace<E>(
     let plan = plan_all(scene, settings.paths);
     trace_plan(scene, settings, &plan, sink, progress, || false)?;
     Ok(planned_table(scene, settings.paths))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn quotas_follow_power_and_sum_to_total() {
-        let p = [Rgb::splat(1.0), Rgb::splat(3.0), Rgb::ZERO];
-        let q = path_quotas(&p, 1000);
-        assert_eq!(q, vec![250, 750, 0]);
-        let q = path_quotas(&[Rgb::splat(1.0), Rgb::splat(1e-9)], 10);
-        assert_eq!(q.iter().sum::<u64>(), 11, "a dim light still gets a path");
-        assert!(q[1] >= 1);
-        assert_eq!(path_quotas(&[Rgb::splat(2.0); 3], 7).iter().sum::<u64>(), 7);
-    }
-
-    #[test]
-    fn blocks_done_finds_the_prefix_an_interrupted_run_traced() {
-        let plan = [
-            LightPlan { scene_light: 0, table_index: 0, paths: 3 * BLOCK_PATHS },
-            LightPlan { scene_light: 1, table_index: 1, paths: BLOCK_PATHS + 7 },
-        ];
-        let order = interleaved_blocks(&plan);
-        let mut sum = 0;
-        for (i, &(_, _, n)) in order.iter().enumerate() {
-            assert_eq!(blocks_done(&plan, sum), Some(i));
-            assert_eq!(blocks_done(&plan, sum + 1), None, "not a block boundary");
-            sum += n;
-        }
-        assert_eq!(blocks_done(&plan, sum), Some(order.len()));
-        assert_eq!(blocks_done(&plan, sum + 1), None);
-    }
 }

@@ -1,11 +1,11 @@
 //! Byte layout of the header, chunk headers and end record (see `docs/dataset-format.md`).
 
-use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, DatasetHeader, END_MAGIC, FORMAT_VERSION};
-use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN, TraceInfo, TracePass};
+use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMAT_VERSION};
+use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
+use opticks_core::dataset::{DatasetHeader, Directions, Roulette, Selection, TraceInfo, TracePass};
 use opticks_core::dataset::{LightRecord, LightTable, Sample};
 use opticks_core::math::Rgb;
 use opticks_core::scene::Fingerprint;
-use opticks_core::trace::{Directions, Roulette, Selection};
 use std::path::Path;
 
 /// Size of the fixed part of the header, up to and including the pass count.

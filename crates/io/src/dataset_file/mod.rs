@@ -1,10 +1,13 @@
 //! The dataset file (`.opds`): the persistent, versioned product of the expensive trace step.
+//! This module only encodes, decodes and writes atomically; what a header means, and every
+//! operation on datasets, is the core's (`opticks_core::dataset`).
 //!
-//! One header (magic, format version, scene [`Fingerprint`], the trace passes ([`TraceInfo`]), a
-//! free-form label and the light table: name, shape hash, Φ_k, N_k), then append-only chunks of raw 32-byte [`Sample`] records, each
-//! with its own checksummed chunk header, then a 32-byte end record. Every byte of the file is
-//! covered by a CRC-32, so truncation at any byte and any flipped byte are reported as errors
-//! that name the file and the byte offset. `docs/dataset-format.md` gives the layout byte by byte.
+//! One header ([`DatasetHeader`]: magic, format version, scene fingerprint, the trace passes, a
+//! free-form label and the light table: name, shape hash, Φ_k, N_k), then append-only chunks of
+//! raw 32-byte [`Sample`] records, each with its own checksummed chunk header, then a 32-byte end
+//! record. Every byte of the file is covered by a CRC-32, so truncation at any byte and any
+//! flipped byte are reported as errors that name the file and the byte offset.
+//! `docs/dataset-format.md` gives the layout byte by byte.
 //!
 //! * [`DatasetWriter`] writes to a temporary file beside the target and renames it into place
 //!   only in [`DatasetWriter::finish`]; dropping an unfinished writer removes the temporary file
@@ -17,6 +20,7 @@
 //! little-endian host; big-endian hosts are refused with an error rather than misread.
 //!
 //! [`Sample`]: opticks_core::dataset::Sample
+//! [`DatasetHeader`]: opticks_core::dataset::DatasetHeader
 #![deny(unsafe_code)]
 
 mod error;
@@ -27,10 +31,6 @@ mod writer;
 pub use error::DatasetError;
 pub use reader::{ChunkView, DatasetReader, read_all};
 pub use writer::{DatasetSummary, DatasetWriter};
-
-use opticks_core::dataset::LightTable;
-use opticks_core::scene::Fingerprint;
-use opticks_core::trace::{Directions, LightPlan, Roulette, Selection, TraceSettings};
 
 /// The first 8 bytes of every dataset file (PNG-style: a high-bit byte, `OPK`, CR LF, DOS EOF,
 /// LF — so 7-bit transfers and newline translation are detected as a foreign file).
@@ -52,105 +52,3 @@ pub const CHUNK_HEADER_LEN: usize = 32;
 pub const TRAILER_LEN: usize = 32;
 /// Alignment of the header length, chunk headers and sample payloads (= size of a sample).
 pub const ALIGN: usize = 32;
-
-/// One run of light sampling that contributed paths to the dataset: a trace, a refinement, an
-/// added light, or a dataset merged in. Kept so that refinements pick a fresh random stream and
-/// reuse the strategy, merges refuse datasets that share a stream (their paths would be
-/// identical, not independent), an interrupted pass can be resumed (its plan says which blocks
-/// are missing), and `info` can say how the dataset was made.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct TracePass {
-    /// Seed of the random streams.
-    pub seed: u64,
-    /// Stream family within the seed (0 for a first trace, then 1, 2, … for refinements).
-    pub stream: u64,
-    /// Light paths this pass traced, over all its lights.
-    pub paths: u64,
-    /// Path depth from which Russian roulette started.
-    pub rr_depth: u32,
-    /// Wall-clock seconds the pass took.
-    pub seconds: f32,
-    /// Russian roulette rule.
-    pub roulette: Roulette,
-    /// Continuation direction sampling.
-    pub directions: Directions,
-    /// Vertex selection for extension.
-    pub selection: Selection,
-    /// What the pass set out to trace: (light table index, planned paths) per light, in plan
-    /// order. The pass is complete when `paths` reaches their sum; empty = unknown (format
-    /// version 1), taken as complete.
-    pub planned: Vec<(u32, u64)>,
-}
-
-impl TracePass {
-    /// A new pass of `settings` planning `plan` (its paths and time are filled in when it ends).
-    pub fn new(settings: &TraceSettings, plan: &[LightPlan]) -> Self {
-        TracePass {
-            seed: settings.seed,
-            stream: settings.stream,
-            paths: 0,
-            rr_depth: settings.rr_depth,
-            seconds: 0.0,
-            roulette: settings.roulette,
-            directions: settings.directions,
-            selection: settings.selection,
-            planned: plan.iter().map(|p| (p.table_index, p.paths)).collect(),
-        }
-    }
-
-    /// Paths the pass planned (= `paths` when the plan is unknown).
-    pub fn planned_paths(&self) -> u64 {
-        if self.planned.is_empty() { self.paths } else { self.planned.iter().map(|p| p.1).sum() }
-    }
-
-    /// Whether the pass traced everything it planned (false for an interrupted run).
-    pub fn is_complete(&self) -> bool {
-        self.paths >= self.planned_paths()
-    }
-
-    /// The settings the pass traced with (`paths` = the planned total).
-    pub fn settings(&self) -> TraceSettings {
-        TraceSettings {
-            paths: self.planned_paths(),
-            seed: self.seed,
-            stream: self.stream,
-            rr_depth: self.rr_depth,
-            roulette: self.roulette,
-            directions: self.directions,
-            selection: self.selection,
-        }
-    }
-}
-
-/// How the dataset was traced: its passes, oldest first.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct TraceInfo {
-    /// The passes.
-    pub passes: Vec<TracePass>,
-}
-
-impl TraceInfo {
-    /// The first stream number not used yet with `seed`.
-    pub fn next_stream(&self, seed: u64) -> u64 {
-        self.passes.iter().filter(|p| p.seed == seed).map(|p| p.stream + 1).max().unwrap_or(0)
-    }
-
-    /// Total tracing time over all passes, seconds.
-    pub fn seconds(&self) -> f64 {
-        self.passes.iter().map(|p| p.seconds as f64).sum()
-    }
-}
-
-/// Everything in the file before the chunks.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct DatasetHeader {
-    /// Content hashes of the scene the dataset was traced in.
-    pub fingerprint: Fingerprint,
-    /// Free-form UTF-8 label, e.g. the scene file's path.
-    pub label: String,
-    /// Trace settings.
-    pub trace: TraceInfo,
-    /// The light table: Φ_k and N_k. In a finished file N_k equals the sum of the paths of the
-    /// light's chunks.
-    pub table: LightTable,
-}

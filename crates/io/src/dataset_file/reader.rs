@@ -1,9 +1,9 @@
 //! Reading a dataset: memory-mapped, validated up front, payloads checked on access.
 
 use super::format::{ChunkHeader, Trailer, decode_header, validate_samples};
-use super::{CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, DatasetHeader, END_MAGIC, TRAILER_LEN};
+use super::{CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, TRAILER_LEN};
 use memmap2::Mmap;
-use opticks_core::dataset::{Chunk, Sample};
+use opticks_core::dataset::{Chunk, DatasetHeader, Sample};
 use rayon::prelude::*;
 use std::fs::File;
 use std::path::{Path, PathBuf};

@@ -1,8 +1,8 @@
 //! Writing a dataset: sequential, buffered, atomic (temporary file + rename).
 
+use super::DatasetError;
 use super::format::{ChunkHeader, Trailer, encode_header, validate_samples};
-use super::{DatasetError, DatasetHeader, TraceInfo};
-use opticks_core::dataset::{Chunk, LightTable};
+use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, TraceInfo};
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};

@@ -1,0 +1,215 @@
+//! Merging: independent datasets of the same scene become one (the thesis's master/worker
+//! merge, §6.2.4). Exact, because each light's energy is split only among its own paths: a
+//! light in several inputs has its N_k summed, and the samples of all of them then share
+//! Φ_k/(N_k¹ + N_k² + …); a light only some inputs have (one gained it by adding a light) keeps
+//! those inputs' paths. Refused: inputs traced from different geometry, a light whose shape
+//! differs, and inputs that share a random stream (their paths would be copies, not new
+//! samples).
+
+use super::{DatasetHeader, LightTable};
+use crate::scene::Fingerprint;
+
+/// Why two datasets cannot be merged.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MergeError {
+    /// The geometry/material fingerprints differ.
+    #[error(
+        "the datasets were traced from different scenes (geometry fingerprints {} and {})",
+        first.geometry_hex(),
+        other.geometry_hex()
+    )]
+    DifferentScenes {
+        /// The fingerprint of the datasets merged so far.
+        first: Fingerprint,
+        /// The fingerprint of the dataset merged in.
+        other: Fingerprint,
+    },
+    /// A light has the same name but another shape.
+    #[error("light '{0}' differs in shape between the datasets: they were traced from different scenes")]
+    ShapeChanged(String),
+    /// A pass of the dataset merged in used a (seed, stream) some earlier pass used.
+    #[error(
+        "the dataset repeats the random stream (seed {seed}, stream {stream}) of an earlier one: its paths \
+         are copies, not independent samples"
+    )]
+    RepeatedStream {
+        /// The seed.
+        seed: u64,
+        /// The stream family.
+        stream: u64,
+    },
+}
+
+/// The light table of the union of two independent datasets of the same scene, and where each
+/// of `b`'s lights went in it. Lights are matched by name (and must have the same shape): a
+/// light in both has N_k summed; a light in only one keeps its N_k (e.g. `b` is a copy of `a`
+/// that gained a light) — exact too, since each light's energy is split only among its own
+/// paths. `a`'s lights keep their indices; `b`'s new lights follow in `b`'s order.
+/// Powers are taken from `a` (samples do not depend on power; a difference is relighting).
+pub fn merge_tables(a: &LightTable, b: &LightTable) -> Result<(LightTable, Vec<u32>), MergeError> {
+    let mut out = a.clone();
+    let mut b_index = Vec::with_capacity(b.lights.len());
+    for y in &b.lights {
+        match out.lights.iter().position(|x| x.name == y.name) {
+            Some(k) if out.lights[k].shape != y.shape => {
+                return Err(MergeError::ShapeChanged(y.name.clone()));
+            }
+            Some(k) => {
+                out.lights[k].paths += y.paths;
+                b_index.push(k as u32);
+            }
+            None => {
+                b_index.push(out.lights.len() as u32);
+                out.lights.push(y.clone());
+            }
+        }
+    }
+    Ok((out, b_index))
+}
+
+/// Merges the header of dataset `b` into `merged` (the header of the datasets merged so far,
+/// starting with the first one's), and returns where each of `b`'s lights went in the merged
+/// table ([`merge_tables`]): its chunks are copied under those indices. `b`'s passes are
+/// appended with their plans remapped to the merged table. The lights hash is `b`'s once `b`
+/// has every light of the union. On an error `merged` is left as it was.
+pub fn merge_header(merged: &mut DatasetHeader, b: &DatasetHeader) -> Result<Vec<u32>, MergeError> {
+    if b.fingerprint.geometry != merged.fingerprint.geometry {
+        return Err(MergeError::DifferentScenes { first: merged.fingerprint, other: b.fingerprint });
+    }
+    let (table, lights) = merge_tables(&merged.table, &b.table)?;
+    let mut out = merged.clone();
+    if table.lights.len() == b.table.lights.len() {
+        out.fingerprint.lights = b.fingerprint.lights; // this input has every light
+    }
+    out.table = table;
+    for p in &b.trace.passes {
+        if out.trace.passes.iter().any(|q| q.seed == p.seed && q.stream == p.stream) {
+            return Err(MergeError::RepeatedStream { seed: p.seed, stream: p.stream });
+        }
+        let mut p = p.clone();
+        p.planned.iter_mut().for_each(|(light, _)| *light = lights[*light as usize]);
+        out.trace.passes.push(p);
+    }
+    *merged = out;
+    Ok(lights)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset::testing::{Traced, cornell_with_bulb, trace_into};
+    use crate::dataset::{LightRecord, TraceInfo, TracePass};
+    use crate::math::Rgb;
+    use crate::scene::Scene;
+
+    fn table(lights: &[(&str, u8, u64)]) -> LightTable {
+        LightTable {
+            lights: lights
+                .iter()
+                .map(|&(name, shape, paths)| LightRecord {
+                    name: name.into(),
+                    shape: [shape; 16],
+                    power: Rgb::ONE,
+                    paths,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn merging_unites_light_tables_by_name_and_sums_their_paths() {
+        let a = table(&[("sun", 1, 10), ("lamp", 2, 20)]);
+        let b = table(&[("bulb", 3, 5), ("lamp", 2, 7), ("sun", 1, 1)]);
+        let (m, map) = merge_tables(&a, &b).unwrap();
+        assert_eq!(m, table(&[("sun", 1, 11), ("lamp", 2, 27), ("bulb", 3, 5)]));
+        assert_eq!(map, [2, 1, 0]);
+        let (m, map) = merge_tables(&b, &a).unwrap();
+        assert_eq!(m, table(&[("bulb", 3, 5), ("lamp", 2, 27), ("sun", 1, 11)]));
+        assert_eq!(map, [2, 1]);
+        let moved = table(&[("lamp", 9, 1)]);
+        assert_eq!(merge_tables(&a, &moved), Err(MergeError::ShapeChanged("lamp".into())));
+    }
+
+    fn header(
+        geometry: u8,
+        lights: &[(&str, u8, u64)],
+        passes: &[(u64, u64, &[(u32, u64)])],
+    ) -> DatasetHeader {
+        DatasetHeader {
+            fingerprint: Fingerprint { geometry: [geometry; 16], lights: [lights.len() as u8; 16] },
+            label: format!("scene {geometry}"),
+            trace: TraceInfo {
+                passes: passes
+                    .iter()
+                    .map(|&(seed, stream, planned)| TracePass {
+                        seed,
+                        stream,
+                        paths: planned.iter().map(|p| p.1).sum(),
+                        planned: planned.to_vec(),
+                        ..Default::default()
+                    })
+                    .collect(),
+            },
+            table: table(lights),
+        }
+    }
+
+    #[test]
+    fn merged_headers_sum_n_k_remap_the_passes_and_take_the_fuller_lights_hash() {
+        let a = header(1, &[("light", 1, 10)], &[(1, 0, &[(0, 10)])]);
+        // b traced the box, then gained a bulb (another pass, planned for b's light 0).
+        let b = header(1, &[("bulb", 2, 5), ("light", 1, 20)], &[(2, 0, &[(1, 20)]), (2, 1, &[(0, 5)])]);
+        let mut m = a.clone();
+        assert_eq!(merge_header(&mut m, &b), Ok(vec![1, 0]));
+        assert_eq!(m.table, table(&[("light", 1, 30), ("bulb", 2, 5)]));
+        assert_eq!(m.label, a.label, "the first input names the scene");
+        assert_eq!(m.fingerprint.lights, b.fingerprint.lights, "b has every light of the union");
+        let plans: Vec<_> = m.trace.passes.iter().map(|p| (p.seed, p.stream, p.planned.clone())).collect();
+        assert_eq!(plans, [(1, 0, vec![(0, 10)]), (2, 0, vec![(0, 20)]), (2, 1, vec![(1, 5)])]);
+        // Merging a third input with fewer lights keeps the fuller hash.
+        let c = header(1, &[("light", 1, 4)], &[(3, 0, &[(0, 4)])]);
+        merge_header(&mut m, &c).unwrap();
+        assert_eq!((m.fingerprint.lights, m.table.total_paths()), (b.fingerprint.lights, 39));
+    }
+
+    #[test]
+    fn other_geometry_a_moved_light_or_a_repeated_stream_is_refused_and_changes_nothing() {
+        let a = header(1, &[("light", 1, 10)], &[(1, 0, &[(0, 10)])]);
+        let refused = |b: &DatasetHeader| {
+            let mut m = a.clone();
+            let e = merge_header(&mut m, b).unwrap_err();
+            assert_eq!(m, a, "a refused merge leaves the header as it was");
+            e
+        };
+        let other = header(2, &[("light", 1, 10)], &[(2, 0, &[(0, 10)])]);
+        assert_eq!(
+            refused(&other),
+            MergeError::DifferentScenes { first: a.fingerprint, other: other.fingerprint }
+        );
+        let moved = header(1, &[("light", 9, 10)], &[(2, 0, &[(0, 10)])]);
+        assert_eq!(refused(&moved), MergeError::ShapeChanged("light".into()));
+        // The second pass repeats the first input's stream: a copy of its paths.
+        let again = header(1, &[("light", 1, 20)], &[(2, 0, &[(0, 10)]), (1, 0, &[(0, 10)])]);
+        assert_eq!(refused(&again), MergeError::RepeatedStream { seed: 1, stream: 0 });
+        let e = refused(&again).to_string();
+        assert!(e.contains("seed 1") && e.contains("copies"), "{e}");
+    }
+
+    /// A merge of traces of other seeds is a dataset of all their paths: every chunk is one of
+    /// an input's (independent streams), N_k is the sum, so each sample stands for
+    /// Φ_k/(N_k¹ + N_k²) — and its flux estimate agrees with one trace of all the paths.
+    #[test]
+    fn a_merge_of_two_traces_estimates_like_one_trace_of_all_the_paths() {
+        let scene = Scene::build(&cornell_with_bulb()).unwrap();
+        let (one, two) = (trace_into(&scene, 20_000, 1), trace_into(&scene, 20_000, 2));
+        let mut header = one.header.clone();
+        let lights = merge_header(&mut header, &two.header).unwrap();
+        assert_eq!(lights, [0, 1]);
+        for (k, l) in header.table.lights.iter().enumerate() {
+            assert_eq!(l.paths, one.header.table.lights[k].paths + two.header.table.lights[k].paths);
+        }
+        let merged = Traced { header, chunks: [one.chunks.clone(), two.chunks.clone()].concat() };
+        assert_eq!(merged.header.trace.passes.len(), 2);
+        merged.assert_estimates_like(&trace_into(&scene, 40_000, 3), "merged 2 × 20k");
+    }
+}

@@ -1,0 +1,132 @@
+//! Resuming an interrupted pass. A run stopped early saves the complete blocks it traced, and
+//! its last pass records what it planned (paths per light, seed, stream, strategy). Blocks are
+//! traced in a fixed order ([`super::block_order`]), each from its own random stream, so the
+//! blocks saved are a known prefix and tracing only the rest gives exactly the samples of an
+//! uninterrupted run.
+
+use super::{DatasetHeader, LightMismatch, LightPlan, PassPlan, blocks_done, scene_lights};
+use crate::scene::Scene;
+
+/// Why a dataset's last pass cannot be resumed.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ResumeError {
+    /// The last pass traced all it planned (or there is no pass).
+    #[error("nothing to resume, its last trace pass is complete")]
+    Complete,
+    /// A light of the dataset is not in the scene as it was traced.
+    #[error(transparent)]
+    Light(#[from] LightMismatch),
+    /// The paths traced are not a whole number of the plan's first blocks.
+    #[error(
+        "its last pass traced {paths} paths, which is no whole number of its blocks: not a dataset saved by \
+         an interrupted run"
+    )]
+    NotBlockAligned {
+        /// Paths the pass traced.
+        paths: u64,
+    },
+}
+
+/// The rest of the dataset's interrupted last pass: its settings and plan (light table indices
+/// mapped to `scene`'s lights by name), and the blocks already traced. The scene must have
+/// passed [`super::check_scene`]. Tracing it and booking the paths
+/// ([`DatasetHeader::record_traced`]) completes the pass.
+pub fn resume_plan(header: &DatasetHeader, scene: &Scene) -> Result<PassPlan, ResumeError> {
+    let Some(pass) = header.trace.passes.last().filter(|p| !p.is_complete()) else {
+        return Err(ResumeError::Complete);
+    };
+    let scene_lights = scene_lights(&header.table, scene)?;
+    let lights: Vec<LightPlan> = pass
+        .planned
+        .iter()
+        .map(|&(table_index, paths)| LightPlan {
+            scene_light: scene_lights[table_index as usize],
+            table_index,
+            paths,
+        })
+        .collect();
+    let first_block =
+        blocks_done(&lights, pass.paths).ok_or(ResumeError::NotBlockAligned { paths: pass.paths })?;
+    Ok(PassPlan { settings: pass.settings(), lights, first_block })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset::testing::{Traced, cornell_with_bulb};
+    use crate::dataset::{Roulette, StrategyChoice, TraceSettings, new_trace, refine};
+    use crate::scene::cornell_box;
+
+    /// `data` as a run stopped after its first `blocks` chunks of the last pass would have
+    /// saved it: the chunks before, and the pass's paths and N_k booked for those blocks only.
+    fn cut(before: &Traced, pass: &PassPlan, done: &Traced, blocks: usize) -> Traced {
+        let mut cut = before.clone();
+        let new = &done.chunks[before.chunks.len()..before.chunks.len() + blocks];
+        let traced: Vec<u64> = pass
+            .lights
+            .iter()
+            .map(|p| new.iter().filter(|c| c.light == p.table_index).map(|c| c.paths).sum())
+            .collect();
+        assert_eq!(cut.header.record_traced(&pass.lights, &traced, 0.1), Ok(false));
+        cut.chunks.extend_from_slice(new);
+        cut
+    }
+
+    /// Without wall-clock times: what must be identical between two runs.
+    fn contents(t: &Traced) -> Traced {
+        let mut t = t.clone();
+        t.header.trace.passes.iter_mut().for_each(|p| p.seconds = 0.0);
+        t
+    }
+
+    #[test]
+    fn an_interrupted_trace_or_refinement_resumes_to_exactly_the_uninterrupted_dataset() {
+        let scene = Scene::build(&cornell_with_bulb()).unwrap();
+        // A non-default strategy, which the resumed part must keep using.
+        let settings = TraceSettings {
+            paths: 30_000,
+            seed: 3,
+            rr_depth: 2,
+            roulette: Roulette::Fixed,
+            ..Default::default()
+        };
+        let (header, pass) = new_trace(&scene, "two", settings);
+        let empty = Traced { header, chunks: vec![] };
+        let mut whole = empty.clone();
+        whole.run(&scene, &pass);
+        for blocks in [0, 1, 4, 7] {
+            let mut cut = cut(&empty, &pass, &whole, blocks);
+            let rest = resume_plan(&cut.header, &scene).unwrap();
+            assert_eq!(rest, PassPlan { first_block: blocks, ..pass.clone() });
+            cut.run(&scene, &rest);
+            assert_eq!(contents(&cut), contents(&whole), "trace resumed after {blocks} blocks");
+        }
+        assert_eq!(resume_plan(&whole.header, &scene), Err(ResumeError::Complete));
+
+        let (header, pass) = refine(&whole.header, &scene, 20_000, None, &StrategyChoice::default()).unwrap();
+        assert_eq!(pass.settings, TraceSettings { paths: 20_000, stream: 1, ..settings });
+        let before = Traced { header, chunks: whole.chunks.clone() };
+        let mut refined = before.clone();
+        refined.run(&scene, &pass);
+        let mut cut = cut(&before, &pass, &refined, 3);
+        let rest = resume_plan(&cut.header, &scene).unwrap();
+        assert_eq!((rest.first_block, rest.settings), (3, pass.settings));
+        cut.run(&scene, &rest);
+        assert_eq!(contents(&cut), contents(&refined), "refinement resumed");
+    }
+
+    #[test]
+    fn only_a_prefix_of_blocks_of_an_unfinished_pass_against_its_lights_resumes() {
+        let scene = Scene::build(&cornell_with_bulb()).unwrap();
+        let (mut header, pass) =
+            new_trace(&scene, "two", TraceSettings { paths: 10_000, ..Default::default() });
+        header.trace.passes[0].paths = 4097;
+        assert_eq!(resume_plan(&header, &scene), Err(ResumeError::NotBlockAligned { paths: 4097 }));
+        header.trace.passes[0].paths = 0;
+        assert_eq!(resume_plan(&header, &scene).map(|p| p.lights), Ok(pass.lights));
+        let gone = Scene::build(&cornell_box()).unwrap();
+        assert_eq!(resume_plan(&header, &gone), Err(ResumeError::Light(LightMismatch::Gone("bulb".into()))));
+        header.trace.passes.clear();
+        assert_eq!(resume_plan(&header, &scene), Err(ResumeError::Complete));
+    }
+}

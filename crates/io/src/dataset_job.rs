@@ -1,0 +1,451 @@
+//! The one way datasets are written: copy the chunks of existing datasets (a refinement, an
+//! added light, a merge), trace new paths into it (a trace, a refinement, an added light, a
+//! resumption), and finish it atomically. What to write — the header, the pass and its plan —
+//! comes from the core (`opticks_core::dataset`); this module does the files.
+//!
+//! Tracing and writing overlap (a writer thread drains finished chunks while the next batch
+//! traces). Progress and the request to stop are the caller's ([`JobProgress`]), asked between
+//! chunks copied and between batches traced. Stopped while copying, nothing is written; stopped
+//! while tracing, the paths completed so far are saved beside the target as
+//! `NAME.partial.opds` ([`partial_path`]) — a valid dataset with those N_k — and the target is
+//! left as it was. Its last pass records the plan, so resuming it
+//! (`opticks_core::dataset::resume_plan`) traces exactly the missing blocks, into the target
+//! again ([`finished_path`]).
+
+use crate::dataset_file::{DatasetError, DatasetReader, DatasetSummary, DatasetWriter};
+use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan};
+use opticks_core::scene::Scene;
+use opticks_core::trace::trace_plan_from;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What a long job reports, and how it is asked to stop (by default: silently, never).
+pub trait JobProgress {
+    /// Tracing begins; `paths` are planned in all (those of blocks already done included).
+    fn tracing(&self, _paths: u64) {}
+    /// `done` paths have been traced so far by this run (called after each batch of blocks).
+    fn traced(&self, _done: u64) {}
+    /// Tracing ended without an error (completely, or stopped).
+    fn traced_all(&self) {}
+    /// Whether to stop (e.g. Ctrl-C was pressed): asked before each chunk copied and between
+    /// batches of blocks traced.
+    fn stop(&self) -> bool {
+        false
+    }
+}
+
+/// No progress shown, never stopped.
+impl JobProgress for () {}
+
+/// A dataset whose chunks are copied into the new one.
+pub struct Source<'a> {
+    /// The dataset.
+    pub reader: &'a DatasetReader,
+    /// Where each of its lights is in the new table (`None`: at the same index).
+    pub lights: Option<Vec<u32>>,
+}
+
+impl<'a> Source<'a> {
+    /// All chunks of `reader`, under their own light indices.
+    pub fn as_is(reader: &'a DatasetReader) -> Self {
+        Source { reader, lights: None }
+    }
+}
+
+/// New paths to trace into the dataset: a pass of `scene` (its geometry fingerprint is the
+/// header's).
+pub struct NewPaths<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// Settings, plan, and the blocks of it already in the sources (when resuming).
+    pub pass: PassPlan,
+}
+
+/// What the job produced.
+#[derive(Debug)]
+pub struct JobReport {
+    /// The file written.
+    pub summary: DatasetSummary,
+    /// Its final light table.
+    pub table: LightTable,
+    /// Seconds spent tracing (0 without new paths).
+    pub trace_seconds: f64,
+}
+
+/// Why a dataset was not written.
+#[derive(Debug, thiserror::Error)]
+pub enum JobError {
+    /// The dataset file could not be started.
+    #[error("cannot create dataset {}", path.display())]
+    Create {
+        /// The target.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: DatasetError,
+    },
+    /// A source chunk could not be read, or a chunk not written.
+    #[error(transparent)]
+    Dataset(#[from] DatasetError),
+    /// Asked to stop while copying: nothing was written.
+    #[error("{} was left as it was: interrupted: stopped, nothing written", output.display())]
+    Stopped {
+        /// The target, untouched.
+        output: PathBuf,
+    },
+    /// Asked to stop while tracing: the target is untouched, the paths completed are saved in
+    /// `partial`.
+    #[error(
+        "interrupted: {} was left as it was; the {paths} paths completed are saved in {}",
+        output.display(),
+        partial.display()
+    )]
+    Interrupted {
+        /// The target, untouched.
+        output: PathBuf,
+        /// The valid partial dataset written instead ([`partial_path`]).
+        partial: PathBuf,
+        /// The paths the interrupted pass has traced.
+        paths: u64,
+    },
+    /// The finished dataset could not be written.
+    #[error("cannot write dataset {}", path.display())]
+    Finish {
+        /// The file being finished.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: DatasetError,
+    },
+    /// New paths came without a pass record in the header.
+    #[error(transparent)]
+    NoPass(#[from] NoPassRecord),
+    /// The writer thread ended before the tracer.
+    #[error("the dataset writer stopped")]
+    WriterStopped,
+    /// The writer thread panicked.
+    #[error("the dataset writer panicked")]
+    WriterPanicked,
+    /// A resumed dataset was finished, but its partial file could not be removed.
+    #[error("finished {}, but cannot remove {}: {source}", output.display(), partial.display())]
+    RemovePartial {
+        /// The finished dataset.
+        output: PathBuf,
+        /// The partial dataset it was resumed from.
+        partial: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Writes `header` (whose table lists every light, with N_k = the paths of the copied chunks,
+/// and whose last pass is the new one when `new` is given) to `output`: first every chunk of
+/// `sources`, then the new paths, booked in the header as they are traced
+/// ([`DatasetHeader::record_traced`]). Stopped while tracing, the completed paths go to
+/// [`partial_path`]`(output)` instead and the error says so.
+pub fn write_dataset(
+    output: &Path,
+    mut header: DatasetHeader,
+    sources: &[Source<'_>],
+    new: Option<NewPaths<'_>>,
+    progress: &dyn JobProgress,
+) -> Result<JobReport, JobError> {
+    let mut writer = DatasetWriter::create(output, &header)
+        .map_err(|source| JobError::Create { path: output.to_owned(), source })?;
+    for source in sources {
+        let r = source.reader;
+        for i in 0..r.chunk_count() {
+            let mut c = r.chunk(i)?.to_chunk();
+            if let Some(map) = &source.lights {
+                c.light = map[c.light as usize];
+            }
+            if progress.stop() {
+                return Err(JobError::Stopped { output: output.to_owned() });
+            }
+            writer.write_chunk(&c)?;
+        }
+    }
+    let mut trace_seconds = 0.0;
+    let mut interrupted = false;
+    if let Some(new) = new {
+        let t0 = Instant::now();
+        let (traced, w) = trace_overlapped(writer, &new, progress)?;
+        writer = w;
+        trace_seconds = t0.elapsed().as_secs_f64();
+        interrupted = !header.record_traced(&new.pass.lights, &traced, trace_seconds)?;
+    }
+    let target = if interrupted { partial_path(output) } else { output.to_owned() };
+    writer.retarget(&target);
+    let summary = writer
+        .finish(&header.table, &header.trace)
+        .map_err(|source| JobError::Finish { path: target.clone(), source })?;
+    if interrupted {
+        return Err(JobError::Interrupted {
+            output: output.to_owned(),
+            partial: target,
+            paths: header.trace.passes.last().map_or(0, |p| p.paths),
+        });
+    }
+    Ok(JobReport { summary, table: header.table, trace_seconds })
+}
+
+/// Traces `pass` of `scene`, handing chunks to `sink` in order and reporting to `progress`
+/// (which may stop it between batches). Returns the paths traced per plan entry.
+pub fn trace_observed<E>(
+    scene: &Scene,
+    pass: &PassPlan,
+    sink: impl FnMut(Chunk) -> Result<(), E>,
+    progress: &dyn JobProgress,
+) -> Result<Vec<u64>, E> {
+    progress.tracing(pass.lights.iter().map(|p| p.paths).sum());
+    let traced = trace_plan_from(
+        scene,
+        &pass.settings,
+        &pass.lights,
+        pass.first_block,
+        sink,
+        |done| progress.traced(done),
+        || progress.stop(),
+    )?;
+    progress.traced_all();
+    Ok(traced)
+}
+
+/// Traces `new` on the rayon pool while a writer thread appends the chunks.
+fn trace_overlapped(
+    mut writer: DatasetWriter,
+    new: &NewPaths<'_>,
+    progress: &dyn JobProgress,
+) -> Result<(Vec<u64>, DatasetWriter), JobError> {
+    std::thread::scope(|s| {
+        let (send, receive) = std::sync::mpsc::sync_channel::<Chunk>(128);
+        let writing = s.spawn(move || -> Result<DatasetWriter, DatasetError> {
+            for c in receive {
+                writer.write_chunk(&c)?;
+            }
+            Ok(writer)
+        });
+        let traced = trace_observed(
+            new.scene,
+            &new.pass,
+            |c| send.send(c).map_err(|_| JobError::WriterStopped),
+            progress,
+        );
+        drop(send);
+        let written = writing.join().map_err(|_| JobError::WriterPanicked)?;
+        // A write error explains a trace that stopped because the writer did: report it first.
+        let writer = written?;
+        Ok((traced?, writer))
+    })
+}
+
+/// `dir/NAME.partial.opds` for `dir/NAME.opds`: where an interrupted job saves its work.
+pub fn partial_path(output: &Path) -> PathBuf {
+    let stem = output.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    output.with_file_name(format!("{stem}.partial.opds"))
+}
+
+/// `dir/NAME.opds` for `dir/NAME.partial.opds` (other names are kept: a resumption then
+/// writes in place).
+pub fn finished_path(partial: &Path) -> PathBuf {
+    let name = partial.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    match name.strip_suffix(".partial.opds") {
+        Some(stem) if !stem.is_empty() => partial.with_file_name(format!("{stem}.opds")),
+        _ => partial.to_owned(),
+    }
+}
+
+/// Removes the partial dataset a resumption finished into `output` (unless it was finished in
+/// place).
+pub fn remove_partial(partial: &Path, output: &Path) -> Result<(), JobError> {
+    if output == partial {
+        return Ok(());
+    }
+    std::fs::remove_file(partial).map_err(|source| JobError::RemovePartial {
+        output: output.to_owned(),
+        partial: partial.to_owned(),
+        source,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dataset_file::read_all;
+    use opticks_core::dataset::{TraceSettings, merge_header, new_trace, resume_plan};
+    use opticks_core::scene::{PointLightDesc, cornell_box};
+    use std::cell::Cell;
+
+    fn scene(bulb: bool) -> Scene {
+        let mut d = cornell_box();
+        if bulb {
+            d.point_lights.push(PointLightDesc {
+                name: "bulb".into(),
+                intensity: 0.3 * opticks_core::math::Rgb::ONE,
+                ..Default::default()
+            });
+        }
+        Scene::build(&d).unwrap()
+    }
+
+    /// Stops when asked for the `n`-th time.
+    struct StopAt(Cell<u32>);
+    impl JobProgress for StopAt {
+        fn stop(&self) -> bool {
+            let n = self.0.get();
+            self.0.set(n.saturating_sub(1));
+            n == 0
+        }
+    }
+
+    fn trace(
+        scene: &Scene,
+        path: &Path,
+        paths: u64,
+        seed: u64,
+        progress: &dyn JobProgress,
+    ) -> Result<JobReport, JobError> {
+        let (header, pass) = new_trace(scene, "box", TraceSettings { paths, seed, ..Default::default() });
+        write_dataset(path, header, &[], Some(NewPaths { scene, pass }), progress)
+    }
+
+    fn files(dir: &Path) -> Vec<String> {
+        let mut names: Vec<_> =
+            std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        names.sort();
+        names
+    }
+
+    #[test]
+    fn a_trace_is_written_as_traced_and_booked() {
+        let dir = tempfile::tempdir().unwrap();
+        let (scene, path) = (scene(true), dir.path().join("two.opds"));
+        let report = trace(&scene, &path, 9000, 2, &()).unwrap();
+        let (header, chunks) = read_all(&path).unwrap();
+        let (planned, pass) =
+            new_trace(&scene, "box", TraceSettings { paths: 9000, seed: 2, ..Default::default() });
+        let mut expected = Vec::new();
+        trace_observed(
+            &scene,
+            &pass,
+            |c| {
+                expected.push(c);
+                Ok::<(), ()>(())
+            },
+            &(),
+        )
+        .unwrap();
+        assert_eq!(chunks, expected);
+        assert_eq!((header.table.total_paths(), report.table), (9000, header.table.clone()));
+        assert_eq!(header.trace.passes.len(), 1);
+        let written = &header.trace.passes[0];
+        assert!(written.is_complete() && written.seconds > 0.0 && report.trace_seconds > 0.0);
+        assert_eq!(written.planned, planned.trace.passes[0].planned);
+        assert_eq!((report.summary.path, report.summary.chunks), (path, chunks.len() as u64));
+    }
+
+    #[test]
+    fn stopped_while_tracing_the_work_is_saved_as_partial_and_resumes_to_the_whole() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let scene = scene(true);
+        trace(&scene, &d.join("whole.opds"), 9000, 3, &()).unwrap();
+        std::fs::write(d.join("cut.opds"), b"the previous file").unwrap();
+        let e = trace(&scene, &d.join("cut.opds"), 9000, 3, &StopAt(Cell::new(0))).unwrap_err();
+        let JobError::Interrupted { output, partial, paths } = &e else { panic!("{e}") };
+        assert_eq!(
+            (output.as_path(), partial.as_path(), *paths),
+            (d.join("cut.opds").as_path(), d.join("cut.partial.opds").as_path(), 0)
+        );
+        assert_eq!(
+            std::fs::read(d.join("cut.opds")).unwrap(),
+            b"the previous file",
+            "the target is left as it was"
+        );
+        assert_eq!(files(d), ["cut.opds", "cut.partial.opds", "whole.opds"], "no temporary file is left");
+
+        let reader = DatasetReader::open(partial).unwrap();
+        let pass = resume_plan(reader.header(), &scene).unwrap();
+        let output = finished_path(partial);
+        write_dataset(
+            &output,
+            reader.header().clone(),
+            &[Source::as_is(&reader)],
+            Some(NewPaths { scene: &scene, pass }),
+            &(),
+        )
+        .unwrap();
+        remove_partial(partial, &output).unwrap();
+        let contents = |f: &str| {
+            let (mut h, chunks) = read_all(&d.join(f)).unwrap();
+            h.trace.passes.iter_mut().for_each(|p| p.seconds = 0.0);
+            (h, chunks)
+        };
+        assert!(contents("cut.opds") == contents("whole.opds"), "resumed ≠ uninterrupted");
+        assert_eq!(files(d), ["cut.opds", "whole.opds"], "the partial file is used up");
+    }
+
+    #[test]
+    fn stopped_while_copying_nothing_is_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let scene = scene(false);
+        trace(&scene, &d.join("a.opds"), 9000, 1, &()).unwrap();
+        let reader = DatasetReader::open(&d.join("a.opds")).unwrap();
+        let e = write_dataset(
+            &d.join("b.opds"),
+            reader.header().clone(),
+            &[Source::as_is(&reader)],
+            None,
+            &StopAt(Cell::new(1)),
+        )
+        .unwrap_err();
+        assert!(matches!(&e, JobError::Stopped { output } if output == &d.join("b.opds")), "{e}");
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "{} was left as it was: interrupted: stopped, nothing written",
+                d.join("b.opds").display()
+            )
+        );
+        assert_eq!(files(d), ["a.opds"]);
+    }
+
+    #[test]
+    fn merged_sources_are_copied_under_their_lights_in_the_merged_table() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        trace(&scene(false), &d.join("box.opds"), 5000, 1, &()).unwrap();
+        trace(&scene(true), &d.join("two.opds"), 6000, 2, &()).unwrap();
+        let (a, b) = (
+            DatasetReader::open(&d.join("two.opds")).unwrap(),
+            DatasetReader::open(&d.join("box.opds")).unwrap(),
+        );
+        let mut header = a.header().clone();
+        let lights = merge_header(&mut header, b.header()).unwrap();
+        let sources = [Source::as_is(&a), Source { reader: &b, lights: Some(lights) }];
+        let report = write_dataset(&d.join("m.opds"), header.clone(), &sources, None, &()).unwrap();
+        assert_eq!(report.trace_seconds, 0.0);
+        let (written, chunks) = read_all(&d.join("m.opds")).unwrap();
+        assert_eq!(written, header);
+        let (_, box_chunks) = read_all(&d.join("box.opds")).unwrap();
+        assert_eq!(
+            chunks[chunks.len() - box_chunks.len()..],
+            box_chunks[..],
+            "the box's light is light 0 in both"
+        );
+        assert_eq!(written.table.lights[0].paths, a.header().table.lights[0].paths + 5000);
+    }
+
+    #[test]
+    fn an_interrupted_run_is_saved_beside_its_target_and_resumed_into_it() {
+        assert_eq!(partial_path(Path::new("d/box.opds")), Path::new("d/box.partial.opds"));
+        assert_eq!(finished_path(Path::new("d/box.partial.opds")), Path::new("d/box.opds"));
+        assert_eq!(finished_path(Path::new("box.opds")), Path::new("box.opds"));
+        assert_eq!(finished_path(Path::new(".partial.opds")), Path::new(".partial.opds"));
+        remove_partial(Path::new("no such file"), Path::new("no such file")).unwrap();
+        let e = remove_partial(Path::new("no such file"), Path::new("x.opds")).unwrap_err();
+        assert!(e.to_string().starts_with("finished x.opds, but cannot remove no such file: "), "{e}");
+    }
+}
