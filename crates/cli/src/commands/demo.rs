@@ -5,7 +5,7 @@ use crate::camera_args::CameraArgs;
 use crate::progress::TraceProgress;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
 use anyhow::{Context, Result};
-use opticks_core::dataset::{PassPlan, TraceSettings, plan_all, planned_table};
+use opticks_core::dataset::{TraceSettings, new_trace};
 use opticks_io::dataset_job::trace_observed;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -50,18 +50,18 @@ pub fn run(a: Args) -> Result<()> {
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
     let t0 = Instant::now();
     let mut chunks = Vec::new();
-    let pass = PassPlan { settings, lights: plan_all(&scene, a.paths), first_block: 0 };
+    let (mut header, pass) = new_trace(&scene, BUILTIN_CORNELL, settings);
     let sink = |c| {
         chunks.push(c);
         Ok::<(), std::convert::Infallible>(())
     };
-    trace_observed(&scene, &pass, sink, &TraceProgress::default())?;
+    let traced = trace_observed(&scene, &pass, sink, &TraceProgress::default())?;
     if crate::interrupt::requested() {
         anyhow::bail!("interrupted by the user");
     }
-    let table = planned_table(&scene, a.paths);
+    header.record_traced(&pass.lights, &traced, 0.0)?;
     let t1 = Instant::now();
-    let film = render_chunks(&scene, &camera, &table, &chunks)?;
+    let film = render_chunks(&scene, &camera, &header.table, &chunks)?;
     let t2 = Instant::now();
     let samples: usize = chunks.iter().map(|c| c.samples.len()).sum();
     let other =

@@ -130,11 +130,10 @@ mod tests {
         assert_eq!(merge_tables(&a, &moved), Err(MergeError::ShapeChanged("lamp".into())));
     }
 
-    fn header(
-        geometry: u8,
-        lights: &[(&str, u8, u64)],
-        passes: &[(u64, u64, &[(u32, u64)])],
-    ) -> DatasetHeader {
+    /// A pass: seed, stream, plan (light, paths).
+    type Pass<'a> = (u64, u64, &'a [(u32, u64)]);
+
+    fn header(geometry: u8, lights: &[(&str, u8, u64)], passes: &[Pass<'_>]) -> DatasetHeader {
         DatasetHeader {
             fingerprint: Fingerprint { geometry: [geometry; 16], lights: [lights.len() as u8; 16] },
             label: format!("scene {geometry}"),
