@@ -299,3 +299,47 @@ fn bench_reports_speed_and_quality() {
         assert!((got / want - 1.0).abs() < 0.03, "mean {got} vs reference {want}");
     }
 }
+
+/// Every dataset law and operation is a core function (ARCHITECTURE.md): the command line's
+/// sources build no light record, pass or plan of their own, touch no N_k, and write no dataset
+/// file themselves (`opticks_io::dataset_job` does).
+#[test]
+fn the_cli_holds_no_dataset_logic() {
+    fn sources(dir: &Path, out: &mut Vec<(String, String)>) {
+        for entry in std::fs::read_dir(dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                sources(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push((path.display().to_string(), std::fs::read_to_string(&path).unwrap()));
+            }
+        }
+    }
+    let mut files = Vec::new();
+    sources(&repo().join("crates/cli/src"), &mut files);
+    assert!(files.len() > 10, "{} files", files.len());
+    let dataset_logic = [
+        "LightRecord",
+        "TracePass",
+        "LightPlan",
+        "path_quotas",
+        "merge_tables",
+        "blocks_done",
+        "trace_plan",
+        "DatasetWriter",
+        "geometry_v1",
+        "light_shapes",
+        "next_stream",
+        "paths +=",
+        ".planned.",
+        "PassPlan {",
+    ];
+    for (file, text) in &files {
+        for word in dataset_logic {
+            assert!(
+                !text.contains(word),
+                "{file} uses `{word}`: dataset logic belongs in opticks_core::dataset"
+            );
+        }
+    }
+}

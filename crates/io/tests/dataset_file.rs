@@ -639,3 +639,20 @@ fn version_1_files_are_still_read() {
     assert_eq!(read_chunks, chunks);
     assert!(read.trace.passes[0].is_complete() && read.trace.passes[0].planned.is_empty());
 }
+
+/// The file format encodes the core's dataset and depends on nothing else of it: not on the
+/// tracer (ARCHITECTURE.md, "every dataset law and operation is a core function").
+#[test]
+fn the_file_format_imports_nothing_from_the_tracer() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/dataset_file");
+    let mut files = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        for import in ["opticks_core::trace", "opticks_core::{"] {
+            assert!(!text.contains(import), "{} imports `{import}`", path.display());
+        }
+        files += 1;
+    }
+    assert!(files >= 4, "{files} files in {}", dir.display());
+}
