@@ -163,7 +163,10 @@ fn render_relights_exactly_and_refuses_lights_it_cannot_light() {
     let moved = std::fs::read_to_string(&two).unwrap().replace("x=\"0.3\"", "x=\"0.2\"");
     std::fs::write(d.join("moved.xml"), moved).unwrap();
     let e = fails(&["render", "two.opds", "--scene", "moved.xml", "-o", "x.exr"], d);
-    assert!(e.contains("light 'bulb' has moved or changed shape since the trace"), "{e}");
+    assert!(
+        e.contains("light 'bulb' has moved or changed shape since the trace: its samples no longer apply (re-trace the scene)"),
+        "{e}"
+    );
     let cornell = scene_file("cornell", "scene.xml");
     ok(&["trace", cornell.to_str().unwrap(), "--paths", "5000", "-o", "box.opds"], d);
     let e = fails(&["render", "box.opds", "--scene", &two, "-o", "x.exr"], d);

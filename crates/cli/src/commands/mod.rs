@@ -156,6 +156,7 @@ impl DatasetArgs {
             LightingError::NotTraced(name) => {
                 anyhow!("{e}: add it with `opticks add-light`, or switch it off with --light '{name}=0'")
             }
+            LightingError::ShapeChanged(_) => anyhow!("{e} (re-trace the scene)"),
             _ => e.into(),
         })?;
         for note in &lighting.notes {

@@ -39,9 +39,7 @@ pub enum LightingError {
         names: Vec<String>,
     },
     /// The light moved or changed shape since the trace.
-    #[error(
-        "light '{0}' has moved or changed shape since the trace: its samples no longer apply (re-trace the scene)"
-    )]
+    #[error("light '{0}' has moved or changed shape since the trace: its samples no longer apply")]
     ShapeChanged(String),
     /// The scene has a light the dataset never traced (and that is not switched off): its
     /// paths must be added to the dataset, or its power scaled to 0.
