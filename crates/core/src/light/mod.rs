@@ -30,9 +30,9 @@ pub use profile::{
     BuiltProfile, EmissionProfile, IesProfile, LUMENS_PER_WATT, ProfileError, lumens_to_watts,
 };
 
+use crate::geometry::Triangle;
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::warp;
-use crate::scene::Triangle;
 
 /// A one-sided emitter made of scene triangles.
 #[derive(Clone, Debug, PartialEq)]

@@ -9,48 +9,9 @@ use super::fingerprint::Hasher;
 use super::{CameraDesc, Fingerprint, MeshDesc, SceneDescription, Source};
 use crate::accel::Accel;
 use crate::bsdf::Material;
-use crate::geometry::{Hit, Ray, SurfaceNormals};
+use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::{AreaLight, BuiltProfile, DirectionalLight, EmissionProfile, Light, PointLight};
 use crate::math::{Frame, Rgb, Vec3};
-
-/// A triangle as stored for sampling and shading: v0 and two edges.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Triangle {
-    /// First vertex.
-    pub v0: Vec3,
-    /// v1 − v0.
-    pub e1: Vec3,
-    /// v2 − v0.
-    pub e2: Vec3,
-}
-
-impl Triangle {
-    /// Point at barycentrics (b1, b2).
-    #[inline]
-    pub fn point(&self, b1: f32, b2: f32) -> Vec3 {
-        self.v0 + b1 * self.e1 + b2 * self.e2
-    }
-    /// Unit geometric normal (e1 × e2, counter-clockwise front).
-    #[inline]
-    pub fn normal(&self) -> Vec3 {
-        self.e1.cross(self.e2).normalize()
-    }
-    /// Area.
-    #[inline]
-    pub fn area(&self) -> f32 {
-        0.5 * self.e1.cross(self.e2).length()
-    }
-    /// Barycentrics (b1, b2) of the point of the triangle's plane nearest to `p` (so a stored
-    /// position, which does not record where on its triangle it lies, gives them back).
-    #[inline]
-    pub fn barycentrics(&self, p: Vec3) -> (f32, f32) {
-        let d = p - self.v0;
-        let (d00, d01, d11) = (self.e1.dot(self.e1), self.e1.dot(self.e2), self.e2.dot(self.e2));
-        let (d20, d21) = (d.dot(self.e1), d.dot(self.e2));
-        let inv = 1.0 / (d00 * d11 - d01 * d01);
-        ((d11 * d20 - d01 * d21) * inv, (d00 * d21 - d01 * d20) * inv)
-    }
-}
 
 /// A triangle's vertex normals are ignored (the triangle is faceted) when each is within this
 /// distance of its geometric normal: they could only change results by rounding.
@@ -241,12 +202,6 @@ fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
     h.finish()
 }
 
-/// The triangle of `positions` with vertex indices `t`.
-fn triangle(positions: &[Vec3], t: [u32; 3]) -> Triangle {
-    let [a, b, c] = t.map(|i| positions[i as usize]);
-    Triangle { v0: a, e1: b - a, e2: c - a }
-}
-
 /// The mesh's vertex normals, normalised and checked (one per vertex, finite, non-zero); empty
 /// for a faceted mesh.
 fn unit_normals(mesh: &super::MeshDesc) -> Result<Vec<Vec3>, SceneError> {
@@ -416,7 +371,7 @@ impl Scene {
                     });
                 }
                 let mut t = *t;
-                let mut tri = triangle(&mesh.positions, t);
+                let mut tri = Triangle::from_indices(&mesh.positions, t);
                 let area = tri.area();
                 if !(area > 0.0) || !tri.normal().is_finite() {
                     dropped += 1;
@@ -430,7 +385,7 @@ impl Scene {
                         // orient the geometric normal by the shading one): rewind.
                         t.swap(1, 2);
                         ns.swap(1, 2);
-                        tri = triangle(&mesh.positions, t);
+                        tri = Triangle::from_indices(&mesh.positions, t);
                     }
                     let ng = tri.normal();
                     if ns.iter().any(|n| (*n - ng).length() > FLAT_TOLERANCE) {

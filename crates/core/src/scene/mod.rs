@@ -8,7 +8,7 @@ mod demo;
 mod description;
 mod fingerprint;
 
-pub use build::{Scene, SceneError, Triangle};
+pub use build::{Scene, SceneError};
 pub use camera::{CameraDesc, CameraError, Pinhole};
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};
 pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
