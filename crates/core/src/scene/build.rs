@@ -249,7 +249,7 @@ fn area_light(
         message,
     };
     let profile = mesh.emission_profile.as_ref().unwrap_or(&EmissionProfile::Cosine);
-    let profile = BuiltProfile::build(profile, true).map_err(|e| bad_profile(e.0))?;
+    let profile = BuiltProfile::build(profile, true).map_err(|e| bad_profile(e.to_string()))?;
     let tangent = match mesh.emission_tangent {
         None => Vec3::X,
         Some(t) if t.is_finite() && t.length() > 0.0 => t.normalize(),
@@ -449,7 +449,7 @@ impl Scene {
                 message,
             };
             let profile = BuiltProfile::build(p.profile.as_ref().unwrap_or(&EmissionProfile::Uniform), false)
-                .map_err(|e| bad_profile(e.0))?;
+                .map_err(|e| bad_profile(e.to_string()))?;
             let frame = match p.orientation {
                 None => Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z },
                 Some(f) => orthonormal(f).ok_or_else(|| SceneError::BadOrientation {

@@ -1614,7 +1614,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 if lm < 0.0 {
                     return Err(self.err(lnode, "lumens must not be negative"));
                 }
-                lumens_to_watts(lm as f32, colour).map(Some).ok_or_else(|| {
+                lumens_to_watts(lm as f32, colour).map(Some).map_err(|_| {
                     self.err(
                         lnode,
                         format!("`lumens` needs the `{colour_name}` colour to have non-zero luminance"),

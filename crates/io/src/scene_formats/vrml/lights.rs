@@ -132,7 +132,7 @@ impl Converter {
             }
             // The colour is the intensity's (white if not given); lumens set the flux.
             light.intensity = if i != Rgb::ZERO { i } else { Rgb::ONE };
-            light.power = Some(lumens_to_watts(lumens as f32, light.intensity).ok_or_else(|| {
+            light.power = Some(lumens_to_watts(lumens as f32, light.intensity).map_err(|_| {
                 self.invalid(n, "lumens need the intensity colour to have non-zero luminance")
             })?);
         }
