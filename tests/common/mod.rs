@@ -8,8 +8,8 @@ use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
-use opticks_core::sensor::{SampleBatch, Sensor, render};
+use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription};
+use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
 use opticks_core::trace::{TraceSettings, trace};
 use std::path::{Path, PathBuf};
 

@@ -9,7 +9,8 @@ use common::*;
 use opticks_core::bsdf::Bsdf;
 use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{Pinhole, Scene, SceneDescription};
+use opticks_core::scene::{Scene, SceneDescription};
+use opticks_core::sensor::Pinhole;
 use opticks_io::{LoadedScene, SceneFileError, load_scene};
 use std::path::Path;
 

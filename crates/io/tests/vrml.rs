@@ -6,7 +6,8 @@
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{Pinhole, PointLightDesc, Scene, Source, cornell_box};
+use opticks_core::scene::{PointLightDesc, Scene, Source, cornell_box};
+use opticks_core::sensor::Pinhole;
 use opticks_io::scene_formats::vrml::{self, extension::DECLARATIONS};
 use opticks_io::{LoadedScene, SceneFileError, load_scene};
 use proptest::prelude::*;

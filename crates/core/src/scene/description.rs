@@ -5,7 +5,23 @@
 use crate::bsdf::Material;
 use crate::light::EmissionProfile;
 use crate::math::{Frame, Rgb, Vec3};
-use crate::scene::CameraDesc;
+
+/// A perspective camera as a scene file states it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraDesc {
+    /// Centre of projection.
+    pub eye: Vec3,
+    /// A point the camera looks at.
+    pub target: Vec3,
+    /// Up hint (need not be orthogonal to the view direction).
+    pub up: Vec3,
+    /// Full horizontal field of view, degrees.
+    pub fov_x_degrees: f32,
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+}
 
 /// Where a scene element came from, for error messages ("scene.xml:42").
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

@@ -2,15 +2,13 @@
 //! ray-traceable [`Scene`] built from it (BVH, per-triangle data, light table, fingerprint).
 
 mod build;
-mod camera;
 mod camera_path;
 mod demo;
 mod description;
 mod fingerprint;
 
 pub use build::{Scene, SceneError};
-pub use camera::{CameraDesc, CameraError, Pinhole};
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};
 pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
-pub use description::{DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
+pub use description::{CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
 pub use fingerprint::Fingerprint;

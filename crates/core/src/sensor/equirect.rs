@@ -10,9 +10,9 @@
 //! W = 1/(Ω_j · d²)
 //! ```
 
-use super::Connection;
+use super::{CameraError, Connection, Pinhole};
 use crate::math::Vec3;
-use crate::scene::{CameraDesc, CameraError, Pinhole};
+use crate::scene::CameraDesc;
 use std::f32::consts::{PI, TAU};
 
 /// A 360° longitude/latitude camera at `eye`.
