@@ -77,7 +77,11 @@ fn cornell_gltf_builds_the_same_scene_as_the_mitsuba_xml() {
     assert_eq!(names, ["white", "red", "green", "light"]);
     let tris: Vec<usize> = d.meshes.iter().map(|m| m.triangles.len()).collect();
     assert_eq!(tris, [30, 2, 2, 2]);
-    assert_eq!(d.meshes[3].emission, Some(Rgb::new(18.387, 13.9873, 6.75357)), "exact radiance");
+    assert_eq!(
+        d.meshes[3].emission.as_ref().map(|e| e.radiance),
+        Some(Rgb::new(18.387, 13.9873, 6.75357)),
+        "exact radiance"
+    );
     assert!(d.meshes[..3].iter().all(|m| m.emission.is_none()));
     assert!(d.materials.iter().all(|m| m.two_sided));
 
@@ -371,7 +375,7 @@ fn metallic_roughness_materials_map_to_phong_and_lambert() {
     assert!(mat(1).two_sided);
     // specularFactor 0 → Lambert of the base colour (default 1); emission = factor × strength.
     assert_eq!(mat(2).bsdf, Bsdf::Lambert(opticks_core::bsdf::Lambert::new(Rgb::ONE).unwrap()));
-    assert_eq!(d.meshes[2].emission, Some(Rgb::new(4.0, 2.0, 0.0)));
+    assert_eq!(d.meshes[2].emission.as_ref().map(|e| e.radiance), Some(Rgb::new(4.0, 2.0, 0.0)));
     // An emission texture: no emission, with a warning; BLEND is ignored with a warning.
     assert_eq!(d.meshes[3].emission, None);
     // No material: glTF's default, white rough metal, one-sided.

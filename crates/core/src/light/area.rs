@@ -13,7 +13,8 @@
 //! (emission sampling) and the sensor (emitters seen directly, through
 //! [`super::Light::emitted_fraction`]) both go through [`AreaLight::frame`], so they agree.
 
-use super::{BuiltProfile, Emission};
+use super::check::{check_power, unit_tangent};
+use super::{BuiltProfile, Emission, EmissionProfile, LightError};
 use crate::geometry::Triangle;
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::warp;
@@ -40,6 +41,40 @@ pub struct AreaLight {
 }
 
 impl AreaLight {
+    /// The area light `name` over the scene triangles `triangles` (with their cumulative areas),
+    /// emitting `radiance` along the normal with `profile` (`None`: Lambertian) oriented by
+    /// `tangent` (`None`: world +x); a `power` Φ, if given, overrides the radiance (which
+    /// becomes Φ/(A·∫s dω)). Checks the profile (one-sided: cut at 90°), the tangent and the
+    /// power; the radiance is the caller's to check ([`super::check::check_emission`]).
+    pub fn new(
+        name: String,
+        radiance: Rgb,
+        profile: Option<&EmissionProfile>,
+        tangent: Option<Vec3>,
+        power: Option<Rgb>,
+        triangles: Vec<u32>,
+        cumulative_area: Vec<f32>,
+    ) -> Result<AreaLight, LightError> {
+        let profile = BuiltProfile::build(profile.unwrap_or(&EmissionProfile::Cosine), true)?;
+        let tangent = tangent.map_or(Ok(Vec3::X), unit_tangent)?;
+        let area = cumulative_area.last().copied().unwrap_or(0.0);
+        let radiance = match power {
+            None => radiance,
+            Some(phi) => {
+                check_power(phi)?;
+                if !(area > 0.0) && phi.max_element() > 0.0 {
+                    return Err(LightError::PowerWithoutArea(phi.to_array()));
+                }
+                let per_radiance = profile.integral() * area;
+                if !(per_radiance > 0.0) && phi.max_element() > 0.0 {
+                    return Err(LightError::PowerUnreachable(phi.to_array()));
+                }
+                if per_radiance > 0.0 { phi / per_radiance } else { Rgb::ZERO }
+            }
+        };
+        Ok(AreaLight { name, radiance, profile, tangent, triangles, cumulative_area })
+    }
+
     /// Total emitting area A, m².
     pub fn area(&self) -> f32 {
         self.cumulative_area.last().copied().unwrap_or(0.0)

@@ -3,7 +3,8 @@
 //! just outside the scene's bounding sphere, whose radius is the bounding radius r, so
 //! Φ = E·π·r². Like point lights they are invisible to cameras (a delta distribution).
 
-use super::Emission;
+use super::check::{check_emission, unit_direction};
+use super::{Emission, LightError};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::warp;
 
@@ -25,17 +26,25 @@ pub struct DirectionalLight {
 }
 
 impl DirectionalLight {
-    /// The light travelling along the unit `direction` over a scene whose bounding sphere has
-    /// centre `centre` and radius `radius`: its disk is that radius, just outside the sphere.
-    pub fn covering(name: String, direction: Vec3, irradiance: Rgb, (centre, radius): (Vec3, f32)) -> Self {
-        DirectionalLight {
+    /// The light travelling along `direction` (normalised here) with `irradiance` over a scene
+    /// whose bounding sphere has centre `centre` and radius `radius`: its disk has that radius,
+    /// just outside the sphere. Checks the irradiance and the direction.
+    pub fn new(
+        name: String,
+        direction: Vec3,
+        irradiance: Rgb,
+        (centre, radius): (Vec3, f32),
+    ) -> Result<Self, LightError> {
+        check_emission(irradiance)?;
+        let direction = unit_direction(direction)?;
+        Ok(DirectionalLight {
             name,
             direction,
             irradiance,
             centre: centre - direction * (radius * 1.001 + 1e-4),
             radius,
             frame: Frame::from_normal(direction),
-        }
+        })
     }
 
     /// Power Φ = E·π·r² per channel.

@@ -2,8 +2,9 @@
 //! profiled one (a spot's axis, an IES file's 0° angles). Invisible to cameras (a delta
 //! distribution).
 
-use super::{BuiltProfile, Emission, LightError};
-use crate::math::{Frame, Rgb, Vec2};
+use super::check::{check_emission, check_orientation, check_position, check_power};
+use super::{BuiltProfile, Emission, EmissionProfile, LightError};
+use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::warp;
 use glam::DVec3;
 
@@ -13,7 +14,7 @@ pub struct PointLight {
     /// Name from the scene.
     pub name: String,
     /// Position.
-    pub position: crate::math::Vec3,
+    pub position: Vec3,
     /// Strength: radiant intensity on the profile's axis, W/sr (everywhere for the uniform
     /// profile); I(ω) = intensity·s(ω).
     pub intensity: Rgb,
@@ -26,6 +27,32 @@ pub struct PointLight {
 }
 
 impl PointLight {
+    /// The point light `name` at `position` with `profile` (`None`: isotropic) in the frame
+    /// `orientation` (`None`: the identity), of strength `intensity` (W/sr on the axis) or, if
+    /// given, power Φ = `power` (the intensity then follows: Φ/∫s dω). Checks every parameter.
+    pub fn new(
+        name: String,
+        position: Vec3,
+        intensity: Rgb,
+        profile: Option<&EmissionProfile>,
+        orientation: Option<Frame>,
+        power: Option<Rgb>,
+    ) -> Result<PointLight, LightError> {
+        check_emission(intensity)?;
+        check_position(position)?;
+        let profile = BuiltProfile::build(profile.unwrap_or(&EmissionProfile::Uniform), false)?;
+        let frame = match orientation {
+            None => Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z },
+            Some(f) => check_orientation(f)?,
+        };
+        let integral = profile.integral();
+        let (intensity, power) = match power {
+            Some(phi) => (check_power(phi)? / integral, phi),
+            None => (intensity, integral * intensity),
+        };
+        Ok(PointLight { name, position, intensity, power, profile, frame })
+    }
+
     /// A path start at the light: `u_dir` draws a direction from the profile (uniform on the
     /// sphere, exactly, for an isotropic light).
     #[inline]
@@ -59,7 +86,6 @@ pub fn axis_frame(axis: DVec3, x: DVec3) -> Result<Frame, LightError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Vec3;
 
     #[test]
     fn axis_frame_keeps_x_perpendicular_and_refuses_a_zero_axis() {

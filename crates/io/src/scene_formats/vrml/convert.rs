@@ -23,7 +23,7 @@ use glam::{DMat4, DQuat, DVec3};
 use opticks_core::bsdf::{Bsdf, Lambert, Material, ModifiedPhong};
 use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, SceneDescription, Source};
+use opticks_core::scene::{AreaEmission, CameraDesc, MeshDesc, SceneDescription, Source};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -50,51 +50,28 @@ pub const DEFAULT_IMAGE_SIZE: u32 = 512;
 
 type Result<T> = std::result::Result<T, SceneFileError>;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 enum Emission {
     None,
     Radiance(Rgb, AreaProfile),
     Power(Rgb, AreaProfile),
 }
 
-/// An AreaLight's `emission` function.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum AreaProfile {
-    /// `"lambertian"`: cos θ.
-    Lambertian,
-    /// `"uniform"`: the same radiant intensity in every front direction.
-    Uniform,
-    /// `"cosine n"`: cosⁿ θ (n = 1 is Lambertian).
-    CosinePower(f32),
-}
+/// An AreaLight's `emission` function as the core's profile; `None` is `"lambertian"` (the
+/// core's default).
+type AreaProfile = Option<EmissionProfile>;
 
-impl AreaProfile {
-    /// Parses an `emission` string.
-    fn parse(s: &str) -> Option<Self> {
-        let mut words = s.split_whitespace();
-        let p = match (words.next()?, words.next()) {
-            ("lambertian", None) => AreaProfile::Lambertian,
-            ("uniform", None) => AreaProfile::Uniform,
-            ("cosine", Some(n)) => {
-                let n: f32 = n.parse().ok()?;
-                if !(0.0..=1e6).contains(&n) {
-                    return None;
-                }
-                AreaProfile::CosinePower(n)
-            }
-            _ => return None,
-        };
-        words.next().is_none().then_some(p)
-    }
-
-    /// The core's profile (`None` is the Lambertian default).
-    fn core(self) -> Option<EmissionProfile> {
-        match self {
-            AreaProfile::Lambertian => None,
-            AreaProfile::Uniform => Some(EmissionProfile::Uniform),
-            AreaProfile::CosinePower(exponent) => Some(EmissionProfile::CosinePower { exponent }),
-        }
-    }
+/// Parses an `emission` string: `"lambertian"`, `"uniform"` or `"cosine n"` (n as the core's
+/// [`EmissionProfile::cosine_power`] allows); `None` if it is none of them.
+fn parse_area_profile(s: &str) -> Option<AreaProfile> {
+    let mut words = s.split_whitespace();
+    let p = match (words.next()?, words.next()) {
+        ("lambertian", None) => None,
+        ("uniform", None) => Some(EmissionProfile::Uniform),
+        ("cosine", Some(n)) => Some(EmissionProfile::cosine_power(n.parse().ok()?).ok()?),
+        _ => return None,
+    };
+    words.next().is_none().then_some(p)
 }
 
 /// Converts the parsed top-level `nodes` of `file` (whose parser warnings are `warnings`).
@@ -382,12 +359,16 @@ impl Converter {
             }
             local.positions.iter().map(|p| m.transform_point3(p.as_dvec3()).as_vec3()).collect()
         };
-        // A power is the core's to turn into radiance (Φ/(A·∫s dω), `MeshDesc::emission_power`),
+        // A power is the core's to turn into radiance (Φ/(A·∫s dω), `AreaEmission::power`),
         // with the scene's own areas; the radiance given then only marks the Shape as a light.
-        let (emission, emission_power, emission_profile) = match emission {
-            Emission::None => (None, None, None),
-            Emission::Radiance(l, p) => (Some(l), None, p.core()),
-            Emission::Power(phi, p) => (Some(phi), Some(phi), p.core()),
+        let emission = match emission {
+            Emission::None => None,
+            Emission::Radiance(radiance, profile) => {
+                Some(AreaEmission { radiance, profile, ..Default::default() })
+            }
+            Emission::Power(phi, profile) => {
+                Some(AreaEmission { radiance: phi, profile, power: Some(phi), ..Default::default() })
+            }
         };
         let name = n.def_name.clone().unwrap_or_else(|| format!("Shape_{}_{}", n.pos.line, n.pos.col));
         // `..Default::default()` keeps this literal valid when MeshDesc gains fields.
@@ -400,8 +381,6 @@ impl Converter {
             normals,
             material,
             emission,
-            emission_power,
-            emission_profile,
             ..Default::default()
         });
         Ok(())
@@ -448,7 +427,7 @@ impl Converter {
                     }
                     let e = m.vec3("emissiveColor", [0.0; 3]);
                     let emission = if e.iter().any(|&c| c != 0.0) {
-                        Emission::Radiance(rgb(e) * EMISSIVE_RADIANCE, AreaProfile::Lambertian)
+                        Emission::Radiance(rgb(e) * EMISSIVE_RADIANCE, None)
                     } else {
                         Emission::None
                     };
@@ -467,8 +446,8 @@ impl Converter {
             }
         };
         let key = (mat.map(ptr).unwrap_or(0), two_sided);
-        if let Some(&found) = self.materials.get(&key) {
-            return Ok(found);
+        if let Some(found) = self.materials.get(&key) {
+            return Ok(found.clone());
         }
         let name = match mat {
             Some(m) => {
@@ -479,7 +458,7 @@ impl Converter {
         let bsdf = self.bsdf(mat, rgb(kd), rgb(ks), exponent, !physical)?;
         let index = self.out.materials.len();
         self.out.materials.push(Material { name, bsdf, two_sided });
-        self.materials.insert(key, (index, emission));
+        self.materials.insert(key, (index, emission.clone()));
         Ok((index, emission))
     }
 
@@ -487,7 +466,7 @@ impl Converter {
         let f = |k: &str| p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]);
         let (radiance, power) = (f("radiance"), f("power"));
         let profile = match p.get("emission") {
-            Some(FieldValue::Str(e)) => AreaProfile::parse(e).unwrap_or_else(|| {
+            Some(FieldValue::Str(e)) => parse_area_profile(e).unwrap_or_else(|| {
                 self.warn_once(
                     m,
                     "emission",
@@ -495,9 +474,9 @@ impl Converter {
                         "emission function \"{e}\" is not one of \"lambertian\", \"uniform\", \"cosine n\" (0 ≤ n ≤ 10⁶): lambertian used"
                     ),
                 );
-                AreaProfile::Lambertian
+                None
             }),
-            _ => AreaProfile::Lambertian,
+            _ => None,
         };
         let nonzero = |c: [f32; 3]| c.iter().any(|&v| v != 0.0);
         let emission = if nonzero(radiance) {
@@ -807,12 +786,15 @@ mod tests {
              Shape { appearance Appearance { material AreaLight { radiance 1 1 1 emission \"cosine -1\" } } geometry Box {} }",
         );
         let m = &s.description.meshes;
-        assert_eq!(m[0].emission_profile, Some(EmissionProfile::CosinePower { exponent: 4.0 }));
+        assert_eq!(
+            m[0].emission.as_ref().unwrap().profile,
+            Some(EmissionProfile::CosinePower { exponent: 4.0 })
+        );
         // Φ = L·A·2π/(n+1) with A = 6 m² (the scene turns the given power into radiance).
         let l = built_radiance(&s.description, 0).x as f64;
         assert!((l * 6.0 * 2.0 * PI / 5.0 - 3.0).abs() < 1e-5, "{l}");
-        assert_eq!(m[1].emission_profile, Some(EmissionProfile::Uniform));
-        assert_eq!(m[2].emission_profile, None);
+        assert_eq!(m[1].emission.as_ref().unwrap().profile, Some(EmissionProfile::Uniform));
+        assert_eq!(m[2].emission.as_ref().unwrap().profile, None);
         assert!(s.warnings.iter().any(|w| w.contains("\"cosine -1\" is not one of")), "{:?}", s.warnings);
     }
 
@@ -825,7 +807,10 @@ mod tests {
         let mut text = Vec::new();
         super::super::writer::write_vrml(&s.description, &mut text).unwrap();
         let back = super::super::load_str(std::str::from_utf8(&text).unwrap(), Path::new("w.wrl")).unwrap();
-        assert_eq!(back.description.meshes[0].emission_power, Some(Rgb::new(3.0, 2.0, 1.0)));
+        assert_eq!(
+            back.description.meshes[0].emission.as_ref().unwrap().power,
+            Some(Rgb::new(3.0, 2.0, 1.0))
+        );
         assert_eq!(built_radiance(&back.description, 0), built_radiance(&s.description, 0));
     }
 

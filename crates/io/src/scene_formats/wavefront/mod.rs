@@ -62,7 +62,7 @@ use super::obj::{ObjError, ObjGeometry, ObjVertices, line_tokens};
 use super::{FileLocation, LoadedScene, SceneFileError};
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::math::Rgb;
-use opticks_core::scene::{MeshDesc, SceneDescription, Source};
+use opticks_core::scene::{AreaEmission, MeshDesc, SceneDescription, Source};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -278,7 +278,7 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             triangles: mesh.triangles,
             normals: mesh.normals,
             material,
-            emission,
+            emission: emission.map(AreaEmission::lambertian),
             ..Default::default()
         });
     }
