@@ -436,6 +436,38 @@ fn khr_materials_ior_follows_the_extension_and_refuses_invalid_values() {
     }
 }
 
+/// Lights and cameras are checked by the core's constructors; the error names the element and
+/// says what the core says.
+#[test]
+fn lights_and_cameras_the_core_refuses_are_errors_at_the_element() {
+    let light = |l: &str| {
+        doc(&format!(
+            r#""extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {{"KHR_lights_punctual": {{"lights": [{l}]}}}},
+  "scenes": [{{"nodes": [0]}}], "nodes": [{{"extensions": {{"KHR_lights_punctual": {{"light": 0}}}}}}]"#
+        ))
+    };
+    let cases = [
+        (
+            light(r#"{"name": "b", "type": "point", "color": [1, -1, 1]}"#),
+            "TMP/x.gltf: node 0: b: emission [0.0014641288, -0.0014641288, 0.0014641288] must be finite and non-negative",
+        ),
+        (
+            light(r#"{"name": "s", "type": "spot", "spot": {"outerConeAngle": 4}}"#),
+            "TMP/x.gltf: node 0: s: the spot cutoff angle",
+        ),
+        (
+            doc(r#""cameras": [{"type": "perspective", "perspective": {"yfov": 4, "znear": 0.1}}],
+  "scenes": [{"nodes": [0]}], "nodes": [{"camera": 0}]"#),
+            "TMP/x.gltf: node 0: camera 0: field of view",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = error_of(&[("x.gltf", text.as_bytes())]);
+        assert!(e.starts_with(want), "{e}\n  should start with\n{want}");
+    }
+}
+
 #[test]
 fn errors_name_the_file() {
     let missing_bin = std::fs::read(testdata("gltf/cornell.gltf")).unwrap();

@@ -183,6 +183,20 @@ fn errors_name_the_file_and_line() {
             ],
             "TMP/m.mtl:3: newmtl x: invalid material: Ns = 1000000000 exceeds the supported maximum",
         ),
+        (
+            &[
+                ("a.obj", b"mtllib m.mtl\nv 0 0 0\nusemtl x\nf 1 1 1\n"),
+                ("m.mtl", b"newmtl x\nKd 0.5\nKs -0.1 0 0\n"),
+            ],
+            "TMP/m.mtl:3: newmtl x: invalid material: Ks must not be negative",
+        ),
+        (
+            &[
+                ("a.obj", b"mtllib m.mtl\nv 0 0 0\nusemtl x\nf 1 1 1\n"),
+                ("m.mtl", b"newmtl x\nKd 0.5\nKe -1 0 0\n"),
+            ],
+            "TMP/m.mtl:3: newmtl x: Ke: emission [-1.0, 0.0, 0.0] must be finite and non-negative",
+        ),
     ];
     for (files, expected) in cases {
         let e = error_of(files);

@@ -24,6 +24,7 @@ use opticks_core::bsdf::{Bsdf, Lambert, Material, ModifiedPhong};
 use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{AreaEmission, CameraDesc, MeshDesc, SceneDescription, Source};
+use opticks_core::sensor::Pinhole;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -565,9 +566,6 @@ impl Converter {
         let (Ok(width), Ok(height)) = (u32::try_from(width), u32::try_from(height)) else {
             return Err(self.invalid(n, format!("image size {width}x{height} must be positive")));
         };
-        if width == 0 || height == 0 {
-            return Err(self.invalid(n, format!("image size {width}x{height} must be positive")));
-        }
         let q = rotation(orientation);
         let eye = m.transform_point3(dv(position));
         let forward = m.transform_vector3(q * DVec3::NEG_Z).normalize_or_zero();
@@ -579,14 +577,17 @@ impl Converter {
         let fov = f64::from(fov);
         let aspect = f64::from(width) / f64::from(height);
         let fov_x = if width <= height { fov } else { 2.0 * ((fov / 2.0).tan() * aspect).atan() };
-        self.out.camera = Some(CameraDesc {
+        let camera = CameraDesc {
             eye: eye.as_vec3(),
             target: (eye + forward).as_vec3(),
             up: up.as_vec3(),
             fov_x_degrees: fov_x.to_degrees() as f32,
             width,
             height,
-        });
+        };
+        // The core's camera checks (image size, field of view, axes), reported at the node.
+        Pinhole::new(&camera).map_err(|e| self.invalid(n, e.to_string()))?;
+        self.out.camera = Some(camera);
         Ok(())
     }
 
@@ -741,6 +742,41 @@ mod tests {
         let expected = 2.0 * ((0.25f64).tan() * 2.0).atan();
         assert!((f64::from(c.fov_x_degrees) - expected.to_degrees()).abs() < 1e-4);
         assert!(s.warnings.iter().any(|w| w.contains("1 more Viewpoints")), "{:?}", s.warnings);
+    }
+
+    /// The Viewpoint is checked by the core's camera constructor, at the node.
+    #[test]
+    fn impossible_viewpoints_are_errors_at_the_node() {
+        for (viewpoint, want) in [
+            ("PhysicalViewpoint { width 0 height 4 }", "image size 0x4"),
+            ("PhysicalViewpoint { width -2 height 4 }", "image size -2x4 must be positive"),
+            ("Viewpoint { fieldOfView 3.5 }", "field of view"),
+        ] {
+            let text = format!("#VRML V2.0 utf8\n{}\n{viewpoint}", extension::DECLARATIONS);
+            let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
+            let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
+            let line = text.lines().count();
+            assert!(e.starts_with(&format!("t.wrl:{line}:1")) && e.contains(want), "{viewpoint}: {e}");
+        }
+    }
+
+    /// A light value the core refuses is an error at the light's node, in the core's words.
+    #[test]
+    fn impossible_lights_are_errors_at_the_node() {
+        for (light, want) in [
+            ("PhysicalSpotLight { power -1 1 1 }", "power [-1.0, 1.0, 1.0] W must be finite and non-negative"),
+            ("SpotLight { direction 0 0 0 }", "direction [0.0, 0.0, 0.0] is zero or not finite"),
+            ("PhysicalSpotLight { intensity 1 1 1 beamWidth -1 }", "the spot beam width"),
+            ("PhysicalDirectionalLight { irradiance -1 0 0 }", "emission [-1.0, 0.0, 0.0]"),
+            ("PhysicalPointLight { lumens -5 }", "lumens -5 must be finite and non-negative"),
+            ("PhysicalPointLight { intensity -1 0 0 lumens 5 }", "lumens need a colour of non-zero luminance"),
+        ] {
+            let text = format!("#VRML V2.0 utf8\n{}\n{light}", extension::DECLARATIONS);
+            let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
+            let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
+            let line = text.lines().count();
+            assert!(e.starts_with(&format!("t.wrl:{line}:1")) && e.contains(want), "{light}: {e}");
+        }
     }
 
     #[test]
