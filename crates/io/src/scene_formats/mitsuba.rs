@@ -346,9 +346,6 @@ struct ParsedBsdf {
     two_sided: bool,
 }
 
-/// A shape's interior medium: its absorption, where it is declared, its id if top-level (for
-/// sharing materials) and a name for the material.
-
 /// An IES file's photometric grid and the flux it carries, W per unit colour.
 struct Ies {
     profile: opticks_core::light::IesProfile,
@@ -357,6 +354,8 @@ struct Ies {
     path: std::path::PathBuf,
 }
 
+/// A shape's interior medium: its absorption, where it is declared, its id if top-level (for
+/// sharing materials) and a name for the material.
 struct Interior<'a, 'i> {
     sigma_a: Rgb,
     node: Node<'a, 'i>,

@@ -13,7 +13,7 @@
 //! | `emissiveFactor` × `KHR_materials_emissive_strength` | area light of that radiance in W/(m²·sr) (see [`materials`]) |
 //! | `KHR_lights_punctual` point | [`PointLightDesc`] of intensity `color × intensity / 683` W/sr (glTF gives candela = lm/sr; 683 lm/W is the luminous efficacy at 555 nm, the convention glTF exporters such as Blender's use); `range` is ignored (physical inverse-square falloff) |
 //! | `KHR_lights_punctual` spot | a spot [`PointLightDesc`] on the node's −Z, `color × intensity / 683` W/sr on the axis, full within `innerConeAngle` (at least [`SPOT_MIN_BEAM`] × outer) and falling **linearly in angle** to zero at `outerConeAngle` (glTF leaves the fall-off curve to the renderer); `range` ignored |
-//! | `KHR_lights_punctual` directional | a [`DirectionalLightDesc`](opticks_core::scene::DirectionalLightDesc) along the node's −Z of irradiance `color × intensity / 683` W/m² (glTF gives lux), a sun covering the scene |
+//! | `KHR_lights_punctual` directional | a [`DirectionalLightDesc`] along the node's −Z of irradiance `color × intensity / 683` W/m² (glTF gives lux), a sun covering the scene |
 //! | cameras | the perspective camera of the lowest-index node in the scene is the scene camera; it looks down its local −Z with +Y up; `yfov` is vertical: `fov_x = 2·atan(tan(yfov/2)·W/H)`; the image is 512 pixels high and `round(512·aspectRatio)` wide (512×512 without `aspectRatio`) |
 //! | orthographic cameras, skins, morph targets, animations, textures | ignored (warnings for the ones that change what is seen) |
 //!
@@ -270,7 +270,6 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     normals,
                     material,
                     emission: emission.map(AreaEmission::lambertian),
-                    ..Default::default()
                 });
             }
         }
