@@ -10,7 +10,8 @@ use common::*;
 use opticks_core::bsdf::{Bsdf, Material, ModifiedPhong};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
-use opticks_core::scene::{CameraDesc, Pinhole, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, Scene, SceneDescription};
+use opticks_core::sensor::Pinhole;
 use opticks_core::trace::{TraceSettings, trace_path};
 use std::f64::consts::PI;
 

@@ -14,7 +14,7 @@ use opticks_core::light::{EmissionProfile, LUMENS_PER_WATT, Light};
 use opticks_core::math::{Frame, Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{
-    CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
+    AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
 };
 use opticks_core::trace::{TraceSettings, trace_path};
 use opticks_io::ies::load_ies;
@@ -35,7 +35,7 @@ fn quad(name: &str, q: [Vec3; 4], emission: Option<Rgb>) -> MeshDesc {
         positions: q.to_vec(),
         triangles: vec![[0, 1, 2], [0, 2, 3]],
         material: 0,
-        emission,
+        emission: emission.map(AreaEmission::lambertian),
         ..Default::default()
     }
 }
@@ -158,12 +158,15 @@ fn wallwasher_lumens(ies: &opticks_core::light::IesProfile, from: f64, to: f64) 
 fn ies_panel_in_sphere(profile: EmissionProfile, radiance: f32, tangent: Option<Vec3>) -> Scene {
     let s = 0.005;
     let panel = MeshDesc {
-        emission_profile: Some(profile),
-        emission_tangent: tangent,
+        emission: Some(AreaEmission {
+            profile: Some(profile),
+            tangent,
+            ..AreaEmission::lambertian(Rgb::splat(radiance))
+        }),
         ..quad(
             "panel",
             [Vec3::new(-s, 0.0, -s), Vec3::new(s, 0.0, -s), Vec3::new(s, 0.0, s), Vec3::new(-s, 0.0, s)],
-            Some(Rgb::splat(radiance)),
+            None,
         )
     };
     let desc = SceneDescription {
@@ -191,20 +194,26 @@ fn ies_area_light_flux_on_closed_sphere() {
     let mut desc = SceneDescription {
         materials: vec![black()],
         meshes: vec![MeshDesc {
-            emission_power: Some(Rgb::new(1.0, 2.0, 3.0)),
-            emission_profile: Some(EmissionProfile::Ies(ies.profile)),
-            ..quad("p", [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Z, Vec3::Z], Some(Rgb::ONE))
+            emission: Some(AreaEmission {
+                power: Some(Rgb::new(1.0, 2.0, 3.0)),
+                profile: Some(EmissionProfile::Ies(ies.profile)),
+                ..AreaEmission::lambertian(Rgb::ONE)
+            }),
+            ..quad("p", [Vec3::ZERO, Vec3::X, Vec3::X + Vec3::Z, Vec3::Z], None)
         }],
         ..Default::default()
     };
     let scene = Scene::build(&desc).unwrap();
     let p = scene.lights[0].power();
     assert!((p - Rgb::new(1.0, 2.0, 3.0)).abs().max_element() < 1e-5, "Φ = {p}");
-    desc.meshes[0].emission_power = Some(Rgb::new(1.0, -1.0, 1.0));
+    fn emission(d: &mut SceneDescription) -> &mut AreaEmission {
+        d.meshes[0].emission.as_mut().unwrap()
+    }
+    emission(&mut desc).power = Some(Rgb::new(1.0, -1.0, 1.0));
     let e = Scene::build(&desc).unwrap_err().to_string();
     assert!(e.contains("'p'") && e.contains("power"), "{e}");
-    desc.meshes[0].emission_power = None;
-    desc.meshes[0].emission_tangent = Some(Vec3::ZERO);
+    emission(&mut desc).power = None;
+    emission(&mut desc).tangent = Some(Vec3::ZERO);
     let e = Scene::build(&desc).unwrap_err().to_string();
     assert!(e.contains("'p'") && e.contains("tangent"), "{e}");
 }
@@ -270,11 +279,14 @@ fn cos_power_area_light_illuminance() {
     let s = 0.5 * a;
     // Counter-clockwise seen from below: normal −y.
     let emitter = MeshDesc {
-        emission_profile: Some(EmissionProfile::CosinePower { exponent: n }),
+        emission: Some(AreaEmission {
+            profile: Some(EmissionProfile::CosinePower { exponent: n }),
+            ..AreaEmission::lambertian(Rgb::splat(le))
+        }),
         ..quad(
             "lamp",
             [Vec3::new(-s, h, -s), Vec3::new(s, h, -s), Vec3::new(s, h, s), Vec3::new(-s, h, s)],
-            Some(Rgb::splat(le)),
+            None,
         )
     };
     let f = 20.0;
@@ -471,7 +483,10 @@ fn mitsuba_light_extensions() {
     let d = &loaded.description;
     assert_eq!(d.point_lights.len(), 2);
     assert_eq!(d.directional_lights.len(), 1);
-    assert_eq!(d.meshes[0].emission_profile, Some(EmissionProfile::CosinePower { exponent: 4.0 }));
+    assert_eq!(
+        d.meshes[0].emission.as_ref().unwrap().profile,
+        Some(EmissionProfile::CosinePower { exponent: 4.0 })
+    );
     let scene = Scene::build(d).unwrap();
     let spot = &scene.lights[scene.light_index("spot").unwrap()];
     let Light::Point(p) = spot else { panic!() };
@@ -601,7 +616,13 @@ fn camera_sees_profiled_emitter_radiance() {
     {
         let desc = SceneDescription {
             materials: vec![black()],
-            meshes: vec![MeshDesc { emission_profile: profile.clone(), ..panel.clone() }],
+            meshes: vec![MeshDesc {
+                emission: Some(AreaEmission {
+                    profile: profile.clone(),
+                    ..AreaEmission::lambertian(Rgb::splat(e))
+                }),
+                ..panel.clone()
+            }],
             camera: Some(CameraDesc {
                 eye: 2.0 * Vec3::new(theta.sin(), 0.0, theta.cos()),
                 target: Vec3::ZERO,
@@ -655,10 +676,8 @@ fn area_light_shape_hash_covers_tangent_of_ies_only() {
     let ies = load_ies(&testdata("ies/asymmetric-wallwasher.ies")).unwrap();
     let shape = |profile: Option<EmissionProfile>, tangent: Option<Vec3>, power: Option<Rgb>| {
         let panel = MeshDesc {
-            emission_profile: profile,
-            emission_tangent: tangent,
-            emission_power: power,
-            ..quad("p", [Vec3::ZERO, Vec3::Z, Vec3::X + Vec3::Z, Vec3::X], Some(Rgb::ONE))
+            emission: Some(AreaEmission { profile, tangent, power, ..AreaEmission::lambertian(Rgb::ONE) }),
+            ..quad("p", [Vec3::ZERO, Vec3::Z, Vec3::X + Vec3::Z, Vec3::X], None)
         };
         let desc = SceneDescription { materials: vec![black()], meshes: vec![panel], ..Default::default() };
         Scene::build(&desc).unwrap().light_shapes[0]
@@ -677,8 +696,10 @@ fn vrml_writer_round_trips_spots_suns_and_refuses_ies() {
     use opticks_io::scene_formats::vrml::{load_str, writer::write_vrml};
     let spot = EmissionProfile::Spot { cutoff_angle: 0.5, beam_width: 0.4 };
     let mut emitter = inward_icosphere(1.0, 0);
-    emitter.emission = Some(Rgb::splat(2.0));
-    emitter.emission_profile = Some(EmissionProfile::CosinePower { exponent: 7.5 });
+    emitter.emission = Some(AreaEmission {
+        profile: Some(EmissionProfile::CosinePower { exponent: 7.5 }),
+        ..AreaEmission::lambertian(Rgb::splat(2.0))
+    });
     let mut desc = SceneDescription {
         materials: vec![black()],
         meshes: vec![emitter],
@@ -720,8 +741,9 @@ fn vrml_writer_round_trips_spots_suns_and_refuses_ies() {
         (d.directional_lights[0].direction, d.directional_lights[0].irradiance),
         (Vec3::new(0.6, -0.8, 0.0), Rgb::new(5.0, 4.0, 3.0))
     );
-    assert_eq!(d.meshes[0].emission_profile, Some(EmissionProfile::CosinePower { exponent: 7.5 }));
-    assert_eq!(d.meshes[0].emission, Some(Rgb::splat(2.0)));
+    let e = d.meshes[0].emission.as_ref().unwrap();
+    assert_eq!(e.profile, Some(EmissionProfile::CosinePower { exponent: 7.5 }));
+    assert_eq!(e.radiance, Rgb::splat(2.0));
     let ies = load_ies(&testdata("ies/symmetric-3.ies")).unwrap();
     desc.point_lights[1].profile = Some(EmissionProfile::Ies(ies.profile));
     let e = write_vrml(&desc, &mut Vec::new()).unwrap_err().to_string();

@@ -21,8 +21,9 @@ use opticks_core::bsdf::{Bsdf, Material, RoughDielectric, SmoothConductor, Smoot
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{
-    CameraDesc, DirectionalLightDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription,
+    CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
 };
+use opticks_core::sensor::Pinhole;
 use opticks_core::trace::{TraceSettings, trace_path};
 
 fn material(name: &str, bsdf: Bsdf) -> Material {

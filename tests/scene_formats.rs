@@ -6,7 +6,8 @@
 mod common;
 
 use common::*;
-use opticks_core::scene::{Pinhole, Scene};
+use opticks_core::scene::Scene;
+use opticks_core::sensor::Pinhole;
 use opticks_io::compare::compare;
 use std::path::Path;
 

@@ -15,10 +15,10 @@ use common::*;
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{
-    CameraDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription, cornell_box,
+use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription, cornell_box};
+use opticks_core::sensor::{
+    Equirectangular, IlluminanceMeter, Pinhole, SampleBatch, Sensor, ThinLens, measure,
 };
-use opticks_core::sensor::{Equirectangular, IlluminanceMeter, SampleBatch, Sensor, ThinLens, measure};
 use std::f64::consts::PI;
 
 /// The floor y = 0, facing +y, half-size s.

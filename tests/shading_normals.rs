@@ -6,7 +6,8 @@ mod common;
 
 use common::*;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription};
+use opticks_core::sensor::Pinhole;
 use std::f64::consts::PI;
 
 const S: f32 = 3.0;

@@ -21,8 +21,8 @@ mod common;
 
 use common::*;
 use opticks_core::dataset::{Chunk, LightTable};
-use opticks_core::scene::{Pinhole, Scene};
-use opticks_core::sensor::{SampleBatch, Sensor, render};
+use opticks_core::scene::Scene;
+use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
 use opticks_core::trace::{Directions, Roulette, Selection, TraceSettings};
 use opticks_io::compare::compare;
 
@@ -49,7 +49,7 @@ fn estimate(scene: &Scene, cam: &Pinhole, settings: &TraceSettings) -> Estimate 
     let regions = 1 + GRID * GRID;
     let mut sums = vec![[0.0f64; 3]; regions];
     let mut squares = vec![[0.0f64; 3]; regions];
-    let mut image = vec![0.0f32; (sensor.width * sensor.height * 3) as usize];
+    let mut image = vec![0.0f32; (sensor.width() * sensor.height() * 3) as usize];
     for g in 0..K {
         let members: Vec<usize> = (g..chunks.len()).step_by(K).collect();
         let film =

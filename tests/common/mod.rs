@@ -8,8 +8,8 @@ use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, Pinhole, PointLightDesc, Scene, SceneDescription};
-use opticks_core::sensor::{SampleBatch, Sensor, render};
+use opticks_core::scene::{AreaEmission, CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription};
+use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
 use opticks_core::trace::{TraceSettings, trace};
 use std::path::{Path, PathBuf};
 
@@ -108,7 +108,7 @@ pub fn quad(name: &str, q: [Vec3; 4], material: usize, emission: Option<Rgb>) ->
         positions: q.to_vec(),
         triangles: vec![[0, 1, 2], [0, 2, 3]],
         material,
-        emission,
+        emission: emission.map(AreaEmission::lambertian),
         ..Default::default()
     }
 }

@@ -7,8 +7,8 @@
 use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
 use opticks_core::math::Vec3;
-use opticks_core::scene::{CameraDesc, Pinhole};
-use opticks_core::sensor::{Equirectangular, Sensor, ThinLens};
+use opticks_core::scene::CameraDesc;
+use opticks_core::sensor::{Equirectangular, Pinhole, Sensor, ThinLens};
 
 /// How the camera projects the world onto its image.
 #[derive(ValueEnum, Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -138,15 +138,14 @@ mod tests {
 
     #[test]
     fn resolves_the_kind_of_sensor() {
-        use opticks_core::sensor::SensorKind;
         let plain = CameraArgs::default();
-        assert!(matches!(plain.resolve(Some(desc())).unwrap().kind, SensorKind::Pinhole(_)));
+        assert!(matches!(plain.resolve(Some(desc())).unwrap(), Sensor::Pinhole(_)));
         let lens = CameraArgs { lens_radius: Some(0.1), ..Default::default() };
-        let SensorKind::ThinLens(t) = lens.resolve(Some(desc())).unwrap().kind else { panic!() };
+        let Sensor::ThinLens(t) = lens.resolve(Some(desc())).unwrap() else { panic!() };
         assert_eq!((t.radius, t.focus_distance), (0.1, 1.0));
         let pano = CameraArgs { projection: Some(Projection::Equirect), ..Default::default() };
         let s = pano.resolve(Some(desc())).unwrap();
-        assert!(matches!(s.kind, SensorKind::Equirectangular(_)) && (s.width, s.height) == (8, 4));
+        assert!(matches!(s, Sensor::Equirectangular(_)) && (s.width(), s.height()) == (8, 4));
         assert!(CameraArgs { lens_radius: Some(-1.0), ..Default::default() }.resolve(Some(desc())).is_err());
         assert!(
             CameraArgs { focus_distance: Some(0.0), ..Default::default() }.resolve(Some(desc())).is_err()

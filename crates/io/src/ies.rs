@@ -39,7 +39,8 @@
 // `!(x > 0.0)` rejects NaN along with the out-of-range values: deliberate.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use opticks_core::light::IesProfile;
+use opticks_core::light::ies::IesAxis;
+use opticks_core::light::{IesProfile, IesTableError};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -315,45 +316,26 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
         ));
     }
     let factor = multiplier * ballast * ballast_lamp;
-    let angles = |n: usize, what: &str, t: &mut Tokens| -> Result<Vec<f32>, IesError> {
-        let mut out: Vec<(f64, usize)> = Vec::with_capacity(n);
-        for k in 0..n {
-            out.push(t.number(&format!("{what} angle {} of {n}", k + 1))?);
-        }
-        for w in out.windows(2) {
-            if !(w[1].0 > w[0].0) {
-                return Err(err(
-                    w[1].1,
-                    format!("{what} angles must increase: {} follows {}", w[1].0, w[0].0),
-                ));
-            }
-        }
-        Ok(out.iter().map(|a| a.0 as f32).collect())
+    let angles = |n: usize, what: &str, t: &mut Tokens| -> Result<Vec<(f32, usize)>, IesError> {
+        (0..n)
+            .map(|k| t.number(&format!("{what} angle {} of {n}", k + 1)).map(|(a, line)| (a as f32, line)))
+            .collect()
     };
     let va = angles(nv, "vertical", &mut t)?;
-    let vline = t.toks[t.pos - 1].1;
     let ha = angles(nh, "horizontal", &mut t)?;
-    let hline = t.toks[t.pos - 1].1;
-    if va[0] < 0.0 || *va.last().unwrap() > 180.0 {
-        return Err(err(
-            vline,
-            format!(
-                "vertical angles must lie in [0, 180] for type C, found {}..{}",
-                va[0],
-                va.last().unwrap()
-            ),
-        ));
-    }
-    if nv < 2 {
-        return Err(err(vline, "at least 2 vertical angles are needed".into()));
-    }
-    let hl = *ha.last().unwrap();
-    if ha[0] != 0.0 || !(nh == 1 || hl == 90.0 || hl == 180.0 || hl == 360.0) {
-        return Err(err(
-            hline,
-            format!("horizontal angles {}..{hl}: supported are 0 (symmetric), 0–90, 0–180 and 0–360", ha[0]),
-        ));
-    }
+    let (vline, hline) = (va[nv - 1].1, ha[nh - 1].1);
+    let (va, va_lines): (Vec<f32>, Vec<usize>) = va.into_iter().unzip();
+    let (ha, ha_lines): (Vec<f32>, Vec<usize>) = ha.into_iter().unzip();
+    // The grid's constraints are the core's, reported at the offending value's line.
+    IesProfile::check_angles(&va, &ha).map_err(|e| {
+        let line = match e {
+            IesTableError::NotIncreasing { axis: IesAxis::Vertical, index, .. } => va_lines[index],
+            IesTableError::NotIncreasing { axis: IesAxis::Horizontal, index, .. } => ha_lines[index],
+            IesTableError::HorizontalRange { .. } => hline,
+            _ => vline,
+        };
+        err(line, e.to_string())
+    })?;
     let mut candela = Vec::with_capacity(nv * nh);
     for h in 0..nh {
         for v in 0..nv {
@@ -364,13 +346,9 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
                 nv * nh
             );
             let (c, line) = t.number(&what)?;
-            if c < 0.0 {
-                return Err(err(
-                    line,
-                    format!("candela value {} of horizontal angle {} is negative ({c})", v + 1, h + 1),
-                ));
-            }
-            candela.push((c * factor) as f32);
+            let c = (c * factor) as f32;
+            IesProfile::check_candela(h, v, c).map_err(|e| err(line, e.to_string()))?;
+            candela.push(c);
         }
     }
     if let Some(&(extra, line)) = t.toks.get(t.pos) {

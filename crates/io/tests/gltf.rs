@@ -9,7 +9,8 @@ use common::*;
 use opticks_core::bsdf::Bsdf;
 use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{Pinhole, Scene, SceneDescription};
+use opticks_core::scene::{Scene, SceneDescription};
+use opticks_core::sensor::Pinhole;
 use opticks_io::{LoadedScene, SceneFileError, load_scene};
 use std::path::Path;
 
@@ -76,7 +77,11 @@ fn cornell_gltf_builds_the_same_scene_as_the_mitsuba_xml() {
     assert_eq!(names, ["white", "red", "green", "light"]);
     let tris: Vec<usize> = d.meshes.iter().map(|m| m.triangles.len()).collect();
     assert_eq!(tris, [30, 2, 2, 2]);
-    assert_eq!(d.meshes[3].emission, Some(Rgb::new(18.387, 13.9873, 6.75357)), "exact radiance");
+    assert_eq!(
+        d.meshes[3].emission.as_ref().map(|e| e.radiance),
+        Some(Rgb::new(18.387, 13.9873, 6.75357)),
+        "exact radiance"
+    );
     assert!(d.meshes[..3].iter().all(|m| m.emission.is_none()));
     assert!(d.materials.iter().all(|m| m.two_sided));
 
@@ -370,7 +375,7 @@ fn metallic_roughness_materials_map_to_phong_and_lambert() {
     assert!(mat(1).two_sided);
     // specularFactor 0 → Lambert of the base colour (default 1); emission = factor × strength.
     assert_eq!(mat(2).bsdf, Bsdf::Lambert(opticks_core::bsdf::Lambert::new(Rgb::ONE).unwrap()));
-    assert_eq!(d.meshes[2].emission, Some(Rgb::new(4.0, 2.0, 0.0)));
+    assert_eq!(d.meshes[2].emission.as_ref().map(|e| e.radiance), Some(Rgb::new(4.0, 2.0, 0.0)));
     // An emission texture: no emission, with a warning; BLEND is ignored with a warning.
     assert_eq!(d.meshes[3].emission, None);
     // No material: glTF's default, white rough metal, one-sided.
@@ -428,6 +433,38 @@ fn khr_materials_ior_follows_the_extension_and_refuses_invalid_values() {
                 );
             }
         }
+    }
+}
+
+/// Lights and cameras are checked by the core's constructors; the error names the element and
+/// says what the core says.
+#[test]
+fn lights_and_cameras_the_core_refuses_are_errors_at_the_element() {
+    let light = |l: &str| {
+        doc(&format!(
+            r#""extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {{"KHR_lights_punctual": {{"lights": [{l}]}}}},
+  "scenes": [{{"nodes": [0]}}], "nodes": [{{"extensions": {{"KHR_lights_punctual": {{"light": 0}}}}}}]"#
+        ))
+    };
+    let cases = [
+        (
+            light(r#"{"name": "b", "type": "point", "color": [1, -1, 1]}"#),
+            "TMP/x.gltf: node 0: b: emission [0.0014641288, -0.0014641288, 0.0014641288] must be finite and non-negative",
+        ),
+        (
+            light(r#"{"name": "s", "type": "spot", "spot": {"outerConeAngle": 4}}"#),
+            "TMP/x.gltf: node 0: s: the spot cutoff angle",
+        ),
+        (
+            doc(r#""cameras": [{"type": "perspective", "perspective": {"yfov": 4, "znear": 0.1}}],
+  "scenes": [{"nodes": [0]}], "nodes": [{"camera": 0}]"#),
+            "TMP/x.gltf: node 0: camera 0: field of view",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = error_of(&[("x.gltf", text.as_bytes())]);
+        assert!(e.starts_with(want), "{e}\n  should start with\n{want}");
     }
 }
 

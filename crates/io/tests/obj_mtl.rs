@@ -8,7 +8,7 @@ mod common;
 use common::*;
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::Scene;
+use opticks_core::scene::{AreaEmission, Scene};
 use opticks_io::load_scene;
 use std::path::{Path, PathBuf};
 
@@ -23,7 +23,7 @@ fn cornell_obj_builds_the_same_scene_as_the_mitsuba_xml() {
     assert_eq!(tris, [30, 2, 2, 2]);
     // Each mesh keeps only the vertices it uses.
     assert_eq!(d.meshes[3].positions.len(), 4);
-    assert_eq!(d.meshes[3].emission, Some(Rgb::new(18.387, 13.9873, 6.75357)));
+    assert_eq!(d.meshes[3].emission.as_ref().map(|e| e.radiance), Some(Rgb::new(18.387, 13.9873, 6.75357)));
     assert!(d.meshes[..3].iter().all(|m| m.emission.is_none()));
     assert!(d.materials.iter().all(|m| m.two_sided));
     assert!(d.camera.is_none() && d.point_lights.is_empty());
@@ -66,7 +66,7 @@ fn mtl_maps_to_phong_lambert_and_area_lights() {
         }
         other => panic!("{other:?}"),
     }
-    assert_eq!(d.meshes[2].emission, Some(Rgb::new(5.0, 4.0, 3.0)));
+    assert_eq!(d.meshes[2].emission.as_ref().map(|e| e.radiance), Some(Rgb::new(5.0, 4.0, 3.0)));
     // map_Ke: no emission; map_Kd: constant Kd.
     assert_eq!(d.meshes[3].emission, None);
     assert!(mat(3).two_sided && mat(0).two_sided);
@@ -181,7 +181,21 @@ fn errors_name_the_file_and_line() {
                 ("a.obj", b"mtllib m.mtl\nv 0 0 0\nusemtl x\nf 1 1 1\n"),
                 ("m.mtl", b"newmtl x\nKs 0.5\nNs 1e9\n"),
             ],
-            "TMP/m.mtl:3: newmtl x: invalid material: exponent = 1000000000 exceeds the supported maximum",
+            "TMP/m.mtl:3: newmtl x: invalid material: Ns = 1000000000 exceeds the supported maximum",
+        ),
+        (
+            &[
+                ("a.obj", b"mtllib m.mtl\nv 0 0 0\nusemtl x\nf 1 1 1\n"),
+                ("m.mtl", b"newmtl x\nKd 0.5\nKs -0.1 0 0\n"),
+            ],
+            "TMP/m.mtl:3: newmtl x: invalid material: Ks must not be negative",
+        ),
+        (
+            &[
+                ("a.obj", b"mtllib m.mtl\nv 0 0 0\nusemtl x\nf 1 1 1\n"),
+                ("m.mtl", b"newmtl x\nKd 0.5\nKe -1 0 0\n"),
+            ],
+            "TMP/m.mtl:3: newmtl x: Ke: emission [-1.0, 0.0, 0.0] must be finite and non-negative",
         ),
     ];
     for (files, expected) in cases {
@@ -277,7 +291,7 @@ fn a_grid_loads_exactly() {
     // Rows alternate: a gets rows 0, 2, …, b rows 1, 3, …; b emits.
     let (a, b) = (&d.meshes[0], &d.meshes[1]);
     assert_eq!(a.triangles.len(), 2 * (nx - 1) * (ny - 1).div_ceil(2));
-    assert_eq!((a.emission, b.emission), (None, Some(Rgb::ONE)));
+    assert_eq!((&a.emission, &b.emission), (&None, &Some(AreaEmission::lambertian(Rgb::ONE))));
     // Every triangle's corners are grid points one step apart: seen from +z, each triangle
     // covers ½·dx·dy, counter-clockwise.
     for m in [a, b] {

@@ -37,7 +37,7 @@ fn cornell_box_loads() {
     let emissive: Vec<_> = d.meshes.iter().filter(|m| m.emission.is_some()).collect();
     assert_eq!(emissive.len(), 1);
     assert_eq!(emissive[0].name, "light");
-    assert_eq!(emissive[0].emission, Some(Rgb::new(18.387, 13.9873, 6.75357)));
+    assert_eq!(emissive[0].emission.as_ref().map(|e| e.radiance), Some(Rgb::new(18.387, 13.9873, 6.75357)));
     assert_eq!(emissive[0].source.line, 64);
     assert!(emissive[0].source.file.ends_with("cornell/scene.xml"));
     assert!(d.point_lights.is_empty());
@@ -69,7 +69,7 @@ fn furnace_loads() {
     assert_eq!(d.meshes.len(), 2);
     assert_eq!(d.materials.len(), 1);
     assert_eq!(albedo(&s, "room"), (Rgb::splat(0.5), true));
-    assert_eq!(d.meshes[1].emission, Some(Rgb::splat(10.0)));
+    assert_eq!(d.meshes[1].emission.as_ref().map(|e| e.radiance), Some(Rgb::splat(10.0)));
     let c = d.camera.unwrap();
     assert_eq!((c.width, c.height, c.fov_x_degrees), (128, 128, 90.0));
     assert!(close(c.eye, Vec3::new(0.25, 0.5, 0.25), 1e-6));

@@ -95,8 +95,8 @@ pub fn run(a: Args) -> Result<()> {
     );
     println!(
         "render         {}x{} from {} samples in {:.3} s: {:.3} M samples/s",
-        camera.width,
-        camera.height,
+        camera.width(),
+        camera.height(),
         samples,
         best_render,
         samples as f64 / best_render / 1e6
@@ -105,12 +105,12 @@ pub fn run(a: Args) -> Result<()> {
     let mut quality = String::new();
     if let Some(path) = &a.reference {
         let (w, h, reference) = opticks_io::image_file::read_exr_rgb(path)?;
-        if (w, h) != (camera.width, camera.height) {
+        if (w, h) != (camera.width(), camera.height()) {
             anyhow::bail!(
                 "{}: {w}x{h} does not match the camera's {}x{}",
                 path.display(),
-                camera.width,
-                camera.height
+                camera.width(),
+                camera.height()
             );
         }
         let c = opticks_io::compare::compare(&film.to_rgb_f32(), &reference);

@@ -73,8 +73,8 @@ pub fn run(a: Args) -> Result<()> {
         a.paths,
         samples,
         (t1 - t0).as_secs_f64(),
-        camera.width,
-        camera.height,
+        camera.width(),
+        camera.height(),
         (t2 - t1).as_secs_f64(),
         a.output.display(),
         other.display()

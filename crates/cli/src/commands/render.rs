@@ -39,8 +39,8 @@ pub fn run(a: Args) -> Result<()> {
     println!(
         "rendered {} samples at {}x{} in {:.2} s → {}",
         data.samples(),
-        camera.width,
-        camera.height,
+        camera.width(),
+        camera.height(),
         secs,
         a.output.display()
     );

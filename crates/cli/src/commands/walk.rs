@@ -7,8 +7,7 @@
 use super::{DatasetArgs, ThreadArgs, write_film};
 use crate::progress;
 use anyhow::{Context, Result, bail};
-use opticks_core::scene::Pinhole;
-use opticks_core::sensor::render_pinhole;
+use opticks_core::sensor::{Pinhole, render};
 use opticks_io::camera_path_file::read_camera_path;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -61,7 +60,7 @@ pub fn run(a: Args) -> Result<()> {
         }
         let desc = walk.path.at(t0 + f as f32 / walk.fps, w, h);
         let camera = Pinhole::new(&desc).with_context(|| format!("frame {f}: invalid camera"))?;
-        let film = render_pinhole(scene, &camera, data.count(), |i| data.batch(i), |_| {})?;
+        let film = render(scene, &camera.into(), data.count(), |i| data.batch(i), |_| {})?;
         write_film(&film, &a.output.join(format!("frame_{f:05}.{}", a.format)), a.exposure)?;
         pb.inc(1);
     }

@@ -1,9 +1,13 @@
-//! Rays, hits and robust ray origins.
+//! Rays, hits, surface normals, the scene's [`Triangle`] record and robust ray origins.
 //!
 //! Self-intersection is avoided the way Wächter & Binder describe in *Ray Tracing Gems* ch. 6
 //! ("A Fast and Robust Method for Avoiding Self-Intersection"): the origin is pushed off the
 //! surface along the geometric normal by a few ULPs of its own coordinates, so the offset is
 //! right at any distance from the world origin and needs no scene-dependent epsilon.
+
+mod triangle;
+
+pub use triangle::Triangle;
 
 use crate::math::Vec3;
 

@@ -2,7 +2,7 @@
 //! `mi.cornell_box()` builds it (the same geometry, materials, light and camera as
 //! `testdata/scenes/cornell`), so the demo can be checked against Mitsuba's reference image.
 
-use super::{CameraDesc, MeshDesc, SceneDescription, Source};
+use super::{AreaEmission, CameraDesc, MeshDesc, SceneDescription, Source};
 use crate::bsdf::{Bsdf, Lambert, Material};
 use crate::math::{Rgb, Vec3};
 
@@ -79,7 +79,7 @@ pub fn cornell_box() -> SceneDescription {
     quad(&mut green, [v(1., -1., -1.), v(1., -1., 1.), v(1., 1., 1.), v(1., 1., -1.)]);
     let mut light = mesh("light", 0);
     quad(&mut light, [v(-0.23, 0.99, -0.18), v(0.23, 0.99, -0.18), v(0.23, 0.99, 0.2), v(-0.23, 0.99, 0.2)]);
-    light.emission = Some(CORNELL_LIGHT_RADIANCE);
+    light.emission = Some(AreaEmission::lambertian(CORNELL_LIGHT_RADIANCE));
     SceneDescription {
         materials: vec![material("white", WHITE), material("red", RED), material("green", GREEN)],
         meshes: vec![white, red, green, light],

@@ -1,11 +1,31 @@
 //! The plain scene description: what every loader (Mitsuba XML, OBJ, VRML, glTF, the built-in
 //! demo) produces. World-space triangles, materials, lights and an optional camera; no
-//! acceleration structures, nothing validated yet. [`crate::scene::Scene::build`] validates it.
+//! acceleration structures. [`crate::scene::Scene::build`] validates it; the constructors
+//! [`PointLightDesc::spot`] and [`DirectionalLightDesc::new`] check their light as they build
+//! it, so a loader can report a bad value where the file gives it.
 
 use crate::bsdf::Material;
-use crate::light::EmissionProfile;
+use crate::light::check::{LightError, check_emission, unit_axis};
+use crate::light::{EmissionProfile, axis_frame};
 use crate::math::{Frame, Rgb, Vec3};
-use crate::scene::CameraDesc;
+use glam::DVec3;
+
+/// A perspective camera as a scene file states it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraDesc {
+    /// Centre of projection.
+    pub eye: Vec3,
+    /// A point the camera looks at.
+    pub target: Vec3,
+    /// Up hint (need not be orthogonal to the view direction).
+    pub up: Vec3,
+    /// Full horizontal field of view, degrees.
+    pub fov_x_degrees: f32,
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+}
 
 /// Where a scene element came from, for error messages ("scene.xml:42").
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -44,20 +64,33 @@ pub struct MeshDesc {
     pub normals: Vec<Vec3>,
     /// Index into [`SceneDescription::materials`].
     pub material: usize,
-    /// If set, the mesh is a one-sided area light of this radiance (along the normal),
-    /// W/(m²·sr).
-    pub emission: Option<Rgb>,
-    /// The emitter's directional distribution; `None` = [`EmissionProfile::Cosine`]
-    /// (Lambertian). Evaluated in each triangle's photometric frame: z = the geometric normal,
-    /// x (horizontal 0°) = `emission_tangent` projected onto the triangle
-    /// ([`crate::light::AreaLight::frame`]).
-    pub emission_profile: Option<EmissionProfile>,
+    /// If set, the mesh is a one-sided area light (front faces only).
+    pub emission: Option<AreaEmission>,
+}
+
+/// How an emissive mesh emits: the one place an area light is described.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AreaEmission {
+    /// Radiance along the normal, W/(m²·sr) (for the default Lambertian profile, in every
+    /// front direction). Ignored for the power when `power` is given.
+    pub radiance: Rgb,
+    /// The directional distribution; `None` = [`EmissionProfile::Cosine`] (Lambertian).
+    /// Evaluated in each triangle's photometric frame: z = the geometric normal, x (horizontal
+    /// 0°) = `tangent` projected onto the triangle ([`crate::light::AreaLight::frame`]).
+    pub profile: Option<EmissionProfile>,
     /// World direction of the profile's horizontal 0° (projected onto each triangle's plane;
     /// only IES profiles depend on it). `None` = world +x. Must be finite and non-zero.
-    pub emission_tangent: Option<Vec3>,
-    /// If set (with `emission`), the area light's power Φ (W per channel), overriding the
-    /// value of `emission` (the radiance then follows: Φ/(A·∫s dω)).
-    pub emission_power: Option<Rgb>,
+    pub tangent: Option<Vec3>,
+    /// If set, the area light's power Φ (W per channel), overriding `radiance` (which then
+    /// follows: Φ/(A·∫s dω)).
+    pub power: Option<Rgb>,
+}
+
+impl AreaEmission {
+    /// A Lambertian emitter of `radiance` W/(m²·sr).
+    pub fn lambertian(radiance: Rgb) -> Self {
+        AreaEmission { radiance, ..Default::default() }
+    }
 }
 
 /// A point light.
@@ -86,6 +119,33 @@ pub struct PointLightDesc {
     pub ies_file: Option<std::path::PathBuf>,
 }
 
+impl PointLightDesc {
+    /// A spot light at `position` shining along `axis` (any length; x of its frame as close to
+    /// world +x as possible) with `intensity` W/sr on the axis, Mitsuba's profile of cutoff angle
+    /// `cutoff` and beam width `beam` (radians; [`EmissionProfile::spot`]). Checks the intensity,
+    /// the angles and the axis, in that order.
+    pub fn spot(
+        name: String,
+        source: Source,
+        position: Vec3,
+        axis: DVec3,
+        intensity: Rgb,
+        cutoff: f32,
+        beam: f32,
+    ) -> Result<Self, LightError> {
+        Ok(PointLightDesc {
+            intensity: check_emission(intensity)?,
+            profile: Some(EmissionProfile::spot(cutoff, beam)?),
+            orientation: Some(axis_frame(axis, DVec3::X)?),
+            name,
+            source,
+            position,
+            power: None,
+            ies_file: None,
+        })
+    }
+}
+
 /// A directional (sun) light covering the whole scene.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct DirectionalLightDesc {
@@ -99,12 +159,21 @@ pub struct DirectionalLightDesc {
     pub irradiance: Rgb,
 }
 
+impl DirectionalLightDesc {
+    /// A sun travelling along `direction` (normalised in double precision) with `irradiance`
+    /// W/m². Checks the irradiance, then the direction.
+    pub fn new(name: String, source: Source, direction: DVec3, irradiance: Rgb) -> Result<Self, LightError> {
+        let irradiance = check_emission(irradiance)?;
+        Ok(DirectionalLightDesc { name, source, direction: unit_axis(direction)?.as_vec3(), irradiance })
+    }
+}
+
 /// Everything a loader produces.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneDescription {
     /// Materials referenced by meshes.
     pub materials: Vec<Material>,
-    /// Triangle meshes (area lights are meshes with `emission`).
+    /// Triangle meshes (area lights are meshes with an [`AreaEmission`]).
     pub meshes: Vec<MeshDesc>,
     /// Point lights.
     pub point_lights: Vec<PointLightDesc>,

@@ -78,7 +78,7 @@ mod tests {
         let non_emitting = base.meshes.iter().position(|m| m.emission.is_none()).unwrap();
 
         let mut glowing = base.clone();
-        glowing.meshes[non_emitting].emission = Some(Rgb::splat(0.5));
+        glowing.meshes[non_emitting].emission = Some(crate::scene::AreaEmission::lambertian(Rgb::splat(0.5)));
         assert_eq!(fp(&glowing).geometry, original.geometry, "a surface turned light is the same geometry");
         assert_ne!(fp(&glowing).lights, original.lights, "but the lights changed");
 

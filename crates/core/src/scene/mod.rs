@@ -1,16 +1,33 @@
 //! The scene: a plain [`SceneDescription`] that every file format loads into, and the validated,
 //! ray-traceable [`Scene`] built from it (BVH, per-triangle data, light table, fingerprint).
+//!
+//! | file | what lives there |
+//! |---|---|
+//! | `description.rs` | [`SceneDescription`] and its parts: meshes ([`AreaEmission`] on an emissive one), point and directional lights, the file's [`CameraDesc`] |
+//! | `build.rs` | [`Scene`] and [`Scene::build`], which runs the stages below in order |
+//! | `meshes.rs` | stages 1–2: validate each mesh, flatten it into triangles with shading normals |
+//! | `lights.rs` | stage 3: the lights, through the light kinds' constructors |
+//! | `hashes.rs` | stage 4: the fingerprints of the built scene |
+//! | `fingerprint.rs` | [`Fingerprint`] and the hashing primitives |
+//! | `error.rs` | [`SceneError`] |
+//! | `camera_path.rs` | walkthrough camera paths |
+//! | `demo.rs` | the built-in Cornell box |
 
 mod build;
-mod camera;
 mod camera_path;
 mod demo;
 mod description;
+mod error;
 mod fingerprint;
+mod hashes;
+mod lights;
+mod meshes;
 
-pub use build::{Scene, SceneError, Triangle};
-pub use camera::{CameraDesc, CameraError, Pinhole};
+pub use build::Scene;
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};
 pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
-pub use description::{DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
+pub use description::{
+    AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
+};
+pub use error::SceneError;
 pub use fingerprint::Fingerprint;

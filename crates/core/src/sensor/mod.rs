@@ -1,9 +1,12 @@
 //! Sensors: connecting stored samples to a measuring device (the thesis's "visualisation",
-//! ch. 4 and §6.1.5).
+//! ch. 4 and §6.1.5). Every camera model lives here, one file each.
 //!
-//! A [`Sensor`] is an image-forming device: a [`Pinhole`] camera, a [`ThinLens`] camera with
-//! depth of field, or an [`Equirectangular`] 360° camera. All of them are rendered by one splat
-//! loop ([`splat`]); the only per-sensor part is [`SensorKind::connect`], which links a surface
+//! A [`Sensor`] is an image-forming device: a [`Pinhole`] camera (`pinhole.rs`, which also
+//! builds one from a scene file's [`crate::scene::CameraDesc`] and says why it cannot,
+//! [`CameraError`]), a [`ThinLens`] camera with depth of field (`thin_lens.rs`), or an
+//! [`Equirectangular`] 360° camera (`equirect.rs`). Each owns its image size (the sensor reads
+//! it from the camera, [`Sensor::width`]). All of them are rendered by one splat loop
+//! ([`splat`]); the only per-sensor part is [`Sensor::connect`], which links a surface
 //! point x to the device and returns the pixel, the point c on the device's aperture, and the
 //! factor W that holds the importance and every geometric term on the sensor's side. Each stored
 //! vertex x of light k with weight β then adds
@@ -34,13 +37,14 @@ mod thin_lens;
 
 pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure};
-pub use thin_lens::ThinLens;
+pub use pinhole::{CameraError, Pinhole};
+pub use thin_lens::{LensError, ThinLens};
 
 use crate::dataset::Sample;
 use crate::film::{Accumulator, Film, SplatTarget};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
-use crate::scene::{Pinhole, Scene};
+use crate::scene::Scene;
 use rayon::prelude::*;
 
 /// A run of samples from one light and the flux each unit of β stands for (Φ_k/N_k, after any
@@ -53,30 +57,16 @@ pub struct SampleBatch<'a> {
     pub samples: &'a [Sample],
 }
 
-/// The kinds of image-forming sensor.
+/// The closed set of image-forming sensors. Each camera owns its image size ([`Sensor::width`],
+/// [`Sensor::height`] read it).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SensorKind {
+pub enum Sensor {
     /// Ideal pinhole (perspective) camera.
     Pinhole(Pinhole),
     /// Thin-lens perspective camera (depth of field).
     ThinLens(ThinLens),
     /// Equirectangular (longitude/latitude) 360° camera.
     Equirectangular(Equirectangular),
-}
-
-/// An image-forming sensor and the size of the image it forms.
-///
-/// `width` and `height` are copies of the kind's own image size, kept as fields so callers can
-/// read `sensor.width` as they did for a [`Pinhole`]. Build sensors with the constructors (or
-/// `From`), which keep them consistent.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sensor {
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// What kind of device it is.
-    pub kind: SensorKind,
 }
 
 /// How a surface point connects to a sensor.
@@ -93,38 +83,56 @@ pub struct Connection {
 
 impl From<Pinhole> for Sensor {
     fn from(p: Pinhole) -> Self {
-        Sensor { width: p.width, height: p.height, kind: SensorKind::Pinhole(p) }
+        Sensor::Pinhole(p)
     }
 }
 
 impl From<ThinLens> for Sensor {
     fn from(t: ThinLens) -> Self {
-        Sensor { width: t.pinhole.width, height: t.pinhole.height, kind: SensorKind::ThinLens(t) }
+        Sensor::ThinLens(t)
     }
 }
 
 impl From<Equirectangular> for Sensor {
     fn from(e: Equirectangular) -> Self {
-        Sensor { width: e.width, height: e.height, kind: SensorKind::Equirectangular(e) }
+        Sensor::Equirectangular(e)
     }
 }
 
-impl SensorKind {
+impl Sensor {
+    /// Image width in pixels (the camera's).
+    pub fn width(&self) -> u32 {
+        match self {
+            Sensor::Pinhole(p) => p.width,
+            Sensor::ThinLens(t) => t.pinhole.width,
+            Sensor::Equirectangular(e) => e.width,
+        }
+    }
+
+    /// Image height in pixels (the camera's).
+    pub fn height(&self) -> u32 {
+        match self {
+            Sensor::Pinhole(p) => p.height,
+            Sensor::ThinLens(t) => t.pinhole.height,
+            Sensor::Equirectangular(e) => e.height,
+        }
+    }
+
     /// Connects the surface point `x` to the sensor, using `u` ∈ [0,1)² if the sensor samples
     /// its aperture. `None` when x is outside the field of view (or behind the sensor).
     #[inline]
     pub fn connect(&self, x: Vec3, u: Vec2) -> Option<Connection> {
         match self {
-            SensorKind::Pinhole(p) => pinhole::connect(p, x),
-            SensorKind::ThinLens(t) => t.connect(x, u),
-            SensorKind::Equirectangular(e) => e.connect(x),
+            Sensor::Pinhole(p) => p.connect(x),
+            Sensor::ThinLens(t) => t.connect(x, u),
+            Sensor::Equirectangular(e) => e.connect(x),
         }
     }
 
-    /// Whether [`SensorKind::connect`] uses its random numbers.
+    /// Whether [`Sensor::connect`] uses its random numbers.
     #[inline]
     fn samples_aperture(&self) -> bool {
-        matches!(self, SensorKind::ThinLens(t) if t.radius > 0.0)
+        matches!(self, Sensor::ThinLens(t) if t.radius > 0.0)
     }
 }
 
@@ -155,12 +163,11 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
     if batch.flux_per_path == Rgb::ZERO {
         return;
     }
-    let kind = &sensor.kind;
-    let random = kind.samples_aperture();
+    let random = sensor.samples_aperture();
     for s in batch.samples {
         let x = s.position();
         let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-        let Some(conn) = kind.connect(x, u) else { continue };
+        let Some(conn) = sensor.connect(x, u) else { continue };
         let to_c = conn.point - x;
         let d = to_c.length();
         if !(d > 0.0) {
@@ -192,11 +199,6 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
         }
         film.splat(conn.pixel, batch.flux_per_path * s.beta() * f * (cos_x.abs() * conn.weight));
     }
-}
-
-/// Adds the contribution of `samples` to `film` as seen by a pinhole `camera`.
-pub fn splat_pinhole(scene: &Scene, camera: &Pinhole, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
-    splat(scene, &Sensor::from(*camera), batch, film);
 }
 
 /// Accumulates `count` batches (fetched by index, possibly from a memory-mapped file) into a
@@ -241,18 +243,9 @@ pub fn render<'a, E: Send>(
     batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
-    accumulate((sensor.width, sensor.height), count, batch, progress, |b, film| splat(scene, sensor, b, film))
-}
-
-/// [`render`] through a pinhole camera.
-pub fn render_pinhole<'a, E: Send>(
-    scene: &Scene,
-    camera: &Pinhole,
-    count: usize,
-    batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
-    progress: impl Fn(usize) + Sync,
-) -> Result<Film, E> {
-    render(scene, &Sensor::from(*camera), count, batch, progress)
+    accumulate((sensor.width(), sensor.height()), count, batch, progress, |b, film| {
+        splat(scene, sensor, b, film)
+    })
 }
 
 #[cfg(test)]

@@ -1,4 +1,5 @@
-//! The pinhole camera's connection (the camera itself, [`Pinhole`], lives in `scene::camera`).
+//! The ideal pinhole camera ([`Pinhole`], built from a scene's [`CameraDesc`]) and its
+//! connection.
 //!
 //! Importance: the pinhole reads, for pixel j, the radiance at the eye averaged over the pixel's
 //! square (area a) on the image plane at unit distance. A film area dA maps to the solid angle
@@ -7,13 +8,160 @@
 
 use super::Connection;
 use crate::math::Vec3;
-use crate::scene::Pinhole;
+use crate::scene::CameraDesc;
 
-/// Connects `x` to the pinhole at `camera.eye`.
-#[inline]
-pub(super) fn connect(camera: &Pinhole, x: Vec3) -> Option<Connection> {
-    let (pixel, cos_c) = camera.project(x)?;
-    let d2 = (camera.eye - x).length_squared();
-    let weight = 1.0 / (camera.pixel_area() * d2 * cos_c * cos_c * cos_c);
-    Some(Connection { pixel, point: camera.eye, weight })
+/// An ideal pinhole camera with its image plane at unit distance (see `scenes/README.md`):
+/// film point (sx, sy) ∈ \[0,1\]², sy downward, looks along
+/// `f + (2sx−1)·tan(fov_x/2)·right + (1−2sy)·tan(fov_y/2)·up`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pinhole {
+    /// Centre of projection.
+    pub eye: Vec3,
+    /// Unit view direction.
+    pub forward: Vec3,
+    /// Unit image-right direction.
+    pub right: Vec3,
+    /// Unit image-up direction.
+    pub up: Vec3,
+    /// tan(fov_x / 2).
+    pub tan_x: f32,
+    /// tan(fov_y / 2) = tan_x · H / W.
+    pub tan_y: f32,
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+}
+
+/// Why a camera cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CameraError {
+    /// Eye, target or up are NaN/infinite, or eye == target, or up ∥ view direction.
+    #[error(
+        "degenerate camera orientation (eye, target and up must be finite, eye ≠ target, up not parallel to the view)"
+    )]
+    Orientation,
+    /// Field of view outside (0°, 180°).
+    #[error("field of view {0}° is outside (0°, 180°)")]
+    FieldOfView(f32),
+    /// Zero-sized image.
+    #[error("image size {0}x{1} must be at least 1x1")]
+    Size(u32, u32),
+}
+
+impl Pinhole {
+    /// Validates a description into a pinhole camera.
+    pub fn new(d: &CameraDesc) -> Result<Self, CameraError> {
+        if d.width == 0 || d.height == 0 {
+            return Err(CameraError::Size(d.width, d.height));
+        }
+        if !(d.fov_x_degrees > 0.0 && d.fov_x_degrees < 180.0) {
+            return Err(CameraError::FieldOfView(d.fov_x_degrees));
+        }
+        let forward = (d.target - d.eye).normalize_or_zero();
+        let right = forward.cross(d.up).normalize_or_zero();
+        if !d.eye.is_finite() || forward == Vec3::ZERO || right == Vec3::ZERO || !right.is_finite() {
+            return Err(CameraError::Orientation);
+        }
+        let up = right.cross(forward);
+        let tan_x = (d.fov_x_degrees.to_radians() * 0.5).tan();
+        let tan_y = tan_x * d.height as f32 / d.width as f32;
+        Ok(Pinhole { eye: d.eye, forward, right, up, tan_x, tan_y, width: d.width, height: d.height })
+    }
+
+    /// Area of one pixel on the image plane at unit distance.
+    #[inline]
+    pub fn pixel_area(&self) -> f32 {
+        (2.0 * self.tan_x / self.width as f32) * (2.0 * self.tan_y / self.height as f32)
+    }
+
+    /// Projects a world point. Returns the pixel index (row-major, row 0 on top) and
+    /// cos θ_c (between the camera axis and the direction to the point), or `None` when the
+    /// point is behind the camera or outside the image.
+    #[inline]
+    pub fn project(&self, p: Vec3) -> Option<(usize, f32)> {
+        let v = p - self.eye;
+        let z = v.dot(self.forward);
+        if z <= 0.0 {
+            return None;
+        }
+        let x = v.dot(self.right) / (z * self.tan_x); // in [-1, 1] across the image
+        let y = v.dot(self.up) / (z * self.tan_y);
+        let sx = 0.5 * (x + 1.0);
+        let sy = 0.5 * (1.0 - y);
+        if !(0.0..1.0).contains(&sx) || !(0.0..1.0).contains(&sy) {
+            return None;
+        }
+        let i = ((sx * self.width as f32) as u32).min(self.width - 1);
+        let j = ((sy * self.height as f32) as u32).min(self.height - 1);
+        let cos_c = z / v.length();
+        Some((j as usize * self.width as usize + i as usize, cos_c))
+    }
+
+    /// The primary ray direction through film point (sx, sy) (for tests and path tracers).
+    pub fn direction(&self, sx: f32, sy: f32) -> Vec3 {
+        (self.forward + (2.0 * sx - 1.0) * self.tan_x * self.right + (1.0 - 2.0 * sy) * self.tan_y * self.up)
+            .normalize()
+    }
+}
+
+impl Pinhole {
+    /// Connects `x` to the pinhole at the eye.
+    #[inline]
+    pub(super) fn connect(&self, x: Vec3) -> Option<Connection> {
+        let (pixel, cos_c) = self.project(x)?;
+        let d2 = (self.eye - x).length_squared();
+        let weight = 1.0 / (self.pixel_area() * d2 * cos_c * cos_c * cos_c);
+        Some(Connection { pixel, point: self.eye, weight })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cam() -> Pinhole {
+        Pinhole::new(&CameraDesc {
+            eye: Vec3::new(0.0, 0.0, 3.9),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_x_degrees: 39.3077,
+            width: 256,
+            height: 128,
+        })
+        .unwrap()
+    }
+
+    #[test]
+    fn projection_inverts_the_film_mapping() {
+        let c = cam();
+        for (sx, sy) in [(0.5f32, 0.5f32), (0.01, 0.02), (0.99, 0.7), (0.3, 0.999)] {
+            let p = c.eye + 2.5 * c.direction(sx, sy);
+            let (pix, cos_c) = c.project(p).unwrap();
+            assert_eq!(pix % 256, (sx * 256.0) as usize);
+            assert_eq!(pix / 256, (sy * 128.0) as usize);
+            assert!((cos_c - c.direction(sx, sy).dot(c.forward)).abs() < 1e-5);
+        }
+        assert!(c.project(c.eye - c.forward).is_none());
+        // Image right is +x, up is +y for a camera looking down -z.
+        assert!((c.right - Vec3::X).length() < 1e-6 && (c.up - Vec3::Y).length() < 1e-6);
+    }
+
+    #[test]
+    fn degenerate_cameras_are_refused() {
+        let good = CameraDesc {
+            eye: Vec3::ZERO,
+            target: Vec3::Z,
+            up: Vec3::Y,
+            fov_x_degrees: 45.0,
+            width: 4,
+            height: 4,
+        };
+        assert!(Pinhole::new(&good).is_ok());
+        assert!(Pinhole::new(&CameraDesc { up: Vec3::Z, ..good }).is_err());
+        assert!(Pinhole::new(&CameraDesc { target: Vec3::ZERO, ..good }).is_err());
+        assert!(Pinhole::new(&CameraDesc { fov_x_degrees: f32::NAN, ..good }).is_err());
+        assert!(Pinhole::new(&CameraDesc { width: 0, ..good }).is_err());
+        assert!(Pinhole::new(&CameraDesc { eye: Vec3::splat(f32::NAN), ..good }).is_err());
+    }
 }

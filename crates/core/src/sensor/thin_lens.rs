@@ -18,10 +18,9 @@
 //! — the pinhole's factor, with d and θ measured from the lens point c. The pixel is the one
 //! p_F projects into. With r = 0 the camera is exactly the pinhole.
 
-use super::{Connection, pinhole};
+use super::{Connection, Pinhole};
 use crate::math::{Vec2, Vec3};
 use crate::sampling::warp::square_to_concentric_disk;
-use crate::scene::Pinhole;
 
 /// A thin-lens perspective camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,7 +68,7 @@ impl ThinLens {
     pub(super) fn connect(&self, x: Vec3, u: Vec2) -> Option<Connection> {
         let p = &self.pinhole;
         if self.radius == 0.0 {
-            return pinhole::connect(p, x);
+            return p.connect(x);
         }
         let c = self.lens_point(u);
         let v = x - c;
@@ -124,7 +123,7 @@ mod tests {
     fn zero_radius_is_the_pinhole_and_bad_lenses_are_refused() {
         let t = lens(0.0);
         let x = Vec3::new(0.2, 0.1, -1.0);
-        assert_eq!(t.connect(x, Vec2::new(0.3, 0.7)), pinhole::connect(&t.pinhole, x));
+        assert_eq!(t.connect(x, Vec2::new(0.3, 0.7)), t.pinhole.connect(x));
         assert!(ThinLens::new(t.pinhole, -1.0, 1.0).is_err());
         assert!(ThinLens::new(t.pinhole, f32::NAN, 1.0).is_err());
         assert!(ThinLens::new(t.pinhole, 0.1, 0.0).is_err());

@@ -175,7 +175,7 @@ use opticks_core::math::Frame;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::microfacet::{Distribution, Microfacet};
 use opticks_core::scene::{
-    CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
+    AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
 };
 use roxmltree::{Document, Node};
 use std::collections::{HashMap, HashSet};
@@ -346,17 +346,6 @@ struct ParsedBsdf {
     two_sided: bool,
 }
 
-/// A shape's interior medium: its absorption, where it is declared, its id if top-level (for
-/// sharing materials) and a name for the material.
-/// What a shape's `<emitter type="area">` sets on its mesh (the `emission*` fields of
-/// [`MeshDesc`]).
-struct AreaEmission {
-    radiance: Rgb,
-    profile: Option<EmissionProfile>,
-    tangent: Option<Vec3>,
-    power: Option<Rgb>,
-}
-
 /// An IES file's photometric grid and the flux it carries, W per unit colour.
 struct Ies {
     profile: opticks_core::light::IesProfile,
@@ -365,6 +354,8 @@ struct Ies {
     path: std::path::PathBuf,
 }
 
+/// A shape's interior medium: its absorption, where it is declared, its id if top-level (for
+/// sharing materials) and a name for the material.
 struct Interior<'a, 'i> {
     sigma_a: Rgb,
     node: Node<'a, 'i>,
@@ -1433,18 +1424,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
             }
         };
         self.finish(&p);
-        Ok(MeshDesc {
-            name,
-            source: self.source(n),
-            positions,
-            triangles,
-            normals,
-            material,
-            emission: emission.as_ref().map(|e| e.radiance),
-            emission_tangent: emission.as_ref().and_then(|e| e.tangent),
-            emission_power: emission.as_ref().and_then(|e| e.power),
-            emission_profile: emission.and_then(|e| e.profile),
-        })
+        Ok(MeshDesc { name, source: self.source(n), positions, triangles, normals, material, emission })
     }
 
     /// A shape's `<ref name="interior" id="…"/>` or inline `<medium name="interior">`.
@@ -1614,7 +1594,7 @@ impl<'a, 'i> Ctx<'a, 'i> {
                 if lm < 0.0 {
                     return Err(self.err(lnode, "lumens must not be negative"));
                 }
-                lumens_to_watts(lm as f32, colour).map(Some).ok_or_else(|| {
+                lumens_to_watts(lm as f32, colour).map(Some).map_err(|_| {
                     self.err(
                         lnode,
                         format!("`lumens` needs the `{colour_name}` colour to have non-zero luminance"),
@@ -2361,7 +2341,7 @@ mod tests {
             ("lamp", Vec3::new(7.0, 8.0, 9.0), Rgb::splat(2.0))
         );
         assert_eq!(p[1].source, Source { file: "dir/test.xml".into(), line: 3 });
-        assert_eq!(s.description.meshes[0].emission, Some(Rgb::splat(3.0)));
+        assert_eq!(s.description.meshes[0].emission.as_ref().map(|e| e.radiance), Some(Rgb::splat(3.0)));
     }
 
     #[test]

@@ -567,7 +567,6 @@ pub fn load_obj_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             triangles: mesh.triangles,
             normals: mesh.normals,
             material: 0,
-            emission: None,
             ..Default::default()
         }],
         point_lights: Vec::new(),

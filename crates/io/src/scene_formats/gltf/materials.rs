@@ -28,6 +28,7 @@
 //! `doubleSided` materials.
 
 use opticks_core::bsdf::{Bsdf, Lambert, Material, MaterialError, ModifiedPhong};
+use opticks_core::light::check::check_emission;
 use opticks_core::math::Rgb;
 
 /// Largest Phong exponent produced (the core's limit).
@@ -145,12 +146,7 @@ pub fn convert(mat: &::gltf::Material<'_>, name: &str) -> Result<Converted, Stri
     let [er, eg, eb] = mat.emissive_factor();
     let strength = mat.emissive_strength().unwrap_or(1.0);
     let radiance = Rgb::new(er, eg, eb) * strength;
-    if !radiance.is_finite() || radiance.min_element() < 0.0 {
-        return Err(format!(
-            "emissiveFactor × emissiveStrength = ({}, {}, {}) must be finite and non-negative",
-            radiance.x, radiance.y, radiance.z
-        ));
-    }
+    check_emission(radiance).map_err(|e| format!("emissiveFactor × emissiveStrength: {e}"))?;
     let emission = if radiance.max_element() <= 0.0 {
         None
     } else if mat.emissive_texture().is_some() {

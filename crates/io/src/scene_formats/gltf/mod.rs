@@ -13,7 +13,7 @@
 //! | `emissiveFactor` × `KHR_materials_emissive_strength` | area light of that radiance in W/(m²·sr) (see [`materials`]) |
 //! | `KHR_lights_punctual` point | [`PointLightDesc`] of intensity `color × intensity / 683` W/sr (glTF gives candela = lm/sr; 683 lm/W is the luminous efficacy at 555 nm, the convention glTF exporters such as Blender's use); `range` is ignored (physical inverse-square falloff) |
 //! | `KHR_lights_punctual` spot | a spot [`PointLightDesc`] on the node's −Z, `color × intensity / 683` W/sr on the axis, full within `innerConeAngle` (at least [`SPOT_MIN_BEAM`] × outer) and falling **linearly in angle** to zero at `outerConeAngle` (glTF leaves the fall-off curve to the renderer); `range` ignored |
-//! | `KHR_lights_punctual` directional | a [`DirectionalLightDesc`](opticks_core::scene::DirectionalLightDesc) along the node's −Z of irradiance `color × intensity / 683` W/m² (glTF gives lux), a sun covering the scene |
+//! | `KHR_lights_punctual` directional | a [`DirectionalLightDesc`] along the node's −Z of irradiance `color × intensity / 683` W/m² (glTF gives lux), a sun covering the scene |
 //! | cameras | the perspective camera of the lowest-index node in the scene is the scene camera; it looks down its local −Z with +Y up; `yfov` is vertical: `fov_x = 2·atan(tan(yfov/2)·W/H)`; the image is 512 pixels high and `round(512·aspectRatio)` wide (512×512 without `aspectRatio`) |
 //! | orthographic cameras, skins, morph targets, animations, textures | ignored (warnings for the ones that change what is seen) |
 //!
@@ -22,20 +22,24 @@
 //! Errors name the file, and the JSON line and column for malformed JSON: unreadable file,
 //! malformed JSON or GLB, a document the `gltf` crate's validation rejects (the JSON path is
 //! given), a buffer whose file is missing (its path is given) or too short, an accessor outside
-//! its buffer, an index past the vertex count, a non-finite transform, an invalid material value.
+//! its buffer, an index past the vertex count, a non-finite transform, an invalid material value,
+//! a light or camera the core's constructors refuse (in the core's words, at the element).
 //! No input makes the loader panic.
 
 pub mod buffers;
 pub mod materials;
 
-use super::lights::{self, LightError};
 use super::{FileLocation, LoadedScene, SceneFileError};
 use ::gltf::camera::Projection;
 use ::gltf::khr_lights_punctual::Kind;
 use ::gltf::mesh::Mode;
-use opticks_core::light::LUMENS_PER_WATT;
+use opticks_core::light::check::check_emission;
+use opticks_core::light::{LUMENS_PER_WATT, LightError};
 use opticks_core::math::{Mat4, Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, SceneDescription, Source};
+use opticks_core::scene::{
+    AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
+};
+use opticks_core::sensor::Pinhole;
 use std::path::Path;
 
 /// The narrowest full-intensity cone of a glTF spot, as a fraction of its outer cone (the core's
@@ -265,29 +269,25 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     triangles,
                     normals,
                     material,
-                    emission,
-                    ..Default::default()
+                    emission: emission.map(AreaEmission::lambertian),
                 });
             }
         }
         if let Some(light) = node.light() {
             let lname = light.name().map_or_else(|| format!("light {}", light.index()), str::to_string);
-            let bad =
-                |e: LightError| invalid(format!("{element}: {lname}"), light_message(e, "color × intensity"));
+            // A value the core refuses, in the core's words, at the light.
+            let bad = |e: LightError| invalid(format!("{element}: {lname}"), e.to_string());
             // glTF gives candela (point, spot) or lux (directional): ÷ 683 is W/sr or W/m².
             let [r, g, b] = light.color();
             let amount = Rgb::new(r, g, b) * (light.intensity() / LUMENS_PER_WATT);
             let (position, axis) = (m.transform_point3(Vec3::ZERO), m.transform_vector3(Vec3::NEG_Z));
             match light.kind() {
                 Kind::Point => {
-                    if !amount.is_finite() || amount.min_element() < 0.0 {
-                        return Err(bad(LightError::Negative));
-                    }
                     desc.point_lights.push(PointLightDesc {
                         name: lname.clone(),
                         source: source.clone(),
                         position,
-                        intensity: amount,
+                        intensity: check_emission(amount).map_err(bad)?,
                         ..Default::default()
                     });
                 }
@@ -296,21 +296,21 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     // The core's spot needs a positive beam: an inner cone of 0 falls off from
                     // (almost) the axis.
                     let beam = inner.clamp(outer * SPOT_MIN_BEAM, outer);
-                    let spot = lights::spot_light(
+                    let spot = PointLightDesc::spot(
                         lname.clone(),
                         source.clone(),
-                        position.as_dvec3(),
+                        position,
                         axis.as_dvec3(),
                         amount,
-                        outer,
-                        beam,
+                        outer as f32,
+                        beam as f32,
                     )
                     .map_err(bad)?;
                     desc.point_lights.push(spot);
                 }
                 Kind::Directional => {
                     let sun =
-                        lights::directional_light(lname.clone(), source.clone(), axis.as_dvec3(), amount)
+                        DirectionalLightDesc::new(lname.clone(), source.clone(), axis.as_dvec3(), amount)
                             .map_err(bad)?;
                     desc.directional_lights.push(sun);
                 }
@@ -325,23 +325,20 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     let width = aspect.map_or(height, |a| ((height as f32 * a).round() as u32).max(1));
                     let yfov = p.yfov();
                     let fov_x = 2.0 * ((yfov * 0.5).tan() * width as f32 / height as f32).atan();
-                    if !(yfov > 0.0 && yfov < std::f32::consts::PI && fov_x.is_finite()) {
-                        return Err(invalid(cel, format!("yfov {yfov} rad is outside (0, π)")));
-                    }
                     let eye = m.transform_point3(Vec3::ZERO);
                     let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
                     let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
-                    if forward == Vec3::ZERO || up == Vec3::ZERO {
-                        return Err(invalid(cel, "the node transform collapses the camera's axes".into()));
-                    }
-                    desc.camera = Some(CameraDesc {
+                    let camera = CameraDesc {
                         eye,
                         target: eye + forward,
                         up,
                         fov_x_degrees: fov_x.to_degrees(),
                         width,
                         height,
-                    });
+                    };
+                    // The core's camera checks (field of view, axes), reported at the camera.
+                    Pinhole::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
+                    desc.camera = Some(camera);
                 }
                 Projection::Perspective(_) => {
                     warn(
@@ -363,16 +360,6 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
         warn(&mut warnings, "scene", "no triangle mesh was loaded".into());
     }
     Ok(LoadedScene { description: desc, warnings })
-}
-
-/// A located message for a light the shared constructors reject.
-fn light_message(e: LightError, what: &str) -> String {
-    match e {
-        LightError::Cutoff => "spot.outerConeAngle must be in (0, π/2]".into(),
-        LightError::Beam => "spot.innerConeAngle must be in [0, outerConeAngle)".into(),
-        LightError::Axis => "the node transform collapses the light's direction".into(),
-        LightError::Negative => format!("light {what} must be finite and non-negative"),
-    }
 }
 
 fn node_element(node: &::gltf::Node<'_>) -> String {

@@ -23,7 +23,8 @@ use glam::{DMat4, DQuat, DVec3};
 use opticks_core::bsdf::{Bsdf, Lambert, Material, ModifiedPhong};
 use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, SceneDescription, Source};
+use opticks_core::scene::{AreaEmission, CameraDesc, MeshDesc, SceneDescription, Source};
+use opticks_core::sensor::Pinhole;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -50,51 +51,28 @@ pub const DEFAULT_IMAGE_SIZE: u32 = 512;
 
 type Result<T> = std::result::Result<T, SceneFileError>;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 enum Emission {
     None,
     Radiance(Rgb, AreaProfile),
     Power(Rgb, AreaProfile),
 }
 
-/// An AreaLight's `emission` function.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum AreaProfile {
-    /// `"lambertian"`: cos θ.
-    Lambertian,
-    /// `"uniform"`: the same radiant intensity in every front direction.
-    Uniform,
-    /// `"cosine n"`: cosⁿ θ (n = 1 is Lambertian).
-    CosinePower(f32),
-}
+/// An AreaLight's `emission` function as the core's profile; `None` is `"lambertian"` (the
+/// core's default).
+type AreaProfile = Option<EmissionProfile>;
 
-impl AreaProfile {
-    /// Parses an `emission` string.
-    fn parse(s: &str) -> Option<Self> {
-        let mut words = s.split_whitespace();
-        let p = match (words.next()?, words.next()) {
-            ("lambertian", None) => AreaProfile::Lambertian,
-            ("uniform", None) => AreaProfile::Uniform,
-            ("cosine", Some(n)) => {
-                let n: f32 = n.parse().ok()?;
-                if !(0.0..=1e6).contains(&n) {
-                    return None;
-                }
-                AreaProfile::CosinePower(n)
-            }
-            _ => return None,
-        };
-        words.next().is_none().then_some(p)
-    }
-
-    /// The core's profile (`None` is the Lambertian default).
-    fn core(self) -> Option<EmissionProfile> {
-        match self {
-            AreaProfile::Lambertian => None,
-            AreaProfile::Uniform => Some(EmissionProfile::Uniform),
-            AreaProfile::CosinePower(exponent) => Some(EmissionProfile::CosinePower { exponent }),
-        }
-    }
+/// Parses an `emission` string: `"lambertian"`, `"uniform"` or `"cosine n"` (n as the core's
+/// [`EmissionProfile::cosine_power`] allows); `None` if it is none of them.
+fn parse_area_profile(s: &str) -> Option<AreaProfile> {
+    let mut words = s.split_whitespace();
+    let p = match (words.next()?, words.next()) {
+        ("lambertian", None) => None,
+        ("uniform", None) => Some(EmissionProfile::Uniform),
+        ("cosine", Some(n)) => Some(EmissionProfile::cosine_power(n.parse().ok()?).ok()?),
+        _ => return None,
+    };
+    words.next().is_none().then_some(p)
 }
 
 /// Converts the parsed top-level `nodes` of `file` (whose parser warnings are `warnings`).
@@ -382,12 +360,16 @@ impl Converter {
             }
             local.positions.iter().map(|p| m.transform_point3(p.as_dvec3()).as_vec3()).collect()
         };
-        // A power is the core's to turn into radiance (Φ/(A·∫s dω), `MeshDesc::emission_power`),
+        // A power is the core's to turn into radiance (Φ/(A·∫s dω), `AreaEmission::power`),
         // with the scene's own areas; the radiance given then only marks the Shape as a light.
-        let (emission, emission_power, emission_profile) = match emission {
-            Emission::None => (None, None, None),
-            Emission::Radiance(l, p) => (Some(l), None, p.core()),
-            Emission::Power(phi, p) => (Some(phi), Some(phi), p.core()),
+        let emission = match emission {
+            Emission::None => None,
+            Emission::Radiance(radiance, profile) => {
+                Some(AreaEmission { radiance, profile, ..Default::default() })
+            }
+            Emission::Power(phi, profile) => {
+                Some(AreaEmission { radiance: phi, profile, power: Some(phi), ..Default::default() })
+            }
         };
         let name = n.def_name.clone().unwrap_or_else(|| format!("Shape_{}_{}", n.pos.line, n.pos.col));
         // `..Default::default()` keeps this literal valid when MeshDesc gains fields.
@@ -400,8 +382,6 @@ impl Converter {
             normals,
             material,
             emission,
-            emission_power,
-            emission_profile,
             ..Default::default()
         });
         Ok(())
@@ -448,7 +428,7 @@ impl Converter {
                     }
                     let e = m.vec3("emissiveColor", [0.0; 3]);
                     let emission = if e.iter().any(|&c| c != 0.0) {
-                        Emission::Radiance(rgb(e) * EMISSIVE_RADIANCE, AreaProfile::Lambertian)
+                        Emission::Radiance(rgb(e) * EMISSIVE_RADIANCE, None)
                     } else {
                         Emission::None
                     };
@@ -467,8 +447,8 @@ impl Converter {
             }
         };
         let key = (mat.map(ptr).unwrap_or(0), two_sided);
-        if let Some(&found) = self.materials.get(&key) {
-            return Ok(found);
+        if let Some(found) = self.materials.get(&key) {
+            return Ok(found.clone());
         }
         let name = match mat {
             Some(m) => {
@@ -479,7 +459,7 @@ impl Converter {
         let bsdf = self.bsdf(mat, rgb(kd), rgb(ks), exponent, !physical)?;
         let index = self.out.materials.len();
         self.out.materials.push(Material { name, bsdf, two_sided });
-        self.materials.insert(key, (index, emission));
+        self.materials.insert(key, (index, emission.clone()));
         Ok((index, emission))
     }
 
@@ -487,7 +467,7 @@ impl Converter {
         let f = |k: &str| p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]);
         let (radiance, power) = (f("radiance"), f("power"));
         let profile = match p.get("emission") {
-            Some(FieldValue::Str(e)) => AreaProfile::parse(e).unwrap_or_else(|| {
+            Some(FieldValue::Str(e)) => parse_area_profile(e).unwrap_or_else(|| {
                 self.warn_once(
                     m,
                     "emission",
@@ -495,9 +475,9 @@ impl Converter {
                         "emission function \"{e}\" is not one of \"lambertian\", \"uniform\", \"cosine n\" (0 ≤ n ≤ 10⁶): lambertian used"
                     ),
                 );
-                AreaProfile::Lambertian
+                None
             }),
-            _ => AreaProfile::Lambertian,
+            _ => None,
         };
         let nonzero = |c: [f32; 3]| c.iter().any(|&v| v != 0.0);
         let emission = if nonzero(radiance) {
@@ -586,9 +566,6 @@ impl Converter {
         let (Ok(width), Ok(height)) = (u32::try_from(width), u32::try_from(height)) else {
             return Err(self.invalid(n, format!("image size {width}x{height} must be positive")));
         };
-        if width == 0 || height == 0 {
-            return Err(self.invalid(n, format!("image size {width}x{height} must be positive")));
-        }
         let q = rotation(orientation);
         let eye = m.transform_point3(dv(position));
         let forward = m.transform_vector3(q * DVec3::NEG_Z).normalize_or_zero();
@@ -600,14 +577,17 @@ impl Converter {
         let fov = f64::from(fov);
         let aspect = f64::from(width) / f64::from(height);
         let fov_x = if width <= height { fov } else { 2.0 * ((fov / 2.0).tan() * aspect).atan() };
-        self.out.camera = Some(CameraDesc {
+        let camera = CameraDesc {
             eye: eye.as_vec3(),
             target: (eye + forward).as_vec3(),
             up: up.as_vec3(),
             fov_x_degrees: fov_x.to_degrees() as f32,
             width,
             height,
-        });
+        };
+        // The core's camera checks (image size, field of view, axes), reported at the node.
+        Pinhole::new(&camera).map_err(|e| self.invalid(n, e.to_string()))?;
+        self.out.camera = Some(camera);
         Ok(())
     }
 
@@ -764,6 +744,41 @@ mod tests {
         assert!(s.warnings.iter().any(|w| w.contains("1 more Viewpoints")), "{:?}", s.warnings);
     }
 
+    /// The Viewpoint is checked by the core's camera constructor, at the node.
+    #[test]
+    fn impossible_viewpoints_are_errors_at_the_node() {
+        for (viewpoint, want) in [
+            ("PhysicalViewpoint { width 0 height 4 }", "image size 0x4"),
+            ("PhysicalViewpoint { width -2 height 4 }", "image size -2x4 must be positive"),
+            ("Viewpoint { fieldOfView 3.5 }", "field of view"),
+        ] {
+            let text = format!("#VRML V2.0 utf8\n{}\n{viewpoint}", extension::DECLARATIONS);
+            let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
+            let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
+            let line = text.lines().count();
+            assert!(e.starts_with(&format!("t.wrl:{line}:1")) && e.contains(want), "{viewpoint}: {e}");
+        }
+    }
+
+    /// A light value the core refuses is an error at the light's node, in the core's words.
+    #[test]
+    fn impossible_lights_are_errors_at_the_node() {
+        for (light, want) in [
+            ("PhysicalSpotLight { power -1 1 1 }", "power [-1.0, 1.0, 1.0] W must be finite and non-negative"),
+            ("SpotLight { direction 0 0 0 }", "direction [0.0, 0.0, 0.0] is zero or not finite"),
+            ("PhysicalSpotLight { intensity 1 1 1 beamWidth -1 }", "the spot beam width"),
+            ("PhysicalDirectionalLight { irradiance -1 0 0 }", "emission [-1.0, 0.0, 0.0]"),
+            ("PhysicalPointLight { lumens -5 }", "lumens -5 must be finite and non-negative"),
+            ("PhysicalPointLight { intensity -1 0 0 lumens 5 }", "lumens need a colour of non-zero luminance"),
+        ] {
+            let text = format!("#VRML V2.0 utf8\n{}\n{light}", extension::DECLARATIONS);
+            let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
+            let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
+            let line = text.lines().count();
+            assert!(e.starts_with(&format!("t.wrl:{line}:1")) && e.contains(want), "{light}: {e}");
+        }
+    }
+
     #[test]
     fn lights_in_physical_units() {
         let s = load(
@@ -807,12 +822,15 @@ mod tests {
              Shape { appearance Appearance { material AreaLight { radiance 1 1 1 emission \"cosine -1\" } } geometry Box {} }",
         );
         let m = &s.description.meshes;
-        assert_eq!(m[0].emission_profile, Some(EmissionProfile::CosinePower { exponent: 4.0 }));
+        assert_eq!(
+            m[0].emission.as_ref().unwrap().profile,
+            Some(EmissionProfile::CosinePower { exponent: 4.0 })
+        );
         // Φ = L·A·2π/(n+1) with A = 6 m² (the scene turns the given power into radiance).
         let l = built_radiance(&s.description, 0).x as f64;
         assert!((l * 6.0 * 2.0 * PI / 5.0 - 3.0).abs() < 1e-5, "{l}");
-        assert_eq!(m[1].emission_profile, Some(EmissionProfile::Uniform));
-        assert_eq!(m[2].emission_profile, None);
+        assert_eq!(m[1].emission.as_ref().unwrap().profile, Some(EmissionProfile::Uniform));
+        assert_eq!(m[2].emission.as_ref().unwrap().profile, None);
         assert!(s.warnings.iter().any(|w| w.contains("\"cosine -1\" is not one of")), "{:?}", s.warnings);
     }
 
@@ -825,7 +843,10 @@ mod tests {
         let mut text = Vec::new();
         super::super::writer::write_vrml(&s.description, &mut text).unwrap();
         let back = super::super::load_str(std::str::from_utf8(&text).unwrap(), Path::new("w.wrl")).unwrap();
-        assert_eq!(back.description.meshes[0].emission_power, Some(Rgb::new(3.0, 2.0, 1.0)));
+        assert_eq!(
+            back.description.meshes[0].emission.as_ref().unwrap().power,
+            Some(Rgb::new(3.0, 2.0, 1.0))
+        );
         assert_eq!(built_radiance(&back.description, 0), built_radiance(&s.description, 0));
     }
 

@@ -1,8 +1,10 @@
 //! VRML97 lights → the core's lights: `PointLight`, `SpotLight` and `DirectionalLight`, and the
 //! extension's `PhysicalPointLight`, `PhysicalSpotLight` and `PhysicalDirectionalLight` (in
 //! W/sr, W or W/m²; a `PhysicalPointLight` may carry an IES LM-63 file, `iesUrl`, read by the
-//! loaders' shared [`lights::ies_luminaire`], and give its power in lumens). The spot and directional lights are built by the loaders' shared
-//! [`crate::scene_formats::lights`], so they mean what Mitsuba's `spot` and `directional` mean.
+//! loaders' shared [`lights::ies_luminaire`], and give its power in lumens). The spot and
+//! directional lights are the core's constructors ([`PointLightDesc::spot`],
+//! [`DirectionalLightDesc::new`]), so they mean what Mitsuba's `spot` and `directional` mean;
+//! a value the core refuses is reported at the node with the core's message.
 //!
 //! VRML97 semantics kept: `location`, `direction`, `color` × `intensity`, `on`; a spot is full
 //! within `beamWidth` of its axis and falls linearly in angle to zero at `cutOffAngle` (VRML97
@@ -16,11 +18,12 @@
 use super::convert::{Converter, dv, rgb};
 use super::tree::{FieldValue, Node, ProtoInstance};
 use crate::scene_formats::SceneFileError;
-use crate::scene_formats::lights::{self, LightError};
+use crate::scene_formats::lights;
 use glam::{DMat4, DVec3};
-use opticks_core::light::{EmissionProfile, lumens_to_watts};
+use opticks_core::light::check::check_power;
+use opticks_core::light::{EmissionProfile, LightError, axis_frame, lumens_to_watts};
 use opticks_core::math::Rgb;
-use opticks_core::scene::PointLightDesc;
+use opticks_core::scene::{DirectionalLightDesc, PointLightDesc};
 use std::f64::consts::FRAC_PI_2;
 use std::path::{Path, PathBuf};
 
@@ -52,16 +55,12 @@ fn name(n: &Node) -> String {
     n.def_name.clone().unwrap_or_else(|| format!("{}_{}_{}", n.type_name, n.pos.line, n.pos.col))
 }
 
-fn message(e: LightError, what: &str) -> String {
-    match e {
-        LightError::Cutoff => "cutOffAngle must be in (0, π] radians".into(),
-        LightError::Beam => "beamWidth must be positive".into(),
-        LightError::Axis => "the direction (after the transforms) must not be zero".into(),
-        LightError::Negative => format!("the {what} must be finite and not negative"),
-    }
-}
-
 impl Converter {
+    /// A light's value the core refuses, at the node `n`, in the core's words.
+    fn light_error(&self, n: &Node, e: LightError) -> SceneFileError {
+        self.invalid(n, e.to_string())
+    }
+
     /// Warnings for the standard fields a physical light cannot honour.
     fn standard_light_notes(&mut self, n: &Node) {
         let a = n.vec3("attenuation", [1.0, 0.0, 0.0]);
@@ -114,9 +113,7 @@ impl Converter {
             light.power = (phi != Rgb::ZERO).then_some(phi);
             let axis = m.transform_vector3(vec3(p, "direction", [0.0, -1.0, 0.0]));
             let horizontal = m.transform_vector3(vec3(p, "horizontal", [1.0, 0.0, 0.0]));
-            light.orientation = Some(
-                lights::axis_frame(axis, horizontal).map_err(|e| self.invalid(n, message(e, "intensity")))?,
-            );
+            light.orientation = Some(axis_frame(axis, horizontal).map_err(|e| self.light_error(n, e))?);
             light.profile = Some(EmissionProfile::Ies(ies.profile));
             if let Some(w) = ies.warning {
                 self.warn(n, format!("{}: {w}", path.display()));
@@ -127,14 +124,10 @@ impl Converter {
             if phi != Rgb::ZERO {
                 return Err(self.invalid(n, "give either power or lumens, not both"));
             }
-            if !(lumens.is_finite() && lumens > 0.0) {
-                return Err(self.invalid(n, message(LightError::Negative, "lumens")));
-            }
             // The colour is the intensity's (white if not given); lumens set the flux.
             light.intensity = if i != Rgb::ZERO { i } else { Rgb::ONE };
-            light.power = Some(lumens_to_watts(lumens as f32, light.intensity).ok_or_else(|| {
-                self.invalid(n, "lumens need the intensity colour to have non-zero luminance")
-            })?);
+            light.power =
+                Some(lumens_to_watts(lumens as f32, light.intensity).map_err(|e| self.light_error(n, e))?);
         }
         self.out.point_lights.push(light);
         Ok(())
@@ -207,22 +200,19 @@ impl Converter {
             self.warn_once(n, "cutoff", "cutOffAngle 0: the spot emits nothing: ignored");
             return Ok(());
         }
-        let mut light = lights::spot_light(
+        let mut light = PointLightDesc::spot(
             name(n),
             self.source(n),
-            m.transform_point3(location),
+            m.transform_point3(location).as_vec3(),
             m.transform_vector3(direction),
             intensity,
-            cutoff,
+            cutoff as f32,
             // VRML97: a beamWidth wider than the cutOffAngle means no fall-off.
-            beam.min(cutoff),
+            beam.min(cutoff) as f32,
         )
-        .map_err(|e| self.invalid(n, message(e, "intensity")))?;
+        .map_err(|e| self.light_error(n, e))?;
         if let Some(phi) = power {
-            if !phi.is_finite() || phi.min_element() < 0.0 {
-                return Err(self.invalid(n, message(LightError::Negative, "power")));
-            }
-            light.power = Some(phi);
+            light.power = Some(check_power(phi).map_err(|e| self.light_error(n, e))?);
         }
         self.out.point_lights.push(light);
         Ok(())
@@ -248,8 +238,8 @@ impl Converter {
             );
         }
         let light =
-            lights::directional_light(name(n), self.source(n), m.transform_vector3(direction), irradiance)
-                .map_err(|e| self.invalid(n, message(e, "irradiance")))?;
+            DirectionalLightDesc::new(name(n), self.source(n), m.transform_vector3(direction), irradiance)
+                .map_err(|e| self.light_error(n, e))?;
         self.out.directional_lights.push(light);
         Ok(())
     }

@@ -62,7 +62,7 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
         .or_else(|| {
             desc.meshes
                 .iter()
-                .find(|m| m.emission.is_some() && area_emission(m.emission_profile.as_ref()).is_none())
+                .find(|m| m.emission.as_ref().is_some_and(|e| area_emission(e.profile.as_ref()).is_none()))
                 .map(|m| format!("area light {} has a tabulated (IES) emission profile", m.name))
         });
     if let Some(what) = unsupported {
@@ -127,13 +127,13 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
             ));
         };
         write!(w, "  appearance Appearance {{ material ")?;
-        match m.emission {
-            Some(l) => {
-                let emission = area_emission(m.emission_profile.as_ref()).unwrap_or_default();
-                // A power overrides the radiance (MeshDesc::emission_power): write it as such.
-                match m.emission_power {
+        match &m.emission {
+            Some(e) => {
+                let emission = area_emission(e.profile.as_ref()).unwrap_or_default();
+                // A power overrides the radiance (AreaEmission::power): write it as such.
+                match e.power {
                     Some(phi) => write!(w, "AreaLight {{ power {} emission \"{emission}\" ", v3(phi))?,
-                    None => write!(w, "AreaLight {{ radiance {} emission \"{emission}\" ", v3(l))?,
+                    None => write!(w, "AreaLight {{ radiance {} emission \"{emission}\" ", v3(e.radiance))?,
                 }
                 phong_fields(w, mat)?;
                 writeln!(w, "}} }}")?;

@@ -10,6 +10,7 @@
 use super::super::{FileLocation, SceneFileError};
 use super::err;
 use opticks_core::bsdf::{Bsdf, Lambert, Material, MaterialError, ModifiedPhong};
+use opticks_core::light::check::check_emission;
 use opticks_core::math::Rgb;
 use std::path::Path;
 
@@ -211,19 +212,13 @@ pub struct Converted {
 pub fn convert(m: &MtlMaterial, file: &Path) -> Result<Converted, SceneFileError> {
     let element = format!("newmtl {}", m.name);
     let loc = |line: u32| FileLocation { file: file.to_path_buf(), line, column: 0 };
-    let negative = |v: Option<AtLine<Rgb>>, what: &'static str| -> Result<(), SceneFileError> {
-        match v {
-            Some(AtLine { value, line }) if value.min_element() < 0.0 => Err(SceneFileError::Material {
-                at: loc(line),
-                element: element.clone(),
-                source: MaterialError::Negative(what),
-            }),
-            _ => Ok(()),
-        }
-    };
-    negative(m.kd, "Kd")?;
-    negative(m.ks, "Ks")?;
-    negative(m.ke, "Ke")?;
+    if let Some(ke) = m.ke {
+        check_emission(ke.value).map_err(|e| SceneFileError::Invalid {
+            at: loc(ke.line),
+            element: element.clone(),
+            message: format!("Ke: {e}"),
+        })?;
+    }
     let mut warnings = Vec::new();
     let mut kd = m.kd.map_or(Rgb::splat(DEFAULT_KD), |v| v.value);
     let mut ks = m.ks.map_or(Rgb::ZERO, |v| v.value);
@@ -245,18 +240,15 @@ pub fn convert(m: &MtlMaterial, file: &Path) -> Result<Converted, SceneFileError
             sum.z
         ));
     }
-    let bsdf = if ks.max_element() <= 0.0 {
+    // The core checks the values (a negative Ks, too, makes a Modified Phong it refuses).
+    let bsdf = if ks == Rgb::ZERO {
         Lambert::new(kd).map(Bsdf::Lambert)
     } else {
         let ns = m.ns.map_or(0.0, |v| v.value);
         ModifiedPhong::new(kd, ks, ns).map(Bsdf::ModifiedPhong)
     }
     .map_err(|source| {
-        // Point at the statement the core complains about: Ns for the exponent, else Ks or Kd.
-        let line = match &source {
-            MaterialError::TooLarge { .. } | MaterialError::Negative("exponent") => m.ns.map(|v| v.line),
-            _ => m.ks.or(m.kd).map(|v| v.line),
-        };
+        let (source, line) = in_mtl_terms(source, m);
         SceneFileError::Material { at: loc(line.unwrap_or(m.line)), element: element.clone(), source }
     })?;
     let emission = match (m.ke, m.map_ke) {
@@ -264,4 +256,36 @@ pub fn convert(m: &MtlMaterial, file: &Path) -> Result<Converted, SceneFileError
         _ => None,
     };
     Ok(Converted { material: Material { name: m.name.clone(), bsdf, two_sided: true }, emission, warnings })
+}
+
+/// The core's error about one of its parameters (`reflectance` or `kd`, `ks`, `exponent`) said
+/// with the MTL statement that gave it (`Kd`, `Ks`, `Ns`), and that statement's line (`Ks` or
+/// else `Kd` for an error about both).
+fn in_mtl_terms(e: MaterialError, m: &MtlMaterial) -> (MaterialError, Option<u32>) {
+    let statement = |name: &'static str| match name {
+        "reflectance" | "kd" => "Kd",
+        "ks" => "Ks",
+        "exponent" => "Ns",
+        other => other,
+    };
+    let e = match e {
+        MaterialError::NotFinite(n) => MaterialError::NotFinite(statement(n)),
+        MaterialError::Negative(n) => MaterialError::Negative(statement(n)),
+        MaterialError::NotPositive(n) => MaterialError::NotPositive(statement(n)),
+        MaterialError::AboveOne(n) => MaterialError::AboveOne(statement(n)),
+        MaterialError::TooLarge { name, value, max } => {
+            MaterialError::TooLarge { name: statement(name), value, max }
+        }
+        other => other,
+    };
+    let at = |v: Option<AtLine<Rgb>>| v.map(|v| v.line);
+    let line = match &e {
+        MaterialError::NotFinite("Kd") | MaterialError::Negative("Kd") => at(m.kd),
+        MaterialError::NotFinite("Ks") | MaterialError::Negative("Ks") => at(m.ks),
+        MaterialError::TooLarge { name: "Ns", .. }
+        | MaterialError::Negative("Ns")
+        | MaterialError::NotFinite("Ns") => m.ns.map(|v| v.line),
+        _ => at(m.ks.or(m.kd)),
+    };
+    (e, line)
 }
