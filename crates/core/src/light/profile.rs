@@ -312,33 +312,6 @@ impl BuiltProfile {
     pub fn depends_on_azimuth(&self) -> bool {
         matches!(self, BuiltProfile::Table(_))
     }
-
-    /// Feeds what defines the distribution (not its scale) to a hash.
-    pub(crate) fn hash_into(&self, h: &mut blake3::Hasher) {
-        match self {
-            BuiltProfile::Uniform { hemisphere } => {
-                h.update(if *hemisphere { b"uniform hemisphere" } else { b"uniform sphere...." });
-            }
-            BuiltProfile::Cosine => {
-                h.update(b"cosine");
-            }
-            BuiltProfile::CosinePower { exponent } => {
-                h.update(b"cosine power");
-                h.update(&exponent.to_le_bytes());
-            }
-            BuiltProfile::Spot { cutoff, beam, .. } => {
-                h.update(b"spot");
-                h.update(&cutoff.to_le_bytes());
-                h.update(&beam.to_le_bytes());
-            }
-            BuiltProfile::Table(t) => {
-                h.update(b"table");
-                for v in t.thetas.iter().chain(&t.phis).chain(&t.values) {
-                    h.update(&v.to_le_bytes());
-                }
-            }
-        }
-    }
 }
 
 /// ∫ s dω of Mitsuba's spot (linear falloff in angle from β to γ), in closed form:
@@ -380,6 +353,12 @@ fn pick(cdf: &[f32], u: f32) -> (usize, f32) {
 }
 
 impl Table {
+    /// The refined grid: θ nodes and φ nodes (radians) and the candela at the nodes (θ-major),
+    /// which define the distribution (what a light's shape hash covers).
+    pub(crate) fn grid(&self) -> (&[f32], &[f32], &[f32]) {
+        (&self.thetas, &self.phis, &self.values)
+    }
+
     fn build(ies: &IesProfile, hemisphere: bool) -> Result<Table, ProfileError> {
         let (nv, nh) = (ies.vertical_angles.len(), ies.horizontal_angles.len());
         if nv < 2 {

@@ -5,7 +5,7 @@
 //! scene with no light. Degenerate (zero-area) triangles are dropped, since they can neither be
 //! hit nor emit; their count is reported in [`Scene::dropped_triangles`].
 
-use super::fingerprint::Hasher;
+use super::fingerprint::{Hasher, light_shape, material_hash, material_v2};
 use super::{CameraDesc, Fingerprint, MeshDesc, SceneDescription, Source};
 use crate::accel::Accel;
 use crate::bsdf::Material;
@@ -206,41 +206,6 @@ pub enum SceneError {
     NoLight,
 }
 
-/// Hash of a light's emitting geometry and emission distribution (not its power).
-fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
-    let mut h = Hasher::new("opticks light shape v1");
-    match light {
-        Light::Area(a) => {
-            h.0.update(b"lambertian area");
-            if a.profile != BuiltProfile::Cosine {
-                a.profile.hash_into(&mut h.0);
-            }
-            if a.profile.depends_on_azimuth() {
-                h.f32s(&a.tangent.to_array());
-            }
-            for &t in &a.triangles {
-                let t = &triangles[t as usize];
-                h.f32s(&[t.v0.x, t.v0.y, t.v0.z, t.e1.x, t.e1.y, t.e1.z, t.e2.x, t.e2.y, t.e2.z]);
-            }
-        }
-        Light::Point(p) => {
-            h.0.update(b"isotropic point");
-            h.f32s(&p.position.to_array());
-            if p.profile != (BuiltProfile::Uniform { hemisphere: false }) {
-                p.profile.hash_into(&mut h.0);
-                h.f32s(&[p.frame.s.x, p.frame.s.y, p.frame.s.z, p.frame.n.x, p.frame.n.y, p.frame.n.z]);
-            }
-        }
-        Light::Directional(d) => {
-            h.0.update(b"directional");
-            h.f32s(&d.direction.to_array());
-            h.f32s(&d.centre.to_array());
-            h.f32s(&[d.radius]);
-        }
-    }
-    h.finish()
-}
-
 /// The triangle of `positions` with vertex indices `t`.
 fn triangle(positions: &[Vec3], t: [u32; 3]) -> Triangle {
     let [a, b, c] = t.map(|i| positions[i as usize]);
@@ -360,16 +325,7 @@ impl Scene {
         // emits: emission is the lights' business (each light has its own shape hash), so a
         // surface may become a light without invalidating the samples of the others.
         let mut geo = Hasher::new("opticks geometry v2");
-        let material_hashes: Vec<[u8; 16]> = desc
-            .materials
-            .iter()
-            .map(|m| {
-                let mut h = Hasher::new("opticks material");
-                // Debug formatting of f32 is the shortest round-trip form: stable and exact.
-                h.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
-                h.finish()
-            })
-            .collect();
+        let material_hashes: Vec<[u8; 16]> = desc.materials.iter().map(material_hash).collect();
         // The hash datasets of format version 1 recorded (it also covered emitter assignment).
         let mut geo_v1 = Hasher::new("opticks geometry v1");
 
@@ -567,7 +523,7 @@ impl Scene {
             return Err(SceneError::NoLight);
         }
         for m in &desc.materials {
-            geo_v1.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
+            geo_v1.0.update(material_v2(m).as_bytes());
         }
         let mut names = std::collections::HashSet::new();
         if let Some(dup) = lights.iter().map(Light::name).find(|n| !names.insert(*n)) {
