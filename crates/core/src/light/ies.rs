@@ -413,11 +413,10 @@ impl Table {
         (v, w)
     }
 
-    /// Feeds the refined grid (nodes and values: what defines the distribution) to a hash.
-    pub(super) fn hash_into(&self, h: &mut blake3::Hasher) {
-        for v in self.thetas.iter().chain(&self.phis).chain(&self.values) {
-            h.update(&v.to_le_bytes());
-        }
+    /// The refined grid: θ nodes and φ nodes (radians) and the candela at the nodes (θ-major),
+    /// which define the distribution (what a light's shape hash covers).
+    pub(crate) fn grid(&self) -> (&[f32], &[f32], &[f32]) {
+        (&self.thetas, &self.phis, &self.values)
     }
 }
 

@@ -291,31 +291,6 @@ impl BuiltProfile {
     pub fn depends_on_azimuth(&self) -> bool {
         matches!(self, BuiltProfile::Table(_))
     }
-
-    /// Feeds what defines the distribution (not its scale) to a hash.
-    pub(crate) fn hash_into(&self, h: &mut blake3::Hasher) {
-        match self {
-            BuiltProfile::Uniform { hemisphere } => {
-                h.update(if *hemisphere { b"uniform hemisphere" } else { b"uniform sphere...." });
-            }
-            BuiltProfile::Cosine => {
-                h.update(b"cosine");
-            }
-            BuiltProfile::CosinePower { exponent } => {
-                h.update(b"cosine power");
-                h.update(&exponent.to_le_bytes());
-            }
-            BuiltProfile::Spot { cutoff, beam, .. } => {
-                h.update(b"spot");
-                h.update(&cutoff.to_le_bytes());
-                h.update(&beam.to_le_bytes());
-            }
-            BuiltProfile::Table(t) => {
-                h.update(b"table");
-                t.hash_into(h);
-            }
-        }
-    }
 }
 
 /// ∫ s dω of Mitsuba's spot (linear falloff in angle from β to γ), in closed form:

@@ -12,6 +12,91 @@
 //! refused: they would occlude or reflect the old lights' light, and the stored paths never saw
 //! them. (Datasets of format version 1 recorded an older hash that also covered emission; the
 //! scene keeps it as `Scene::geometry_v1` so they still match their scene.)
+//!
+//! # The encoding is a file-format contract
+//!
+//! Every dataset on disk records these hashes, so the bytes they are computed from are as frozen
+//! as the dataset format itself: a change to any of them refuses every dataset ever traced. They
+//! are therefore spelled out here, byte by byte, and depend on no `Debug` impl, no field or type
+//! name of the Rust code and no library's formatting (renaming a field or upgrading glam changes
+//! nothing). `tests/fingerprints.rs` pins the hashes of the reference scenes and renders datasets
+//! written before this encoding was written out.
+//!
+//! ## Version 2 (the current one, [`Fingerprint::VERSION`])
+//!
+//! All numbers are little-endian; `f32` means the 4 bytes of the IEEE-754 value; a hash is the
+//! first 16 bytes of the BLAKE3 digest of its input, which starts with an ASCII *domain* string
+//! (the `v1`/`v2` in the domain strings are historical parts of the constants, not versions).
+//!
+//! * **Material text** (`material_v2`): ASCII text of the BSDF, `|`, then `true` or `false`
+//!   (two-sided or not; written for dielectrics too, which ignore it). The material's name is not
+//!   part of it. Numbers (`num`) are written as Rust's `{:?}` of `f32`: the shortest decimal that
+//!   reads back to the same value, with at least one fractional digit (`1.0`, `0.885809`), in
+//!   exponent form below 10⁻⁴ or from 10¹⁶ on (`1e-7`, `1.6e17`), `-0.0` for negative zero. A
+//!   colour `rgb` is `Vec3(` num `, ` num `, ` num `)`. The BSDFs:
+//!
+//!   ```text
+//!   Lambert(Lambert { reflectance: rgb })
+//!   ModifiedPhong(ModifiedPhong { kd: rgb, ks: rgb, exponent: num })
+//!   SmoothConductor(SmoothConductor { specular_reflectance: rgb, ior: IOR })
+//!   SmoothDielectric(SmoothDielectric { eta: num, specular_reflectance: rgb, specular_transmittance: rgb, absorption: rgb })
+//!   RoughConductor(RoughConductor { microfacet: MF, specular_reflectance: rgb, ior: IOR })
+//!   RoughDielectric(RoughDielectric { eta: num, microfacet: MF, specular_reflectance: rgb, specular_transmittance: rgb, absorption: rgb })
+//!   IOR = None | Some((rgb, rgb))            (η, then κ, of the conductor)
+//!   MF  = Microfacet { distribution: Ggx, alpha_u: num, alpha_v: num }   (or Beckmann)
+//!   ```
+//!
+//!   e.g. `Lambert(Lambert { reflectance: Vec3(0.5, 0.5, 0.5) })|true`. (This is the text
+//!   `format!("{:?}|{}", bsdf, two_sided)` produced when fingerprints were introduced; it is now
+//!   written field by field and no longer follows the Rust types.)
+//! * **Material hash**: domain `opticks material`, then the material text.
+//! * **Geometry hash**: domain `opticks geometry v2`, then for each triangle the scene keeps (in
+//!   scene order: meshes in order, their triangles in order, zero-area ones dropped, each wound so
+//!   that its front faces its vertex normals): its corners a, b, c (9 × f32), the 16-byte
+//!   material hash of its material and, if it has shading normals (vertex normals not all within
+//!   10⁻⁵ of its geometric normal), its three unit vertex normals (9 × f32).
+//! * **Light shape hash** (`light_shape`): domain `opticks light shape v1`, then
+//!   * an area light: `lambertian area`; unless its profile is cosine (Lambertian), the profile
+//!     bytes; if the profile is an IES table, the unit tangent of horizontal angle 0° (3 × f32);
+//!     then for each of its triangles v0, v1 − v0, v2 − v0 (9 × f32);
+//!   * a point light: `isotropic point`, its position (3 × f32); unless its profile is uniform
+//!     over the sphere, the profile bytes and the frame's x then z axis (6 × f32);
+//!   * a directional light: `directional`, its unit direction, the centre of the disc it is
+//!     emitted from (3 × f32 each) and the disc's radius (f32);
+//!
+//!   where the profile bytes are `uniform sphere....` or `uniform hemisphere` (18 bytes each),
+//!   `cosine`, `cosine power` + n (f32), `spot` + cutoff γ + beam β (radians, f32 each), or
+//!   `table` + the refined grid's θ nodes (radians), φ nodes (radians) and candela values
+//!   (θ-major), all f32. Power and colour are not part of a shape.
+//! * **Lights hash**: domain `opticks lights v1`, then for each light in scene order (area lights
+//!   in mesh order, point lights, directional lights) its name (UTF-8) and its shape hash.
+//! * **Version-1 geometry hash** (`Scene::geometry_v1`, what format-1 datasets recorded): domain
+//!   `opticks geometry v1`, then per kept triangle its corners (9 × f32), its material index and
+//!   its light index (u32 each, `u32::MAX` if it does not emit) and, if it has shading normals,
+//!   those (9 × f32); then the material text of every material of the description, in order
+//!   (used or not).
+//!
+//! ## Introducing a new version
+//!
+//! A version is never edited once datasets carry it. A new one (say a binary material encoding,
+//! or a new BSDF field that old materials do not have) adds its encoders beside these under new
+//! names (`material_v3`…) with new domain strings, bumps [`Fingerprint::VERSION`], and keeps
+//! computing the version-2 hashes, exactly as the version-1 geometry hash is kept today: the
+//! scene check accepts a dataset whose recorded hash equals the scene's hash in any version it
+//! still computes, and `refine`/`add-light` record the current one. A new BSDF variant or light
+//! kind can instead extend version 2, since no existing dataset contains it: give it its own
+//! text or tag that no existing encoding can produce. Every struct below is destructured field by
+//! field, so adding a field to a BSDF does not compile until its encoding is decided here.
+
+use crate::bsdf::{
+    Bsdf, Lambert, Material, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
+    SmoothDielectric,
+};
+use crate::geometry::Triangle;
+use crate::light::{BuiltProfile, Light};
+use crate::math::Rgb;
+use crate::sampling::microfacet::{Distribution, Microfacet};
+use std::fmt::Write;
 
 /// The scene's content hashes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -23,6 +108,10 @@ pub struct Fingerprint {
 }
 
 impl Fingerprint {
+    /// The version of the encodings these hashes are computed from (see the module docs):
+    /// datasets of format version 2 record hashes of this version.
+    pub const VERSION: u32 = 2;
+
     /// Short hexadecimal form of the geometry hash, for messages.
     pub fn geometry_hex(&self) -> String {
         hex(&self.geometry)
@@ -64,11 +153,482 @@ impl Hasher {
     }
 }
 
+/// The material text of encoding version 2 (module docs): the BSDF field by field, `|`, the
+/// sidedness.
+pub(crate) fn material_v2(material: &Material) -> String {
+    let Material { name: _, bsdf, two_sided } = material;
+    let mut t = Text(String::new());
+    match bsdf {
+        Bsdf::Lambert(Lambert { reflectance }) => {
+            t.variant("Lambert").rgb("reflectance", *reflectance);
+        }
+        Bsdf::ModifiedPhong(ModifiedPhong { kd, ks, exponent }) => {
+            t.variant("ModifiedPhong").rgb("kd", *kd).rgb("ks", *ks).num("exponent", *exponent);
+        }
+        Bsdf::SmoothConductor(SmoothConductor { specular_reflectance, ior }) => {
+            t.variant("SmoothConductor").rgb("specular_reflectance", *specular_reflectance).ior("ior", ior);
+        }
+        Bsdf::SmoothDielectric(SmoothDielectric {
+            eta,
+            specular_reflectance,
+            specular_transmittance,
+            absorption,
+        }) => {
+            t.variant("SmoothDielectric")
+                .num("eta", *eta)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .rgb("specular_transmittance", *specular_transmittance)
+                .rgb("absorption", *absorption);
+        }
+        Bsdf::RoughConductor(RoughConductor { microfacet, specular_reflectance, ior }) => {
+            t.variant("RoughConductor")
+                .microfacet("microfacet", microfacet)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .ior("ior", ior);
+        }
+        Bsdf::RoughDielectric(RoughDielectric {
+            eta,
+            microfacet,
+            specular_reflectance,
+            specular_transmittance,
+            absorption,
+        }) => {
+            t.variant("RoughDielectric")
+                .num("eta", *eta)
+                .microfacet("microfacet", microfacet)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .rgb("specular_transmittance", *specular_transmittance)
+                .rgb("absorption", *absorption);
+        }
+    }
+    t.0.push_str(" })|");
+    t.0.push_str(if *two_sided { "true" } else { "false" });
+    t.0
+}
+
+/// The material hash of encoding version 2: what the geometry hash records per triangle.
+pub(crate) fn material_hash(material: &Material) -> [u8; 16] {
+    let mut h = Hasher::new("opticks material");
+    h.0.update(material_v2(material).as_bytes());
+    h.finish()
+}
+
+/// Builder of the material text: `Name(Name {` then `, `-separated `field: value` pairs. The
+/// caller closes the record.
+struct Text(String);
+
+impl Text {
+    /// Opens the record of a BSDF variant: `Name(Name {`.
+    fn variant(&mut self, name: &str) -> &mut Self {
+        let _ = write!(self.0, "{name}({name} {{");
+        self
+    }
+    /// `field: ` after the separator (none before the first field of a record).
+    fn key(&mut self, field: &str) -> &mut Self {
+        if !self.0.ends_with('{') {
+            self.0.push(',');
+        }
+        let _ = write!(self.0, " {field}: ");
+        self
+    }
+    /// A number: Rust's `{:?}` of an `f32` (shortest round-trip form; module docs).
+    fn number(&mut self, x: f32) {
+        let _ = write!(self.0, "{x:?}");
+    }
+    /// A colour: `Vec3(r, g, b)`.
+    fn colour(&mut self, c: Rgb) {
+        self.0.push_str("Vec3(");
+        self.number(c.x);
+        self.0.push_str(", ");
+        self.number(c.y);
+        self.0.push_str(", ");
+        self.number(c.z);
+        self.0.push(')');
+    }
+    fn num(&mut self, field: &str, x: f32) -> &mut Self {
+        self.key(field).number(x);
+        self
+    }
+    fn rgb(&mut self, field: &str, c: Rgb) -> &mut Self {
+        self.key(field).colour(c);
+        self
+    }
+    /// A conductor's complex index: `None` or `Some((η, κ))`.
+    fn ior(&mut self, field: &str, ior: &Option<(Rgb, Rgb)>) -> &mut Self {
+        self.key(field);
+        match ior {
+            None => self.0.push_str("None"),
+            Some((eta, k)) => {
+                self.0.push_str("Some((");
+                self.colour(*eta);
+                self.0.push_str(", ");
+                self.colour(*k);
+                self.0.push_str("))");
+            }
+        }
+        self
+    }
+    /// `Microfacet { distribution: Ggx|Beckmann, alpha_u: num, alpha_v: num }`.
+    fn microfacet(&mut self, field: &str, m: &Microfacet) -> &mut Self {
+        let Microfacet { distribution, alpha_u, alpha_v } = m;
+        let distribution = match distribution {
+            Distribution::Ggx => "Ggx",
+            Distribution::Beckmann => "Beckmann",
+        };
+        let _ = write!(self.key(field).0, "Microfacet {{ distribution: {distribution}");
+        self.num("alpha_u", *alpha_u).num("alpha_v", *alpha_v);
+        self.0.push_str(" }");
+        self
+    }
+}
+
+/// The shape hash of a light, encoding version 2 (module docs): where and how it emits, not how
+/// much. `triangles` are the scene's (an area light refers to them by index).
+pub(crate) fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
+    let mut h = Hasher::new("opticks light shape v1");
+    match light {
+        Light::Area(a) => {
+            h.0.update(b"lambertian area");
+            if !matches!(a.profile, BuiltProfile::Cosine) {
+                profile(&mut h, &a.profile);
+            }
+            if matches!(a.profile, BuiltProfile::Table(_)) {
+                h.f32s(&a.tangent.to_array());
+            }
+            for &t in &a.triangles {
+                let Triangle { v0, e1, e2 } = &triangles[t as usize];
+                h.f32s(&[v0.x, v0.y, v0.z, e1.x, e1.y, e1.z, e2.x, e2.y, e2.z]);
+            }
+        }
+        Light::Point(p) => {
+            h.0.update(b"isotropic point");
+            h.f32s(&p.position.to_array());
+            if !matches!(p.profile, BuiltProfile::Uniform { hemisphere: false }) {
+                profile(&mut h, &p.profile);
+                let (s, n) = (p.frame.s, p.frame.n);
+                h.f32s(&[s.x, s.y, s.z, n.x, n.y, n.z]);
+            }
+        }
+        Light::Directional(d) => {
+            h.0.update(b"directional");
+            h.f32s(&d.direction.to_array());
+            h.f32s(&d.centre.to_array());
+            h.f32s(&[d.radius]);
+        }
+    }
+    h.finish()
+}
+
+/// The profile bytes of a light shape: what defines the distribution, not its scale.
+fn profile(h: &mut Hasher, profile: &BuiltProfile) {
+    match profile {
+        BuiltProfile::Uniform { hemisphere: true } => {
+            h.0.update(b"uniform hemisphere");
+        }
+        BuiltProfile::Uniform { hemisphere: false } => {
+            h.0.update(b"uniform sphere....");
+        }
+        BuiltProfile::Cosine => {
+            h.0.update(b"cosine");
+        }
+        BuiltProfile::CosinePower { exponent } => {
+            h.0.update(b"cosine power");
+            h.f32s(&[*exponent]);
+        }
+        BuiltProfile::Spot { cutoff, beam, cos_cutoff: _, cos_beam: _, integral: _ } => {
+            h.0.update(b"spot");
+            h.f32s(&[*cutoff, *beam]);
+        }
+        BuiltProfile::Table(t) => {
+            h.0.update(b"table");
+            let (thetas, phis, values) = t.grid();
+            h.f32s(thetas);
+            h.f32s(phis);
+            h.f32s(values);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use crate::bsdf::{Bsdf, Lambert};
-    use crate::math::Rgb;
-    use crate::scene::{Scene, demo::cornell_box};
+    use super::{material_hash, material_v2};
+    use crate::bsdf::{
+        Bsdf, Lambert, Material, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
+        SmoothDielectric,
+    };
+    use crate::light::EmissionProfile;
+    use crate::math::{Frame, Rgb, Vec3};
+    use crate::sampling::microfacet::{Distribution, Microfacet};
+    use crate::scene::{PointLightDesc, Scene, demo::cornell_box};
+
+    fn material(bsdf: Bsdf, two_sided: bool) -> Material {
+        Material { name: "m".into(), bsdf, two_sided }
+    }
+
+    fn mf(distribution: Distribution, alpha_u: f32, alpha_v: f32) -> Microfacet {
+        Microfacet { distribution, alpha_u, alpha_v }
+    }
+
+    /// One material of every BSDF variant, with every option used.
+    fn one_of_each() -> Vec<Material> {
+        let rgb = Rgb::new;
+        vec![
+            material(Bsdf::Lambert(Lambert { reflectance: rgb(0.885809, 1e-7, -0.0) }), true),
+            material(
+                Bsdf::ModifiedPhong(ModifiedPhong {
+                    kd: rgb(0.3, 0.2, 0.1),
+                    ks: rgb(0.1, 0.2, 0.3),
+                    exponent: 20.0,
+                }),
+                false,
+            ),
+            material(
+                Bsdf::SmoothConductor(SmoothConductor {
+                    specular_reflectance: rgb(0.9, 0.8, 0.7),
+                    ior: Some((rgb(0.2, 0.9, 1.1), rgb(3.9, 2.4, 1.6e17))),
+                }),
+                true,
+            ),
+            material(
+                Bsdf::SmoothDielectric(SmoothDielectric {
+                    eta: 1.0 / 1.5,
+                    specular_reflectance: Rgb::ONE,
+                    specular_transmittance: rgb(1.0, 0.95, 0.9),
+                    absorption: rgb(0.1, 2.5e-5, 0.0),
+                }),
+                false,
+            ),
+            material(
+                Bsdf::RoughConductor(RoughConductor {
+                    microfacet: mf(Distribution::Beckmann, 0.1, 0.3),
+                    specular_reflectance: Rgb::ONE,
+                    ior: None,
+                }),
+                false,
+            ),
+            material(
+                Bsdf::RoughDielectric(RoughDielectric {
+                    eta: 1.5,
+                    microfacet: mf(Distribution::Ggx, 0.25, 0.25),
+                    specular_reflectance: rgb(1.0, 0.99, 0.98),
+                    specular_transmittance: Rgb::ONE,
+                    absorption: rgb(0.0, 0.5, 12.0),
+                }),
+                true,
+            ),
+        ]
+    }
+
+    /// The version-2 text is frozen (module docs): these are the bytes datasets' hashes cover.
+    #[test]
+    fn material_text_of_every_variant_is_pinned() {
+        let texts: Vec<String> = one_of_each().iter().map(material_v2).collect();
+        assert_eq!(
+            texts,
+            [
+                "Lambert(Lambert { reflectance: Vec3(0.885809, 1e-7, -0.0) })|true",
+                "ModifiedPhong(ModifiedPhong { kd: Vec3(0.3, 0.2, 0.1), ks: Vec3(0.1, 0.2, 0.3), exponent: 20.0 })|false",
+                "SmoothConductor(SmoothConductor { specular_reflectance: Vec3(0.9, 0.8, 0.7), ior: Some((Vec3(0.2, 0.9, \
+                 1.1), Vec3(3.9, 2.4, 1.6e17))) })|true",
+                "SmoothDielectric(SmoothDielectric { eta: 0.6666667, specular_reflectance: Vec3(1.0, 1.0, 1.0), \
+                 specular_transmittance: Vec3(1.0, 0.95, 0.9), absorption: Vec3(0.1, 2.5e-5, 0.0) })|false",
+                "RoughConductor(RoughConductor { microfacet: Microfacet { distribution: Beckmann, alpha_u: 0.1, alpha_v: \
+                 0.3 }, specular_reflectance: Vec3(1.0, 1.0, 1.0), ior: None })|false",
+                "RoughDielectric(RoughDielectric { eta: 1.5, microfacet: Microfacet { distribution: Ggx, alpha_u: 0.25, \
+                 alpha_v: 0.25 }, specular_reflectance: Vec3(1.0, 0.99, 0.98), specular_transmittance: Vec3(1.0, 1.0, \
+                 1.0), absorption: Vec3(0.0, 0.5, 12.0) })|true",
+            ]
+        );
+        let lambert = &one_of_each()[0];
+        let digest = blake3::hash(format!("opticks material{}", texts[0]).as_bytes());
+        assert_eq!(material_hash(lambert), digest.as_bytes()[..16], "BLAKE3(\"opticks material\" ‖ text)");
+        assert_eq!(super::hex(&material_hash(lambert)), "2b5c37adb4b9dd7bdd34ecb807e063ee");
+    }
+
+    /// Every parameter of every variant, and the sidedness, reaches the hash; equal materials
+    /// (whatever their names) hash equal.
+    #[test]
+    fn material_hash_changes_with_every_parameter_and_only_with_them() {
+        let base = one_of_each();
+        for m in &base {
+            let mut twin = m.clone();
+            twin.name = "another name".into();
+            assert_eq!(material_hash(&twin), material_hash(m), "{m:?}");
+        }
+        // Each variant with one parameter changed (a channel, a roughness, an index, the
+        // distribution, the sidedness, the presence of a conductor index).
+        let changed = |i: usize, f: &dyn Fn(&mut Bsdf)| {
+            let mut m = base[i].clone();
+            f(&mut m.bsdf);
+            m
+        };
+        let mut variants: Vec<Material> = Vec::new();
+        for (i, m) in base.iter().enumerate() {
+            let mut flipped = m.clone();
+            flipped.two_sided = !m.two_sided;
+            variants.push(flipped);
+            for c in 0..3 {
+                let bump = |v: &mut Rgb| v[c] += 0.01;
+                variants.push(changed(i, &|b| match b {
+                    Bsdf::Lambert(x) => bump(&mut x.reflectance),
+                    Bsdf::ModifiedPhong(x) => bump(&mut x.kd),
+                    Bsdf::SmoothConductor(x) => bump(&mut x.specular_reflectance),
+                    Bsdf::SmoothDielectric(x) => bump(&mut x.specular_reflectance),
+                    Bsdf::RoughConductor(x) => bump(&mut x.specular_reflectance),
+                    Bsdf::RoughDielectric(x) => bump(&mut x.specular_transmittance),
+                }));
+            }
+        }
+        let rgb = |b: &mut Bsdf| -> Vec<fn(&mut Bsdf)> {
+            match b {
+                Bsdf::ModifiedPhong(_) => vec![
+                    |b| {
+                        if let Bsdf::ModifiedPhong(x) = b {
+                            x.ks.y += 0.01
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::ModifiedPhong(x) = b {
+                            x.exponent = 21.0
+                        }
+                    },
+                ],
+                Bsdf::SmoothConductor(_) => vec![
+                    |b| {
+                        if let Bsdf::SmoothConductor(x) = b {
+                            x.ior = None
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::SmoothConductor(x) = b {
+                            x.ior.as_mut().unwrap().0.x += 0.01
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::SmoothConductor(x) = b {
+                            x.ior.as_mut().unwrap().1.z = 1.6e16
+                        }
+                    },
+                ],
+                Bsdf::SmoothDielectric(_) => vec![
+                    |b| {
+                        if let Bsdf::SmoothDielectric(x) = b {
+                            x.eta = 1.5
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::SmoothDielectric(x) = b {
+                            x.specular_transmittance.z = 0.91
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::SmoothDielectric(x) = b {
+                            x.absorption.x = 0.2
+                        }
+                    },
+                ],
+                Bsdf::RoughConductor(_) => vec![
+                    |b| {
+                        if let Bsdf::RoughConductor(x) = b {
+                            x.microfacet.alpha_u = 0.11
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::RoughConductor(x) = b {
+                            x.microfacet.alpha_v = 0.1
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::RoughConductor(x) = b {
+                            x.microfacet.distribution = Distribution::Ggx
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::RoughConductor(x) = b {
+                            x.ior = Some((Rgb::ONE, Rgb::ONE))
+                        }
+                    },
+                ],
+                Bsdf::RoughDielectric(_) => vec![
+                    |b| {
+                        if let Bsdf::RoughDielectric(x) = b {
+                            x.eta = 1.33
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::RoughDielectric(x) = b {
+                            x.microfacet.alpha_u = 0.3
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::RoughDielectric(x) = b {
+                            x.microfacet.distribution = Distribution::Beckmann
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::RoughDielectric(x) = b {
+                            x.specular_reflectance.y = 0.5
+                        }
+                    },
+                    |b| {
+                        if let Bsdf::RoughDielectric(x) = b {
+                            x.absorption.z = 0.0
+                        }
+                    },
+                ],
+                Bsdf::Lambert(_) => vec![|b| {
+                    if let Bsdf::Lambert(x) = b {
+                        x.reflectance.z = 0.0
+                    }
+                }],
+            }
+        };
+        for (i, m) in base.iter().enumerate() {
+            for f in rgb(&mut m.bsdf.clone()) {
+                variants.push(changed(i, &f));
+            }
+        }
+        // Every base and every variant hashes differently from every other.
+        let all: Vec<&Material> = base.iter().chain(&variants).collect();
+        let hashes: Vec<[u8; 16]> = all.iter().map(|m| material_hash(m)).collect();
+        for i in 0..all.len() {
+            for j in 0..i {
+                assert_ne!(hashes[i], hashes[j], "{:?}\nand\n{:?}", all[i], all[j]);
+            }
+        }
+    }
+
+    #[test]
+    fn a_light_shape_covers_where_and_how_it_emits_not_how_much() {
+        let mut d = cornell_box();
+        let axis = Frame::from_normal(Vec3::new(0.0, -1.0, 0.0));
+        let spot = EmissionProfile::Spot { cutoff_angle: 0.6, beam_width: 0.4 };
+        d.point_lights.push(PointLightDesc {
+            name: "spot".into(),
+            position: Vec3::new(0.0, 1.5, 0.0),
+            intensity: Rgb::ONE,
+            profile: Some(spot),
+            orientation: Some(axis),
+            ..Default::default()
+        });
+        let shape = |d: &crate::scene::SceneDescription| Scene::build(d).unwrap().light_shapes[1];
+        let original = shape(&d);
+        let mut brighter = d.clone();
+        brighter.point_lights[0].intensity = Rgb::new(2.0, 1.0, 3.0);
+        assert_eq!(shape(&brighter), original, "power and colour are not shape");
+        let mut wider = d.clone();
+        wider.point_lights[0].profile = Some(EmissionProfile::Spot { cutoff_angle: 0.7, beam_width: 0.4 });
+        assert_ne!(shape(&wider), original, "the cone is");
+        let mut tilted = d.clone();
+        tilted.point_lights[0].orientation = Some(Frame::from_normal(Vec3::new(0.1, -1.0, 0.0).normalize()));
+        assert_ne!(shape(&tilted), original, "the axis is");
+        let mut moved = d.clone();
+        moved.point_lights[0].position.x += 1e-3;
+        assert_ne!(shape(&moved), original, "the position is");
+        let mut uniform = d;
+        uniform.point_lights[0].profile = Some(EmissionProfile::Uniform);
+        assert_ne!(shape(&uniform), original, "the profile is");
+    }
 
     #[test]
     fn emission_is_not_geometry_but_reflectance_and_triangles_are() {

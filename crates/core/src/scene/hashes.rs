@@ -5,11 +5,10 @@
 //! documented with [`super::Fingerprint`].
 
 use super::Fingerprint;
-use super::fingerprint::Hasher;
+use super::fingerprint::{Hasher, light_shape, material_hash, material_v2};
 use super::meshes::{Flat, NO_SHADING};
 use crate::bsdf::Material;
-use crate::geometry::Triangle;
-use crate::light::{BuiltProfile, Light};
+use crate::light::Light;
 
 /// A built scene's hashes.
 pub(super) struct Hashes {
@@ -27,15 +26,7 @@ pub(super) fn fingerprints(materials: &[Material], flat: &Flat, lights: &[Light]
     // emits: emission is the lights' business (each light has its own shape hash), so a
     // surface may become a light without invalidating the samples of the others.
     let mut geo = Hasher::new("opticks geometry v2");
-    let material_hashes: Vec<[u8; 16]> = materials
-        .iter()
-        .map(|m| {
-            let mut h = Hasher::new("opticks material");
-            // Debug formatting of f32 is the shortest round-trip form: stable and exact.
-            h.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
-            h.finish()
-        })
-        .collect();
+    let material_hashes: Vec<[u8; 16]> = materials.iter().map(material_hash).collect();
     // The hash datasets of format version 1 recorded (it also covered emitter assignment).
     let mut geo_v1 = Hasher::new("opticks geometry v1");
     for (i, [a, b, c]) in flat.vertices.iter().enumerate() {
@@ -54,7 +45,7 @@ pub(super) fn fingerprints(materials: &[Material], flat: &Flat, lights: &[Light]
         }
     }
     for m in materials {
-        geo_v1.0.update(format!("{:?}|{}", m.bsdf, m.two_sided).as_bytes());
+        geo_v1.0.update(material_v2(m).as_bytes());
     }
     let light_shapes: Vec<[u8; 16]> = lights.iter().map(|l| light_shape(l, &flat.triangles)).collect();
     let mut lit = Hasher::new("opticks lights v1");
@@ -67,39 +58,4 @@ pub(super) fn fingerprints(materials: &[Material], flat: &Flat, lights: &[Light]
         geometry_v1: geo_v1.finish(),
         light_shapes,
     }
-}
-
-/// Hash of a light's emitting geometry and emission distribution (not its power).
-fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
-    let mut h = Hasher::new("opticks light shape v1");
-    match light {
-        Light::Area(a) => {
-            h.0.update(b"lambertian area");
-            if a.profile != BuiltProfile::Cosine {
-                a.profile.hash_into(&mut h.0);
-            }
-            if a.profile.depends_on_azimuth() {
-                h.f32s(&a.tangent.to_array());
-            }
-            for &t in &a.triangles {
-                let t = &triangles[t as usize];
-                h.f32s(&[t.v0.x, t.v0.y, t.v0.z, t.e1.x, t.e1.y, t.e1.z, t.e2.x, t.e2.y, t.e2.z]);
-            }
-        }
-        Light::Point(p) => {
-            h.0.update(b"isotropic point");
-            h.f32s(&p.position.to_array());
-            if p.profile != (BuiltProfile::Uniform { hemisphere: false }) {
-                p.profile.hash_into(&mut h.0);
-                h.f32s(&[p.frame.s.x, p.frame.s.y, p.frame.s.z, p.frame.n.x, p.frame.n.y, p.frame.n.z]);
-            }
-        }
-        Light::Directional(d) => {
-            h.0.update(b"directional");
-            h.f32s(&d.direction.to_array());
-            h.f32s(&d.centre.to_array());
-            h.f32s(&[d.radius]);
-        }
-    }
-    h.finish()
 }

@@ -764,12 +764,18 @@ mod tests {
     #[test]
     fn impossible_lights_are_errors_at_the_node() {
         for (light, want) in [
-            ("PhysicalSpotLight { power -1 1 1 }", "power [-1.0, 1.0, 1.0] W must be finite and non-negative"),
+            (
+                "PhysicalSpotLight { power -1 1 1 }",
+                "power [-1.0, 1.0, 1.0] W must be finite and non-negative",
+            ),
             ("SpotLight { direction 0 0 0 }", "direction [0.0, 0.0, 0.0] is zero or not finite"),
             ("PhysicalSpotLight { intensity 1 1 1 beamWidth -1 }", "the spot beam width"),
             ("PhysicalDirectionalLight { irradiance -1 0 0 }", "emission [-1.0, 0.0, 0.0]"),
             ("PhysicalPointLight { lumens -5 }", "lumens -5 must be finite and non-negative"),
-            ("PhysicalPointLight { intensity -1 0 0 lumens 5 }", "lumens need a colour of non-zero luminance"),
+            (
+                "PhysicalPointLight { intensity -1 0 0 lumens 5 }",
+                "lumens need a colour of non-zero luminance",
+            ),
         ] {
             let text = format!("#VRML V2.0 utf8\n{}\n{light}", extension::DECLARATIONS);
             let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
