@@ -152,7 +152,7 @@ pub enum LightKind {
 /// A light's own emission densities for one start point and direction, **without** the
 /// light-pick probability: what the tracer drew x₀ and the first direction from, and what NEE
 /// and emitter hits must evaluate for the same point and direction. NEE must draw x₀ with the
-/// light's own emission-position sampling (module docs of `docs/bidirectional.md`).
+/// light's own emission-position sampling (`docs/bidirectional.md` §7).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Emitter {
     kind: LightKind,
