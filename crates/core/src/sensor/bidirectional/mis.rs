@@ -26,7 +26,7 @@
 //! ([`weight_emitter_hit`], [`weight_nee`], [`weight_connection`], [`weight_light_trace`]).
 //! The light side's numbers are computed at trace time and stored with each sample
 //! ([`MisRecord`], 16 bytes): they depend neither on the camera nor on the counts, which enter
-//! only at render time, so relighting, switching lights off, merged datasets and previews from a
+//! only at render time (only on how both tracers sample, which the dataset must record), so relighting, switching lights off, merged datasets and previews from a
 //! subset of chunks keep weights that sum to one exactly. To make that possible the light side
 //! keeps the terms of strategies with different counts apart: SmallVCM's single dVC becomes
 //! three sums (emitter-hit, NEE and connection terms), and dVCM carries which strategy it
@@ -213,32 +213,6 @@ pub enum VcmClass {
     Conn,
 }
 
-/// The light subpath's MIS state at a vertex y_i (after [`LightVertexMis::after_hit`]), or on
-/// the segment leaving it (after [`LightVertexMis::at_emission`] or
-/// [`LightVertexMis::after_scatter`]). All values are already raised to the power β.
-///
-/// At a vertex, with the camera-side area density p←(y_i) of y_i and the camera tracer's pdf r
-/// of continuing from y_i to y_{i−1}, the light-side sum of the weight of the strategy s = i + 1
-/// that connects y_i is (n_j/n_s)^β-weighted:
-///
-/// ```text
-/// p←(y_i)^β · [ f_class·vcm + r^β·(f_hit·vc_hit + f_nee·vc_nee + f_conn·vc_conn) ]
-/// ```
-///
-/// where vcm holds the strategy j = i (its class [`VcmClass`]) and the three vc sums the
-/// strategies j < i of each count class.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightVertexMis {
-    vcm: f64,
-    vc_hit: f64,
-    vc_nee: f64,
-    vc_conn: f64,
-    class: VcmClass,
-    heuristic: Heuristic,
-    /// On the first segment of a directional light (no 1/d² at its end).
-    infinite_segment: bool,
-}
-
 /// Returns a·b, or 0 when either is 0 (even if the other is ∞): a zero pdf means an impossible
 /// strategy, whatever an overflowed factor says.
 #[inline]
@@ -252,6 +226,92 @@ fn weight(sum: f64) -> f32 {
     let w = 1.0 / (1.0 + sum);
     if w.is_nan() { 0.0 } else { w as f32 }
 }
+
+/// The recursion both sides share (SmallVCM's dVCM and dVC, the dVC split into one sum per
+/// count class). At a vertex: `vcm` is the term of the strategy that takes this vertex from the
+/// *other* side (of class `class`), `vc[c]` the terms of class c of the strategies that take
+/// this vertex and older ones from the other side, all powered by β and without the factors
+/// known only where the sides meet. After a scatter `vcm` belongs to a connection, the last
+/// class. On a segment the values lack the next hit's conversion.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Subpath<const N: usize> {
+    vcm: f64,
+    vc: [f64; N],
+    class: usize,
+    heuristic: Heuristic,
+    /// On the first segment of a directional light (no 1/d² at its end).
+    infinite_segment: bool,
+}
+
+impl<const N: usize> Subpath<N> {
+    /// The class of a connection: the last.
+    const CONN: usize = N - 1;
+
+    /// At the vertex `dist2` away, arriving at |cos θ| = `cos_in`: the densities of the hit
+    /// vertex become area densities.
+    #[inline]
+    fn after_hit(self, dist2: f32, cos_in: f32) -> Self {
+        let (h, dist2, cos_in) = (self.heuristic, dist2 as f64, cos_in as f64);
+        let g = if self.infinite_segment { 1.0 / cos_in } else { dist2 / cos_in };
+        let inv_cos = h.mis(1.0 / cos_in);
+        Subpath {
+            vcm: mul(self.vcm, h.mis(g)),
+            vc: self.vc.map(|v| mul(v, inv_cos)),
+            infinite_segment: false,
+            ..self
+        }
+    }
+
+    /// Leaving the vertex with |cos θ| = `cos_out`, the direction drawn with `pdf_fwd_w` by
+    /// this side's tracer; `pdf_rev_w` the other side's density of the reverse step.
+    #[inline]
+    fn after_scatter(self, cos_out: f32, pdf_fwd_w: f32, pdf_rev_w: f32, delta: bool) -> Self {
+        let h = self.heuristic;
+        let (cos_out, pdf_fwd_w, pdf_rev_w) = (cos_out as f64, pdf_fwd_w as f64, pdf_rev_w as f64);
+        if delta {
+            // No connection can end here: the strategies of `vcm` and of the next vertex are
+            // impossible; the older ones pass through (their δ cancel against this side's).
+            let g = h.mis(cos_out / pdf_fwd_w * pdf_rev_w);
+            return Subpath { vcm: 0.0, vc: self.vc.map(|v| mul(v, g)), class: Self::CONN, ..self };
+        }
+        let g = h.mis(cos_out / pdf_fwd_w);
+        let r = h.mis(pdf_rev_w);
+        let mut vc = self.vc.map(|v| mul(v, r));
+        vc[self.class] += self.vcm;
+        Subpath { vcm: h.mis(1.0 / pdf_fwd_w), vc: vc.map(|v| mul(g, v)), class: Self::CONN, ..self }
+    }
+
+    /// The sum over the strategies that take this vertex (and older ones) from the other side,
+    /// for a strategy whose other side samples this vertex with area density `p_other` and
+    /// would continue to this side's previous vertex with `pdf_rev_w`; `f[c]` = (n_c/n_s)^β.
+    #[inline]
+    fn sum(&self, p_other: f64, pdf_rev_w: f32, f: [f64; N]) -> f64 {
+        let h = self.heuristic;
+        let older = (0..N).map(|c| mul(f[c], self.vc[c])).sum();
+        mul(h.mis(p_other), mul(f[self.class], self.vcm) + mul(h.mis(pdf_rev_w as f64), older))
+    }
+}
+
+/// The light subpath's MIS state at a vertex y_i (after [`LightVertexMis::after_hit`]), or on
+/// the segment leaving it (after [`LightVertexMis::at_emission`] or
+/// [`LightVertexMis::after_scatter`]). All values are already raised to the power β.
+///
+/// At a vertex, with the camera-side area density p←(y_i) of y_i and the camera tracer's pdf r
+/// of continuing from y_i to y_{i−1}, the light-side sum of the weight of the strategy s = i + 1
+/// that connects y_i is (f_c = (n_c/n_s)^β):
+///
+/// ```text
+/// p←(y_i)^β · [ f_class·vcm + r^β·(f_hit·vc_hit + f_nee·vc_nee + f_conn·vc_conn) ]
+/// ```
+///
+/// where vcm holds the strategy j = i (its class [`VcmClass`]) and the three vc sums the
+/// strategies j < i of each count class.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightVertexMis(Subpath<3>);
+
+/// The light side's count classes, in `Subpath::vc` order.
+const HIT: usize = 0;
+const NEE: usize = 1;
 
 impl LightVertexMis {
     /// The state of the first segment y₀ → y₁ of a light path: `emitter` holds the densities
@@ -269,15 +329,13 @@ impl LightVertexMis {
             LightKind::Area => h.mis(cos_light as f64 / (emitter.first * emitter.second)),
             LightKind::Point | LightKind::Directional => 0.0, // never hit by a camera path
         };
-        LightVertexMis {
+        LightVertexMis(Subpath {
             vcm,
-            vc_hit,
-            vc_nee: 0.0,
-            vc_conn: 0.0,
-            class: VcmClass::Nee,
+            vc: [vc_hit, 0.0, 0.0],
+            class: NEE,
             heuristic,
             infinite_segment: emitter.kind == LightKind::Directional,
-        }
+        })
     }
 
     /// The state of the emission vertex y₀ itself (area lights: the sample with the emission
@@ -285,15 +343,8 @@ impl LightVertexMis {
     #[inline]
     pub fn emission_vertex(emitter: Emitter, heuristic: Heuristic) -> Self {
         debug_assert_eq!(emitter.kind, LightKind::Area, "only area lights store y₀");
-        LightVertexMis {
-            vcm: heuristic.mis(1.0 / emitter.first),
-            vc_hit: 0.0,
-            vc_nee: 0.0,
-            vc_conn: 0.0,
-            class: VcmClass::Hit,
-            heuristic,
-            infinite_segment: false,
-        }
+        let vcm = heuristic.mis(1.0 / emitter.first);
+        LightVertexMis(Subpath { vcm, vc: [0.0; 3], class: HIT, heuristic, infinite_segment: false })
     }
 
     /// The state at the vertex the current segment hits, `dist2` away, arriving at |cos θ| =
@@ -301,17 +352,7 @@ impl LightVertexMis {
     #[inline]
     #[must_use]
     pub fn after_hit(self, dist2: f32, cos_in: f32) -> Self {
-        let (h, dist2, cos_in) = (self.heuristic, dist2 as f64, cos_in as f64);
-        let g = if self.infinite_segment { 1.0 / cos_in } else { dist2 / cos_in };
-        let inv_cos = h.mis(1.0 / cos_in);
-        LightVertexMis {
-            vcm: mul(self.vcm, h.mis(g)),
-            vc_hit: mul(self.vc_hit, inv_cos),
-            vc_nee: mul(self.vc_nee, inv_cos),
-            vc_conn: mul(self.vc_conn, inv_cos),
-            infinite_segment: false,
-            ..self
-        }
+        LightVertexMis(self.0.after_hit(dist2, cos_in))
     }
 
     /// The state of the segment leaving the current vertex: |cos θ| = `cos_out` of the new
@@ -321,52 +362,24 @@ impl LightVertexMis {
     #[inline]
     #[must_use]
     pub fn after_scatter(self, cos_out: f32, pdf_fwd_w: f32, pdf_rev_w: f32, delta: bool) -> Self {
-        let h = self.heuristic;
-        let (cos_out, pdf_fwd_w, pdf_rev_w) = (cos_out as f64, pdf_fwd_w as f64, pdf_rev_w as f64);
-        if delta {
-            // No connection can end here: the strategies j = i and j = i + 1 are impossible;
-            // the older ones pass through (their δ cancel against the light path's).
-            let g = h.mis(cos_out / pdf_fwd_w * pdf_rev_w);
-            return LightVertexMis {
-                vcm: 0.0,
-                vc_hit: mul(self.vc_hit, g),
-                vc_nee: mul(self.vc_nee, g),
-                vc_conn: mul(self.vc_conn, g),
-                class: VcmClass::Conn,
-                ..self
-            };
-        }
-        let g = h.mis(cos_out / pdf_fwd_w);
-        let r = h.mis(pdf_rev_w);
-        let (mut hit, mut nee, mut conn) = (mul(self.vc_hit, r), mul(self.vc_nee, r), mul(self.vc_conn, r));
-        match self.class {
-            VcmClass::Hit => hit += self.vcm,
-            VcmClass::Nee => nee += self.vcm,
-            VcmClass::Conn => conn += self.vcm,
-        }
-        LightVertexMis {
-            vcm: h.mis(1.0 / pdf_fwd_w),
-            vc_hit: mul(g, hit),
-            vc_nee: mul(g, nee),
-            vc_conn: mul(g, conn),
-            class: VcmClass::Conn,
-            ..self
-        }
+        LightVertexMis(self.0.after_scatter(cos_out, pdf_fwd_w, pdf_rev_w, delta))
     }
 
     /// The stored form of this vertex state (call it after [`LightVertexMis::after_hit`] or on
     /// [`LightVertexMis::emission_vertex`]).
     #[inline]
     pub fn record(&self) -> MisRecord {
-        debug_assert!(!self.infinite_segment, "a record is taken at a vertex, not on a segment");
-        let h = self.heuristic;
-        let sign =
-            |x: f64, set: bool| f32::from_bits((h.root(x) as f32).to_bits() | if set { SIGN } else { 0 });
+        let s = &self.0;
+        debug_assert!(!s.infinite_segment, "a record is taken at a vertex, not on a segment");
+        let h = s.heuristic;
+        let root = |x: f64, class_bit: bool| {
+            f32::from_bits((h.root(x) as f32).to_bits() | if class_bit { SIGN } else { 0 })
+        };
         MisRecord {
-            vcm: sign(self.vcm, self.class == VcmClass::Nee),
-            vc_hit: sign(self.vc_hit, self.class == VcmClass::Hit),
-            vc_nee: h.root(self.vc_nee) as f32,
-            vc_conn: h.root(self.vc_conn) as f32,
+            vcm: root(s.vcm, s.class == NEE),
+            vc_hit: root(s.vc[HIT], s.class == HIT),
+            vc_nee: root(s.vc[NEE], false),
+            vc_conn: root(s.vc[Subpath::<3>::CONN], false),
         }
     }
 
@@ -374,35 +387,28 @@ impl LightVertexMis {
     #[inline]
     pub fn from_record(record: MisRecord, heuristic: Heuristic) -> Self {
         let h = heuristic;
-        let magnitude = |x: f32| h.mis(f32::from_bits(x.to_bits() & !SIGN) as f64);
+        let power = |x: f32| h.mis(f32::from_bits(x.to_bits() & !SIGN) as f64);
         let class = if record.vc_hit.is_sign_negative() {
-            VcmClass::Hit
+            HIT
         } else if record.vcm.is_sign_negative() {
-            VcmClass::Nee
+            NEE
         } else {
-            VcmClass::Conn
+            Subpath::<3>::CONN
         };
-        LightVertexMis {
-            vcm: magnitude(record.vcm),
-            vc_hit: magnitude(record.vc_hit),
-            vc_nee: h.mis(record.vc_nee as f64),
-            vc_conn: h.mis(record.vc_conn as f64),
-            class,
-            heuristic,
-            infinite_segment: false,
-        }
+        let vc = [power(record.vc_hit), power(record.vc_nee), power(record.vc_conn)];
+        LightVertexMis(Subpath { vcm: power(record.vcm), vc, class, heuristic, infinite_segment: false })
     }
 
     /// Which strategy `vcm` belongs to.
     #[inline]
     pub fn class(&self) -> VcmClass {
-        self.class
+        [VcmClass::Hit, VcmClass::Nee, VcmClass::Conn][self.0.class]
     }
 
     /// The heuristic the state is powered for.
     #[inline]
     pub fn heuristic(&self) -> Heuristic {
-        self.heuristic
+        self.0.heuristic
     }
 
     /// The light-side sum of a strategy that takes this vertex from the light side and whose
@@ -410,14 +416,7 @@ impl LightVertexMis {
     /// light vertex with `pdf_rev_w`), relative to that strategy's count (`f`).
     #[inline]
     fn sum(&self, p_camera: f64, pdf_rev_w: f32, f: &Factors) -> f64 {
-        let h = self.heuristic;
-        let own = match self.class {
-            VcmClass::Hit => f.hit,
-            VcmClass::Nee => f.nee,
-            VcmClass::Conn => f.conn,
-        };
-        let older = mul(f.hit, self.vc_hit) + mul(f.nee, self.vc_nee) + mul(f.conn, self.vc_conn);
-        mul(h.mis(p_camera), mul(own, self.vcm) + mul(h.mis(pdf_rev_w as f64), older))
+        self.0.sum(p_camera, pdf_rev_w, [f.hit, f.nee, f.conn])
     }
 }
 
@@ -450,20 +449,15 @@ impl MisRecord {
 
 /// The camera subpath's MIS state at a vertex z_m (after [`CameraVertexMis::after_hit`]) or on
 /// the segment leaving it. Values are raised to the power β; they hold no counts, so one
-/// camera path serves any [`Counts`].
+/// camera path serves any [`Counts`]. Its `vcm` is 1/p←(z_m)^β, the strategy that takes z_m
+/// from the light side (light tracing of z₁ at the first hit, a connection deeper); its sums
+/// are those of light tracing (z₁ taken from the light side) and of the connections that end
+/// the light side at z₂ … z_{m−1}.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CameraVertexMis {
-    /// 1/p←(z_m)^β: the strategy that takes z_m from the light side (and connects it to
-    /// z_{m−1}); its class is light tracing at the first hit, a connection deeper.
-    vcm: f64,
-    /// The strategy that takes z₁ and deeper from the light side (light tracing of z₁).
-    vc_lt: f64,
-    /// The strategies that end the light side at z₂ … z_{m−1} (connections).
-    vc_conn: f64,
-    /// The vertex is the first hit z₁ (or the segment leaving the camera).
-    first: bool,
-    heuristic: Heuristic,
-}
+pub struct CameraVertexMis(Subpath<2>);
+
+/// The camera side's count classes, in `Subpath::vc` order.
+const LIGHT_TRACE: usize = 0;
 
 impl CameraVertexMis {
     /// The state of the segment leaving the camera: the ray's direction was drawn with the
@@ -473,21 +467,14 @@ impl CameraVertexMis {
     #[inline]
     pub fn at_camera(pdf_dir_w: f32, heuristic: Heuristic) -> Self {
         let vcm = heuristic.mis(1.0 / pdf_dir_w as f64);
-        CameraVertexMis { vcm, vc_lt: 0.0, vc_conn: 0.0, first: true, heuristic }
+        CameraVertexMis(Subpath { vcm, vc: [0.0; 2], class: LIGHT_TRACE, heuristic, infinite_segment: false })
     }
 
     /// The state at the vertex the current segment hits (as [`LightVertexMis::after_hit`]).
     #[inline]
     #[must_use]
     pub fn after_hit(self, dist2: f32, cos_in: f32) -> Self {
-        let (h, dist2, cos_in) = (self.heuristic, dist2 as f64, cos_in as f64);
-        let inv_cos = h.mis(1.0 / cos_in);
-        CameraVertexMis {
-            vcm: mul(self.vcm, h.mis(dist2 / cos_in)),
-            vc_lt: mul(self.vc_lt, inv_cos),
-            vc_conn: mul(self.vc_conn, inv_cos),
-            ..self
-        }
+        CameraVertexMis(self.0.after_hit(dist2, cos_in))
     }
 
     /// The state of the segment leaving the current vertex (as
@@ -497,39 +484,19 @@ impl CameraVertexMis {
     #[inline]
     #[must_use]
     pub fn after_scatter(self, cos_out: f32, pdf_fwd_w: f32, pdf_rev_w: f32, delta: bool) -> Self {
-        let h = self.heuristic;
-        let (cos_out, pdf_fwd_w, pdf_rev_w) = (cos_out as f64, pdf_fwd_w as f64, pdf_rev_w as f64);
-        if delta {
-            let g = h.mis(cos_out / pdf_fwd_w * pdf_rev_w);
-            return CameraVertexMis {
-                vcm: 0.0,
-                vc_lt: mul(self.vc_lt, g),
-                vc_conn: mul(self.vc_conn, g),
-                first: false,
-                ..self
-            };
-        }
-        let g = h.mis(cos_out / pdf_fwd_w);
-        let r = h.mis(pdf_rev_w);
-        let (mut lt, mut conn) = (mul(self.vc_lt, r), mul(self.vc_conn, r));
-        if self.first {
-            lt += self.vcm;
-        } else {
-            conn += self.vcm;
-        }
-        CameraVertexMis {
-            vcm: h.mis(1.0 / pdf_fwd_w),
-            vc_lt: mul(g, lt),
-            vc_conn: mul(g, conn),
-            first: false,
-            ..self
-        }
+        CameraVertexMis(self.0.after_scatter(cos_out, pdf_fwd_w, pdf_rev_w, delta))
     }
 
     /// The heuristic the state is powered for.
     #[inline]
     pub fn heuristic(&self) -> Heuristic {
-        self.heuristic
+        self.0.heuristic
+    }
+
+    /// Whether this is the first hit z₁ (or the segment leaving the camera).
+    #[inline]
+    fn first(&self) -> bool {
+        self.0.class == LIGHT_TRACE
     }
 
     /// The camera-side sum of a strategy that takes this vertex from the camera side and whose
@@ -537,10 +504,7 @@ impl CameraVertexMis {
     /// camera vertex with `pdf_rev_w`), relative to that strategy's count (`f`).
     #[inline]
     fn sum(&self, p_light: f64, pdf_rev_w: f32, f: &Factors) -> f64 {
-        let h = self.heuristic;
-        let own = if self.first { f.lt } else { f.conn };
-        let older = mul(f.lt, self.vc_lt) + mul(f.conn, self.vc_conn);
-        mul(h.mis(p_light), mul(own, self.vcm) + mul(h.mis(pdf_rev_w as f64), older))
+        self.0.sum(p_light, pdf_rev_w, [f.lt, f.conn])
     }
 }
 
@@ -600,13 +564,14 @@ pub fn weight_emitter_hit(camera: &CameraVertexMis, emitter: Emitter, pick: f32,
     if emitter.kind != LightKind::Area {
         return 0.0;
     }
-    let h = camera.heuristic;
+    let (c, h) = (&camera.0, camera.0.heuristic);
     let f = Factors::new(Target::Hit, counts, pick, h);
     // x₀ taken from the light side: NEE (deeper) or the splat of y₀ (seen directly), both
-    // drawing x₀ with the light's own position density.
-    let own = if camera.first { f.lt } else { f.nee };
-    let older = mul(f.lt, camera.vc_lt) + mul(f.conn, camera.vc_conn);
-    weight(mul(h.mis(emitter.first), mul(own, camera.vcm) + mul(h.mis(emitter.second), older)))
+    // drawing x₀ with the light's own position density. Not `Subpath::sum`: here the class of
+    // `vcm` is not that of the sum it joins deeper.
+    let own = if camera.first() { f.lt } else { f.nee };
+    let older = mul(f.lt, c.vc[LIGHT_TRACE]) + mul(f.conn, c.vc[Subpath::<2>::CONN]);
+    weight(mul(h.mis(emitter.first), mul(own, c.vcm) + mul(h.mis(emitter.second), older)))
 }
 
 /// The weight of next-event estimation (s = 1) from camera vertex z (state `camera`, after its
@@ -624,7 +589,7 @@ pub fn weight_nee(
     pick: f32,
     counts: Counts,
 ) -> f32 {
-    let h = camera.heuristic;
+    let h = camera.heuristic();
     let f = Factors::new(Target::Nee, counts, pick, h);
     let light = match emitter.kind {
         // The emitter hit: the camera tracer would have found x₀ with area density
@@ -651,8 +616,8 @@ pub fn weight_connection(
     pick: f32,
     counts: Counts,
 ) -> f32 {
-    debug_assert_eq!(camera.heuristic, light.heuristic, "a dataset renders with its own heuristic");
-    let f = Factors::new(Target::Conn, counts, pick, camera.heuristic);
+    debug_assert_eq!(camera.heuristic(), light.heuristic(), "a dataset renders with its own heuristic");
+    let f = Factors::new(Target::Conn, counts, pick, camera.heuristic());
     let dist2 = dist2 as f64;
     let p_camera = at_camera.pdf_fwd_w as f64 * at_light.cos as f64 / dist2; // the camera side samples y
     let p_light = at_light.pdf_fwd_w as f64 * at_camera.cos as f64 / dist2; // the light side samples z
@@ -674,7 +639,7 @@ pub fn weight_light_trace(
     pick: f32,
     counts: Counts,
 ) -> f32 {
-    let f = Factors::new(Target::LightTrace, counts, pick, light.heuristic);
+    let f = Factors::new(Target::LightTrace, counts, pick, light.heuristic());
     let p_camera = camera_pdf_w as f64 * at_light.cos as f64 / dist2 as f64;
     weight(light.sum(p_camera, at_light.pdf_rev_w, &f))
 }

@@ -487,13 +487,15 @@ fn records_keep_the_class_and_the_values() {
         let back = LightVertexMis::from_record(r, h);
         assert_eq!(back.class(), class);
         assert_eq!(back.record(), r, "a record survives a round trip exactly");
-        for (a, b) in [(back.vcm, state.vcm), (back.vc_hit, state.vc_hit), (back.vc_nee, state.vc_nee)] {
+        for (a, b) in
+            [(back.0.vcm, state.0.vcm), (back.0.vc[HIT], state.0.vc[HIT]), (back.0.vc[NEE], state.0.vc[NEE])]
+        {
             assert!((a - b).abs() <= 2.5e-7 * b, "{a} vs {b}"); // the f32 root, squared
         }
         assert_eq!(bytemuck::bytes_of(&r).len(), 16);
     }
-    assert_eq!(y3.vcm, 0.0);
-    assert_eq!(y1.vcm, h.mis(2.0 / (0.5 * 0.5))); // 1/p(y₁ | y₀), NEE's x₀ density cancelling
+    assert_eq!(y3.0.vcm, 0.0);
+    assert_eq!(y1.0.vcm, h.mis(2.0 / (0.5 * 0.5))); // 1/p(y₁ | y₀), NEE's x₀ density cancelling
     assert_eq!(y1.record().vcm, -8.0, "√64 stored, NEE's class in the sign");
     let bad = MisRecord { vcm: f32::NAN, ..MisRecord::default() };
     assert!(!bad.is_valid());
