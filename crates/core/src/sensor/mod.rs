@@ -30,6 +30,7 @@
 //! The [`meter`] module holds the illuminance meter, which needs no connection: a stored sample
 //! already *is* flux arriving at a surface.
 
+pub mod bidirectional;
 mod equirect;
 pub mod meter;
 mod pinhole;
