@@ -658,6 +658,15 @@ mod tests {
         convert(&nodes, Path::new("t.wrl"), warnings).unwrap()
     }
 
+    /// The error converting `body` (after the extension's declarations), and the line of its
+    /// last node.
+    fn error(body: &str) -> (String, usize) {
+        let text = format!("#VRML V2.0 utf8\n{}\n{body}", extension::DECLARATIONS);
+        let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
+        let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
+        (e, text.lines().count())
+    }
+
     #[test]
     fn transform_order_is_vrmls() {
         let s = load(
@@ -718,12 +727,9 @@ mod tests {
             ("AreaLight { power 1 1 1 diffuse 0.9 0.9 0.9 specular 0.2 0.2 0.2 }", "kd + ks"),
         ];
         for (material, want) in cases {
-            let body =
-                format!("Shape {{ appearance Appearance {{ material\n  {material} }} geometry Box {{}} }}");
-            let text = format!("#VRML V2.0 utf8\n{}\n{body}", extension::DECLARATIONS);
-            let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
-            let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
-            let line = text.lines().count();
+            let (e, line) = error(&format!(
+                "Shape {{ appearance Appearance {{ material\n  {material} }} geometry Box {{}} }}"
+            ));
             assert!(e.starts_with(&format!("t.wrl:{line}:3")) && e.contains(want), "{material}: {e}");
         }
     }
@@ -752,10 +758,7 @@ mod tests {
             ("PhysicalViewpoint { width -2 height 4 }", "image size -2x4 must be positive"),
             ("Viewpoint { fieldOfView 3.5 }", "field of view"),
         ] {
-            let text = format!("#VRML V2.0 utf8\n{}\n{viewpoint}", extension::DECLARATIONS);
-            let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
-            let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
-            let line = text.lines().count();
+            let (e, line) = error(viewpoint);
             assert!(e.starts_with(&format!("t.wrl:{line}:1")) && e.contains(want), "{viewpoint}: {e}");
         }
     }
@@ -777,10 +780,7 @@ mod tests {
                 "lumens need a colour of non-zero luminance",
             ),
         ] {
-            let text = format!("#VRML V2.0 utf8\n{}\n{light}", extension::DECLARATIONS);
-            let (nodes, warnings) = super::super::parse_text(&text, Path::new("t.wrl")).unwrap();
-            let e = convert(&nodes, Path::new("t.wrl"), warnings).map(|_| ()).unwrap_err().to_string();
-            let line = text.lines().count();
+            let (e, line) = error(light);
             assert!(e.starts_with(&format!("t.wrl:{line}:1")) && e.contains(want), "{light}: {e}");
         }
     }
