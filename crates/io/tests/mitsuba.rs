@@ -298,34 +298,29 @@ fn impossible_phong_parameters_are_located() {
         e,
         "dir/test.xml:3:33: <float name=\"exponent\">: attribute `value`: \"NaN\" is not a finite number"
     );
-    let e = at(r#"<float name="exponent" value="2e6"/>"#);
-    assert!(
-        e.starts_with(
-            "dir/test.xml:3:3: <float name=\"exponent\">: invalid material: exponent = 2000000 exceeds"
+    // Each impossible value is reported at its own element: (parameters, the error's start).
+    let cases = [
+        (
+            r#"<float name="exponent" value="2e6"/>"#,
+            "dir/test.xml:3:3: <float name=\"exponent\">: invalid material: exponent = 2000000 exceeds",
         ),
-        "{e}"
-    );
-    let e = at(r#"<float name="exponent" value="-1"/>"#);
-    assert!(
-        e.starts_with(
-            "dir/test.xml:3:3: <float name=\"exponent\">: invalid material: exponent must not be negative"
+        (
+            r#"<float name="exponent" value="-1"/>"#,
+            "dir/test.xml:3:3: <float name=\"exponent\">: invalid material: exponent must not be negative",
         ),
-        "{e}"
-    );
-    let e = at(r#"<rgb name="specularReflectance" value="0.1, -0.1, 0.1"/>"#);
-    assert!(
-        e.starts_with(
-            "dir/test.xml:3:3: <rgb name=\"specularReflectance\">: invalid material: ks must not be negative"
+        (
+            r#"<rgb name="specularReflectance" value="0.1, -0.1, 0.1"/>"#,
+            "dir/test.xml:3:3: <rgb name=\"specularReflectance\">: invalid material: ks must not be negative",
         ),
-        "{e}"
-    );
-    let e = at(r#"<rgb name="diffuseReflectance" value="-0.1"/>"#);
-    assert!(
-        e.starts_with(
-            "dir/test.xml:3:3: <rgb name=\"diffuseReflectance\">: invalid material: kd must not be negative"
+        (
+            r#"<rgb name="diffuseReflectance" value="-0.1"/>"#,
+            "dir/test.xml:3:3: <rgb name=\"diffuseReflectance\">: invalid material: kd must not be negative",
         ),
-        "{e}"
-    );
+    ];
+    for (body, want) in cases {
+        let e = at(body);
+        assert!(e.starts_with(want), "{body}\n→ {e}\nwant {want}");
+    }
     let e = at(r#"<texture type="bitmap" name="diffuseReflectance"/>"#);
     assert!(e.contains("textures are not supported"), "{e}");
     let e = at(r#"<string name="exponent" value="30"/>"#);

@@ -16,7 +16,6 @@ use crate::scene_formats::LoadedScene;
 use opticks_core::scene::{SceneDescription, Source};
 use std::collections::{HashMap, HashSet};
 use std::fmt::Display;
-use std::path::PathBuf;
 
 /// What the builders share while the scene is built.
 pub struct Builder<'d> {
@@ -49,11 +48,6 @@ impl<'d> Builder<'d> {
     /// Warns about the parameters of `p` no builder read.
     pub fn finish(&mut self, p: &Props) {
         p.finish(&mut self.warnings);
-    }
-
-    /// `file` (as written in the scene) resolved against the scene file's folder.
-    pub fn path(&self, file: &str) -> PathBuf {
-        self.doc.dir.join(file)
     }
 
     /// The scene-file location of `e` kept on the scene's objects.

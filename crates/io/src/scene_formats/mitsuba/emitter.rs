@@ -3,13 +3,14 @@
 //! adds the light to the scene) and [`SHAPE_EMITTERS`] names the ones a shape holds; adding an
 //! emitter type is an entry there and its function.
 //!
-//! Three rules hold every emitter to one shape, so that the core's light model changes in one
-//! place here:
+//! Three rules keep the core's light model in one place here:
 //! * a mesh's emission fields are filled by [`set_area_emission`] only;
-//! * the physical checks of the values read (not negative, exponent range, non-zero tangent and
-//!   direction, the spot's cone, the axis of `to_world`) are the `check_*` functions at the end;
-//! * `filename`/`scale` (an IES file) and `power`/`lumens` are read by one function each for the
-//!   area and the `ies` emitters.
+//! * the physical checks of the values read are the `check_*` functions at the end (not
+//!   negative, the exponent's range, a non-zero tangent and direction, the spot's cone), plus
+//!   the two the shared [`lights`] constructors make (the axis of `to_world` in
+//!   [`emitter_frame`], the irradiance in [`directional`]);
+//! * `filename`/`scale` (an IES file) and `power`/`lumens` are read by one function each
+//!   ([`ies_file`], [`power_or_lumens`]) for the area and the `ies` emitters.
 
 use super::Result;
 use super::build::Builder;
@@ -122,15 +123,10 @@ pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmiss
 fn point<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
     let mut p = Props::of(e)?;
     no_objects(&p, ty)?;
-    let position = p.point("position")?;
-    let to_world = p.transform("to_world")?;
-    let position = match (position, to_world) {
-        (Some(_), Some((_, tnode))) => {
-            return Err(tnode.err("give either `position` or `to_world`, not both"));
-        }
-        (Some((pos, _)), None) => pos,
-        (None, Some((t, _))) => t.matrix.transform_point3(DVec3::ZERO),
-        (None, None) => DVec3::ZERO,
+    let position = match point_or_to_world(&mut p, "position")? {
+        Placement::Given(pos, _) => pos,
+        Placement::ToWorld(t, _) => t.matrix.transform_point3(DVec3::ZERO),
+        Placement::Default => DVec3::ZERO,
     };
     let (intensity, inode) = p.color_or("intensity", Rgb::ONE)?;
     check_not_negative("intensity", intensity.min_element().into(), inode)?;
@@ -203,15 +199,10 @@ fn oriented_point_light<'d>(
 fn directional<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
     let mut p = Props::of(e)?;
     no_objects(&p, ty)?;
-    let direction = p.point("direction")?;
-    let to_world = p.transform("to_world")?;
-    let direction = match (direction, to_world) {
-        (Some(_), Some((_, tnode))) => {
-            return Err(tnode.err("give either `direction` or `to_world`, not both"));
-        }
-        (Some((d, dnode)), None) => check_direction(d, dnode)?,
-        (None, Some((t, tnode))) => emitter_frame(&t, tnode)?.0.n.as_dvec3(),
-        (None, None) => DVec3::Z,
+    let direction = match point_or_to_world(&mut p, "direction")? {
+        Placement::Given(d, dnode) => check_direction(d, dnode)?,
+        Placement::ToWorld(t, tnode) => emitter_frame(&t, tnode)?.0.n.as_dvec3(),
+        Placement::Default => DVec3::Z,
     };
     let (irradiance, inode) = p.color_or("irradiance", Rgb::ONE)?;
     b.finish(&p);
@@ -219,6 +210,28 @@ fn directional<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) 
         .map_err(|_| inode.err("irradiance must not be negative"))?;
     b.desc.directional_lights.push(light);
     Ok(())
+}
+
+/// Where a point or directional light is: given by a point/vector property, by `to_world`, or
+/// neither (the default); each with the element it came from.
+enum Placement<'d> {
+    Given(DVec3, &'d Element),
+    ToWorld(Transform, &'d Element),
+    Default,
+}
+
+/// The point/vector property `name` or `to_world`, at most one of them.
+fn point_or_to_world<'d>(p: &mut Props<'d>, name: &str) -> Result<Placement<'d>> {
+    let given = p.point(name)?;
+    let to_world = p.transform("to_world")?;
+    match (given, to_world) {
+        (Some(_), Some((_, tnode))) => {
+            Err(tnode.err(format!("give either `{name}` or `to_world`, not both")))
+        }
+        (Some((v, vnode)), None) => Ok(Placement::Given(v, vnode)),
+        (None, Some((t, tnode))) => Ok(Placement::ToWorld(t, tnode)),
+        (None, None) => Ok(Placement::Default),
+    }
 }
 
 /// An error unless the emitter of type `ty` has no nested elements.
@@ -247,7 +260,7 @@ fn ies_file<'d>(
     hemisphere: bool,
 ) -> Result<Option<(Ies, f32, &'d Element)>> {
     let Some((file, fnode)) = p.string("filename")? else { return Ok(None) };
-    let path = b.path(&file);
+    let path = fnode.resolve(&file);
     let ies = lights::ies_luminaire(&path, hemisphere).map_err(|e| fnode.err(e))?;
     if let Some(w) = ies.warning {
         b.warn(fnode, w);

@@ -166,9 +166,9 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
 
 /// `obj`: the triangles of a Wavefront OBJ file (`filename`, relative to the scene's folder).
 fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
-    let (file, _) =
+    let (file, fnode) =
         p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))?;
-    let path = b.path(&file);
+    let path = fnode.resolve(&file);
     let mesh = read_obj(&path, Some((e.describe(), e.at.clone())))?;
     if mesh.triangles.is_empty() {
         b.warn(e, format!("{} has no faces", path.display()));

@@ -22,8 +22,6 @@ use std::path::{Path, PathBuf};
 
 /// A whole scene file as records.
 pub struct Document {
-    /// The scene file's folder, against which the file names in the scene are resolved.
-    pub dir: PathBuf,
     /// The `<scene>` element; its children are the top-level elements.
     pub root: Element,
     /// The index in `root.children` of each top-level element with an `id`, by id.
@@ -111,7 +109,7 @@ pub fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Document> 
         }
     }
     root.children.iter_mut().for_each(|c| resolve_refs(c, &ids));
-    Ok(Document { dir: path.parent().map(Path::to_path_buf).unwrap_or_default(), root, ids })
+    Ok(Document { root, ids })
 }
 
 impl Element {
@@ -152,6 +150,12 @@ impl Element {
 
     fn attribute(&self, name: &str) -> Option<&Attribute> {
         self.attributes.iter().find(|a| a.name == name)
+    }
+
+    /// The file named `file` in this element, resolved against the folder of the scene file
+    /// the element is in.
+    pub fn resolve(&self, file: &str) -> PathBuf {
+        self.at.file.parent().unwrap_or(Path::new("")).join(file)
     }
 
     /// `<tag type="…" name="…" id="…">` as written in the file, for messages.
