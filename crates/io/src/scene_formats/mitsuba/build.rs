@@ -1,8 +1,9 @@
 //! Stage 2 of the Mitsuba loader: the records of [`super::xml`] become a
 //! [`SceneDescription`]. This file holds the walk over the top-level elements, in file order
 //! (the table [`TOP_LEVEL`] maps each element to its handler), and the [`Builder`] the plugin
-//! builders share: the scene being filled, the warnings, and the named BSDFs and media already
-//! read (references may point forward, so a named object is built where it is first used).
+//! builders share: the scene being filled, the warnings, the named BSDFs already built and the
+//! ids referred to (references may point forward, so a named object is built where it is first
+//! used, not where it is declared).
 //!
 //! The plugins themselves are built in one file each: [`super::sensor`], [`super::bsdf`],
 //! [`super::shape`] (with [`super::medium`]) and [`super::emitter`].

@@ -7,10 +7,9 @@
 //! ids. It knows nothing about plugins; the stages after it ([`super::build`]) read the records
 //! and never see `roxmltree`.
 //!
-//! Errors are raised where the loader has always raised them, so that a file with several
-//! mistakes reports the same first one: the document-level checks here, in file order, and
-//! everything about a single element (an undefined `$name` in one of its attributes, a missing
-//! attribute) only when a later stage reads it. An undefined parameter is therefore stored in the
+//! Errors are raised in the order a reader of the file meets them: the document-level checks
+//! here, in file order, and everything about a single element (an undefined `$name` in one of
+//! its attributes, a missing attribute) only when a later stage reads it. An undefined parameter is therefore stored in the
 //! [`Attribute`], not reported, until the attribute is read: an element Opticks ignores may
 //! use a parameter nobody defined.
 
