@@ -1,0 +1,342 @@
+//! `<bsdf>` elements and the scene's materials. [`BSDF_TYPES`] maps each supported Mitsuba BSDF
+//! type to its builder; adding a BSDF is an entry there and its function (the "unsupported BSDF
+//! type" error lists the table).
+//!
+//! The physical checks are the core's constructors' ([`Lambert::new`], [`ModifiedPhong::new`],
+//! …); this file only reads Mitsuba's parameters with Mitsuba's defaults and maps the core's
+//! [`MaterialError`] to the element of the offending parameter ([`material_error`]). Top-level
+//! BSDFs with an `id` are built once, where first used, and each becomes one material however
+//! many shapes refer to it ([`material_index`]).
+
+use super::Result;
+use super::build::Builder;
+use super::properties::Props;
+use super::xml::Element;
+use crate::scene_formats::SceneFileError;
+use opticks_core::bsdf::{
+    Bsdf, Lambert, Material, MaterialError, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
+    SmoothDielectric, fresnel,
+};
+use opticks_core::math::Rgb;
+use opticks_core::sampling::microfacet::{Distribution, Microfacet};
+
+/// A BSDF as read: its material name, the core's BSDF and whether it scatters on both faces.
+#[derive(Clone, Debug)]
+pub struct ParsedBsdf {
+    /// The material's name: the BSDF's id, else its type (shapes name theirs `shape.bsdf`).
+    pub name: String,
+    /// The BSDF.
+    pub bsdf: Bsdf,
+    /// Whether the back face scatters like the front (`twosided`).
+    pub two_sided: bool,
+}
+
+/// A BSDF builder: the `<bsdf>` element, its type and its properties; returns the BSDF and
+/// whether it is two-sided.
+type BuildBsdf = for<'d> fn(&mut Builder<'d>, &'d Element, &str, &mut Props<'d>) -> Result<(Bsdf, bool)>;
+
+/// A supported BSDF type.
+struct BsdfType {
+    name: &'static str,
+    /// Not a Mitsuba 3 plugin (the error message says so).
+    extension: bool,
+    build: BuildBsdf,
+}
+
+/// The supported BSDF types, in the order the error message lists them.
+const BSDF_TYPES: &[BsdfType] = &[
+    BsdfType { name: "diffuse", extension: false, build: diffuse },
+    BsdfType { name: "phong", extension: true, build: phong },
+    BsdfType { name: "twosided", extension: false, build: twosided },
+    BsdfType { name: "conductor", extension: false, build: specular },
+    BsdfType { name: "roughconductor", extension: false, build: specular },
+    BsdfType { name: "dielectric", extension: false, build: specular },
+    BsdfType { name: "roughdielectric", extension: false, build: specular },
+];
+
+/// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
+pub fn bsdf<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<ParsedBsdf> {
+    let id = e.attr("id")?.map(str::to_string);
+    let cached_id = id.as_ref().filter(|_| e.top_level);
+    if let Some(id) = cached_id {
+        if let Some(done) = b.bsdfs.get(id) {
+            return Ok(done.clone());
+        }
+        if !b.in_progress.insert(id.clone()) {
+            return Err(e.err(format!("BSDF \"{id}\" refers to itself")));
+        }
+    }
+    let ty = e.required("type")?;
+    let name = id.clone().unwrap_or_else(|| ty.to_string());
+    let mut p = Props::of(e)?;
+    let Some(t) = BSDF_TYPES.iter().find(|t| t.name == ty) else {
+        let names: Vec<String> = BSDF_TYPES
+            .iter()
+            .map(|t| if t.extension { format!("{} (Opticks extension)", t.name) } else { t.name.to_string() })
+            .collect();
+        return Err(
+            e.attr_err("type", format!("unsupported BSDF type \"{ty}\" (supported: {})", names.join(", ")))
+        );
+    };
+    let (bsdf, two_sided) = (t.build)(b, e, ty, &mut p)?;
+    let parsed = ParsedBsdf { name, bsdf, two_sided };
+    b.finish(&p);
+    if let Some(id) = cached_id {
+        b.in_progress.remove(id);
+        b.bsdfs.insert(id.clone(), parsed.clone());
+    }
+    Ok(parsed)
+}
+
+/// `<ref id="…"/>` to a top-level BSDF; the material is named by the id.
+pub fn bsdf_ref<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<ParsedBsdf> {
+    let id = e.required("id")?;
+    let Some(target) = e.target.map(|i| b.doc.top(i)) else {
+        let mut known: Vec<&str> =
+            b.doc.ids.iter().filter(|(_, i)| b.doc.top(**i).tag == "bsdf").map(|(k, _)| k.as_str()).collect();
+        known.sort_unstable();
+        return Err(e.attr_err(
+            "id",
+            format!("reference to unknown id \"{id}\" (BSDF ids in this file: {})", known.join(", ")),
+        ));
+    };
+    if target.tag != "bsdf" {
+        return Err(e.err(format!("id \"{id}\" is a <{}> (at {}), not a <bsdf>", target.tag, target.at)));
+    }
+    let mut parsed = bsdf(b, target)?;
+    b.used.insert(id.to_string());
+    parsed.name = id.to_string();
+    Ok(parsed)
+}
+
+/// The index in the scene's materials of `parsed`, added unless the material of `key` (a
+/// top-level BSDF's id, or a key combining it with a medium's) is already there.
+pub fn material_index(b: &mut Builder, parsed: &ParsedBsdf, key: Option<&str>) -> usize {
+    if let Some(&i) = key.and_then(|k| b.material_of.get(k)) {
+        return i;
+    }
+    let materials = &mut b.desc.materials;
+    materials.push(Material {
+        name: parsed.name.clone(),
+        bsdf: parsed.bsdf.clone(),
+        two_sided: parsed.two_sided,
+    });
+    let i = materials.len() - 1;
+    if let Some(k) = key {
+        b.material_of.insert(k.to_string(), i);
+    }
+    i
+}
+
+/// The material of a shape without a BSDF: Mitsuba's default, a one-sided `diffuse` of
+/// reflectance 0.5, shared by all such shapes.
+pub fn default_material(b: &mut Builder) -> usize {
+    const KEY: &str = "\u{0}default";
+    let parsed = ParsedBsdf {
+        name: "default".into(),
+        bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(0.5)).expect("valid albedo")),
+        two_sided: false,
+    };
+    material_index(b, &parsed, Some(KEY))
+}
+
+/// The core's [`MaterialError`] located at the element of the parameter it names (`params`:
+/// the core's parameter names and their elements), else at `fallback`.
+pub fn material_error(
+    source: MaterialError,
+    params: &[(&str, &Element)],
+    fallback: &Element,
+) -> SceneFileError {
+    let key = match &source {
+        MaterialError::NotFinite(k)
+        | MaterialError::Negative(k)
+        | MaterialError::NotPositive(k)
+        | MaterialError::AboveOne(k)
+        | MaterialError::TooLarge { name: k, .. } => Some(*k),
+        _ => None,
+    };
+    let e = key.and_then(|k| params.iter().find(|(name, _)| *name == k).map(|p| p.1)).unwrap_or(fallback);
+    SceneFileError::Material { at: e.at.clone(), element: e.describe(), source }
+}
+
+/// `diffuse`: Lambertian, one-sided.
+fn diffuse<'d>(_: &mut Builder<'d>, _: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    if let Some(c) = p.objects().first() {
+        return Err(c.err(
+            "unsupported element inside <bsdf type=\"diffuse\"> (textures are not supported; \
+             use <rgb name=\"reflectance\">)",
+        ));
+    }
+    let (rho, node) = p.color_or("reflectance", Rgb::splat(0.5))?;
+    let lambert = Lambert::new(rho).map_err(|source| material_error(source, &[], node))?;
+    Ok((Bsdf::Lambert(lambert), false))
+}
+
+/// `phong` (Opticks extension, Mitsuba 0.6's parameter names), validated by
+/// [`ModifiedPhong::new`]; an impossible value is reported at its element (kd + ks > 1 at the
+/// `<bsdf>`, which both parameters belong to).
+fn phong<'d>(_: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    if let Some(c) = p.objects().first() {
+        return Err(c.err(
+            "unsupported element inside <bsdf type=\"phong\"> (textures are not supported; \
+             use <rgb> or <float> parameters)",
+        ));
+    }
+    let (kd, kd_node) = p.color_or("diffuseReflectance", Rgb::splat(0.5))?;
+    let (ks, ks_node) = p.color_or("specularReflectance", Rgb::splat(0.2))?;
+    let (exponent, e_node) = p.float_or("exponent", 30.0)?;
+    let phong = ModifiedPhong::new(kd, ks, exponent as f32).map_err(|source| {
+        material_error(source, &[("kd", kd_node), ("ks", ks_node), ("exponent", e_node)], e)
+    })?;
+    Ok((Bsdf::ModifiedPhong(phong), false))
+}
+
+/// `twosided` around one nested BSDF (not a dielectric, not another `twosided`).
+fn twosided<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    let inner = p.objects();
+    match inner.len() {
+        0 => return Err(e.err("a twosided BSDF needs one nested <bsdf> or <ref>")),
+        1 => {}
+        _ => {
+            return Err(
+                inner[1].err("twosided with different front and back BSDFs is not supported (give one BSDF)")
+            );
+        }
+    }
+    let c = inner[0];
+    let nested = match c.tag.as_str() {
+        "bsdf" => bsdf(b, c)?,
+        "ref" => bsdf_ref(b, c)?,
+        other => {
+            return Err(c.err(format!(
+                "unsupported element <{other}> inside a twosided BSDF (supported: bsdf, ref)"
+            )));
+        }
+    };
+    if nested.two_sided {
+        return Err(c.err("a twosided BSDF cannot wrap another twosided BSDF"));
+    }
+    if nested.bsdf.transmits() {
+        return Err(c.err(
+            "a dielectric already scatters on both faces (its inside is behind the normal); \
+             do not wrap it in a twosided BSDF",
+        ));
+    }
+    Ok((nested.bsdf, true))
+}
+
+/// `conductor`, `roughconductor`, `dielectric`, `roughdielectric` (Mitsuba 3's parameters and
+/// defaults); an impossible value is reported at its element.
+fn specular<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    if let Some(c) = p.objects().first() {
+        return Err(c.err(format!(
+            "unsupported element inside <bsdf type=\"{ty}\"> (textures are not supported; \
+             use <rgb>, <float> or <string> parameters)"
+        )));
+    }
+    let mut nodes: Vec<(&'static str, &'d Element)> = Vec::new();
+    let rough = ty.starts_with("rough");
+    let (r, rnode) = p.color_or("specular_reflectance", Rgb::ONE)?;
+    nodes.push(("specular_reflectance", rnode));
+    let microfacet = if rough {
+        microfacet(p, &mut nodes)?
+    } else {
+        Microfacet::ggx(0.1) // unused
+    };
+    let result = if ty.ends_with("conductor") {
+        let (material, mnode) = p.string_or("material", "none")?;
+        let eta = p.color("eta")?;
+        let k = p.color("k")?;
+        if material != "none" {
+            return Err(mnode.err(format!(
+                "named conductor \"{material}\" is not supported (Mitsuba derives it from \
+                 spectra); give <rgb name=\"eta\"> and <rgb name=\"k\">"
+            )));
+        }
+        if let Some((_, en)) = eta {
+            nodes.push(("eta", en));
+        }
+        if let Some((_, kn)) = k {
+            nodes.push(("k", kn));
+        }
+        let ior = eta.map(|(e, _)| (e, k.map_or(Rgb::ONE, |(k, _)| k)));
+        if rough {
+            RoughConductor::with_microfacet(microfacet, r, ior).map(Bsdf::RoughConductor)
+        } else {
+            SmoothConductor::new(r, ior).map(Bsdf::SmoothConductor)
+        }
+    } else {
+        let (t, tnode) = p.color_or("specular_transmittance", Rgb::ONE)?;
+        nodes.push(("specular_transmittance", tnode));
+        let (int_ior, inode) = ior(p, "int_ior", 1.5046)?;
+        let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
+        nodes.push(("int_ior", inode));
+        nodes.push(("ext_ior", enode));
+        if rough {
+            RoughDielectric::new(int_ior, ext_ior, 0.1, r, t)
+                .and_then(|d| d.with_microfacet(microfacet))
+                .map(Bsdf::RoughDielectric)
+        } else {
+            SmoothDielectric::new(int_ior, ext_ior, r, t).map(Bsdf::SmoothDielectric)
+        }
+    };
+    Ok((result.map_err(|source| material_error(source, &nodes, e))?, false))
+}
+
+/// The microfacet distribution of a rough BSDF: `distribution` (Beckmann by default), `alpha`
+/// (0.1) or both `alpha_u` and `alpha_v`; records the roughness parameters' elements in `nodes`.
+fn microfacet<'d>(p: &mut Props<'d>, nodes: &mut Vec<(&'static str, &'d Element)>) -> Result<Microfacet> {
+    let (dist, dnode) = p.string_or("distribution", "beckmann")?;
+    let distribution = match dist.trim().to_ascii_lowercase().as_str() {
+        "beckmann" => Distribution::Beckmann,
+        "ggx" => Distribution::Ggx,
+        _ => {
+            return Err(
+                dnode.err(format!("unknown microfacet distribution \"{dist}\" (known: beckmann, ggx)"))
+            );
+        }
+    };
+    let _ = p.bool("sample_visible")?; // a sampling strategy: same expectation
+    let a = p.float("alpha")?;
+    let au = p.float("alpha_u")?;
+    let av = p.float("alpha_v")?;
+    // Mitsuba's rules: `alpha`, or both `alpha_u` and `alpha_v`, never a mixture.
+    let (u, v) = match (a, au, av) {
+        (Some((a, an)), None, None) => {
+            nodes.push(("alpha", an));
+            (a, a)
+        }
+        (None, None, None) => (0.1, 0.1),
+        (None, Some((u, un)), Some((v, vn))) => {
+            nodes.extend([("alpha_u", un), ("alpha_v", vn), ("alpha", un)]);
+            (u, v)
+        }
+        (Some(_), Some((_, xn)), _) | (Some(_), _, Some((_, xn))) => {
+            return Err(xn.err("give either alpha or alpha_u and alpha_v, not both"));
+        }
+        (None, Some((_, xn)), None) | (None, None, Some((_, xn))) => {
+            return Err(xn.err("alpha_u and alpha_v must be given together"));
+        }
+    };
+    Ok(Microfacet::anisotropic(distribution, u as f32, v as f32))
+}
+
+/// An index of refraction: a number or one of Mitsuba's names (`"bk7"`, `"water"`, …), or
+/// `default` located at the `<bsdf>`.
+fn ior<'d>(p: &mut Props<'d>, name: &str, default: f32) -> Result<(f32, &'d Element)> {
+    let Some(node) = p.take_as(name, &["float", "integer", "string"])? else {
+        return Ok((default, p.owner()));
+    };
+    let v = node.required("value")?;
+    if node.tag == "string" {
+        let ior = fresnel::named_ior(v).ok_or_else(|| {
+            let names: Vec<&str> = fresnel::NAMED_IORS.iter().map(|(n, _)| *n).collect();
+            node.attr_err(
+                "value",
+                format!("unknown index of refraction \"{v}\" (known: {})", names.join(", ")),
+            )
+        })?;
+        return Ok((ior, node));
+    }
+    Ok((node.number("value", v)? as f32, node))
+}

@@ -1,0 +1,151 @@
+//! Stage 2 of the Mitsuba loader: the records of [`super::xml`] become a
+//! [`SceneDescription`]. This file holds the walk over the top-level elements, in file order
+//! (the table [`TOP_LEVEL`] maps each element to its handler), and the [`Builder`] the plugin
+//! builders share: the scene being filled, the warnings, the named BSDFs already built and the
+//! ids referred to (references may point forward, so a named object is built where it is first
+//! used, not where it is declared).
+//!
+//! The plugins themselves are built in one file each: [`super::sensor`], [`super::bsdf`],
+//! [`super::shape`] (with [`super::medium`]) and [`super::emitter`].
+
+use super::Result;
+use super::bsdf::{self, ParsedBsdf};
+use super::properties::Props;
+use super::xml::{Document, Element};
+use super::{emitter, sensor, shape};
+use crate::scene_formats::LoadedScene;
+use opticks_core::scene::{SceneDescription, Source};
+use std::collections::{HashMap, HashSet};
+use std::fmt::Display;
+
+/// What the builders share while the scene is built.
+pub struct Builder<'d> {
+    /// The records.
+    pub doc: &'d Document,
+    /// The scene so far.
+    pub desc: SceneDescription,
+    /// Things read but not reproduced, as `file:line:column: <element>: message` lines.
+    pub warnings: Vec<String>,
+    /// Top-level BSDFs already built, by id.
+    pub bsdfs: HashMap<String, ParsedBsdf>,
+    /// Ids of top-level BSDFs being built (reference cycles).
+    pub in_progress: HashSet<String>,
+    /// Index in `desc.materials` of a material, by key (a BSDF's id, or a BSDF's and a
+    /// medium's), once a shape uses it.
+    pub material_of: HashMap<String, usize>,
+    /// Ids some `<ref>` pointed to.
+    pub used: HashSet<String>,
+    /// How many shapes and top-level emitters have been read (their default names count them).
+    shapes: usize,
+    emitters: usize,
+}
+
+impl<'d> Builder<'d> {
+    /// Records a warning about `e`.
+    pub fn warn(&mut self, e: &Element, message: impl Display) {
+        self.warnings.push(e.warning(message));
+    }
+
+    /// Warns about the parameters of `p` no builder read.
+    pub fn finish(&mut self, p: &Props) {
+        p.finish(&mut self.warnings);
+    }
+
+    /// The scene-file location of `e` kept on the scene's objects.
+    pub fn source(e: &Element) -> Source {
+        Source { file: e.at.file.display().to_string(), line: e.at.line }
+    }
+}
+
+/// A handler of a top-level element.
+type TopLevel = for<'d> fn(&mut Builder<'d>, &'d Element) -> Result<()>;
+
+/// The elements allowed directly inside `<scene>`, in the order the error message lists them.
+const TOP_LEVEL: &[(&str, TopLevel)] = &[
+    ("default", |_, _| Ok(())), // read by the record stage
+    ("integrator", integrator),
+    ("sensor", top_sensor),
+    ("bsdf", top_bsdf),
+    ("medium", |_, _| Ok(())), // read where a shape refers to it
+    ("shape", top_shape),
+    ("emitter", top_emitter),
+];
+
+/// Builds the scene of `doc`.
+pub fn build(doc: &Document) -> Result<LoadedScene> {
+    let mut b = Builder {
+        doc,
+        desc: SceneDescription::default(),
+        warnings: Vec::new(),
+        bsdfs: HashMap::new(),
+        in_progress: HashSet::new(),
+        material_of: HashMap::new(),
+        used: HashSet::new(),
+        shapes: 0,
+        emitters: 0,
+    };
+    for e in &doc.root.children {
+        let Some((_, handle)) = TOP_LEVEL.iter().find(|(tag, _)| *tag == e.tag) else {
+            let names: Vec<&str> = TOP_LEVEL.iter().map(|(tag, _)| *tag).collect();
+            return Err(e.err(format!(
+                "unsupported element <{}> (supported at the top level of <scene>: {})",
+                e.tag,
+                names.join(", ")
+            )));
+        };
+        handle(&mut b, e)?;
+    }
+    // Unused named BSDFs and media: Mitsuba would not mind either, but it is usually a typo.
+    for e in &doc.root.children {
+        if matches!(e.tag.as_str(), "bsdf" | "medium") && e.raw("id").is_some_and(|id| !b.used.contains(id)) {
+            let what = if e.tag == "medium" { "medium" } else { "BSDF" };
+            b.warn(e, format!("this {what} is never used"));
+        }
+    }
+    Ok(LoadedScene { description: b.desc, warnings: b.warnings })
+}
+
+/// `<integrator>`: read and ignored (Opticks always traces unbounded paths).
+fn integrator<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
+    let mut p = Props::of(e)?;
+    if let Some((d, node)) = p.int("max_depth")? {
+        if d != -1 {
+            b.warn(
+                node,
+                format!("max_depth = {d} is ignored: Opticks always traces unbounded paths (Mitsuba's -1)"),
+            );
+        }
+    }
+    // Everything else about the integrator is Mitsuba's business.
+    Ok(())
+}
+
+fn top_sensor<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
+    if b.desc.camera.is_none() {
+        b.desc.camera = Some(sensor::sensor(b, e)?);
+    } else {
+        b.warn(e, "only the first <sensor> is used; this one is ignored");
+    }
+    Ok(())
+}
+
+fn top_bsdf<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
+    let parsed = bsdf::bsdf(b, e)?;
+    if e.attr("id")?.is_none() {
+        b.warn(e, format!("a top-level BSDF without an id cannot be used ({})", parsed.name));
+    }
+    Ok(())
+}
+
+fn top_shape<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
+    let mesh = shape::shape(b, e, b.shapes)?;
+    b.desc.meshes.push(mesh);
+    b.shapes += 1;
+    Ok(())
+}
+
+fn top_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
+    emitter::top_emitter(b, e, b.emitters)?;
+    b.emitters += 1;
+    Ok(())
+}

@@ -1,0 +1,330 @@
+//! `<emitter>` elements: the area emitter of a shape, and the top-level point, spot, IES and
+//! directional lights. [`TOP_EMITTERS`] maps each supported top-level type to its builder (which
+//! adds the light to the scene) and [`SHAPE_EMITTERS`] names the ones a shape holds; adding an
+//! emitter type is an entry there and its function.
+//!
+//! Three rules keep the core's light model in one place here:
+//! * a mesh's emission fields are filled by [`set_area_emission`] only;
+//! * the physical checks of the values read are the `check_*` functions at the end (not
+//!   negative, the exponent's range, a non-zero tangent and direction, the spot's cone), plus
+//!   the two the shared [`lights`] constructors make (the axis of `to_world` in
+//!   [`emitter_frame`], the irradiance in [`directional`]);
+//! * `filename`/`scale` (an IES file) and `power`/`lumens` are read by one function each
+//!   ([`ies_file`], [`power_or_lumens`]) for the area and the `ies` emitters.
+
+use super::Result;
+use super::build::Builder;
+use super::properties::Props;
+use super::transform::Transform;
+use super::xml::Element;
+use crate::scene_formats::lights;
+use glam::DVec3;
+use opticks_core::light::{EmissionProfile, IesProfile, lumens_to_watts};
+use opticks_core::math::{Frame, Rgb, Vec3};
+use opticks_core::scene::{AreaEmission, MeshDesc, PointLightDesc};
+use std::path::PathBuf;
+
+/// A top-level emitter builder: the element, its type and its name (its `id`, else
+/// `<type>_<index>`); adds the light to `Builder::desc`.
+type BuildEmitter = for<'d> fn(&mut Builder<'d>, &'d Element, &str, String) -> Result<()>;
+
+/// The emitter types supported at the top level, in the order the error message lists them.
+const TOP_EMITTERS: &[(&str, BuildEmitter)] =
+    &[("point", point), ("spot", spot), ("directional", directional), ("ies", ies)];
+
+/// The emitter types supported inside a `<shape>`.
+const SHAPE_EMITTERS: &[&str] = &["area"];
+
+/// Makes `mesh` the area light `emission` describes (or no light): the one place a mesh's
+/// emission is set.
+pub fn set_area_emission(mesh: &mut MeshDesc, emission: Option<AreaEmission>) {
+    mesh.emission = emission;
+}
+
+/// A top-level `<emitter>`, added to the scene; `index` counts the top-level emitters (for the
+/// default name).
+pub fn top_emitter<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<()> {
+    let ty = e.required("type")?;
+    if let Some((_, build)) = TOP_EMITTERS.iter().find(|(n, _)| *n == ty) {
+        let name = e.attr("id")?.map_or_else(|| format!("{ty}_{index}"), str::to_string);
+        return build(b, e, ty, name);
+    }
+    if SHAPE_EMITTERS.contains(&ty) {
+        return Err(e.err(format!("an {ty} emitter must be nested inside a <shape>")));
+    }
+    let top: Vec<&str> = TOP_EMITTERS.iter().map(|(n, _)| *n).collect();
+    Err(e.attr_err(
+        "type",
+        format!(
+            "unsupported emitter type \"{ty}\" (supported: {} at the top level, {} inside a shape)",
+            top.join(", "),
+            SHAPE_EMITTERS.join(", ")
+        ),
+    ))
+}
+
+/// A shape's `<emitter type="area">`: `radiance`, and the Opticks extensions `exponent` (a cosⁿ
+/// emitter, `radiance` along the normal), `filename` (an IES profile, `radiance` a colour
+/// scale), `tangent` (the profile's horizontal 0°) and `power`/`lumens`.
+pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmission> {
+    let ty = e.required("type")?;
+    if !SHAPE_EMITTERS.contains(&ty) {
+        return Err(e.attr_err(
+            "type",
+            format!(
+                "unsupported emitter type \"{ty}\" inside a shape (supported: {})",
+                SHAPE_EMITTERS.join(", ")
+            ),
+        ));
+    }
+    let mut p = Props::of(e)?;
+    if let Some(c) = p.objects().first() {
+        return Err(c.err("unsupported element inside an area emitter (textures are not supported)"));
+    }
+    let (radiance, node) = p.color_or("radiance", Rgb::ONE)?;
+    check_not_negative("radiance", radiance.min_element().into(), node)?;
+    let exponent = p.float("exponent")?;
+    let ies = ies_file(b, &mut p, true)?;
+    let (profile, colour, default_power) = match (exponent, ies) {
+        (Some(_), Some((_, _, fnode))) => {
+            return Err(fnode.err("give either `exponent` or `filename`, not both"));
+        }
+        (Some((x, enode)), None) => {
+            check_exponent(x, enode)?;
+            (Some(EmissionProfile::CosinePower { exponent: x as f32 }), radiance, None)
+        }
+        (None, Some((ies, scale, _))) => {
+            let colour = radiance * scale;
+            (Some(EmissionProfile::Ies(ies.profile)), colour, Some(colour * ies.watts))
+        }
+        (None, None) => (None, radiance, None),
+    };
+    let tangent = match p.point("tangent")? {
+        Some((t, tnode)) => Some(check_tangent(t.as_vec3(), tnode)?),
+        None => None,
+    };
+    let power = power_or_lumens(&mut p, colour, "radiance")?.or(default_power);
+    b.finish(&p);
+    Ok(AreaEmission { radiance: colour, profile, tangent, power })
+}
+
+/// `point`: `position` (or the translation of `to_world`) and `intensity`.
+fn point<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    let mut p = Props::of(e)?;
+    no_objects(&p, ty)?;
+    let position = match point_or_to_world(&mut p, "position")? {
+        Placement::Given(pos, _) => pos,
+        Placement::ToWorld(t, _) => t.matrix.transform_point3(DVec3::ZERO),
+        Placement::Default => DVec3::ZERO,
+    };
+    let (intensity, inode) = p.color_or("intensity", Rgb::ONE)?;
+    check_not_negative("intensity", intensity.min_element().into(), inode)?;
+    b.finish(&p);
+    let light = PointLightDesc {
+        name,
+        source: Builder::source(e),
+        position: position.as_vec3(),
+        intensity,
+        ..Default::default()
+    };
+    b.desc.point_lights.push(light);
+    Ok(())
+}
+
+/// `spot`: an oriented point light with Mitsuba's linear falloff in angle between `beam_width`
+/// and `cutoff_angle`.
+fn spot<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    let mut p = Props::of(e)?;
+    let mut light = oriented_point_light(e, ty, name, &mut p)?;
+    let (cutoff, cnode) = p.float_or("cutoff_angle", 20.0)?;
+    let (beam, bnode) = p.float_or("beam_width", cutoff * 0.75)?;
+    light.profile = Some(check_spot_cone(cutoff, beam, cnode, bnode)?);
+    b.finish(&p);
+    b.desc.point_lights.push(light);
+    Ok(())
+}
+
+/// `ies` (Opticks extension): an oriented point light with an IES file's candela distribution.
+fn ies<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    let mut p = Props::of(e)?;
+    let mut light = oriented_point_light(e, ty, name, &mut p)?;
+    let (ies, scale, _) =
+        ies_file(b, &mut p, false)?.ok_or_else(|| e.err("an ies emitter needs a `filename`"))?;
+    light.intensity *= scale;
+    light.power = power_or_lumens(&mut p, light.intensity, "intensity")?;
+    light.profile = Some(EmissionProfile::Ies(ies.profile));
+    light.ies_file = Some(ies.path);
+    b.finish(&p);
+    b.desc.point_lights.push(light);
+    Ok(())
+}
+
+/// What `spot` and `ies` share: a point light at M·(0,0,0) of `to_world` with its frame, and
+/// `intensity`.
+fn oriented_point_light<'d>(
+    e: &'d Element,
+    ty: &str,
+    name: String,
+    p: &mut Props<'d>,
+) -> Result<PointLightDesc> {
+    no_objects(p, ty)?;
+    let (frame, position) = match p.transform("to_world")? {
+        Some((t, tnode)) => emitter_frame(&t, tnode)?,
+        None => (Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z }, DVec3::ZERO),
+    };
+    let (intensity, inode) = p.color_or("intensity", Rgb::ONE)?;
+    check_not_negative("intensity", intensity.min_element().into(), inode)?;
+    Ok(PointLightDesc {
+        name,
+        source: Builder::source(e),
+        position: position.as_vec3(),
+        intensity,
+        orientation: Some(frame),
+        ..Default::default()
+    })
+}
+
+/// `directional`: `irradiance` along `direction` (or M·(0,0,1) of `to_world`).
+fn directional<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    let mut p = Props::of(e)?;
+    no_objects(&p, ty)?;
+    let direction = match point_or_to_world(&mut p, "direction")? {
+        Placement::Given(d, dnode) => check_direction(d, dnode)?,
+        Placement::ToWorld(t, tnode) => emitter_frame(&t, tnode)?.0.n.as_dvec3(),
+        Placement::Default => DVec3::Z,
+    };
+    let (irradiance, inode) = p.color_or("irradiance", Rgb::ONE)?;
+    b.finish(&p);
+    let light = lights::directional_light(name, Builder::source(e), direction, irradiance)
+        .map_err(|_| inode.err("irradiance must not be negative"))?;
+    b.desc.directional_lights.push(light);
+    Ok(())
+}
+
+/// Where a point or directional light is: given by a point/vector property, by `to_world`, or
+/// neither (the default); each with the element it came from.
+enum Placement<'d> {
+    Given(DVec3, &'d Element),
+    ToWorld(Transform, &'d Element),
+    Default,
+}
+
+/// The point/vector property `name` or `to_world`, at most one of them.
+fn point_or_to_world<'d>(p: &mut Props<'d>, name: &str) -> Result<Placement<'d>> {
+    let given = p.point(name)?;
+    let to_world = p.transform("to_world")?;
+    match (given, to_world) {
+        (Some(_), Some((_, tnode))) => {
+            Err(tnode.err(format!("give either `{name}` or `to_world`, not both")))
+        }
+        (Some((v, vnode)), None) => Ok(Placement::Given(v, vnode)),
+        (None, Some((t, tnode))) => Ok(Placement::ToWorld(t, tnode)),
+        (None, None) => Ok(Placement::Default),
+    }
+}
+
+/// An error unless the emitter of type `ty` has no nested elements.
+fn no_objects(p: &Props, ty: &str) -> Result<()> {
+    match p.objects().first() {
+        Some(c) => Err(c.err(format!("unsupported element inside a {ty} emitter"))),
+        None => Ok(()),
+    }
+}
+
+/// An IES file's photometric grid and the flux it carries, W per unit colour.
+struct Ies {
+    profile: IesProfile,
+    watts: f32,
+    /// The file it was read from (kept on point lights, for writers).
+    path: PathBuf,
+}
+
+/// An IES emitter's `filename` (relative to the XML file's folder) and `scale`, if a
+/// `filename` is given: the file, checked (as an area light's profile, cut at 90°, if
+/// `hemisphere`), with the flux its candela distribution carries (in W: lumens/683), the scale
+/// and the `filename` element. Warns when the file's rated lumens differ from that flux.
+fn ies_file<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Props<'d>,
+    hemisphere: bool,
+) -> Result<Option<(Ies, f32, &'d Element)>> {
+    let Some((file, fnode)) = p.string("filename")? else { return Ok(None) };
+    let path = fnode.resolve(&file);
+    let ies = lights::ies_luminaire(&path, hemisphere).map_err(|e| fnode.err(e))?;
+    if let Some(w) = ies.warning {
+        b.warn(fnode, w);
+    }
+    let scale = match p.float("scale")? {
+        Some((scale, snode)) => {
+            check_not_negative("scale", scale, snode)?;
+            scale as f32
+        }
+        None => 1.0,
+    };
+    let path = path.canonicalize().unwrap_or(path); // absolute, for writers
+    Ok(Some((Ies { profile: ies.profile, watts: ies.watts, path }, scale, fnode)))
+}
+
+/// An emitter's `power` (W per channel) or `lumens` (converted keeping the colour `colour`,
+/// the value of the parameter `colour_name`), at most one of them; `None` if neither.
+fn power_or_lumens(p: &mut Props, colour: Rgb, colour_name: &str) -> Result<Option<Rgb>> {
+    let power = p.color("power")?;
+    let lumens = p.float("lumens")?;
+    match (power, lumens) {
+        (Some(_), Some((_, lnode))) => Err(lnode.err("give either `power` or `lumens`, not both")),
+        (Some((w, pnode)), None) => {
+            check_not_negative("power", w.min_element().into(), pnode)?;
+            Ok(Some(w))
+        }
+        (None, Some((lm, lnode))) => {
+            check_not_negative("lumens", lm, lnode)?;
+            lumens_to_watts(lm as f32, colour).map(Some).map_err(|_| {
+                lnode.err(format!("`lumens` needs the `{colour_name}` colour to have non-zero luminance"))
+            })
+        }
+        (None, None) => Ok(None),
+    }
+}
+
+/// The frame of an emitter's `to_world`: z = M·(0,0,1) (the axis), x = M·(1,0,0) made
+/// perpendicular; and the position M·(0,0,0). A zero axis is an error at `tnode`.
+fn emitter_frame(t: &Transform, tnode: &Element) -> Result<(Frame, DVec3)> {
+    let m = t.matrix;
+    let frame = lights::axis_frame(m.transform_vector3(DVec3::Z), m.transform_vector3(DVec3::X))
+        .map_err(|_| tnode.err("to_world maps the emitter's axis (0, 0, 1) to zero"))?;
+    Ok((frame, m.transform_point3(DVec3::ZERO)))
+}
+
+// ----- physical checks of emitter values -----
+
+/// `what` (its smallest channel `min`, at `at`) must not be negative.
+fn check_not_negative(what: &str, min: f64, at: &Element) -> Result<()> {
+    if min < 0.0 { Err(at.err(format!("{what} must not be negative"))) } else { Ok(()) }
+}
+
+/// A cosⁿ area emitter's exponent n (at `at`) must be in [0, 10⁶].
+fn check_exponent(n: f64, at: &Element) -> Result<()> {
+    if (0.0..=1e6).contains(&n) { Ok(()) } else { Err(at.err(format!("exponent {n} must be in [0, 10⁶]"))) }
+}
+
+/// An area emitter's `tangent` (at `at`) must not be zero.
+fn check_tangent(t: Vec3, at: &Element) -> Result<Vec3> {
+    if t.length() == 0.0 { Err(at.err("the tangent must not be zero")) } else { Ok(t) }
+}
+
+/// A directional emitter's `direction` (at `at`) must not be zero.
+fn check_direction(d: DVec3, at: &Element) -> Result<DVec3> {
+    if d.length() <= 0.0 { Err(at.err("direction must not be zero")) } else { Ok(d) }
+}
+
+/// A spot's cone: `cutoff` (degrees, at `cnode`) in (0°, 180°] and `beam` (at `bnode`) in
+/// (0°, cutoff]; the core's spot profile ([`lights::spot_profile`]).
+fn check_spot_cone(cutoff: f64, beam: f64, cnode: &Element, bnode: &Element) -> Result<EmissionProfile> {
+    lights::spot_profile(cutoff.to_radians(), beam.to_radians()).map_err(|e| {
+        if e == lights::LightError::Cutoff {
+            cnode.err(format!("cutoff_angle {cutoff}° must be in (0°, 180°]"))
+        } else {
+            bnode.err(format!("beam_width {beam}° must be in (0°, cutoff_angle = {cutoff}°]"))
+        }
+    })
+}

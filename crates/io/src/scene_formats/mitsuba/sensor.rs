@@ -1,0 +1,210 @@
+//! `<sensor>` and its `<film>`: the camera. [`SENSOR_TYPES`] maps each supported Mitsuba
+//! sensor type to its builder; adding one is an entry there and its function.
+//!
+//! Mitsuba's camera looks along local +z with +y up and local +x to the image left; a
+//! [`CameraDesc`] has an eye, a target and an up vector, so `to_world` must be a rotation (a
+//! mirror is refused, scale or shear warned about) and the target is taken at the last
+//! `<lookat>`'s distance. The field of view is converted to the horizontal angle the core wants
+//! with Mitsuba's own `fov_axis` rules ([`fov_to_x`]).
+
+use super::Result;
+use super::build::Builder;
+use super::properties::Props;
+use super::transform::Transform;
+use super::xml::Element;
+use glam::{DMat3, DVec3};
+use opticks_core::scene::CameraDesc;
+
+/// A sensor builder: the `<sensor>` element and its properties.
+type BuildSensor = for<'d> fn(&mut Builder<'d>, &'d Element, Props<'d>) -> Result<CameraDesc>;
+
+/// The supported sensor types.
+const SENSOR_TYPES: &[(&str, BuildSensor)] = &[("perspective", perspective)];
+
+/// Mitsuba's default film size.
+const DEFAULT_FILM: (u32, u32) = (768, 576);
+
+/// The camera of a `<sensor>`.
+pub fn sensor<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<CameraDesc> {
+    let ty = e.required("type")?;
+    let Some((_, build)) = SENSOR_TYPES.iter().find(|(name, _)| *name == ty) else {
+        let names: Vec<&str> = SENSOR_TYPES.iter().map(|(name, _)| *name).collect();
+        return Err(e.err(format!("unsupported sensor type \"{ty}\" (supported: {})", names.join(", "))));
+    };
+    build(b, e, Props::of(e)?)
+}
+
+fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Result<CameraDesc> {
+    let (mut width, mut height) = DEFAULT_FILM;
+    for &c in p.objects() {
+        match c.tag.as_str() {
+            "film" => (width, height) = film(b, c)?,
+            "sampler" => {}
+            other => {
+                return Err(c.err(format!(
+                    "unsupported element <{other}> inside <sensor> (supported: film, sampler)"
+                )));
+            }
+        }
+    }
+    let fov = p.float("fov")?;
+    let focal = p.string("focal_length")?;
+    let axis = p.string("fov_axis")?;
+    let (fov, axis_name, fov_node) = match (fov, focal) {
+        (Some(_), Some((_, fnode))) => {
+            return Err(fnode.err("give either `fov` or `focal_length`, not both"));
+        }
+        (Some((f, node)), None) => {
+            let axis = axis.as_ref().map_or("x".to_string(), |(a, _)| a.to_ascii_lowercase());
+            (f, axis, node)
+        }
+        (None, focal) => {
+            let (s, node) = focal.map_or(("50mm".to_string(), e), |(s, node)| (s, node));
+            let mm = node.number("value", s.trim().trim_end_matches("mm"))?;
+            if mm <= 0.0 {
+                return Err(node.err(format!("focal length {s} must be positive")));
+            }
+            // 35 mm film: 36×24 mm; Mitsuba measures this fov along the diagonal.
+            let f = 2.0 * (36f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees();
+            (f, "diagonal".to_string(), node)
+        }
+    };
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(fov_node.err(format!("field of view {fov}° is outside (0°, 180°)")));
+    }
+    let fov_x = fov_to_x(fov, &axis_name, width, height).ok_or_else(|| {
+        let node = axis.as_ref().map_or(e, |(_, node)| *node);
+        node.err(format!("unsupported fov_axis \"{axis_name}\" (supported: x, y, smaller, larger, diagonal)"))
+    })?;
+    p.ignore(&["near_clip", "far_clip", "shutter_open", "shutter_close"]);
+    let (t, tnode) = p.transform("to_world")?.unwrap_or((Transform::IDENTITY, e));
+    check_camera_frame(b, &t, tnode)?;
+    let m = t.matrix;
+    let eye = m.transform_point3(DVec3::ZERO);
+    let target = m.transform_point3(DVec3::new(0.0, 0.0, t.focus.unwrap_or(1.0)));
+    let up = m.transform_vector3(DVec3::Y);
+    b.finish(&p);
+    Ok(CameraDesc {
+        eye: eye.as_vec3(),
+        target: target.as_vec3(),
+        up: up.as_vec3(),
+        fov_x_degrees: fov_x as f32,
+        width,
+        height,
+    })
+}
+
+/// Physical check of a camera's `to_world` (at `tnode`): affine, not singular, not a mirror
+/// (which would flip the image left-right); scale or shear is a warning (only directions are
+/// used).
+fn check_camera_frame(b: &mut Builder, t: &Transform, tnode: &Element) -> Result<()> {
+    let m = t.matrix;
+    let lin = DMat3::from_mat4(m);
+    let det = lin.determinant();
+    if m.row(3) != glam::DVec4::W {
+        return Err(tnode.err("a camera's to_world must be affine (last matrix row 0, 0, 0, 1)"));
+    }
+    if det == 0.0 {
+        return Err(tnode.err("the camera's to_world is singular"));
+    }
+    if det < 0.0 {
+        return Err(tnode.err(
+            "the camera's to_world mirrors space (negative determinant): the image would be flipped \
+             left-right, which Opticks cameras cannot do; use a <lookat> or a rotation",
+        ));
+    }
+    let ortho = (lin.transpose() * lin - DMat3::IDENTITY).to_cols_array().iter().all(|e| e.abs() < 1e-4);
+    if !ortho {
+        b.warn(
+            tnode,
+            "the camera's to_world contains scale or shear (Mitsuba refuses this); only its directions are used",
+        );
+    }
+    Ok(())
+}
+
+/// `<film type="hdrfilm">`: the image size; the reconstruction filter is checked against the
+/// box filter Opticks uses.
+fn film<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<(u32, u32)> {
+    let ty = e.required("type")?;
+    if ty != "hdrfilm" {
+        return Err(e.err(format!("unsupported film type \"{ty}\" (supported: hdrfilm)")));
+    }
+    let mut p = Props::of(e)?;
+    let mut size = [DEFAULT_FILM.0, DEFAULT_FILM.1];
+    for (s, name) in size.iter_mut().zip(["width", "height"]) {
+        if let Some((v, node)) = p.int(name)? {
+            *s = u32::try_from(v)
+                .ok()
+                .filter(|&v| v > 0)
+                .ok_or_else(|| node.err(format!("{name} {v} must be a positive integer")))?;
+        }
+    }
+    p.ignore(&[
+        "pixel_format",
+        "component_format",
+        "file_format",
+        "banner",
+        "high_quality_edges",
+        "sample_border",
+    ]);
+    let mut filter_seen = false;
+    for &c in p.objects() {
+        match c.tag.as_str() {
+            "rfilter" => {
+                filter_seen = true;
+                let ty = c.required("type")?;
+                if ty != "box" {
+                    b.warn(
+                        c,
+                        format!("reconstruction filter \"{ty}\" is not supported; Opticks uses a box filter"),
+                    );
+                }
+            }
+            other => {
+                return Err(
+                    c.err(format!("unsupported element <{other}> inside <film> (supported: rfilter)"))
+                );
+            }
+        }
+    }
+    if !filter_seen {
+        b.warn(e, "no <rfilter>: Mitsuba's default is \"gaussian\", Opticks always uses a box filter");
+    }
+    b.finish(&p);
+    Ok((size[0], size[1]))
+}
+
+/// The horizontal full angle (degrees) for a full angle `fov` along `axis`, as Mitsuba's
+/// `parse_fov` computes it. `None` for an unknown axis.
+pub fn fov_to_x(fov: f64, axis: &str, width: u32, height: u32) -> Option<f64> {
+    let aspect = width as f64 / height as f64;
+    let axis = match axis {
+        "smaller" => {
+            if aspect > 1.0 {
+                "y"
+            } else {
+                "x"
+            }
+        }
+        "larger" => {
+            if aspect > 1.0 {
+                "x"
+            } else {
+                "y"
+            }
+        }
+        a => a,
+    };
+    let half = (0.5 * fov).to_radians();
+    match axis {
+        "x" => Some(fov),
+        "y" => Some(2.0 * (half.tan() * aspect).atan().to_degrees()),
+        "diagonal" => {
+            let diagonal = 2.0 * half.tan();
+            let w = diagonal / (1.0 + 1.0 / (aspect * aspect)).sqrt();
+            Some(2.0 * (0.5 * w).atan().to_degrees())
+        }
+        _ => None,
+    }
+}

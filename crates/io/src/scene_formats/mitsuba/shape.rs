@@ -1,0 +1,215 @@
+//! `<shape>` elements: triangle meshes with their normals, material, interior medium and area
+//! emitter. [`SHAPE_TYPES`] maps each supported Mitsuba shape type to the function producing
+//! its geometry in object space; adding a shape is an entry there and its function. The rest —
+//! `to_world`, `face_normals`, `flip_normals`, the BSDF, the medium, the emitter — is the same for
+//! every type and done once, in [`shape`].
+//!
+//! Normals follow Mitsuba: a mesh file's vertex normals are the shading normals (carried by the
+//! inverse transpose of `to_world`); a mesh file without normals gets Mitsuba's generated smooth
+//! normals, computed on the world positions ([`generated_vertex_normals`]); analytic shapes are
+//! faceted, and a mirroring `to_world` reverses their winding so that their normal stays where
+//! Mitsuba's transformed normal is.
+
+use super::Result;
+use super::bsdf;
+use super::build::Builder;
+use super::properties::Props;
+use super::xml::Element;
+use super::{emitter, medium};
+use crate::scene_formats::obj::{generated_vertex_normals, read_obj};
+use glam::{DMat3, DMat4};
+use opticks_core::math::Vec3;
+use opticks_core::scene::MeshDesc;
+
+/// A shape's geometry before `to_world`.
+pub struct Geometry {
+    /// Object-space vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Counter-clockwise triangles.
+    pub triangles: Vec<[u32; 3]>,
+    /// Shading normals, one per position, or empty.
+    pub normals: Vec<Vec3>,
+    /// For a mesh file: its texture-coordinate indices per triangle corner, which Mitsuba's
+    /// generated normals are split by (a mesh file without normals gets them unless
+    /// `face_normals` is set). `None` for analytic shapes.
+    pub texcoords: Option<Vec<[u32; 3]>>,
+    /// An analytic shape, whose normals Mitsuba transforms as normals (a mirroring `to_world`
+    /// reverses its winding to keep them).
+    pub analytic: bool,
+}
+
+/// A geometry builder: the `<shape>` element and its properties.
+type BuildGeometry = for<'d> fn(&mut Builder<'d>, &'d Element, &mut Props<'d>) -> Result<Geometry>;
+
+/// The supported shape types, in the order the error message lists them.
+const SHAPE_TYPES: &[(&str, BuildGeometry)] = &[("obj", obj), ("rectangle", rectangle), ("cube", cube)];
+
+/// The mesh of a `<shape>`; `index` counts the scene's shapes (for the default name
+/// `<type>_<index>`). Materials it introduces are added to the scene.
+pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<MeshDesc> {
+    let ty = e.required("type")?;
+    let name = e.attr("id")?.map_or_else(|| format!("{ty}_{index}"), str::to_string);
+    let mut p = Props::of(e)?;
+    let Some((_, geometry)) = SHAPE_TYPES.iter().find(|(n, _)| *n == ty) else {
+        let names: Vec<&str> = SHAPE_TYPES.iter().map(|(n, _)| *n).collect();
+        return Err(
+            e.attr_err("type", format!("unsupported shape type \"{ty}\" (supported: {})", names.join(", ")))
+        );
+    };
+    let Geometry { mut positions, mut triangles, mut normals, texcoords, analytic } = geometry(b, e, &mut p)?;
+    // Mitsuba's default (false) shades with the file's vertex normals when it has them, and
+    // generates smooth ones (after `to_world`, below) when it has none.
+    let face_normals = p.bool("face_normals")?.unwrap_or(false);
+    if face_normals {
+        normals.clear();
+    }
+    p.ignore(&["flip_tex_coords"]);
+    let flip = p.bool("flip_normals")?.unwrap_or(false);
+    let mut mirrored = false;
+    if let Some((t, tnode)) = p.transform("to_world")? {
+        let m = t.matrix;
+        mirrored = DMat3::from_mat4(m).determinant() < 0.0;
+        if m != DMat4::IDENTITY {
+            let mf = m.as_mat4();
+            if m.row(3) == glam::DVec4::W {
+                positions.iter_mut().for_each(|q| *q = mf.transform_point3(*q));
+            } else {
+                positions.iter_mut().for_each(|q| *q = mf.project_point3(*q));
+            }
+            if let Some(i) = positions.iter().position(|q| !q.is_finite()) {
+                return Err(tnode.err(format!("to_world maps vertex {} to a non-finite point", i + 1)));
+            }
+            // Normals transform by the inverse transpose (the core normalises them).
+            let nm = glam::Mat3::from_mat4(mf).inverse().transpose();
+            normals.iter_mut().for_each(|v| *v = nm * *v);
+        }
+    }
+    if let Some(texcoords) = texcoords.filter(|_| !face_normals && normals.is_empty()) {
+        let smooth = generated_vertex_normals(positions, triangles, &texcoords);
+        (positions, triangles, normals) = (smooth.positions, smooth.triangles, smooth.normals);
+    }
+    if flip ^ (analytic && mirrored) {
+        triangles.iter_mut().for_each(|t| t.swap(1, 2));
+    }
+    if flip {
+        normals.iter_mut().for_each(|v| *v = -*v);
+    }
+
+    let mut chosen = None;
+    let mut interior = None;
+    let mut emission = None;
+    for &c in p.objects() {
+        match (c.tag.as_str(), c.raw("name")) {
+            ("ref" | "medium", Some("interior")) => {
+                if interior.is_some() {
+                    return Err(c.err("a shape can have only one interior medium"));
+                }
+                interior = Some(medium::interior_medium(b, c)?);
+            }
+            ("ref" | "medium", Some("exterior")) => {
+                return Err(c.err("exterior media are not supported: the outside of every shape is vacuum"));
+            }
+            ("medium", _) => return Err(c.err("a <medium> inside a shape needs name=\"interior\"")),
+            ("bsdf" | "ref", _) => {
+                if chosen.is_some() {
+                    return Err(c.err("a shape can have only one BSDF"));
+                }
+                let (parsed, ref_id) = if c.tag == "ref" {
+                    let parsed = bsdf::bsdf_ref(b, c)?;
+                    let id = parsed.name.clone();
+                    (parsed, Some(id))
+                } else {
+                    let mut parsed = bsdf::bsdf(b, c)?;
+                    if c.raw("id").is_none() {
+                        parsed.name = format!("{name}.bsdf");
+                    }
+                    (parsed, None)
+                };
+                chosen = Some((parsed, ref_id));
+            }
+            ("emitter", _) => {
+                if emission.is_some() {
+                    return Err(c.err("a shape can have only one emitter"));
+                }
+                emission = Some(emitter::area_emitter(b, c)?);
+            }
+            (other, _) => {
+                return Err(c.err(format!(
+                    "unsupported element <{other}> inside <shape> (supported: bsdf, ref, emitter, medium)"
+                )));
+            }
+        }
+    }
+    let material = match (chosen, interior) {
+        (Some((parsed, ref_id)), None) => bsdf::material_index(b, &parsed, ref_id.as_deref()),
+        (Some((parsed, ref_id)), Some(medium)) => medium::absorbing_material(b, parsed, ref_id, medium)?,
+        (None, Some(medium)) => {
+            return Err(medium
+                .node
+                .err("an interior medium needs a dielectric BSDF on the shape (this shape has none)"));
+        }
+        (None, None) => bsdf::default_material(b),
+    };
+    b.finish(&p);
+    let mut mesh = MeshDesc {
+        name,
+        source: Builder::source(e),
+        positions,
+        triangles,
+        normals,
+        material,
+        ..Default::default()
+    };
+    emitter::set_area_emission(&mut mesh, emission);
+    Ok(mesh)
+}
+
+/// `obj`: the triangles of a Wavefront OBJ file (`filename`, relative to the scene's folder).
+fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
+    let (file, fnode) =
+        p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))?;
+    let path = fnode.resolve(&file);
+    let mesh = read_obj(&path, Some((e.describe(), e.at.clone())))?;
+    if mesh.triangles.is_empty() {
+        b.warn(e, format!("{} has no faces", path.display()));
+    }
+    Ok(Geometry {
+        positions: mesh.positions,
+        triangles: mesh.triangles,
+        normals: mesh.normals,
+        texcoords: Some(mesh.texcoords),
+        analytic: false,
+    })
+}
+
+/// `rectangle`: [-1, 1]² at z = 0, normal +z.
+fn rectangle<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Geometry> {
+    let positions = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(x, y)| Vec3::new(x, y, 0.0));
+    Ok(analytic(positions.to_vec(), vec![[0, 1, 2], [2, 3, 0]]))
+}
+
+/// `cube`: Mitsuba's [-1, 1]³, four vertices per face, outward normals, counter-clockwise.
+fn cube<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Geometry> {
+    let mut positions = Vec::with_capacity(24);
+    let mut triangles = Vec::with_capacity(12);
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            // Face at coordinate `axis` = sign; (u, v) span it with u × v = sign · e_axis.
+            let n = Vec3::from_array(std::array::from_fn(|k| if k == axis { sign } else { 0.0 }));
+            let u = Vec3::from_array(std::array::from_fn(|k| if k == (axis + 1) % 3 { 1.0 } else { 0.0 }));
+            let v = n.cross(u);
+            let base = positions.len() as u32;
+            for (a, c) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                positions.push(n + a * u + c * v);
+            }
+            triangles.push([base, base + 1, base + 2]);
+            triangles.push([base, base + 2, base + 3]);
+        }
+    }
+    Ok(analytic(positions, triangles))
+}
+
+/// A faceted analytic shape.
+fn analytic(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Geometry {
+    Geometry { positions, triangles, normals: Vec::new(), texcoords: None, analytic: true }
+}
