@@ -369,53 +369,51 @@ mod tests {
         Microfacet { distribution, alpha_u, alpha_v }
     }
 
+    fn phong() -> ModifiedPhong {
+        ModifiedPhong { kd: Rgb::new(0.3, 0.2, 0.1), ks: Rgb::new(0.1, 0.2, 0.3), exponent: 20.0 }
+    }
+
+    fn mirror() -> SmoothConductor {
+        let ior = Some((Rgb::new(0.2, 0.9, 1.1), Rgb::new(3.9, 2.4, 1.6e17)));
+        SmoothConductor { specular_reflectance: Rgb::new(0.9, 0.8, 0.7), ior }
+    }
+
+    fn glass() -> SmoothDielectric {
+        SmoothDielectric {
+            eta: 1.0 / 1.5,
+            specular_reflectance: Rgb::ONE,
+            specular_transmittance: Rgb::new(1.0, 0.95, 0.9),
+            absorption: Rgb::new(0.1, 2.5e-5, 0.0),
+        }
+    }
+
+    fn rough_metal() -> RoughConductor {
+        RoughConductor {
+            microfacet: mf(Distribution::Beckmann, 0.1, 0.3),
+            specular_reflectance: Rgb::ONE,
+            ior: None,
+        }
+    }
+
+    fn rough_glass() -> RoughDielectric {
+        RoughDielectric {
+            eta: 1.5,
+            microfacet: mf(Distribution::Ggx, 0.25, 0.25),
+            specular_reflectance: Rgb::new(1.0, 0.99, 0.98),
+            specular_transmittance: Rgb::ONE,
+            absorption: Rgb::new(0.0, 0.5, 12.0),
+        }
+    }
+
     /// One material of every BSDF variant, with every option used.
     fn one_of_each() -> Vec<Material> {
-        let rgb = Rgb::new;
         vec![
-            material(Bsdf::Lambert(Lambert { reflectance: rgb(0.885809, 1e-7, -0.0) }), true),
-            material(
-                Bsdf::ModifiedPhong(ModifiedPhong {
-                    kd: rgb(0.3, 0.2, 0.1),
-                    ks: rgb(0.1, 0.2, 0.3),
-                    exponent: 20.0,
-                }),
-                false,
-            ),
-            material(
-                Bsdf::SmoothConductor(SmoothConductor {
-                    specular_reflectance: rgb(0.9, 0.8, 0.7),
-                    ior: Some((rgb(0.2, 0.9, 1.1), rgb(3.9, 2.4, 1.6e17))),
-                }),
-                true,
-            ),
-            material(
-                Bsdf::SmoothDielectric(SmoothDielectric {
-                    eta: 1.0 / 1.5,
-                    specular_reflectance: Rgb::ONE,
-                    specular_transmittance: rgb(1.0, 0.95, 0.9),
-                    absorption: rgb(0.1, 2.5e-5, 0.0),
-                }),
-                false,
-            ),
-            material(
-                Bsdf::RoughConductor(RoughConductor {
-                    microfacet: mf(Distribution::Beckmann, 0.1, 0.3),
-                    specular_reflectance: Rgb::ONE,
-                    ior: None,
-                }),
-                false,
-            ),
-            material(
-                Bsdf::RoughDielectric(RoughDielectric {
-                    eta: 1.5,
-                    microfacet: mf(Distribution::Ggx, 0.25, 0.25),
-                    specular_reflectance: rgb(1.0, 0.99, 0.98),
-                    specular_transmittance: Rgb::ONE,
-                    absorption: rgb(0.0, 0.5, 12.0),
-                }),
-                true,
-            ),
+            material(Bsdf::Lambert(Lambert { reflectance: Rgb::new(0.885809, 1e-7, -0.0) }), true),
+            material(Bsdf::ModifiedPhong(phong()), false),
+            material(Bsdf::SmoothConductor(mirror()), true),
+            material(Bsdf::SmoothDielectric(glass()), false),
+            material(Bsdf::RoughConductor(rough_metal()), false),
+            material(Bsdf::RoughDielectric(rough_glass()), true),
         ]
     }
 
@@ -451,146 +449,82 @@ mod tests {
     fn material_hash_changes_with_every_parameter_and_only_with_them() {
         let base = one_of_each();
         for m in &base {
-            let mut twin = m.clone();
-            twin.name = "another name".into();
+            let twin = Material { name: "another name".into(), ..m.clone() };
             assert_eq!(material_hash(&twin), material_hash(m), "{m:?}");
         }
-        // Each variant with one parameter changed (a channel, a roughness, an index, the
-        // distribution, the sidedness, the presence of a conductor index).
-        let changed = |i: usize, f: &dyn Fn(&mut Bsdf)| {
-            let mut m = base[i].clone();
-            f(&mut m.bsdf);
-            m
-        };
-        let mut variants: Vec<Material> = Vec::new();
-        for (i, m) in base.iter().enumerate() {
-            let mut flipped = m.clone();
-            flipped.two_sided = !m.two_sided;
-            variants.push(flipped);
-            for c in 0..3 {
-                let bump = |v: &mut Rgb| v[c] += 0.01;
-                variants.push(changed(i, &|b| match b {
-                    Bsdf::Lambert(x) => bump(&mut x.reflectance),
-                    Bsdf::ModifiedPhong(x) => bump(&mut x.kd),
-                    Bsdf::SmoothConductor(x) => bump(&mut x.specular_reflectance),
-                    Bsdf::SmoothDielectric(x) => bump(&mut x.specular_reflectance),
-                    Bsdf::RoughConductor(x) => bump(&mut x.specular_reflectance),
-                    Bsdf::RoughDielectric(x) => bump(&mut x.specular_transmittance),
-                }));
-            }
-        }
-        let rgb = |b: &mut Bsdf| -> Vec<fn(&mut Bsdf)> {
-            match b {
-                Bsdf::ModifiedPhong(_) => vec![
-                    |b| {
-                        if let Bsdf::ModifiedPhong(x) = b {
-                            x.ks.y += 0.01
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::ModifiedPhong(x) = b {
-                            x.exponent = 21.0
-                        }
-                    },
-                ],
-                Bsdf::SmoothConductor(_) => vec![
-                    |b| {
-                        if let Bsdf::SmoothConductor(x) = b {
-                            x.ior = None
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::SmoothConductor(x) = b {
-                            x.ior.as_mut().unwrap().0.x += 0.01
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::SmoothConductor(x) = b {
-                            x.ior.as_mut().unwrap().1.z = 1.6e16
-                        }
-                    },
-                ],
-                Bsdf::SmoothDielectric(_) => vec![
-                    |b| {
-                        if let Bsdf::SmoothDielectric(x) = b {
-                            x.eta = 1.5
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::SmoothDielectric(x) = b {
-                            x.specular_transmittance.z = 0.91
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::SmoothDielectric(x) = b {
-                            x.absorption.x = 0.2
-                        }
-                    },
-                ],
-                Bsdf::RoughConductor(_) => vec![
-                    |b| {
-                        if let Bsdf::RoughConductor(x) = b {
-                            x.microfacet.alpha_u = 0.11
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::RoughConductor(x) = b {
-                            x.microfacet.alpha_v = 0.1
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::RoughConductor(x) = b {
-                            x.microfacet.distribution = Distribution::Ggx
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::RoughConductor(x) = b {
-                            x.ior = Some((Rgb::ONE, Rgb::ONE))
-                        }
-                    },
-                ],
-                Bsdf::RoughDielectric(_) => vec![
-                    |b| {
-                        if let Bsdf::RoughDielectric(x) = b {
-                            x.eta = 1.33
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::RoughDielectric(x) = b {
-                            x.microfacet.alpha_u = 0.3
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::RoughDielectric(x) = b {
-                            x.microfacet.distribution = Distribution::Beckmann
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::RoughDielectric(x) = b {
-                            x.specular_reflectance.y = 0.5
-                        }
-                    },
-                    |b| {
-                        if let Bsdf::RoughDielectric(x) = b {
-                            x.absorption.z = 0.0
-                        }
-                    },
-                ],
-                Bsdf::Lambert(_) => vec![|b| {
-                    if let Bsdf::Lambert(x) = b {
-                        x.reflectance.z = 0.0
-                    }
-                }],
-            }
-        };
-        for (i, m) in base.iter().enumerate() {
-            for f in rgb(&mut m.bsdf.clone()) {
-                variants.push(changed(i, &f));
-            }
-        }
-        // Every base and every variant hashes differently from every other.
-        let all: Vec<&Material> = base.iter().chain(&variants).collect();
-        let hashes: Vec<[u8; 16]> = all.iter().map(|m| material_hash(m)).collect();
+        let rgb = Rgb::new;
+        let (p, c, g, rc, rg) = (phong(), mirror(), glass(), rough_metal(), rough_glass());
+        // Each variant with one parameter changed: every field, the presence of a conductor
+        // index, the distribution, a roughness along each axis, a sign of zero.
+        let changed = [
+            Bsdf::Lambert(Lambert { reflectance: rgb(0.885809, 1e-7, 0.0) }),
+            Bsdf::Lambert(Lambert { reflectance: rgb(0.885809, 2e-7, -0.0) }),
+            Bsdf::ModifiedPhong(ModifiedPhong { kd: rgb(0.3, 0.2, 0.11), ..p.clone() }),
+            Bsdf::ModifiedPhong(ModifiedPhong { ks: rgb(0.1, 0.21, 0.3), ..p.clone() }),
+            Bsdf::ModifiedPhong(ModifiedPhong { exponent: 21.0, ..p }),
+            Bsdf::SmoothConductor(SmoothConductor { specular_reflectance: rgb(0.91, 0.8, 0.7), ..c.clone() }),
+            Bsdf::SmoothConductor(SmoothConductor { ior: None, ..c.clone() }),
+            Bsdf::SmoothConductor(SmoothConductor {
+                ior: Some((rgb(0.21, 0.9, 1.1), rgb(3.9, 2.4, 1.6e17))),
+                ..c.clone()
+            }),
+            Bsdf::SmoothConductor(SmoothConductor {
+                ior: Some((rgb(0.2, 0.9, 1.1), rgb(3.9, 2.4, 1.6e16))),
+                ..c
+            }),
+            Bsdf::SmoothDielectric(SmoothDielectric { eta: 1.5, ..g.clone() }),
+            Bsdf::SmoothDielectric(SmoothDielectric {
+                specular_reflectance: rgb(1.0, 0.9, 1.0),
+                ..g.clone()
+            }),
+            Bsdf::SmoothDielectric(SmoothDielectric {
+                specular_transmittance: rgb(1.0, 0.95, 0.91),
+                ..g.clone()
+            }),
+            Bsdf::SmoothDielectric(SmoothDielectric { absorption: rgb(0.2, 2.5e-5, 0.0), ..g }),
+            Bsdf::RoughConductor(RoughConductor {
+                microfacet: mf(Distribution::Beckmann, 0.11, 0.3),
+                ..rc.clone()
+            }),
+            Bsdf::RoughConductor(RoughConductor {
+                microfacet: mf(Distribution::Beckmann, 0.1, 0.1),
+                ..rc.clone()
+            }),
+            Bsdf::RoughConductor(RoughConductor {
+                microfacet: mf(Distribution::Ggx, 0.1, 0.3),
+                ..rc.clone()
+            }),
+            Bsdf::RoughConductor(RoughConductor { specular_reflectance: rgb(1.0, 1.0, 0.5), ..rc.clone() }),
+            Bsdf::RoughConductor(RoughConductor { ior: Some((Rgb::ONE, Rgb::ONE)), ..rc }),
+            Bsdf::RoughDielectric(RoughDielectric { eta: 1.33, ..rg.clone() }),
+            Bsdf::RoughDielectric(RoughDielectric {
+                microfacet: mf(Distribution::Ggx, 0.3, 0.25),
+                ..rg.clone()
+            }),
+            Bsdf::RoughDielectric(RoughDielectric {
+                microfacet: mf(Distribution::Ggx, 0.25, 0.3),
+                ..rg.clone()
+            }),
+            Bsdf::RoughDielectric(RoughDielectric {
+                microfacet: mf(Distribution::Beckmann, 0.25, 0.25),
+                ..rg.clone()
+            }),
+            Bsdf::RoughDielectric(RoughDielectric {
+                specular_reflectance: rgb(1.0, 0.5, 0.98),
+                ..rg.clone()
+            }),
+            Bsdf::RoughDielectric(RoughDielectric {
+                specular_transmittance: rgb(0.5, 1.0, 1.0),
+                ..rg.clone()
+            }),
+            Bsdf::RoughDielectric(RoughDielectric { absorption: rgb(0.0, 0.5, 0.0), ..rg }),
+        ];
+        let mut all = base.clone();
+        all.extend(base.iter().map(|m| Material { two_sided: !m.two_sided, ..m.clone() }));
+        all.extend(changed.into_iter().map(|bsdf| material(bsdf, false)));
+        all.extend(all.clone().into_iter().skip(2 * base.len()).map(|m| Material { two_sided: true, ..m }));
+        // Every one hashes differently from every other.
+        let hashes: Vec<[u8; 16]> = all.iter().map(material_hash).collect();
         for i in 0..all.len() {
             for j in 0..i {
                 assert_ne!(hashes[i], hashes[j], "{:?}\nand\n{:?}", all[i], all[j]);

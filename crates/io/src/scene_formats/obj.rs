@@ -1,4 +1,8 @@
-//! Wavefront OBJ meshes: positions, vertex normals and faces.
+//! Wavefront OBJ: the one reader of OBJ text. `parse_obj_file` reads every statement Opticks
+//! uses in one pass; the OBJ/MTL scene loader ([`super::wavefront`]) makes meshes of its groups
+//! and materials, and Mitsuba's `<shape type="obj">` reads the whole file as one mesh
+//! ([`read_obj`], [`parse_obj`]), with Mitsuba's generated vertex normals when it has none
+//! ([`generated_vertex_normals`], below).
 //!
 //! | statement | handling |
 //! |---|---|
@@ -7,7 +11,11 @@
 //! | `f i j k …` | a polygon, triangulated as a fan `(i, j, k), (i, k, l), …`; each corner may be `v`, `v/vt`, `v//vn` or `v/vt/vn` (`vt` indices only split vertices for [`generated_vertex_normals`], below) |
 //! | indices | 1-based; negative indices count back from the last vertex (or normal) defined so far (`-1` = the latest) |
 //! | `vt` | counted (for relative `vt` indices); its coordinates are ignored |
-//! | `vp`, `o`, `g`, `s`, `usemtl`, `mtllib`, `l`, `p`, `#…`, anything else | ignored |
+//! | `o name`, `g name …` | starts a group (the rest of the line is its name; empty = no group) |
+//! | `usemtl name` | later faces use that material (empty = none) |
+//! | `mtllib a.mtl …` | material libraries (the rest of the line, as written) |
+//! | `#…` | a comment, from `#` to the end of the line, wherever it starts |
+//! | `vp`, `s`, `l`, `p`, curves, anything else | ignored |
 //!
 //! Vertex normals: a corner `v//vn` is a vertex of its own (position v, normal vn; corners
 //! sharing both share the vertex). In a file that uses normals, a face corner without one is
@@ -34,14 +42,12 @@
 //! `tobj` (used by the tests as an independent reader to cross-check this one) reports errors as a bare enum (`FaceVertexOutOfBounds`,
 //! `PositionParseError`) without a line number, accepts `nan`/`inf` coordinates silently, and
 //! allocates a `String` per line. This reader is a single pass over the file's bytes that
-//! allocates nothing per line (tokens are sub-slices; numbers use the standard library's
-//! allocation-free parsers), so a million-triangle file loads in well under a second and every
-//! error names its line.
+//! allocates nothing per vertex or face line (tokens are sub-slices; numbers use the standard
+//! library's allocation-free parsers), so a million-triangle file loads in well under a second
+//! and every error names its line.
 
-use super::{FileLocation, LoadedScene, SceneFileError};
-use opticks_core::bsdf::{Bsdf, Lambert, Material};
-use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{MeshDesc, SceneDescription, Source};
+use super::{FileLocation, SceneFileError};
+use opticks_core::math::Vec3;
 use std::path::Path;
 
 /// An OBJ file's triangles.
@@ -72,26 +78,111 @@ pub struct ObjError {
     pub message: String,
 }
 
-/// Parses OBJ text (see the module docs for what is read).
-pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
+/// Everything an OBJ file says that Opticks uses, as [`parse_obj_file`] reads it.
+pub(super) struct ObjFile {
+    /// The vertex data the triangles' corner ids refer to.
+    pub(super) vertices: ObjVertices,
+    /// Every face's triangles (corner ids, see [`ObjVertices`]), polygons fanned, in file order.
+    pub(super) triangles: Vec<[u32; 3]>,
+    /// If asked for: each triangle's texture-coordinate indices (as [`ObjMesh::texcoords`]).
+    pub(super) texcoords: Vec<[u32; 3]>,
+    /// The faces in runs that share the group and material statements in force (a new run starts
+    /// at the first face after an `o`, `g` or `usemtl`), in file order; none before the first face.
+    pub(super) runs: Vec<FaceRun>,
+    /// `mtllib` arguments with their lines.
+    pub(super) mtllibs: Vec<(String, u32)>,
+}
+
+/// Consecutive faces read under the same `o`/`g` and `usemtl` statements.
+pub(super) struct FaceRun {
+    /// Index of the run's first triangle in [`ObjFile::triangles`] (it ends where the next begins).
+    pub(super) start: usize,
+    /// The group in force (`o` or `g`): `None` before any, or after one without a name.
+    pub(super) group: Option<String>,
+    /// The material in force and the line of its `usemtl`: `None` before any, or after one
+    /// without a name.
+    pub(super) material: Option<(String, u32)>,
+}
+
+impl ObjFile {
+    /// The triangles of run `i`.
+    pub(super) fn run_triangles(&self, i: usize) -> &[[u32; 3]] {
+        let end = self.runs.get(i + 1).map_or(self.triangles.len(), |r| r.start);
+        &self.triangles[self.runs[i].start..end]
+    }
+}
+
+/// Reads OBJ text in one pass (see the module docs for what is read); with `texcoords`, also
+/// each corner's texture-coordinate index (for [`generated_vertex_normals`]).
+pub(super) fn parse_obj_file(data: &[u8], texcoords: bool) -> Result<ObjFile, ObjError> {
     let mut geometry = ObjGeometry::new(u32::MAX);
     let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut texcoords: Vec<[u32; 3]> = Vec::new();
+    let mut tri_texcoords: Vec<[u32; 3]> = Vec::new();
+    let mut runs: Vec<FaceRun> = Vec::new();
+    let mut mtllibs = Vec::new();
+    let mut group: Option<String> = None;
+    let mut material: Option<(String, u32)> = None;
+    // Whether an `o`, `g` or `usemtl` came since the last face (the next face starts a run).
+    let mut new_run = true;
     let mut line_no = 0u32;
 
     for raw in data.split(|&b| b == b'\n') {
-        line_no += 1;
+        line_no = line_no.saturating_add(1);
+        let raw = match raw.iter().position(|&b| b == b'#') {
+            Some(p) => &raw[..p],
+            None => raw,
+        };
         let mut tokens = line_tokens(raw);
         let Some(keyword) = tokens.next() else { continue };
         match keyword {
             b"v" => geometry.vertex(tokens, line_no)?,
             b"vn" => geometry.normal(tokens, line_no)?,
             b"vt" => geometry.texcoord_count += 1,
-            b"f" => geometry.face(tokens, line_no, &mut triangles, Some(&mut texcoords))?,
+            b"f" => {
+                if new_run {
+                    runs.push(FaceRun {
+                        start: triangles.len(),
+                        group: group.clone(),
+                        material: material.clone(),
+                    });
+                    new_run = false;
+                }
+                geometry.face(tokens, line_no, &mut triangles, texcoords.then_some(&mut tri_texcoords))?;
+            }
+            b"o" | b"g" => {
+                let name = rest_of_line(raw, keyword);
+                group = (!name.is_empty()).then_some(name);
+                new_run = true;
+            }
+            b"usemtl" => {
+                let name = rest_of_line(raw, keyword);
+                material = (!name.is_empty()).then_some((name, line_no));
+                new_run = true;
+            }
+            b"mtllib" => {
+                let name = rest_of_line(raw, keyword);
+                if !name.is_empty() {
+                    mtllibs.push((name, line_no));
+                }
+            }
             _ => {}
         }
     }
     let vertices = geometry.finish()?;
+    Ok(ObjFile { vertices, triangles, texcoords: tri_texcoords, runs, mtllibs })
+}
+
+/// The text after the keyword, trimmed (names may contain spaces).
+fn rest_of_line(raw: &[u8], keyword: &[u8]) -> String {
+    let start = raw.windows(keyword.len()).position(|w| w == keyword).map_or(0, |p| p + keyword.len());
+    String::from_utf8_lossy(&raw[start..]).trim().to_string()
+}
+
+/// Parses OBJ text as one mesh, all its faces in file order (as Mitsuba's `obj` shape reads a
+/// file): the vertices as written if no corner has a normal (with the texture-coordinate
+/// indices, if any corner has one), else those the faces use, split by normal.
+pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
+    let ObjFile { vertices, triangles, mut texcoords, .. } = parse_obj_file(data, true)?;
     if !vertices.has_normals() {
         if texcoords.iter().all(|t| *t == [NO_TEXCOORD; 3]) {
             texcoords = Vec::new();
@@ -99,7 +190,7 @@ pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
         return Ok(ObjMesh { positions: vertices.positions, triangles, normals: Vec::new(), texcoords });
     }
     let mut remap = vertices.remap_table();
-    Ok(vertices.gather(&triangles, &mut remap))
+    Ok(vertices.gather(&[&triangles], &mut remap))
 }
 
 /// Marks a face-corner id that names a (position, normal) pair of [`ObjGeometry`] rather than a
@@ -107,14 +198,14 @@ pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
 const NORMAL_CORNER: u32 = 1 << 31;
 
 /// The whitespace-separated tokens of one OBJ line.
-pub(super) fn line_tokens(raw: &[u8]) -> impl Iterator<Item = &[u8]> {
+fn line_tokens(raw: &[u8]) -> impl Iterator<Item = &[u8]> {
     raw.split(|&b| b == b' ' || b == b'\t' || b == b'\r').filter(|t| !t.is_empty())
 }
 
-/// The `v` and `f` statements, shared by this reader and the OBJ/MTL scene loader
-/// ([`super::wavefront`]): vertex positions, face-corner index resolution, and the check, once the
-/// whole file is read, that no face refers past the last vertex.
-pub(super) struct ObjGeometry {
+/// The `v`, `vn`, `vt` and `f` statements: vertex positions and normals, face-corner index
+/// resolution, and the check, once the whole file is read, that no face refers past the last
+/// vertex or normal.
+struct ObjGeometry {
     /// Vertex positions, in file order.
     positions: Vec<Vec3>,
     /// Vertex normals (`vn`), in file order.
@@ -140,7 +231,7 @@ pub(super) struct ObjGeometry {
 
 impl ObjGeometry {
     /// An empty geometry whose faces may use 0-based indices up to `largest_index`.
-    pub(super) fn new(largest_index: u32) -> Self {
+    fn new(largest_index: u32) -> Self {
         ObjGeometry {
             positions: Vec::new(),
             normals: Vec::new(),
@@ -156,22 +247,14 @@ impl ObjGeometry {
     }
 
     /// Reads the arguments of a `v` statement on line `line_no`.
-    pub(super) fn vertex<'a>(
-        &mut self,
-        tokens: impl Iterator<Item = &'a [u8]>,
-        line_no: u32,
-    ) -> Result<(), ObjError> {
+    fn vertex<'a>(&mut self, tokens: impl Iterator<Item = &'a [u8]>, line_no: u32) -> Result<(), ObjError> {
         let p = read_vec3(tokens, line_no, "vertex")?;
         self.positions.push(p);
         Ok(())
     }
 
     /// Reads the arguments of a `vn` statement on line `line_no`.
-    pub(super) fn normal<'a>(
-        &mut self,
-        tokens: impl Iterator<Item = &'a [u8]>,
-        line_no: u32,
-    ) -> Result<(), ObjError> {
+    fn normal<'a>(&mut self, tokens: impl Iterator<Item = &'a [u8]>, line_no: u32) -> Result<(), ObjError> {
         let n = read_vec3(tokens, line_no, "vertex normal")?;
         if n == Vec3::ZERO {
             return Err(ObjError { line: line_no, message: "vertex normal is zero".into() });
@@ -180,9 +263,9 @@ impl ObjGeometry {
         Ok(())
     }
 
-    /// Reads the arguments of an `f` statement on line `line_no` (up to a `#` comment) and appends
-    /// its fan of triangles, 0-based, to `triangles`.
-    pub(super) fn face<'a>(
+    /// Reads the arguments of an `f` statement on line `line_no` and appends its fan of triangles
+    /// (corner ids) to `triangles`, and with `texcoords` their texture-coordinate indices.
+    fn face<'a>(
         &mut self,
         tokens: impl Iterator<Item = &'a [u8]>,
         line_no: u32,
@@ -193,9 +276,6 @@ impl ObjGeometry {
         corners.clear();
         self.corner_texcoords.clear();
         for tok in tokens {
-            if tok[0] == b'#' {
-                break;
-            }
             let mut fields = tok.split(|&b| b == b'/');
             let v = fields.next().unwrap_or(tok);
             let vt = fields.next();
@@ -288,7 +368,7 @@ impl ObjGeometry {
 
     /// The vertices, once every face is checked against the number of vertices and normals in
     /// the file.
-    pub(super) fn finish(self) -> Result<ObjVertices, ObjError> {
+    fn finish(self) -> Result<ObjVertices, ObjError> {
         if let Some((m, line)) = self.max_normal {
             if m as usize >= self.normals.len() {
                 return Err(ObjError {
@@ -337,15 +417,17 @@ impl ObjVertices {
         vec![u32::MAX; self.positions.len() + self.pairs.len()]
     }
 
-    /// The mesh of triangles `tris` (corner ids): the vertices they use, in order of first use,
-    /// with one normal each if the file has normals (see the module docs). `remap` comes from
-    /// [`ObjVertices::remap_table`] and is left unmapped again, so it can be reused.
-    pub(super) fn gather(&self, tris: &[[u32; 3]], remap: &mut [u32]) -> ObjMesh {
+    /// The mesh of the triangles of `runs` (corner ids), in order: the vertices they use, in
+    /// order of first use, with one normal each if the file has normals (see the module docs).
+    /// `remap` comes from [`ObjVertices::remap_table`] and is left unmapped again, so it can be
+    /// reused.
+    pub(super) fn gather(&self, runs: &[&[[u32; 3]]], remap: &mut [u32]) -> ObjMesh {
         let with_normals = self.has_normals();
-        let mut mesh = ObjMesh { triangles: Vec::with_capacity(tris.len()), ..Default::default() };
+        let count = runs.iter().map(|r| r.len()).sum();
+        let mut mesh = ObjMesh { triangles: Vec::with_capacity(count), ..Default::default() };
         let mut used = Vec::new();
         let p_count = self.positions.len();
-        for t in tris {
+        for t in runs.iter().copied().flatten() {
             let position = |c: u32| {
                 let p = if c & NORMAL_CORNER != 0 { self.pairs[(c & !NORMAL_CORNER) as usize].0 } else { c };
                 self.positions[p as usize]
@@ -540,42 +622,6 @@ pub fn read_obj(
     })
 }
 
-/// Loads an OBJ file as a whole scene: one mesh named after the file, one two-sided Lambertian
-/// material of albedo 0.5 named `default`, no lights, no camera.
-pub fn load_obj_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
-    let mesh = read_obj(path, None)?;
-    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "mesh".into());
-    let material = Material {
-        name: "default".into(),
-        bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(0.5)).expect("0.5 is a valid albedo")),
-        two_sided: true,
-    };
-    let mut warnings = Vec::new();
-    if mesh.triangles.is_empty() {
-        warnings.push(format!("{}: the file has no faces", path.display()));
-    }
-    warnings.push(format!(
-        "{}: a bare OBJ file has no lights and no camera; the mesh gets a two-sided Lambertian material of albedo 0.5",
-        path.display()
-    ));
-    let description = SceneDescription {
-        materials: vec![material],
-        meshes: vec![MeshDesc {
-            name,
-            source: Source { file: path.display().to_string(), line: 0 },
-            positions: mesh.positions,
-            triangles: mesh.triangles,
-            normals: mesh.normals,
-            material: 0,
-            ..Default::default()
-        }],
-        point_lights: Vec::new(),
-        camera: None,
-        ..Default::default()
-    };
-    Ok(LoadedScene { description, warnings })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -617,6 +663,34 @@ mod tests {
             let e = parse_obj(src).unwrap_err();
             assert!(e.message.contains(text), "{e:?} should mention {text:?}");
         }
+    }
+
+    #[test]
+    fn a_comment_runs_from_any_hash_to_the_end_of_the_line() {
+        let m = parse_obj(b"v 0 0 0#a\nv 1 0 0 # b\nv 0 1 0\n#f 9 9 9\nf 1 2 3# c\n").unwrap();
+        assert_eq!((m.positions.len(), m.triangles.clone()), (3, vec![[0, 1, 2]]));
+        let e = parse_obj(b"v 0 0 0\nv 1 #0 0\n").unwrap_err();
+        assert_eq!((e.line, e.message.as_str()), (2, "vertex has 1 coordinates, expected 3"));
+    }
+
+    #[test]
+    fn faces_come_in_runs_of_their_group_and_material() {
+        let src = b"mtllib a.mtl  b c.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nusemtl red # c\nf 1 2 3 1\n\
+                    o lid top\ng\nusemtl \nf 1 2 3\nusemtl x\nusemtl y\nf 1 2 3\nf 1 2 3\n";
+        let obj = parse_obj_file(src, false).unwrap();
+        let runs: Vec<String> =
+            obj.runs.iter().map(|r| format!("{} {:?} {:?}", r.start, r.group, r.material)).collect();
+        assert_eq!(
+            runs,
+            ["0 None None", "1 None Some((\"red\", 6))", "3 None None", "4 None Some((\"y\", 13))"]
+        );
+        assert_eq!(obj.run_triangles(1).len(), 2);
+        assert_eq!(obj.run_triangles(3).len(), 2);
+        assert_eq!(obj.mtllibs, [("a.mtl  b c.mtl".to_string(), 1)]);
+        assert!(obj.texcoords.is_empty(), "not asked for");
+        let obj = parse_obj_file(b"o lid top\nv 0 0 0\nf 1 1 1\n", true).unwrap();
+        assert_eq!(obj.runs[0].group.as_deref(), Some("lid top"));
+        assert_eq!(obj.texcoords, [[NO_TEXCOORD; 3]]);
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Wavefront OBJ scenes with MTL materials: [`load_obj_mtl_scene`] is what
-//! [`load_scene`](super::load_scene) runs for a `.obj` file. (The geometry-only reader the Mitsuba
-//! loader uses for its `<shape type="obj">` meshes is [`super::obj`].)
+//! [`load_scene`](super::load_scene) runs for a `.obj` file. The OBJ text is read by
+//! [`super::obj`], the one OBJ reader (Mitsuba's `<shape type="obj">` uses it too); this module
+//! makes meshes of its groups and materials and converts the MTL libraries ([`mtl`]).
 //!
 //! # OBJ statements
 //!
@@ -52,13 +53,13 @@
 //! untyped map, which would do; but its errors are bare enum values (`FaceVertexOutOfBounds`,
 //! `PositionParseError`, `MaterialParseError`) that name neither the file nor the line, it accepts
 //! `nan`/`inf` coordinates silently, a missing `.mtl` makes it fail the whole load or drop the
-//! materials without saying which file, and it allocates per line. This reader is one pass over the
-//! bytes that allocates nothing per vertex or face line (the `v`/`f` parsing is shared with [`super::obj`]), so
-//! every message has `file:line` and a million triangles load in a fraction of a second.
+//! materials without saying which file, and it allocates per line. The reader ([`super::obj`]) is
+//! one pass over the bytes that allocates nothing per vertex or face line, so every message has
+//! `file:line` and a million triangles load in a fraction of a second.
 
 pub mod mtl;
 
-use super::obj::{ObjError, ObjGeometry, ObjVertices, line_tokens};
+use super::obj::{ObjFile, parse_obj_file};
 use super::{FileLocation, LoadedScene, SceneFileError};
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::math::Rgb;
@@ -66,22 +67,20 @@ use opticks_core::scene::{AreaEmission, MeshDesc, SceneDescription, Source};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-/// A run of faces sharing a group and a material name.
+/// The faces sharing a group and a material name: one mesh.
 struct Slot {
     group: String,
     material: Option<String>,
     /// Line of the `usemtl` that named the material (for the "no such material" warning).
     usemtl_line: u32,
-    /// Triangles, 0-based global vertex indices.
-    triangles: Vec<[u32; 3]>,
+    /// Its runs of faces ([`ObjFile::runs`] indices), in file order.
+    runs: Vec<usize>,
 }
 
 /// What the OBJ text says, before materials are resolved.
 struct ParsedObj {
-    vertices: ObjVertices,
+    obj: ObjFile,
     slots: Vec<Slot>,
-    /// `mtllib` arguments with their lines.
-    mtllibs: Vec<(String, u32)>,
 }
 
 /// An error in an OBJ or MTL file, at `file:line`.
@@ -93,75 +92,23 @@ pub(super) fn err(file: &Path, line: u32, message: String) -> SceneFileError {
     }
 }
 
-/// The text after the keyword, trimmed (names may contain spaces).
-fn rest_of_line(raw: &[u8], keyword: &[u8]) -> String {
-    let start = raw.windows(keyword.len()).position(|w| w == keyword).map_or(0, |p| p + keyword.len());
-    String::from_utf8_lossy(&raw[start..]).trim().to_string()
-}
-
+/// Reads the OBJ text and groups its runs of faces by (group, material), in order of first
+/// appearance; faces outside any group belong to `default_group`.
 fn parse(data: &[u8], file: &Path, default_group: &str) -> Result<ParsedObj, SceneFileError> {
-    let obj_err = |e: ObjError| err(file, e.line, e.message);
-    // u32::MAX is reserved: it marks an unmapped vertex when meshes are compacted.
-    let mut geometry = ObjGeometry::new(u32::MAX - 1);
+    let obj = parse_obj_file(data, false).map_err(|e| err(file, e.line, e.message))?;
     let mut slots: Vec<Slot> = Vec::new();
     let mut slot_of: HashMap<(String, Option<String>), usize> = HashMap::new();
-    let mut mtllibs = Vec::new();
-    let mut group = default_group.to_string();
-    let mut material: Option<(String, u32)> = None;
-    let mut current: Option<usize> = None;
-    let mut line_no = 0u32;
-
-    for raw in data.split(|&b| b == b'\n') {
-        line_no = line_no.saturating_add(1);
-        let raw = match raw.iter().position(|&b| b == b'#') {
-            Some(p) => &raw[..p],
-            None => raw,
-        };
-        let mut tokens = line_tokens(raw);
-        let Some(keyword) = tokens.next() else { continue };
-        match keyword {
-            b"v" => geometry.vertex(tokens, line_no).map_err(obj_err)?,
-            b"vn" => geometry.normal(tokens, line_no).map_err(obj_err)?,
-            b"f" => {
-                let slot = match current {
-                    Some(s) => s,
-                    None => {
-                        let key = (group.clone(), material.as_ref().map(|m| m.0.clone()));
-                        let s = *slot_of.entry(key).or_insert_with(|| {
-                            slots.push(Slot {
-                                group: group.clone(),
-                                material: material.as_ref().map(|m| m.0.clone()),
-                                usemtl_line: material.as_ref().map_or(0, |m| m.1),
-                                triangles: Vec::new(),
-                            });
-                            slots.len() - 1
-                        });
-                        current = Some(s);
-                        s
-                    }
-                };
-                geometry.face(tokens, line_no, &mut slots[slot].triangles, None).map_err(obj_err)?;
-            }
-            b"o" | b"g" => {
-                let name = rest_of_line(raw, keyword);
-                group = if name.is_empty() { default_group.to_string() } else { name };
-                current = None;
-            }
-            b"usemtl" => {
-                let name = rest_of_line(raw, keyword);
-                material = (!name.is_empty()).then_some((name, line_no));
-                current = None;
-            }
-            b"mtllib" => {
-                let name = rest_of_line(raw, keyword);
-                if !name.is_empty() {
-                    mtllibs.push((name, line_no));
-                }
-            }
-            _ => {}
-        }
+    for (i, run) in obj.runs.iter().enumerate() {
+        let group = run.group.clone().unwrap_or_else(|| default_group.to_string());
+        let material = run.material.as_ref().map(|m| m.0.clone());
+        let s = *slot_of.entry((group.clone(), material.clone())).or_insert_with(|| {
+            let usemtl_line = run.material.as_ref().map_or(0, |m| m.1);
+            slots.push(Slot { group, material, usemtl_line, runs: Vec::new() });
+            slots.len() - 1
+        });
+        slots[s].runs.push(i);
     }
-    Ok(ParsedObj { vertices: geometry.finish().map_err(obj_err)?, slots, mtllibs })
+    Ok(ParsedObj { obj, slots })
 }
 
 /// The `default` material: two-sided Lambertian of albedo 0.5.
@@ -214,7 +161,7 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let stem = path.file_stem().map_or_else(|| "mesh".to_string(), |s| s.to_string_lossy().into_owned());
     let parsed = parse(&data, path, &stem)?;
     let mut warnings = Vec::new();
-    let libs = read_libraries(path, &parsed.mtllibs, &mut warnings)?;
+    let libs = read_libraries(path, &parsed.obj.mtllibs, &mut warnings)?;
     for (_, lib) in &libs {
         warnings.extend(lib.warnings.iter().cloned());
     }
@@ -224,7 +171,7 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let mut resolved: HashMap<Option<String>, (usize, Option<Rgb>)> = HashMap::new();
     let mut default_index: Option<usize> = None;
     let source_file = path.display().to_string();
-    let mut remap = parsed.vertices.remap_table();
+    let mut remap = parsed.obj.vertices.remap_table();
     // Groups split by several materials get `group[material]` names.
     let mut materials_per_group: HashMap<&str, usize> = HashMap::new();
     for s in &parsed.slots {
@@ -266,7 +213,8 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             }
         };
         // Compact the vertices this mesh uses, in order of first use.
-        let mesh = parsed.vertices.gather(&slot.triangles, &mut remap);
+        let runs: Vec<&[[u32; 3]]> = slot.runs.iter().map(|&r| parsed.obj.run_triangles(r)).collect();
+        let mesh = parsed.obj.vertices.gather(&runs, &mut remap);
         let name = match (&slot.material, materials_per_group.get(slot.group.as_str())) {
             (Some(m), Some(&n)) if n > 1 => format!("{}[{m}]", slot.group),
             _ => slot.group.clone(),
