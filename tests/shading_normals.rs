@@ -1,4 +1,4 @@
-//! Shading normals end to end: the light tracer with the adjoint BSDF (DESIGN.md §2, Veach §5.3)
+//! Shading normals end to end: the light tracer with the adjoint BSDF (docs/estimator.md §4, Veach §5.3)
 //! must converge to what a camera-side evaluation with shading normals computes, and vertex
 //! normals equal to the geometric ones must change nothing.
 

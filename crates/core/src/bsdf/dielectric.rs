@@ -12,7 +12,7 @@
 //!   refraction weight is T — flux crosses the interface unchanged; in
 //!   [`TransportMode::Radiance`] it is T/η² (η = index of the sampled side over the given side),
 //!   the radiance compression of pbrt's `TransportMode::Radiance`. The light tracer uses the
-//!   former (DESIGN.md §2: the 1/η² scaling applies to radiance/camera paths only).
+//!   former (docs/estimator.md §4: the 1/η² scaling applies to radiance/camera paths only).
 //! * [`RoughDielectric`]: Walter et al. 2007 ("Microfacet Models for Refraction through Rough
 //!   Surfaces") with a GGX or Beckmann distribution, isotropic or anisotropic ([`Microfacet`]:
 //!   GGX samples visible normals (Heitz 2018), Beckmann samples D·cos θ_m) and the
