@@ -14,6 +14,8 @@
 //! (Beer–Lambert): exact per-vertex attenuation through an index-matched slab, a full shadow
 //! under an opaque rough slab, and the furnace's energy accounting with an absorbing ball.
 
+// Only the core-only helpers: this is a test of the core (`crates/core/Cargo.toml`).
+#[path = "common/physics.rs"]
 mod common;
 
 use common::*;

@@ -2,6 +2,8 @@
 //! must converge to what a camera-side evaluation with shading normals computes, and vertex
 //! normals equal to the geometric ones must change nothing.
 
+// Only the core-only helpers: this is a test of the core (`crates/core/Cargo.toml`).
+#[path = "common/physics.rs"]
 mod common;
 
 use common::*;
