@@ -14,7 +14,8 @@
 //!   uniform edges: the cells follow the lobe whatever its width, and since the pilot is
 //!   independent of the tested samples the χ² statistic stays valid.
 //! * Cell integrals use 5×5 Gauss–Legendre quadrature (in θ, φ with the sin θ Jacobian) refined
-//!   adaptively (quad-tree subdivision until parent and children agree to a relative 10⁻⁵). The
+//!   adaptively (quad-tree subdivision until parent and children agree to a relative 10⁻⁴; the
+//!   expected counts of a χ² test only to a small fraction of each cell's Poisson noise). The
 //!   horizon, where a BSDF's pdf jumps to zero and which cuts through cells of a grid tilted
 //!   towards a grazing reflection direction, is handled exactly instead: for each φ node the θ
 //!   interval is split where the horizon crosses it, so no cell integrates across a jump.
