@@ -28,10 +28,10 @@ pub const SEGMENTS: usize = 64;
 /// square of the number of faces at the point); beyond it the face set stays faceted.
 pub const MAX_CREASE_WORK: u64 = 50_000_000;
 
-/// Work counter of the tests: the face comparisons and corner look-up steps normal generation
-/// makes on this thread, so its bounds are checked as counted work, not as time.
 #[cfg(test)]
 thread_local! {
+    /// Work counter of the tests: the face comparisons and corner look-up steps normal
+    /// generation makes on this thread, so its bounds are checked as counted work, not as time.
     static STEPS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
 }
 
