@@ -567,7 +567,7 @@ impl Table {
         (self.cos_thetas[i] - self.cos_thetas[i + 1]) * (self.phis[j + 1] - self.phis[j])
     }
 
-    /// Density of [`Table::sample`]'s directions.
+    /// Density of `Table::sample`'s directions.
     pub fn pdf(&self, v: Vec3) -> f32 {
         let Some((i, j, _, _)) = self.cell(v) else { return 0.0 };
         self.cell_p[i * (self.phis.len() - 1) + j] / self.solid_angle(i, j)

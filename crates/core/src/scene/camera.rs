@@ -20,7 +20,7 @@ pub struct CameraDesc {
 }
 
 /// An ideal pinhole camera with its image plane at unit distance (see `scenes/README.md`):
-/// film point (sx, sy) ∈ [0,1]², sy downward, looks along
+/// film point (sx, sy) ∈ \[0,1\]², sy downward, looks along
 /// `f + (2sx−1)·tan(fov_x/2)·right + (1−2sy)·tan(fov_y/2)·up`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pinhole {

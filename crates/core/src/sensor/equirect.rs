@@ -54,7 +54,7 @@ impl Equirectangular {
         TAU / self.width as f32 * (a.cos() - b.cos())
     }
 
-    /// The unit direction through film point (sx, sy) ∈ [0,1]² (for tests).
+    /// The unit direction through film point (sx, sy) ∈ \[0,1\]² (for tests).
     pub fn direction(&self, sx: f32, sy: f32) -> Vec3 {
         let (lon, lat) = ((sx - 0.5) * TAU, (0.5 - sy) * PI);
         lat.cos() * (lon.cos() * self.forward + lon.sin() * self.right) + lat.sin() * self.up

@@ -37,7 +37,7 @@
 //! Mitsuba's camera looks along local +z with +y up and local +x pointing to the image **left**;
 //! a `<lookat>` builds exactly that frame, and so does any rotation of it. A `to_world` with a
 //! negative determinant (a mirror) would flip the image left-right, which a
-//! [`CameraDesc`](opticks_core::scene::CameraDesc) cannot express: it is an error. Scale or shear
+//! [`CameraDesc`] cannot express: it is an error. Scale or shear
 //! (Mitsuba refuses them) gives a warning; only the directions are used. The camera's `target`
 //! is M·(0,0,d), d being the distance from `origin` to `target` of the last `<lookat>` (1 if
 //! none), so a plain `<lookat>` round-trips.

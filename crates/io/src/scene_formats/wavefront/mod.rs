@@ -16,7 +16,7 @@
 //! | `vt`, `vp`, `s`, `l`, `p`, curves, anything else | ignored |
 //!
 //! Every distinct (group, material) pair becomes one
-//! [`MeshDesc`](opticks_core::scene::MeshDesc), in order of first appearance, holding only the
+//! [`MeshDesc`], in order of first appearance, holding only the
 //! vertices its faces use. A mesh is named after its group (`o`/`g`, else the file stem); a group
 //! split by several `usemtl` gets `group[material]` names. Winding is kept as written (front face
 //! counter-clockwise); no camera and no point lights come from an OBJ file (the CLI's
@@ -27,7 +27,7 @@
 //! | MTL | Opticks |
 //! |---|---|
 //! | `Kd` (1 or 3 numbers, linear RGB) | diffuse reflectance kd; absent → 0.5 |
-//! | `Ks` | specular reflectance ks; absent or 0 in every channel → [`Lambert`](opticks_core::bsdf::Lambert)`(kd)` |
+//! | `Ks` | specular reflectance ks; absent or 0 in every channel → [`Lambert`]`(kd)` |
 //! | `Ns` | exponent n of [`ModifiedPhong`](opticks_core::bsdf::ModifiedPhong)`(kd, ks, n)` (absent → 0) |
 //! | kd + ks > 1 in a channel | both scaled by 1 / max(kd + ks) (hue kept), with a warning |
 //! | `Ke` > 0 and no `map_Ke` | the mesh is an area light of **radiance Ke in W/(m²·sr)**, emitting from its front (counter-clockwise) side only, as every Opticks area light |
