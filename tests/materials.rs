@@ -4,7 +4,7 @@
 //! the incident flux Φ/(1 − ρ) on its diffuse surfaces. Ideal mirrors (R = 1) and clear glass
 //! (R = T = 1) only redirect flux, so adding them must leave that total unchanged — provided the
 //! light tracer carries flux through them with the importance-mode weights (no 1/η² on
-//! refraction, DESIGN.md §2) and does not store their vertices. Tolerance: 4σ of the per-path
+//! refraction, docs/estimator.md §4) and does not store their vertices. Tolerance: 4σ of the per-path
 //! standard error, measured. (With Russian roulette also acting on delta vertices the glass
 //! sphere came out 4σ low over four seeds: light trapped by total internal reflection became
 //! rare, huge weights; `trace_path` therefore roulettes at stored vertices only.)
@@ -14,6 +14,8 @@
 //! (Beer–Lambert): exact per-vertex attenuation through an index-matched slab, a full shadow
 //! under an opaque rough slab, and the furnace's energy accounting with an absorbing ball.
 
+// Only the core-only helpers: this is a test of the core (`crates/core/Cargo.toml`).
+#[path = "common/physics.rs"]
 mod common;
 
 use common::*;

@@ -1,7 +1,9 @@
-//! Shading normals end to end: the light tracer with the adjoint BSDF (DESIGN.md §2, Veach §5.3)
+//! Shading normals end to end: the light tracer with the adjoint BSDF (docs/estimator.md §4, Veach §5.3)
 //! must converge to what a camera-side evaluation with shading normals computes, and vertex
 //! normals equal to the geometric ones must change nothing.
 
+// Only the core-only helpers: this is a test of the core (`crates/core/Cargo.toml`).
+#[path = "common/physics.rs"]
 mod common;
 
 use common::*;

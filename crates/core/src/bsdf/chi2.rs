@@ -14,7 +14,8 @@
 //!   uniform edges: the cells follow the lobe whatever its width, and since the pilot is
 //!   independent of the tested samples the χ² statistic stays valid.
 //! * Cell integrals use 5×5 Gauss–Legendre quadrature (in θ, φ with the sin θ Jacobian) refined
-//!   adaptively (quad-tree subdivision until parent and children agree to a relative 10⁻⁵). The
+//!   adaptively (quad-tree subdivision until parent and children agree to a relative 10⁻⁴; the
+//!   expected counts of a χ² test only to a small fraction of each cell's Poisson noise). The
 //!   horizon, where a BSDF's pdf jumps to zero and which cuts through cells of a grid tilted
 //!   towards a grazing reflection direction, is handled exactly instead: for each φ node the θ
 //!   interval is split where the horizon crosses it, so no cell integrates across a jump.
@@ -29,6 +30,7 @@
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::RandomStream;
 use glam::DVec3;
+use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
 
 /// Upper bound on the number of χ² tests run by the crate's test suite; the Bonferroni
@@ -131,26 +133,34 @@ impl SphereGrid {
         k * self.phi_bins + j
     }
 
-    /// Unit direction at (θ, φ).
-    fn dir(&self, theta: f64, phi: f64) -> Vec3 {
-        let (st, ct) = theta.sin_cos();
-        let (sp, cp) = phi.sin_cos();
+    /// Unit direction at (θ, φ), given (sin θ, cos θ, sin φ, cos φ).
+    fn dir_from(&self, st: f64, ct: f64, sp: f64, cp: f64) -> Vec3 {
         (self.s * (st * cp) + self.t * (st * sp) + self.a * ct).as_vec3()
     }
 
     /// 5×5 Gauss–Legendre estimate of ∫∫ f sin θ dθ dφ over one rectangle. For each φ node the
     /// θ interval is split where the great circle of the discontinuity plane crosses it, so an
     /// integrand that jumps there (a BSDF at the horizon) is integrated as two smooth pieces.
+    /// The sines and cosines of the nodes are computed once per node, not once per point.
     fn gauss(&self, f: &impl Fn(Vec3) -> DVec3, th: (f64, f64), ph: (f64, f64)) -> DVec3 {
         let (hph, cph) = (0.5 * (ph.1 - ph.0), 0.5 * (ph.1 + ph.0));
+        // θ nodes of an interval: (sin θ, cos θ) and the weight w·h·sin θ.
+        let nodes = |a: f64, b: f64| -> [(f64, f64, f64); 5] {
+            let (hth, cth) = (0.5 * (b - a), 0.5 * (b + a));
+            std::array::from_fn(|i| {
+                let (st, ct) = (cth + hth * GL_X[i]).sin_cos();
+                (st, ct, GL_W[i] * hth * st)
+            })
+        };
+        let uncut = nodes(th.0, th.1);
         let mut sum = DVec3::ZERO;
         for (xj, wj) in GL_X.iter().zip(GL_W) {
             let phi = cph + hph * xj;
+            let (sp, cp) = phi.sin_cos();
             let mut cuts = [th.0, th.1, th.1, th.1];
             let mut pieces = 1;
             if let Some(c) = self.discontinuity {
                 // v(θ)·c = A cos θ + B sin θ = R cos(θ − δ) vanishes at θ = δ + π/2 + kπ.
-                let (sp, cp) = phi.sin_cos();
                 let delta = (self.s * cp + self.t * sp).dot(c).atan2(self.a.dot(c));
                 for k in -2..=1 {
                     let x = delta + 0.5 * PI + k as f64 * PI;
@@ -164,10 +174,15 @@ impl SphereGrid {
             }
             let mut col = DVec3::ZERO;
             for piece in cuts[..=pieces].windows(2) {
-                let (hth, cth) = (0.5 * (piece[1] - piece[0]), 0.5 * (piece[1] + piece[0]));
-                for (xi, wi) in GL_X.iter().zip(GL_W) {
-                    let theta = cth + hth * xi;
-                    col += f(self.dir(theta, phi)) * (wi * hth * theta.sin());
+                let cut;
+                let piece_nodes = if pieces == 1 {
+                    &uncut
+                } else {
+                    cut = nodes(piece[0], piece[1]);
+                    &cut
+                };
+                for &(st, ct, w) in piece_nodes {
+                    col += f(self.dir_from(st, ct, sp, cp)) * w;
                 }
             }
             sum += col * wj;
@@ -206,23 +221,36 @@ impl SphereGrid {
     }
 
     /// ∫ f dω over every cell (same order as [`Self::cell_of`]), each to a relative accuracy of
-    /// about 10⁻⁵.
-    pub(crate) fn integrate_cells(&self, f: impl Fn(Vec3) -> DVec3) -> Vec<DVec3> {
+    /// about 10⁻⁵. Cells are integrated in parallel; each one's result does not depend on the
+    /// others or on the thread count.
+    pub(crate) fn integrate_cells(&self, f: impl Fn(Vec3) -> DVec3 + Sync) -> Vec<DVec3> {
+        self.integrate_cells_within(f, |_| 0.0)
+    }
+
+    /// [`Self::integrate_cells`], each cell also allowed an absolute error of `tol(v)`, v the
+    /// coarse estimate of its integral's largest channel.
+    fn integrate_cells_within(
+        &self,
+        f: impl Fn(Vec3) -> DVec3 + Sync,
+        tol: impl Fn(f64) -> f64 + Sync,
+    ) -> Vec<DVec3> {
         let dphi = TAU / self.phi_bins as f64;
-        let mut out = Vec::with_capacity(self.cells());
-        for th in self.theta_edges.windows(2) {
-            for j in 0..self.phi_bins {
+        (0..self.cells())
+            .into_par_iter()
+            .map(|cell| {
+                let (k, j) = (cell / self.phi_bins, cell % self.phi_bins);
+                let th = (self.theta_edges[k], self.theta_edges[k + 1]);
                 let ph = (j as f64 * dphi, (j + 1) as f64 * dphi);
-                let whole = self.gauss(&f, (th[0], th[1]), ph);
-                let tol = (REL_TOL * whole.abs().max_element()).max(ABS_TOL);
-                out.push(self.adaptive(&f, (th[0], th[1]), ph, whole, tol, 0));
-            }
-        }
-        out
+                let whole = self.gauss(&f, th, ph);
+                let v = whole.abs().max_element();
+                let tol = (REL_TOL * v).max(ABS_TOL).max(tol(v));
+                self.adaptive(&f, th, ph, whole, tol, 0)
+            })
+            .collect()
     }
 
     /// ∫ f dω over the whole sphere.
-    pub(crate) fn integrate(&self, f: impl Fn(Vec3) -> DVec3) -> DVec3 {
+    pub(crate) fn integrate(&self, f: impl Fn(Vec3) -> DVec3 + Sync) -> DVec3 {
         self.integrate_cells(f).iter().sum()
     }
 }
@@ -250,7 +278,7 @@ pub(crate) fn pilot(
 
 /// Directional albedo ∫ f(wo)·max(0, cos θ_o) dω_o per channel, by adaptive quadrature on `grid`
 /// (local frame, z = normal).
-pub(crate) fn directional_albedo(grid: &SphereGrid, f: impl Fn(Vec3) -> Rgb) -> DVec3 {
+pub(crate) fn directional_albedo(grid: &SphereGrid, f: impl Fn(Vec3) -> Rgb + Sync) -> DVec3 {
     grid.integrate(|wo| f(wo).as_dvec3() * wo.z.max(0.0) as f64)
 }
 
@@ -365,11 +393,12 @@ impl Chi2Test {
     }
 
     /// Runs the test: `sample(u_lobe, u)` returns a direction and the pdf it claims; `pdf(wo)`
-    /// is the density to test against.
+    /// is the density to test against. The samples are drawn (in order, from one stream) while
+    /// the expected counts are integrated on the other threads.
     pub(crate) fn run(
         &self,
-        mut sample: impl FnMut(f32, Vec2) -> Option<(Vec3, f32)>,
-        pdf: impl Fn(Vec3) -> f32,
+        mut sample: impl FnMut(f32, Vec2) -> Option<(Vec3, f32)> + Send,
+        pdf: impl Fn(Vec3) -> f32 + Sync,
     ) -> Chi2Report {
         let grid = SphereGrid::adapted(
             self.axis,
@@ -377,29 +406,23 @@ impl Chi2Test {
             self.theta_bins,
             self.phi_bins,
         );
-        let mut observed = vec![0u64; grid.cells()];
-        let mut rng = RandomStream::new(self.seed, &[0xc412]);
-        let (mut accepted, mut zero_pdf, mut pdf_mismatch, mut bad_dir) = (0usize, 0usize, 0usize, 0usize);
-        for _ in 0..self.samples {
-            let Some((wo, p)) = sample(rng.next_f32(), rng.next_2d()) else { continue };
-            accepted += 1;
-            if !wo.is_finite() || (wo.length() - 1.0).abs() > 1e-4 {
-                bad_dir += 1;
-                continue;
-            }
-            let q = pdf(wo);
-            if q.is_nan() || q <= 0.0 {
-                zero_pdf += 1;
-            }
-            let agrees = (p - q).abs() <= 1e-4 * q.abs().max(p.abs());
-            if !agrees {
-                pdf_mismatch += 1;
-            }
-            observed[grid.cell_of(wo)] += 1;
-        }
         let n = self.samples as f64;
-        let expected: Vec<f64> =
-            grid.integrate_cells(|v| DVec3::splat(pdf(v) as f64)).iter().map(|c| c.x * n).collect();
+        // Each cell's expected count needs to be exact only to a small fraction of its Poisson
+        // standard deviation √(n·p): a cell of probability p may be off by c·√(p/n), c at most
+        // 1 %, which moves the expected χ² by Σ c² ≤ 10⁻⁴ per cell. c is also small enough that
+        // the errors of all cells add up to at most 10⁻⁴ of ∫pdf (Σ √(p/n) ≤ √(cells/n)), half
+        // of what `integral_mismatch` allows the quadrature.
+        let c = 0.01f64.min(1e-4 * (n / grid.cells() as f64).sqrt());
+        let (counts, expected) = rayon::join(
+            || self.draw(&grid, sample, &pdf),
+            || -> Vec<f64> {
+                grid.integrate_cells_within(|v| DVec3::splat(pdf(v) as f64), |p| c * (p / n).sqrt())
+                    .iter()
+                    .map(|cell| cell.x * n)
+                    .collect()
+            },
+        );
+        let Counts { observed, accepted, zero_pdf, pdf_mismatch, bad_dir } = counts;
         let integral = expected.iter().sum::<f64>() / n;
 
         // Pool sparse cells (in increasing order of expectation) until each pool expects ≥ min.
@@ -451,6 +474,52 @@ impl Chi2Test {
             pdf_mismatch,
             bad_dir,
         }
+    }
+}
+
+/// What [`Chi2Test::draw`] counted.
+struct Counts {
+    observed: Vec<u64>,
+    accepted: usize,
+    zero_pdf: usize,
+    pdf_mismatch: usize,
+    bad_dir: usize,
+}
+
+impl Chi2Test {
+    /// Draws the tested samples and bins them on `grid`, checking each against `pdf`.
+    fn draw(
+        &self,
+        grid: &SphereGrid,
+        mut sample: impl FnMut(f32, Vec2) -> Option<(Vec3, f32)>,
+        pdf: &impl Fn(Vec3) -> f32,
+    ) -> Counts {
+        let mut c = Counts {
+            observed: vec![0u64; grid.cells()],
+            accepted: 0,
+            zero_pdf: 0,
+            pdf_mismatch: 0,
+            bad_dir: 0,
+        };
+        let mut rng = RandomStream::new(self.seed, &[0xc412]);
+        for _ in 0..self.samples {
+            let Some((wo, p)) = sample(rng.next_f32(), rng.next_2d()) else { continue };
+            c.accepted += 1;
+            if !wo.is_finite() || (wo.length() - 1.0).abs() > 1e-4 {
+                c.bad_dir += 1;
+                continue;
+            }
+            let q = pdf(wo);
+            if q.is_nan() || q <= 0.0 {
+                c.zero_pdf += 1;
+            }
+            let agrees = (p - q).abs() <= 1e-4 * q.abs().max(p.abs());
+            if !agrees {
+                c.pdf_mismatch += 1;
+            }
+            c.observed[grid.cell_of(wo)] += 1;
+        }
+        c
     }
 }
 

@@ -166,6 +166,7 @@ mod tests {
     use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, pilot, reflect};
     use crate::sampling::microfacet::Distribution;
     use crate::sampling::{RandomStream, warp};
+    use rayon::prelude::*;
 
     fn gold() -> ConductorIor {
         Some((Rgb::new(0.143, 0.374, 1.442), Rgb::new(3.983, 2.385, 1.603)))
@@ -222,14 +223,15 @@ mod tests {
             (Microfacet::anisotropic(Beckmann, 0.05, 0.5), 60.0),
             (Microfacet::anisotropic(Beckmann, 0.6, 0.1), 80.0),
         ];
-        for (i, (mf, deg)) in cases.into_iter().enumerate() {
+        // Independent runs (each seeded by its case), in parallel.
+        cases.into_par_iter().enumerate().for_each(|(i, (mf, deg))| {
             let b = conductor(mf, gold());
             // `incident` has azimuth 0.3 rad: the plane of incidence is off both anisotropy axes.
             let wi = incident(deg);
             Chi2Test::new(reflect(wi), 700 + i as u64)
                 .run(|_, u| b.sample(wi, u).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
                 .assert_ok(&format!("rough conductor {mf:?} θi={deg}°"));
-        }
+        });
     }
 
     /// (b) Reciprocity, exactly up to rounding.

@@ -12,7 +12,7 @@
 //!   refraction weight is T — flux crosses the interface unchanged; in
 //!   [`TransportMode::Radiance`] it is T/η² (η = index of the sampled side over the given side),
 //!   the radiance compression of pbrt's `TransportMode::Radiance`. The light tracer uses the
-//!   former (DESIGN.md §2: the 1/η² scaling applies to radiance/camera paths only).
+//!   former (docs/estimator.md §4: the 1/η² scaling applies to radiance/camera paths only).
 //! * [`RoughDielectric`]: Walter et al. 2007 ("Microfacet Models for Refraction through Rough
 //!   Surfaces") with a GGX or Beckmann distribution, isotropic or anisotropic ([`Microfacet`]:
 //!   GGX samples visible normals (Heitz 2018), Beckmann samples D·cos θ_m) and the
@@ -315,6 +315,7 @@ mod tests {
     use crate::sampling::microfacet::Distribution;
     use crate::sampling::{RandomStream, warp};
     use glam::DVec3;
+    use rayon::prelude::*;
 
     const IMP: TransportMode = TransportMode::Importance;
     const RAD: TransportMode = TransportMode::Radiance;
@@ -436,18 +437,27 @@ mod tests {
             (Microfacet::anisotropic(Ggx, 0.4, 0.05), 50.0),
             (Microfacet::anisotropic(Beckmann, 0.05, 0.4), 50.0),
         ];
-        for (i, (alpha, deg)) in cases.into_iter().enumerate() {
+        // `incident` has azimuth 0.3 rad: the plane of incidence is off both anisotropy axes.
+        let runs: Vec<_> = cases
+            .into_iter()
+            .enumerate()
+            .flat_map(|(i, (alpha, deg))| {
+                [incident(deg), flip(incident(deg))]
+                    .into_iter()
+                    .enumerate()
+                    .map(move |(j, wi)| (i, j, alpha, wi))
+            })
+            .collect();
+        // Independent runs (each seeded by its case), in parallel.
+        runs.into_par_iter().for_each(|(i, j, alpha, wi)| {
             let b = rough_with(alpha);
-            // `incident` has azimuth 0.3 rad: the plane of incidence is off both anisotropy axes.
-            for (j, wi) in [incident(deg), flip(incident(deg))].into_iter().enumerate() {
-                // Pole on the refracted direction (the transmission lobe is usually the
-                // larger one); the pilot-adapted θ edges resolve the reflection lobe too.
-                let axis = Vec3::new(-wi.x, -wi.y, -wi.z);
-                Chi2Test::new(axis, 900 + 10 * i as u64 + j as u64)
-                    .run(|ul, u| b.sample(wi, ul, u, IMP).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
-                    .assert_ok(&format!("rough dielectric {alpha:?} wi={wi}"));
-            }
-        }
+            // Pole on the refracted direction (the transmission lobe is usually the larger
+            // one); the pilot-adapted θ edges resolve the reflection lobe too.
+            let axis = Vec3::new(-wi.x, -wi.y, -wi.z);
+            Chi2Test::new(axis, 900 + 10 * i as u64 + j as u64)
+                .run(|ul, u| b.sample(wi, ul, u, IMP).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
+                .assert_ok(&format!("rough dielectric {alpha:?} wi={wi}"));
+        });
     }
 
     /// (b) Generalized reciprocity f(a→b)/η_b² = f(b→a)/η_a² (absolute indices), on random pairs
@@ -515,12 +525,11 @@ mod tests {
         // Anisotropic only at α = 0.5 (its quadrature is the slow part of this test).
         let isotropic = |a| [Microfacet::ggx(a), Microfacet::beckmann(a)];
         let mfs = [isotropic(0.1).as_slice(), &distributions(0.5), &isotropic(1.0)].concat();
-        for mf in mfs {
+        let incidences = [incident(0.0), incident(60.0), flip(incident(30.0)), flip(incident(70.0))];
+        // Independent cases (each seeded by its incidence), in parallel.
+        mfs.into_par_iter().for_each(|mf| {
             let (b, alpha) = (rough_with(mf), mf.alpha_u);
-            for (k, wi) in [incident(0.0), incident(60.0), flip(incident(30.0)), flip(incident(70.0))]
-                .into_iter()
-                .enumerate()
-            {
+            for (k, wi) in incidences.into_iter().enumerate() {
                 let dirs = pilot(|ul, u| b.sample(wi, ul, u, IMP).map(|s| (s.wo, s.pdf)), 20_000, 4);
                 let grid = SphereGrid::adapted(-wi, &dirs, 16, 16);
                 let forward = grid.integrate(|wo| DVec3::splat((b.eval(wi, wo).x * wo.z.abs()) as f64)).x;
@@ -535,7 +544,7 @@ mod tests {
                     assert!(mi > 0.98, "nearly smooth glass at normal incidence loses little: {mi}");
                 }
             }
-        }
+        });
     }
 
     #[test]

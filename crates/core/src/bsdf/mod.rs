@@ -14,7 +14,7 @@
 //!   order light flows. `sample` returns `weight = f · |cos θ_o| / pdf` in the requested
 //!   [`TransportMode`].
 //!
-//! # Transport mode and the adjoint (DESIGN.md §2)
+//! # Transport mode and the adjoint (docs/estimator.md §4)
 //!
 //! Every vertex factor of the measurement contribution is f(x_{i−1} → x_i → x_{i+1}) in the
 //! order light flows. Opticks's `eval(wi, wo)` takes its arguments in that order, so **one

@@ -21,7 +21,7 @@
 //!   in the shading frame with pdf p): β ← β · f_eff(ω_in→ω_out)·|ω_out·n_g|/p
 //!   = β · [f_s·|ω_out·n_s|/p] · |ω_in·n_s|·|ω_out·n_g| / (|ω_in·n_g|·|ω_out·n_s|),
 //!   pbrt's `CorrectShadingNormal` in importance mode.
-//! * **sensor** (DESIGN.md §2, Δ ∝ f_r(ω_in → ω_c)·|cos θ_x|): f_r is f_eff(ω_in → ω_c) and
+//! * **sensor** (docs/estimator.md §5, Δ ∝ f_r(ω_in → ω_c)·|cos θ_x|): f_r is f_eff(ω_in → ω_c) and
 //!   θ_x stays the **geometric** angle between ω_c and n_g — it is the cosine of the connection's
 //!   geometry term, not of the BSDF. This is pbrt-v3's BDPT t = 1 connection:
 //!   f_s·|ω_in·n_s|·|ω_c·n_g|/|ω_in·n_g|.

@@ -2,7 +2,7 @@
 //! surface (the thesis §6.1.5's measuring devices).
 //!
 //! No connection is needed: a stored sample on a surface *is* the flux Φ_k·β/N_k arriving there
-//! (DESIGN.md §2), so the irradiance of a cell is the flux of the samples that landed in it,
+//! (docs/estimator.md §2), so the irradiance of a cell is the flux of the samples that landed in it,
 //! divided by its area:
 //!
 //! ```text

@@ -15,7 +15,7 @@
 //! Δpixel = (Φ_k/N_k) · β · f_r(x; ω_in → ω_c) · |cos θ_x| · V(x, c) · W
 //! ```
 //!
-//! (a light tracer's t = 1 connection, Veach ch. 10, DESIGN.md §2). θ_x is measured from the
+//! (a light tracer's t = 1 connection, Veach ch. 10, docs/estimator.md §5). θ_x is measured from the
 //! geometric normal; on meshes with shading normals f_r is the adjoint f_eff of
 //! [`crate::bsdf::shading`], evaluated at the normals interpolated at x. For the pinhole,
 //! W = 1/(d²·a·cos³θ_c), so each pixel converges to the radiance at the pinhole averaged over its

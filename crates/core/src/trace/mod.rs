@@ -2,7 +2,7 @@
 //! scene by importance-sampling each BSDF, and every vertex that can reflect light is stored as
 //! a [`Sample`]. **Trace never sees a camera.**
 //!
-//! Weights follow DESIGN.md §2: β₁ = 1 (the first ray carries the light's share Φ_k/N_k),
+//! Weights follow docs/estimator.md §2–3: β₁ = 1 (the first ray carries the light's share Φ_k/N_k),
 //! β_{i+1} = β_i · f_r·|cos θ_o|/p(ω_o), divided by q when Russian roulette (from depth
 //! `rr_depth` on, survival q = min(2·max β, 0.95)) lets a path survive. The estimator is unbiased
 //! and nothing is normalised by the sum of weights (the thesis's eq. 6.8 would be biased).
@@ -12,7 +12,7 @@
 //! contribute. The path continues through them with β ← β·weight, the weight of
 //! [`TransportMode::Importance`]: a light path carries flux, which an interface transmits
 //! unchanged (times 1 − F), so refraction's 1/η² radiance scaling does **not** apply here
-//! (DESIGN.md §2; the adjoint BSDF, Veach's thesis §5.2; see the `bsdf` module docs).
+//! (docs/estimator.md §4; the adjoint BSDF, Veach's thesis §5.2; see the `bsdf` module docs).
 //! With shading normals the weight is the adjoint one, f_eff·|cos θ_o,geometric|/p
 //! ([`crate::bsdf::shading`] derives it); sides and ray offsets always follow the geometric
 //! normal. Dielectrics scatter on both faces, so a path may enter a glass object, bounce inside it

@@ -1,5 +1,5 @@
 //! Scene files: [`load_scene`] reads a file into a plain
-//! [`SceneDescription`](opticks_core::scene::SceneDescription), dispatching on the extension.
+//! [`SceneDescription`], dispatching on the extension.
 //!
 //! | extension | format | module |
 //! |---|---|---|

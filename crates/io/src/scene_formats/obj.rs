@@ -725,8 +725,10 @@ mod tests {
         }
     }
 
+    /// A big file parses to exactly its triangles (its speed is a benchmark's business:
+    /// `bench_a_million_triangles` in `tests/obj_mtl.rs`).
     #[test]
-    fn a_million_triangles_load_quickly() {
+    fn a_million_triangles_parse() {
         // 501×1001 grid = 501 501 vertices, 1 000 000 triangles, as quads (fanned) and triangles.
         let (nx, ny) = (1001usize, 501usize);
         let mut s = String::with_capacity(50_000_000);
@@ -757,14 +759,9 @@ mod tests {
                 }
             }
         }
-        let t = std::time::Instant::now();
         let m = parse_obj(s.as_bytes()).unwrap();
-        let dt = t.elapsed();
         assert_eq!(m.triangles.len(), 1_000_000);
         assert_eq!(m.positions.len(), nx * ny);
-        // Generous bound: two shared cores, other builds running. Typically ~0.15 s in release.
-        assert!(dt.as_secs_f32() < 3.0, "parsing 1M triangles took {dt:?}");
-        eprintln!("1M-triangle OBJ ({} MB) parsed in {dt:?}", s.len() / 1_000_000);
     }
 
     #[test]

@@ -28,6 +28,22 @@ pub const SEGMENTS: usize = 64;
 /// square of the number of faces at the point); beyond it the face set stays faceted.
 pub const MAX_CREASE_WORK: u64 = 50_000_000;
 
+#[cfg(test)]
+thread_local! {
+    /// Work counter of the tests: the face comparisons and corner look-up steps normal
+    /// generation makes on this thread, so its bounds are checked as counted work, not as time.
+    static STEPS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// Adds `n` to the tests' work counter (nothing outside the tests).
+#[inline]
+fn count_steps(n: usize) {
+    #[cfg(test)]
+    STEPS.with(|s| s.set(s.get() + n as u64));
+    #[cfg(not(test))]
+    let _ = n;
+}
+
 /// Triangles in a node's local coordinates.
 #[derive(Debug, Default)]
 pub struct LocalMesh {
@@ -226,6 +242,7 @@ fn corner_normals(
     for (f, face) in faces.iter().enumerate() {
         let nf = face_normal[f].normalize_or_zero();
         for k in face.clone() {
+            count_steps(faces_of[index[k] as usize].len());
             let sum: Vec3 = faces_of[index[k] as usize]
                 .iter()
                 .map(|&o| face_normal[o as usize])
@@ -259,9 +276,12 @@ fn split_by_normal(mesh: &mut LocalMesh, index: &[i32], corner_normal: &[Option<
         for t in &mut triangles[tri..tri + ntri] {
             for p in t.iter_mut() {
                 let local = if face_len > 32 {
+                    count_steps(1);
                     corner_of.get(p).copied()
                 } else {
-                    run.iter().position(|&i| i as u32 == *p)
+                    let found = run.iter().position(|&i| i as u32 == *p);
+                    count_steps(found.map_or(face_len, |k| k + 1));
+                    found
                 };
                 let k = face_start + local.unwrap_or(0);
                 let n = corner_normal[k].unwrap_or(Vec3::Y);
@@ -449,6 +469,70 @@ mod tests {
             outward &= n.dot(a + b + c) > 0.0;
         }
         (area, outward)
+    }
+
+    /// The mesh of the geometry of the (only) Shape of a VRML `body`, its warnings, and the work
+    /// its normal generation counted.
+    fn counted(body: &str) -> (LocalMesh, Vec<String>, u64) {
+        let path = std::path::Path::new("t.wrl");
+        let (nodes, _) = super::super::parse_text(&format!("#VRML V2.0 utf8\n{body}"), path).unwrap();
+        let g = nodes[0].node("geometry").unwrap();
+        let mut warn = Vec::new();
+        STEPS.with(|s| s.set(0));
+        let Ok(Geometry::Mesh(m)) = geometry(g, &mut warn) else { panic!("no mesh") };
+        (m, warn, STEPS.with(|s| s.get()))
+    }
+
+    #[test]
+    fn a_huge_smooth_face_takes_linear_work() {
+        // One 200 000-corner polygon with per-point normals: fanned, and each triangle corner
+        // finds its corner of the face in one look-up (a linear search would take ~10¹⁰ steps).
+        let n = 200_000;
+        let points: String = (0..n)
+            .map(|k| {
+                let a = k as f32 / n as f32 * std::f32::consts::TAU;
+                format!("{} {} 0,", a.cos(), a.sin())
+            })
+            .collect();
+        let normals = "0 0 1,".repeat(n);
+        let index: String = (0..n).map(|k| format!("{k} ")).collect();
+        let (m, warn, steps) = counted(&format!(
+            "Shape {{ geometry IndexedFaceSet {{ coord Coordinate {{ point [ {points} ] }} normal Normal {{ vector [ {normals} ] }} coordIndex [ {index} ] }} }}"
+        ));
+        assert_eq!((m.triangles.len(), m.normals.len()), (n - 2, n));
+        assert!(warn.iter().any(|w| w.contains("fanned")), "{warn:?}");
+        assert_eq!(steps, 3 * (n as u64 - 2));
+    }
+
+    #[test]
+    fn crease_angle_work_is_refused_before_it_is_done() {
+        // A fan of 20 000 triangles around one centre point would need Σ degree² ≈ 4·10⁸ face
+        // comparisons: refused (faceted, a warning) before any is made.
+        let n = 20_000;
+        let mut points = String::from("0 0 0,");
+        let mut index = String::new();
+        for k in 0..=n {
+            let a = k as f32 / n as f32 * std::f32::consts::TAU;
+            points += &format!("{} {} 0,", a.cos(), a.sin());
+            if k < n {
+                index += &format!("0 {} {} -1 ", k + 1, k + 2);
+            }
+        }
+        let (m, warn, steps) = counted(&format!(
+            "Shape {{ geometry IndexedFaceSet {{ creaseAngle 1 coord Coordinate {{ point [ {points} ] }} coordIndex [ {index} ] }} }}"
+        ));
+        assert!(m.normals.is_empty() && warn.iter().any(|w| w.contains("too many faces")), "{warn:?}");
+        assert_eq!(steps, 0);
+        // The counter counts: a smooth cube compares each of its 24 corners with the 3 faces at
+        // its point (72 steps) and finds the 6 corners of each quad's two triangles in the quad's
+        // run of 4 by linear search (16 steps a quad, 96 in all).
+        let (m, _, steps) = counted(
+            "Shape { geometry IndexedFaceSet { creaseAngle 2 coord Coordinate { point [ -1 -1 -1, 1 -1 -1, \
+             1 1 -1, -1 1 -1, -1 -1 1, 1 -1 1, 1 1 1, -1 1 1 ] } coordIndex [ 0 3 2 1 -1, 4 5 6 7 -1, \
+             0 1 5 4 -1, 3 7 6 2 -1, 0 4 7 3 -1, 1 2 6 5 -1 ] } }",
+        );
+        assert!(!m.normals.is_empty());
+        assert_eq!(steps, 72 + 96);
     }
 
     #[test]
