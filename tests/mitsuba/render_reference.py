@@ -62,6 +62,9 @@ def main():
     ap.add_argument('--competitor-spp', type=int, default=64)
     ap.add_argument('--threads', type=int, default=None)
     ap.add_argument('--exposure', type=float, default=1.0, help='for reference.png only')
+    ap.add_argument('--halves-dir', default=None,
+                    help='also write the two half means (NAME_REF.halfA.exr, .halfB.exr) here, '
+                    'e.g. for sum_references.py (not committed: they are as big as the reference)')
     args = ap.parse_args()
     if not os.environ.get('DRJIT_LIBLLVM_PATH'):
         os.environ['DRJIT_LIBLLVM_PATH'] = '/usr/lib/x86_64-linux-gnu/libLLVM-19.so'
@@ -102,6 +105,12 @@ def main():
         halves = relmse(half_a, half_b)
         mi.Bitmap(np.ascontiguousarray(ref, dtype=np.float32),
                   pixel_format=mi.Bitmap.PixelFormat.RGB).write(os.path.join(dst, ref_name + '.exr'))
+        if args.halves_dir:
+            os.makedirs(args.halves_dir, exist_ok=True)
+            for tag, img in (('halfA', half_a), ('halfB', half_b)):
+                mi.Bitmap(np.ascontiguousarray(img, dtype=np.float32),
+                          pixel_format=mi.Bitmap.PixelFormat.RGB).write(
+                    os.path.join(args.halves_dir, f'{name}_{ref_name}.{tag}.exr'))
         mi.util.write_bitmap(os.path.join(dst, ref_name + '.png'),
                              np.clip(ref * args.exposure, 0, 1).astype(np.float32))
 
