@@ -50,8 +50,6 @@ def main():
     import drjit as dr
     import mitsuba as mi
     mi.set_variant('llvm_ad_rgb')
-    if args.threads:
-        dr.set_thread_count(args.threads)
     folder = os.path.join(REPO, 'testdata', 'mitsuba', args.name)
 
     def read(path):
@@ -81,6 +79,8 @@ def main():
         print(f'{args.name}: sum of halves relMSE {halves:.3e} -> reference ~{halves / 4:.3e}',
               file=sys.stderr)
 
+    if args.threads:  # after reading the EXRs (see benches/mitsuba_path.py)
+        dr.set_thread_count(args.threads)
     scene = mi.load_file(os.path.join(folder, 'scene.xml'))
     integrator = mi.load_dict({'type': integrator_name, 'max_depth': -1})
     competitor = []
