@@ -7,9 +7,9 @@ so 4^SUBDIV x 69,451 triangles; the shape stays the same, the new vertices' norm
 normalised means of the edge's two vertex normals), standing on the floor of a closed 8 x 3 x 8 m
 room (white Lambertian walls, floor and ceiling) lit by one 1 x 1 m ceiling light, seen by a
 256 x 256 pinhole camera (box filter) from inside the room. Every bunny is the same OBJ file,
-placed by its <shape>'s to_world (centred, scaled by 0.8, rotated about +y and translated), so the OBJ is written
-once; both Mitsuba 3 and Opticks load each <shape> as its own triangles (no instancing), so the
-renderers see GRID^2 x 4^SUBDIV x 69,451 triangles. Defaults: SUBDIV 1, GRID 3 -> 9 x 277,804 =
+placed by its <shape>'s to_world (centred, scaled by 0.8, rotated about +y and translated), so
+the OBJ is written once; both Mitsuba 3 and Opticks load each <shape> as its own world-space
+triangles (no instancing), so the renderers see GRID^2 x 4^SUBDIV x 69,451 triangles. Defaults: SUBDIV 1, GRID 3 -> 9 x 277,804 =
 2,500,236 bunny triangles (+ 14 for the room and light).
 
 Writes OUT/scene.xml and OUT/meshes/{bunny_subN.obj, room.obj, light.obj}, by default into
