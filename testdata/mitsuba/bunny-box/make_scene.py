@@ -24,8 +24,11 @@ sha256 b9b363c443640e9e0ad202188457037241d6eb671fd575e188821fea4bd2042d), which 
 byte the repository's bun_zipper.ply geometry (same vertex and face counts and bounds).
 
 scene.xml is written by hand; make_scene.py derives its variants from it, so that they differ
-from it only where they must: scene-warm.xml and scene-cool.xml drop the other light's <shape>
-(the block after its "COOL LIGHT" / "WARM LIGHT" comment), scene-gold.xml gives the bunny the
+from it only where they must: scene-warm.xml and scene-cool.xml switch the other light off by
+removing the <emitter> from its <shape> (the block after its "COOL LIGHT" / "WARM LIGHT"
+comment): its black panel stays, absorbing and shadowing exactly as in scene.xml, so that
+scene.xml's image is the sum of theirs and a dataset of scene.xml with that light's power set
+to zero must match them; scene-gold.xml gives the bunny the
 BSDF GOLD (GGX roughconductor, alpha 0.25, the rough scene's gold; one-sided, the bunny's
 faces point outward) in place of the block after the "BUNNY MATERIAL" comment.
 
@@ -126,11 +129,17 @@ def write_obj(path, header, objects):
             base += len(verts)
 
 
-def drop_block(xml, marker):
-    """xml without the comment starting with `<!-- MARKER` and the <shape> after it."""
+def switch_off(xml, marker):
+    """xml with the <emitter> removed from the <shape> after the comment `<!-- MARKER`, and a
+    note in that comment: the light's (black) geometry stays."""
     start = xml.index('    <!-- ' + marker)
-    end = xml.index('</shape>\n', start) + len('</shape>\n')
-    return xml[:start] + xml[end:]
+    end = xml.index('</shape>\n', start)
+    e0 = xml.index('        <emitter', start)
+    e1 = xml.index('</emitter>\n', e0) + len('</emitter>\n')
+    assert e1 <= end
+    note = f'    <!-- {marker} SWITCHED OFF (its <emitter> removed by make_scene.py; the panel stays)'
+    head = xml.index(marker, start) + len(marker)
+    return xml[:start] + note + xml[head:e0] + xml[e1:]
 
 
 GOLD = '''    <!-- BUNNY MATERIAL: GGX gold, the rough scene's (one-sided; the bunny faces outward) -->
@@ -154,8 +163,10 @@ def write_variants():
     with open(os.path.join(HERE, 'scene.xml')) as f:
         xml = f.read()
     variants = {
-        'scene-warm.xml': ('only the warm light (the cool one removed)', drop_block(xml, 'COOL LIGHT')),
-        'scene-cool.xml': ('only the cool light (the warm one removed)', drop_block(xml, 'WARM LIGHT')),
+        'scene-warm.xml': ('only the warm light emits (the cool one switched off)',
+                           switch_off(xml, 'COOL LIGHT')),
+        'scene-cool.xml': ('only the cool light emits (the warm one switched off)',
+                           switch_off(xml, 'WARM LIGHT')),
         'scene-gold.xml': ('the bunny is GGX gold (roughconductor, alpha 0.25), both lights',
                            replace_bsdf(xml, 'BUNNY MATERIAL', GOLD)),
     }
