@@ -132,6 +132,9 @@ def main():
             f'(much slower; install libLLVM and set DRJIT_LIBLLVM_PATH)')
         variant = 'scalar_rgb'
         mi.set_variant(variant)
+    # Read the reference before changing Dr.Jit's thread count: with --threads 1, Mitsuba 3.9.1's
+    # EXR reader (OpenEXR's thread pool) was seen to wait forever when called after it.
+    ref = read_rgb(mi, ref_path) if os.path.exists(ref_path) else None
     if args.threads:
         try:
             dr.set_thread_count(args.threads)
@@ -174,8 +177,7 @@ def main():
                   paths_per_s=round(paths / times[-1], 1),
                   threads=args.threads or os.cpu_count(), mitsuba=mi.__version__,
                   libllvm=llvm if variant.startswith('llvm') else None)
-    if os.path.exists(ref_path):
-        ref = read_rgb(mi, ref_path)
+    if ref is not None:
         if ref.shape != img.shape:
             log(f'WARNING: reference {ref_path} is {ref.shape[1]}x{ref.shape[0]}, '
                 f'image is {width}x{height}: not compared')
