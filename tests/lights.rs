@@ -504,11 +504,11 @@ fn mitsuba_light_extensions() {
     for (body, want) in [
         (
             r#"<emitter type="spot"><float name="cutoff_angle" value="0"/></emitter>"#,
-            "cutoff_angle 0° must be in",
+            "spot cutoff angle 0° must be in",
         ),
         (
             r#"<emitter type="spot"><float name="cutoff_angle" value="10"/><float name="beam_width" value="20"/></emitter>"#,
-            "beam_width 20° must be in",
+            "beam width 20° must be in",
         ),
         (
             r#"<emitter type="ies"><string name="filename" value="missing.ies"/></emitter>"#,
@@ -516,11 +516,11 @@ fn mitsuba_light_extensions() {
         ),
         (
             r#"<emitter type="ies"><string name="filename" value="lamp.ies"/><rgb name="power" value="-1"/></emitter>"#,
-            "power must not be negative",
+            "power [-1.0, -1.0, -1.0] W must be finite and non-negative",
         ),
         (
             r#"<emitter type="directional"><vector name="direction" x="0" y="0" z="0"/></emitter>"#,
-            "must not be zero",
+            "<vector name=\"direction\">: direction [0.0, 0.0, 0.0] is zero or not finite",
         ),
         (
             r#"<shape type="rectangle"><emitter type="area"><float name="exponent" value="-1"/></emitter></shape>"#,
@@ -581,15 +581,21 @@ fn mitsuba_area_light_ies_tangent_power() {
     assert!((light("focused").power() - Rgb::splat(2.0)).abs().max_element() < 1e-5);
 
     for (emitter, want) in [
-        (r#"<vector name="tangent" x="0" y="0" z="0"/>"#, "tangent must not be zero"),
+        (
+            r#"<vector name="tangent" x="0" y="0" z="0"/>"#,
+            "tangent [0.0, 0.0, 0.0] must be finite and non-zero",
+        ),
         (
             r#"<float name="exponent" value="2"/><string name="filename" value="lamp.ies"/>"#,
             "either `exponent` or `filename`",
         ),
         (r#"<rgb name="power" value="1"/><float name="lumens" value="1"/>"#, "either `power` or `lumens`"),
-        (r#"<float name="lumens" value="-5"/>"#, "lumens must not be negative"),
-        (r#"<rgb name="power" value="-1"/>"#, "power must not be negative"),
-        (r#"<string name="filename" value="lamp.ies"/><float name="scale" value="-1"/>"#, "scale must not"),
+        (r#"<float name="lumens" value="-5"/>"#, "lumens -5 must be finite and non-negative"),
+        (r#"<rgb name="power" value="-1"/>"#, "power [-1.0, -1.0, -1.0] W must be finite and non-negative"),
+        (
+            r#"<string name="filename" value="lamp.ies"/><float name="scale" value="-1"/>"#,
+            "<float name=\"scale\">: emission [-1.0, -1.0, -1.0] must be finite and non-negative",
+        ),
         (r#"<string name="filename" value="none.ies"/>"#, "cannot read the IES file"),
         (r#"<rgb name="radiance" value="0"/><float name="lumens" value="5"/>"#, "non-zero luminance"),
     ] {

@@ -6,23 +6,9 @@
 //! [`PointLightDesc::spot`](opticks_core::scene::PointLightDesc::spot),
 //! [`DirectionalLightDesc::new`](opticks_core::scene::DirectionalLightDesc::new),
 //! [`opticks_core::light::axis_frame`]): the loaders call them and place the core's error at
-//! the element. [`spot_profile`], [`axis_frame`] and [`directional_light`] are those
-//! constructors in the form the Mitsuba loader calls them, until it calls the core directly.
+//! the element.
 
-use opticks_core::light::{EmissionProfile, ProfileError};
-use opticks_core::math::Rgb;
-use opticks_core::scene::{DirectionalLightDesc, Source};
-
-pub use opticks_core::light::axis_frame;
-
-/// Which spot angle the core refuses ([`spot_profile`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LightError {
-    /// The cutoff angle is not in (0, π].
-    Cutoff,
-    /// The beam width is not in (0, cutoff].
-    Beam,
-}
+use opticks_core::light::EmissionProfile;
 
 /// An IES (LM-63) file read and checked as a light's profile: its candela grid, the flux that
 /// distribution carries (W per unit colour: lumens/683) and, when the file's rated lumens
@@ -55,37 +41,4 @@ pub fn ies_luminaire(path: &std::path::Path, hemisphere: bool) -> Result<IesLumi
         })
     });
     Ok(IesLuminaire { profile: ies.profile, watts, warning })
-}
-
-/// The core's spot profile ([`EmissionProfile::spot`]) of cutoff angle `cutoff` and beam width
-/// `beam` (radians), with which of the two it refuses.
-pub fn spot_profile(cutoff: f64, beam: f64) -> Result<EmissionProfile, LightError> {
-    EmissionProfile::spot(cutoff as f32, beam as f32).map_err(|e| match e {
-        ProfileError::Beam { .. } => LightError::Beam,
-        _ => LightError::Cutoff,
-    })
-}
-
-/// The core's directional light ([`DirectionalLightDesc::new`]).
-pub fn directional_light(
-    name: String,
-    source: Source,
-    direction: glam::DVec3,
-    irradiance: Rgb,
-) -> Result<DirectionalLightDesc, opticks_core::light::LightError> {
-    DirectionalLightDesc::new(name, source, direction, irradiance)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn spot_says_which_angle_the_core_refuses() {
-        assert!(spot_profile(0.5, 0.5).is_ok());
-        assert_eq!(spot_profile(0.0, 0.0), Err(LightError::Cutoff));
-        assert_eq!(spot_profile(4.0, 1.0), Err(LightError::Cutoff));
-        assert_eq!(spot_profile(0.5, 0.6), Err(LightError::Beam));
-        assert_eq!(spot_profile(f64::NAN, 0.1), Err(LightError::Cutoff));
-    }
 }

@@ -5,10 +5,9 @@
 //!
 //! Three rules keep the core's light model in one place here:
 //! * a mesh's emission fields are filled by [`set_area_emission`] only;
-//! * the physical checks of the values read are the `check_*` functions at the end (not
-//!   negative, the exponent's range, a non-zero tangent and direction, the spot's cone), plus
-//!   the two the shared [`lights`] constructors make (the axis of `to_world` in
-//!   [`emitter_frame`], the irradiance in [`directional`]);
+//! * every physical check of a value read is the core's (`light::check`, the profiles'
+//!   constructors, [`DirectionalLightDesc::new`], [`axis_frame`]), its error placed at the
+//!   element that gave the value;
 //! * `filename`/`scale` (an IES file) and `power`/`lumens` are read by one function each
 //!   ([`ies_file`], [`power_or_lumens`]) for the area and the `ies` emitters.
 
@@ -19,9 +18,12 @@ use super::transform::Transform;
 use super::xml::Element;
 use crate::scene_formats::lights;
 use glam::DVec3;
-use opticks_core::light::{EmissionProfile, IesProfile, lumens_to_watts};
+use opticks_core::light::check::{check_emission, check_power, unit_tangent};
+use opticks_core::light::{
+    EmissionProfile, IesProfile, LightError, ProfileError, axis_frame, lumens_to_watts,
+};
 use opticks_core::math::{Frame, Rgb, Vec3};
-use opticks_core::scene::{AreaEmission, MeshDesc, PointLightDesc};
+use opticks_core::scene::{AreaEmission, DirectionalLightDesc, MeshDesc, PointLightDesc};
 use std::path::PathBuf;
 
 /// A top-level emitter builder: the element, its type and its name (its `id`, else
@@ -82,7 +84,7 @@ pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmiss
         return Err(c.err("unsupported element inside an area emitter (textures are not supported)"));
     }
     let (radiance, node) = p.color_or("radiance", Rgb::ONE)?;
-    check_not_negative("radiance", radiance.min_element().into(), node)?;
+    check_emission(radiance).map_err(|e| node.err(e.to_string()))?;
     let exponent = p.float("exponent")?;
     let ies = ies_file(b, &mut p, true)?;
     let (profile, colour, default_power) = match (exponent, ies) {
@@ -90,8 +92,8 @@ pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmiss
             return Err(fnode.err("give either `exponent` or `filename`, not both"));
         }
         (Some((x, enode)), None) => {
-            check_exponent(x, enode)?;
-            (Some(EmissionProfile::CosinePower { exponent: x as f32 }), radiance, None)
+            let profile = EmissionProfile::cosine_power(x as f32).map_err(|e| enode.err(e.to_string()))?;
+            (Some(profile), radiance, None)
         }
         (None, Some((ies, scale, _))) => {
             let colour = radiance * scale;
@@ -100,7 +102,10 @@ pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmiss
         (None, None) => (None, radiance, None),
     };
     let tangent = match p.point("tangent")? {
-        Some((t, tnode)) => Some(check_tangent(t.as_vec3(), tnode)?),
+        Some((t, tnode)) => {
+            unit_tangent(t.as_vec3()).map_err(|e| tnode.err(e.to_string()))?;
+            Some(t.as_vec3())
+        }
         None => None,
     };
     let power = power_or_lumens(&mut p, colour, "radiance")?.or(default_power);
@@ -118,7 +123,7 @@ fn point<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Res
         Placement::Default => DVec3::ZERO,
     };
     let (intensity, inode) = p.color_or("intensity", Rgb::ONE)?;
-    check_not_negative("intensity", intensity.min_element().into(), inode)?;
+    check_emission(intensity).map_err(|e| inode.err(e.to_string()))?;
     b.finish(&p);
     let light = PointLightDesc {
         name,
@@ -138,7 +143,11 @@ fn spot<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Resu
     let mut light = oriented_point_light(e, ty, name, &mut p)?;
     let (cutoff, cnode) = p.float_or("cutoff_angle", 20.0)?;
     let (beam, bnode) = p.float_or("beam_width", cutoff * 0.75)?;
-    light.profile = Some(check_spot_cone(cutoff, beam, cnode, bnode)?);
+    let cone = EmissionProfile::spot(cutoff.to_radians() as f32, beam.to_radians() as f32);
+    light.profile = Some(cone.map_err(|e| match e {
+        ProfileError::Beam { .. } => bnode.err(e.to_string()),
+        _ => cnode.err(e.to_string()),
+    })?);
     b.finish(&p);
     b.desc.point_lights.push(light);
     Ok(())
@@ -173,7 +182,7 @@ fn oriented_point_light<'d>(
         None => (Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z }, DVec3::ZERO),
     };
     let (intensity, inode) = p.color_or("intensity", Rgb::ONE)?;
-    check_not_negative("intensity", intensity.min_element().into(), inode)?;
+    check_emission(intensity).map_err(|e| inode.err(e.to_string()))?;
     Ok(PointLightDesc {
         name,
         source: Builder::source(e),
@@ -188,15 +197,20 @@ fn oriented_point_light<'d>(
 fn directional<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
     let mut p = Props::of(e)?;
     no_objects(&p, ty)?;
-    let direction = match point_or_to_world(&mut p, "direction")? {
-        Placement::Given(d, dnode) => check_direction(d, dnode)?,
-        Placement::ToWorld(t, tnode) => emitter_frame(&t, tnode)?.0.n.as_dvec3(),
-        Placement::Default => DVec3::Z,
+    let (direction, dnode) = match point_or_to_world(&mut p, "direction")? {
+        Placement::Given(d, dnode) => (d, Some(dnode)),
+        Placement::ToWorld(t, tnode) => (emitter_frame(&t, tnode)?.0.n.as_dvec3(), None),
+        Placement::Default => (DVec3::Z, None),
     };
     let (irradiance, inode) = p.color_or("irradiance", Rgb::ONE)?;
     b.finish(&p);
-    let light = lights::directional_light(name, Builder::source(e), direction, irradiance)
-        .map_err(|_| inode.err("irradiance must not be negative"))?;
+    let light =
+        DirectionalLightDesc::new(name, Builder::source(e), direction, irradiance).map_err(|e| {
+            match (&e, dnode) {
+                (LightError::Direction(_), Some(dnode)) => dnode.err(e.to_string()),
+                _ => inode.err(e.to_string()),
+            }
+        })?;
     b.desc.directional_lights.push(light);
     Ok(())
 }
@@ -256,7 +270,7 @@ fn ies_file<'d>(
     }
     let scale = match p.float("scale")? {
         Some((scale, snode)) => {
-            check_not_negative("scale", scale, snode)?;
+            check_emission(Rgb::splat(scale as f32)).map_err(|e| snode.err(e.to_string()))?;
             scale as f32
         }
         None => 1.0,
@@ -273,15 +287,15 @@ fn power_or_lumens(p: &mut Props, colour: Rgb, colour_name: &str) -> Result<Opti
     match (power, lumens) {
         (Some(_), Some((_, lnode))) => Err(lnode.err("give either `power` or `lumens`, not both")),
         (Some((w, pnode)), None) => {
-            check_not_negative("power", w.min_element().into(), pnode)?;
+            check_power(w).map_err(|e| pnode.err(e.to_string()))?;
             Ok(Some(w))
         }
-        (None, Some((lm, lnode))) => {
-            check_not_negative("lumens", lm, lnode)?;
-            lumens_to_watts(lm as f32, colour).map(Some).map_err(|_| {
+        (None, Some((lm, lnode))) => lumens_to_watts(lm as f32, colour).map(Some).map_err(|e| match e {
+            LightError::NoLuminance(_) => {
                 lnode.err(format!("`lumens` needs the `{colour_name}` colour to have non-zero luminance"))
-            })
-        }
+            }
+            e => lnode.err(e.to_string()),
+        }),
         (None, None) => Ok(None),
     }
 }
@@ -290,41 +304,7 @@ fn power_or_lumens(p: &mut Props, colour: Rgb, colour_name: &str) -> Result<Opti
 /// perpendicular; and the position M·(0,0,0). A zero axis is an error at `tnode`.
 fn emitter_frame(t: &Transform, tnode: &Element) -> Result<(Frame, DVec3)> {
     let m = t.matrix;
-    let frame = lights::axis_frame(m.transform_vector3(DVec3::Z), m.transform_vector3(DVec3::X))
+    let frame = axis_frame(m.transform_vector3(DVec3::Z), m.transform_vector3(DVec3::X))
         .map_err(|_| tnode.err("to_world maps the emitter's axis (0, 0, 1) to zero"))?;
     Ok((frame, m.transform_point3(DVec3::ZERO)))
-}
-
-// ----- physical checks of emitter values -----
-
-/// `what` (its smallest channel `min`, at `at`) must not be negative.
-fn check_not_negative(what: &str, min: f64, at: &Element) -> Result<()> {
-    if min < 0.0 { Err(at.err(format!("{what} must not be negative"))) } else { Ok(()) }
-}
-
-/// A cosⁿ area emitter's exponent n (at `at`) must be in [0, 10⁶].
-fn check_exponent(n: f64, at: &Element) -> Result<()> {
-    if (0.0..=1e6).contains(&n) { Ok(()) } else { Err(at.err(format!("exponent {n} must be in [0, 10⁶]"))) }
-}
-
-/// An area emitter's `tangent` (at `at`) must not be zero.
-fn check_tangent(t: Vec3, at: &Element) -> Result<Vec3> {
-    if t.length() == 0.0 { Err(at.err("the tangent must not be zero")) } else { Ok(t) }
-}
-
-/// A directional emitter's `direction` (at `at`) must not be zero.
-fn check_direction(d: DVec3, at: &Element) -> Result<DVec3> {
-    if d.length() <= 0.0 { Err(at.err("direction must not be zero")) } else { Ok(d) }
-}
-
-/// A spot's cone: `cutoff` (degrees, at `cnode`) in (0°, 180°] and `beam` (at `bnode`) in
-/// (0°, cutoff]; the core's spot profile ([`lights::spot_profile`]).
-fn check_spot_cone(cutoff: f64, beam: f64, cnode: &Element, bnode: &Element) -> Result<EmissionProfile> {
-    lights::spot_profile(cutoff.to_radians(), beam.to_radians()).map_err(|e| {
-        if e == lights::LightError::Cutoff {
-            cnode.err(format!("cutoff_angle {cutoff}° must be in (0°, 180°]"))
-        } else {
-            bnode.err(format!("beam_width {beam}° must be in (0°, cutoff_angle = {cutoff}°]"))
-        }
-    })
 }
