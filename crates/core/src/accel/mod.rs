@@ -54,10 +54,13 @@
 //! 10¹² to 10⁻¹¹, each also with SAH cut off early so that median splits build most of it.
 //!
 //! The triangle test is obvhs's Möller–Trumbore (`RtTriangle::intersect`), operation for
-//! operation, so hit distances are bit-identical to before and ordinary images change only
-//! where obvhs lost a hit (in the Cornell box, rays leaving a corner closer than 1e-4 escaped
-//! the closed room: 87 of ~4.6 M bounces in `opticks bench`). Triangles are stored in leaf
-//! order for cache locality; `order` maps back to scene indices.
+//! operation, so hit distances are bit-identical to before. Closest hits count in [0, t_max),
+//! occluders in the open segment (0, t_max) only, so a surface through a shadow ray's origin
+//! (the other wall, for a sample lying in a corner) does not block it. Ordinary images change
+//! only where obvhs lost a hit: the seeded Cornell trace and render are byte-identical, while
+//! in `opticks bench`'s million paths 87 of ~4.6 M bounces, leaving a corner with the next hit
+//! nearer than 1e-4, used to escape the closed room. Triangles are stored in leaf order for
+//! cache locality; `order` maps back to scene indices.
 
 mod build;
 #[cfg(test)]
@@ -297,7 +300,12 @@ impl Accel {
     fn any_hit<const NAN_SAFE: bool>(&self, q: &Query, t_max: f32) -> bool {
         let mut t = t_max;
         self.traverse::<NAN_SAFE>(q, &mut t, |tris, first, count, t_max| {
-            (first..first + count).any(|slot| tris[slot as usize].intersect(q.o, q.d, *t_max) < *t_max)
+            (first..first + count).any(|slot| {
+                // The segment is open at both ends: a surface through the origin (t = ±0, e.g.
+                // the other wall at a corner a sample lies in) does not block it.
+                let t = tris[slot as usize].intersect(q.o, q.d, *t_max);
+                t > 0.0 && t < *t_max
+            })
         })
     }
 

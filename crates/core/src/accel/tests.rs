@@ -28,6 +28,26 @@ fn closest_hit_and_occlusion() {
     assert!(accel.intersect(&miss).is_none());
 }
 
+/// Rays with zero direction components lying in a box's face plane (where the slab test
+/// computes 0·∞ = NaN), and rays starting on a surface: occlusion is over the open segment.
+#[test]
+fn rays_in_face_planes_and_from_surfaces() {
+    let mut tris = quad(0.0).to_vec();
+    // A wall at x = 2 standing on the quad's plane.
+    tris.push([Vec3::new(2.0, -1.0, -1.0), Vec3::new(2.0, 1.0, -1.0), Vec3::new(2.0, 0.0, 1.0)]);
+    let accel = Accel::build(&tris);
+    // In the quad's plane (its box is flat in y), on its box's faces x = -1 and x = 1.
+    for origin in [Vec3::new(0.0, 0.0, 0.0), Vec3::new(-1.0, 0.0, 0.3), Vec3::new(1.0, 0.0, -0.5)] {
+        let along = Ray { origin, dir: Vec3::X, t_max: f32::INFINITY };
+        let (t, prim) = accel.intersect(&along).unwrap();
+        assert!(prim == 2 && (t - (2.0 - origin.x)).abs() < 1e-6, "{origin}: t={t} prim={prim}");
+        assert!(accel.occluded(&Ray { t_max: 5.0, ..along }));
+    }
+    // From a point of the quad, leaving it: the quad is at t = 0, outside (0, t_max).
+    let up = Ray { origin: Vec3::new(0.3, 0.0, 0.4), dir: Vec3::new(0.6, 0.8, 0.0), t_max: 1.0 };
+    assert!(!accel.occluded(&up));
+}
+
 /// A scene to test: its triangles, the ones rays are aimed at, and how far from its target a
 /// ray starts (log-uniform in the range, relative to the target triangle's size).
 struct Case {
@@ -97,10 +117,12 @@ fn size_of(t: &[Vec3; 3]) -> f32 {
     (t[1] - t[0]).length().max((t[2] - t[0]).length()).max((t[2] - t[1]).length())
 }
 
-/// The brute-force answer: the same triangle test as [`Accel`] on every triangle.
-fn brute_force(tris: &[Tri], ray: &Ray) -> f32 {
+/// The brute-force answers with the same triangle test as [`Accel`] on every triangle: the
+/// closest hit in [0, t_max], and whether a hit lies in the open segment (0, t_max).
+fn brute_force(tris: &[Tri], ray: &Ray) -> (f32, bool) {
     let q = Query::new(ray);
-    tris.iter().map(|t| t.intersect(q.o, q.d, ray.t_max)).fold(f32::INFINITY, f32::min)
+    let ts = tris.iter().map(|t| t.intersect(q.o, q.d, ray.t_max));
+    ts.fold((f32::INFINITY, false), |(min, blocked), t| (min.min(t), blocked || (t > 0.0 && t < ray.t_max)))
 }
 
 /// Fires `rays` rays at the case's targets and returns a description of every ray on which the
@@ -119,7 +141,7 @@ fn disagreements(accel: &Accel, case: &Case, rays: usize, rng: &mut Rng) -> Vec<
         let dir = rng.direction();
         let origin = p - dir * distance;
         let ray = Ray { origin, dir, t_max: f32::INFINITY };
-        let expect = brute_force(&rt, &ray);
+        let expect = brute_force(&rt, &ray).0;
         let got = accel.intersect(&ray);
         let got_t = got.map_or(f32::INFINITY, |h| h.0);
         if got_t != expect {
@@ -127,7 +149,7 @@ fn disagreements(accel: &Accel, case: &Case, rays: usize, rng: &mut Rng) -> Vec<
         }
         let t_max = (p - origin).length() * rng.range(0.5, 1.5);
         let shadow = Ray { t_max, ..ray };
-        let blocked = brute_force(&rt, &shadow) < t_max;
+        let blocked = brute_force(&rt, &shadow).1;
         if accel.occluded(&shadow) != blocked {
             bad.push(format!("occluded: {shadow:?}: brute force {blocked}"));
         }
