@@ -350,6 +350,13 @@ fn bvh_agrees_with_brute_force_on_hostile_geometry() {
         // Also with SAH cut off at depth 3, so that most of the tree comes from median splits.
         for max_depth in [MAX_DEPTH, 3] {
             let accel = Accel::build_limited(&case.tris, max_depth);
+            // The release-mode check passes (the queries did not fall back to brute force).
+            let boxes: Vec<Aabb> = case.tris.iter().map(Aabb::of).collect();
+            let built = build::build(&boxes, max_depth);
+            let leaf_boxes: Vec<Aabb> = built.order.iter().map(|&i| boxes[i as usize]).collect();
+            if let Err(e) = build::validate(&built.nodes, &leaf_boxes) {
+                report += &format!("{} (SAH to depth {max_depth}): invalid tree: {e}\n", case.name);
+            }
             let bound = max_depth.max(build::ceil_log2(case.tris.len()));
             if accel.depth > bound {
                 report +=
@@ -369,4 +376,24 @@ fn bvh_agrees_with_brute_force_on_hostile_geometry() {
         }
     }
     assert!(report.is_empty(), "BVH disagrees with brute force:\n{report}");
+}
+
+/// The release-mode check catches a box that misses a triangle and a triangle in two leaves.
+#[test]
+fn validation_catches_broken_trees() {
+    let case = degenerate_case(&mut Rng::new(3));
+    let boxes: Vec<Aabb> = case.tris.iter().map(Aabb::of).collect();
+    let built = build::build(&boxes, MAX_DEPTH);
+    let leaf_boxes: Vec<Aabb> = built.order.iter().map(|&i| boxes[i as usize]).collect();
+    assert_eq!(build::validate(&built.nodes, &leaf_boxes), Ok(()));
+    let leaf = built.nodes.iter().position(|n| n.count[0] > 1).unwrap();
+    let mut shrunk = built.nodes.clone();
+    let mut b = shrunk[leaf].bounds(0);
+    b.hi = b.lo;
+    let (first, count) = (shrunk[leaf].first[0], shrunk[leaf].count[0]);
+    shrunk[leaf].set(0, &b, first, count);
+    assert!(build::validate(&shrunk, &leaf_boxes).unwrap_err().contains("outside its leaf's box"));
+    let mut twice = built.nodes.clone();
+    twice[leaf].first[0] += 1;
+    assert!(build::validate(&twice, &leaf_boxes).is_err());
 }
