@@ -756,49 +756,6 @@ fn sphere_and_cylinder_sides_have_smooth_normals() {
     assert!(mesh_of("Shape { geometry Box { } }").normals.is_empty());
 }
 
-#[test]
-fn a_huge_smooth_face_loads() {
-    // One 200 000-corner polygon (fanned) with per-point normals. That its normals take linear
-    // work (one corner look-up per triangle corner) is counted in `vrml::geometry`'s unit tests.
-    let n = 200_000;
-    let points: String = (0..n)
-        .map(|k| {
-            let a = k as f32 / n as f32 * std::f32::consts::TAU;
-            format!("{} {} 0,", a.cos(), a.sin())
-        })
-        .collect();
-    let normals = "0 0 1,".repeat(n);
-    let index: String = (0..n).map(|k| format!("{k} ")).collect();
-    let body = format!(
-        "Shape {{ geometry IndexedFaceSet {{ coord Coordinate {{ point [ {points} ] }} normal Normal {{ vector [ {normals} ] }} coordIndex [ {index} ] }} }}"
-    );
-    let m = mesh_of(&body);
-    assert_eq!(m.triangles.len(), n - 2);
-    assert_eq!((m.positions.len(), m.normals.len()), (n, n));
-}
-
-#[test]
-fn crease_angle_generation_is_bounded() {
-    // A fan of 20 000 triangles around one centre point: 4·10⁸ comparisons → faceted, a warning
-    // (that none of them is made is counted in `vrml::geometry`'s unit tests).
-    let n = 20_000;
-    let mut points = String::from("0 0 0,");
-    let mut index = String::new();
-    for k in 0..=n {
-        let a = k as f32 / n as f32 * std::f32::consts::TAU;
-        points += &format!("{} {} 0,", a.cos(), a.sin());
-        if k < n {
-            index += &format!("0 {} {} -1 ", k + 1, k + 2);
-        }
-    }
-    let body = format!(
-        "Shape {{ geometry IndexedFaceSet {{ creaseAngle 1 coord Coordinate {{ point [ {points} ] }} coordIndex [ {index} ] }} }}"
-    );
-    let s = load_text(&with_header(&body)).unwrap();
-    assert!(s.description.meshes[0].normals.is_empty());
-    assert!(s.warnings.iter().any(|w| w.contains("creaseAngle: too many faces")), "{:?}", s.warnings);
-}
-
 /// A folder holding `lum/ww.ies` (the asymmetric wall washer test file) and `scene.wrl` with
 /// `body` after the extension's declarations and a floor triangle.
 fn ies_scene(body: &str) -> (tempfile::TempDir, PathBuf) {

@@ -471,22 +471,20 @@ mod tests {
         (area, outward)
     }
 
-    /// The mesh of the geometry of the (only) Shape of a VRML `body`, its warnings, and the work
-    /// its normal generation counted.
-    fn counted(body: &str) -> (LocalMesh, Vec<String>, u64) {
+    /// The (only) mesh of a VRML `body` loaded whole (parse, convert), the load's warnings, and
+    /// the work its normal generation counted.
+    fn counted(body: &str) -> (opticks_core::scene::MeshDesc, Vec<String>, u64) {
         let path = std::path::Path::new("t.wrl");
-        let (nodes, _) = super::super::parse_text(&format!("#VRML V2.0 utf8\n{body}"), path).unwrap();
-        let g = nodes[0].node("geometry").unwrap();
-        let mut warn = Vec::new();
         STEPS.with(|s| s.set(0));
-        let Ok(Geometry::Mesh(m)) = geometry(g, &mut warn) else { panic!("no mesh") };
-        (m, warn, STEPS.with(|s| s.get()))
+        let mut loaded = super::super::load_str(&format!("#VRML V2.0 utf8\n{body}"), path).unwrap();
+        (loaded.description.meshes.remove(0), loaded.warnings, STEPS.with(|s| s.get()))
     }
 
     #[test]
     fn a_huge_smooth_face_takes_linear_work() {
-        // One 200 000-corner polygon with per-point normals: fanned, and each triangle corner
-        // finds its corner of the face in one look-up (a linear search would take ~10¹⁰ steps).
+        // One 200 000-corner polygon with per-point normals: fanned, one vertex per point, and
+        // each triangle corner finds its corner of the face in one look-up (a linear search
+        // would take ~10¹⁰ steps).
         let n = 200_000;
         let points: String = (0..n)
             .map(|k| {
@@ -499,7 +497,7 @@ mod tests {
         let (m, warn, steps) = counted(&format!(
             "Shape {{ geometry IndexedFaceSet {{ coord Coordinate {{ point [ {points} ] }} normal Normal {{ vector [ {normals} ] }} coordIndex [ {index} ] }} }}"
         ));
-        assert_eq!((m.triangles.len(), m.normals.len()), (n - 2, n));
+        assert_eq!((m.triangles.len(), m.positions.len(), m.normals.len()), (n - 2, n, n));
         assert!(warn.iter().any(|w| w.contains("fanned")), "{warn:?}");
         assert_eq!(steps, 3 * (n as u64 - 2));
     }
