@@ -25,6 +25,7 @@
 
 use opticks_core::math::Vec3;
 use opticks_core::scene::{CameraKey, CameraPath};
+use opticks_core::sensor::check_fov;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -107,9 +108,7 @@ pub fn read_camera_path(path: &Path, default_fov: f32) -> Result<Walkthrough, Ca
     let mut keys = Vec::with_capacity(file.keyframes.len());
     for (i, k) in file.keyframes.iter().enumerate() {
         fov = k.fov.unwrap_or(fov);
-        if !(fov > 0.0 && fov < 180.0) {
-            return Err(invalid(format!("keyframe {i}: field of view {fov}° is outside (0°, 180°)")));
-        }
+        check_fov(fov).map_err(|err| invalid(format!("keyframe {i}: {err}")))?;
         let key = CameraKey {
             time: k.time,
             eye: Vec3::from_array(k.eye),

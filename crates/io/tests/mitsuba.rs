@@ -419,7 +419,7 @@ fn unsupported_media_are_located_errors() {
             (ink(""), "dir/test.xml:3:1: <medium type=\"homogeneous\" id=\"m\">: a homogeneous medium scatters by default"),
             (
                 ink(r#"<float name="albedo" value="0"/><float name="scale" value="-1"/>"#),
-                "dir/test.xml:4:35: <float name=\"scale\">: sigma_t · scale",
+                "dir/test.xml:4:35: <float name=\"scale\">: invalid material: absorption must not be negative",
             ),
             (
                 ink(r#"<float name="albedo" value="0"/><float name="sigma_t" value="nan"/>"#),

@@ -65,8 +65,9 @@ fn check_iors(int_ior: f32, ext_ior: f32) -> Result<f32, MaterialError> {
     Ok(eta)
 }
 
-/// An absorption coefficient σ_a: finite and ≥ 0 per channel (1/m).
-fn check_absorption(sigma_a: Rgb) -> Result<Rgb, MaterialError> {
+/// An absorption coefficient σ_a: finite and ≥ 0 per channel (1/m). Public so that scene
+/// readers apply this one rule where they read σ_a (to point at the right element).
+pub fn check_absorption(sigma_a: Rgb) -> Result<Rgb, MaterialError> {
     if !sigma_a.is_finite() {
         Err(MaterialError::NotFinite("absorption"))
     } else if sigma_a.min_element() < 0.0 {

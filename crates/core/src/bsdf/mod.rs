@@ -44,7 +44,7 @@ mod phong;
 pub mod shading;
 
 pub use conductor::{RoughConductor, SmoothConductor};
-pub use dielectric::{RoughDielectric, SmoothDielectric};
+pub use dielectric::{RoughDielectric, SmoothDielectric, check_absorption};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 

@@ -38,7 +38,7 @@ mod thin_lens;
 
 pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure};
-pub use pinhole::{CameraError, Pinhole};
+pub use pinhole::{CameraError, Pinhole, check_fov};
 pub use thin_lens::{LensError, ThinLens};
 
 use crate::dataset::Sample;

@@ -49,15 +49,19 @@ pub enum CameraError {
     Size(u32, u32),
 }
 
+/// A full field-of-view angle (degrees) a perspective camera can have: in (0°, 180°). Public so
+/// that scene readers apply this one rule to the angle as the file gives it (along any axis).
+pub fn check_fov(degrees: f32) -> Result<(), CameraError> {
+    if degrees > 0.0 && degrees < 180.0 { Ok(()) } else { Err(CameraError::FieldOfView(degrees)) }
+}
+
 impl Pinhole {
     /// Validates a description into a pinhole camera.
     pub fn new(d: &CameraDesc) -> Result<Self, CameraError> {
         if d.width == 0 || d.height == 0 {
             return Err(CameraError::Size(d.width, d.height));
         }
-        if !(d.fov_x_degrees > 0.0 && d.fov_x_degrees < 180.0) {
-            return Err(CameraError::FieldOfView(d.fov_x_degrees));
-        }
+        check_fov(d.fov_x_degrees)?;
         let forward = (d.target - d.eye).normalize_or_zero();
         let right = forward.cross(d.up).normalize_or_zero();
         if !d.eye.is_finite() || forward == Vec3::ZERO || right == Vec3::ZERO || !right.is_finite() {

@@ -8,7 +8,7 @@ use super::bsdf::{self, ParsedBsdf};
 use super::build::Builder;
 use super::properties::Props;
 use super::xml::Element;
-use opticks_core::bsdf::Bsdf;
+use opticks_core::bsdf::{Bsdf, check_absorption};
 use opticks_core::math::Rgb;
 
 /// A shape's interior medium: its absorption, where it is declared, its id if top-level (to
@@ -106,16 +106,8 @@ fn absorbing_medium<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<Rgb> {
     let (scale, snode) = p.float_or("scale", 1.0)?;
     p.ignore(&["sample_emitters"]);
     b.finish(&p);
-    check_absorption(sigma_t, scale, tnode, snode)
-}
-
-/// Physical check of a medium's absorption σ_a = `sigma_t`·`scale`: finite and not negative in
-/// every channel (the error is at `scale` if that is the culprit, else at `sigma_t`).
-fn check_absorption(sigma_t: Rgb, scale: f64, tnode: &Element, snode: &Element) -> Result<Rgb> {
-    let sigma_a = sigma_t * scale as f32;
-    if !sigma_a.is_finite() || sigma_a.min_element() < 0.0 {
-        let at = if scale < 0.0 || !scale.is_finite() { snode } else { tnode };
-        return Err(at.err(format!("sigma_t · scale = {sigma_a} must be finite and not negative")));
-    }
-    Ok(sigma_a)
+    // The core's rule for σ_a, applied here to point at `scale` if that is the culprit, else at
+    // `sigma_t` (the dielectric checks it again when the medium is attached).
+    let at = if scale < 0.0 || !scale.is_finite() { snode } else { tnode };
+    check_absorption(sigma_t * scale as f32).map_err(|source| bsdf::material_error(source, &[], at))
 }

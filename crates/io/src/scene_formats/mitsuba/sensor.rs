@@ -14,6 +14,7 @@ use super::transform::Transform;
 use super::xml::Element;
 use glam::{DMat3, DVec3};
 use opticks_core::scene::CameraDesc;
+use opticks_core::sensor::check_fov;
 
 /// A sensor builder: the `<sensor>` element and its properties.
 type BuildSensor = for<'d> fn(&mut Builder<'d>, &'d Element, Props<'d>) -> Result<CameraDesc>;
@@ -69,9 +70,7 @@ fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Res
             (f, "diagonal".to_string(), node)
         }
     };
-    if !(fov > 0.0 && fov < 180.0) {
-        return Err(fov_node.err(format!("field of view {fov}° is outside (0°, 180°)")));
-    }
+    check_fov(fov as f32).map_err(|err| fov_node.err(err.to_string()))?;
     let fov_x = fov_to_x(fov, &axis_name, width, height).ok_or_else(|| {
         let node = axis.as_ref().map_or(e, |(_, node)| *node);
         node.err(format!("unsupported fov_axis \"{axis_name}\" (supported: x, y, smaller, larger, diagonal)"))
