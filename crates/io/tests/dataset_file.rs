@@ -494,6 +494,36 @@ fn path_count_mismatch_is_detected() {
     expect_err(&dir.path().join("n.opds"), &b, "the file holds 3 chunks, 3 samples, 13 paths");
 }
 
+/// Issue 10: lights of 2^63+18 and 2^63+32 paths, with every checksum and count consistent in
+/// wrapping arithmetic, made `info` say "paths 50". Sums of path counts are checked.
+#[test]
+fn path_counts_whose_sum_wraps_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let mut b = std::fs::read(&good).unwrap();
+    let n_k0 = 96 + 4 + 4 + (4 + 3 + 16 + 12);
+    let n_k1 = n_k0 + 8 + (4 + 4 + 16 + 12);
+    let (l0, l1) = ((1u64 << 63) + 18, (1u64 << 63) + 32);
+    b[n_k0..n_k0 + 8].copy_from_slice(&l0.to_le_bytes());
+    b[n_k1..n_k1 + 8].copy_from_slice(&l1.to_le_bytes());
+    fix_header_crc(&mut b);
+    // Chunks: light 0 (2 paths), light 1 (3), light 0 (1), each header + its samples.
+    let c0 = first_chunk(&b);
+    let c1 = c0 + 32 + 2 * 32;
+    let c2 = c1 + 32;
+    b[c0 + 8..c0 + 16].copy_from_slice(&(l0 - 1).to_le_bytes());
+    b[c1 + 8..c1 + 16].copy_from_slice(&l1.to_le_bytes());
+    fix_record_crc(&mut b, c0);
+    fix_record_crc(&mut b, c1);
+    let end = c2 + 32 + 32;
+    b[end + 20..end + 28].copy_from_slice(&l0.wrapping_add(l1).to_le_bytes());
+    fix_record_crc(&mut b, end);
+    assert_eq!(l0.wrapping_add(l1), 50);
+    let e = expect_err(&dir.path().join("wrap.opds"), &b, "exceeds the maximum of 9007199254740992");
+    assert_eq!(e.offset(), Some(c0 as u64 + 8), "the first chunk already exceeds 2^53");
+}
+
 #[test]
 fn non_finite_beta_is_detected_even_with_a_valid_checksum() {
     let dir = tempfile::tempdir().unwrap();

@@ -3,7 +3,7 @@
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMAT_VERSION};
 use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
 use opticks_core::dataset::{DatasetHeader, Directions, Roulette, Selection, TraceInfo, TracePass};
-use opticks_core::dataset::{LightRecord, LightTable, Sample};
+use opticks_core::dataset::{LightRecord, LightTable, MAX_PATHS, Sample};
 use opticks_core::math::Rgb;
 use opticks_core::scene::Fingerprint;
 use std::path::Path;
@@ -205,9 +205,14 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
                     ),
                 ));
             }
+            let mut planned = 0u64;
             for _ in 0..n {
                 let light = c.u32("planned light")?;
-                pass.planned.push((light, c.u64("planned paths")?));
+                let paths = c.u64("planned paths")?;
+                planned = planned.checked_add(paths).filter(|&t| t <= MAX_PATHS).ok_or_else(|| {
+                    corrupt(c.pos - 8, format!("pass {i} plans more than the maximum of {MAX_PATHS} paths"))
+                })?;
+                pass.planned.push((light, paths));
             }
             if pass.paths > pass.planned_paths() {
                 return Err(corrupt(

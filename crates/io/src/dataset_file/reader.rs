@@ -3,7 +3,7 @@
 use super::format::{ChunkHeader, Trailer, decode_header, validate_samples};
 use super::{CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, TRAILER_LEN};
 use memmap2::Mmap;
-use opticks_core::dataset::{Chunk, DatasetHeader, Sample};
+use opticks_core::dataset::{Chunk, DatasetHeader, MAX_PATHS, Sample};
 use rayon::prelude::*;
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -200,6 +200,7 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
     let mut index = Vec::new();
     let mut sums = vec![0u64; lights];
     let mut total_samples = 0u64;
+    let mut total_paths = 0u64;
     let mut pos = decoded.len;
     loop {
         let rest = file.len() - pos;
@@ -245,10 +246,14 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
                     ),
                 });
             };
-            let sum = &mut sums[h.light as usize];
-            *sum = sum.checked_add(h.paths).ok_or_else(|| {
-                corrupt(pos + 8, format!("chunk {n}: path count of light {} overflows 64 bits", h.light))
+            // Every sum of path counts is checked: a dataset holds at most MAX_PATHS in all.
+            total_paths = total_paths.checked_add(h.paths).filter(|&t| t <= MAX_PATHS).ok_or_else(|| {
+                corrupt(
+                    pos + 8,
+                    format!("chunk {n}: the dataset's path count exceeds the maximum of {MAX_PATHS} (2^53)"),
+                )
             })?;
+            sums[h.light as usize] += h.paths;
             total_samples += h.count;
             index.push(Entry {
                 offset: pos,
@@ -272,7 +277,7 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
                     format!("{} unexpected bytes after the end record", rest - TRAILER_LEN),
                 ));
             }
-            let scanned = Trailer { chunks: n, samples: total_samples, paths: sums.iter().sum() };
+            let scanned = Trailer { chunks: n, samples: total_samples, paths: total_paths };
             if t != scanned {
                 return Err(corrupt(
                     pos,
