@@ -8,7 +8,7 @@ mod common;
 
 #[allow(unused_imports)]
 use common::*;
-use opticks_io::dataset_file::DatasetReader;
+use opticks_io::dataset_file::{DatasetReader, DatasetWriter, read_all};
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -67,4 +67,38 @@ fn a_huge_trace_starts_at_once_and_stops_on_ctrl_c() {
     let partial = DatasetReader::open(&dir.path().join("big.partial.opds")).unwrap();
     assert_eq!(partial.header().trace.passes[0].planned_paths(), 1_000_000_000_000);
     assert!(partial.header().table.total_paths() > 0, "tracing had started");
+}
+
+/// Issue 10, item 15: a dataset with valid checksums whose sample names triangle 2147483647 of
+/// a 36-triangle scene panicked `render` (index out of bounds) while `info` called it verified.
+/// Both now refuse it, naming the file and the sample's byte offset.
+#[test]
+fn a_sample_naming_a_missing_triangle_is_refused_by_render_and_info() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let out = opticks(&["trace", "builtin:cornell", "--paths", "20000", "-o", "good.opds"], d);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (header, mut chunks) = read_all(&d.join("good.opds")).unwrap();
+    chunks[1].samples[2].prim = 2_147_483_647;
+    let mut w = DatasetWriter::create(&d.join("bad.opds"), &header).unwrap();
+    for c in &chunks {
+        w.write_chunk(c).unwrap();
+    }
+    w.finish(&header.table, &header.trace).unwrap();
+    for verb in ["render", "info"] {
+        let args: &[&str] =
+            if verb == "render" { &["render", "bad.opds", "-o", "x.exr"] } else { &["info", "bad.opds"] };
+        let e = fails(args, d);
+        assert!(
+            e.contains("bad.opds") && e.contains("byte") && e.contains("triangle 2147483647 does not exist"),
+            "{verb}: {e}"
+        );
+    }
+    assert!(!d.join("x.exr").exists());
+    let info = opticks(&["info", "good.opds"], d);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.status.success() && text.contains("every sample checked against its 36 triangles"),
+        "{text}"
+    );
 }

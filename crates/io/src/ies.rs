@@ -140,7 +140,7 @@ impl std::error::Error for IesError {}
 
 /// Reads and parses an IES file.
 pub fn load_ies(path: &Path) -> Result<IesFile, IesError> {
-    let bytes = std::fs::read(path).map_err(|e| IesError {
+    let bytes = crate::input_file::read(path).map_err(|e| IesError {
         file: path.to_path_buf(),
         line: 0,
         message: format!("cannot read the IES file: {e}"),

@@ -124,7 +124,7 @@ impl DatasetWriter {
                 chunk.light
             )));
         };
-        if let Err((i, what)) = validate_samples(&chunk.samples) {
+        if let Err((i, what)) = validate_samples(&chunk.samples, None) {
             return Err(invalid(format!("sample {i} of a chunk of light {}: {what}", chunk.light)));
         }
         let payload: &[u8] = bytemuck::cast_slice(&chunk.samples);
