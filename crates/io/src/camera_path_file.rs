@@ -90,7 +90,7 @@ struct File {
 
 /// Reads a camera path file; `default_fov` is used until a keyframe gives one.
 pub fn read_camera_path(path: &Path, default_fov: f32) -> Result<Walkthrough, CameraPathFileError> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::input_file::read_to_string(path)
         .map_err(|cause| CameraPathFileError::Read { path: path.to_owned(), cause })?;
     let file: File = serde_json::from_str(&text)
         .map_err(|cause| CameraPathFileError::Json { path: path.to_owned(), cause })?;

@@ -13,7 +13,8 @@
 //! again ([`finished_path`]).
 
 use crate::dataset_file::{DatasetError, DatasetReader, DatasetSummary, DatasetWriter};
-use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan};
+use opticks_core::dataset::check_path_budget;
+use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan, TooManyPaths};
 use opticks_core::scene::Scene;
 use opticks_core::trace::trace_plan_from;
 use std::path::{Path, PathBuf};
@@ -120,6 +121,16 @@ pub enum JobError {
     /// New paths came without a pass record in the header.
     #[error(transparent)]
     NoPass(#[from] NoPassRecord),
+    /// The pass would take the dataset beyond the most paths a dataset may hold (checked before
+    /// anything is written or traced).
+    #[error("cannot trace into {}: {source}", path.display())]
+    TooManyPaths {
+        /// The target.
+        path: PathBuf,
+        /// The counts.
+        #[source]
+        source: TooManyPaths,
+    },
     /// The writer thread ended before the tracer.
     #[error("the dataset writer stopped")]
     WriterStopped,
@@ -151,12 +162,16 @@ pub fn write_dataset(
     new: Option<NewPaths<'_>>,
     progress: &dyn JobProgress,
 ) -> Result<JobReport, JobError> {
+    if let Some(new) = &new {
+        check_path_budget(&header.table, &new.pass)
+            .map_err(|source| JobError::TooManyPaths { path: output.to_owned(), source })?;
+    }
     let mut writer = DatasetWriter::create(output, &header)
         .map_err(|source| JobError::Create { path: output.to_owned(), source })?;
     for source in sources {
         let r = source.reader;
         for i in 0..r.chunk_count() {
-            let mut c = r.chunk(i)?.to_chunk();
+            let mut c = r.chunk(i)?;
             if let Some(map) = &source.lights {
                 c.light = map[c.light as usize];
             }

@@ -140,7 +140,7 @@ impl std::error::Error for IesError {}
 
 /// Reads and parses an IES file.
 pub fn load_ies(path: &Path) -> Result<IesFile, IesError> {
-    let bytes = std::fs::read(path).map_err(|e| IesError {
+    let bytes = crate::input_file::read(path).map_err(|e| IesError {
         file: path.to_path_buf(),
         line: 0,
         message: format!("cannot read the IES file: {e}"),
@@ -336,7 +336,9 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
         };
         err(line, e.to_string())
     })?;
-    let mut candela = Vec::with_capacity(nv * nh);
+    // Never allocate from an unchecked count: no more values than the file has numbers left (a
+    // 2 MB file declaring 100000 × 100000 angles asked for 40 GB here).
+    let mut candela = Vec::with_capacity((nv * nh).min(t.toks.len() - t.pos));
     for h in 0..nh {
         for v in 0..nv {
             let what = format!(
@@ -439,6 +441,30 @@ mod tests {
         assert_eq!((f.version, f.profile.candela[0]), (IesVersion::Lm63_2019, 1.0));
         let e = parse(&with("IESNA:LM-63-2031\n", "1")).unwrap_err().to_string();
         assert!(e.starts_with("t.ies:1: unknown IES format line"), "{e}");
+    }
+
+    /// Issue 10, item 12: a 2 MB file declaring 100000 × 100000 angles (valid, increasing ones)
+    /// made the reader reserve 40 GB for the candela table and abort. The counts are checked
+    /// against the numbers the file holds before anything is allocated from them.
+    #[test]
+    fn angle_counts_allocate_no_more_than_the_file_holds() {
+        let n = 100_000;
+        let mut text =
+            format!("IESNA:LM-63-2002\nTILT=NONE\n1 -1 1.0 {n} {n} 1 2 0.1 0.3 0.05\n1.0 1.0 35\n");
+        for k in 0..n {
+            text += &format!("{} ", k as f64 * 90.0 / (n - 1) as f64);
+        }
+        text += "\n";
+        for k in 0..n {
+            text += &format!("{} ", k as f64 * 360.0 / (n - 1) as f64);
+        }
+        text += "\n1 2 3\n";
+        let e = parse(&text).unwrap_err();
+        assert_eq!(e.line, 7, "{e}");
+        assert!(
+            e.to_string().contains("the file ends before the candela value 4 of horizontal angle 1"),
+            "{e}"
+        );
     }
 
     #[test]

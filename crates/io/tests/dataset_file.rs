@@ -195,7 +195,7 @@ fn empty_dataset_round_trips() {
 }
 
 #[test]
-fn chunk_views_are_zero_copy_aligned_and_readable_from_many_threads() {
+fn chunks_are_aligned_and_readable_from_many_threads() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("par.opds");
     let mut rng = Rng(2);
@@ -214,13 +214,66 @@ fn chunk_views_are_zero_copy_aligned_and_readable_from_many_threads() {
         .into_par_iter()
         .map(|i| {
             let v = r.chunk(i).unwrap();
-            assert_eq!(v.samples.as_ptr() as usize % 32, 0, "payload not 32-byte aligned");
             v.samples.iter().map(|s| s.beta[0] as f64).sum()
         })
         .collect();
     for (c, s) in chunks.iter().zip(sums) {
         assert_eq!(s, c.samples.iter().map(|s| s.beta[0] as f64).sum::<f64>());
     }
+}
+
+/// Issue 10, item 13: truncating a dataset while it was read killed the process with SIGBUS
+/// (the reader touched a memory map whose pages had vanished). Chunks are now read with explicit
+/// reads: the chunks past the cut are an error naming the file and the offset, those before it
+/// still read, and a chunk rewritten in place fails its checksum.
+#[test]
+fn a_file_truncated_or_rewritten_while_open_is_an_error_not_a_signal() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cut.opds");
+    let mut rng = Rng(5);
+    let chunks: Vec<Chunk> = (0..8u32)
+        .map(|_| Chunk { light: 0, paths: 4, samples: (0..500).map(|_| rng.sample()).collect() })
+        .collect();
+    write(&path, &header(&[0]), &chunks);
+    let r = DatasetReader::open(&path).unwrap();
+    let len = std::fs::metadata(&path).unwrap().len();
+    let cut = len / 2;
+    std::fs::OpenOptions::new().write(true).open(&path).unwrap().set_len(cut).unwrap();
+    assert_eq!(r.chunk(0).unwrap().samples, chunks[0].samples, "data before the cut still reads");
+    let e = r.chunk(7).unwrap_err();
+    let msg = e.to_string();
+    assert!(matches!(e, DatasetError::Truncated { .. }), "{msg}");
+    assert!(msg.contains(&path.display().to_string()) && msg.contains("truncated or rewrote"), "{msg}");
+    assert!(e.offset().is_some_and(|o| o > cut), "{msg}");
+    assert!(r.verify().is_err());
+    // Rewritten in place (same length, other bytes): the payload checksum catches it.
+    std::fs::OpenOptions::new().write(true).open(&path).unwrap().set_len(len).unwrap();
+    let e = r.chunk(7).unwrap_err();
+    assert!(matches!(e, DatasetError::Checksum { .. }), "{e}");
+}
+
+/// Issue 10, item 15: a sample naming a triangle the scene does not have panicked `render`
+/// (an index out of bounds), with valid checksums. Once the reader knows the scene's triangle
+/// count, such a sample is an error naming the file and the sample's byte offset.
+#[test]
+fn a_sample_naming_a_missing_triangle_is_an_error_once_the_scene_is_known() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("prim.opds");
+    let mut rng = Rng(6);
+    let mut samples: Vec<Sample> = (0..10).map(|_| rng.sample()).collect();
+    samples.iter_mut().for_each(|s| s.prim = 35 | (s.prim & opticks_core::dataset::EMISSION_FLAG));
+    samples[3].prim = 2_147_483_647;
+    write(&path, &header(&[0]), &[Chunk { light: 0, paths: 1, samples }]);
+    let mut r = DatasetReader::open(&path).unwrap();
+    r.verify().unwrap();
+    r.check_triangles(36);
+    let e = r.verify().unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.contains("triangle 2147483647 does not exist: the scene has 36 triangles"), "{msg}");
+    let first = u32_at(&std::fs::read(&path).unwrap(), 12) as u64;
+    assert_eq!(e.offset(), Some(first + 32 + 3 * 32), "{msg}");
+    r.check_triangles(1 << 31);
+    r.verify().unwrap();
 }
 
 fn dir_names(dir: &Path) -> Vec<String> {
@@ -492,6 +545,36 @@ fn path_count_mismatch_is_detected() {
     fix_record_crc(&mut b, c0);
     // (the end record's path total disagrees first).
     expect_err(&dir.path().join("n.opds"), &b, "the file holds 3 chunks, 3 samples, 13 paths");
+}
+
+/// Issue 10: lights of 2^63+18 and 2^63+32 paths, with every checksum and count consistent in
+/// wrapping arithmetic, made `info` say "paths 50". Sums of path counts are checked.
+#[test]
+fn path_counts_whose_sum_wraps_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.opds");
+    tiny(&good);
+    let mut b = std::fs::read(&good).unwrap();
+    let n_k0 = 96 + 4 + 4 + (4 + 3 + 16 + 12);
+    let n_k1 = n_k0 + 8 + (4 + 4 + 16 + 12);
+    let (l0, l1) = ((1u64 << 63) + 18, (1u64 << 63) + 32);
+    b[n_k0..n_k0 + 8].copy_from_slice(&l0.to_le_bytes());
+    b[n_k1..n_k1 + 8].copy_from_slice(&l1.to_le_bytes());
+    fix_header_crc(&mut b);
+    // Chunks: light 0 (2 paths), light 1 (3), light 0 (1), each header + its samples.
+    let c0 = first_chunk(&b);
+    let c1 = c0 + 32 + 2 * 32;
+    let c2 = c1 + 32;
+    b[c0 + 8..c0 + 16].copy_from_slice(&(l0 - 1).to_le_bytes());
+    b[c1 + 8..c1 + 16].copy_from_slice(&l1.to_le_bytes());
+    fix_record_crc(&mut b, c0);
+    fix_record_crc(&mut b, c1);
+    let end = c2 + 32 + 32;
+    b[end + 20..end + 28].copy_from_slice(&l0.wrapping_add(l1).to_le_bytes());
+    fix_record_crc(&mut b, end);
+    assert_eq!(l0.wrapping_add(l1), 50);
+    let e = expect_err(&dir.path().join("wrap.opds"), &b, "exceeds the maximum of 9007199254740992");
+    assert_eq!(e.offset(), Some(c0 as u64 + 8), "the first chunk already exceeds 2^53");
 }
 
 #[test]

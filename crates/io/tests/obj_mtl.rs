@@ -82,6 +82,28 @@ fn mtl_maps_to_phong_lambert_and_area_lights() {
     }
 }
 
+/// Issue 10, item 16: `Kd 3.3e38 0.5 0.5` hung the loader forever (the energy-conservation
+/// scale was an f32 subnormal that the step-down loop could not move). Huge values now scale
+/// down to a sum of at most 1, exactly like small excesses, and two huge ones do not overflow.
+#[test]
+fn huge_kd_and_ks_scale_down_instead_of_hanging() {
+    for (mtl, expect) in [
+        ("Kd 3.3e38 0.5 0.5\n", Rgb::new(1.0, 0.5 / 3.3e38, 0.5 / 3.3e38)),
+        ("Kd 3e38 3e38 3e38\nKs 3e38 3e38 3e38\nNs 10\n", Rgb::splat(0.5)),
+    ] {
+        let obj = format!("mtllib m.mtl\n{QUAD}usemtl m\nf 1 2 3\n");
+        let mtl = format!("newmtl m\n{mtl}");
+        let s = load_ok(&[("x.obj", obj.as_bytes()), ("m.mtl", mtl.as_bytes())]);
+        let kd = match &s.description.materials[0].bsdf {
+            Bsdf::Lambert(l) => l.reflectance,
+            Bsdf::ModifiedPhong(p) => p.kd,
+            other => panic!("{other:?}"),
+        };
+        assert!((kd - expect).abs().max_element() < 1e-6, "{mtl}: Kd {kd}");
+        assert!(s.warnings.iter().any(|w| w.contains("exceeds 1")), "{:?}", s.warnings);
+    }
+}
+
 #[test]
 fn missing_mtl_and_unknown_material_are_warnings() {
     let obj = format!("mtllib nowhere.mtl\n{QUAD}usemtl a\nf 1 2 3\nusemtl b\nf 1 3 4\n");

@@ -13,13 +13,22 @@ pub struct Args {
 
 /// Prints the summary.
 pub fn run(a: Args) -> Result<()> {
-    let reader = DatasetReader::open(&a.dataset)?;
+    let mut reader = DatasetReader::open(&a.dataset)?;
+    // Samples are range-checked against the scene's triangles when the scene loads (as `render`
+    // checks them); the checksums and values are checked in any case.
+    let checked = match super::open_with_scene(&a.dataset, None) {
+        Ok((_, _, scene)) => {
+            reader.check_triangles(scene.triangles.len());
+            format!("every sample checked against its {} triangles", scene.triangles.len())
+        }
+        Err(e) => format!("samples not checked against the scene: {e:#}"),
+    };
     reader.verify()?; // every chunk's checksum: `info` is also the integrity check
     let h = reader.header();
     let samples = reader.total_samples();
     let paths = h.table.total_paths();
     println!("dataset   {}", a.dataset.display());
-    println!("scene     {}", h.label);
+    println!("scene     {} ({checked})", h.label);
     println!("geometry  {}", h.fingerprint.geometry_hex());
     println!("lights    {}", h.fingerprint.lights_hex());
     for p in &h.trace.passes {

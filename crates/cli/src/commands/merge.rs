@@ -38,7 +38,9 @@ pub fn run(a: Args) -> Result<()> {
                 f.geometry_hex(),
                 other.geometry_hex()
             ),
-            MergeError::ShapeChanged(_) => anyhow!("cannot merge {path} into {first}: {e}"),
+            MergeError::ShapeChanged(_) | MergeError::TooManyPaths(_) => {
+                anyhow!("cannot merge {path} into {first}: {e}")
+            }
             MergeError::RepeatedStream { seed, stream } => anyhow!(
                 "{path} repeats the random stream (seed {seed}, stream {stream}) of an earlier input: its paths \
                  are copies, not independent samples (trace workers with different --seed)"

@@ -23,7 +23,7 @@ use anyhow::{Context, Result, anyhow};
 use opticks_core::dataset::{Chunk, LightTable, LightingError, check_scene, lighting, subset};
 use opticks_core::film::Film;
 use opticks_core::scene::{Scene, SceneDescription};
-use opticks_core::sensor::{SampleBatch, Sensor, render};
+use opticks_core::sensor::{AsBatch, OwnedBatch, SampleBatch, Sensor, render};
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::dataset_job::JobError;
 use std::path::Path;
@@ -73,12 +73,12 @@ pub fn unless_interrupted() -> Result<()> {
 
 /// Renders `count` sample batches through `camera` with a progress bar over `total_samples`;
 /// stops with an error on Ctrl-C.
-pub fn render_with_progress<'a>(
+pub fn render_with_progress<B: AsBatch>(
     scene: &Scene,
     camera: &Sensor,
     count: usize,
     total_samples: u64,
-    batch: impl Fn(usize) -> Result<SampleBatch<'a>> + Sync,
+    batch: impl Fn(usize) -> Result<B> + Sync,
 ) -> Result<Film> {
     let pb = progress::bar(total_samples, "rendering", "samples");
     let done = AtomicU64::new(0);
@@ -102,8 +102,8 @@ pub fn open_with_scene(
     dataset: &Path,
     scene: Option<&str>,
 ) -> Result<(DatasetReader, SceneDescription, Scene)> {
-    let reader = DatasetReader::open(dataset)?;
-    let label = &reader.header().label;
+    let mut reader = DatasetReader::open(dataset)?;
+    let label = &reader.header().label.clone();
     let spec = scene.unwrap_or(label);
     let context =
         || format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)");
@@ -117,6 +117,7 @@ pub fn open_with_scene(
             e.current.geometry_hex()
         )
     })?;
+    reader.check_triangles(scene.triangles.len());
     Ok((reader, description, scene))
 }
 
@@ -138,7 +139,7 @@ pub struct DatasetArgs {
 /// An opened dataset, its scene, and the flux each light's samples stand for — over all its
 /// chunks, or over a subset ([`LitDataset::keep_fraction`]).
 pub struct LitDataset {
-    /// The memory-mapped dataset.
+    /// The dataset, read chunk by chunk.
     pub reader: DatasetReader,
     /// The scene as loaded (meters find surfaces by name in it).
     pub description: SceneDescription,
@@ -178,10 +179,11 @@ impl LitDataset {
         self.chunks.iter().filter_map(|&i| self.reader.chunk_summary(i)).map(|(_, _, n)| n as u64).sum()
     }
 
-    /// Batch `i`: a chunk's samples with their light's (relit) flux per path.
-    pub fn batch(&self, i: usize) -> Result<SampleBatch<'_>> {
+    /// Batch `i`: a chunk's samples, read from the file (each checked to name one of the
+    /// scene's triangles), with their light's (relit) flux per path.
+    pub fn batch(&self, i: usize) -> Result<OwnedBatch> {
         let c = self.reader.chunk(self.chunks[i])?;
-        Ok(SampleBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
+        Ok(OwnedBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
     }
 
     /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises, by the

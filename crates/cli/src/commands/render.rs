@@ -1,5 +1,5 @@
 //! `opticks render`: a dataset, seen through a camera, into an EXR or PNG image, optionally
-//! relit (`--light`). The dataset is memory-mapped and streamed chunk by chunk; its scene must
+//! relit (`--light`). The dataset is streamed chunk by chunk; its scene must
 //! match (geometry fingerprint; each light's shape).
 
 use super::{DatasetArgs, ThreadArgs, render_with_progress, write_film};

@@ -1,6 +1,6 @@
 //! `opticks walk`: a walkthrough — one dataset, many cameras. Keyframes from a JSON camera path
 //! (see `opticks_io::camera_path_file`) are interpolated into frames, each rendered from the
-//! same memory-mapped dataset; the time per frame is reported next to what the trace cost.
+//! same dataset (read chunk by chunk); the time per frame is reported next to what the trace cost.
 //! With `ffmpeg` on the PATH the PNG frames of this run also become `walk.mp4`, written
 //! atomically; the camera path is validated before the output folder is created.
 

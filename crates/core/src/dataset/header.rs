@@ -56,7 +56,11 @@ impl TracePass {
 
     /// Paths the pass planned (= `paths` when the plan is unknown).
     pub fn planned_paths(&self) -> u64 {
-        if self.planned.is_empty() { self.paths } else { self.planned.iter().map(|p| p.1).sum() }
+        if self.planned.is_empty() {
+            self.paths
+        } else {
+            self.planned.iter().fold(0u64, |a, p| a.saturating_add(p.1))
+        }
     }
 
     /// Whether the pass traced everything it planned (false for an interrupted run).

@@ -6,7 +6,7 @@
 //! differs, and inputs that share a random stream (their paths would be copies, not new
 //! samples).
 
-use super::{DatasetHeader, LightTable};
+use super::{DatasetHeader, LightTable, MAX_PATHS, TooManyPaths};
 use crate::scene::Fingerprint;
 
 /// Why two datasets cannot be merged.
@@ -38,6 +38,9 @@ pub enum MergeError {
         /// The stream family.
         stream: u64,
     },
+    /// The merged dataset would hold more than [`MAX_PATHS`] paths.
+    #[error(transparent)]
+    TooManyPaths(#[from] TooManyPaths),
 }
 
 /// The light table of the union of two independent datasets of the same scene, and where each
@@ -55,7 +58,9 @@ pub fn merge_tables(a: &LightTable, b: &LightTable) -> Result<(LightTable, Vec<u
                 return Err(MergeError::ShapeChanged(y.name.clone()));
             }
             Some(k) => {
-                out.lights[k].paths += y.paths;
+                // Cannot wrap below the checked total; saturating keeps it so if a table is
+                // beyond the bound (then refused below).
+                out.lights[k].paths = out.lights[k].paths.saturating_add(y.paths);
                 b_index.push(k as u32);
             }
             None => {
@@ -63,6 +68,10 @@ pub fn merge_tables(a: &LightTable, b: &LightTable) -> Result<(LightTable, Vec<u
                 out.lights.push(y.clone());
             }
         }
+    }
+    let (existing, adding) = (a.total_paths(), b.total_paths());
+    if existing.checked_add(adding).is_none_or(|total| total > MAX_PATHS) {
+        return Err(TooManyPaths { existing, adding }.into());
     }
     Ok((out, b_index))
 }
@@ -169,6 +178,20 @@ mod tests {
         let c = header(1, &[("light", 1, 4)], &[(3, 0, &[(0, 4)])]);
         merge_header(&mut m, &c).unwrap();
         assert_eq!((m.fingerprint.lights, m.table.total_paths()), (b.fingerprint.lights, 39));
+    }
+
+    #[test]
+    fn path_counts_beyond_the_bound_are_refused_not_wrapped() {
+        // Issue 10: lights of 2^63+18 and 2^63+32 paths wrapped to "paths 50".
+        let a = table(&[("a", 1, (1 << 63) + 18)]);
+        let b = table(&[("b", 2, (1 << 63) + 32)]);
+        assert!(matches!(merge_tables(&a, &b), Err(MergeError::TooManyPaths(_))));
+        let c = table(&[("a", 1, MAX_PATHS / 2)]);
+        assert!(merge_tables(&c, &c).is_ok());
+        assert!(matches!(
+            merge_tables(&c, &table(&[("a", 1, MAX_PATHS / 2 + 1)])),
+            Err(MergeError::TooManyPaths(_))
+        ));
     }
 
     #[test]

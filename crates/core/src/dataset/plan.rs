@@ -129,7 +129,17 @@ pub fn path_quotas(powers: &[Rgb], total: u64) -> Vec<u64> {
     }
     let ideal: Vec<f64> = weights.iter().map(|w| w / sum * total as f64).collect();
     let mut quotas: Vec<u64> = ideal.iter().map(|x| x.floor() as u64).collect();
-    let mut left = total - quotas.iter().sum::<u64>();
+    // Rounding in f64 may make the floors sum to a little more than `total` (only for totals
+    // beyond 2^53, which [`check_path_budget`] refuses): take the excess from the largest quotas,
+    // so the sum never exceeds the total and nothing wraps.
+    let mut sum: u128 = quotas.iter().map(|&q| q as u128).sum();
+    while sum > total as u128 {
+        let largest = (0..quotas.len()).max_by_key(|&i| quotas[i]).unwrap_or(0);
+        let cut = (sum - total as u128).min(quotas[largest] as u128);
+        quotas[largest] -= cut as u64;
+        sum -= cut;
+    }
+    let mut left = total - sum as u64;
     let mut order: Vec<usize> = (0..powers.len()).collect();
     order.sort_by(|&a, &b| (ideal[b] - ideal[b].floor()).total_cmp(&(ideal[a] - ideal[a].floor())));
     for &i in order.iter().cycle().take(powers.len() * 2) {
@@ -140,6 +150,11 @@ pub fn path_quotas(powers: &[Rgb], total: u64) -> Vec<u64> {
             quotas[i] += 1;
             left -= 1;
         }
+    }
+    if left > 0 {
+        // Only for totals beyond 2^53, where f64 floors can be short by more than one per light.
+        let heaviest = (0..weights.len()).max_by(|&a, &b| weights[a].total_cmp(&weights[b])).unwrap_or(0);
+        quotas[heaviest] += left;
     }
     for (q, w) in quotas.iter_mut().zip(&weights) {
         if *w > 0.0 && *q == 0 && total >= powers.len() as u64 {
@@ -217,37 +232,101 @@ pub struct Block {
     pub paths: u64,
 }
 
-/// The blocks of a plan in the order they are traced: interleaved across lights in proportion
-/// to their quotas (block b of a light with B blocks comes at "time" (b + ½)/B, ties by table
-/// index), so that a trace stopped early has traced every light about equally far.
-pub fn block_order(plan: &[LightPlan]) -> Vec<Block> {
-    let mut blocks: Vec<(f64, Block)> = plan
-        .iter()
-        .flat_map(|&p| {
+/// The most light paths a dataset may hold, over all its lights and passes: 2⁵³ (about
+/// 9·10¹⁵; at 3 M paths/s, 95 years of tracing). Below it every path count is exact in the f64
+/// arithmetic of the quotas ([`path_quotas`]) and no sum of N_k can wrap; every plan is checked
+/// against it before anything is traced ([`check_path_budget`]).
+pub const MAX_PATHS: u64 = 1 << 53;
+
+/// A pass would take a dataset beyond [`MAX_PATHS`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{adding} more paths on top of the {existing} the dataset holds exceed the maximum of {} paths per \
+     dataset (2^53)",
+    MAX_PATHS
+)]
+pub struct TooManyPaths {
+    /// Paths the dataset holds already.
+    pub existing: u64,
+    /// Paths the pass plans (saturated at `u64::MAX`).
+    pub adding: u64,
+}
+
+/// Checks that tracing `pass` into a dataset whose light table is `table` keeps it within
+/// [`MAX_PATHS`]. The pass's first blocks already traced (when resuming) are among `table`'s
+/// paths, so only the rest counts.
+pub fn check_path_budget(table: &LightTable, pass: &PassPlan) -> Result<(), TooManyPaths> {
+    let existing = table.lights.iter().fold(0u64, |a, l| a.saturating_add(l.paths));
+    let planned = pass.lights.iter().fold(0u64, |a, p| a.saturating_add(p.paths));
+    let done = block_order(&pass.lights).take(pass.first_block).fold(0u64, |a, b| a.saturating_add(b.paths));
+    let adding = planned - done.min(planned);
+    match existing.checked_add(adding) {
+        Some(total) if total <= MAX_PATHS && existing <= MAX_PATHS => Ok(()),
+        _ => Err(TooManyPaths { existing, adding }),
+    }
+}
+
+/// The blocks of a plan in the order they are traced, produced lazily (memory independent of the
+/// path count): interleaved across lights in proportion to their quotas (block b of a light with
+/// B blocks comes at "time" (b + ½)/B, ties by table index, then plan order), so that a trace
+/// stopped early has traced every light about equally far.
+pub fn block_order(plan: &[LightPlan]) -> BlockOrder<'_> {
+    BlockOrder { plan, next: vec![0; plan.len()] }
+}
+
+/// The iterator of [`block_order`]: a merge of the lights' block sequences, each already in
+/// order, by their times. One step costs O(lights).
+#[derive(Clone, Debug)]
+pub struct BlockOrder<'a> {
+    plan: &'a [LightPlan],
+    /// The next block of each plan entry.
+    next: Vec<u64>,
+}
+
+impl BlockOrder<'_> {
+    /// Time of block `b` of a light with `n` blocks.
+    fn time(b: u64, n: u64) -> f64 {
+        (b as f64 + 0.5) / n as f64
+    }
+}
+
+impl Iterator for BlockOrder<'_> {
+    type Item = Block;
+
+    fn next(&mut self) -> Option<Block> {
+        let mut best: Option<(f64, u32, usize)> = None;
+        for (i, p) in self.plan.iter().enumerate() {
             let n = p.paths.div_ceil(BLOCK_PATHS);
-            (0..n).map(move |b| {
-                let block = Block { light: p, index: b, paths: BLOCK_PATHS.min(p.paths - b * BLOCK_PATHS) };
-                ((b as f64 + 0.5) / n as f64, block)
-            })
-        })
-        .collect();
-    blocks.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.light.table_index.cmp(&b.1.light.table_index)));
-    blocks.into_iter().map(|(_, b)| b).collect()
+            if self.next[i] >= n {
+                continue;
+            }
+            let key = (Self::time(self.next[i], n), p.table_index, i);
+            let earlier = best.is_none_or(|b| key.0.total_cmp(&b.0).then(key.1.cmp(&b.1)).is_lt());
+            if earlier {
+                best = Some(key);
+            }
+        }
+        let (_, _, i) = best?;
+        let (p, b) = (self.plan[i], self.next[i]);
+        self.next[i] += 1;
+        Some(Block { light: p, index: b, paths: BLOCK_PATHS.min(p.paths - b * BLOCK_PATHS) })
+    }
 }
 
 /// How many blocks of `plan`, in [`block_order`], hold exactly `paths` paths: the blocks an
 /// interrupted run of the plan completed (it stops between blocks, in order). `None` if no
-/// prefix of blocks holds that many.
+/// prefix of blocks holds that many. Takes time ∝ `paths` / [`BLOCK_PATHS`], no memory.
 pub fn blocks_done(plan: &[LightPlan], paths: u64) -> Option<usize> {
-    let blocks = block_order(plan);
-    let mut sum = 0;
-    for (i, b) in blocks.iter().enumerate() {
-        if sum == paths {
-            return Some(i);
+    let mut sum = 0u64;
+    let mut count = 0;
+    for b in block_order(plan) {
+        if sum >= paths {
+            break;
         }
         sum += b.paths;
+        count += 1;
     }
-    (sum == paths).then_some(blocks.len())
+    (sum == paths).then_some(count)
 }
 
 #[cfg(test)]
@@ -271,7 +350,7 @@ mod tests {
             LightPlan { scene_light: 0, table_index: 0, paths: 3 * BLOCK_PATHS },
             LightPlan { scene_light: 1, table_index: 1, paths: BLOCK_PATHS + 7 },
         ];
-        let order = block_order(&plan);
+        let order: Vec<Block> = block_order(&plan).collect();
         let mut sum = 0;
         for (i, b) in order.iter().enumerate() {
             assert_eq!(blocks_done(&plan, sum), Some(i));
@@ -289,10 +368,83 @@ mod tests {
             LightPlan { scene_light: 1, table_index: 1, paths: BLOCK_PATHS + 7 },
         ];
         let order: Vec<(u32, u64, u64)> =
-            block_order(&plan).iter().map(|b| (b.light.table_index, b.index, b.paths)).collect();
+            block_order(&plan).map(|b| (b.light.table_index, b.index, b.paths)).collect();
         let b = BLOCK_PATHS;
         // Light 0's blocks at 1/8, 3/8, 5/8, 7/8; light 1's at 1/4, 3/4.
         assert_eq!(order, [(0, 0, b), (1, 0, b), (0, 1, b), (0, 2, b), (1, 1, 7), (0, 3, b)]);
+    }
+
+    /// The order the plan had when it was a sorted list (before it became lazy): the lazy merge
+    /// must give exactly the same blocks, or resumed datasets would differ.
+    fn sorted_block_order(plan: &[LightPlan]) -> Vec<Block> {
+        let mut blocks: Vec<(f64, Block)> = plan
+            .iter()
+            .flat_map(|&p| {
+                let n = p.paths.div_ceil(BLOCK_PATHS);
+                (0..n).map(move |b| {
+                    let block =
+                        Block { light: p, index: b, paths: BLOCK_PATHS.min(p.paths - b * BLOCK_PATHS) };
+                    ((b as f64 + 0.5) / n as f64, block)
+                })
+            })
+            .collect();
+        blocks.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.light.table_index.cmp(&b.1.light.table_index)));
+        blocks.into_iter().map(|(_, b)| b).collect()
+    }
+
+    #[test]
+    fn the_lazy_block_order_is_the_sorted_one() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        for case in 0..200 {
+            let lights = 1 + case % 5;
+            let plan: Vec<LightPlan> = (0..lights)
+                .map(|k| {
+                    x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                    let paths = (x >> 33) % (40 * BLOCK_PATHS);
+                    // Table indices out of plan order, as an added light's are.
+                    LightPlan { scene_light: k, table_index: ((k * 3 + case) % lights) as u32, paths }
+                })
+                .collect();
+            assert_eq!(block_order(&plan).collect::<Vec<_>>(), sorted_block_order(&plan), "plan {plan:?}");
+        }
+    }
+
+    #[test]
+    fn a_plan_of_any_size_costs_no_memory_and_sums_never_wrap() {
+        // Before the plan was lazy, this plan (u64::MAX paths) allocated 2·10¹⁷ bytes.
+        let plan = [
+            LightPlan { scene_light: 0, table_index: 0, paths: u64::MAX / 2 },
+            LightPlan { scene_light: 1, table_index: 1, paths: u64::MAX / 2 + 1 },
+        ];
+        let first: Vec<Block> = block_order(&plan).take(3).collect();
+        assert_eq!(
+            first.iter().map(|b| (b.light.table_index, b.index)).collect::<Vec<_>>(),
+            [(0, 0), (1, 0), (0, 1)]
+        );
+        // A total beyond the bound is refused, and so is one whose sum would wrap.
+        let table = |n: &[u64]| LightTable {
+            lights: n
+                .iter()
+                .map(|&paths| LightRecord { name: String::new(), shape: [0; 16], power: Rgb::ONE, paths })
+                .collect(),
+        };
+        let pass = |lights: &[LightPlan], first_block| PassPlan {
+            settings: TraceSettings::default(),
+            lights: lights.to_vec(),
+            first_block,
+        };
+        assert!(check_path_budget(&table(&[0, 0]), &pass(&plan, 0)).is_err());
+        let fits = [LightPlan { scene_light: 0, table_index: 0, paths: MAX_PATHS - 10 }];
+        assert_eq!(check_path_budget(&table(&[10]), &pass(&fits, 0)), Ok(()));
+        assert!(check_path_budget(&table(&[11]), &pass(&fits, 0)).is_err());
+        // Resuming: the blocks done are in the table already and count once.
+        assert_eq!(check_path_budget(&table(&[10 + BLOCK_PATHS]), &pass(&fits, 1)), Ok(()));
+        assert!(check_path_budget(&table(&[u64::MAX, 2]), &pass(&[], 0)).is_err(), "a wrapping table total");
+        // Quotas of the largest totals still sum exactly to the total.
+        for total in [MAX_PATHS, u64::MAX] {
+            let q = path_quotas(&[Rgb::splat(1.0), Rgb::splat(2.0), Rgb::splat(3.0)], total);
+            assert_eq!(q.iter().fold(0u128, |a, &b| a + b as u128), total as u128, "{total}");
+        }
     }
 
     #[test]

@@ -31,9 +31,10 @@ impl LightTable {
         if l.paths == 0 { Rgb::ZERO } else { l.power / l.paths as f32 }
     }
 
-    /// Total paths over all lights.
+    /// Total paths over all lights. Datasets hold at most [`super::MAX_PATHS`] (readers and
+    /// writers check it), so this never saturates for one read or written; it never wraps.
     pub fn total_paths(&self) -> u64 {
-        self.lights.iter().map(|l| l.paths).sum()
+        self.lights.iter().fold(0u64, |a, l| a.saturating_add(l.paths))
     }
 }
 

@@ -194,10 +194,10 @@ impl IlluminanceMeter {
 }
 
 /// Irradiance per cell (W/m², RGB) from `count` batches, on all cores.
-pub fn measure<'a, E: Send>(
+pub fn measure<B: super::AsBatch, E: Send>(
     meter: &IlluminanceMeter,
     count: usize,
-    batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
     accumulate((meter.nx, meter.ny), count, batch, progress, |b, film| meter.splat(b, film))

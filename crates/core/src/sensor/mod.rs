@@ -49,13 +49,43 @@ use crate::scene::Scene;
 use rayon::prelude::*;
 
 /// A run of samples from one light and the flux each unit of β stands for (Φ_k/N_k, after any
-/// relighting). What a sensor consumes; the source can be memory or a mapped file.
+/// relighting). What a sensor consumes; the source can be memory or a file ([`OwnedBatch`]).
 #[derive(Clone, Copy, Debug)]
 pub struct SampleBatch<'a> {
     /// Φ_k / N_k of the batch's light.
     pub flux_per_path: Rgb,
     /// The samples.
     pub samples: &'a [Sample],
+}
+
+/// A batch as `render` and `measure` take it: borrowed ([`SampleBatch`], from memory) or owning
+/// its samples ([`OwnedBatch`], read from a file into a buffer).
+pub trait AsBatch {
+    /// The batch.
+    fn as_batch(&self) -> SampleBatch<'_>;
+}
+
+impl AsBatch for SampleBatch<'_> {
+    #[inline]
+    fn as_batch(&self) -> SampleBatch<'_> {
+        *self
+    }
+}
+
+/// A batch that owns its samples (e.g. a chunk read from a dataset file).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OwnedBatch {
+    /// Φ_k / N_k of the batch's light.
+    pub flux_per_path: Rgb,
+    /// The samples.
+    pub samples: Vec<Sample>,
+}
+
+impl AsBatch for OwnedBatch {
+    #[inline]
+    fn as_batch(&self) -> SampleBatch<'_> {
+        SampleBatch { flux_per_path: self.flux_per_path, samples: &self.samples }
+    }
 }
 
 /// The closed set of image-forming sensors. Each camera owns its image size ([`Sensor::width`],
@@ -202,16 +232,16 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
     }
 }
 
-/// Accumulates `count` batches (fetched by index, possibly from a memory-mapped file) into a
+/// Accumulates `count` batches (fetched by index, from memory or read from a file) into a
 /// `width`×`height` film on all cores, with `add` doing the per-batch work. The batches are
 /// cut into a few contiguous runs per thread, each with one [`Accumulator`], so there are only a
 /// handful of films to clear and sum whatever the number of batches.
-pub(crate) fn accumulate<'a, E: Send>(
+pub(crate) fn accumulate<B: AsBatch, E: Send>(
     (width, height): (u32, u32),
     count: usize,
-    batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
-    add: impl Fn(SampleBatch<'a>, &mut Accumulator) + Sync,
+    add: impl Fn(SampleBatch<'_>, &mut Accumulator) + Sync,
 ) -> Result<Film, E> {
     let runs = (rayon::current_num_threads() * 4).clamp(1, count.max(1));
     let run_len = count.div_ceil(runs).max(1);
@@ -221,6 +251,7 @@ pub(crate) fn accumulate<'a, E: Send>(
             let mut acc = Accumulator::new(width, height);
             for i in (r * run_len)..((r + 1) * run_len).min(count) {
                 let b = batch(i)?;
+                let b = b.as_batch();
                 add(b, &mut acc);
                 progress(b.samples.len());
             }
@@ -235,13 +266,13 @@ pub(crate) fn accumulate<'a, E: Send>(
         )
 }
 
-/// Renders `count` batches (fetched by index, possibly from a memory-mapped file) through
+/// Renders `count` batches (fetched by index, from memory or read from a file) through
 /// `sensor` on all cores.
-pub fn render<'a, E: Send>(
+pub fn render<B: AsBatch, E: Send>(
     scene: &Scene,
     sensor: &Sensor,
     count: usize,
-    batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
     accumulate((sensor.width(), sensor.height()), count, batch, progress, |b, film| {

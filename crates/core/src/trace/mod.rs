@@ -239,11 +239,19 @@ pub fn trace_plan_from<E>(
     progress: impl Fn(u64),
     stop: impl Fn() -> bool,
 ) -> Result<Vec<u64>, E> {
-    let blocks = block_order(plan);
+    // The plan's blocks are made lazily, a batch at a time: memory and the time to the first
+    // batch (and so to the first check of `stop`) do not depend on the path count.
+    let mut blocks = block_order(plan).skip(first_block);
     let mut traced = vec![0u64; plan.len()];
     let mut done = 0u64;
-    for batch in blocks[first_block.min(blocks.len())..].chunks(BATCH_BLOCKS) {
+    let mut batch = Vec::with_capacity(BATCH_BLOCKS);
+    loop {
         if stop() {
+            break;
+        }
+        batch.clear();
+        batch.extend(blocks.by_ref().take(BATCH_BLOCKS));
+        if batch.is_empty() {
             break;
         }
         let chunks: Vec<Chunk> = batch

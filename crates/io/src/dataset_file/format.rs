@@ -3,7 +3,7 @@
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMAT_VERSION};
 use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
 use opticks_core::dataset::{DatasetHeader, Directions, Roulette, Selection, TraceInfo, TracePass};
-use opticks_core::dataset::{LightRecord, LightTable, Sample};
+use opticks_core::dataset::{LightRecord, LightTable, MAX_PATHS, Sample};
 use opticks_core::math::Rgb;
 use opticks_core::scene::Fingerprint;
 use std::path::Path;
@@ -95,7 +95,14 @@ pub(crate) struct DecodedHeader {
 /// Order: magic, header length within the file, header CRC, version, then the fields. Bytes
 /// 0..16 (magic, version, header length) and the CRC in the header's last 4 bytes keep their
 /// meaning in every format version, so the CRC is checked before the version is believed.
-pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, DatasetError> {
+///
+/// `file` holds the file's first bytes — at least its first 16 and, when the header fits in the
+/// file, the whole header — and `file_len` is the file's length.
+pub(crate) fn decode_header(
+    path: &Path,
+    file: &[u8],
+    file_len: usize,
+) -> Result<DecodedHeader, DatasetError> {
     let corrupt = |offset: usize, detail: String| DatasetError::Corrupt {
         path: path.to_owned(),
         offset: offset as u64,
@@ -107,15 +114,15 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
         detail,
     };
     let head = &file[..file.len().min(MAGIC.len())];
-    if head != &MAGIC[..head.len()] || file.is_empty() {
+    if head != &MAGIC[..head.len()] || file_len == 0 {
         return Err(DatasetError::NotADataset {
             path: path.to_owned(),
             expected: &MAGIC,
             found: head.to_vec(),
         });
     }
-    if file.len() < 16 {
-        return Err(truncated(file.len(), "the file ends inside the 16-byte file signature".into()));
+    if file_len < 16 {
+        return Err(truncated(file_len, "the file ends inside the 16-byte file signature".into()));
     }
     let version = u32::from_le_bytes(file[8..12].try_into().unwrap());
     let len = u32::from_le_bytes(file[12..16].try_into().unwrap()) as usize;
@@ -127,10 +134,10 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
             ),
         ));
     }
-    if len > file.len() {
+    if len > file_len || len > file.len() {
         return Err(truncated(
-            file.len(),
-            format!("the header is {len} bytes long but the file has only {} bytes", file.len()),
+            file_len,
+            format!("the header is {len} bytes long but the file has only {file_len} bytes"),
         ));
     }
     let stored = u32::from_le_bytes(file[len - 4..len].try_into().unwrap());
@@ -205,9 +212,14 @@ pub(crate) fn decode_header(path: &Path, file: &[u8]) -> Result<DecodedHeader, D
                     ),
                 ));
             }
+            let mut planned = 0u64;
             for _ in 0..n {
                 let light = c.u32("planned light")?;
-                pass.planned.push((light, c.u64("planned paths")?));
+                let paths = c.u64("planned paths")?;
+                planned = planned.checked_add(paths).filter(|&t| t <= MAX_PATHS).ok_or_else(|| {
+                    corrupt(c.pos - 8, format!("pass {i} plans more than the maximum of {MAX_PATHS} paths"))
+                })?;
+                pass.planned.push((light, paths));
             }
             if pass.paths > pass.planned_paths() {
                 return Err(corrupt(
@@ -414,8 +426,9 @@ impl Trailer {
 }
 
 /// Checks what a checksum cannot: that every sample is physically possible (finite position,
-/// finite non-negative β). Returns the index of the first bad sample and what is wrong.
-pub(crate) fn validate_samples(samples: &[Sample]) -> Result<(), (usize, String)> {
+/// finite non-negative β) and, given the scene's triangle count, names an existing triangle.
+/// Returns the index of the first bad sample and what is wrong.
+pub(crate) fn validate_samples(samples: &[Sample], triangles: Option<u32>) -> Result<(), (usize, String)> {
     for (i, s) in samples.iter().enumerate() {
         let ok_pos = s.position.iter().all(|x| x.is_finite());
         // `x >= 0.0` is false for NaN; -0.0 passes, as it should.
@@ -425,6 +438,12 @@ pub(crate) fn validate_samples(samples: &[Sample]) -> Result<(), (usize, String)
             return Err((
                 i,
                 format!("non-finite or negative {what}: position {:?}, β {:?}", s.position, s.beta),
+            ));
+        }
+        if let Some(n) = triangles.filter(|&n| s.triangle() >= n) {
+            return Err((
+                i,
+                format!("triangle {} does not exist: the scene has {n} triangles", s.triangle()),
             ));
         }
     }

@@ -12,9 +12,10 @@
 //! * [`DatasetWriter`] writes to a temporary file beside the target and renames it into place
 //!   only in [`DatasetWriter::finish`]; dropping an unfinished writer removes the temporary file
 //!   and leaves any previous file untouched.
-//! * [`DatasetReader`] memory-maps the file (datasets may exceed RAM), validates the header, the
-//!   chunk headers and the end record up front, and hands out zero-copy [`ChunkView`]s whose
-//!   payload checksum is verified on access. It is `Sync`: chunks may be read from many threads.
+//! * [`DatasetReader`] validates the header, the chunk headers and the end record up front, and
+//!   reads a chunk's payload on request (explicit reads, one chunk at a time, so datasets may
+//!   exceed RAM and a file truncated underneath is an error, not SIGBUS), verifying its checksum
+//!   and samples. It is `Sync`: chunks may be read from many threads.
 //!
 //! The records are stored in the host's layout, which is the file's little-endian layout on every
 //! little-endian host; big-endian hosts are refused with an error rather than misread.
@@ -29,7 +30,7 @@ mod reader;
 mod writer;
 
 pub use error::DatasetError;
-pub use reader::{ChunkView, DatasetReader, read_all};
+pub use reader::{DatasetReader, read_all};
 pub use writer::{DatasetSummary, DatasetWriter};
 
 /// The first 8 bytes of every dataset file (PNG-style: a high-bit byte, `OPK`, CR LF, DOS EOF,

@@ -1,31 +1,18 @@
-//! Reading a dataset: memory-mapped, validated up front, payloads checked on access.
+//! Reading a dataset: validated up front, payloads read and checked on access.
+//!
+//! Chunks are read with explicit positioned reads into buffers the caller owns, not through a
+//! memory map: a file that another program truncates or rewrites while it is being rendered
+//! then gives an error naming the file and the byte offset (a mapping would raise SIGBUS on the
+//! vanished pages and kill the process). Reads go through the page cache as a mapping's faults
+//! did, and only one chunk per thread is in memory at a time, so render memory stays
+//! independent of the dataset's size.
 
 use super::format::{ChunkHeader, Trailer, decode_header, validate_samples};
 use super::{CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, TRAILER_LEN};
-use memmap2::Mmap;
-use opticks_core::dataset::{Chunk, DatasetHeader, Sample};
+use opticks_core::dataset::{Chunk, DatasetHeader, MAX_PATHS, Sample};
 use rayon::prelude::*;
 use std::fs::File;
 use std::path::{Path, PathBuf};
-
-/// One chunk of a mapped dataset: `paths` light paths of light `light` produced `samples`,
-/// borrowed straight from the mapped file (no copy).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ChunkView<'a> {
-    /// Index of the light in the header's table.
-    pub light: u32,
-    /// Light paths this chunk accounts for.
-    pub paths: u64,
-    /// The stored samples.
-    pub samples: &'a [Sample],
-}
-
-impl ChunkView<'_> {
-    /// An owned copy.
-    pub fn to_chunk(&self) -> Chunk {
-        Chunk { light: self.light, paths: self.paths, samples: self.samples.to_vec() }
-    }
-}
 
 #[derive(Clone, Copy, Debug)]
 struct Entry {
@@ -37,28 +24,29 @@ struct Entry {
     crc: u32,
 }
 
-/// A validated, memory-mapped dataset file.
+/// A validated dataset file, open for reading.
 ///
 /// [`open`](Self::open) checks the header (magic, version, CRC, light table), every chunk header
 /// (magic, CRC, light index, length) and the end record, and that each light's N_k equals the sum
-/// of its chunks' paths. It does not read the payloads: [`chunk`](Self::chunk) verifies a chunk's
-/// payload CRC and samples each time it is called (from any number of threads: the reader is
-/// `Sync`), and [`verify`](Self::verify) checks them all.
+/// of its chunks' paths. It does not read the payloads: [`chunk`](Self::chunk) reads a chunk's
+/// payload and verifies its CRC and samples each time it is called (from any number of threads:
+/// the reader is `Sync`), and [`verify`](Self::verify) checks them all. Once
+/// [`check_triangles`](Self::check_triangles) has given the scene's triangle count, every sample
+/// read must also name an existing triangle.
 #[derive(Debug)]
 pub struct DatasetReader {
     path: PathBuf,
-    map: Option<Mmap>,
+    file: File,
+    len: u64,
     header: DatasetHeader,
     index: Vec<Entry>,
     total_samples: u64,
+    triangles: Option<u32>,
 }
 
 impl DatasetReader {
-    /// Opens and validates `path` (see the type's documentation).
-    ///
-    /// The file is memory-mapped: it must not be modified or truncated by another process while
-    /// the reader lives (files written by [`DatasetWriter`](super::DatasetWriter) never are:
-    /// they are replaced by rename, which leaves a mapped file intact).
+    /// Opens and validates `path` (see the type's documentation). Only regular files are read:
+    /// a FIFO, a device (`/dev/zero`) or a directory is refused before it is opened.
     pub fn open(path: &Path) -> Result<Self, DatasetError> {
         let io = |op| move |source| DatasetError::Io { path: path.to_owned(), op, source };
         if cfg!(target_endian = "big") {
@@ -67,12 +55,20 @@ impl DatasetReader {
                 detail: "dataset files are little endian; big-endian hosts are not supported".into(),
             });
         }
+        crate::input_file::check_regular(path).map_err(io("read"))?;
         let file = File::open(path).map_err(io("open"))?;
         let len = file.metadata().map_err(io("read the size of"))?.len();
-        let map = if len == 0 { None } else { Some(map_file(&file).map_err(io("memory-map"))?) };
-        let bytes: &[u8] = map.as_deref().unwrap_or(&[]);
-        let (header, index, total_samples) = scan(path, bytes)?;
-        Ok(DatasetReader { path: path.to_owned(), map, header, index, total_samples })
+        let mut r = DatasetReader {
+            path: path.to_owned(),
+            file,
+            len,
+            header: DatasetHeader::default(),
+            index: Vec::new(),
+            total_samples: 0,
+            triangles: None,
+        };
+        (r.header, r.index, r.total_samples) = scan(path, &r)?;
+        Ok(r)
     }
 
     /// The file's path.
@@ -95,32 +91,40 @@ impl DatasetReader {
         self.total_samples
     }
 
-    /// File size in bytes.
+    /// File size in bytes (when it was opened).
     pub fn file_len(&self) -> u64 {
-        self.bytes().len() as u64
+        self.len
     }
 
-    /// Chunk `i`, borrowed from the mapped file after checking its payload CRC and that every
-    /// sample has a finite position and a finite β ≥ 0.
-    pub fn chunk(&self, i: usize) -> Result<ChunkView<'_>, DatasetError> {
-        self.chunk_checked(i)
+    /// From now on, every sample read must name one of the scene's `triangles` triangles (a
+    /// sample's triangle gives the normal and material its renderer looks up): the check a
+    /// checksum cannot make, for a file written with valid checksums from a bad triangle index.
+    pub fn check_triangles(&mut self, triangles: usize) {
+        self.triangles = Some(u32::try_from(triangles).unwrap_or(u32::MAX));
     }
 
-    /// Light index, path count and sample count of chunk `i`, from the index built by
-    /// [`open`](Self::open) (no payload is read).
-    pub fn chunk_summary(&self, i: usize) -> Option<(u32, u64, usize)> {
-        self.index.get(i).map(|e| (e.light, e.paths, e.count))
+    /// Chunk `i`, read from the file after checking its payload CRC and that every sample has a
+    /// finite position and a finite β ≥ 0 (and names an existing triangle, see
+    /// [`check_triangles`](Self::check_triangles)).
+    pub fn chunk(&self, i: usize) -> Result<Chunk, DatasetError> {
+        let mut samples = Vec::new();
+        let (light, paths) = self.read_chunk(i, &mut samples)?;
+        Ok(Chunk { light, paths, samples })
     }
 
-    fn chunk_checked(&self, i: usize) -> Result<ChunkView<'_>, DatasetError> {
+    /// [`chunk`](Self::chunk) into `samples` (replacing its contents, reusing its memory):
+    /// returns the chunk's light index and path count.
+    pub fn read_chunk(&self, i: usize, samples: &mut Vec<Sample>) -> Result<(u32, u64), DatasetError> {
         let e = *self.index.get(i).ok_or_else(|| DatasetError::NoSuchChunk {
             path: self.path.clone(),
             index: i,
             count: self.index.len(),
         })?;
         let start = e.offset + CHUNK_HEADER_LEN;
-        let payload = &self.bytes()[start..start + e.count * size_of::<Sample>()];
-        let computed = crc32fast::hash(payload);
+        samples.clear();
+        samples.resize(e.count, Sample::default());
+        self.read_exact_at(start as u64, bytemuck::cast_slice_mut(samples))?;
+        let computed = crc32fast::hash(bytemuck::cast_slice(samples));
         if computed != e.crc {
             return Err(DatasetError::Checksum {
                 path: self.path.clone(),
@@ -130,13 +134,7 @@ impl DatasetReader {
                 computed,
             });
         }
-        // Cannot fail: the map is page aligned, payloads sit at multiples of 32 bytes.
-        let samples: &[Sample] = bytemuck::try_cast_slice(payload).map_err(|err| DatasetError::Corrupt {
-            path: self.path.clone(),
-            offset: start as u64,
-            detail: format!("payload cannot be viewed as samples: {err}"),
-        })?;
-        if let Err((k, detail)) = validate_samples(samples) {
+        if let Err((k, detail)) = validate_samples(samples, self.triangles) {
             return Err(DatasetError::InvalidSample {
                 path: self.path.clone(),
                 offset: (start + k * size_of::<Sample>()) as u64,
@@ -145,14 +143,20 @@ impl DatasetReader {
                 detail,
             });
         }
-        Ok(ChunkView { light: e.light, paths: e.paths, samples })
+        Ok((e.light, e.paths))
+    }
+
+    /// Light index, path count and sample count of chunk `i`, from the index built by
+    /// [`open`](Self::open) (no payload is read).
+    pub fn chunk_summary(&self, i: usize) -> Option<(u32, u64, usize)> {
+        self.index.get(i).map(|e| (e.light, e.paths, e.count))
     }
 
     /// Checks every chunk's payload (in parallel); the error of the lowest-numbered bad chunk.
     pub fn verify(&self) -> Result<(), DatasetError> {
         match (0..self.index.len())
             .into_par_iter()
-            .map(|i| self.chunk(i).map(|_| ()))
+            .map_init(Vec::new, |buf, i| self.read_chunk(i, buf).map(|_| ()))
             .find_first(|r| r.is_err())
         {
             Some(r) => r,
@@ -160,36 +164,51 @@ impl DatasetReader {
         }
     }
 
-    fn bytes(&self) -> &[u8] {
-        self.map.as_deref().unwrap_or(&[])
+    /// Fills `buf` from byte `offset`. A file that ends early — it was truncated or replaced in
+    /// place after it was opened — is an error naming the offset, not a signal.
+    fn read_exact_at(&self, offset: u64, buf: &mut [u8]) -> Result<(), DatasetError> {
+        crate::input_file::read_exact_at(&self.file, offset, buf).map_err(|source| {
+            if source.kind() == std::io::ErrorKind::UnexpectedEof {
+                DatasetError::Truncated {
+                    path: self.path.clone(),
+                    offset: offset + buf.len() as u64,
+                    detail: format!(
+                        "the file ends before byte {}, but it was {} bytes long when it was opened: \
+                         another program truncated or rewrote it while it was being read",
+                        offset + buf.len() as u64,
+                        self.len
+                    ),
+                }
+            } else {
+                DatasetError::Io { path: self.path.clone(), op: "read", source }
+            }
+        })
+    }
+
+    /// `n` bytes from `offset` (within the length the file had when opened).
+    fn bytes_at(&self, offset: usize, n: usize) -> Result<Vec<u8>, DatasetError> {
+        let mut b = vec![0u8; n];
+        self.read_exact_at(offset as u64, &mut b)?;
+        Ok(b)
     }
 }
 
 /// Reads a whole dataset into memory, verifying every chunk.
 pub fn read_all(path: &Path) -> Result<(DatasetHeader, Vec<Chunk>), DatasetError> {
     let r = DatasetReader::open(path)?;
-    let chunks = (0..r.chunk_count())
-        .into_par_iter()
-        .map(|i| r.chunk(i).map(|c| c.to_chunk()))
-        .collect::<Result<Vec<_>, _>>()?;
+    let chunks = (0..r.chunk_count()).into_par_iter().map(|i| r.chunk(i)).collect::<Result<Vec<_>, _>>()?;
     Ok((r.header.clone(), chunks))
 }
 
-/// Maps `file` read-only. This is the only `unsafe` in the dataset code: mapping is unsafe
-/// because another process could modify or truncate the file while it is mapped, changing bytes
-/// behind our `&[u8]` (or raising SIGBUS on access past a truncation).
-#[allow(unsafe_code)]
-fn map_file(file: &File) -> std::io::Result<Mmap> {
-    // SAFETY: the map is read-only and private to the reader, which never writes through it.
-    // Opticks itself never modifies a finished dataset in place (writers create a new file and
-    // rename it over the old one, which leaves existing maps of the old inode valid). Concurrent
-    // modification by other programs is excluded by the documented contract of `open`.
-    unsafe { Mmap::map(file) }
-}
-
 /// Validates the header, every chunk header and the end record; builds the chunk index.
-fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), DatasetError> {
-    let decoded = decode_header(path, file)?;
+fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u64), DatasetError> {
+    let file_len = usize::try_from(r.len).unwrap_or(usize::MAX);
+    // The header's first 16 bytes give its length; then the whole header (no longer than the file).
+    let head = r.bytes_at(0, file_len.min(16))?;
+    let header_len = head.get(12..16).map_or(0, |b| u32::from_le_bytes(b.try_into().unwrap()) as usize);
+    let head =
+        if header_len > head.len() && header_len <= file_len { r.bytes_at(0, header_len)? } else { head };
+    let decoded = decode_header(path, &head, file_len)?;
     let header = decoded.header;
     let lights = header.table.lights.len();
     let corrupt = |offset: usize, detail: String| DatasetError::Corrupt {
@@ -200,9 +219,10 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
     let mut index = Vec::new();
     let mut sums = vec![0u64; lights];
     let mut total_samples = 0u64;
+    let mut total_paths = 0u64;
     let mut pos = decoded.len;
     loop {
-        let rest = file.len() - pos;
+        let rest = file_len - pos;
         if rest < CHUNK_HEADER_LEN {
             return Err(DatasetError::Truncated {
                 path: path.to_owned(),
@@ -213,7 +233,8 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
                 ),
             });
         }
-        let rec: &[u8; 32] = file[pos..pos + 32].try_into().unwrap();
+        let rec = r.bytes_at(pos, CHUNK_HEADER_LEN)?;
+        let rec: &[u8; 32] = rec[..].try_into().unwrap();
         let n = index.len() as u64;
         if rec[..4] == CHUNK_MAGIC {
             let h = ChunkHeader::decode(rec).map_err(|(stored, computed)| DatasetError::Checksum {
@@ -245,10 +266,14 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
                     ),
                 });
             };
-            let sum = &mut sums[h.light as usize];
-            *sum = sum.checked_add(h.paths).ok_or_else(|| {
-                corrupt(pos + 8, format!("chunk {n}: path count of light {} overflows 64 bits", h.light))
+            // Every sum of path counts is checked: a dataset holds at most MAX_PATHS in all.
+            total_paths = total_paths.checked_add(h.paths).filter(|&t| t <= MAX_PATHS).ok_or_else(|| {
+                corrupt(
+                    pos + 8,
+                    format!("chunk {n}: the dataset's path count exceeds the maximum of {MAX_PATHS} (2^53)"),
+                )
             })?;
+            sums[h.light as usize] += h.paths;
             total_samples += h.count;
             index.push(Entry {
                 offset: pos,
@@ -272,7 +297,7 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
                     format!("{} unexpected bytes after the end record", rest - TRAILER_LEN),
                 ));
             }
-            let scanned = Trailer { chunks: n, samples: total_samples, paths: sums.iter().sum() };
+            let scanned = Trailer { chunks: n, samples: total_samples, paths: total_paths };
             if t != scanned {
                 return Err(corrupt(
                     pos,

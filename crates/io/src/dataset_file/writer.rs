@@ -2,7 +2,7 @@
 
 use super::DatasetError;
 use super::format::{ChunkHeader, Trailer, encode_header, validate_samples};
-use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, TraceInfo};
+use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, MAX_PATHS, TraceInfo};
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
@@ -115,10 +115,16 @@ impl DatasetWriter {
                 chunk.light
             )));
         };
-        let Some(sum) = sum.checked_add(chunk.paths) else {
-            return Err(invalid(format!("path count of light {} overflows 64 bits", chunk.light)));
+        let total = self.light_paths.iter().fold(0u64, |a, &n| a.saturating_add(n));
+        let Some(sum) =
+            sum.checked_add(chunk.paths).filter(|_| total.saturating_add(chunk.paths) <= MAX_PATHS)
+        else {
+            return Err(invalid(format!(
+                "a chunk of light {} takes the dataset beyond the maximum of {MAX_PATHS} paths (2^53)",
+                chunk.light
+            )));
         };
-        if let Err((i, what)) = validate_samples(&chunk.samples) {
+        if let Err((i, what)) = validate_samples(&chunk.samples, None) {
             return Err(invalid(format!("sample {i} of a chunk of light {}: {what}", chunk.light)));
         }
         let payload: &[u8] = bytemuck::cast_slice(&chunk.samples);

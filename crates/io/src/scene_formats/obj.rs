@@ -611,7 +611,7 @@ pub fn read_obj(
     path: &Path,
     referenced_from: Option<(String, FileLocation)>,
 ) -> Result<ObjMesh, SceneFileError> {
-    let data = std::fs::read(path).map_err(|source| match referenced_from.clone() {
+    let data = crate::input_file::read(path).map_err(|source| match referenced_from.clone() {
         Some((element, at)) => SceneFileError::MeshFile { at, element, mesh: path.to_path_buf(), source },
         None => SceneFileError::Read { path: path.to_path_buf(), source },
     })?;

@@ -53,7 +53,8 @@ pub fn load_buffers(
                         (i, BufferError::Other(format!("malformed percent-escape in URI {uri:?}")))
                     })?;
                     let path = folder.join(rel);
-                    std::fs::read(&path).map_err(|source| (i, BufferError::File { path, source }))?
+                    crate::input_file::read(&path)
+                        .map_err(|source| (i, BufferError::File { path, source }))?
                 }
             }
         };

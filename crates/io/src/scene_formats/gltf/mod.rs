@@ -51,8 +51,8 @@ pub const DEFAULT_IMAGE_HEIGHT: u32 = 512;
 
 /// Loads a `.gltf` or `.glb` file as a scene (see the module docs).
 pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
-    let data =
-        std::fs::read(path).map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
+    let data = crate::input_file::read(path)
+        .map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
     let loc = |line: u32, column: u32| FileLocation { file: path.to_path_buf(), line, column };
     let invalid =
         |element: String, message: String| SceneFileError::Invalid { at: loc(0, 0), element, message };

@@ -51,7 +51,7 @@ type Result<T> = std::result::Result<T, SceneFileError>;
 
 /// Reads and loads a Mitsuba 3 XML file.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::input_file::read_to_string(path)
         .map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
     parse(&text, path, options)
 }

@@ -75,7 +75,7 @@ pub fn load_str(text: &str, path: &Path) -> Result<LoadedScene, SceneFileError> 
 /// Reads a file's text, gunzipping it if it starts with the gzip magic bytes.
 pub fn read_source(path: &Path) -> Result<String, SceneFileError> {
     let read_err = |source| SceneFileError::Read { path: path.to_path_buf(), source };
-    let bytes = std::fs::read(path).map_err(read_err)?;
+    let bytes = crate::input_file::read(path).map_err(read_err)?;
     let bytes = if bytes.starts_with(&[0x1f, 0x8b]) {
         let mut out = Vec::with_capacity(bytes.len() * 4);
         flate2::read::MultiGzDecoder::new(&bytes[..]).read_to_end(&mut out).map_err(read_err)?;

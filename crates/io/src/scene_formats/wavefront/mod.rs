@@ -138,7 +138,7 @@ fn read_libraries(
         };
         for name in names {
             let path = folder.join(&name);
-            match std::fs::read(&path) {
+            match crate::input_file::read(&path) {
                 Ok(data) => {
                     let lib = mtl::parse_mtl(&data, &path)?;
                     libs.push((path, lib));
@@ -156,8 +156,8 @@ fn read_libraries(
 
 /// Loads an OBJ file and its MTL libraries as a scene (see the module docs).
 pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
-    let data =
-        std::fs::read(path).map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
+    let data = crate::input_file::read(path)
+        .map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
     let stem = path.file_stem().map_or_else(|| "mesh".to_string(), |s| s.to_string_lossy().into_owned());
     let parsed = parse(&data, path, &stem)?;
     let mut warnings = Vec::new();

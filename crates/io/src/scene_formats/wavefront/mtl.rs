@@ -222,22 +222,31 @@ pub fn convert(m: &MtlMaterial, file: &Path) -> Result<Converted, SceneFileError
     let mut warnings = Vec::new();
     let mut kd = m.kd.map_or(Rgb::splat(DEFAULT_KD), |v| v.value);
     let mut ks = m.ks.map_or(Rgb::ZERO, |v| v.value);
-    let sum = kd + ks;
+    // In f64: Kd + Ks of two values near f32::MAX does not overflow, and the scale of a huge
+    // peak is no f32 subnormal that a step-down loop could never move (`Kd 3.3e38` hung here).
+    let sum = kd.as_dvec3() + ks.as_dvec3();
     let peak = sum.max_element();
     if peak > 1.0 {
-        let mut scale = 1.0 / peak;
-        while (kd * scale + ks * scale).max_element() > 1.0 {
-            scale *= 1.0 - f32::EPSILON;
+        let scale = 1.0 / peak;
+        kd = (kd.as_dvec3() * scale).as_vec3();
+        ks = (ks.as_dvec3() * scale).as_vec3();
+        // Rounding to f32 may leave the sum an ulp above 1; the largest channel is about 1, so
+        // each step moves it, and a few steps suffice.
+        for _ in 0..8 {
+            if (kd + ks).max_element() <= 1.0 {
+                break;
+            }
+            kd *= 1.0 - f32::EPSILON;
+            ks *= 1.0 - f32::EPSILON;
         }
-        kd *= scale;
-        ks *= scale;
         let line = m.ks.or(m.kd).map_or(m.line, |v| v.line);
         warnings.push(format!(
-            "{}: {element}: Kd + Ks = ({}, {}, {}) exceeds 1, which would create energy: both scaled by {scale}",
+            "{}: {element}: Kd + Ks = ({}, {}, {}) exceeds 1, which would create energy: both scaled by {}",
             loc(line),
-            sum.x,
-            sum.y,
-            sum.z
+            sum.x as f32,
+            sum.y as f32,
+            sum.z as f32,
+            scale as f32
         ));
     }
     // The core checks the values (a negative Ks, too, makes a Modified Phong it refuses).
