@@ -120,6 +120,26 @@ pub enum JobError {
     /// New paths came without a pass record in the header.
     #[error(transparent)]
     NoPass(#[from] NoPassRecord),
+    /// Writing failed while tracing (a full disk): the target is untouched, and the chunks
+    /// written before the failure are saved in `partial`, if that could be done.
+    #[error(
+        "{source}{}",
+        match partial {
+            Some(p) => format!("; {} was left as it was, and the {paths} paths written are saved in {}", output.display(), p.display()),
+            None => format!("; {} was left as it was", output.display()),
+        }
+    )]
+    WriteFailed {
+        /// The target, untouched.
+        output: PathBuf,
+        /// The valid partial dataset of the chunks written, if it could be finished.
+        partial: Option<PathBuf>,
+        /// The paths of the interrupted pass it holds.
+        paths: u64,
+        /// Why writing failed.
+        #[source]
+        source: DatasetError,
+    },
     /// The writer thread ended before the tracer.
     #[error("the dataset writer stopped")]
     WriterStopped,
@@ -170,10 +190,13 @@ pub fn write_dataset(
     let mut interrupted = false;
     if let Some(new) = new {
         let t0 = Instant::now();
-        let (traced, w) = trace_overlapped(writer, &new, progress)?;
+        let (traced, w, failed) = trace_overlapped(writer, &new, progress)?;
         writer = w;
         trace_seconds = t0.elapsed().as_secs_f64();
-        interrupted = !header.record_traced(&new.pass.lights, &traced, trace_seconds)?;
+        if let Some(source) = failed {
+            return Err(save_written(writer, header, &new, output, trace_seconds, source));
+        }
+        interrupted = !header.record_traced(&new.pass.lights, &traced?, trace_seconds)?;
     }
     let target = if interrupted { partial_path(output) } else { output.to_owned() };
     writer.retarget(&target);
@@ -212,19 +235,60 @@ pub fn trace_observed<E>(
     Ok(traced)
 }
 
+/// A write failed while tracing `new`: the chunks known to be in the file become a valid
+/// partial dataset (a prefix of the pass's blocks, so `resume` finishes it), saved as
+/// [`partial_path`]`(output)`; the error says whether that worked.
+fn save_written(
+    mut writer: DatasetWriter,
+    mut header: DatasetHeader,
+    new: &NewPaths<'_>,
+    output: &Path,
+    seconds: f64,
+    source: DatasetError,
+) -> JobError {
+    let failed = |partial, paths| JobError::WriteFailed { output: output.to_owned(), partial, paths, source };
+    if writer.keep_written_prefix().is_err() {
+        return failed(None, 0);
+    }
+    let kept = writer.light_paths();
+    let traced: Vec<u64> = new
+        .pass
+        .lights
+        .iter()
+        .map(|p| {
+            kept[p.table_index as usize].saturating_sub(header.table.lights[p.table_index as usize].paths)
+        })
+        .collect();
+    if header.record_traced(&new.pass.lights, &traced, seconds).is_err() {
+        return failed(None, 0);
+    }
+    let partial = partial_path(output);
+    writer.retarget(&partial);
+    match writer.finish(&header.table, &header.trace) {
+        Ok(_) => failed(Some(partial), header.trace.passes.last().map_or(0, |p| p.paths)),
+        Err(_) => failed(None, 0),
+    }
+}
+
+/// What the tracer and the writer thread ended with: the paths traced per plan entry, the
+/// writer, and the write error that stopped it, if one did.
+type Overlapped = (Result<Vec<u64>, JobError>, DatasetWriter, Option<DatasetError>);
+
 /// Traces `new` on the rayon pool while a writer thread appends the chunks.
 fn trace_overlapped(
     mut writer: DatasetWriter,
     new: &NewPaths<'_>,
     progress: &dyn JobProgress,
-) -> Result<(Vec<u64>, DatasetWriter), JobError> {
+) -> Result<Overlapped, JobError> {
     std::thread::scope(|s| {
         let (send, receive) = std::sync::mpsc::sync_channel::<Chunk>(128);
-        let writing = s.spawn(move || -> Result<DatasetWriter, DatasetError> {
+        let writing = s.spawn(move || -> (DatasetWriter, Option<DatasetError>) {
             for c in receive {
-                writer.write_chunk(&c)?;
+                if let Err(e) = writer.write_chunk(&c) {
+                    return (writer, Some(e));
+                }
             }
-            Ok(writer)
+            (writer, None)
         });
         let traced = trace_observed(
             new.scene,
@@ -233,10 +297,8 @@ fn trace_overlapped(
             progress,
         );
         drop(send);
-        let written = writing.join().map_err(|_| JobError::WriterPanicked)?;
-        // A write error explains a trace that stopped because the writer did: report it first.
-        let writer = written?;
-        Ok((traced?, writer))
+        let (writer, failed) = writing.join().map_err(|_| JobError::WriterPanicked)?;
+        Ok((traced, writer, failed))
     })
 }
 

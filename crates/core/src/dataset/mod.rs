@@ -39,7 +39,7 @@ pub use plan::{BLOCK_PATHS, Block, Directions, LightPlan, PassPlan, Roulette, Se
 pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quotas, plan_all, plan_lights};
 pub use plan::{planned_table, quota_weight};
 pub use relight::{LightScale, Lighting, LightingError, lighting};
-pub use resume::{ResumeError, resume_plan};
+pub use resume::{ResumeError, TargetChanged, Unfinished, check_finished, check_resume_target, resume_plan};
 pub use sample::{EMISSION_FLAG, Sample};
 pub use scene_check::{LightMismatch, SceneMismatch, check_scene, scene_lights};
 pub use subset::{BadFraction, Subset, subset};
