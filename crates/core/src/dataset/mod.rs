@@ -37,7 +37,7 @@ pub use header::{DatasetHeader, NoPassRecord, TraceInfo, TracePass};
 pub use merge::{MergeError, merge_header, merge_tables};
 pub use plan::{BLOCK_PATHS, Block, Directions, LightPlan, PassPlan, Roulette, Selection, StrategyChoice};
 pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quotas, plan_all, plan_lights};
-pub use plan::{planned_table, quota_weight};
+pub use plan::{NoEmission, check_emission, planned_table, quota_weight};
 pub use relight::{LightScale, Lighting, LightingError, lighting};
 pub use resume::{ResumeError, TargetChanged, Unfinished, check_finished, check_resume_target, resume_plan};
 pub use sample::{EMISSION_FLAG, Sample};
