@@ -99,7 +99,9 @@ impl CameraArgs {
             bail!("--lens-radius and --focus-distance apply to the perspective projection, not equirect");
         }
         if let Some(fov) = self.fov {
-            bail!("--fov {fov}: the equirect projection always covers 360°×180°; --fov applies to perspective");
+            bail!(
+                "--fov {fov}: the equirect projection always covers 360°×180°; --fov applies to perspective"
+            );
         }
         if let Some((w, h)) = self.size.filter(|&(w, h)| w != 2 * h) {
             bail!("--size {w}x{h}: an equirect image is twice as wide as high (e.g. {}x{h})", 2 * h);

@@ -9,12 +9,15 @@ use anyhow::{Result, bail};
 pub fn parse_count(s: &str) -> Result<u64> {
     let t: String = s.trim().chars().filter(|c| *c != '_' && *c != ',').collect();
     let (number, suffix) = match t.char_indices().last() {
-        Some((i, c)) if "kKMGT".contains(c) => (&t[..i], match c {
-            'k' | 'K' => 3,
-            'M' => 6,
-            'G' => 9,
-            _ => 12,
-        }),
+        Some((i, c)) if "kKMGT".contains(c) => (
+            &t[..i],
+            match c {
+                'k' | 'K' => 3,
+                'M' => 6,
+                'G' => 9,
+                _ => 12,
+            },
+        ),
         _ => (t.as_str(), 0),
     };
     let (mantissa, exponent) = match number.split_once(['e', 'E']) {
@@ -78,7 +81,21 @@ mod tests {
         ] {
             assert_eq!(parse_count(s).unwrap(), n, "{s}");
         }
-        for bad in ["", "0", "0e5", "1.5", "1e-1", "-3", "4m", "x", "1e", "18446744073709551616", "1e20", "1e400", "."] {
+        for bad in [
+            "",
+            "0",
+            "0e5",
+            "1.5",
+            "1e-1",
+            "-3",
+            "4m",
+            "x",
+            "1e",
+            "18446744073709551616",
+            "1e20",
+            "1e400",
+            ".",
+        ] {
             assert!(parse_count(bad).is_err(), "{bad}");
         }
     }

@@ -16,7 +16,13 @@ static LEVEL: AtomicU8 = AtomicU8::new(NORMAL);
 
 /// Sets the level from `--quiet` and `--verbose` (which clap keeps from being given together).
 pub fn set_level(quiet: bool, verbose: bool) {
-    let level = if quiet { QUIET } else if verbose { VERBOSE } else { NORMAL };
+    let level = if quiet {
+        QUIET
+    } else if verbose {
+        VERBOSE
+    } else {
+        NORMAL
+    };
     LEVEL.store(level, Ordering::Relaxed);
 }
 

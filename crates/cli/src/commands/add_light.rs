@@ -64,8 +64,8 @@ pub fn run(a: Args) -> Result<()> {
     warn_if_low_space(&output, estimate_bytes(&sources, paths));
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
-    let report = write_dataset(&output, header, &sources, Some(new), &TraceProgress::default())
-        .map_err(job_error)?;
+    let report =
+        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
     output::result(&format!(
         "added light '{}' with {paths} paths ({:.2} s) → {} ({}, {} samples)",
         a.light,

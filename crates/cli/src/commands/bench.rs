@@ -101,7 +101,11 @@ pub fn run(a: Args) -> Result<()> {
         best_render = best_render.min(t.elapsed().as_secs_f64());
     }
     let threads = rayon::current_num_threads();
-    output::result(&format!("scene          {} ({} triangles, {threads} threads)", a.scene, scene.triangles.len()));
+    output::result(&format!(
+        "scene          {} ({} triangles, {threads} threads)",
+        a.scene,
+        scene.triangles.len()
+    ));
     output::result(&format!(
         "trace          {} paths in {:.3} s: {:.3} M paths/s, {:.3} M samples/s ({:.2} samples/path)",
         a.paths,

@@ -3,14 +3,14 @@
 //! repository), never among the user's own files.
 
 use super::{ThreadArgs, render_chunks, warn_if_black, write_film};
-use crate::output;
-use opticks_io::output_paths::{OutputKind, check_output, check_outputs};
 use crate::camera_args::CameraArgs;
+use crate::output;
 use crate::progress::TraceProgress;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
 use anyhow::{Context, Result};
 use opticks_core::dataset::{TraceSettings, new_trace};
 use opticks_io::dataset_job::trace_observed;
+use opticks_io::output_paths::{OutputKind, check_output, check_outputs};
 use std::path::{Path, PathBuf};
 
 /// Where the demo writes by default: a folder of its own.

@@ -5,7 +5,7 @@
 use crate::output;
 use crate::strategy_args::{directions_name, roulette_name, selection_name};
 use anyhow::Result;
-use opticks_core::dataset::TracePass;
+use opticks_core::dataset::DatasetHeader;
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::output_paths::check_input_file;
 use opticks_io::scene_ref;
@@ -37,8 +37,9 @@ pub fn run(a: Args) -> Result<()> {
     Ok(())
 }
 
-/// `--roulette energy --rr-depth 5 …`: the options that would repeat the pass.
-fn strategy(p: &TracePass) -> String {
+/// `--roulette energy --rr-depth 5 …`: the options that would repeat pass `i`.
+fn strategy(h: &DatasetHeader, i: usize) -> String {
+    let p = &h.trace.passes[i];
     format!(
         "--roulette {} --rr-depth {} --directions {} --selection {}",
         roulette_name(p.roulette),
@@ -48,9 +49,10 @@ fn strategy(p: &TracePass) -> String {
     )
 }
 
-/// What is to be said of an unfinished pass: only the last one can be resumed.
-fn state(p: &TracePass, last: bool) -> Option<String> {
-    match (p.is_complete(), last) {
+/// What is to be said of pass `i` if it is unfinished: only the last one can be resumed.
+fn state(h: &DatasetHeader, i: usize) -> Option<String> {
+    let p = &h.trace.passes[i];
+    match (p.is_complete(), i + 1 == h.trace.passes.len()) {
         (true, _) => None,
         (false, true) => Some(format!(
             "interrupted: {} of {} planned paths (`opticks resume` finishes it)",
@@ -75,16 +77,15 @@ fn readable(a: &Args, reader: &DatasetReader) -> Vec<String> {
     }
     out.push(format!("geometry  {}", h.fingerprint.geometry_hex()));
     out.push(format!("lights    {}", h.fingerprint.lights_hex()));
-    let n = h.trace.passes.len();
     for (i, p) in h.trace.passes.iter().enumerate() {
-        let state = state(p, i + 1 == n).map(|s| format!(" — {s}")).unwrap_or_default();
+        let state = state(h, i).map(|s| format!(" — {s}")).unwrap_or_default();
         out.push(format!(
             "pass      seed {}, stream {}: {} paths in {:.2} s; {}{state}",
             p.seed,
             p.stream,
             p.paths,
             p.seconds,
-            strategy(p)
+            strategy(h, i)
         ));
     }
     out.push(format!("paths     {paths}"));

@@ -18,14 +18,14 @@
 //! are checked before the dataset is read and written all or none.
 
 use super::{DatasetArgs, ThreadArgs};
-use crate::output;
-use opticks_io::output_paths::{OutputKind, check_outputs};
 use crate::camera_args::parse_vec3;
+use crate::output;
 use crate::progress;
 use anyhow::{Context, Result, bail};
 use opticks_core::light::LUMENS_PER_WATT;
 use opticks_core::math::Vec3;
 use opticks_core::sensor::{IlluminanceMeter, measure};
+use opticks_io::output_paths::{OutputKind, check_outputs};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};

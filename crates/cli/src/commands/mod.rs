@@ -57,10 +57,12 @@ impl ThreadArgs {
 /// finishes it.
 pub fn job_error(e: JobError) -> anyhow::Error {
     match &e {
-        JobError::Interrupted { partial, .. } | JobError::WriteFailed { partial: Some(partial), .. } => anyhow!(
-            "{e} (a valid dataset: render it, or `opticks resume {}` to finish the run)",
-            partial.display()
-        ),
+        JobError::Interrupted { partial, .. } | JobError::WriteFailed { partial: Some(partial), .. } => {
+            anyhow!(
+                "{e} (a valid dataset: render it, or `opticks resume {}` to finish the run)",
+                partial.display()
+            )
+        }
         _ => e.into(),
     }
 }
@@ -274,7 +276,8 @@ impl DatasetArgs {
 
     /// Opens the dataset against its scene and works out the lighting; prints the notes.
     pub fn open(&self) -> Result<LitDataset> {
-        let Opened { reader, description, scene, .. } = open_with_scene(&self.dataset, self.scene.as_deref())?;
+        let Opened { reader, description, scene, .. } =
+            open_with_scene(&self.dataset, self.scene.as_deref())?;
         let lighting = lighting(&reader.header().table, &scene, &self.light).map_err(|e| match &e {
             LightingError::NotTraced(name) => {
                 anyhow!("{e}: add it with `opticks add-light`, or switch it off with --light '{name}=0'")

@@ -54,8 +54,8 @@ pub fn run(a: Args) -> Result<()> {
     warn_if_low_space(&output, estimate_bytes(&sources, a.paths));
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
-    let report = write_dataset(&output, header, &sources, Some(new), &TraceProgress::default())
-        .map_err(job_error)?;
+    let report =
+        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
     output::result(&format!(
         "refined {}: {} + {} paths = {} paths, {} samples ({:.2} s) → {}",
         a.dataset.display(),

@@ -14,7 +14,9 @@ use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::{ResumeError, check_resume_target, resume_plan};
 use opticks_io::dataset_file::DatasetReader;
-use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, finished_path, remove_partial, write_dataset};
+use opticks_io::dataset_job::{
+    NewPaths, Source, estimate_bytes, finished_path, remove_partial, write_dataset,
+};
 use opticks_io::dataset_lock::{WriteIntent, same_file};
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
@@ -55,8 +57,9 @@ pub fn run(a: Args) -> Result<()> {
         ),
     })?;
     if output.exists() && !same_file(&output, &a.partial) && !a.overwrite {
-        let target = DatasetReader::open(&output)
-            .map_err(|e| anyhow!("{e}: it would be replaced by the resumed run; give --overwrite to replace it"))?;
+        let target = DatasetReader::open(&output).map_err(|e| {
+            anyhow!("{e}: it would be replaced by the resumed run; give --overwrite to replace it")
+        })?;
         check_resume_target(&header, target.header()).map_err(|e| {
             anyhow!(
                 "{}: {e}; write the result elsewhere with -o, or give --overwrite to replace it",
@@ -70,8 +73,8 @@ pub fn run(a: Args) -> Result<()> {
     warn_if_low_space(&output, estimate_bytes(&sources, planned - done));
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
-    let report = write_dataset(&output, header, &sources, Some(new), &TraceProgress::default())
-        .map_err(job_error)?;
+    let report =
+        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
     remove_partial(&a.partial, &output)?;
     output::result(&format!(
         "resumed {partial}: {done} + {} paths = {planned} planned ({:.2} s) → {} ({} paths, {} samples)",

@@ -48,7 +48,8 @@ pub fn run(a: Args) -> Result<()> {
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
     )?;
     let scene = load_scene(&a.scene)?;
-    let (header, pass) = new_trace(&scene, &label_for(&a.scene, &a.output), a.strategy.settings(a.paths, a.seed));
+    let (header, pass) =
+        new_trace(&scene, &label_for(&a.scene, &a.output), a.strategy.settings(a.paths, a.seed));
     check_emission(&pass.lights).map_err(|e| anyhow!("{}: {e}", a.scene))?;
     output::detail(&format!(
         "scene {}: {} triangles, {}; plan: {}",

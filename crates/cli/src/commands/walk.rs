@@ -55,8 +55,9 @@ pub fn run(a: Args) -> Result<()> {
     let walk = read_camera_path(&a.path, scene.camera.map_or(45.0, |c| c.fov_x_degrees))?;
     let (w, h) = walk.size.or(scene.camera.map(|c| (c.width, c.height))).unwrap_or((512, 512));
     let (t0, t1) = walk.path.span();
-    let frames = frame_count(t0, t1, walk.fps)
-        .ok_or_else(|| anyhow::anyhow!("{}: the camera path's time span and fps make no frame", a.path.display()))?;
+    let frames = frame_count(t0, t1, walk.fps).ok_or_else(|| {
+        anyhow::anyhow!("{}: the camera path's time span and fps make no frame", a.path.display())
+    })?;
     if frames > MAX_FRAMES {
         bail!(
             "{}: {:.0} frames ({t0} s to {t1} s at {} fps) is more than this command renders ({MAX_FRAMES})",
@@ -99,7 +100,10 @@ pub fn run(a: Args) -> Result<()> {
         a.output.display()
     ));
     if a.format != "png" {
-        output::result(&format!("no video: ffmpeg is given PNG frames only (this run wrote {} frames)", a.format));
+        output::result(&format!(
+            "no video: ffmpeg is given PNG frames only (this run wrote {} frames)",
+            a.format
+        ));
     } else if ffmpeg_available() {
         let video = a.output.join("walk.mp4");
         encode_video(&a.output, frames, walk.fps, &video)?;

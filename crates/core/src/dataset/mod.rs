@@ -36,8 +36,8 @@ pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_t
 pub use header::{DatasetHeader, NoPassRecord, TraceInfo, TracePass};
 pub use merge::{MergeError, merge_header, merge_tables};
 pub use plan::{BLOCK_PATHS, Block, Directions, LightPlan, PassPlan, Roulette, Selection, StrategyChoice};
-pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quotas, plan_all, plan_lights};
 pub use plan::{NoEmission, check_emission, planned_table, quota_weight};
+pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quotas, plan_all, plan_lights};
 pub use relight::{LightScale, Lighting, LightingError, lighting};
 pub use resume::{ResumeError, TargetChanged, Unfinished, check_finished, check_resume_target, resume_plan};
 pub use sample::{EMISSION_FLAG, Sample};
