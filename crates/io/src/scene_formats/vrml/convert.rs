@@ -513,7 +513,8 @@ impl Converter {
                         m,
                         "energy",
                         format!(
-                            "diffuse + specular = {sum:?} exceeds 1: both scaled down to conserve energy"
+                            "diffuse + specular = ({}, {}, {}) exceeds 1: both scaled down to conserve energy",
+                            sum.x, sum.y, sum.z
                         ),
                     );
                 }
