@@ -416,3 +416,50 @@ fn the_first_ten_minutes_read_well() {
     let e = fails(&["render", "m.opds", "-o", "x.exr", "--light", "sun=2"], d);
     assert!(e.contains("the dataset's lights are light (give"), "no Debug lists: {e}");
 }
+
+/// The README's examples run on the files committed for them (`examples/`).
+#[test]
+fn the_readme_examples_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let examples = repo().join("examples");
+    let cornell = scene_file("cornell", "scene.xml");
+    ok(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "all.opds"], d);
+    let lamp = examples.join("scene-with-lamp.xml");
+    let out = ok(&["add-light", "all.opds", "desk_lamp", "--scene", lamp.to_str().unwrap()], d);
+    assert!(out.contains("added light 'desk_lamp'") && out.contains("2 lights"), "{out}");
+    let path = examples.join("camera-path.json");
+    let out =
+        ok(&["walk", "all.opds", "--path", path.to_str().unwrap(), "-o", "frames", "--fraction", "0.5"], d);
+    assert!(out.contains("rendered 9 frames of 128x128"), "{out}");
+}
+
+/// The reference scenes' documentation names only what is there, and counts right.
+#[test]
+fn the_testdata_documentation_matches_the_files() {
+    let scenes = repo().join("testdata/scenes");
+    let readme = std::fs::read_to_string(scenes.join("README.md")).unwrap();
+    let listed: Vec<&str> =
+        readme.lines().filter_map(|l| l.strip_prefix("| `")).filter_map(|l| l.split('`').next()).collect();
+    assert!(listed.len() >= 4, "{listed:?}");
+    for scene in ["cornell", "furnace"] {
+        for file in &listed {
+            let path = scenes.join(scene).join(file.trim_end_matches("*.obj"));
+            assert!(path.exists(), "testdata/scenes/README.md lists {file}, missing in {scene}");
+        }
+        let doc = std::fs::read_to_string(scenes.join(scene).join("SCENE.md")).unwrap();
+        let faces: usize = std::fs::read_dir(scenes.join(scene).join("meshes"))
+            .unwrap()
+            .map(|e| {
+                std::fs::read_to_string(e.unwrap().path())
+                    .unwrap()
+                    .lines()
+                    .filter(|l| l.starts_with("f "))
+                    .count()
+            })
+            .sum();
+        if let Some(n) = doc.lines().find_map(|l| l.strip_prefix("## Geometry (`meshes/`, ")) {
+            assert_eq!(n, format!("{faces} triangles)"), "{scene}/SCENE.md");
+        }
+    }
+}
