@@ -49,10 +49,14 @@ fn assert_mean_close(rgb: &[f32], name: &str, tol: f64) {
 fn demo_writes_png_and_exr() {
     let dir = tempfile::tempdir().unwrap();
     let out = ok(opticks(&["demo", "--paths", "300000"], dir.path()));
-    assert!(out.contains("cornell.png") && out.contains("cornell.exr"), "{out}");
-    let png = image::ImageReader::open(dir.path().join("cornell.png")).unwrap().decode().unwrap();
+    assert!(out.contains("opticks-demo/cornell.png") && out.contains("opticks-demo/cornell.exr"), "{out}");
+    let folder = dir.path().join("opticks-demo");
+    let png = image::ImageReader::open(folder.join("cornell.png")).unwrap().decode().unwrap();
     assert_eq!((png.width(), png.height()), (256, 256));
-    let (w, h, rgb) = read_exr_rgb(&dir.path().join("cornell.exr")).unwrap();
+    let (w, h, rgb) = read_exr_rgb(&folder.join("cornell.exr")).unwrap();
+    let mut left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    left.sort();
+    assert_eq!(left, ["opticks-demo"], "the demo writes into a folder of its own");
     assert_eq!((w, h), (256, 256));
     // The demo is the reference Cornell box: its mean matches Mitsuba's within noise (3%).
     assert_mean_close(&rgb, "cornell", 0.03);
@@ -174,7 +178,7 @@ fn bad_datasets_are_clear_errors_and_never_damage_files() {
     assert!(!d.join("w.exr").exists() && !d.join("t.exr").exists() && !d.join("f.exr").exists());
 
     // A failing trace over an existing dataset leaves it intact.
-    let e = fails(&["trace", "missing.xml", "--paths", "10", "-o", "good.opds"], d);
+    let e = fails(&["trace", "missing.xml", "--paths", "10", "-o", "good.opds", "--overwrite"], d);
     assert!(e.contains("missing.xml"), "{e}");
     assert!(std::fs::read(d.join("good.opds")).unwrap() == good);
 }
@@ -205,7 +209,7 @@ fn ctrl_c_saves_the_paths_traced_so_far_and_leaves_the_old_dataset() {
     ok(opticks(&["trace", cornell, "--paths", "10000", "-o", "data.opds"], d));
     let before = std::fs::read(d.join("data.opds")).unwrap();
     let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
-        .args(["trace", cornell, "--paths", "2000000000", "-o", "data.opds"])
+        .args(["trace", cornell, "--paths", "2000000000", "-o", "data.opds", "--overwrite"])
         .current_dir(d)
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -215,10 +219,8 @@ fn ctrl_c_saves_the_paths_traced_so_far_and_leaves_the_old_dataset() {
     assert!(status.success());
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        !out.status.success() && err.contains("interrupted") && err.contains("data.partial.opds"),
-        "{err}"
-    );
+    assert!(err.contains("interrupted") && err.contains("data.partial.opds"), "{err}");
+    assert_eq!(out.status.code(), Some(130), "128 + SIGINT");
     assert!(std::fs::read(d.join("data.opds")).unwrap() == before, "the old dataset is intact");
     // The work done is a valid dataset of its own (every chunk complete, N_k = paths done).
     let partial = DatasetReader::open(&d.join("data.partial.opds")).unwrap();

@@ -278,7 +278,7 @@ fn merge_unites_datasets_and_refuses_what_would_not_be_independent_samples() {
     b[n - 100] ^= 0x40;
     std::fs::write(d.join("flipped.opds"), &b).unwrap();
     let before = std::fs::read(d.join("m.opds")).unwrap();
-    let e = fails(&["merge", "w2.opds", "flipped.opds", "-o", "m.opds"], d);
+    let e = fails(&["merge", "w2.opds", "flipped.opds", "-o", "m.opds", "--overwrite"], d);
     assert!(e.contains("flipped.opds"), "{e}");
     assert!(std::fs::read(d.join("m.opds")).unwrap() == before, "a failed merge leaves the output as it was");
     let e = fails(&["merge", "w1.opds", "-o", "m2.opds"], d);
@@ -304,10 +304,18 @@ fn add_light_traces_only_the_new_light_and_refuses_what_it_cannot_add() {
     assert_eq!(chunks[..before.len()], before[..]);
     assert!(chunks[before.len()..].iter().all(|c| c.light == 1) && header.table.lights[1].paths == 9000);
     ok(&["render", "grow.opds", "--scene", &two, "-o", "grow.exr", "--size", "8x8"], d);
+    // The dataset now belongs to the scene with the bulb: a plain render lights it, no --scene.
+    let plain = opticks(&["render", "grow.opds", "-o", "plain.exr", "--size", "8x8"], d);
+    let err = String::from_utf8_lossy(&plain.stderr);
+    assert!(plain.status.success() && !err.contains("bulb"), "{err}");
+    assert_eq!(read_exr_rgb(&d.join("plain.exr")).unwrap(), read_exr_rgb(&d.join("grow.exr")).unwrap());
+    let info = ok(&["info", "grow.opds"], d);
+    let two_name = Path::new(&two).file_name().unwrap().to_str().unwrap();
+    assert!(info.lines().nth(1).unwrap().contains(two_name), "{info}");
     let e = fails(&["add-light", "grow.opds", "bulb", "--scene", &two], d);
     assert!(e.contains("light 'bulb' is already in grow.opds: use `opticks refine` for more paths"), "{e}");
     let e = fails(&["add-light", "grow.opds", "sun", "--scene", &two], d);
-    assert!(e.contains("the scene has no light 'sun' (its lights: [\"light\", \"bulb\"])"), "{e}");
+    assert!(e.contains("the scene has no light 'sun' (its lights: light, bulb)"), "{e}");
 
     // The green wall becomes a light: same triangles, same BSDFs — accepted, with its fair
     // share of paths by default. Another reflectance: the stored paths were reflected

@@ -98,7 +98,7 @@ fn a_sample_naming_a_missing_triangle_is_refused_by_render_and_info() {
     let info = opticks(&["info", "good.opds"], d);
     let text = String::from_utf8_lossy(&info.stdout);
     assert!(
-        info.status.success() && text.contains("every sample checked against its 36 triangles"),
+        info.status.success() && text.contains("every sample checked against its scene's 36 triangles"),
         "{text}"
     );
 }

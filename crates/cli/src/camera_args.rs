@@ -16,7 +16,8 @@ pub enum Projection {
     /// Perspective (pinhole, or thin lens with --lens-radius).
     #[default]
     Perspective,
-    /// Equirectangular 360°×180° (longitude across, latitude down; use a 2:1 --size).
+    /// Equirectangular 360°×180° (longitude across, latitude down; a 2:1 --size, by default
+    /// the scene camera's width by half of it).
     Equirect,
 }
 
@@ -32,7 +33,7 @@ pub struct CameraArgs {
     /// Up direction "x,y,z" (default 0,1,0).
     #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub up: Option<Vec3>,
-    /// Horizontal field of view, degrees.
+    /// Horizontal field of view, degrees (perspective only).
     #[arg(long)]
     pub fov: Option<f32>,
     /// Image size "WxH" in pixels.
@@ -72,17 +73,52 @@ pub fn parse_size(s: &str) -> Result<(u32, u32)> {
     Ok((w, h))
 }
 
+/// The exposure of an image written to `path`: `--exposure` applies to PNG output only (an EXR
+/// holds radiance as it is, so an exposure there is refused rather than ignored), and must be
+/// finite. Checked before any work.
+pub fn exposure_for(path: &std::path::Path, exposure: Option<f32>) -> Result<f32> {
+    let exr = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    match exposure {
+        Some(e) if !e.is_finite() => bail!("--exposure {e}: must be a finite number of stops"),
+        Some(_) if exr => bail!(
+            "--exposure applies to PNG output; {} is an EXR, which holds the radiance as it is",
+            path.display()
+        ),
+        e => Ok(e.unwrap_or(0.0)),
+    }
+}
+
 impl CameraArgs {
+    /// The option combinations refused before any work: `--fov` and a non-2:1 `--size` with the
+    /// equirect projection (which always covers 360°×180°), the lens options with it.
+    pub fn check(&self) -> Result<()> {
+        if self.projection != Some(Projection::Equirect) {
+            return Ok(());
+        }
+        if self.lens_radius.is_some() || self.focus_distance.is_some() {
+            bail!("--lens-radius and --focus-distance apply to the perspective projection, not equirect");
+        }
+        if let Some(fov) = self.fov {
+            bail!(
+                "--fov {fov}: the equirect projection always covers 360°×180°; --fov applies to perspective"
+            );
+        }
+        if let Some((w, h)) = self.size.filter(|&(w, h)| w != 2 * h) {
+            bail!("--size {w}x{h}: an equirect image is twice as wide as high (e.g. {}x{h})", 2 * h);
+        }
+        Ok(())
+    }
+
     /// The sensor to render with: the scene's camera with any overrides applied.
     pub fn resolve(&self, scene_camera: Option<CameraDesc>) -> Result<Sensor> {
-        let desc = self.resolve_desc(scene_camera)?;
+        self.check()?;
+        let mut desc = self.resolve_desc(scene_camera)?;
         let lens = self.lens_radius.is_some() || self.focus_distance.is_some();
         match self.projection.unwrap_or_default() {
             Projection::Equirect => {
-                if lens {
-                    bail!(
-                        "--lens-radius and --focus-distance apply to the perspective projection, not equirect"
-                    );
+                if self.size.is_none() {
+                    desc.height = (desc.width / 2).max(1);
+                    desc.width = 2 * desc.height;
                 }
                 Ok(Equirectangular::new(&desc).context("invalid camera")?.into())
             }
@@ -146,11 +182,30 @@ mod tests {
         let pano = CameraArgs { projection: Some(Projection::Equirect), ..Default::default() };
         let s = pano.resolve(Some(desc())).unwrap();
         assert!(matches!(s, Sensor::Equirectangular(_)) && (s.width(), s.height()) == (8, 4));
+        let square = CameraDesc { width: 9, height: 9, ..desc() };
+        let s = pano.resolve(Some(square)).unwrap();
+        assert_eq!((s.width(), s.height()), (8, 4), "the scene camera's width, 2:1");
+        for refused in [
+            CameraArgs { fov: Some(30.0), ..pano.clone() },
+            CameraArgs { size: Some((64, 64)), ..pano.clone() },
+        ] {
+            assert!(refused.check().is_err() && refused.resolve(Some(desc())).is_err(), "{refused:?}");
+        }
+        assert!(CameraArgs { size: Some((64, 32)), ..pano.clone() }.check().is_ok());
         assert!(CameraArgs { lens_radius: Some(-1.0), ..Default::default() }.resolve(Some(desc())).is_err());
         assert!(
             CameraArgs { focus_distance: Some(0.0), ..Default::default() }.resolve(Some(desc())).is_err()
         );
         let both = CameraArgs { lens_radius: Some(0.1), ..pano };
         assert!(both.resolve(Some(desc())).is_err());
+    }
+
+    #[test]
+    fn exposure_is_for_png_only_and_finite() {
+        use std::path::Path;
+        assert_eq!(exposure_for(Path::new("a.png"), Some(1.5)).unwrap(), 1.5);
+        assert_eq!(exposure_for(Path::new("a.exr"), None).unwrap(), 0.0);
+        assert!(exposure_for(Path::new("a.EXR"), Some(0.0)).is_err());
+        assert!(exposure_for(Path::new("a.png"), Some(f32::NAN)).is_err());
     }
 }

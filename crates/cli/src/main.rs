@@ -7,7 +7,9 @@
 
 mod camera_args;
 mod commands;
+mod count_arg;
 mod interrupt;
+mod output;
 mod progress;
 mod scene_arg;
 mod strategy_args;
@@ -21,6 +23,12 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print only warnings and errors: no progress bars, notes or summary.
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Also print details: the scene loaded, the plan traced, the files written.
+    #[arg(short, long, global = true)]
+    verbose: bool,
 }
 
 #[derive(Subcommand, Debug)]
@@ -51,6 +59,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    output::set_level(cli.quiet, cli.verbose);
     interrupt::install();
     let result = match cli.command {
         Command::Demo(a) => commands::demo::run(a),
@@ -68,8 +77,9 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", error_chain(&e));
-            ExitCode::FAILURE
+            output::error(&error_chain(&e));
+            // Stopped by a signal: the conventional 128 + signal (130 for SIGINT, 143 SIGTERM).
+            interrupt::exit_code().map_or(ExitCode::FAILURE, ExitCode::from)
         }
     }
 }

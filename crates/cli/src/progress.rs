@@ -3,23 +3,31 @@
 //! [`TraceProgress`] is what the dataset jobs of `opticks_io` report to: a bar while tracing,
 //! and Ctrl-C as the request to stop.
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{HumanCount, ProgressBar, ProgressState, ProgressStyle};
 use opticks_io::dataset_job::JobProgress;
 use std::cell::RefCell;
 
-/// A bar counting `total` items of `unit` (e.g. "paths"), showing the rate per second.
+/// A bar counting `total` items of `unit` (e.g. "paths"), showing the rate per second as a
+/// whole number ("458,006/s"). Hidden with `--quiet`.
 pub fn bar(total: u64, what: &str, unit: &str) -> ProgressBar {
+    if crate::output::is_quiet() {
+        return ProgressBar::hidden();
+    }
     let pb = ProgressBar::new(total);
     let template = format!(
-        "{what:>9} [{{elapsed_precise}}] {{bar:40.cyan/blue}} {{human_pos}}/{{human_len}} {unit} ({{per_sec}}, eta {{eta}})"
+        "{what:>9} [{{elapsed_precise}}] {{bar:40.cyan/blue}} {{human_pos}}/{{human_len}} {unit} ({{rate}}, eta {{eta}})"
     );
-    pb.set_style(
-        ProgressStyle::with_template(&template).expect("static template is valid").progress_chars("=> "),
-    );
+    let style = ProgressStyle::with_template(&template)
+        .expect("static template is valid")
+        .with_key("rate", |state: &ProgressState, w: &mut dyn std::fmt::Write| {
+            let _ = write!(w, "{}/s", HumanCount(state.per_sec().max(0.0) as u64));
+        })
+        .progress_chars("=> ");
+    pb.set_style(style);
     pb
 }
 
-/// A "tracing … paths" bar for a dataset job, which stops on Ctrl-C (and, for tests, once
+/// A "tracing … paths" bar for a dataset job, which stops on a signal (and, for tests, once
 /// `$OPTICKS_INTERRUPT_AFTER_PATHS` paths are traced: see `crate::interrupt`).
 #[derive(Default)]
 pub struct TraceProgress {

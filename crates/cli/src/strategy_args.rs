@@ -38,18 +38,42 @@ pub enum SelectionArg {
 /// dataset traced with, say, `--roulette fixed` continues it with the same estimator).
 #[derive(Args, Debug, Clone)]
 pub struct StrategyArgs {
-    /// Path depth from which Russian roulette may end paths [default: 5; refine and add-light: the dataset's last pass].
+    /// Path depth from which Russian roulette may end paths [default: 5, or with refine and add-light the dataset's last pass's].
     #[arg(long)]
     pub rr_depth: Option<u32>,
-    /// Russian roulette rule (thesis §6.2.1) [default: energy; refine and add-light: the dataset's last pass].
+    /// Russian roulette rule [default: energy, or with refine and add-light the dataset's last pass's].
     #[arg(long, value_enum)]
     pub roulette: Option<RouletteArg>,
-    /// Direction sampling (thesis §6.2.2) [default: importance; refine and add-light: the dataset's last pass].
+    /// Direction sampling [default: importance, or with refine and add-light the dataset's last pass's].
     #[arg(long, value_enum)]
     pub directions: Option<DirectionsArg>,
-    /// Priority sample selection (thesis §6.2.3) [default: single; refine and add-light: the dataset's last pass].
+    /// Vertex selection [default: single, or with refine and add-light the dataset's last pass's].
     #[arg(long, value_enum)]
     pub selection: Option<SelectionArg>,
+}
+
+/// The command-line spelling of a roulette rule (what `info` shows).
+pub fn roulette_name(r: Roulette) -> &'static str {
+    match r {
+        Roulette::Energy => "energy",
+        Roulette::Fixed => "fixed",
+    }
+}
+
+/// The command-line spelling of a direction sampling.
+pub fn directions_name(d: Directions) -> &'static str {
+    match d {
+        Directions::Importance => "importance",
+        Directions::Uniform => "uniform",
+    }
+}
+
+/// The command-line spelling of a vertex selection.
+pub fn selection_name(s: Selection) -> &'static str {
+    match s {
+        Selection::Single => "single",
+        Selection::Priority => "priority",
+    }
 }
 
 impl StrategyArgs {

@@ -129,7 +129,27 @@ pub enum JobError {
         path: PathBuf,
         /// The counts.
         #[source]
-        source: TooManyPaths,
+        source: TooManyPaths
+    },
+    /// Writing failed while tracing (a full disk): the target is untouched, and the chunks
+    /// written before the failure are saved in `partial`, if that could be done.
+    #[error(
+        "{source}{}",
+        match partial {
+            Some(p) => format!("; {} was left as it was, and the {paths} paths written are saved in {}", output.display(), p.display()),
+            None => format!("; {} was left as it was", output.display()),
+        }
+    )]
+    WriteFailed {
+        /// The target, untouched.
+        output: PathBuf,
+        /// The valid partial dataset of the chunks written, if it could be finished.
+        partial: Option<PathBuf>,
+        /// The paths of the interrupted pass it holds.
+        paths: u64,
+        /// Why writing failed.
+        #[source]
+        source: DatasetError,
     },
     /// The writer thread ended before the tracer.
     #[error("the dataset writer stopped")]
@@ -185,10 +205,13 @@ pub fn write_dataset(
     let mut interrupted = false;
     if let Some(new) = new {
         let t0 = Instant::now();
-        let (traced, w) = trace_overlapped(writer, &new, progress)?;
+        let (traced, w, failed) = trace_overlapped(writer, &new, progress)?;
         writer = w;
         trace_seconds = t0.elapsed().as_secs_f64();
-        interrupted = !header.record_traced(&new.pass.lights, &traced, trace_seconds)?;
+        if let Some(source) = failed {
+            return Err(save_written(writer, header, &new, output, trace_seconds, source));
+        }
+        interrupted = !header.record_traced(&new.pass.lights, &traced?, trace_seconds)?;
     }
     let target = if interrupted { partial_path(output) } else { output.to_owned() };
     writer.retarget(&target);
@@ -227,19 +250,60 @@ pub fn trace_observed<E>(
     Ok(traced)
 }
 
+/// A write failed while tracing `new`: the chunks known to be in the file become a valid
+/// partial dataset (a prefix of the pass's blocks, so `resume` finishes it), saved as
+/// [`partial_path`]`(output)`; the error says whether that worked.
+fn save_written(
+    mut writer: DatasetWriter,
+    mut header: DatasetHeader,
+    new: &NewPaths<'_>,
+    output: &Path,
+    seconds: f64,
+    source: DatasetError,
+) -> JobError {
+    let failed = |partial, paths| JobError::WriteFailed { output: output.to_owned(), partial, paths, source };
+    if writer.keep_written_prefix().is_err() {
+        return failed(None, 0);
+    }
+    let kept = writer.light_paths();
+    let traced: Vec<u64> = new
+        .pass
+        .lights
+        .iter()
+        .map(|p| {
+            kept[p.table_index as usize].saturating_sub(header.table.lights[p.table_index as usize].paths)
+        })
+        .collect();
+    if header.record_traced(&new.pass.lights, &traced, seconds).is_err() {
+        return failed(None, 0);
+    }
+    let partial = partial_path(output);
+    writer.retarget(&partial);
+    match writer.finish(&header.table, &header.trace) {
+        Ok(_) => failed(Some(partial), header.trace.passes.last().map_or(0, |p| p.paths)),
+        Err(_) => failed(None, 0),
+    }
+}
+
+/// What the tracer and the writer thread ended with: the paths traced per plan entry, the
+/// writer, and the write error that stopped it, if one did.
+type Overlapped = (Result<Vec<u64>, JobError>, DatasetWriter, Option<DatasetError>);
+
 /// Traces `new` on the rayon pool while a writer thread appends the chunks.
 fn trace_overlapped(
     mut writer: DatasetWriter,
     new: &NewPaths<'_>,
     progress: &dyn JobProgress,
-) -> Result<(Vec<u64>, DatasetWriter), JobError> {
+) -> Result<Overlapped, JobError> {
     std::thread::scope(|s| {
         let (send, receive) = std::sync::mpsc::sync_channel::<Chunk>(128);
-        let writing = s.spawn(move || -> Result<DatasetWriter, DatasetError> {
+        let writing = s.spawn(move || -> (DatasetWriter, Option<DatasetError>) {
             for c in receive {
-                writer.write_chunk(&c)?;
+                if let Err(e) = writer.write_chunk(&c) {
+                    return (writer, Some(e));
+                }
             }
-            Ok(writer)
+            (writer, None)
         });
         let traced = trace_observed(
             new.scene,
@@ -248,11 +312,42 @@ fn trace_overlapped(
             progress,
         );
         drop(send);
-        let written = writing.join().map_err(|_| JobError::WriterPanicked)?;
-        // A write error explains a trace that stopped because the writer did: report it first.
-        let writer = written?;
-        Ok((traced?, writer))
+        let (writer, failed) = writing.join().map_err(|_| JobError::WriterPanicked)?;
+        Ok((traced, writer, failed))
     })
+}
+
+/// Stored bytes per path assumed when nothing better is known (a fresh trace): 5 vertices of
+/// 32 bytes and a share of the chunk headers. The Cornell box stores 4.4 vertices per path;
+/// scenes of higher albedo store more.
+pub const ASSUMED_BYTES_PER_PATH: u64 = 5 * 32 + 1;
+
+/// About how large a dataset of `sources` and `new_paths` more paths will be: the sources'
+/// sizes, plus the new paths at the sources' bytes per path (or [`ASSUMED_BYTES_PER_PATH`]).
+pub fn estimate_bytes(sources: &[Source<'_>], new_paths: u64) -> u64 {
+    let bytes: u64 = sources.iter().map(|s| s.reader.file_len()).sum();
+    let paths: u64 = sources.iter().map(|s| s.reader.header().table.total_paths()).sum();
+    let per_path = if paths > 0 && bytes > 0 { bytes.div_ceil(paths) } else { ASSUMED_BYTES_PER_PATH };
+    bytes.saturating_add(new_paths.saturating_mul(per_path))
+}
+
+/// Bytes free for an unprivileged writer on the file system that `output` is (to be) written to;
+/// `None` where that cannot be asked.
+pub fn free_space(output: &Path) -> Option<u64> {
+    #[cfg(unix)]
+    {
+        let dir = match output.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        let s = nix::sys::statvfs::statvfs(dir).ok()?;
+        Some((s.blocks_available() as u64).saturating_mul(s.fragment_size() as u64))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = output;
+        None
+    }
 }
 
 /// `dir/NAME.partial.opds` for `dir/NAME.opds`: where an interrupted job saves its work.

@@ -12,7 +12,6 @@
 //! meter's aspect ratio |u| : |v|. The colour scale runs from 0 to the largest value.
 
 use image::{ImageEncoder, codecs::png::PngEncoder};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// Why a heat map cannot be drawn or written.
@@ -267,22 +266,31 @@ pub fn write_heatmap(
     v_len: f64,
     title: &str,
 ) -> Result<(), HeatmapError> {
+    let png = encode_heatmap(path, values, nx, ny, u_len, v_len, title)?;
+    crate::image_file::write_file_atomically(path, &png).map_err(|e| HeatmapError::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e.to_string()),
+    })
+}
+
+/// The PNG bytes of the heat map (see [`draw`]); `path` only names it in errors. For commands
+/// that write it together with other files, all or none
+/// (`crate::image_file::write_files_atomically`).
+pub fn encode_heatmap(
+    path: &Path,
+    values: &[f64],
+    nx: u32,
+    ny: u32,
+    u_len: f64,
+    v_len: f64,
+    title: &str,
+) -> Result<Vec<u8>, HeatmapError> {
     let r = draw(values, nx, ny, u_len, v_len, title)?;
     let mut png = Vec::new();
     PngEncoder::new(&mut png)
         .write_image(&r.rgb, r.width, r.height, image::ExtendedColorType::Rgb8)
         .map_err(|source| HeatmapError::Encode { path: path.to_path_buf(), source })?;
-    let io = |source| HeatmapError::Io { path: path.to_path_buf(), source };
-    let tmp = path.with_extension("png.partial");
-    let result = std::fs::File::create(&tmp).and_then(|mut f| {
-        f.write_all(&png)?;
-        f.sync_all()
-    });
-    if let Err(e) = result.and_then(|_| std::fs::rename(&tmp, path)) {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(io(e));
-    }
-    Ok(())
+    Ok(png)
 }
 
 #[cfg(test)]

@@ -316,12 +316,50 @@ pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError
     })
 }
 
+/// Writes several files all or none: each into its temporary file first, and only when every
+/// one is complete are they renamed into place (so `measure -o x.csv --png y.png` never leaves
+/// one written and the other not because of a write error).
+pub fn write_files_atomically(files: &[(&Path, &[u8])]) -> Result<(), ImageError> {
+    let mut done: Vec<(PathBuf, &Path)> = Vec::new();
+    for &(path, bytes) in files {
+        let written = write_temporary(path, |file| {
+            file.write_all(bytes).map_err(|source| ImageError::Io { path: path.to_path_buf(), source })
+        });
+        match written {
+            Ok(tmp) => done.push((tmp, path)),
+            Err(e) => {
+                done.iter().for_each(|(tmp, _)| drop(fs::remove_file(tmp)));
+                return Err(e);
+            }
+        }
+    }
+    for (i, (tmp, path)) in done.iter().enumerate() {
+        if let Err(source) = fs::rename(tmp, path) {
+            done[i..].iter().for_each(|(tmp, _)| drop(fs::remove_file(tmp)));
+            return Err(ImageError::Io { path: path.to_path_buf(), source });
+        }
+    }
+    Ok(())
+}
+
 /// Writes through `write` into a fresh temporary file next to `path`, flushes and syncs it, then
 /// renames it to `path`. On any failure the temporary file is removed.
 fn atomic_write(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<(), ImageError>,
 ) -> Result<(), ImageError> {
+    let tmp = write_temporary(path, write)?;
+    fs::rename(&tmp, path).map_err(|e| {
+        let _ = fs::remove_file(&tmp);
+        ImageError::Io { path: path.to_path_buf(), source: e }
+    })
+}
+
+/// The first half of [`atomic_write`]: the complete, synced temporary file, not yet renamed.
+fn write_temporary(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), ImageError>,
+) -> Result<PathBuf, ImageError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let io_err = |p: &Path, source| ImageError::Io { path: p.to_path_buf(), source };
     let dir = match path.parent() {
@@ -351,14 +389,15 @@ fn atomic_write(
         write(&mut writer)?;
         writer.flush().map_err(|e| io_err(path, e))?;
         let file = writer.into_inner().map_err(|e| io_err(path, e.into_error()))?;
-        file.sync_all().map_err(|e| io_err(path, e))?;
-        drop(file);
-        fs::rename(&tmp, path).map_err(|e| io_err(path, e))
+        file.sync_all().map_err(|e| io_err(path, e))
     })();
-    if result.is_err() {
-        let _ = fs::remove_file(&tmp);
+    match result {
+        Ok(()) => Ok(tmp),
+        Err(e) => {
+            let _ = fs::remove_file(&tmp);
+            Err(e)
+        }
     }
-    result
 }
 
 #[cfg(test)]

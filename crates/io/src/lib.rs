@@ -6,6 +6,11 @@
 //! * [`dataset_file`]: the persistent dataset (`.opds`): atomic writer, reader by explicit reads;
 //! * [`dataset_job`]: writing a dataset — copying chunks, tracing into it, finishing it
 //!   atomically, saving an interrupted run as `NAME.partial.opds`;
+//! * [`dataset_lock`]: what a dataset writer checks first — the lock against a second writer,
+//!   stale temporary files of killed runs, a pending partial run, an existing target;
+//! * [`output_paths`]: the rules every output path obeys (its extension, its directory, never an
+//!   input of the command), checked before any work;
+//! * [`scene_ref`]: the scene file a dataset records (relative to the dataset, and absolute);
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
@@ -17,11 +22,14 @@ pub mod camera_path_file;
 pub mod compare;
 pub mod dataset_file;
 pub mod dataset_job;
+pub mod dataset_lock;
 pub mod heatmap;
 pub mod ies;
 pub mod image_file;
 pub mod input_file;
+pub mod output_paths;
 pub mod scene_formats;
+pub mod scene_ref;
 
 pub use scene_formats::{
     FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,

@@ -1,13 +1,18 @@
 //! `opticks add-light`: the scene file gained a light; trace only that light into the dataset.
 //! The other lights' samples are reused untouched (geometry and materials must be unchanged —
 //! the fingerprint says so — while the light table may grow): `opticks_core::dataset::add_light`.
+//! The result records the scene file used (`--scene`): it is the scene the dataset now belongs
+//! to.
 
 use super::extend_args::ExtendArgs;
-use super::{job_error, open_with_scene};
+use super::{Opened, begin_dataset_write, check_finished, job_error, open_with_scene, warn_if_low_space};
+use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::AddLightError;
-use opticks_io::dataset_job::{NewPaths, Source, write_dataset};
+use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, write_dataset};
+use opticks_io::dataset_lock::WriteIntent;
+use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
 /// Arguments of `opticks add-light`.
@@ -17,11 +22,12 @@ pub struct Args {
     dataset: PathBuf,
     /// Name of the new light in the scene file.
     light: String,
-    /// Scene file with the new light (default: the one recorded in the dataset).
+    /// Scene file with the new light (default: the one recorded in the dataset); the result
+    /// records it.
     #[arg(long)]
     scene: Option<String>,
     /// Paths for the new light (default: its fair share, N·Φ_new/ΣΦ of the lights already traced).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_parser = crate::count_arg::parse_count)]
     paths: Option<u64>,
     #[command(flatten)]
     extend: ExtendArgs,
@@ -30,9 +36,16 @@ pub struct Args {
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
     a.extend.threads.apply()?;
-    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
+    let inputs = [a.dataset.as_path()];
+    let _lock = begin_dataset_write(
+        &output,
+        WriteIntent { inputs: &inputs, overwrite: a.extend.overwrite, ..Default::default() },
+    )?;
+    let Opened { reader, scene, scene_spec, .. } = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    check_finished(&a.dataset, reader.header())?;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
-    let (header, pass) =
+    let (mut header, pass) =
         opticks_core::dataset::add_light(reader.header(), &scene, &a.light, a.paths, seed, &strategy)
             .map_err(|e| match e {
                 AddLightError::AlreadyTraced(name) => anyhow!(
@@ -46,18 +59,20 @@ pub fn run(a: Args) -> Result<()> {
                 e @ AddLightError::NoSuchLight { .. } => e.into(),
             })?;
     let paths = pass.settings.paths;
-    let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
+    header.label = label_for(&scene_spec, &output);
+    let sources = [Source::as_is(&reader)];
+    warn_if_low_space(&output, estimate_bytes(&sources, paths));
     let new = NewPaths { scene: &scene, pass };
+    let _graceful = crate::interrupt::graceful();
     let report =
-        write_dataset(&output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
-            .map_err(job_error)?;
-    println!(
-        "added light '{}' with {paths} paths ({:.2} s) → {} ({} lights, {} samples)",
+        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
+    output::result(&format!(
+        "added light '{}' with {paths} paths ({:.2} s) → {} ({}, {} samples)",
         a.light,
         report.trace_seconds,
         output.display(),
-        report.table.lights.len(),
+        output::count(report.table.lights.len() as u64, "light"),
         report.summary.samples
-    );
+    ));
     Ok(())
 }

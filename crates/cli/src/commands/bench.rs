@@ -4,6 +4,7 @@
 
 use super::ThreadArgs;
 use crate::camera_args::CameraArgs;
+use crate::output;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
 use crate::strategy_args::StrategyArgs;
 use anyhow::Result;
@@ -19,14 +20,14 @@ pub struct Args {
     /// Scene file or `builtin:cornell`.
     #[arg(default_value = BUILTIN_CORNELL)]
     scene: String,
-    /// Light paths per run.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..), default_value_t = 4_194_304)]
+    /// Light paths per run; e.g. 4194304, 4M, 4e6.
+    #[arg(long, value_parser = crate::count_arg::parse_count, default_value_t = 4_194_304)]
     paths: u64,
-    /// Random seed of the traced paths.
-    #[arg(long, default_value_t = 1)]
+    /// Random seed of the traced paths (the same default as `trace`).
+    #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Runs per phase (the fastest is reported).
-    #[arg(long, default_value_t = 3)]
+    /// Runs per phase, at least 1 (the fastest is reported).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
     repeat: u32,
     /// Reference image (EXR) of the scene's camera: also report relative MSE and efficiency
     /// 1/(relMSE × seconds), the figure of merit of `docs/convergence.md`.
@@ -45,11 +46,27 @@ pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
     let camera = a.camera.resolve(scene.camera)?;
+    // The reference is read and its size checked before the expensive runs.
+    let reference = match &a.reference {
+        Some(path) => {
+            let (w, h, rgb) = opticks_io::image_file::read_exr_rgb(path)?;
+            if (w, h) != (camera.width(), camera.height()) {
+                anyhow::bail!(
+                    "{}: {w}x{h} does not match the camera's {}x{}",
+                    path.display(),
+                    camera.width(),
+                    camera.height()
+                );
+            }
+            Some((path, rgb))
+        }
+        None => None,
+    };
     let settings = a.strategy.settings(a.paths, a.seed);
     let mut best_trace = f64::INFINITY;
     let mut chunks: Vec<Chunk> = Vec::new();
     let mut table = Default::default();
-    for _ in 0..a.repeat.max(1) {
+    for _ in 0..a.repeat {
         chunks.clear();
         let t = Instant::now();
         table = trace(
@@ -66,7 +83,7 @@ pub fn run(a: Args) -> Result<()> {
     let samples: usize = chunks.iter().map(|c| c.samples.len()).sum();
     let mut best_render = f64::INFINITY;
     let mut film = Film::new(1, 1);
-    for _ in 0..a.repeat.max(1) {
+    for _ in 0..a.repeat {
         let t = Instant::now();
         film = render(
             &scene,
@@ -84,50 +101,45 @@ pub fn run(a: Args) -> Result<()> {
         best_render = best_render.min(t.elapsed().as_secs_f64());
     }
     let threads = rayon::current_num_threads();
-    println!("scene          {} ({} triangles, {threads} threads)", a.scene, scene.triangles.len());
-    println!(
+    output::result(&format!(
+        "scene          {} ({} triangles, {threads} threads)",
+        a.scene,
+        scene.triangles.len()
+    ));
+    output::result(&format!(
         "trace          {} paths in {:.3} s: {:.3} M paths/s, {:.3} M samples/s ({:.2} samples/path)",
         a.paths,
         best_trace,
         a.paths as f64 / best_trace / 1e6,
         samples as f64 / best_trace / 1e6,
         samples as f64 / a.paths as f64
-    );
-    println!(
+    ));
+    output::result(&format!(
         "render         {}x{} from {} samples in {:.3} s: {:.3} M samples/s",
         camera.width(),
         camera.height(),
         samples,
         best_render,
         samples as f64 / best_render / 1e6
-    );
+    ));
     let m = film.mean();
     let mut quality = String::new();
-    if let Some(path) = &a.reference {
-        let (w, h, reference) = opticks_io::image_file::read_exr_rgb(path)?;
-        if (w, h) != (camera.width(), camera.height()) {
-            anyhow::bail!(
-                "{}: {w}x{h} does not match the camera's {}x{}",
-                path.display(),
-                camera.width(),
-                camera.height()
-            );
-        }
-        let c = opticks_io::compare::compare(&film.to_rgb_f32(), &reference);
+    if let Some((path, reference)) = &reference {
+        let c = opticks_io::compare::compare(&film.to_rgb_f32(), reference);
         let efficiency = 1.0 / (c.relmse * (best_trace + best_render));
-        println!(
+        output::result(&format!(
             "quality        relMSE {:.4e} vs {}; mean ratio {:.4} {:.4} {:.4}; efficiency 1/(relMSE·s) = {efficiency:.1}",
             c.relmse,
             path.display(),
             c.mean_ratio[0],
             c.mean_ratio[1],
             c.mean_ratio[2]
-        );
+        ));
         quality = format!(",\"relmse\":{:.6e},\"efficiency\":{efficiency:.3}", c.relmse);
     }
-    println!(
+    output::data(&format!(
         "{{\"scene\":\"{}\",\"paths\":{},\"threads\":{threads},\"trace_s\":{best_trace:.4},\"render_s\":{best_render:.4},\"samples\":{samples},\"mean_rgb\":[{:.6},{:.6},{:.6}]{quality}}}",
         a.scene, a.paths, m[0], m[1], m[2]
-    );
+    ));
     Ok(())
 }

@@ -1,28 +1,36 @@
 //! `opticks demo`: the built-in Cornell box, traced and rendered in one go — no files needed.
+//! By default the images go into the folder `opticks-demo/` (created; git-ignored in the
+//! repository), never among the user's own files.
 
-use super::{ThreadArgs, render_chunks, write_film};
+use super::{ThreadArgs, render_chunks, warn_if_black, write_film};
 use crate::camera_args::CameraArgs;
+use crate::output;
 use crate::progress::TraceProgress;
 use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
 use anyhow::{Context, Result};
 use opticks_core::dataset::{TraceSettings, new_trace};
 use opticks_io::dataset_job::trace_observed;
-use std::path::PathBuf;
+use opticks_io::output_paths::{OutputKind, check_output, check_outputs};
+use std::path::{Path, PathBuf};
+
+/// Where the demo writes by default: a folder of its own.
+const DEFAULT_OUTPUT: &str = "opticks-demo/cornell.png";
 use std::time::Instant;
 
 /// Arguments of `opticks demo`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Output image; the other format (.png ↔ .exr) is written beside it.
-    #[arg(short, long, default_value = "cornell.png")]
+    /// Output image; the other format (.png ↔ .exr) is written beside it. The default's folder
+    /// is created if missing.
+    #[arg(short, long, default_value = DEFAULT_OUTPUT)]
     output: PathBuf,
-    /// Light paths to trace.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..), default_value_t = 4_000_000)]
+    /// Light paths to trace; e.g. 4000000, 4M, 4e6.
+    #[arg(long, value_parser = crate::count_arg::parse_count, default_value = "4M")]
     paths: u64,
     /// Random seed.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Exposure for the PNG, in stops.
+    /// Exposure of the PNG, in stops (the EXR holds the radiance as it is).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     exposure: f32,
     #[command(flatten)]
@@ -37,14 +45,24 @@ pub struct Args {
 /// Runs the demo.
 pub fn run(a: Args) -> Result<()> {
     if let Some(path) = &a.export_scene {
+        check_output(path, OutputKind::Vrml, &[])?;
         let scene = opticks_core::scene::cornell_box();
         opticks_io::scene_formats::vrml::write_vrml_file(&scene, path)
             .with_context(|| format!("cannot write {}", path.display()))?;
-        println!("wrote the built-in scene to {}", path.display());
+        output::result(&format!("wrote the built-in scene to {}", path.display()));
         return Ok(());
     }
     a.threads.apply()?;
-    opticks_io::image_file::check_output_path(&a.output)?;
+    if !a.exposure.is_finite() {
+        anyhow::bail!("--exposure {}: must be a finite number of stops", a.exposure);
+    }
+    if a.output == Path::new(DEFAULT_OUTPUT) {
+        let dir = a.output.parent().expect("the default has a folder");
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    let other =
+        a.output.with_extension(if a.output.extension().is_some_and(|e| e == "exr") { "png" } else { "exr" });
+    check_outputs(&[(&a.output, OutputKind::Image), (&other, OutputKind::Image)], &[])?;
     let scene = load_scene(BUILTIN_CORNELL)?;
     let camera = a.camera.resolve(scene.camera)?;
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
@@ -55,20 +73,20 @@ pub fn run(a: Args) -> Result<()> {
         chunks.push(c);
         Ok::<(), std::convert::Infallible>(())
     };
+    let _graceful = crate::interrupt::graceful();
     let traced = trace_observed(&scene, &pass, sink, &TraceProgress::default())?;
     if crate::interrupt::requested() {
-        anyhow::bail!("interrupted by the user");
+        anyhow::bail!("interrupted: stopped, nothing written");
     }
     header.record_traced(&pass.lights, &traced, 0.0)?;
     let t1 = Instant::now();
     let film = render_chunks(&scene, &camera, &header.table, &chunks)?;
     let t2 = Instant::now();
     let samples: usize = chunks.iter().map(|c| c.samples.len()).sum();
-    let other =
-        a.output.with_extension(if a.output.extension().is_some_and(|e| e == "exr") { "png" } else { "exr" });
+    warn_if_black(&film, samples as u64, "camera");
     write_film(&film, &a.output, a.exposure)?;
     write_film(&film, &other, a.exposure)?;
-    println!(
+    output::result(&format!(
         "traced {} paths ({} samples) in {:.2} s, rendered {}x{} in {:.2} s → {} and {}",
         a.paths,
         samples,
@@ -78,6 +96,6 @@ pub fn run(a: Args) -> Result<()> {
         (t2 - t1).as_secs_f64(),
         a.output.display(),
         other.display()
-    );
+    ));
     Ok(())
 }

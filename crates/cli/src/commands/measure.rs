@@ -9,15 +9,23 @@
 //! radiometric quantities with the spectral shapes the weights assume; renderers' RGB light is
 //! not a spectrum. The PNG shows E_v.
 //!
-//! The scene is resolved and checked against the dataset as `opticks render` does.
+//! Orientation: only light arriving from the meter's front is counted — the side its normal
+//! n = u × v faces (for `--surface`, the side the mesh's triangles face). The summary line
+//! states that normal; a plane lit only from behind reads 0, with a warning saying to swap u
+//! and v to measure the other side.
+//!
+//! The scene is resolved and checked against the dataset as `opticks render` does. Both outputs
+//! are checked before the dataset is read and written all or none.
 
 use super::{DatasetArgs, ThreadArgs};
 use crate::camera_args::parse_vec3;
+use crate::output;
 use crate::progress;
 use anyhow::{Context, Result, bail};
 use opticks_core::light::LUMENS_PER_WATT;
 use opticks_core::math::Vec3;
 use opticks_core::sensor::{IlluminanceMeter, measure};
+use opticks_io::output_paths::{OutputKind, check_outputs};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -27,20 +35,22 @@ use std::sync::atomic::{AtomicU64, Ordering};
 pub struct Args {
     #[command(flatten)]
     input: DatasetArgs,
-    /// Measure on the planar mesh of this name (its bounding rectangle in its plane, front side).
+    /// Measure on the planar mesh of this name (its bounding rectangle in its plane), on the side
+    /// its triangles face.
     #[arg(long, conflicts_with = "plane", required_unless_present = "plane")]
     surface: Option<String>,
     /// Measure on the rectangle "ox,oy,oz,ux,uy,uz,vx,vy,vz" (corner and two edges, m); it must
-    /// lie on scene geometry, and its front is u × v.
+    /// lie on scene geometry. Only light arriving from its front, the side u × v points to, is
+    /// counted: swap u and v to measure the other side.
     #[arg(long, allow_hyphen_values = true)]
     plane: Option<String>,
     /// Cells "NXxNY" along u and v.
     #[arg(long, default_value = "10x10", value_parser = parse_cells)]
     cells: (u32, u32),
-    /// Output CSV file.
+    /// Output CSV file (.csv).
     #[arg(short, long)]
     output: PathBuf,
-    /// Also write a heat-map PNG of the illuminance (lux).
+    /// Also write a heat-map PNG (.png) of the illuminance (lux).
     #[arg(long)]
     png: Option<PathBuf>,
     #[command(flatten)]
@@ -74,6 +84,9 @@ fn parse_plane(s: &str) -> Result<(Vec3, Vec3, Vec3)> {
 /// Runs the measurement.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    let mut outputs = vec![(a.output.as_path(), OutputKind::Csv)];
+    outputs.extend(a.png.as_deref().map(|p| (p, OutputKind::Png)));
+    check_outputs(&outputs, &a.input.inputs())?;
     let data = a.input.open()?;
     let desc = &data.description;
     let (nx, ny) = a.cells;
@@ -85,6 +98,7 @@ pub fn run(a: Args) -> Result<()> {
         }
         (None, None) => bail!("give --surface NAME or --plane ox,oy,oz,ux,uy,uz,vx,vy,vz"),
     };
+    let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
     let film = measure(
@@ -97,6 +111,15 @@ pub fn run(a: Args) -> Result<()> {
         |n| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64),
     )?;
     pb.finish_and_clear();
+    let n = meter.normal();
+    super::warn_if_black(
+        &film,
+        data.samples(),
+        &format!(
+            "meter's front (normal {:.3},{:.3},{:.3}; to measure the other side, swap u and v)",
+            n.x, n.y, n.z
+        ),
+    );
 
     let lux: Vec<f64> = film
         .pixels
@@ -116,10 +139,8 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
     }
-    opticks_io::image_file::write_file_atomically(&a.output, csv.as_bytes())
-        .with_context(|| format!("cannot write {}", a.output.display()))?;
-    if let Some(png) = &a.png {
-        opticks_io::heatmap::write_heatmap(
+    let heatmap = match &a.png {
+        Some(png) => Some(opticks_io::heatmap::encode_heatmap(
             png,
             &lux,
             nx,
@@ -127,23 +148,29 @@ pub fn run(a: Args) -> Result<()> {
             meter.u.length() as f64,
             meter.v.length() as f64,
             "E (lux)",
-        )?;
+        )?),
+        None => None,
+    };
+    let mut files = vec![(a.output.as_path(), csv.as_bytes())];
+    if let (Some(png), Some(bytes)) = (&a.png, &heatmap) {
+        files.push((png.as_path(), bytes.as_slice()));
     }
+    opticks_io::image_file::write_files_atomically(&files).context("nothing was written")?;
     let area = (meter.cell_area() as f64) * (nx * ny) as f64;
     let mean = film.mean();
     let (min, max) = lux.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
-    println!(
-        "{nx}x{ny} cells on {area:.4} m² (normal {:.3},{:.3},{:.3}): mean E = {:.5e},{:.5e},{:.5e} W/m², \
-         E_v {min:.4e}..{max:.4e} lux → {}{}",
-        meter.normal().x,
-        meter.normal().y,
-        meter.normal().z,
+    output::result(&format!(
+        "{nx}x{ny} cells on {area:.4} m², front side (light arriving from normal {:.3},{:.3},{:.3}): mean E = \
+         {:.5e},{:.5e},{:.5e} W/m², E_v {min:.4e}..{max:.4e} lux → {}{}",
+        n.x,
+        n.y,
+        n.z,
         mean[0],
         mean[1],
         mean[2],
         a.output.display(),
         a.png.as_ref().map(|p| format!(" and {}", p.display())).unwrap_or_default()
-    );
+    ));
     Ok(())
 }
 

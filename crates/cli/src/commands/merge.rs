@@ -3,15 +3,22 @@
 //! `opticks_core::dataset::merge_header`. Lights are matched by name and N_k summed; a light
 //! only some inputs have (one of them gained it by `add-light`) keeps those inputs' paths, and a
 //! light whose shape differs is refused. Datasets that share a random stream are refused, since
-//! their paths would be copies, not new samples. On Ctrl-C nothing is written.
+//! their paths would be copies, not new samples. Partial datasets are refused (resume them
+//! first). The result records the scene of the input that has every light (the one that gained
+//! a light by `add-light`), from the output's location. An existing file at the output is
+//! replaced only if it is one of the inputs (the result contains it) or with `--overwrite`. On
+//! a signal nothing is written.
 
-use super::job_error;
+use super::{begin_dataset_write, check_finished, job_error};
+use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::{MergeError, merge_header};
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::dataset_job::{Source, write_dataset};
-use std::path::PathBuf;
+use opticks_io::dataset_lock::WriteIntent;
+use opticks_io::output_paths::check_input_file;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `opticks merge`.
 #[derive(clap::Args, Debug)]
@@ -19,15 +26,28 @@ pub struct Args {
     /// Datasets to merge (at least two).
     #[arg(required = true, num_args = 2..)]
     inputs: Vec<PathBuf>,
-    /// Output dataset.
+    /// Output dataset (.opds).
     #[arg(short, long)]
     output: PathBuf,
+    /// Replace an existing dataset at the output that is none of the inputs.
+    #[arg(long)]
+    overwrite: bool,
 }
 
 /// Merges the datasets.
 pub fn run(a: Args) -> Result<()> {
-    let readers: Vec<DatasetReader> =
-        a.inputs.iter().map(|p| DatasetReader::open(p)).collect::<Result<_, _>>()?;
+    let inputs: Vec<&Path> = a.inputs.iter().map(PathBuf::as_path).collect();
+    let _lock = begin_dataset_write(
+        &a.output,
+        WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
+    )?;
+    let mut readers = Vec::new();
+    for p in &a.inputs {
+        check_input_file(p, "a dataset")?;
+        let r = DatasetReader::open(p)?;
+        check_finished(p, r.header())?;
+        readers.push(r);
+    }
     let mut header = readers[0].header().clone();
     let mut sources = vec![Source::as_is(&readers[0])];
     for (r, path) in readers.iter().zip(&a.inputs).skip(1) {
@@ -48,15 +68,20 @@ pub fn run(a: Args) -> Result<()> {
         })?;
         sources.push(Source { reader: r, lights: Some(lights) });
     }
+    // The label is one input's (the one with every light): record its scene from the output.
+    if let Some(from) = readers.iter().zip(&a.inputs).find(|(r, _)| r.header().label == header.label) {
+        header.label = opticks_io::scene_ref::rebase(&header.label, from.1, &a.output);
+    }
+    let _graceful = crate::interrupt::graceful();
     let report =
         write_dataset(&a.output, header, &sources, None, &TraceProgress::default()).map_err(job_error)?;
-    println!(
-        "merged {} datasets: {} paths, {} lights, {} samples → {}",
+    output::result(&format!(
+        "merged {} datasets: {} paths, {}, {} samples → {}",
         readers.len(),
         report.table.total_paths(),
-        report.table.lights.len(),
+        output::count(report.table.lights.len() as u64, "light"),
         report.summary.samples,
         a.output.display()
-    );
+    ));
     Ok(())
 }

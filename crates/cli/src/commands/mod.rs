@@ -26,6 +26,9 @@ use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{AsBatch, OwnedBatch, SampleBatch, Sensor, render};
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::dataset_job::JobError;
+use opticks_io::dataset_lock::{WriteIntent, WriteLock, WriteRefused, begin_write, same_file};
+use opticks_io::output_paths::{OutputKind, check_input_file, check_output};
+use opticks_io::scene_ref;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -54,16 +57,88 @@ impl ThreadArgs {
 /// finishes it.
 pub fn job_error(e: JobError) -> anyhow::Error {
     match &e {
-        JobError::Interrupted { partial, .. } => anyhow!(
-            "{e} (a valid dataset: render it, or `opticks resume {}` to finish the run)",
-            partial.display()
-        ),
+        JobError::Interrupted { partial, .. } | JobError::WriteFailed { partial: Some(partial), .. } => {
+            anyhow!(
+                "{e} (a valid dataset: render it, or `opticks resume {}` to finish the run)",
+                partial.display()
+            )
+        }
         _ => e.into(),
     }
 }
 
-/// An error once Ctrl-C was pressed: reading and rendering stop at the next batch, and the
-/// verb writes nothing (`render`, `walk`, `measure`, `merge`; traces save their work instead).
+/// What a dataset verb does before anything else: checks its output path (`.opds`, not an
+/// input), then takes the output's write lock (`opticks_io::dataset_lock`), reporting the
+/// stale temporary files of killed runs it removed, and words a refusal the command line's way.
+pub fn begin_dataset_write(output: &Path, intent: WriteIntent<'_>) -> Result<WriteLock> {
+    let mut inputs = intent.inputs.to_vec();
+    if let Some(p) = intent.resuming {
+        inputs.push(p);
+    }
+    // A dataset may replace its own input in place (refine, add-light): the lock's rules.
+    let others: Vec<&Path> = inputs.iter().copied().filter(|i| !same_file(i, output)).collect();
+    check_output(output, OutputKind::Dataset, &others)?;
+    let lock = begin_write(output, intent).map_err(|e| match &e {
+        WriteRefused::Exists { .. } => anyhow!("{e}: give --overwrite to replace it"),
+        WriteRefused::PendingPartial { partial, .. } => {
+            anyhow!("{e} (`opticks resume {}` finishes it)", partial.display())
+        }
+        _ => e.into(),
+    })?;
+    for (path, bytes) in &lock.removed_stale {
+        crate::output::note(&format!(
+            "removed {} ({}), the temporary file of an earlier run that was killed",
+            path.display(),
+            crate::output::bytes(*bytes)
+        ));
+    }
+    Ok(lock)
+}
+
+/// Refuses to extend a dataset whose last pass was interrupted (refine, add-light, merge).
+pub fn check_finished(path: &Path, header: &opticks_core::dataset::DatasetHeader) -> Result<()> {
+    opticks_core::dataset::check_finished(header)
+        .map_err(|e| anyhow!("{}: {e} (`opticks resume {}`)", path.display(), path.display()))
+}
+
+/// "light 'ceiling' 4000000 paths, …": what a pass plans, for `--verbose`.
+pub fn describe_plan(table: &LightTable, pass: &opticks_core::dataset::PassPlan) -> String {
+    let parts: Vec<String> = pass
+        .lights
+        .iter()
+        .map(|p| format!("light '{}' {} paths", table.lights[p.table_index as usize].name, p.paths))
+        .collect();
+    parts.join(", ")
+}
+
+/// Warns, before a long trace, when the estimated dataset would not fit in the free space of
+/// the output's file system.
+pub fn warn_if_low_space(output: &Path, estimate: u64) {
+    if let Some(free) = opticks_io::dataset_job::free_space(output).filter(|&free| free < estimate) {
+        crate::output::warning(&format!(
+            "{} will need about {} but its file system has {} free; if it fills up, the paths \
+             written so far are kept in {}",
+            output.display(),
+            crate::output::bytes(estimate),
+            crate::output::bytes(free),
+            opticks_io::dataset_job::partial_path(output).display()
+        ));
+    }
+}
+
+/// Warns when an image or a measurement received nothing at all (`what` names the sensor).
+pub fn warn_if_black(film: &Film, samples: u64, what: &str) {
+    if film.pixels.iter().all(|p| p.iter().all(|&v| v == 0.0)) {
+        crate::output::warning(&format!(
+            "0 of {samples} samples reached the {what}: the image is black (is it inside a wall, facing \
+             away from the light, or the lit side of a one-sided surface seen from behind?)"
+        ));
+    }
+}
+
+/// An error once a signal asked the work to stop: reading and rendering stop at the next batch,
+/// and the verb writes nothing (`render`, `walk`, `measure`, `merge`; traces save their work
+/// instead).
 pub fn unless_interrupted() -> Result<()> {
     if crate::interrupt::requested() {
         anyhow::bail!("interrupted: stopped, nothing written");
@@ -95,30 +170,73 @@ pub fn render_with_progress<B: AsBatch>(
 }
 
 /// Opens a dataset and the scene it is to be used with — `scene` if given, else the scene file
-/// recorded in the dataset — and checks that the geometry and materials are those it was traced
-/// in (`opticks_core::dataset::check_scene`; lights are checked one by one where they are used:
+/// recorded in the dataset (`opticks_io::scene_ref`: relative to the dataset, then absolute) —
+/// and checks that the geometry and materials are those it was traced in
+/// (`opticks_core::dataset::check_scene`; lights are checked one by one where they are used:
 /// see `opticks_core::dataset::lighting`).
-pub fn open_with_scene(
-    dataset: &Path,
-    scene: Option<&str>,
-) -> Result<(DatasetReader, SceneDescription, Scene)> {
+pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<Opened> {
+    check_input_file(dataset, "a dataset")?;
     let mut reader = DatasetReader::open(dataset)?;
-    let label = &reader.header().label.clone();
-    let spec = scene.unwrap_or(label);
-    let context =
-        || format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)");
-    let description = crate::scene_arg::load_description(spec).with_context(context)?;
-    let scene = crate::scene_arg::build_scene(spec, &description)?;
+    let label = reader.header().label.clone();
+    let spec = match scene {
+        Some(s) => s.to_string(),
+        None => scene_ref::resolve(&label, dataset).map_err(|tried| {
+            let tried: Vec<String> = tried.iter().map(|p| p.display().to_string()).collect();
+            anyhow!(
+                "{}: cannot find the scene it was traced from (looked for {}): pass --scene to name it",
+                dataset.display(),
+                tried.join(" and ")
+            )
+        })?,
+    };
+    let description = crate::scene_arg::load_description(&spec).with_context(|| {
+        if scene.is_some() {
+            "cannot load the scene given with --scene".to_string()
+        } else {
+            format!("cannot load the scene {} records", dataset.display())
+        }
+    })?;
+    let scene = crate::scene_arg::build_scene(&spec, &description)?;
     check_scene(reader.header(), &scene).map_err(|e| {
         anyhow!(
-            "{} was traced from a different scene than {spec}: geometry/material fingerprint {} ≠ {}",
+            "{} was traced from a different scene than {spec}: its geometry or materials differ (fingerprint \
+             {} ≠ {}; the dataset keeps only their hash, not which mesh or material changed){}",
             dataset.display(),
             e.recorded.geometry_hex(),
-            e.current.geometry_hex()
+            e.current.geometry_hex(),
+            lights_changed(&reader.header().table, &scene)
         )
     })?;
     reader.check_triangles(scene.triangles.len());
-    Ok((reader, description, scene))
+    Ok(Opened { reader, description, scene, scene_spec: spec })
+}
+
+/// "; lights …" naming the dataset's lights the scene lacks and the scene's the dataset lacks.
+fn lights_changed(table: &LightTable, scene: &Scene) -> String {
+    let traced: Vec<&str> = table.lights.iter().map(|l| l.name.as_str()).collect();
+    let current: Vec<&str> = scene.lights.iter().map(|l| l.name()).collect();
+    let gone: Vec<&str> = traced.iter().copied().filter(|n| !current.contains(n)).collect();
+    let new: Vec<&str> = current.iter().copied().filter(|n| !traced.contains(n)).collect();
+    let mut out = String::new();
+    if !gone.is_empty() {
+        out += &format!("; lights of the dataset missing from the scene: {}", gone.join(", "));
+    }
+    if !new.is_empty() {
+        out += &format!("; lights of the scene not in the dataset: {}", new.join(", "));
+    }
+    out
+}
+
+/// A dataset opened against its scene.
+pub struct Opened {
+    /// The dataset, its samples checked against the scene's triangles as they are read.
+    pub reader: DatasetReader,
+    /// The scene as loaded.
+    pub description: SceneDescription,
+    /// The validated scene.
+    pub scene: Scene,
+    /// The scene file (or built-in name) used: what a dataset written from this one records.
+    pub scene_spec: String,
 }
 
 /// The dataset a view is rendered from, with its scene and relighting (`render`, `walk`,
@@ -150,9 +268,17 @@ pub struct LitDataset {
 }
 
 impl DatasetArgs {
+    /// The command's input files (the dataset, the scene if given), which no output may replace.
+    pub fn inputs(&self) -> Vec<&Path> {
+        let mut inputs = vec![self.dataset.as_path()];
+        inputs.extend(self.scene.as_deref().filter(|s| !crate::scene_arg::is_builtin(s)).map(Path::new));
+        inputs
+    }
+
     /// Opens the dataset against its scene and works out the lighting; prints the notes.
     pub fn open(&self) -> Result<LitDataset> {
-        let (reader, description, scene) = open_with_scene(&self.dataset, self.scene.as_deref())?;
+        let Opened { reader, description, scene, .. } =
+            open_with_scene(&self.dataset, self.scene.as_deref())?;
         let lighting = lighting(&reader.header().table, &scene, &self.light).map_err(|e| match &e {
             LightingError::NotTraced(name) => {
                 anyhow!("{e}: add it with `opticks add-light`, or switch it off with --light '{name}=0'")
@@ -161,7 +287,7 @@ impl DatasetArgs {
             _ => e.into(),
         })?;
         for note in &lighting.notes {
-            eprintln!("note: {note}");
+            crate::output::note(note);
         }
         let chunks = (0..reader.chunk_count()).collect();
         Ok(LitDataset { reader, description, scene, lighting, chunks })

@@ -3,13 +3,18 @@
 //! dataset is rewritten atomically, so an interrupted refine leaves it as it was (and saves
 //! `NAME.partial.opds`, which `opticks resume` completes). The new paths use the strategy of the
 //! dataset's last pass unless overridden, so the estimator stays the one the dataset was made by
-//! (`opticks_core::dataset::refine`).
+//! (`opticks_core::dataset::refine`). A partial dataset is refused: resume it first (a pass
+//! added after an interrupted one would make it impossible to resume).
 
 use super::extend_args::ExtendArgs;
-use super::{job_error, open_with_scene};
+use super::{Opened, begin_dataset_write, check_finished, job_error, open_with_scene, warn_if_low_space};
+use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
-use opticks_io::dataset_job::{NewPaths, Source, write_dataset};
+use opticks_core::dataset::check_emission;
+use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, write_dataset};
+use opticks_io::dataset_lock::WriteIntent;
+use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
 /// Arguments of `opticks refine`.
@@ -17,10 +22,10 @@ use std::path::PathBuf;
 pub struct Args {
     /// Dataset to refine.
     dataset: PathBuf,
-    /// Light paths to add, over all lights (split in proportion to their power).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    /// Light paths to add, over all lights (split in proportion to their power); e.g. 4M, 4e6.
+    #[arg(long, value_parser = crate::count_arg::parse_count)]
     paths: u64,
-    /// Scene file (default: the one recorded in the dataset).
+    /// Scene file (default: the one recorded in the dataset); the result records it.
     #[arg(long)]
     scene: Option<String>,
     #[command(flatten)]
@@ -30,17 +35,28 @@ pub struct Args {
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
     a.extend.threads.apply()?;
-    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
-    let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
-    let (header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)
-        .map_err(|e| anyhow!("{e}: refine needs the same scene"))?;
     let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
+    let inputs = [a.dataset.as_path()];
+    let _lock = begin_dataset_write(
+        &output,
+        WriteIntent { inputs: &inputs, overwrite: a.extend.overwrite, ..Default::default() },
+    )?;
+    let Opened { reader, scene, scene_spec, .. } = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    check_finished(&a.dataset, reader.header())?;
+    let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
+    let (mut header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)
+        .map_err(|e| anyhow!("{e}: refine needs the same scene"))?;
+    check_emission(&pass.lights).map_err(|e| anyhow!("{scene_spec}: {e}"))?;
+    header.label = label_for(&scene_spec, &output);
+    output::detail(&format!("plan: {}", super::describe_plan(&header.table, &pass)));
     let before = reader.header().table.total_paths();
+    let sources = [Source::as_is(&reader)];
+    warn_if_low_space(&output, estimate_bytes(&sources, a.paths));
     let new = NewPaths { scene: &scene, pass };
+    let _graceful = crate::interrupt::graceful();
     let report =
-        write_dataset(&output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
-            .map_err(job_error)?;
-    println!(
+        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
+    output::result(&format!(
         "refined {}: {} + {} paths = {} paths, {} samples ({:.2} s) → {}",
         a.dataset.display(),
         before,
@@ -49,6 +65,6 @@ pub fn run(a: Args) -> Result<()> {
         report.summary.samples,
         report.trace_seconds,
         output.display()
-    );
+    ));
     Ok(())
 }

@@ -2,12 +2,23 @@
 //! `NAME.partial.opds` it saved. The partial file's last pass records what the run planned;
 //! `opticks_core::dataset::resume_plan` finds the blocks still missing, and only those are
 //! traced. The result holds exactly the samples of an uninterrupted run.
+//!
+//! An existing `NAME.opds` is replaced only if it is still the dataset the interrupted run
+//! started from (`opticks_core::dataset::check_resume_target`): after a later refinement of it,
+//! finishing the old run there would discard that refinement, so the command refuses (write the
+//! result elsewhere with `-o`, or give `--overwrite`).
 
-use super::{ThreadArgs, job_error, open_with_scene};
+use super::{Opened, ThreadArgs, begin_dataset_write, job_error, open_with_scene, warn_if_low_space};
+use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
-use opticks_core::dataset::{ResumeError, resume_plan};
-use opticks_io::dataset_job::{NewPaths, Source, finished_path, remove_partial, write_dataset};
+use opticks_core::dataset::{ResumeError, check_resume_target, resume_plan};
+use opticks_io::dataset_file::DatasetReader;
+use opticks_io::dataset_job::{
+    NewPaths, Source, estimate_bytes, finished_path, remove_partial, write_dataset,
+};
+use opticks_io::dataset_lock::{WriteIntent, same_file};
+use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
 /// Arguments of `opticks resume`.
@@ -18,6 +29,9 @@ pub struct Args {
     /// Where to write the finished dataset (default: `NAME.opds`, the interrupted run's target).
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Replace the output even if it is not the dataset the interrupted run started from.
+    #[arg(long)]
+    overwrite: bool,
     /// Scene file (default: the one recorded in the dataset).
     #[arg(long)]
     scene: Option<String>,
@@ -28,8 +42,11 @@ pub struct Args {
 /// Resumes the run.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let (reader, _, scene) = open_with_scene(&a.partial, a.scene.as_deref())?;
-    let header = reader.header().clone();
+    let output = a.output.clone().unwrap_or_else(|| finished_path(&a.partial));
+    let intent = WriteIntent { inputs: &[], resuming: Some(&a.partial), overwrite: a.overwrite };
+    let _lock = begin_dataset_write(&output, intent)?;
+    let Opened { reader, scene, scene_spec, .. } = open_with_scene(&a.partial, a.scene.as_deref())?;
+    let mut header = reader.header().clone();
     let partial = a.partial.display();
     let pass = resume_plan(&header, &scene).map_err(|e| match e {
         ResumeError::Complete => anyhow!("{partial}: nothing to resume, its last trace pass is complete"),
@@ -39,20 +56,33 @@ pub fn run(a: Args) -> Result<()> {
              saved by an interrupted run"
         ),
     })?;
+    if output.exists() && !same_file(&output, &a.partial) && !a.overwrite {
+        let target = DatasetReader::open(&output).map_err(|e| {
+            anyhow!("{e}: it would be replaced by the resumed run; give --overwrite to replace it")
+        })?;
+        check_resume_target(&header, target.header()).map_err(|e| {
+            anyhow!(
+                "{}: {e}; write the result elsewhere with -o, or give --overwrite to replace it",
+                output.display()
+            )
+        })?;
+    }
     let (done, planned) = (header.trace.passes.last().map_or(0, |p| p.paths), pass.settings.paths);
-    let output = a.output.clone().unwrap_or_else(|| finished_path(&a.partial));
+    header.label = label_for(&scene_spec, &output);
+    let sources = [Source::as_is(&reader)];
+    warn_if_low_space(&output, estimate_bytes(&sources, planned - done));
     let new = NewPaths { scene: &scene, pass };
+    let _graceful = crate::interrupt::graceful();
     let report =
-        write_dataset(&output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
-            .map_err(job_error)?;
+        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
     remove_partial(&a.partial, &output)?;
-    println!(
+    output::result(&format!(
         "resumed {partial}: {done} + {} paths = {planned} planned ({:.2} s) → {} ({} paths, {} samples)",
         planned - done,
         report.trace_seconds,
         output.display(),
         report.table.total_paths(),
         report.summary.samples
-    );
+    ));
     Ok(())
 }

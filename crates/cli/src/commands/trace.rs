@@ -1,25 +1,34 @@
 //! `opticks trace`: light sampling of a scene file into a dataset file (written atomically).
+//! An existing dataset at the output is replaced only with `--overwrite` (it may hold hours of
+//! refined work); see `opticks_io::dataset_lock` for every rule checked before the trace starts.
 
-use super::{ThreadArgs, job_error};
+use super::{ThreadArgs, begin_dataset_write, job_error, warn_if_low_space};
+use crate::output;
 use crate::progress::TraceProgress;
-use crate::scene_arg::load_scene;
+use crate::scene_arg::{is_builtin, load_scene};
 use crate::strategy_args::StrategyArgs;
-use anyhow::Result;
-use opticks_core::dataset::new_trace;
-use opticks_io::dataset_job::{NewPaths, write_dataset};
-use std::path::PathBuf;
+use anyhow::{Result, anyhow};
+use opticks_core::dataset::{check_emission, new_trace};
+use opticks_io::dataset_job::{ASSUMED_BYTES_PER_PATH, NewPaths, write_dataset};
+use opticks_io::dataset_lock::WriteIntent;
+use opticks_io::scene_ref::label_for;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `opticks trace`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene file (Mitsuba 3 XML or OBJ), or `builtin:cornell`.
+    /// Scene file (Mitsuba 3 XML, VRML97 .wrl/.wrz, OBJ/MTL, glTF .gltf/.glb), or `builtin:cornell`.
     scene: String,
-    /// Light paths to trace, over all lights (split in proportion to their power).
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..), default_value_t = 4_000_000)]
+    /// Light paths to trace, over all lights (split in proportion to their power); e.g.
+    /// 4000000, 4_000_000, 4M, 4e6.
+    #[arg(long, value_parser = crate::count_arg::parse_count, default_value = "4M")]
     paths: u64,
-    /// Output dataset file.
+    /// Output dataset file (.opds).
     #[arg(short, long)]
     output: PathBuf,
+    /// Replace an existing dataset at the output.
+    #[arg(long)]
+    overwrite: bool,
     /// Random seed; the same seed gives the same dataset whatever the thread count.
     #[arg(long, default_value_t = 0)]
     seed: u64,
@@ -32,19 +41,36 @@ pub struct Args {
 /// Runs the trace.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    let scene_path = Path::new(&a.scene);
+    let inputs: Vec<&Path> = if is_builtin(&a.scene) { vec![] } else { vec![scene_path] };
+    let _lock = begin_dataset_write(
+        &a.output,
+        WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
+    )?;
     let scene = load_scene(&a.scene)?;
-    let (header, pass) = new_trace(&scene, &a.scene, a.strategy.settings(a.paths, a.seed));
+    let (header, pass) =
+        new_trace(&scene, &label_for(&a.scene, &a.output), a.strategy.settings(a.paths, a.seed));
+    check_emission(&pass.lights).map_err(|e| anyhow!("{}: {e}", a.scene))?;
+    output::detail(&format!(
+        "scene {}: {} triangles, {}; plan: {}",
+        a.scene,
+        scene.triangles.len(),
+        output::count(scene.lights.len() as u64, "light"),
+        super::describe_plan(&header.table, &pass)
+    ));
+    warn_if_low_space(&a.output, a.paths.saturating_mul(ASSUMED_BYTES_PER_PATH));
     let new = NewPaths { scene: &scene, pass };
+    let _graceful = crate::interrupt::graceful();
     let report =
         write_dataset(&a.output, header, &[], Some(new), &TraceProgress::default()).map_err(job_error)?;
     let paths = report.table.total_paths();
-    println!(
-        "traced {paths} paths → {} samples in {:.2} s ({:.2} M paths/s) → {} ({:.1} MB)",
+    output::result(&format!(
+        "traced {paths} paths → {} samples in {:.2} s ({:.2} M paths/s) → {} ({})",
         report.summary.samples,
         report.trace_seconds,
         paths as f64 / report.trace_seconds / 1e6,
         a.output.display(),
-        report.summary.bytes as f64 / 1e6
-    );
+        output::bytes(report.summary.bytes)
+    ));
     Ok(())
 }

@@ -2,14 +2,18 @@
 //! (see `opticks_io::camera_path_file`) are interpolated into frames, each rendered from the
 //! same dataset (read chunk by chunk); the time per frame is reported next to what the trace cost.
 //! With `ffmpeg` on the PATH the PNG frames of this run also become `walk.mp4`, written
-//! atomically; the camera path is validated before the output folder is created.
+//! atomically. The camera path is validated whole before the output folder is created: the
+//! frame count (at least 1, at most 100000, computed without overflow) and every frame's camera
+//! (an interpolated field of view can be invalid where no keyframe's is).
 
-use super::{DatasetArgs, ThreadArgs, write_film};
+use super::{DatasetArgs, ThreadArgs, warn_if_black, write_film};
+use crate::camera_args::exposure_for;
+use crate::output;
 use crate::progress;
 use anyhow::{Context, Result, bail};
 use opticks_core::sensor::{Pinhole, render};
 use opticks_io::camera_path_file::read_camera_path;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
@@ -31,9 +35,9 @@ pub struct Args {
     /// Frame format: png or exr.
     #[arg(long, default_value = "png", value_parser = ["png", "exr"])]
     format: String,
-    /// Exposure for PNG frames, in stops.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    exposure: f32,
+    /// Exposure of PNG frames, in stops (refused with --format exr).
+    #[arg(long, allow_hyphen_values = true)]
+    exposure: Option<f32>,
     #[command(flatten)]
     threads: ThreadArgs,
 }
@@ -41,49 +45,96 @@ pub struct Args {
 /// Renders the walkthrough.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    let exposure = exposure_for(Path::new(&format!("frame.{}", a.format)), a.exposure)?;
+    if a.output.exists() && !a.output.is_dir() {
+        bail!("{}: exists and is not a folder (walk writes its frames into a folder)", a.output.display());
+    }
     let mut data = a.input.open()?;
     data.keep_fraction(a.fraction)?;
     let (reader, scene) = (&data.reader, &data.scene);
     let walk = read_camera_path(&a.path, scene.camera.map_or(45.0, |c| c.fov_x_degrees))?;
     let (w, h) = walk.size.or(scene.camera.map(|c| (c.width, c.height))).unwrap_or((512, 512));
     let (t0, t1) = walk.path.span();
-    let frames = ((t1 - t0) * walk.fps + 1e-4).floor() as usize + 1;
-    if frames > 100_000 {
-        bail!("{}: {frames} frames is more than this command renders (100000)", a.path.display());
+    let frames = frame_count(t0, t1, walk.fps).ok_or_else(|| {
+        anyhow::anyhow!("{}: the camera path's time span and fps make no frame", a.path.display())
+    })?;
+    if frames > MAX_FRAMES {
+        bail!(
+            "{}: {:.0} frames ({t0} s to {t1} s at {} fps) is more than this command renders ({MAX_FRAMES})",
+            a.path.display(),
+            frames,
+            walk.fps
+        );
     }
+    let frames = frames as usize;
+    let cameras: Vec<Pinhole> = (0..frames)
+        .map(|f| {
+            let t = t0 + f as f32 / walk.fps;
+            Pinhole::new(&walk.path.at(t, w, h))
+                .with_context(|| format!("{}: frame {f} (t = {t} s): invalid camera", a.path.display()))
+        })
+        .collect::<Result<_>>()?;
     std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
+    let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(frames as u64, "frames", "frames");
     let start = Instant::now();
-    for f in 0..frames {
+    for (f, camera) in cameras.into_iter().enumerate() {
         if crate::interrupt::requested() {
             bail!("interrupted after {f} of {frames} frames");
         }
-        let desc = walk.path.at(t0 + f as f32 / walk.fps, w, h);
-        let camera = Pinhole::new(&desc).with_context(|| format!("frame {f}: invalid camera"))?;
         let film = render(scene, &camera.into(), data.count(), |i| data.batch(i), |_| {})?;
-        write_film(&film, &a.output.join(format!("frame_{f:05}.{}", a.format)), a.exposure)?;
+        if f == 0 {
+            warn_if_black(&film, data.samples(), "camera of frame 0");
+        }
+        write_film(&film, &a.output.join(format!("frame_{f:05}.{}", a.format)), exposure)?;
         pb.inc(1);
     }
     pb.finish_and_clear();
     let per_frame = start.elapsed().as_secs_f64() / frames as f64;
     let trace = reader.header().trace.seconds();
-    println!(
+    output::result(&format!(
         "rendered {frames} frames of {w}x{h} in {:.2} s: {per_frame:.3} s per frame; the trace took {trace:.2} s \
          (a frame costs {:.1}% of it) → {}",
         per_frame * frames as f64,
         100.0 * per_frame / trace.max(1e-9),
         a.output.display()
-    );
+    ));
     if a.format != "png" {
-        println!("no video: ffmpeg is given PNG frames only (this run wrote {} frames)", a.format);
+        output::result(&format!(
+            "no video: ffmpeg is given PNG frames only (this run wrote {} frames)",
+            a.format
+        ));
     } else if ffmpeg_available() {
         let video = a.output.join("walk.mp4");
         encode_video(&a.output, frames, walk.fps, &video)?;
-        println!("video → {}", video.display());
+        output::result(&format!("video → {}", video.display()));
     } else {
-        println!("no video: ffmpeg is not on the PATH");
+        output::result("no video: ffmpeg is not on the PATH");
     }
     Ok(())
+}
+
+/// Most frames one walk renders.
+const MAX_FRAMES: f64 = 100_000.0;
+
+/// Frames at t₀, t₀ + 1/fps, … ≤ t₁, counted in f64 so that no span overflows: `None` if there is
+/// no whole number of them (a non-finite span or rate); may exceed [`MAX_FRAMES`].
+fn frame_count(t0: f32, t1: f32, fps: f32) -> Option<f64> {
+    let n = ((f64::from(t1) - f64::from(t0)) * f64::from(fps) + 1e-4).floor() + 1.0;
+    (n.is_finite() && n >= 1.0).then_some(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_counts_never_overflow_to_zero() {
+        assert_eq!(frame_count(0.0, 1.0, 24.0), Some(25.0));
+        assert_eq!(frame_count(0.0, 0.0, 24.0), Some(1.0));
+        assert!(frame_count(0.0, 1e30, 1000.0).unwrap() > MAX_FRAMES, "refused as too many, not 0 frames");
+        assert_eq!(frame_count(0.0, f32::INFINITY, 24.0), None);
+    }
 }
 
 /// Encodes this run's `frames` PNG frames into `video`: exactly frames 0..frames (stale frames

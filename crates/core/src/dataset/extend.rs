@@ -71,7 +71,7 @@ pub fn refine(
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum AddLightError {
     /// The scene has no light of that name.
-    #[error("the scene has no light '{name}' (its lights: {lights:?})")]
+    #[error("the scene has no light '{name}' (its lights: {})", lights.join(", "))]
     NoSuchLight {
         /// The name asked for.
         name: String,

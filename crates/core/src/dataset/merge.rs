@@ -79,8 +79,8 @@ pub fn merge_tables(a: &LightTable, b: &LightTable) -> Result<(LightTable, Vec<u
 /// Merges the header of dataset `b` into `merged` (the header of the datasets merged so far,
 /// starting with the first one's), and returns where each of `b`'s lights went in the merged
 /// table ([`merge_tables`]): its chunks are copied under those indices. `b`'s passes are
-/// appended with their plans remapped to the merged table. The lights hash is `b`'s once `b`
-/// has every light of the union. On an error `merged` is left as it was.
+/// appended with their plans remapped to the merged table. The lights hash and the label (the
+/// scene file) are `b`'s once `b` has every light of the union. On an error `merged` is left as it was.
 pub fn merge_header(merged: &mut DatasetHeader, b: &DatasetHeader) -> Result<Vec<u32>, MergeError> {
     if b.fingerprint.geometry != merged.fingerprint.geometry {
         return Err(MergeError::DifferentScenes { first: merged.fingerprint, other: b.fingerprint });
@@ -88,7 +88,9 @@ pub fn merge_header(merged: &mut DatasetHeader, b: &DatasetHeader) -> Result<Vec
     let (table, lights) = merge_tables(&merged.table, &b.table)?;
     let mut out = merged.clone();
     if table.lights.len() == b.table.lights.len() {
-        out.fingerprint.lights = b.fingerprint.lights; // this input has every light
+        // This input has every light: its scene is the one the merged dataset belongs to.
+        out.fingerprint.lights = b.fingerprint.lights;
+        out.label = b.label.clone();
     }
     out.table = table;
     for p in &b.trace.passes {
@@ -166,11 +168,12 @@ mod tests {
     fn merged_headers_sum_n_k_remap_the_passes_and_take_the_fuller_lights_hash() {
         let a = header(1, &[("light", 1, 10)], &[(1, 0, &[(0, 10)])]);
         // b traced the box, then gained a bulb (another pass, planned for b's light 0).
-        let b = header(1, &[("bulb", 2, 5), ("light", 1, 20)], &[(2, 0, &[(1, 20)]), (2, 1, &[(0, 5)])]);
+        let mut b = header(1, &[("bulb", 2, 5), ("light", 1, 20)], &[(2, 0, &[(1, 20)]), (2, 1, &[(0, 5)])]);
+        b.label = "scene-with-bulb.xml".into();
         let mut m = a.clone();
         assert_eq!(merge_header(&mut m, &b), Ok(vec![1, 0]));
         assert_eq!(m.table, table(&[("light", 1, 30), ("bulb", 2, 5)]));
-        assert_eq!(m.label, a.label, "the first input names the scene");
+        assert_eq!(m.label, b.label, "the scene with every light names the merged dataset's scene");
         assert_eq!(m.fingerprint.lights, b.fingerprint.lights, "b has every light of the union");
         let plans: Vec<_> = m.trace.passes.iter().map(|p| (p.seed, p.stream, p.planned.clone())).collect();
         assert_eq!(plans, [(1, 0, vec![(0, 10)]), (2, 0, vec![(0, 20)]), (2, 1, vec![(1, 5)])]);
@@ -178,6 +181,7 @@ mod tests {
         let c = header(1, &[("light", 1, 4)], &[(3, 0, &[(0, 4)])]);
         merge_header(&mut m, &c).unwrap();
         assert_eq!((m.fingerprint.lights, m.table.total_paths()), (b.fingerprint.lights, 39));
+        assert_eq!(m.label, b.label, "an input with fewer lights does not name the scene");
     }
 
     #[test]

@@ -200,6 +200,16 @@ pub fn plan_lights(scene: &Scene, scene_lights: &[usize], paths: u64) -> Vec<Lig
         .collect()
 }
 
+/// A plan that traces nothing: no light of it emits (each has zero power, so none gets a path).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("no light emits: every light has zero power, so there is nothing to trace")]
+pub struct NoEmission;
+
+/// Refuses a plan of no paths ([`NoEmission`]): tracing it would write an empty dataset.
+pub fn check_emission(plan: &[LightPlan]) -> Result<(), NoEmission> {
+    if plan.iter().any(|p| p.paths > 0) { Ok(()) } else { Err(NoEmission) }
+}
+
 /// The plan for a fresh trace: every scene light, table index = scene index, quotas ∝ power.
 pub fn plan_all(scene: &Scene, paths: u64) -> Vec<LightPlan> {
     plan_lights(scene, &(0..scene.lights.len()).collect::<Vec<_>>(), paths)
@@ -454,5 +464,16 @@ mod tests {
         let choice =
             StrategyChoice { roulette: Some(Roulette::Fixed), rr_depth: Some(1), ..Default::default() };
         assert_eq!(choice.over(base), TraceSettings { roulette: Roulette::Fixed, rr_depth: 1, ..base });
+    }
+
+    #[test]
+    fn a_scene_without_emitting_lights_plans_nothing_and_is_refused() {
+        let mut d = crate::scene::cornell_box();
+        assert_eq!(check_emission(&plan_all(&Scene::build(&d).unwrap(), 1000)), Ok(()));
+        d.meshes.iter_mut().filter_map(|m| m.emission.as_mut()).for_each(|e| e.radiance = Rgb::ZERO);
+        let dark = Scene::build(&d).unwrap();
+        let plan = plan_all(&dark, 1000);
+        assert_eq!(plan.iter().map(|p| p.paths).sum::<u64>(), 0);
+        assert_eq!(check_emission(&plan), Err(NoEmission));
     }
 }

@@ -31,13 +31,16 @@ pub struct Lighting {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum LightingError {
     /// A scale named a light that is neither in the dataset nor in the scene.
-    #[error("no light '{given}': the dataset's lights are {names:?} (give a name or an index)")]
+    #[error("no light '{given}': the dataset's lights are {} (give a name or an index)", names.join(", "))]
     UnknownLight {
         /// What was given.
         given: String,
         /// The dataset's light names.
         names: Vec<String>,
     },
+    /// Two scales name the same light (by name or index): refused rather than multiplied.
+    #[error("light '{0}' is given more than one --light scale; give it one")]
+    Repeated(String),
     /// The light moved or changed shape since the trace.
     #[error("light '{0}' has moved or changed shape since the trace: its samples no longer apply")]
     ShapeChanged(String),
@@ -53,10 +56,18 @@ pub fn lighting(table: &LightTable, scene: &Scene, scales: &[LightScale]) -> Res
     let mut notes = Vec::new();
     let mut factors = vec![Rgb::ONE; table.lights.len()];
     let mut switched_off_untraced = Vec::new();
+    let mut scaled = vec![false; table.lights.len()];
     for s in scales {
         let by_index = s.light.parse::<usize>().ok().filter(|&i| i < table.lights.len());
         match by_index.or_else(|| table.lights.iter().position(|l| l.name == s.light)) {
-            Some(k) => factors[k] *= s.factor,
+            Some(k) if scaled[k] => return Err(LightingError::Repeated(table.lights[k].name.clone())),
+            Some(k) => {
+                factors[k] *= s.factor;
+                scaled[k] = true;
+            }
+            None if switched_off_untraced.contains(&s.light) => {
+                return Err(LightingError::Repeated(s.light.clone()));
+            }
             None if scene.light_index(&s.light).is_some() && s.factor == Rgb::ZERO => {
                 switched_off_untraced.push(s.light.clone())
             }
@@ -85,10 +96,10 @@ pub fn lighting(table: &LightTable, scene: &Scene, scales: &[LightScale]) -> Res
                 let now = scene.lights[i].power();
                 if (now - record.power).abs().max_element() > 1e-6 * record.power.max_element().max(1e-30) {
                     notes.push(format!(
-                        "light '{}': power changed since the trace ({:?} W → {:?} W); relit exactly",
+                        "light '{}': power changed since the trace ({} W → {} W); relit exactly",
                         record.name,
-                        record.power.to_array(),
-                        now.to_array()
+                        rgb(record.power),
+                        rgb(now)
                     ));
                 }
                 now
@@ -108,6 +119,11 @@ pub fn lighting(table: &LightTable, scene: &Scene, scales: &[LightScale]) -> Res
         }
     }
     Ok(Lighting { flux_per_path, notes })
+}
+
+/// "1.8, 1.8, 1.8": an RGB triple for messages.
+fn rgb(c: Rgb) -> String {
+    format!("{}, {}, {}", c.x, c.y, c.z)
 }
 
 #[cfg(test)]
@@ -137,10 +153,12 @@ mod tests {
         assert_eq!(by_name, by_index);
         let (phi, n) = (|k: usize| table.lights[k].power, |k: usize| table.lights[k].paths as f32);
         assert_eq!(by_name.flux_per_path, [phi(0) * 2.0 / n(0), phi(1) * tint / n(1)]);
-        // Scales compose; 0 switches a light off.
-        let twice =
-            lighting(table, &scene, &[scale("bulb", Rgb::splat(2.0)), scale("1", Rgb::splat(0.5))]).unwrap();
-        assert_eq!(twice, plain);
+        // One scale per light: a second (by name or by index) is refused, not multiplied in.
+        let twice = lighting(table, &scene, &[scale("bulb", Rgb::splat(2.0)), scale("1", Rgb::splat(0.5))]);
+        assert_eq!(twice, Err(LightingError::Repeated("bulb".into())));
+        let e = lighting(table, &scene, &[scale("light", Rgb::splat(2.0)), scale("light", Rgb::splat(3.0))]);
+        assert_eq!(e, Err(LightingError::Repeated("light".into())));
+        // 0 switches a light off.
         let off = lighting(table, &scene, &[scale("bulb", Rgb::ZERO)]).unwrap();
         assert_eq!(off.flux_per_path, [plain.flux_per_path[0], Rgb::ZERO]);
         let e = lighting(table, &scene, &[scale("sun", Rgb::ONE)]).unwrap_err();

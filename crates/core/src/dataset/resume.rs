@@ -50,6 +50,56 @@ pub fn resume_plan(header: &DatasetHeader, scene: &Scene) -> Result<PassPlan, Re
     Ok(PassPlan { settings: pass.settings(), lights, first_block })
 }
 
+/// A dataset whose last pass was interrupted: only resuming it keeps it resumable. A pass
+/// appended after it (a refinement, an added light, a merge) would leave the interrupted pass
+/// in the middle, where no resumption can reach it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("its last trace pass was interrupted ({done} of {planned} planned paths) and must be finished first")]
+pub struct Unfinished {
+    /// Paths the pass traced.
+    pub done: u64,
+    /// Paths it planned.
+    pub planned: u64,
+}
+
+/// Whether a pass may be added to the dataset of `header` (see [`Unfinished`]).
+pub fn check_finished(header: &DatasetHeader) -> Result<(), Unfinished> {
+    match header.trace.passes.last() {
+        Some(p) if !p.is_complete() => Err(Unfinished { done: p.paths, planned: p.planned_paths() }),
+        _ => Ok(()),
+    }
+}
+
+/// The dataset a resumption would replace is no longer the one the interrupted run started
+/// from: replacing it would discard what was done to it since (e.g. a later refinement).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "it has changed since the interrupted run started from it ({target_passes} trace passes; the run \
+     started from {started_from}), so finishing the run there would discard that work"
+)]
+pub struct TargetChanged {
+    /// Passes of the existing target.
+    pub target_passes: usize,
+    /// Passes of the dataset the interrupted run extended.
+    pub started_from: usize,
+}
+
+/// Whether finishing the interrupted run of `partial` may replace the existing dataset
+/// `target`: only if `target` is what the run started from — the partial's passes but its
+/// last, with the same geometry (an interrupted refinement or added light, whose target is
+/// still as it was).
+pub fn check_resume_target(partial: &DatasetHeader, target: &DatasetHeader) -> Result<(), TargetChanged> {
+    let before = &partial.trace.passes[..partial.trace.passes.len().saturating_sub(1)];
+    let same = target.fingerprint.geometry == partial.fingerprint.geometry
+        && !before.is_empty()
+        && target.trace.passes == before;
+    if same {
+        Ok(())
+    } else {
+        Err(TargetChanged { target_passes: target.trace.passes.len(), started_from: before.len() })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -128,5 +178,25 @@ mod tests {
         assert_eq!(resume_plan(&header, &gone), Err(ResumeError::Light(LightMismatch::Gone("bulb".into()))));
         header.trace.passes.clear();
         assert_eq!(resume_plan(&header, &scene), Err(ResumeError::Complete));
+    }
+
+    #[test]
+    fn a_resumption_replaces_only_the_dataset_its_run_started_from() {
+        let scene = Scene::build(&cornell_with_bulb()).unwrap();
+        let (header, pass) = new_trace(&scene, "two", TraceSettings { paths: 10_000, ..Default::default() });
+        let mut done = Traced { header, chunks: vec![] };
+        done.run(&scene, &pass);
+        assert_eq!(check_finished(&done.header), Ok(()));
+        let (mut partial, _) = refine(&done.header, &scene, 9000, None, &StrategyChoice::default()).unwrap();
+        assert_eq!(check_finished(&partial), Err(Unfinished { done: 0, planned: 9000 }));
+        assert_eq!(check_resume_target(&partial, &done.header), Ok(()), "an interrupted refinement");
+        let (later, _) = refine(&done.header, &scene, 5000, None, &StrategyChoice::default()).unwrap();
+        assert_eq!(
+            check_resume_target(&partial, &later),
+            Err(TargetChanged { target_passes: 2, started_from: 1 }),
+            "refined since"
+        );
+        partial.trace.passes.remove(0); // an interrupted first trace: any existing target is another's
+        assert!(check_resume_target(&partial, &done.header).is_err());
     }
 }

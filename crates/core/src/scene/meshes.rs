@@ -86,7 +86,7 @@ fn unit_normals(mesh: &MeshDesc) -> Result<Vec<Vec3>, SceneError> {
             if n.is_finite() && u != Vec3::ZERO && u.is_finite() {
                 Ok(u)
             } else {
-                Err(bad(format!("vertex normal {i} {:?} is zero or not finite", n.to_array())))
+                Err(bad(format!("vertex normal {i} {n} is zero or not finite")))
             }
         })
         .collect()

@@ -4,7 +4,7 @@ use super::DatasetError;
 use super::format::{ChunkHeader, Trailer, encode_header, validate_samples};
 use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, MAX_PATHS, TraceInfo};
 use std::fs::{File, OpenOptions};
-use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::io::{Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -31,7 +31,14 @@ pub struct DatasetSummary {
 /// table, appends the end record, syncs and renames over the target. Dropping the writer without
 /// `finish` (an error, a panic) removes the temporary file; the previous file at the target is
 /// never touched before the rename. (A process killed outright, e.g. by an unhandled Ctrl-C,
-/// runs no destructor: its temporary file stays behind, but the target is still intact.)
+/// runs no destructor: its temporary file stays behind, but the target is still intact, and
+/// the next writer of the same target removes it: `crate::dataset_lock`.)
+///
+/// Chunks are buffered whole and handed to the operating system at chunk boundaries, so the
+/// writer always knows the last chunk known to be in the file. When a write fails (a full
+/// disk), [`keep_written_prefix`](Self::keep_written_prefix) cuts the file back to it, and
+/// `finish` then makes a valid dataset of the chunks written so far. Errors name the target,
+/// not the hidden temporary file.
 ///
 /// The header is written first with the light table given to `create` and rewritten in place by
 /// `finish`, so the final table must have the same lights (same count and names, hence the same
@@ -41,14 +48,27 @@ pub struct DatasetSummary {
 pub struct DatasetWriter {
     path: PathBuf,
     tmp: Option<PathBuf>,
-    out: Option<BufWriter<File>>,
+    out: Option<File>,
+    /// Whole chunks not yet handed to the operating system.
+    buffer: Vec<u8>,
     header: DatasetHeader,
     header_len: usize,
+    /// What has been written (buffered included)…
+    written: Written,
+    /// …and what is known to be in the file (everything before `buffer`).
+    in_file: Written,
+    failed: bool,
+    /// Test hook (`$OPTICKS_FAIL_WRITES_AFTER_BYTES`): a disk that fills up after this many bytes.
+    capacity: Option<u64>,
+}
+
+/// Counts of a prefix of the file: always whole chunks.
+#[derive(Clone, Debug, Default)]
+struct Written {
     bytes: u64,
     chunks: u64,
     samples: u64,
     light_paths: Vec<u64>,
-    failed: bool,
 }
 
 static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -83,19 +103,21 @@ impl DatasetWriter {
             OpenOptions::new().write(true).create_new(true).open(&tmp).map_err(|source| {
                 DatasetError::Io { path: tmp.clone(), op: "create temporary file", source }
             })?;
+        let empty = Written { light_paths: vec![0; header.table.lights.len()], ..Default::default() };
         let mut w = DatasetWriter {
             path: path.to_owned(),
             tmp: Some(tmp),
-            out: Some(BufWriter::with_capacity(BUFFER, file)),
+            out: Some(file),
+            buffer: Vec::with_capacity(2 * BUFFER),
             header: header.clone(),
             header_len: bytes.len(),
-            bytes: 0,
-            chunks: 0,
-            samples: 0,
-            light_paths: vec![0; header.table.lights.len()],
+            written: empty.clone(),
+            in_file: empty,
             failed: false,
+            capacity: std::env::var("OPTICKS_FAIL_WRITES_AFTER_BYTES").ok().and_then(|v| v.parse().ok()),
         };
         w.write(&bytes)?;
+        w.flush_buffer()?;
         Ok(w)
     }
 
@@ -108,14 +130,14 @@ impl DatasetWriter {
     /// table or whose samples are not finite with β ≥ 0.
     pub fn write_chunk(&mut self, chunk: &Chunk) -> Result<(), DatasetError> {
         let invalid = |detail: String| DatasetError::InvalidInput { path: self.path.clone(), detail };
-        let lights = self.light_paths.len();
-        let Some(&sum) = self.light_paths.get(chunk.light as usize) else {
+        let lights = self.written.light_paths.len();
+        let Some(&sum) = self.written.light_paths.get(chunk.light as usize) else {
             return Err(invalid(format!(
                 "chunk for light {}, but the table has {lights} lights",
                 chunk.light
             )));
         };
-        let total = self.light_paths.iter().fold(0u64, |a, &n| a.saturating_add(n));
+        let total = self.written.light_paths.iter().fold(0u64, |a, &n| a.saturating_add(n));
         let Some(sum) =
             sum.checked_add(chunk.paths).filter(|_| total.saturating_add(chunk.paths) <= MAX_PATHS)
         else {
@@ -134,17 +156,43 @@ impl DatasetWriter {
             count: chunk.samples.len() as u64,
             payload_crc: crc32fast::hash(payload),
         };
+        if self.failed {
+            return Err(invalid("an earlier write failed".into()));
+        }
         self.write(&head.encode())?;
         self.write(payload)?;
-        self.light_paths[chunk.light as usize] = sum;
-        self.chunks += 1;
-        self.samples += chunk.samples.len() as u64;
+        self.written.light_paths[chunk.light as usize] = sum;
+        self.written.chunks += 1;
+        self.written.samples += chunk.samples.len() as u64;
+        if self.buffer.len() >= BUFFER {
+            self.flush_buffer()?;
+        }
         Ok(())
     }
 
     /// Paths written so far per light (the N_k that `finish` expects).
     pub fn light_paths(&self) -> &[u64] {
-        &self.light_paths
+        &self.written.light_paths
+    }
+
+    /// After a failed write: cuts the file back to the chunks known to be in it, so that
+    /// [`finish`](Self::finish) (with N_k = [`light_paths`](Self::light_paths), now those of the
+    /// kept chunks) makes a valid dataset of them. Cutting frees the space of the lost chunks,
+    /// which is what the end record then needs on a full disk.
+    pub fn keep_written_prefix(&mut self) -> Result<(), DatasetError> {
+        let target = self.path.clone();
+        let io = |op| move |source| DatasetError::Io { path: target, op, source };
+        let out = self.out.as_mut().expect("writer present until finish");
+        out.set_len(self.in_file.bytes).map_err(io("cut back the unfinished file"))?;
+        out.seek(SeekFrom::Start(self.in_file.bytes)).map_err(|e| DatasetError::Io {
+            path: self.path.clone(),
+            op: "seek",
+            source: e,
+        })?;
+        self.buffer.clear();
+        self.written = self.in_file.clone();
+        self.failed = false;
+        Ok(())
     }
 
     /// Renames the file that [`finish`](Self::finish) will create (e.g. to save an interrupted
@@ -174,7 +222,7 @@ impl DatasetWriter {
                 names(&self.header.table)
             )));
         }
-        for (k, (l, &sum)) in table.lights.iter().zip(&self.light_paths).enumerate() {
+        for (k, (l, &sum)) in table.lights.iter().zip(&self.written.light_paths).enumerate() {
             if l.paths != sum {
                 return Err(invalid(format!(
                     "light {k} ({:?}): the table says N_k = {} paths but the chunks written hold {sum}",
@@ -199,16 +247,21 @@ impl DatasetWriter {
         if head.len() != self.header_len {
             return Err(invalid("the final header does not fit the space of the first".into()));
         }
-        let trailer = Trailer { chunks: self.chunks, samples: self.samples, paths: table.total_paths() };
+        let trailer = Trailer {
+            chunks: self.written.chunks,
+            samples: self.written.samples,
+            paths: table.total_paths(),
+        };
         self.write(&trailer.encode())?;
+        self.flush_buffer()?;
 
         let tmp = self.tmp.clone().expect("temporary path present until finish");
+        let target = self.path.clone();
         let io = |op: &'static str| {
-            let tmp = tmp.clone();
-            move |source| DatasetError::Io { path: tmp, op, source }
+            let target = target.clone();
+            move |source| DatasetError::Io { path: target, op, source }
         };
-        let out = self.out.take().expect("writer present until finish");
-        let mut file = out.into_inner().map_err(|e| e.into_error()).map_err(io("write"))?;
+        let mut file = self.out.take().expect("writer present until finish");
         file.seek(SeekFrom::Start(0)).map_err(io("seek"))?;
         file.write_all(&head).map_err(io("write header"))?;
         file.sync_all().map_err(io("sync"))?;
@@ -228,21 +281,39 @@ impl DatasetWriter {
         }
         Ok(DatasetSummary {
             path: self.path.clone(),
-            bytes: self.bytes,
-            chunks: self.chunks,
-            samples: self.samples,
+            bytes: self.written.bytes,
+            chunks: self.written.chunks,
+            samples: self.written.samples,
             paths: table.total_paths(),
         })
     }
 
+    /// Buffers `bytes` (the parts of one chunk, or the header, or the end record).
     fn write(&mut self, bytes: &[u8]) -> Result<(), DatasetError> {
+        self.buffer.extend_from_slice(bytes);
+        self.written.bytes += bytes.len() as u64;
+        Ok(())
+    }
+
+    /// Hands the buffered whole chunks to the operating system.
+    fn flush_buffer(&mut self) -> Result<(), DatasetError> {
         let out = self.out.as_mut().expect("writer present until finish");
-        if let Err(source) = out.write_all(bytes) {
+        let result = match self.capacity {
+            Some(cap) if self.in_file.bytes + self.buffer.len() as u64 > cap => {
+                let fits = cap.saturating_sub(self.in_file.bytes) as usize;
+                out.write_all(&self.buffer[..fits]).and(Err(std::io::Error::new(
+                    std::io::ErrorKind::StorageFull,
+                    "No space left on device (simulated: $OPTICKS_FAIL_WRITES_AFTER_BYTES)",
+                )))
+            }
+            _ => out.write_all(&self.buffer),
+        };
+        if let Err(source) = result {
             self.failed = true;
-            let path = self.tmp.clone().unwrap_or_else(|| self.path.clone());
-            return Err(DatasetError::Io { path, op: "write", source });
+            return Err(DatasetError::Io { path: self.path.clone(), op: "write", source });
         }
-        self.bytes += bytes.len() as u64;
+        self.buffer.clear();
+        self.in_file = self.written.clone();
         Ok(())
     }
 }
@@ -251,10 +322,7 @@ impl Drop for DatasetWriter {
     fn drop(&mut self) {
         if let Some(tmp) = self.tmp.take() {
             // Close before removing (required on Windows); buffered data is discarded anyway.
-            if let Some(out) = self.out.take() {
-                let (file, _) = out.into_parts();
-                drop(file);
-            }
+            drop(self.out.take());
             let _ = std::fs::remove_file(tmp);
         }
     }

@@ -1,0 +1,102 @@
+//! Counts on the command line (`--paths`): `4000000`, `4_000_000`, `4,000,000`, `4M`, `2.5k`,
+//! `1e6`, `1.5e6`. Suffixes k, M, G, T are powers of 1000. The value must be a whole number of
+//! at least 1 that fits 64 bits; it is computed exactly (no floating point), so `1e6` is
+//! 1000000 and `1.0000001e6` is refused as not whole.
+
+use anyhow::{Result, bail};
+
+/// Parses a count (see the module documentation).
+pub fn parse_count(s: &str) -> Result<u64> {
+    let t: String = s.trim().chars().filter(|c| *c != '_' && *c != ',').collect();
+    let (number, suffix) = match t.char_indices().last() {
+        Some((i, c)) if "kKMGT".contains(c) => (
+            &t[..i],
+            match c {
+                'k' | 'K' => 3,
+                'M' => 6,
+                'G' => 9,
+                _ => 12,
+            },
+        ),
+        _ => (t.as_str(), 0),
+    };
+    let (mantissa, exponent) = match number.split_once(['e', 'E']) {
+        Some((m, e)) => match e.parse::<i32>() {
+            Ok(e) => (m, e),
+            Err(_) => bail!("'{s}' is not a count (e.g. 4000000, 4M, 4e6)"),
+        },
+        None => (number, 0),
+    };
+    let (whole, fraction) = mantissa.split_once('.').unwrap_or((mantissa, ""));
+    if whole.is_empty() && fraction.is_empty()
+        || !whole.chars().chain(fraction.chars()).all(|c| c.is_ascii_digit())
+    {
+        bail!("'{s}' is not a count (e.g. 4000000, 4M, 4e6)");
+    }
+    let digits: String = format!("{whole}{fraction}");
+    let digits = digits.trim_start_matches('0');
+    let scale = exponent as i64 + suffix - fraction.len() as i64;
+    let too_big = || anyhow::anyhow!("'{s}' is more than a 64-bit count ({})", u64::MAX);
+    let value: u128 = if digits.is_empty() {
+        0
+    } else if scale >= 0 {
+        if digits.len() as i64 + scale > 20 {
+            return Err(too_big());
+        }
+        digits.parse::<u128>().map_err(|_| too_big())? * 10u128.pow(scale as u32)
+    } else {
+        let cut = (-scale) as usize;
+        let (int, rest) = if digits.len() > cut { digits.split_at(digits.len() - cut) } else { ("", digits) };
+        if rest.chars().any(|c| c != '0') {
+            bail!("'{s}' is not a whole number");
+        }
+        if int.len() > 20 {
+            return Err(too_big());
+        }
+        if int.is_empty() { 0 } else { int.parse::<u128>().map_err(|_| too_big())? }
+    };
+    if value == 0 {
+        bail!("'{s}': the count must be at least 1");
+    }
+    u64::try_from(value).map_err(|_| too_big())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_are_read_the_ways_people_write_them() {
+        for (s, n) in [
+            ("4000000", 4_000_000),
+            ("4_000_000", 4_000_000),
+            ("2,000,000", 2_000_000),
+            ("4M", 4_000_000),
+            ("2.5k", 2500),
+            ("1e6", 1_000_000),
+            ("1.5E6", 1_500_000),
+            ("0.5M", 500_000),
+            ("18446744073709551615", u64::MAX),
+            ("1G", 1_000_000_000),
+        ] {
+            assert_eq!(parse_count(s).unwrap(), n, "{s}");
+        }
+        for bad in [
+            "",
+            "0",
+            "0e5",
+            "1.5",
+            "1e-1",
+            "-3",
+            "4m",
+            "x",
+            "1e",
+            "18446744073709551616",
+            "1e20",
+            "1e400",
+            ".",
+        ] {
+            assert!(parse_count(bad).is_err(), "{bad}");
+        }
+    }
+}

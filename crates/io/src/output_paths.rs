@@ -1,0 +1,186 @@
+//! The rules every output path obeys, checked before any work is done.
+//!
+//! * Its extension fits what is written there ([`OutputKind`]): a dataset only to `.opds`, an
+//!   image to `.exr` or `.png`, a table to `.csv`, a VRML scene to `.wrl` — so that a slip of
+//!   the keyboard (`-o scene.xml`, `--png data.opds`) cannot turn one kind of file into another.
+//! * Its directory exists, and the path is not a directory.
+//! * It is none of the command's inputs (scene file, dataset, camera path, reference image),
+//!   however spelled (links included). The one exception is a dataset verb's documented
+//!   in-place update (`refine` and `add-light` without `-o`), which `crate::dataset_lock`
+//!   handles: the new dataset contains all of the old one.
+//! * Two outputs of one command are not the same file.
+
+use crate::dataset_lock::same_file;
+use std::path::{Path, PathBuf};
+
+/// What an output holds, which fixes the extensions it may have.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OutputKind {
+    /// A dataset (`.opds`).
+    Dataset,
+    /// A rendered image (`.exr` linear, `.png` sRGB).
+    Image,
+    /// A PNG picture (heat map).
+    Png,
+    /// A CSV table.
+    Csv,
+    /// A VRML97 scene.
+    Vrml,
+}
+
+impl OutputKind {
+    /// The extensions allowed (lower case, without the dot).
+    pub fn extensions(self) -> &'static [&'static str] {
+        match self {
+            OutputKind::Dataset => &["opds"],
+            OutputKind::Image => &["exr", "png"],
+            OutputKind::Png => &["png"],
+            OutputKind::Csv => &["csv"],
+            OutputKind::Vrml => &["wrl"],
+        }
+    }
+
+    fn what(self) -> &'static str {
+        match self {
+            OutputKind::Dataset => "a dataset",
+            OutputKind::Image => "an image",
+            OutputKind::Png => "a PNG image",
+            OutputKind::Csv => "a CSV table",
+            OutputKind::Vrml => "a VRML97 scene",
+        }
+    }
+}
+
+/// Why an output path is refused.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The extension does not fit the kind of output.
+    #[error("{}: {} is written here, so the file name must end in {}", path.display(), kind.what(), list(kind.extensions()))]
+    Extension {
+        /// The output.
+        path: PathBuf,
+        /// What would be written.
+        kind: OutputKind,
+    },
+    /// The output is one of the command's inputs.
+    #[error("{}: an output may not replace an input of the command", path.display())]
+    IsInput {
+        /// The output.
+        path: PathBuf,
+    },
+    /// Two outputs are the same file.
+    #[error("{}: given as two outputs of the command", path.display())]
+    Twice {
+        /// The output.
+        path: PathBuf,
+    },
+    /// The output's directory does not exist.
+    #[error("{}: the directory {} does not exist", path.display(), dir.display())]
+    NoDirectory {
+        /// The output.
+        path: PathBuf,
+        /// Its directory.
+        dir: PathBuf,
+    },
+    /// The output is a directory.
+    #[error("{}: is a directory, not a file", path.display())]
+    IsDirectory {
+        /// The output.
+        path: PathBuf,
+    },
+}
+
+fn list(extensions: &[&str]) -> String {
+    let dotted: Vec<String> = extensions.iter().map(|e| format!(".{e}")).collect();
+    dotted.join(" or ")
+}
+
+/// Checks `outputs` (path and kind) against the module's rules and the command's `inputs`.
+pub fn check_outputs(outputs: &[(&Path, OutputKind)], inputs: &[&Path]) -> Result<(), OutputError> {
+    for (i, &(path, kind)) in outputs.iter().enumerate() {
+        let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+        if !ext.is_some_and(|e| kind.extensions().contains(&e.as_str())) {
+            return Err(OutputError::Extension { path: path.to_owned(), kind });
+        }
+        if path.is_dir() {
+            return Err(OutputError::IsDirectory { path: path.to_owned() });
+        }
+        let dir = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        if !dir.is_dir() {
+            return Err(OutputError::NoDirectory { path: path.to_owned(), dir: dir.to_owned() });
+        }
+        if inputs.iter().any(|input| same_file(input, path)) {
+            return Err(OutputError::IsInput { path: path.to_owned() });
+        }
+        if outputs[..i].iter().any(|&(other, _)| same_file(other, path)) {
+            return Err(OutputError::Twice { path: path.to_owned() });
+        }
+    }
+    Ok(())
+}
+
+/// Checks one output.
+pub fn check_output(path: &Path, kind: OutputKind, inputs: &[&Path]) -> Result<(), OutputError> {
+    check_outputs(&[(path, kind)], inputs)
+}
+
+/// An input that must be a regular file (a dataset, a scene, a camera path): a directory or a
+/// missing file is said to be one, before any reader gives a less direct error.
+pub fn check_input_file(path: &Path, what: &str) -> Result<(), std::io::Error> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err(std::io::Error::new(
+            std::io::ErrorKind::IsADirectory,
+            format!("{}: is a directory, not {what}", path.display()),
+        )),
+        Ok(_) => Ok(()),
+        Err(e) => Err(std::io::Error::new(e.kind(), format!("{}: cannot open {what}: {e}", path.display()))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn outputs_must_fit_their_kind_and_spare_the_inputs() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        let scene = d.join("scene.xml");
+        std::fs::write(&scene, "<scene/>").unwrap();
+        let out = |name: &str| d.join(name);
+        let refused =
+            |path: &Path, kind, inputs: &[&Path]| check_output(path, kind, inputs).unwrap_err().to_string();
+
+        assert!(refused(&scene, OutputKind::Dataset, &[&scene]).ends_with("must end in .opds"));
+        assert!(refused(&out("x.png"), OutputKind::Dataset, &[]).contains("a dataset"));
+        assert!(refused(&out("m.opds"), OutputKind::Csv, &[]).ends_with(".csv"));
+        assert!(refused(&out("q.png"), OutputKind::Csv, &[]).ends_with(".csv"));
+        assert!(refused(&out("x.xml"), OutputKind::Vrml, &[]).ends_with(".wrl"));
+        assert!(refused(&out("noext"), OutputKind::Image, &[]).ends_with(".exr or .png"));
+        assert!(refused(&out("nodir/x.png"), OutputKind::Image, &[]).contains("does not exist"));
+        let data = out("a.opds");
+        std::fs::write(&data, b"x").unwrap();
+        let inputs = [data.as_path()];
+        let e = refused(&d.join(".").join("a.opds"), OutputKind::Dataset, &inputs);
+        assert!(e.contains("may not replace an input"), "{e}");
+        std::fs::create_dir(out("dir.png")).unwrap();
+        assert!(refused(&out("dir.png"), OutputKind::Image, &[]).contains("is a directory"));
+        let e = check_outputs(&[(&out("x.png"), OutputKind::Image), (&out("x.png"), OutputKind::Png)], &[])
+            .unwrap_err();
+        assert!(matches!(e, OutputError::Twice { .. }), "{e}");
+
+        check_output(&out("x.EXR"), OutputKind::Image, &inputs).unwrap();
+        check_output(&out("b.opds"), OutputKind::Dataset, &inputs).unwrap();
+        assert!(
+            check_input_file(d, "a dataset")
+                .unwrap_err()
+                .to_string()
+                .contains("is a directory, not a dataset")
+        );
+        assert!(check_input_file(&out("none"), "a scene").is_err());
+        check_input_file(&data, "a dataset").unwrap();
+    }
+}

@@ -1,0 +1,211 @@
+//! The scene file a dataset belongs to, as its header's label records it.
+//!
+//! A dataset is rendered, refined and extended against the scene it was traced from, so it
+//! records where that scene is — in a way that survives the commands being run from another
+//! directory and the dataset being moved together with its scene:
+//!
+//! ```text
+//! ../scenes/cornell.xml            ← line 1: relative to the dataset's own directory
+//! /home/me/project/scenes/cornell.xml   ← line 2: absolute, the fallback
+//! ```
+//!
+//! [`resolve`] tries the relative path first (a folder of dataset and scene moved or copied
+//! whole keeps working), then the absolute one (the dataset alone moved). Built-in scenes
+//! (`builtin:cornell`) are recorded as they are named. A label of one line is a dataset written
+//! before this rule: its path was relative to the directory `trace` ran in, so it is tried as
+//! given (from the current directory) and then from the dataset's directory. Every verb that
+//! writes a dataset records the scene file it actually used ([`label_for`]); `merge`, which
+//! loads no scene, moves the label of the input it takes to the output's location
+//! ([`rebase`]).
+
+use std::path::{Component, Path, PathBuf};
+
+/// The scene reference of a label, parsed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RecordedScene {
+    /// A built-in scene (`builtin:NAME`).
+    Builtin(String),
+    /// A scene file: relative to the dataset's directory, and absolute.
+    File {
+        /// Relative to the dataset's directory.
+        relative: PathBuf,
+        /// Absolute, when the dataset was written.
+        absolute: PathBuf,
+    },
+    /// A label of one line (older datasets): relative to where the trace ran, or anything.
+    Legacy(String),
+}
+
+/// Parses a dataset label.
+pub fn parse(label: &str) -> RecordedScene {
+    if label.starts_with("builtin:") {
+        return RecordedScene::Builtin(label.to_string());
+    }
+    match label.split_once('\n') {
+        Some((relative, absolute)) => {
+            RecordedScene::File { relative: PathBuf::from(relative), absolute: PathBuf::from(absolute) }
+        }
+        None => RecordedScene::Legacy(label.to_string()),
+    }
+}
+
+/// The directory a dataset lives in (`.` for a bare file name).
+fn dir_of(dataset: &Path) -> &Path {
+    match dataset.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
+/// The label recording scene `spec` (a file path or a built-in name) for a dataset written to
+/// `dataset`: its path relative to the dataset's directory and its absolute path. A file that
+/// cannot be made absolute (it does not exist) is recorded as given.
+pub fn label_for(spec: &str, dataset: &Path) -> String {
+    if spec.starts_with("builtin:") {
+        return spec.to_string();
+    }
+    match record(Path::new(spec), dataset) {
+        Some(label) => label,
+        None => spec.to_string(),
+    }
+}
+
+fn record(scene: &Path, dataset: &Path) -> Option<String> {
+    let absolute = std::fs::canonicalize(scene).ok()?;
+    let dir = std::fs::canonicalize(dir_of(dataset)).ok()?;
+    let relative = relative_path(&absolute, &dir)?;
+    let (r, a) = (relative.to_str()?, absolute.to_str()?);
+    if r.contains('\n') || a.contains('\n') {
+        return None;
+    }
+    Some(format!("{r}\n{a}"))
+}
+
+/// `path` relative to `base` (both absolute and normalised), e.g. `../scenes/a.xml`.
+fn relative_path(path: &Path, base: &Path) -> Option<PathBuf> {
+    let (p, b): (Vec<Component>, Vec<Component>) = (path.components().collect(), base.components().collect());
+    if p.first() != b.first() {
+        return None; // another drive or root: only the absolute path can say it
+    }
+    let common = p.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut out = PathBuf::new();
+    for _ in common..b.len() {
+        out.push("..");
+    }
+    for c in &p[common..] {
+        out.push(c.as_os_str());
+    }
+    Some(out)
+}
+
+/// The places `label` may name for the dataset at `dataset`, in the order they are tried.
+pub fn candidates(label: &str, dataset: &Path) -> Vec<PathBuf> {
+    match parse(label) {
+        RecordedScene::Builtin(name) => vec![PathBuf::from(name)],
+        RecordedScene::File { relative, absolute } => vec![dir_of(dataset).join(relative), absolute],
+        RecordedScene::Legacy(path) => {
+            let p = PathBuf::from(&path);
+            if p.is_absolute() { vec![p] } else { vec![p.clone(), dir_of(dataset).join(p)] }
+        }
+    }
+}
+
+/// The scene the dataset at `dataset` records: a built-in name, or the first of its
+/// [`candidates`] that exists. `Err` lists the places tried.
+pub fn resolve(label: &str, dataset: &Path) -> Result<String, Vec<PathBuf>> {
+    if let RecordedScene::Builtin(name) = parse(label) {
+        return Ok(name);
+    }
+    let tried = candidates(label, dataset);
+    match tried.iter().find(|p| p.is_file()) {
+        Some(p) => Ok(p.to_string_lossy().into_owned()),
+        None => Err(tried),
+    }
+}
+
+/// `label` of the dataset at `from`, recorded again for a dataset written to `to` (which
+/// `merge` writes from inputs elsewhere). A scene that can be found is recorded from where it
+/// is; otherwise the label is kept.
+pub fn rebase(label: &str, from: &Path, to: &Path) -> String {
+    match resolve(label, from) {
+        Ok(spec) => label_for(&spec, to),
+        Err(_) => label.to_string(),
+    }
+}
+
+/// How `opticks info` shows the recorded scene: one line per place, and which was found.
+pub fn describe(label: &str, dataset: &Path) -> Vec<String> {
+    let found = resolve(label, dataset).ok();
+    let mark = |p: &Path| {
+        if found.as_deref() == Some(p.to_string_lossy().as_ref()) { " (found)" } else { " (missing)" }
+    };
+    match parse(label) {
+        RecordedScene::Builtin(name) => vec![format!("{name} (built in)")],
+        RecordedScene::File { relative, absolute } => {
+            let from_here = dir_of(dataset).join(&relative);
+            vec![
+                format!("{} (relative to the dataset){}", relative.display(), mark(&from_here)),
+                format!("{} (absolute){}", absolute.display(), mark(&absolute)),
+            ]
+        }
+        RecordedScene::Legacy(path) => {
+            let state = if found.is_some() { "found" } else { "missing" };
+            vec![format!(
+                "{path} (as recorded by an older Opticks: relative to where it was traced; {state})"
+            )]
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_scene_is_found_from_anywhere_and_after_moving_the_dataset_or_both() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = std::fs::canonicalize(dir.path()).unwrap();
+        std::fs::create_dir_all(root.join("scenes")).unwrap();
+        std::fs::create_dir_all(root.join("out/deep")).unwrap();
+        std::fs::write(root.join("scenes/a.xml"), "<scene/>").unwrap();
+        let dataset = root.join("out/deep/a.opds");
+        let label = label_for(root.join("scenes/a.xml").to_str().unwrap(), &dataset);
+        let absolute = root.join("scenes/a.xml");
+        assert_eq!(label, format!("../../scenes/a.xml\n{}", absolute.display()));
+        assert_eq!(
+            parse(&label),
+            RecordedScene::File { relative: "../../scenes/a.xml".into(), absolute: absolute.clone() }
+        );
+        let found = |dataset: &Path| resolve(&label, dataset).map(PathBuf::from);
+        assert_eq!(found(&dataset).unwrap().canonicalize().unwrap(), absolute);
+        // The dataset alone moved: the absolute path finds it.
+        assert_eq!(found(&root.join("a.opds")).unwrap(), absolute);
+        // Dataset and scene moved together: the relative path finds the moved scene.
+        let moved = root.join("copy");
+        std::fs::create_dir_all(moved.join("scenes")).unwrap();
+        std::fs::create_dir_all(moved.join("out/deep")).unwrap();
+        std::fs::write(moved.join("scenes/a.xml"), "<scene/>").unwrap();
+        let there = found(&moved.join("out/deep/a.opds")).unwrap();
+        assert_eq!(there.canonicalize().unwrap(), moved.join("scenes/a.xml"));
+        // Gone everywhere: the places tried are listed.
+        std::fs::remove_file(&absolute).unwrap();
+        assert_eq!(
+            resolve(&label, &root.join("x.opds")).unwrap_err(),
+            [root.join("../../scenes/a.xml"), absolute]
+        );
+        let shown = describe(&label, &dataset);
+        assert!(shown[0].contains("relative to the dataset") && shown[1].ends_with("(missing)"), "{shown:?}");
+    }
+
+    #[test]
+    fn built_in_and_older_labels_keep_their_meaning() {
+        assert_eq!(label_for("builtin:cornell", Path::new("x.opds")), "builtin:cornell");
+        assert_eq!(resolve("builtin:cornell", Path::new("/nowhere/x.opds")), Ok("builtin:cornell".into()));
+        assert_eq!(
+            candidates("scenes/a.xml", Path::new("out/x.opds")),
+            [PathBuf::from("scenes/a.xml"), PathBuf::from("out/scenes/a.xml")]
+        );
+        assert_eq!(relative_path(Path::new("/a/b/c.xml"), Path::new("/a/b")), Some("c.xml".into()));
+        assert_eq!(relative_path(Path::new("/a/c.xml"), Path::new("/a/b/d")), Some("../../c.xml".into()));
+    }
+}
