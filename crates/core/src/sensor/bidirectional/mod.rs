@@ -18,6 +18,7 @@
 //! | `path.rs` | camera subpaths and their emitter hits |
 //! | `splat.rs` | the MIS-weighted light-tracing splat |
 //! | `render.rs` | the [`Renderer`]: passes, counts, determinism |
+//! | `progressive.rs` | camera passes accumulated into one image, with a running error estimate |
 
 mod cache;
 mod camera;
@@ -25,6 +26,7 @@ mod densities;
 mod lights;
 pub mod mis;
 mod path;
+mod progressive;
 mod render;
 mod splat;
 mod vertex;
@@ -38,6 +40,7 @@ pub use mis::{
     VcmClass, weight_connection, weight_emitter_hit, weight_light_trace, weight_nee,
 };
 pub use path::{camera_path, scatter_mis};
+pub use progressive::Progressive;
 pub use render::{Renderer, Settings, combine};
 pub use splat::{light_trace_weight, splat_chunk};
 pub use vertex::{Context, Receiver, connect, connection_weight, nee, nee_weight};
