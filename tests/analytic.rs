@@ -32,7 +32,7 @@ fn furnace_energy_balance() {
     let mut first_on_floor = Vec::with_capacity(paths);
     for _ in 0..paths {
         out.clear();
-        trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut stack);
+        trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut Vec::new(), &mut stack);
         assert!(out[0].is_emission());
         totals.push(out[1..].iter().map(|s| phi * s.beta[0] as f64).sum::<f64>());
         first_on_floor.push(if out.len() > 1 && out[1].position[1].abs() < 1e-4 { phi } else { 0.0 });
@@ -238,7 +238,7 @@ fn phong_floor_reflects_its_directional_albedo() {
     let totals: Vec<f64> = (0..paths)
         .map(|_| {
             out.clear();
-            trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut stack);
+            trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut Vec::new(), &mut stack);
             out.iter().map(|s| phi * s.beta[0] as f64).sum::<f64>()
         })
         .collect();

@@ -54,7 +54,7 @@ fn trace_fluxes(scene: &Scene, paths: usize, seed: u64, mut keep: impl FnMut(Vec
     (0..paths)
         .map(|_| {
             out.clear();
-            trace_path(scene, 0, &settings, &mut rng, &mut out, &mut stack);
+            trace_path(scene, 0, &settings, &mut rng, &mut out, &mut Vec::new(), &mut stack);
             out.iter()
                 .filter(|s| !s.is_emission() && keep(s.position()))
                 .map(|s| phi * s.beta[0] as f64)

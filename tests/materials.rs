@@ -79,7 +79,7 @@ fn incident_flux_on(
     let mut totals = Vec::with_capacity(paths);
     for _ in 0..paths {
         out.clear();
-        trace_path(scene, 0, &settings, &mut rng, &mut out, &mut stack);
+        trace_path(scene, 0, &settings, &mut rng, &mut out, &mut Vec::new(), &mut stack);
         let mut sum = 0.0;
         for s in &out {
             let p = Vec3::from_array(s.position);
@@ -285,7 +285,7 @@ fn absorbing_slab_attenuates_by_beer_lambert_per_channel() {
     let mut on_floor = 0;
     for _ in 0..20_000 {
         out.clear();
-        trace_path(&scene, 0, &TraceSettings::default(), &mut rng, &mut out, &mut stack);
+        trace_path(&scene, 0, &TraceSettings::default(), &mut rng, &mut out, &mut Vec::new(), &mut stack);
         for s in out.iter().filter(|s| s.position[1].abs() < 1e-4) {
             on_floor += 1;
             for c in 0..3 {

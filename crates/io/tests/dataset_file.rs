@@ -82,9 +82,9 @@ fn write(path: &Path, h: &DatasetHeader, chunks: &[Chunk]) -> DatasetSummary {
 fn tiny(path: &Path) -> (DatasetHeader, Vec<Chunk>) {
     let mut rng = Rng(7);
     let chunks = vec![
-        Chunk { light: 0, paths: 2, samples: vec![rng.sample(), rng.sample()] },
-        Chunk { light: 1, paths: 3, samples: vec![] },
-        Chunk { light: 0, paths: 1, samples: vec![rng.sample()] },
+        Chunk { light: 0, paths: 2, samples: vec![rng.sample(), rng.sample()], records: vec![] },
+        Chunk { light: 1, paths: 3, samples: vec![], records: vec![] },
+        Chunk { light: 0, paths: 1, samples: vec![rng.sample()], records: vec![] },
     ];
     let h = DatasetHeader {
         fingerprint: Fingerprint { geometry: [0x11; 16], lights: [0x22; 16] },
@@ -151,10 +151,11 @@ fn round_trip_several_lights_and_chunks() {
             light: i % 3,
             paths: 100 + i as u64,
             samples: (0..n).map(|_| rng.sample()).collect(),
+            records: vec![],
         });
     }
     // An empty chunk whose paths still count (every path was absorbed or hit a delta surface).
-    chunks.push(Chunk { light: 2, paths: 50, samples: vec![] });
+    chunks.push(Chunk { light: 2, paths: 50, samples: vec![], records: vec![] });
     let h = header(&[0, 0, 0]);
     let summary = write(&path, &h, &chunks);
     let total: u64 = chunks.iter().map(|c| c.samples.len() as u64).sum();
@@ -204,6 +205,7 @@ fn chunk_views_are_zero_copy_aligned_and_readable_from_many_threads() {
             light: i % 2,
             paths: 10,
             samples: (0..(i * 37) % 301).map(|_| rng.sample()).collect(),
+            records: vec![],
         })
         .collect();
     write(&path, &header(&[0, 0]), &chunks);
@@ -241,8 +243,13 @@ fn dropped_writer_leaves_the_old_file_and_no_temporary() {
     {
         let mut w = DatasetWriter::create(&path, &header(&[0])).unwrap();
         let mut rng = Rng(3);
-        w.write_chunk(&Chunk { light: 0, paths: 5, samples: (0..100_000).map(|_| rng.sample()).collect() })
-            .unwrap();
+        w.write_chunk(&Chunk {
+            light: 0,
+            paths: 5,
+            samples: (0..100_000).map(|_| rng.sample()).collect(),
+            records: vec![],
+        })
+        .unwrap();
         assert_eq!(dir_names(dir.path()).len(), 2, "temporary file next to the target");
         // Dropped here: an error or Ctrl-C handled by unwinding.
     }
@@ -258,7 +265,7 @@ fn failed_finish_leaves_the_old_file_and_no_temporary() {
     tiny(&path);
     let before = std::fs::read(&path).unwrap();
     let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
-    w.write_chunk(&Chunk { light: 1, paths: 5, samples: vec![] }).unwrap();
+    w.write_chunk(&Chunk { light: 1, paths: 5, samples: vec![], records: vec![] }).unwrap();
     assert_eq!(w.light_paths(), &[0, 5]);
     // N_k that does not match the chunks written: refused.
     let e = w.finish(&table(&[0, 4]), &header(&[0]).trace).unwrap_err();
@@ -272,17 +279,18 @@ fn writer_refuses_invalid_chunks_and_tables() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("bad.opds");
     let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
-    let e = w.write_chunk(&Chunk { light: 2, paths: 1, samples: vec![] }).unwrap_err();
+    let e = w.write_chunk(&Chunk { light: 2, paths: 1, samples: vec![], records: vec![] }).unwrap_err();
     assert!(e.to_string().contains("chunk for light 2, but the table has 2 lights"), "{e}");
     let mut s = Rng(4).sample();
     for bad in [f32::NAN, f32::INFINITY, -1.0] {
         s.beta[1] = bad;
-        let e =
-            w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default(), s] }).unwrap_err();
+        let e = w
+            .write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default(), s], records: vec![] })
+            .unwrap_err();
         assert!(e.to_string().contains("sample 1 of a chunk of light 0"), "{e}");
     }
     // The refused chunks wrote nothing: the writer is still usable.
-    w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default()] }).unwrap();
+    w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default()], records: vec![] }).unwrap();
     let mut renamed = table(&[1, 0]);
     renamed.lights[1].name = "other".into();
     assert!(
@@ -530,7 +538,7 @@ fn throughput() {
     let path = dir.path().join("big.opds");
     let t = Instant::now();
     let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
-    let mut chunk = Chunk { light: 0, paths: 1000, samples: pool };
+    let mut chunk = Chunk { light: 0, paths: 1000, samples: pool, records: vec![] };
     let mut left = n;
     while left > 0 {
         chunk.samples.truncate(left.min(per_chunk));
@@ -569,8 +577,13 @@ fn throughput() {
 fn write_tiny_example() {
     let path = std::env::var("OPTICKS_TINY_DATASET").expect("set OPTICKS_TINY_DATASET");
     let chunks = vec![
-        Chunk { light: 0, paths: 4, samples: vec![Sample::emitted(Vec3::new(0.0, 1.98, 0.0), 7)] },
-        Chunk { light: 0, paths: 0, samples: vec![] },
+        Chunk {
+            light: 0,
+            paths: 4,
+            samples: vec![Sample::emitted(Vec3::new(0.0, 1.98, 0.0), 7)],
+            records: vec![],
+        },
+        Chunk { light: 0, paths: 0, samples: vec![], records: vec![] },
     ];
     let h = DatasetHeader {
         fingerprint: Fingerprint { geometry: [0xaa; 16], lights: [0xbb; 16] },

@@ -40,7 +40,8 @@ pub struct TracePass {
 impl TracePass {
     /// A new pass of `settings` planning `plan` (its paths and time are filled in when it ends).
     pub fn new(settings: &TraceSettings, plan: &[LightPlan]) -> Self {
-        let TraceSettings { paths: _, seed, stream, rr_depth, roulette, directions, selection } = *settings;
+        let TraceSettings { paths: _, seed, stream, rr_depth, roulette, directions, selection, mis: _ } =
+            *settings;
         TracePass {
             seed,
             stream,
@@ -74,6 +75,7 @@ impl TracePass {
             roulette: self.roulette,
             directions: self.directions,
             selection: self.selection,
+            mis: TraceSettings::default().mis,
         }
     }
 }
@@ -161,6 +163,7 @@ mod tests {
             roulette: Roulette::Fixed,
             directions: Directions::Uniform,
             selection: Selection::Priority,
+            mis: TraceSettings::default().mis,
         };
         let plan = [
             LightPlan { scene_light: 4, table_index: 1, paths: 60 },

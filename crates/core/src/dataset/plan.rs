@@ -14,6 +14,7 @@
 use super::{LightRecord, LightTable};
 use crate::math::Rgb;
 use crate::scene::Scene;
+use crate::sensor::bidirectional::Heuristic;
 
 /// Paths per block (one block = one chunk = one random stream).
 pub const BLOCK_PATHS: u64 = 4096;
@@ -69,6 +70,11 @@ pub struct TraceSettings {
     pub directions: Directions,
     /// Vertex selection for extension.
     pub selection: Selection,
+    /// The MIS heuristic the bidirectional estimator's per-sample records are computed for
+    /// (`docs/bidirectional.md` §5; the tracer stores one [`MisRecord`](crate::sensor::bidirectional::MisRecord)
+    /// per sample), or `None` for no records (the light estimator needs none). Records never
+    /// change the samples: the random numbers drawn are the same either way.
+    pub mis: Option<Heuristic>,
 }
 
 impl Default for TraceSettings {
@@ -81,6 +87,7 @@ impl Default for TraceSettings {
             roulette: Roulette::default(),
             directions: Directions::default(),
             selection: Selection::default(),
+            mis: Some(Heuristic::Power),
         }
     }
 }

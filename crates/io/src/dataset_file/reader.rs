@@ -23,7 +23,7 @@ pub struct ChunkView<'a> {
 impl ChunkView<'_> {
     /// An owned copy.
     pub fn to_chunk(&self) -> Chunk {
-        Chunk { light: self.light, paths: self.paths, samples: self.samples.to_vec() }
+        Chunk { light: self.light, paths: self.paths, samples: self.samples.to_vec(), records: Vec::new() }
     }
 }
 
