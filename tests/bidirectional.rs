@@ -11,8 +11,7 @@ use glam::DVec3;
 use opticks_core::bsdf::{
     Bsdf, Material, ModifiedPhong, RoughConductor, SmoothConductor, SmoothDielectric, TransportMode,
 };
-use opticks_core::dataset::{Chunk, Directions, LightTable, Sample};
-use opticks_core::film::Film;
+use opticks_core::dataset::{Directions, Sample};
 use opticks_core::geometry::{Ray, offset_ray_origin};
 use opticks_core::light::Light;
 use opticks_core::math::{Rgb, Vec3};
@@ -20,41 +19,10 @@ use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{CameraDesc, DirectionalLightDesc, Scene, SceneDescription};
 use opticks_core::sensor::bidirectional::{
     CacheChunk, CachedVertex, CameraVertexMis, Context, Emitter, Heuristic, LightVertexMis, MisRecord,
-    Receiver, Renderer, Settings, Tracer, combine, connection_weight, delta_reverse, image_pdf,
-    light_trace_weight, nee_weight, pdf, scatter_mis, weight_emitter_hit,
+    Receiver, Renderer, Settings, connection_weight, image_pdf, light_trace_weight, nee_weight, scatter_mis,
+    weight_emitter_hit,
 };
 use opticks_core::sensor::{Equirectangular, Sensor, ThinLens};
-
-/// Renders `chunks` (records: `records`, or none) bidirectionally through `sensor`, `spp`
-/// camera paths per pixel, n_c = `connections`.
-#[allow(clippy::too_many_arguments)]
-fn render_bidir(
-    scene: &Scene,
-    sensor: Sensor,
-    table: &LightTable,
-    chunks: &[Chunk],
-    records: Option<&[Vec<MisRecord>]>,
-    spp: u32,
-    connections: u32,
-    seed: u64,
-) -> Film {
-    let views = chunks
-        .iter()
-        .enumerate()
-        .map(|(i, c)| {
-            CacheChunk::new(c.light, c.paths, &c.samples, records.map_or(&[][..], |r| &r[i])).unwrap()
-        })
-        .collect();
-    let names: Vec<&str> = table.lights.iter().map(|l| l.name.as_str()).collect();
-    let flux: Vec<Rgb> = (0..names.len()).map(|k| table.flux_per_path(k)).collect();
-    let settings =
-        Settings { connections, seed, heuristic: Heuristic::Power, directions: Directions::Importance };
-    let m = sensor.width() as u64 * sensor.height() as u64 * spp as u64;
-    let r = Renderer::new(scene, sensor, views, &names, &flux, settings, m);
-    let splat = r.splat_pass(|_| {}, || false).unwrap();
-    let cam = r.camera_pass(0, spp, |_| {}, || false).unwrap();
-    combine(&splat, &cam, spp as u64)
-}
 
 /// The emissive furnace (every wall emits L_e, albedo ρ): radiance L_e/(1 − ρ) everywhere, with
 /// the camera half alone (emitter hits and NEE, every bounce order, roulette).
@@ -63,7 +31,7 @@ fn camera_half_alone_sees_the_emissive_furnace_uniform() {
     let (le, rho) = (1.0f32, 0.8f32);
     let scene = Scene::build(&emissive_furnace(le, rho, Some(furnace_view(100.0, 32, 32)))).unwrap();
     let (table, chunks) = trace_chunks(&scene, 100_000, 3);
-    let film = render_bidir(&scene, camera(&scene).into(), &table, &chunks, None, 512, 0, 1);
+    let film = render_bidirectional(&scene, camera(&scene).into(), &table, &chunks, false, 512, 0, 1);
     assert_uniform("camera-half furnace radiance", &film, (le / (1.0 - rho)) as f64);
 }
 
@@ -323,7 +291,7 @@ fn light_path(
         } else {
             m.sample_world(n, wi, rng.next_f32(), rng.next_2d(), TransportMode::Importance)?
         };
-        let rev = if s.delta { delta_reverse(m, n, wi, s.wo) } else { pdf(Tracer::Camera, m, n, s.wo, wi) };
+        let rev = m.pdf_world(n, s.wo, wi);
         state = Some(st);
         pending = Some((hit.normal, s.pdf, rev, s.delta));
         origin = offset_ray_origin(hit.position, hit.normal, s.wo);
@@ -392,11 +360,7 @@ fn strategy_weights(
         } else {
             v.from
         };
-        let fwd = if v.delta {
-            delta_reverse(m, n, wo, to_camera)
-        } else {
-            pdf(Tracer::Camera, m, n, to_camera, wo)
-        };
+        let fwd = m.pdf_world(n, to_camera, wo);
         cam = scatter_mis(cam, ctx.directions, m, n, to_camera, wo, fwd, v.delta);
         next = v.position;
         if i == 0 {
@@ -409,4 +373,15 @@ fn strategy_weights(
         }
     }
     sum
+}
+
+/// The same furnace with every strategy (n_c = 2): records from the tracer, all four strategy
+/// kinds MIS-weighted, still L_e/(1 − ρ) everywhere.
+#[test]
+fn full_estimator_sees_the_emissive_furnace_uniform() {
+    let (le, rho) = (1.0f32, 0.8f32);
+    let scene = Scene::build(&emissive_furnace(le, rho, Some(furnace_view(100.0, 32, 32)))).unwrap();
+    let (table, chunks) = trace_chunks(&scene, 200_000, 3);
+    let film = render_bidirectional(&scene, camera(&scene).into(), &table, &chunks, true, 256, 2, 1);
+    assert_uniform("bidirectional furnace radiance", &film, (le / (1.0 - rho)) as f64);
 }

@@ -15,6 +15,7 @@ use super::Emitter;
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::Scene;
+use crate::trace::emitter_densities;
 use std::f32::consts::PI;
 
 /// One light that is on.
@@ -157,7 +158,8 @@ impl RenderLights {
             let d2 = v.length_squared();
             (d2 > 0.0).then(|| (v / d2.sqrt(), d2.sqrt(), d2))
         };
-        match &scene.lights[rl.scene_index] {
+        let light = &scene.lights[rl.scene_index];
+        match light {
             Light::Area(a) => {
                 let normal = normal?;
                 let (dir, d, d2) = finite(at)?;
@@ -168,8 +170,7 @@ impl RenderLights {
                 let fraction = a.emitted_fraction(normal, -dir);
                 // L_e·cos θ₀/(d²·p₀·P) with L_e = fraction·Φ/A and p₀ = 1/A.
                 let radiance = rl.power * (fraction * cos_light / (d2 * rl.pick));
-                let local = a.frame(normal).to_local(-dir);
-                let emitter = Emitter::area(1.0 / a.area(), a.profile.sampling_pdf(local));
+                let emitter = emitter_densities(light, normal, -dir);
                 Some(LightPoint {
                     dir,
                     distance: d,
@@ -182,9 +183,8 @@ impl RenderLights {
             }
             Light::Point(p) => {
                 let (dir, d, d2) = finite(p.position)?;
-                let local = p.frame.to_local(-dir);
-                let radiance = rl.power * (p.profile.eval(local) / (d2 * rl.pick));
-                let emitter = Emitter::point(p.profile.sampling_pdf(local));
+                let radiance = rl.power * (p.profile.eval(p.frame.to_local(-dir)) / (d2 * rl.pick));
+                let emitter = emitter_densities(light, Vec3::ZERO, -dir);
                 Some(LightPoint {
                     dir,
                     distance: d,
@@ -198,8 +198,8 @@ impl RenderLights {
             Light::Directional(s) => {
                 let disk = PI * s.radius * s.radius;
                 let radiance = rl.power / (disk * rl.pick);
-                let emitter = Emitter::directional(1.0 / disk);
                 let dir = -s.direction;
+                let emitter = emitter_densities(light, Vec3::ZERO, -dir);
                 Some(LightPoint {
                     dir,
                     distance: f32::INFINITY,
@@ -231,8 +231,7 @@ impl RenderLights {
             return None;
         }
         let radiance = rl.power * (a.emitted_fraction(normal, to_camera) / a.area());
-        let emitter =
-            Emitter::area(1.0 / a.area(), a.profile.sampling_pdf(a.frame(normal).to_local(to_camera)));
+        let emitter = emitter_densities(&scene.lights[rl.scene_index], normal, to_camera);
         Some((radiance, emitter, rl.pick))
     }
 }

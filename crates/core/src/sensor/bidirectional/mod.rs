@@ -10,7 +10,6 @@
 //! | module | its one job |
 //! |---|---|
 //! | [`mis`] | the MIS weights and the per-vertex quantities both sides carry |
-//! | `densities.rs` | both tracers' sampling densities for given directions |
 //! | `camera.rs` | camera rays of every sensor, the image-wide density of a direction |
 //! | `lights.rs` | the lights that are on: NEE's pick and light points, emitter hits |
 //! | `cache.rs` | the light vertex cache: uniform draws, |Y|, per-light N_k |
@@ -22,7 +21,6 @@
 
 mod cache;
 mod camera;
-mod densities;
 mod lights;
 pub mod mis;
 mod path;
@@ -33,7 +31,6 @@ mod vertex;
 
 pub use cache::{CacheChunk, CachedVertex, LightCache, RecordMismatch};
 pub use camera::{CameraRay, camera_ray, image_pdf};
-pub use densities::{Tracer, delta_reverse, pdf};
 pub use lights::{LightPoint, RenderLight, RenderLights};
 pub use mis::{
     CameraVertexMis, ConnectionEnd, Counts, Emitter, Heuristic, LightKind, LightVertexMis, MisRecord,

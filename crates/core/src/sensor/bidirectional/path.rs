@@ -3,11 +3,10 @@
 //! every vertex the camera strategies of `docs/bidirectional.md` §1: the emitter hit (s = 0)
 //! where the path finds an area light, and at non-delta vertices NEE and cache connections
 //! (`vertex.rs`). The MIS state ([`CameraVertexMis`]) is carried along with the densities both
-//! tracers would use (`densities.rs`); Russian roulette and the delta-run survival divide the
+//! tracers would use (`Material::pdf_world`, `crate::trace::light_direction_pdf`); Russian roulette and the delta-run survival divide the
 //! throughput and stay out of the weights (§2).
 
 use super::camera::camera_ray;
-use super::densities::{Tracer, delta_reverse, pdf};
 use super::vertex::{Context, Receiver, connect, nee, segment_medium, transmittance};
 use super::{CameraVertexMis, weight_emitter_hit};
 use crate::bsdf::Material;
@@ -19,6 +18,7 @@ use crate::math::Rgb;
 use crate::math::Vec3;
 use crate::sampling::RandomStream;
 use crate::sensor::Sensor;
+use crate::trace::light_direction_pdf;
 
 /// Camera vertices from which Russian roulette may end a path (at non-delta vertices, survival
 /// q = min(0.95, 2·max T) with T the throughput, as the tracer's energy-driven rule).
@@ -119,10 +119,8 @@ pub fn scatter_mis(
     pdf_fwd: f32,
     delta: bool,
 ) -> CameraVertexMis {
-    let pdf_rev = if delta {
-        delta_reverse(material, normals, to_camera, wo)
-    } else {
-        pdf(Tracer::Light(directions), material, normals, wo, to_camera)
-    };
+    // The light tracer arriving along `wo` and continuing to `to_camera` (for a delta event
+    // the probability of that lobe, the same for both tracers).
+    let pdf_rev = light_direction_pdf(material, normals, wo, to_camera, directions);
     mis.after_scatter(normals.geometric.dot(wo).abs(), pdf_fwd, pdf_rev, delta)
 }

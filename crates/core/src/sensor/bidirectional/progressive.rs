@@ -26,7 +26,13 @@ impl Progressive {
     /// Nothing rendered yet, for a `width`×`height` image.
     pub fn new(width: u32, height: u32) -> Self {
         let n = width as usize * height as usize;
-        Progressive { sum: Film::new(width, height), squares: vec![0.0; n], means: vec![0.0; n], passes: 0, spp: 0 }
+        Progressive {
+            sum: Film::new(width, height),
+            squares: vec![0.0; n],
+            means: vec![0.0; n],
+            passes: 0,
+            spp: 0,
+        }
     }
 
     /// Adds a camera pass: per pixel the sum of `spp` camera paths' estimates.

@@ -7,7 +7,6 @@
 //! camera subpaths.
 
 use super::camera::image_pdf;
-use super::densities::{Tracer, pdf};
 use super::vertex::Context;
 use super::{ConnectionEnd, LightVertexMis, MisRecord, cache::CacheChunk, weight_light_trace};
 use crate::dataset::Sample;
@@ -55,7 +54,7 @@ pub fn light_trace_weight(
         0.0 // y₀ has no predecessor
     } else {
         let (m, n) = (ctx.scene.material(prim), ctx.scene.normals_at(prim, x));
-        pdf(Tracer::Camera, m, n, to_sensor, s.from_dir())
+        m.pdf_world(n, to_sensor, s.from_dir())
     };
     let cos = ctx.scene.normal(prim).dot(to_sensor).abs();
     let at_light = ConnectionEnd { cos, pdf_fwd_w: 0.0, pdf_rev_w };

@@ -10,7 +10,6 @@
 //! weighted; the caller multiplies by its throughput.
 
 use super::cache::{CachedVertex, LightCache};
-use super::densities::{Tracer, pdf};
 use super::lights::{LightPoint, RenderLights};
 use super::{
     CameraVertexMis, ConnectionEnd, Counts, Heuristic, LightVertexMis, weight_connection, weight_nee,
@@ -21,6 +20,7 @@ use crate::geometry::{Ray, SurfaceNormals, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
+use crate::trace::light_direction_pdf;
 
 /// Everything a camera-side vertex needs to know about the render.
 #[derive(Clone, Copy, Debug)]
@@ -73,8 +73,8 @@ impl Receiver<'_> {
     pub fn end(&self, to_light: Vec3, directions: Directions) -> ConnectionEnd {
         ConnectionEnd {
             cos: self.normals.geometric.dot(to_light).abs(),
-            pdf_fwd_w: pdf(Tracer::Camera, self.material, self.normals, self.to_camera, to_light),
-            pdf_rev_w: pdf(Tracer::Light(directions), self.material, self.normals, to_light, self.to_camera),
+            pdf_fwd_w: self.material.pdf_world(self.normals, self.to_camera, to_light),
+            pdf_rev_w: light_direction_pdf(self.material, self.normals, to_light, self.to_camera, directions),
         }
     }
 
@@ -163,8 +163,8 @@ pub fn connection_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, 
     let from = v.sample.from_dir();
     let at_light = ConnectionEnd {
         cos: n_y.geometric.dot(dir).abs(),
-        pdf_fwd_w: pdf(Tracer::Light(ctx.directions), m_y, n_y, from, -dir),
-        pdf_rev_w: pdf(Tracer::Camera, m_y, n_y, -dir, from),
+        pdf_fwd_w: light_direction_pdf(m_y, n_y, from, -dir, ctx.directions),
+        pdf_rev_w: m_y.pdf_world(n_y, -dir, from),
     };
     let state = LightVertexMis::from_record(v.record, ctx.heuristic);
     weight_connection(camera, r.end(dir, ctx.directions), &state, at_light, d2, light.pick, ctx.counts)
