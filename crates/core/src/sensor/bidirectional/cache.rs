@@ -108,21 +108,11 @@ impl<'a> LightCache<'a> {
         LightCache { chunks, prefix, vertices, paths, records }
     }
 
-    /// The in-memory cache of `chunks` (a dataset held in memory), records from `records[i]`
-    /// for chunk i (or none).
-    pub fn from_chunks(
-        chunks: &'a [Chunk],
-        records: Option<&'a [Vec<MisRecord>]>,
-        lights: usize,
-        on: &[bool],
-    ) -> Result<Self, RecordMismatch> {
+    /// The in-memory cache of `chunks` (a dataset held in memory, with the records they carry).
+    pub fn from_chunks(chunks: &'a [Chunk], lights: usize, on: &[bool]) -> Result<Self, RecordMismatch> {
         let views = chunks
             .iter()
-            .enumerate()
-            .map(|(i, c)| {
-                let r = records.map_or(&[][..], |r| r[i].as_slice());
-                CacheChunk::new(c.light, c.paths, &c.samples, r)
-            })
+            .map(|c| CacheChunk::new(c.light, c.paths, &c.samples, &c.records))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(LightCache::new(views, lights, on))
     }
@@ -191,7 +181,8 @@ mod tests {
                 if e { Sample::emitted(p, 0) } else { Sample::scattered(p, Vec3::Y, 0, Rgb::ONE) }
             })
             .collect();
-        Chunk { light, paths: emission.iter().filter(|e| **e).count() as u64, samples }
+        let records = vec![MisRecord::default(); emission.len()];
+        Chunk { light, paths: emission.iter().filter(|e| **e).count() as u64, samples, records }
     }
 
     /// Every drawable vertex is drawn with probability 1/|Y|, none of a light that is off, no
@@ -205,9 +196,7 @@ mod tests {
             chunk(2, &[false, false, false]),
             chunk(0, &[false]),
         ];
-        let records: Vec<Vec<MisRecord>> =
-            chunks.iter().map(|c| vec![MisRecord::default(); c.samples.len()]).collect();
-        let cache = LightCache::from_chunks(&chunks, Some(&records), 3, &[true, false, true]).unwrap();
+        let cache = LightCache::from_chunks(&chunks, 3, &[true, false, true]).unwrap();
         assert_eq!(cache.vertices(), 3 + 3 + 1);
         assert_eq!(cache.paths(), &[2 + 2, 2, 0]);
         let mut rng = RandomStream::new(1, &[]);
@@ -223,9 +212,12 @@ mod tests {
             let expected = n as f64 / 7.0;
             assert!((*c as f64 - expected).abs() < 5.0 * expected.sqrt(), "{c} vs {expected}");
         }
-        let bare = LightCache::from_chunks(&chunks, None, 3, &[true, true, true]).unwrap();
+        let mut bare = chunks.clone();
+        bare.iter_mut().for_each(|c| c.records.clear());
+        let bare = LightCache::from_chunks(&bare, 3, &[true, true, true]).unwrap();
         assert!(!bare.has_records() && bare.draw(&mut rng).is_none());
-        let short = vec![vec![MisRecord::default(); 2]];
-        assert!(LightCache::from_chunks(&chunks[..1], Some(&short), 3, &[true; 3]).is_err());
+        let mut short = chunks[..1].to_vec();
+        short[0].records.truncate(2);
+        assert!(LightCache::from_chunks(&short, 3, &[true; 3]).is_err());
     }
 }
