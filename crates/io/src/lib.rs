@@ -10,6 +10,7 @@
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
+//! * [`light_cache`]: the bidirectional estimator's light vertex cache over a dataset file;
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios).
 
 pub mod camera_path_file;
@@ -19,6 +20,7 @@ pub mod dataset_job;
 pub mod heatmap;
 pub mod ies;
 pub mod image_file;
+pub mod light_cache;
 pub mod scene_formats;
 
 pub use scene_formats::{

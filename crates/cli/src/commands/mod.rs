@@ -7,6 +7,7 @@
 pub mod add_light;
 pub mod bench;
 pub mod demo;
+pub mod estimator;
 pub mod extend_args;
 pub mod info;
 pub mod light_args;
@@ -182,6 +183,21 @@ impl LitDataset {
     pub fn batch(&self, i: usize) -> Result<SampleBatch<'_>> {
         let c = self.reader.chunk(self.chunks[i])?;
         Ok(SampleBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
+    }
+
+    /// The dataset's light names, in table order.
+    pub fn light_names(&self) -> Vec<&str> {
+        self.reader.header().table.lights.iter().map(|l| l.name.as_str()).collect()
+    }
+
+    /// Per table light, the flux Φ'_k/N_k its samples stand for (relit; over the kept chunks).
+    pub fn flux_per_path(&self) -> &[opticks_core::math::Rgb] {
+        &self.lighting.flux_per_path
+    }
+
+    /// The kept chunks as the bidirectional estimator's light vertex cache (each verified).
+    pub fn cache_chunks(&self) -> Result<Vec<opticks_core::sensor::bidirectional::CacheChunk<'_>>> {
+        Ok(opticks_io::light_cache::cache_chunks(&self.reader, &self.chunks)?)
     }
 
     /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises, by the

@@ -4,6 +4,7 @@
 //! With `ffmpeg` on the PATH the PNG frames of this run also become `walk.mp4`, written
 //! atomically; the camera path is validated before the output folder is created.
 
+use super::estimator::{Estimator, EstimatorArgs};
 use super::{DatasetArgs, ThreadArgs, write_film};
 use crate::progress;
 use anyhow::{Context, Result, bail};
@@ -36,11 +37,14 @@ pub struct Args {
     exposure: f32,
     #[command(flatten)]
     threads: ThreadArgs,
+    #[command(flatten)]
+    estimator: EstimatorArgs,
 }
 
 /// Renders the walkthrough.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    a.estimator.check()?;
     let mut data = a.input.open()?;
     data.keep_fraction(a.fraction)?;
     let (reader, scene) = (&data.reader, &data.scene);
@@ -60,7 +64,13 @@ pub fn run(a: Args) -> Result<()> {
         }
         let desc = walk.path.at(t0 + f as f32 / walk.fps, w, h);
         let camera = Pinhole::new(&desc).with_context(|| format!("frame {f}: invalid camera"))?;
-        let film = render(scene, &camera.into(), data.count(), |i| data.batch(i), |_| {})?;
+        let film = match a.estimator.estimator {
+            Estimator::Light => render(scene, &camera.into(), data.count(), |i| data.batch(i), |_| {})?,
+            // Each frame its own camera streams (pass = frame number).
+            Estimator::Bidirectional => {
+                a.estimator.render(&data, &camera.into(), None, f as u64, false)?.film
+            }
+        };
         write_film(&film, &a.output.join(format!("frame_{f:05}.{}", a.format)), a.exposure)?;
         pb.inc(1);
     }
