@@ -33,7 +33,7 @@ mod table;
 mod testing;
 
 pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
-pub use header::{DatasetHeader, NoPassRecord, TraceInfo, TracePass};
+pub use header::{DatasetHeader, NoPassRecord, PassMis, TraceInfo, TracePass};
 pub use merge::{MergeError, merge_header, merge_tables};
 pub use plan::{BLOCK_PATHS, Block, Directions, LightPlan, PassPlan, Roulette, Selection, StrategyChoice};
 pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quotas, plan_all, plan_lights};

@@ -1,9 +1,11 @@
 //! Reading a dataset: memory-mapped, validated up front, payloads checked on access.
 
-use super::format::{ChunkHeader, Trailer, decode_header, validate_samples};
+use super::format::{ChunkHeader, ChunkHeaderError, Trailer, decode_header, record_block_len};
+use super::format::{validate_records, validate_samples};
 use super::{CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, TRAILER_LEN};
 use memmap2::Mmap;
 use opticks_core::dataset::{Chunk, DatasetHeader, Sample};
+use opticks_core::sensor::bidirectional::MisRecord;
 use rayon::prelude::*;
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -21,7 +23,8 @@ pub struct ChunkView<'a> {
 }
 
 impl ChunkView<'_> {
-    /// An owned copy.
+    /// An owned copy of the samples, without MIS records ([`DatasetReader::owned_chunk`] copies
+    /// them too).
     pub fn to_chunk(&self) -> Chunk {
         Chunk { light: self.light, paths: self.paths, samples: self.samples.to_vec(), records: Vec::new() }
     }
@@ -35,6 +38,20 @@ struct Entry {
     paths: u64,
     count: usize,
     crc: u32,
+    /// Whether a record block follows the samples.
+    records: bool,
+}
+
+impl Entry {
+    /// Offset of the samples.
+    fn samples_at(&self) -> usize {
+        self.offset + CHUNK_HEADER_LEN
+    }
+
+    /// Offset of the record block.
+    fn records_at(&self) -> usize {
+        self.samples_at() + self.count * size_of::<Sample>()
+    }
 }
 
 /// A validated, memory-mapped dataset file.
@@ -43,7 +60,9 @@ struct Entry {
 /// (magic, CRC, light index, length) and the end record, and that each light's N_k equals the sum
 /// of its chunks' paths. It does not read the payloads: [`chunk`](Self::chunk) verifies a chunk's
 /// payload CRC and samples each time it is called (from any number of threads: the reader is
-/// `Sync`), and [`verify`](Self::verify) checks them all.
+/// `Sync`), [`chunk_records`](Self::chunk_records) its MIS records (format 3), and
+/// [`verify`](Self::verify) checks them all. `chunk` reads only the samples, so the light
+/// estimator reads the same bytes from a format-3 file as from a format-2 one.
 #[derive(Debug)]
 pub struct DatasetReader {
     path: PathBuf,
@@ -112,13 +131,103 @@ impl DatasetReader {
         self.index.get(i).map(|e| (e.light, e.paths, e.count))
     }
 
-    fn chunk_checked(&self, i: usize) -> Result<ChunkView<'_>, DatasetError> {
-        let e = *self.index.get(i).ok_or_else(|| DatasetError::NoSuchChunk {
+    /// Whether chunk `i`'s samples carry MIS records (format 3; true for a chunk without
+    /// samples, whose records are empty), from the index (no payload is read).
+    pub fn has_records(&self, i: usize) -> Option<bool> {
+        self.index.get(i).map(|e| e.records || e.count == 0)
+    }
+
+    /// The MIS records of chunk `i`'s samples (`records[j]` belongs to `chunk(i).samples[j]`),
+    /// borrowed from the mapped file after checking the record block's CRC, its zero padding,
+    /// that every record is possible ([`MisRecord::is_valid`]) and that the emitter-hit class
+    /// marks exactly the emission samples. An error for a chunk with samples but no records
+    /// ([`has_records`](Self::has_records)). The samples' own CRC is [`chunk`](Self::chunk)'s.
+    pub fn chunk_records(&self, i: usize) -> Result<&[MisRecord], DatasetError> {
+        let e = self.entry(i)?;
+        if e.count == 0 {
+            return Ok(&[]);
+        }
+        if !e.records {
+            return Err(DatasetError::NoRecords {
+                path: self.path.clone(),
+                offset: e.offset as u64,
+                chunk: i as u64,
+            });
+        }
+        let start = e.records_at();
+        let len = record_block_len(e.count as u64).expect("checked by open") as usize;
+        let block = &self.bytes()[start..start + len];
+        let stored = u32::from_le_bytes(block[len - 4..].try_into().unwrap());
+        let computed = crc32fast::hash(&block[..len - 4]);
+        if stored != computed {
+            return Err(DatasetError::Checksum {
+                path: self.path.clone(),
+                offset: start as u64,
+                what: format!("chunk {i} MIS records"),
+                stored,
+                computed,
+            });
+        }
+        let records_len = e.count * size_of::<MisRecord>();
+        if let Some(k) = block[records_len..len - 4].iter().position(|&x| x != 0) {
+            return Err(DatasetError::Corrupt {
+                path: self.path.clone(),
+                offset: (start + records_len + k) as u64,
+                detail: format!("chunk {i}: non-zero byte in the padding of the MIS records"),
+            });
+        }
+        // Cannot fail: the map is page aligned, record blocks sit at multiples of 32 bytes.
+        let cast = |bytes| {
+            bytemuck::try_cast_slice(bytes).map_err(|err| DatasetError::Corrupt {
+                path: self.path.clone(),
+                offset: start as u64,
+                detail: format!("payload cannot be viewed as records: {err}"),
+            })
+        };
+        let records: &[MisRecord] = cast(&block[..records_len])?;
+        let samples_at = e.samples_at();
+        let samples: &[Sample] =
+            bytemuck::try_cast_slice(&self.bytes()[samples_at..start]).map_err(|err| {
+                DatasetError::Corrupt {
+                    path: self.path.clone(),
+                    offset: samples_at as u64,
+                    detail: format!("payload cannot be viewed as samples: {err}"),
+                }
+            })?;
+        if let Err((k, detail)) = validate_records(samples, records) {
+            return Err(DatasetError::InvalidRecord {
+                path: self.path.clone(),
+                offset: (start + k * size_of::<MisRecord>()) as u64,
+                chunk: i as u64,
+                index: k,
+                detail,
+            });
+        }
+        Ok(records)
+    }
+
+    /// Chunk `i` as an owned [`Chunk`]: its samples and, if it has them, its MIS records (both
+    /// checked as [`chunk`](Self::chunk) and [`chunk_records`](Self::chunk_records) check them).
+    /// What copying a chunk into another dataset needs.
+    pub fn owned_chunk(&self, i: usize) -> Result<Chunk, DatasetError> {
+        let mut c = self.chunk(i)?.to_chunk();
+        if self.index[i].records {
+            c.records = self.chunk_records(i)?.to_vec();
+        }
+        Ok(c)
+    }
+
+    fn entry(&self, i: usize) -> Result<Entry, DatasetError> {
+        self.index.get(i).copied().ok_or_else(|| DatasetError::NoSuchChunk {
             path: self.path.clone(),
             index: i,
             count: self.index.len(),
-        })?;
-        let start = e.offset + CHUNK_HEADER_LEN;
+        })
+    }
+
+    fn chunk_checked(&self, i: usize) -> Result<ChunkView<'_>, DatasetError> {
+        let e = self.entry(i)?;
+        let start = e.samples_at();
         let payload = &self.bytes()[start..start + e.count * size_of::<Sample>()];
         let computed = crc32fast::hash(payload);
         if computed != e.crc {
@@ -148,11 +257,18 @@ impl DatasetReader {
         Ok(ChunkView { light: e.light, paths: e.paths, samples })
     }
 
-    /// Checks every chunk's payload (in parallel); the error of the lowest-numbered bad chunk.
+    /// Checks every chunk's payload and MIS records (in parallel); the error of the
+    /// lowest-numbered bad chunk.
     pub fn verify(&self) -> Result<(), DatasetError> {
         match (0..self.index.len())
             .into_par_iter()
-            .map(|i| self.chunk(i).map(|_| ()))
+            .map(|i| {
+                self.chunk(i)?;
+                if self.index[i].records {
+                    self.chunk_records(i)?;
+                }
+                Ok(())
+            })
             .find_first(|r| r.is_err())
         {
             Some(r) => r,
@@ -165,13 +281,12 @@ impl DatasetReader {
     }
 }
 
-/// Reads a whole dataset into memory, verifying every chunk.
+/// Reads a whole dataset into memory, verifying every chunk ([`DatasetReader::owned_chunk`]:
+/// samples and MIS records).
 pub fn read_all(path: &Path) -> Result<(DatasetHeader, Vec<Chunk>), DatasetError> {
     let r = DatasetReader::open(path)?;
-    let chunks = (0..r.chunk_count())
-        .into_par_iter()
-        .map(|i| r.chunk(i).map(|c| c.to_chunk()))
-        .collect::<Result<Vec<_>, _>>()?;
+    let chunks =
+        (0..r.chunk_count()).into_par_iter().map(|i| r.owned_chunk(i)).collect::<Result<Vec<_>, _>>()?;
     Ok((r.header.clone(), chunks))
 }
 
@@ -216,12 +331,17 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
         let rec: &[u8; 32] = file[pos..pos + 32].try_into().unwrap();
         let n = index.len() as u64;
         if rec[..4] == CHUNK_MAGIC {
-            let h = ChunkHeader::decode(rec).map_err(|(stored, computed)| DatasetError::Checksum {
-                path: path.to_owned(),
-                offset: pos as u64,
-                what: format!("chunk {n} header"),
-                stored,
-                computed,
+            let h = ChunkHeader::decode(rec, decoded.version).map_err(|e| match e {
+                ChunkHeaderError::Checksum(stored, computed) => DatasetError::Checksum {
+                    path: path.to_owned(),
+                    offset: pos as u64,
+                    what: format!("chunk {n} header"),
+                    stored,
+                    computed,
+                },
+                ChunkHeaderError::Flags(flags) => {
+                    corrupt(pos + 20, format!("chunk {n}: unknown chunk flags {flags:#x}"))
+                }
             })?;
             if h.light as usize >= lights {
                 return Err(DatasetError::LightOutOfRange {
@@ -233,15 +353,24 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
                 });
             }
             let avail = rest - CHUNK_HEADER_LEN;
-            let payload = h.count.checked_mul(size_of::<Sample>() as u64).filter(|&b| b <= avail as u64);
+            let records = if h.records { record_block_len(h.count) } else { Some(0) };
+            let payload = h
+                .count
+                .checked_mul(size_of::<Sample>() as u64)
+                .zip(records)
+                .and_then(|(s, r)| s.checked_add(r))
+                .filter(|&b| b <= avail as u64);
             let Some(payload) = payload else {
+                let with = if h.records { " and their MIS records" } else { "" };
+                let bytes = h.count as u128
+                    * (size_of::<Sample>() + if h.records { size_of::<MisRecord>() } else { 0 }) as u128;
                 return Err(DatasetError::Truncated {
                     path: path.to_owned(),
                     offset: (pos + CHUNK_HEADER_LEN) as u64,
                     detail: format!(
-                        "chunk {n} declares {} samples ({} bytes) but only {avail} bytes follow its header",
+                        "chunk {n} declares {} samples{with} (at least {bytes} bytes) but only {avail} bytes \
+                         follow its header",
                         h.count,
-                        h.count as u128 * size_of::<Sample>() as u128
                     ),
                 });
             };
@@ -256,6 +385,7 @@ fn scan(path: &Path, file: &[u8]) -> Result<(DatasetHeader, Vec<Entry>, u64), Da
                 paths: h.paths,
                 count: h.count as usize,
                 crc: h.payload_crc,
+                records: h.records,
             });
             pos += CHUNK_HEADER_LEN + payload as usize;
         } else if rec[..4] == END_MAGIC {

@@ -288,3 +288,21 @@ fn uniform_directions_have_the_hemispheres_density() {
     let cosine = light_direction_pdf(&m, n, wi, up, Directions::Importance);
     assert!((cosine - up.y * std::f32::consts::FRAC_1_PI).abs() < 1e-6);
 }
+
+/// A path emitted exactly along its light's surface (a cosine profile's density is 0 there)
+/// still gets valid records: zero over zero is zero, never NaN.
+#[test]
+fn a_grazing_emission_gives_valid_records() {
+    let scene = glossy_box();
+    let light = &scene.lights[0];
+    let Light::Area(area) = light else { panic!("the box's first light is its area light") };
+    let normal = scene.triangles[area.triangles[0] as usize].normal();
+    let along = normal.cross(Vec3::X).normalize();
+    let emitter = emitter_densities(light, normal, along);
+    for h in [Heuristic::Power, Heuristic::Balance] {
+        let m = LightVertexMis::at_emission(emitter, along.dot(normal).abs(), h);
+        for r in [m.after_hit(1.0, 0.5).record(), m.after_hit(0.0, 0.0).record()] {
+            assert!(r.is_valid(), "{r:?}");
+        }
+    }
+}
