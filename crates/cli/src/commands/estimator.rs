@@ -12,6 +12,7 @@ use opticks_core::dataset::Directions;
 use opticks_core::film::Film;
 use opticks_core::sensor::Sensor;
 use opticks_core::sensor::bidirectional::{Heuristic, Progressive, Renderer, Settings};
+use opticks_core::trace::SAMPLING_SIGNATURE;
 use std::time::Instant;
 
 /// Which estimator renders the image.
@@ -171,18 +172,34 @@ impl EstimatorArgs {
     }
 }
 
-/// The heuristic and direction strategy the dataset's records were traced with.
+/// The heuristic and direction strategy the dataset's records were traced with: every pass
+/// with paths must have records of one heuristic and of this build's sampling signature, and
+/// one direction rule.
 fn mis_settings(data: &LitDataset) -> Result<(Heuristic, Directions)> {
-    let passes = &data.reader.header().trace.passes;
-    let directions = passes.first().map_or(Directions::Importance, |p| p.directions);
-    if let Some(p) = passes.iter().find(|p| p.directions != directions) {
-        bail!(
-            "{} mixes passes traced with --directions {:?} and {:?}: the bidirectional estimator's weights \
-             need one light-tracing density; render with --estimator light",
-            data.reader.path().display(),
-            directions,
-            p.directions
-        );
+    let path = data.reader.path().display();
+    let passes: Vec<_> = data.reader.header().trace.passes.iter().filter(|p| p.paths > 0).collect();
+    let Some(first) = passes.first() else { bail!("{path} has no traced paths") };
+    for p in &passes {
+        let Some(mis) = p.mis else {
+            bail!(
+                "{path} has no MIS records (written by an older Opticks, or traced without them): \
+                 --estimator bidirectional needs them; trace the scene again with this version \
+                 (`opticks trace`), or render with --estimator light"
+            );
+        };
+        if mis.signature != SAMPLING_SIGNATURE || Some(mis.heuristic) != first.mis.map(|m| m.heuristic) {
+            bail!(
+                "{path}: its passes' MIS records differ (heuristic or tracer version): re-trace it, or render with --estimator light"
+            );
+        }
+        if p.directions != first.directions {
+            bail!(
+                "{path} mixes passes traced with --directions {:?} and {:?}: the bidirectional estimator's \
+                 weights need one light-tracing density; render with --estimator light",
+                first.directions,
+                p.directions
+            );
+        }
     }
-    Ok((Heuristic::Power, directions))
+    Ok((first.mis.map_or(Heuristic::Power, |m| m.heuristic), first.directions))
 }
