@@ -302,17 +302,7 @@ fn lambertian_emitter_reads_its_radiance() {
     let scene = Scene::build(&emitting_panel(l)).unwrap();
     let area = 1.0f32;
     assert!((scene.lights[0].power() - std::f32::consts::PI * l * area).abs().max_element() < 1e-5);
-    let view = |eye: Vec3| {
-        Pinhole::new(&CameraDesc {
-            eye,
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_x_degrees: 40.0,
-            width: 32,
-            height: 32,
-        })
-        .unwrap()
-    };
+    let view = panel_view;
     let front = view(Vec3::new(0.3, 0.2, 2.0));
     let film = trace_and_render(&scene, &front, 2_000_000, 9);
     emitter_reads(&film, &front, l);
@@ -326,17 +316,7 @@ fn lambertian_emitter_reads_its_radiance() {
 fn lambertian_emitter_reads_its_radiance_bidirectional() {
     let l = Rgb::new(3.0, 2.0, 0.5);
     let scene = Scene::build(&emitting_panel(l)).unwrap();
-    let view = |eye: Vec3| {
-        Pinhole::new(&CameraDesc {
-            eye,
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_x_degrees: 40.0,
-            width: 32,
-            height: 32,
-        })
-        .unwrap()
-    };
+    let view = panel_view;
     let (table, chunks) = trace_chunks(&scene, 200_000, 9);
     let front = view(Vec3::new(0.3, 0.2, 2.0));
     let film = render_bidirectional(&scene, front.into(), &table, &chunks, true, 16, 1, 9);
@@ -344,6 +324,13 @@ fn lambertian_emitter_reads_its_radiance_bidirectional() {
     let back =
         render_bidirectional(&scene, view(Vec3::new(0.3, 0.2, -2.0)).into(), &table, &chunks, true, 4, 1, 9);
     assert!(back.pixels.iter().all(|p| *p == [0.0; 3]), "a one-sided emitter is black from behind");
+}
+
+/// A 32×32 camera at `eye` looking at the emitting panel.
+fn panel_view(eye: Vec3) -> Pinhole {
+    let desc =
+        CameraDesc { eye, target: Vec3::ZERO, up: Vec3::Y, fov_x_degrees: 40.0, width: 32, height: 32 };
+    Pinhole::new(&desc).unwrap()
 }
 
 /// Pixels of `film` (through `front`) that the panel of radiance `l` covers read `l` within 1%;

@@ -1,6 +1,7 @@
 //! End-to-end checks of the bidirectional estimator (`crate::sensor::bidirectional`) through its
-//! renderer's actual code paths: analytic cases and the white furnace, each with the full
-//! estimator and with the camera half alone (emitter hits and NEE, a dataset without records).
+//! renderer's actual code paths: the weights of every strategy summing to one, the white furnace
+//! with the camera half alone (emitter hits and NEE, a dataset without records), previews and
+//! thread-count independence (the full estimator's analytic cases are in `tests/analytic.rs`).
 //! Tolerances are statistical (stated next to each check).
 
 #[path = "common/physics.rs"]
@@ -373,17 +374,6 @@ fn strategy_weights(
         }
     }
     sum
-}
-
-/// The same furnace with every strategy (n_c = 2): records from the tracer, all four strategy
-/// kinds MIS-weighted, still L_e/(1 − ρ) everywhere.
-#[test]
-fn full_estimator_sees_the_emissive_furnace_uniform() {
-    let (le, rho) = (1.0f32, 0.8f32);
-    let scene = Scene::build(&emissive_furnace(le, rho, Some(furnace_view(100.0, 32, 32)))).unwrap();
-    let (table, chunks) = trace_chunks(&scene, 200_000, 3);
-    let film = render_bidirectional(&scene, camera(&scene).into(), &table, &chunks, true, 256, 2, 1);
-    assert_uniform("bidirectional furnace radiance", &film, (le / (1.0 - rho)) as f64);
 }
 
 /// A seed fixes the image whatever the thread count: camera paths draw from per-pixel streams
