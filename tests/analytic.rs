@@ -12,7 +12,7 @@ use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{CameraDesc, Scene, SceneDescription};
 use opticks_core::sensor::Pinhole;
-use opticks_core::trace::{TraceSettings, trace_path};
+use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
 use std::f64::consts::PI;
 
 /// furnace/SCENE.md: in the closed grey room (ρ = 0.5) the flux incident on all surfaces over all
@@ -26,7 +26,7 @@ fn furnace_energy_balance() {
     let paths = 1_000_000;
     let mut rng = RandomStream::new(11, &[]);
     let mut out = Vec::new();
-    let mut stack = Vec::new();
+    let mut stack = PathScratch::default();
     let settings = TraceSettings::default();
     let mut totals = Vec::with_capacity(paths);
     let mut first_on_floor = Vec::with_capacity(paths);
@@ -275,7 +275,7 @@ fn phong_floor_reflects_its_directional_albedo() {
 
     let paths = 2_000_000;
     let mut rng = RandomStream::new(17, &[]);
-    let (mut out, mut stack) = (Vec::new(), Vec::new());
+    let (mut out, mut stack) = (Vec::new(), PathScratch::default());
     let settings = TraceSettings::default();
     let totals: Vec<f64> = (0..paths)
         .map(|_| {

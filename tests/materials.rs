@@ -26,7 +26,7 @@ use opticks_core::scene::{
     CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
 };
 use opticks_core::sensor::Pinhole;
-use opticks_core::trace::{TraceSettings, trace_path};
+use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
 
 fn material(name: &str, bsdf: Bsdf) -> Material {
     Material { name: name.into(), bsdf, two_sided: false }
@@ -74,7 +74,7 @@ fn incident_flux_on(
     let phi = scene.lights[0].power().x as f64;
     let mut rng = RandomStream::new(seed, &[]);
     let mut out = Vec::new();
-    let mut stack = Vec::new();
+    let mut stack = PathScratch::default();
     let settings = TraceSettings::default();
     let mut totals = Vec::with_capacity(paths);
     for _ in 0..paths {
@@ -281,7 +281,7 @@ fn absorbing_slab_attenuates_by_beer_lambert_per_channel() {
     let scene = sunlit_slab(absorbing_clear(sigma_a), thickness);
     let expected = (-sigma_a * thickness).exp();
     let mut rng = RandomStream::new(5, &[]);
-    let (mut out, mut stack) = (Vec::new(), Vec::new());
+    let (mut out, mut stack) = (Vec::new(), PathScratch::default());
     let mut on_floor = 0;
     for _ in 0..20_000 {
         out.clear();

@@ -34,7 +34,7 @@ pub fn run(a: Args) -> Result<()> {
         };
         println!(
             "pass      seed {}, stream {}: {} paths in {:.2} s; --roulette {} --rr-depth {} --directions {} \
-             --selection {}{state}",
+             --selection {} --mis-records {}{state}",
             p.seed,
             p.stream,
             p.paths,
@@ -42,8 +42,19 @@ pub fn run(a: Args) -> Result<()> {
             flag(p.roulette),
             p.rr_depth,
             flag(p.directions),
-            flag(p.selection)
+            flag(p.selection),
+            p.mis.map_or("none".to_string(), |m| format!(
+                "{} (sampling signature {})",
+                flag(m.heuristic),
+                m.signature
+            ))
         );
+    }
+    match opticks_core::dataset::mis_compatibility(h) {
+        Ok(m) => {
+            println!("mis       the bidirectional estimator can weight it ({} heuristic)", flag(m.heuristic))
+        }
+        Err(e) => println!("mis       not usable by the bidirectional estimator: {e}"),
     }
     println!("paths     {paths}");
     println!("samples   {samples} ({:.2} per path)", samples as f64 / paths.max(1) as f64);

@@ -17,11 +17,15 @@
 //!   the rest of an interrupted pass (`resume.rs`) — and their bookkeeping
 //!   ([`DatasetHeader::record_traced`]);
 //! * the laws of using one — relighting (`relight.rs`), merging (`merge.rs`), a preview from a
-//!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`).
+//!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`);
+//! * whether its MIS records (one per sample, [`Chunk::records`]) serve the bidirectional
+//!   estimator ([`mis_compatibility`], `mis.rs`): every law keeps them exact as long as all
+//!   passes agree on heuristic, sampling signature and direction rule.
 
 mod extend;
 mod header;
 mod merge;
+mod mis;
 mod plan;
 mod relight;
 mod resume;
@@ -35,6 +39,7 @@ mod testing;
 pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
 pub use header::{DatasetHeader, NoPassRecord, PassMis, TraceInfo, TracePass};
 pub use merge::{MergeError, merge_header, merge_tables};
+pub use mis::{MisSettings, MisUnavailable, mis_compatibility};
 pub use plan::{BLOCK_PATHS, Block, Directions, LightPlan, PassPlan, Roulette, Selection, StrategyChoice};
 pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quotas, plan_all, plan_lights};
 pub use plan::{planned_table, quota_weight};

@@ -105,6 +105,8 @@ pub struct StrategyChoice {
     pub directions: Option<Directions>,
     /// Vertex selection for extension.
     pub selection: Option<Selection>,
+    /// MIS records: `Some(None)` for none, `Some(Some(h))` for records of heuristic h.
+    pub mis: Option<Option<Heuristic>>,
 }
 
 impl StrategyChoice {
@@ -115,6 +117,7 @@ impl StrategyChoice {
             roulette: self.roulette.unwrap_or(base.roulette),
             directions: self.directions.unwrap_or(base.directions),
             selection: self.selection.unwrap_or(base.selection),
+            mis: self.mis.unwrap_or(base.mis),
             ..base
         }
     }

@@ -18,9 +18,9 @@
 use super::Directions;
 use crate::bsdf::{Bsdf, Material};
 use crate::geometry::SurfaceNormals;
-use crate::light::Light;
+use crate::light::{Emission, Light};
 use crate::math::Vec3;
-use crate::sensor::bidirectional::Emitter;
+use crate::sensor::bidirectional::{Emitter, Heuristic, LightVertexMis, MisRecord};
 
 /// The sampling signature of this build's MIS records (`docs/bidirectional.md` §7): bump it
 /// whenever a density they depend on changes — the lights' emission sampling, `Bsdf::sample` /
@@ -75,6 +75,77 @@ pub fn emitter_densities(light: &Light, normal: Vec3, dir: Vec3) -> Emitter {
         Light::Area(_) => Emitter::area(first, second),
         Light::Point(_) => Emitter::point(second),
         Light::Directional(_) => Emitter::directional(second),
+    }
+}
+
+/// What a light path carries along for its MIS records (`trace_path`'s recursion): nothing
+/// (`()`: no records), or [`SegmentMis`]. Monomorphised, so a trace without records runs the
+/// code it ran before records existed.
+pub(super) trait PathMis: Copy {
+    /// Where the records go.
+    type Sink<'a>;
+    /// The state of the first segment of a path starting with emission `e` of `light` (an area
+    /// light's y₀ stores its record).
+    fn at_emission(light: &Light, e: &Emission, sink: &mut Self::Sink<'_>) -> Self;
+    /// The state at the vertex `at` the segment hits, arriving at |cos θ| = `cos_in`.
+    fn after_hit(self, at: Vec3, cos_in: f32) -> Self;
+    /// Stores the record of the vertex state (a stored, non-delta vertex).
+    fn store(&self, sink: &mut Self::Sink<'_>);
+    /// The state of the segment leaving the vertex: see [`LightVertexMis::after_scatter`];
+    /// `pdf_rev` is evaluated only when records are made.
+    fn after_scatter(self, cos_out: f32, pdf_fwd: f32, pdf_rev: impl FnOnce() -> f32, delta: bool) -> Self;
+}
+
+impl PathMis for () {
+    type Sink<'a> = ();
+    #[inline(always)]
+    fn at_emission(_: &Light, _: &Emission, _: &mut ()) {}
+    #[inline(always)]
+    fn after_hit(self, _: Vec3, _: f32) {}
+    #[inline(always)]
+    fn store(&self, _: &mut ()) {}
+    #[inline(always)]
+    fn after_scatter(self, _: f32, _: f32, _: impl FnOnce() -> f32, _: bool) {}
+}
+
+/// The light subpath's MIS state on a segment (or at a vertex), with the position of the vertex
+/// the segment leaves (the vertex, not the offset ray origin: distances between vertices are
+/// what the camera side computes too).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SegmentMis {
+    state: LightVertexMis,
+    from: Vec3,
+}
+
+impl PathMis for SegmentMis {
+    type Sink<'a> = (Heuristic, &'a mut Vec<MisRecord>);
+
+    #[inline]
+    fn at_emission(light: &Light, e: &Emission, (h, records): &mut Self::Sink<'_>) -> Self {
+        let normal = e.surface.map_or(Vec3::ZERO, |s| s.0);
+        let emitter = emitter_densities(light, normal, e.dir);
+        if e.surface.is_some() {
+            records.push(LightVertexMis::emission_vertex(emitter, *h).record());
+        }
+        SegmentMis {
+            state: LightVertexMis::at_emission(emitter, e.dir.dot(normal).abs(), *h),
+            from: e.origin,
+        }
+    }
+
+    #[inline]
+    fn after_hit(self, at: Vec3, cos_in: f32) -> Self {
+        SegmentMis { state: self.state.after_hit((at - self.from).length_squared(), cos_in), from: at }
+    }
+
+    #[inline]
+    fn store(&self, (_, records): &mut Self::Sink<'_>) {
+        records.push(self.state.record());
+    }
+
+    #[inline]
+    fn after_scatter(self, cos_out: f32, pdf_fwd: f32, pdf_rev: impl FnOnce() -> f32, delta: bool) -> Self {
+        SegmentMis { state: self.state.after_scatter(cos_out, pdf_fwd, pdf_rev(), delta), ..self }
     }
 }
 

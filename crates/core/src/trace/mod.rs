@@ -47,7 +47,10 @@ use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
-use crate::sensor::bidirectional::{LightVertexMis, MisRecord};
+#[cfg(doc)]
+use crate::sensor::bidirectional::LightVertexMis;
+use crate::sensor::bidirectional::MisRecord;
+use mis::{PathMis, SegmentMis};
 use rayon::prelude::*;
 
 mod mis;
@@ -84,9 +87,11 @@ pub const PRIORITY_TARGET: f32 = 0.5;
 /// Most children a vertex gets under [`Selection::Priority`].
 pub const MAX_SPLIT: f32 = 8.0;
 
-/// A path continuation waiting to be traced (splitting makes a path a tree).
+/// A path continuation waiting to be traced (splitting makes a path a tree), carrying the MIS
+/// state `M` of its segment (`()` when no records are made, so that a trace without records
+/// moves exactly the bytes it always moved).
 #[derive(Clone, Copy, Debug)]
-pub struct Branch {
+struct Branch<M> {
     origin: Vec3,
     dir: Vec3,
     beta: Rgb,
@@ -95,16 +100,20 @@ pub struct Branch {
     delta_run: u32,
     /// Absorption coefficient σ_a (1/m) of the medium this segment travels in (module docs).
     absorption: Rgb,
-    /// The vertex the segment leaves (not the offset ray origin): distances for MIS.
-    from: Vec3,
-    /// The light subpath's MIS state on this segment, when the settings ask for records.
-    mis: Option<LightVertexMis>,
+    mis: M,
+}
+
+/// Scratch space of [`trace_path`], reused across paths: the branches waiting to be traced.
+#[derive(Clone, Debug, Default)]
+pub struct PathScratch {
+    plain: Vec<Branch<()>>,
+    with_records: Vec<Branch<SegmentMis>>,
 }
 
 /// Traces one path (a tree, under [`Selection::Priority`]) from light `k`, appending its stored
 /// vertices to `out` and, when `settings.mis` asks for them, each one's MIS record to
-/// `records` (the same order: `records[i]` belongs to `out[i]`). `stack` is scratch space,
-/// reused across paths.
+/// `records` (the same order: `records[i]` belongs to `out[i]`). `scratch` is reused across
+/// paths.
 ///
 /// The records follow `docs/bidirectional.md` §4: the state starts at the emission
 /// ([`LightVertexMis::at_emission`] with the light's own densities, [`emitter_densities`]; y₀
@@ -124,20 +133,30 @@ pub fn trace_path(
     rng: &mut RandomStream,
     out: &mut Vec<Sample>,
     records: &mut Vec<MisRecord>,
-    stack: &mut Vec<Branch>,
+    scratch: &mut PathScratch,
+) {
+    match settings.mis {
+        None => walk(scene, k, settings, rng, out, &mut (), &mut scratch.plain),
+        Some(h) => walk(scene, k, settings, rng, out, &mut (h, records), &mut scratch.with_records),
+    }
+}
+
+/// [`trace_path`] with the MIS state `M` (the records it makes go to `sink`).
+#[inline(always)]
+fn walk<M: PathMis>(
+    scene: &Scene,
+    k: usize,
+    settings: &TraceSettings,
+    rng: &mut RandomStream,
+    out: &mut Vec<Sample>,
+    sink: &mut M::Sink<'_>,
+    stack: &mut Vec<Branch<M>>,
 ) {
     let (u_pos, u_dir) = (rng.next_2d(), rng.next_2d());
     let light = &scene.lights[k];
     let e = light.sample_emission(&scene.triangles, u_pos, u_dir);
     let mut origin = e.origin;
-    let normal = e.surface.map_or(Vec3::ZERO, |s| s.0);
-    let mis = settings.mis.map(|h| {
-        let emitter = emitter_densities(light, normal, e.dir);
-        if e.surface.is_some() {
-            records.push(LightVertexMis::emission_vertex(emitter, h).record());
-        }
-        LightVertexMis::at_emission(emitter, e.dir.dot(normal).abs(), h)
-    });
+    let mis = M::at_emission(light, &e, sink);
     if let Some((normal, prim)) = e.surface {
         out.push(Sample::emitted(e.origin, prim));
         origin = offset_ray_origin(e.origin, normal, e.dir);
@@ -150,7 +169,6 @@ pub fn trace_path(
         depth: 0,
         delta_run: 0,
         absorption: Rgb::ZERO,
-        from: e.origin,
         mis,
     });
     while let Some(mut b) = stack.pop() {
@@ -167,14 +185,11 @@ pub fn trace_path(
         if b.absorption != Rgb::ZERO {
             b.beta *= (-b.absorption * hit.t).exp(); // Beer–Lambert along the segment
         }
-        let mis =
-            b.mis.map(|m| m.after_hit((hit.position - b.from).length_squared(), wi.dot(hit.normal).abs()));
+        let mis = b.mis.after_hit(hit.position, wi.dot(hit.normal).abs());
         let delta = material.bsdf.is_delta();
         if !delta {
             out.push(Sample::scattered(hit.position, wi, hit.prim, b.beta));
-            if let Some(m) = &mis {
-                records.push(m.record());
-            }
+            mis.store(sink);
         }
         // Priority selection: c expected children, each carrying 1/c of the weight.
         let c = match settings.selection {
@@ -224,11 +239,9 @@ pub fn trace_path(
                 false => b.absorption,
             };
             if beta.max_element() > 0.0 {
-                let mis = mis.map(|m| {
-                    // The camera tracer, arriving from s.wo, would continue toward wi.
-                    let rev = material.pdf_world(normals, s.wo, wi);
-                    m.after_scatter(s.wo.dot(hit.normal).abs(), s.pdf, rev, s.delta)
-                });
+                // The camera tracer, arriving from s.wo, would continue toward wi.
+                let rev = || material.pdf_world(normals, s.wo, wi);
+                let mis = mis.after_scatter(s.wo.dot(hit.normal).abs(), s.pdf, rev, s.delta);
                 stack.push(Branch {
                     origin: offset_ray_origin(hit.position, hit.normal, s.wo),
                     dir: s.wo,
@@ -236,7 +249,6 @@ pub fn trace_path(
                     depth,
                     delta_run,
                     absorption,
-                    from: hit.position,
                     mis,
                 });
             }
@@ -257,9 +269,9 @@ pub fn trace_block(
     let mut rng = RandomStream::new(settings.seed, &[settings.stream, table_index as u64, block]);
     let mut samples = Vec::with_capacity(paths as usize * 6);
     let mut records = Vec::with_capacity(if settings.mis.is_some() { samples.capacity() } else { 0 });
-    let mut stack = Vec::with_capacity(16);
+    let mut scratch = PathScratch::default();
     for _ in 0..paths {
-        trace_path(scene, k, settings, &mut rng, &mut samples, &mut records, &mut stack);
+        trace_path(scene, k, settings, &mut rng, &mut samples, &mut records, &mut scratch);
     }
     debug_assert!(records.is_empty() || records.len() == samples.len());
     Chunk { light: table_index, paths, samples, records }

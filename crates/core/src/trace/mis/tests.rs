@@ -11,7 +11,7 @@ use crate::math::{Rgb, Vec2};
 use crate::sampling::RandomStream;
 use crate::scene::{DirectionalLightDesc, PointLightDesc, Scene, Source, cornell_box};
 use crate::sensor::bidirectional::{Heuristic, LightVertexMis, MisRecord, VcmClass};
-use crate::trace::{trace_block, trace_path};
+use crate::trace::{PathScratch, trace_block, trace_path};
 use glam::DVec3;
 
 /// The Cornell box with a Phong white, a GGX red wall, a point light and a sun shining in
@@ -123,7 +123,7 @@ fn records_equal_the_brute_force_light_side_sums_of_every_stored_vertex() {
         let s = TraceSettings { directions, mis: Some(heuristic), rr_depth: 3, ..Default::default() };
         for k in 0..scene.lights.len() {
             let mut rng = RandomStream::new(11, &[k as u64, directions as u64, heuristic as u64]);
-            let (mut out, mut records, mut stack) = (Vec::new(), Vec::new(), Vec::new());
+            let (mut out, mut records, mut stack) = (Vec::new(), Vec::new(), PathScratch::default());
             for _ in 0..300 {
                 out.clear();
                 records.clear();
