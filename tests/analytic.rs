@@ -12,7 +12,7 @@ use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{CameraDesc, Scene, SceneDescription};
 use opticks_core::sensor::Pinhole;
-use opticks_core::trace::{TraceSettings, trace_path};
+use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
 use std::f64::consts::PI;
 
 /// furnace/SCENE.md: in the closed grey room (ρ = 0.5) the flux incident on all surfaces over all
@@ -26,13 +26,13 @@ fn furnace_energy_balance() {
     let paths = 1_000_000;
     let mut rng = RandomStream::new(11, &[]);
     let mut out = Vec::new();
-    let mut stack = Vec::new();
+    let mut stack = PathScratch::default();
     let settings = TraceSettings::default();
     let mut totals = Vec::with_capacity(paths);
     let mut first_on_floor = Vec::with_capacity(paths);
     for _ in 0..paths {
         out.clear();
-        trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut stack);
+        trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut Vec::new(), &mut stack);
         assert!(out[0].is_emission());
         totals.push(out[1..].iter().map(|s| phi * s.beta[0] as f64).sum::<f64>());
         first_on_floor.push(if out.len() > 1 && out[1].position[1].abs() < 1e-4 { phi } else { 0.0 });
@@ -61,13 +61,32 @@ fn emissive_furnace_is_uniform() {
     assert_uniform("mean radiance", &film, expected);
 }
 
+/// The emissive furnace with the bidirectional estimator (every strategy, n_c = 2).
+#[test]
+fn emissive_furnace_is_uniform_bidirectional() {
+    let (le, rho) = (1.0f32, 0.8f32);
+    let desc = emissive_furnace(le, rho, Some(furnace_view(100.0, 32, 32)));
+    let scene = Scene::build(&desc).unwrap();
+    let (table, chunks) = trace_chunks(&scene, 200_000, 3);
+    let film = render_bidirectional(&scene, camera(&scene).into(), &table, &chunks, true, 256, 2, 3);
+    assert_uniform("mean radiance (bidirectional)", &film, (le / (1.0 - rho)) as f64);
+}
+
 /// Radiance of a Lambertian plane lit by a point light of intensity I at height h:
 /// L = ρ·I·cosθ/(π·d²) with cosθ = h/d (inverse-square law and Lambert's cosine law).
 #[test]
 fn point_light_over_lambertian_plane() {
     let rho = 0.6;
     let material = lambert("plane", rho as f32, false);
-    point_light_over_plane(material, &|_, _| rho / PI);
+    point_light_over_plane(material, &|_, _| rho / PI, false);
+}
+
+/// The same plane with the bidirectional estimator (NEE, connections, splats under MIS).
+#[test]
+fn point_light_over_lambertian_plane_bidirectional() {
+    let rho = 0.6;
+    let material = lambert("plane", rho as f32, false);
+    point_light_over_plane(material, &|_, _| rho / PI, true);
 }
 
 /// The same plane with the Modified Phong BRDF (a glossy highlight in view): every pixel reads
@@ -78,7 +97,21 @@ fn point_light_over_phong_plane() {
     let (kd, ks, n) = (0.25, 0.6, 30.0);
     let phong = ModifiedPhong::new(Rgb::splat(kd as f32), Rgb::splat(ks as f32), n as f32).unwrap();
     let material = Material { name: "plane".into(), bsdf: Bsdf::ModifiedPhong(phong), two_sided: false };
-    point_light_over_plane(material, &|to_light, to_camera| phong_brdf(kd, ks, n, to_light, to_camera));
+    point_light_over_plane(
+        material,
+        &|to_light, to_camera| phong_brdf(kd, ks, n, to_light, to_camera),
+        false,
+    );
+}
+
+/// The Phong plane with the bidirectional estimator: its glossy highlight is where NEE, the
+/// connections and the splats differ most, so their weights must sum to one there.
+#[test]
+fn point_light_over_phong_plane_bidirectional() {
+    let (kd, ks, n) = (0.25, 0.6, 30.0);
+    let phong = ModifiedPhong::new(Rgb::splat(kd as f32), Rgb::splat(ks as f32), n as f32).unwrap();
+    let material = Material { name: "plane".into(), bsdf: Bsdf::ModifiedPhong(phong), two_sided: false };
+    point_light_over_plane(material, &|to_light, to_camera| phong_brdf(kd, ks, n, to_light, to_camera), true);
 }
 
 /// f_r of the Modified Phong BRDF on the plane y = 0 (normal +y), for unit directions towards
@@ -92,7 +125,9 @@ fn phong_brdf(kd: f64, ks: f64, n: f64, to_light: [f64; 3], to_viewer: [f64; 3])
 /// A point light of intensity I at height h over the plane y = 0 made of `material`, seen by a
 /// camera: pixel values must equal the radiance f_r·I·cosθ/d² averaged over each pixel's film
 /// square (8×8 points), as a whole and in every 8×8-pixel block. `brdf(to_light, to_camera)`.
-fn point_light_over_plane(material: Material, brdf: &dyn Fn([f64; 3], [f64; 3]) -> f64) {
+/// `bidirectional`: rendered by the bidirectional estimator (500 k paths, 64 camera paths per
+/// pixel) instead of the light estimator (4 M paths).
+fn point_light_over_plane(material: Material, brdf: &dyn Fn([f64; 3], [f64; 3]) -> f64, bidirectional: bool) {
     let (intensity, h) = (2.0f32, 1.0f32);
     let s = 50.0;
     let plane = quad(
@@ -119,7 +154,14 @@ fn point_light_over_plane(material: Material, brdf: &dyn Fn([f64; 3], [f64; 3]) 
     };
     let scene = Scene::build(&desc).unwrap();
     let cam = Pinhole::new(&cam_desc).unwrap();
-    let film = trace_and_render(&scene, &cam, 4_000_000, 5);
+    let film = if bidirectional {
+        // Measured image mean ratio over 12 seeds: 0.99922 ± 0.0014 (σ of one seed), NEE
+        // alone 0.99986; worst 8×8 block 1.5–2.8%.
+        let (table, chunks) = trace_chunks(&scene, 500_000, 5);
+        render_bidirectional(&scene, cam.into(), &table, &chunks, true, 64, 1, 5)
+    } else {
+        trace_and_render(&scene, &cam, 4_000_000, 5)
+    };
 
     let unit = |v: Vec3| {
         let v = v.as_dvec3().normalize();
@@ -233,12 +275,12 @@ fn phong_floor_reflects_its_directional_albedo() {
 
     let paths = 2_000_000;
     let mut rng = RandomStream::new(17, &[]);
-    let (mut out, mut stack) = (Vec::new(), Vec::new());
+    let (mut out, mut stack) = (Vec::new(), PathScratch::default());
     let settings = TraceSettings::default();
     let totals: Vec<f64> = (0..paths)
         .map(|_| {
             out.clear();
-            trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut stack);
+            trace_path(&scene, 0, &settings, &mut rng, &mut out, &mut Vec::new(), &mut stack);
             out.iter().map(|s| phi * s.beta[0] as f64).sum::<f64>()
         })
         .collect();
@@ -260,24 +302,45 @@ fn lambertian_emitter_reads_its_radiance() {
     let scene = Scene::build(&emitting_panel(l)).unwrap();
     let area = 1.0f32;
     assert!((scene.lights[0].power() - std::f32::consts::PI * l * area).abs().max_element() < 1e-5);
-    let view = |eye: Vec3| {
-        Pinhole::new(&CameraDesc {
-            eye,
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_x_degrees: 40.0,
-            width: 32,
-            height: 32,
-        })
-        .unwrap()
-    };
+    let view = panel_view;
     let front = view(Vec3::new(0.3, 0.2, 2.0));
     let film = trace_and_render(&scene, &front, 2_000_000, 9);
+    emitter_reads(&film, &front, l);
+    let back = trace_and_render(&scene, &view(Vec3::new(0.3, 0.2, -2.0)), 200_000, 9);
+    assert!(back.pixels.iter().all(|p| *p == [0.0; 3]), "a one-sided emitter is black from behind");
+}
+
+/// The emitter seen directly with the bidirectional estimator: emitter hits and the splats of
+/// y₀ under MIS (and nothing from behind).
+#[test]
+fn lambertian_emitter_reads_its_radiance_bidirectional() {
+    let l = Rgb::new(3.0, 2.0, 0.5);
+    let scene = Scene::build(&emitting_panel(l)).unwrap();
+    let view = panel_view;
+    let (table, chunks) = trace_chunks(&scene, 200_000, 9);
+    let front = view(Vec3::new(0.3, 0.2, 2.0));
+    let film = render_bidirectional(&scene, front.into(), &table, &chunks, true, 16, 1, 9);
+    emitter_reads(&film, &front, l);
+    let back =
+        render_bidirectional(&scene, view(Vec3::new(0.3, 0.2, -2.0)).into(), &table, &chunks, true, 4, 1, 9);
+    assert!(back.pixels.iter().all(|p| *p == [0.0; 3]), "a one-sided emitter is black from behind");
+}
+
+/// A 32×32 camera at `eye` looking at the emitting panel.
+fn panel_view(eye: Vec3) -> Pinhole {
+    let desc =
+        CameraDesc { eye, target: Vec3::ZERO, up: Vec3::Y, fov_x_degrees: 40.0, width: 32, height: 32 };
+    Pinhole::new(&desc).unwrap()
+}
+
+/// Pixels of `film` (through `front`) that the panel of radiance `l` covers read `l` within 1%;
+/// pixels beside it are black.
+fn emitter_reads(film: &opticks_core::film::Film, front: &Pinhole, l: Rgb) {
     let (mut inside, mut n_inside) = (glam::DVec3::ZERO, 0);
     for (p, v) in film.pixels.iter().enumerate() {
         let (i, j) = (p % 32, p / 32);
         // Classify the pixel by its four corners' rays hitting the panel.
-        let hits = corners_on_panel(&front, p);
+        let hits = corners_on_panel(front, p);
         if hits == 4 {
             inside += glam::DVec3::from_array(*v);
             n_inside += 1;
@@ -291,6 +354,4 @@ fn lambertian_emitter_reads_its_radiance() {
     for c in 0..3 {
         assert!((mean[c] / l[c] as f64 - 1.0).abs() < 0.01, "channel {c}: {} vs {}", mean[c], l[c]);
     }
-    let back = trace_and_render(&scene, &view(Vec3::new(0.3, 0.2, -2.0)), 200_000, 9);
-    assert!(back.pixels.iter().all(|p| *p == [0.0; 3]), "a one-sided emitter is black from behind");
 }

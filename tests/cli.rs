@@ -345,3 +345,82 @@ fn the_cli_holds_no_dataset_logic() {
         }
     }
 }
+
+/// `render --estimator bidirectional`: a fixed number of camera paths per pixel, or passes until
+/// `--time` is up, and the same option on `walk`; the mean matches Mitsuba's reference. The
+/// light estimator is the default; `--time` is refused with it; a dataset without MIS records
+/// (format 2) is refused with the fix.
+#[test]
+fn render_and_walk_with_the_bidirectional_estimator() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = scene_file("cornell", "scene.xml");
+    ok(opticks(&["trace", scene.to_str().unwrap(), "--paths", "200000", "-o", "c.opds"], d));
+    let out =
+        ok(opticks(&["render", "c.opds", "-o", "b.exr", "--estimator", "bidirectional", "--spp", "4"], d));
+    assert!(out.contains("bidirectionally") && out.contains("4 camera paths per pixel"), "{out}");
+    let (w, h, rgb) = read_exr_rgb(&d.join("b.exr")).unwrap();
+    assert_eq!((w, h), (256, 256));
+    assert_mean_close(&rgb, "cornell", 0.02);
+    let out = ok(opticks(
+        &[
+            "render",
+            "c.opds",
+            "-o",
+            "t.exr",
+            "--estimator",
+            "bidirectional",
+            "--spp",
+            "1",
+            "--time",
+            "1.5",
+            "--size",
+            "64x64",
+        ],
+        d,
+    ));
+    assert!(out.contains("passes") && out.contains("estimated relative error"), "{out}");
+    let e = fails(&["render", "c.opds", "-o", "x.exr", "--time", "1"], d);
+    assert!(e.contains("--time applies to --estimator bidirectional"), "{e}");
+    let v2 = repo().join("testdata/datasets/cornell-v2.opds");
+    let e = fails(
+        &[
+            "render",
+            v2.to_str().unwrap(),
+            "--scene",
+            scene.to_str().unwrap(),
+            "-o",
+            "x.exr",
+            "--estimator",
+            "bidirectional",
+        ],
+        d,
+    );
+    assert!(
+        e.contains("no MIS records") && e.contains("opticks trace") && e.contains("--estimator light"),
+        "{e}"
+    );
+    std::fs::write(
+        d.join("path.json"),
+        r#"{"fps": 2, "size": [32, 32], "keyframes": [{"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [0.3, 0, 3.9], "target": [0, 0, 0]}]}"#,
+    )
+    .unwrap();
+    ok(opticks(
+        &[
+            "walk",
+            "c.opds",
+            "--path",
+            "path.json",
+            "-o",
+            "frames",
+            "--format",
+            "exr",
+            "--estimator",
+            "bidirectional",
+            "--spp",
+            "2",
+        ],
+        d,
+    ));
+    assert!(d.join("frames/frame_00002.exr").exists());
+}

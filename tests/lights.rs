@@ -16,7 +16,7 @@ use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{
     AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
 };
-use opticks_core::trace::{TraceSettings, trace_path};
+use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
 use opticks_io::ies::load_ies;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -49,12 +49,12 @@ fn inward_icosphere(radius: f32, levels: u32) -> MeshDesc {
 fn trace_fluxes(scene: &Scene, paths: usize, seed: u64, mut keep: impl FnMut(Vec3) -> bool) -> Vec<f64> {
     let phi = scene.lights[0].power().x as f64;
     let mut rng = RandomStream::new(seed, &[]);
-    let (mut out, mut stack) = (Vec::new(), Vec::new());
+    let (mut out, mut stack) = (Vec::new(), PathScratch::default());
     let settings = TraceSettings::default();
     (0..paths)
         .map(|_| {
             out.clear();
-            trace_path(scene, 0, &settings, &mut rng, &mut out, &mut stack);
+            trace_path(scene, 0, &settings, &mut rng, &mut out, &mut Vec::new(), &mut stack);
             out.iter()
                 .filter(|s| !s.is_emission() && keep(s.position()))
                 .map(|s| phi * s.beta[0] as f64)

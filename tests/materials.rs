@@ -26,7 +26,7 @@ use opticks_core::scene::{
     CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
 };
 use opticks_core::sensor::Pinhole;
-use opticks_core::trace::{TraceSettings, trace_path};
+use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
 
 fn material(name: &str, bsdf: Bsdf) -> Material {
     Material { name: name.into(), bsdf, two_sided: false }
@@ -74,12 +74,12 @@ fn incident_flux_on(
     let phi = scene.lights[0].power().x as f64;
     let mut rng = RandomStream::new(seed, &[]);
     let mut out = Vec::new();
-    let mut stack = Vec::new();
+    let mut stack = PathScratch::default();
     let settings = TraceSettings::default();
     let mut totals = Vec::with_capacity(paths);
     for _ in 0..paths {
         out.clear();
-        trace_path(scene, 0, &settings, &mut rng, &mut out, &mut stack);
+        trace_path(scene, 0, &settings, &mut rng, &mut out, &mut Vec::new(), &mut stack);
         let mut sum = 0.0;
         for s in &out {
             let p = Vec3::from_array(s.position);
@@ -281,11 +281,11 @@ fn absorbing_slab_attenuates_by_beer_lambert_per_channel() {
     let scene = sunlit_slab(absorbing_clear(sigma_a), thickness);
     let expected = (-sigma_a * thickness).exp();
     let mut rng = RandomStream::new(5, &[]);
-    let (mut out, mut stack) = (Vec::new(), Vec::new());
+    let (mut out, mut stack) = (Vec::new(), PathScratch::default());
     let mut on_floor = 0;
     for _ in 0..20_000 {
         out.clear();
-        trace_path(&scene, 0, &TraceSettings::default(), &mut rng, &mut out, &mut stack);
+        trace_path(&scene, 0, &TraceSettings::default(), &mut rng, &mut out, &mut Vec::new(), &mut stack);
         for s in out.iter().filter(|s| s.position[1].abs() < 1e-4) {
             on_floor += 1;
             for c in 0..3 {

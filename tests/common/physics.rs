@@ -6,10 +6,11 @@
 #![allow(dead_code)] // each test binary uses a different subset
 
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
-use opticks_core::dataset::{Chunk, LightTable};
+use opticks_core::dataset::{Chunk, Directions, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{AreaEmission, CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription};
+use opticks_core::sensor::bidirectional::{CacheChunk, Heuristic, Renderer, Settings, combine};
 use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
 use opticks_core::trace::{TraceSettings, trace};
 
@@ -61,6 +62,37 @@ pub fn trace_and_render(scene: &Scene, cam: &Pinhole, paths: u64, seed: u64) -> 
 pub fn trace_and_render_with(scene: &Scene, cam: &Pinhole, settings: &TraceSettings) -> Film {
     let (table, chunks) = trace_chunks_with(scene, settings);
     render_chunks(scene, &Sensor::from(*cam), &table, &chunks)
+}
+
+/// Renders in-memory chunks with the bidirectional estimator through `sensor`: `spp` camera
+/// paths per pixel, n_c = `connections`, the chunks' MIS records if `records` (else the camera
+/// strategies alone: emitter hits and NEE), the power heuristic the tracer's default records use.
+#[allow(clippy::too_many_arguments)]
+pub fn render_bidirectional(
+    scene: &Scene,
+    sensor: Sensor,
+    table: &LightTable,
+    chunks: &[Chunk],
+    records: bool,
+    spp: u32,
+    connections: u32,
+    seed: u64,
+) -> Film {
+    let views = chunks
+        .iter()
+        .map(|c| {
+            CacheChunk::new(c.light, c.paths, &c.samples, if records { &c.records } else { &[] }).unwrap()
+        })
+        .collect();
+    let names: Vec<&str> = table.lights.iter().map(|l| l.name.as_str()).collect();
+    let flux: Vec<Rgb> = (0..names.len()).map(|k| table.flux_per_path(k)).collect();
+    let settings =
+        Settings { connections, seed, heuristic: Heuristic::Power, directions: Directions::Importance };
+    let m = sensor.width() as u64 * sensor.height() as u64 * spp as u64;
+    let r = Renderer::new(scene, sensor, views, &names, &flux, settings, m);
+    let splat = r.splat_pass(|_| {}, || false).unwrap();
+    let cam = r.camera_pass(0, spp, |_| {}, || false).unwrap();
+    combine(&splat, &cam, spp as u64)
 }
 
 /// A Lambertian BSDF of grey albedo.

@@ -27,6 +27,18 @@ pub fn bar(total: u64, what: &str, unit: &str) -> ProgressBar {
     pb
 }
 
+/// A bar over `seconds` of wall-clock time, with a message (a progressive render's passes and
+/// error estimate).
+pub fn seconds_bar(seconds: f64) -> ProgressBar {
+    let pb = ProgressBar::new(seconds.ceil() as u64);
+    pb.set_style(
+        ProgressStyle::with_template("rendering [{elapsed_precise}] {bar:40.cyan/blue} {pos}/{len} s {msg}")
+            .expect("static template is valid")
+            .progress_chars("=> "),
+    );
+    pb
+}
+
 /// A "tracing … paths" bar for a dataset job, which stops on a signal (and, for tests, once
 /// `$OPTICKS_INTERRUPT_AFTER_PATHS` paths are traced: see `crate::interrupt`).
 #[derive(Default)]

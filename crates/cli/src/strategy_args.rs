@@ -5,6 +5,7 @@
 
 use clap::{Args, ValueEnum};
 use opticks_core::dataset::{Directions, Roulette, Selection, StrategyChoice, TraceSettings};
+use opticks_core::sensor::bidirectional::Heuristic;
 
 /// Russian roulette rule.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -33,6 +34,17 @@ pub enum SelectionArg {
     Priority,
 }
 
+/// The MIS records stored with each sample for the bidirectional estimator.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum MisRecordsArg {
+    /// Records for the power heuristic (β = 2).
+    Power,
+    /// Records for the balance heuristic (β = 1).
+    Balance,
+    /// No records: a third smaller dataset that only the light estimator can render.
+    None,
+}
+
 /// How paths continue. Every option is optional: `trace` and `bench` fill in the defaults
 /// below, `refine` and `add-light` the strategy of the dataset's last pass (so refining a
 /// dataset traced with, say, `--roulette fixed` continues it with the same estimator).
@@ -50,6 +62,9 @@ pub struct StrategyArgs {
     /// Vertex selection [default: single, or with refine and add-light the dataset's last pass's].
     #[arg(long, value_enum)]
     pub selection: Option<SelectionArg>,
+    /// MIS records for the bidirectional estimator, 16 bytes per sample (docs/bidirectional.md) [default: power; refine and add-light: the dataset's last pass].
+    #[arg(long, value_enum)]
+    pub mis_records: Option<MisRecordsArg>,
 }
 
 /// The command-line spelling of a roulette rule (what `info` shows).
@@ -76,6 +91,15 @@ pub fn selection_name(s: Selection) -> &'static str {
     }
 }
 
+/// The command-line spelling of a pass's MIS records (`--mis-records`).
+pub fn mis_records_name(m: Option<Heuristic>) -> &'static str {
+    match m {
+        Some(Heuristic::Power) => "power",
+        Some(Heuristic::Balance) => "balance",
+        None => "none",
+    }
+}
+
 impl StrategyArgs {
     /// Trace settings with these options over the defaults.
     pub fn settings(&self, paths: u64, seed: u64) -> TraceSettings {
@@ -97,6 +121,11 @@ impl StrategyArgs {
             selection: self.selection.map(|s| match s {
                 SelectionArg::Single => Selection::Single,
                 SelectionArg::Priority => Selection::Priority,
+            }),
+            mis: self.mis_records.map(|m| match m {
+                MisRecordsArg::Power => Some(Heuristic::Power),
+                MisRecordsArg::Balance => Some(Heuristic::Balance),
+                MisRecordsArg::None => None,
             }),
         }
     }

@@ -191,7 +191,7 @@ pub fn write_dataset(
     for source in sources {
         let r = source.reader;
         for i in 0..r.chunk_count() {
-            let mut c = r.chunk(i)?;
+            let mut c = r.owned_chunk(i)?;
             if let Some(map) = &source.lights {
                 c.light = map[c.light as usize];
             }

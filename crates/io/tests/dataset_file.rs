@@ -1,9 +1,12 @@
 //! The dataset file: round trips, atomic writes, and that every kind of damage is an error
 //! (never a panic, never a huge allocation) naming the file and the offset.
 
-use opticks_core::dataset::{Chunk, DatasetHeader, LightRecord, LightTable, Sample, TraceInfo, TracePass};
+use opticks_core::dataset::{
+    Chunk, DatasetHeader, LightRecord, LightTable, PassMis, Sample, TraceInfo, TracePass,
+};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::Fingerprint;
+use opticks_core::sensor::bidirectional::{Emitter, Heuristic, LightVertexMis, MisRecord};
 use opticks_io::dataset_file::*;
 use rayon::prelude::*;
 use std::path::Path;
@@ -31,7 +34,29 @@ impl Rng {
             Sample::scattered(p, d, (self.next() % 1000) as u32, Rgb::new(self.f(), self.f() * 2.0, self.f()))
         }
     }
+    /// A valid MIS record for `s` (an emission record for an emission sample).
+    fn record(&mut self, s: &Sample) -> MisRecord {
+        let emitter = Emitter::area(0.1 + self.f(), 0.1 + self.f());
+        if s.is_emission() {
+            return LightVertexMis::emission_vertex(emitter, Heuristic::Power).record();
+        }
+        let at = LightVertexMis::at_emission(emitter, self.f(), Heuristic::Power);
+        let mut m = at.after_hit(0.5 + self.f(), 0.1 + self.f());
+        for _ in 0..self.next() % 3 {
+            m = m.after_scatter(self.f(), 0.1 + self.f(), self.f(), false).after_hit(1.0 + self.f(), 0.2);
+        }
+        m.record()
+    }
+    /// `n` samples and their records.
+    fn chunk(&mut self, light: u32, paths: u64, n: usize) -> Chunk {
+        let samples: Vec<Sample> = (0..n).map(|_| self.sample()).collect();
+        let records = samples.iter().map(|s| self.record(s)).collect();
+        Chunk { light, paths, samples, records }
+    }
 }
+
+/// The MIS header fields of a pass with power-heuristic records of signature 1.
+const POWER: Option<PassMis> = Some(PassMis { heuristic: Heuristic::Power, signature: 1 });
 
 fn table(paths: &[u64]) -> LightTable {
     LightTable {
@@ -78,19 +103,27 @@ fn write(path: &Path, h: &DatasetHeader, chunks: &[Chunk]) -> DatasetSummary {
     w.finish(&t, &h.trace).unwrap()
 }
 
-/// Small file used by the damage tests: two lights, three chunks (one empty with paths > 0).
+/// Small file used by the damage tests: two lights, three chunks (one empty with paths > 0),
+/// the first with MIS records, the last without.
 fn tiny(path: &Path) -> (DatasetHeader, Vec<Chunk>) {
     let mut rng = Rng(7);
     let chunks = vec![
-        Chunk { light: 0, paths: 2, samples: vec![rng.sample(), rng.sample()] },
-        Chunk { light: 1, paths: 3, samples: vec![] },
-        Chunk { light: 0, paths: 1, samples: vec![rng.sample()] },
+        rng.chunk(0, 2, 2),
+        Chunk { light: 1, paths: 3, samples: vec![], records: vec![] },
+        Chunk { light: 0, paths: 1, samples: vec![rng.sample()], records: vec![] },
     ];
     let h = DatasetHeader {
         fingerprint: Fingerprint { geometry: [0x11; 16], lights: [0x22; 16] },
         label: "tiny".into(),
         trace: TraceInfo {
-            passes: vec![TracePass { seed: 42, stream: 0, paths: 0, rr_depth: 3, ..Default::default() }],
+            passes: vec![TracePass {
+                seed: 42,
+                stream: 0,
+                paths: 0,
+                rr_depth: 3,
+                mis: POWER,
+                ..Default::default()
+            }],
         },
         table: LightTable {
             lights: vec![
@@ -151,10 +184,11 @@ fn round_trip_several_lights_and_chunks() {
             light: i % 3,
             paths: 100 + i as u64,
             samples: (0..n).map(|_| rng.sample()).collect(),
+            records: vec![],
         });
     }
     // An empty chunk whose paths still count (every path was absorbed or hit a delta surface).
-    chunks.push(Chunk { light: 2, paths: 50, samples: vec![] });
+    chunks.push(Chunk { light: 2, paths: 50, samples: vec![], records: vec![] });
     let h = header(&[0, 0, 0]);
     let summary = write(&path, &h, &chunks);
     let total: u64 = chunks.iter().map(|c| c.samples.len() as u64).sum();
@@ -204,6 +238,7 @@ fn chunks_are_aligned_and_readable_from_many_threads() {
             light: i % 2,
             paths: 10,
             samples: (0..(i * 37) % 301).map(|_| rng.sample()).collect(),
+            records: vec![],
         })
         .collect();
     write(&path, &header(&[0, 0]), &chunks);
@@ -232,7 +267,7 @@ fn a_file_truncated_or_rewritten_while_open_is_an_error_not_a_signal() {
     let path = dir.path().join("cut.opds");
     let mut rng = Rng(5);
     let chunks: Vec<Chunk> = (0..8u32)
-        .map(|_| Chunk { light: 0, paths: 4, samples: (0..500).map(|_| rng.sample()).collect() })
+        .map(|_| Chunk { light: 0, paths: 4, samples: (0..500).map(|_| rng.sample()).collect(), records: Vec::new() })
         .collect();
     write(&path, &header(&[0]), &chunks);
     let r = DatasetReader::open(&path).unwrap();
@@ -263,7 +298,7 @@ fn a_sample_naming_a_missing_triangle_is_an_error_once_the_scene_is_known() {
     let mut samples: Vec<Sample> = (0..10).map(|_| rng.sample()).collect();
     samples.iter_mut().for_each(|s| s.prim = 35 | (s.prim & opticks_core::dataset::EMISSION_FLAG));
     samples[3].prim = 2_147_483_647;
-    write(&path, &header(&[0]), &[Chunk { light: 0, paths: 1, samples }]);
+    write(&path, &header(&[0]), &[Chunk { light: 0, paths: 1, samples, records: Vec::new() }]);
     let mut r = DatasetReader::open(&path).unwrap();
     r.verify().unwrap();
     r.check_triangles(36);
@@ -294,8 +329,13 @@ fn dropped_writer_leaves_the_old_file_and_no_temporary() {
     {
         let mut w = DatasetWriter::create(&path, &header(&[0])).unwrap();
         let mut rng = Rng(3);
-        w.write_chunk(&Chunk { light: 0, paths: 5, samples: (0..100_000).map(|_| rng.sample()).collect() })
-            .unwrap();
+        w.write_chunk(&Chunk {
+            light: 0,
+            paths: 5,
+            samples: (0..100_000).map(|_| rng.sample()).collect(),
+            records: vec![],
+        })
+        .unwrap();
         assert_eq!(dir_names(dir.path()).len(), 2, "temporary file next to the target");
         // Dropped here: an error or Ctrl-C handled by unwinding.
     }
@@ -311,7 +351,7 @@ fn failed_finish_leaves_the_old_file_and_no_temporary() {
     tiny(&path);
     let before = std::fs::read(&path).unwrap();
     let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
-    w.write_chunk(&Chunk { light: 1, paths: 5, samples: vec![] }).unwrap();
+    w.write_chunk(&Chunk { light: 1, paths: 5, samples: vec![], records: vec![] }).unwrap();
     assert_eq!(w.light_paths(), &[0, 5]);
     // N_k that does not match the chunks written: refused.
     let e = w.finish(&table(&[0, 4]), &header(&[0]).trace).unwrap_err();
@@ -325,17 +365,18 @@ fn writer_refuses_invalid_chunks_and_tables() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("bad.opds");
     let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
-    let e = w.write_chunk(&Chunk { light: 2, paths: 1, samples: vec![] }).unwrap_err();
+    let e = w.write_chunk(&Chunk { light: 2, paths: 1, samples: vec![], records: vec![] }).unwrap_err();
     assert!(e.to_string().contains("chunk for light 2, but the table has 2 lights"), "{e}");
     let mut s = Rng(4).sample();
     for bad in [f32::NAN, f32::INFINITY, -1.0] {
         s.beta[1] = bad;
-        let e =
-            w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default(), s] }).unwrap_err();
+        let e = w
+            .write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default(), s], records: vec![] })
+            .unwrap_err();
         assert!(e.to_string().contains("sample 1 of a chunk of light 0"), "{e}");
     }
     // The refused chunks wrote nothing: the writer is still usable.
-    w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default()] }).unwrap();
+    w.write_chunk(&Chunk { light: 0, paths: 1, samples: vec![Sample::default()], records: vec![] }).unwrap();
     let mut renamed = table(&[1, 0]);
     renamed.lights[1].name = "other".into();
     assert!(
@@ -468,8 +509,8 @@ fn huge_length_fields_are_errors_not_allocations() {
     tiny(&good);
     let bytes = std::fs::read(&good).unwrap();
     let path = dir.path().join("huge.opds");
-    let label_len_at = 92; // 48 fixed bytes, the pass count, one 40-byte pass (with an empty plan)
-    let light_count_at = 96 + "tiny".len();
+    let label_len_at = 96; // 48 fixed bytes, the pass count, one 44-byte pass (with an empty plan)
+    let light_count_at = 100 + "tiny".len();
     let c0 = first_chunk(&bytes);
 
     // Header length beyond the file, and not a multiple of 32.
@@ -492,14 +533,22 @@ fn huge_length_fields_are_errors_not_allocations() {
     b[name_len_at..name_len_at + 4].copy_from_slice(&0x7fff_ffffu32.to_le_bytes());
     fix_header_crc(&mut b);
     expect_err(&path, &b, "name of light 0 (2147483647 bytes) runs past the end");
-    // Sample counts that overflow, or exceed the file.
-    for count in [u64::MAX, u64::MAX / 32, 1 << 40] {
+    // Sample counts that exceed the file (a u32 since format 3), with and without records.
+    for (count, records) in [(u32::MAX, 1u32), (u32::MAX, 0), (1 << 27, 1), (1 << 27, 0)] {
         let mut b = bytes.clone();
-        b[c0 + 16..c0 + 24].copy_from_slice(&count.to_le_bytes());
+        b[c0 + 16..c0 + 20].copy_from_slice(&count.to_le_bytes());
+        b[c0 + 20..c0 + 24].copy_from_slice(&records.to_le_bytes());
         fix_record_crc(&mut b, c0);
-        let e = expect_err(&path, &b, &format!("chunk 0 declares {count} samples"));
+        let with = if records == 1 { " and their MIS records" } else { "" };
+        let e = expect_err(&path, &b, &format!("chunk 0 declares {count} samples{with}"));
         assert_eq!(e.offset(), Some(c0 as u64 + 32));
     }
+    // Unknown flags.
+    let mut b = bytes.clone();
+    b[c0 + 20..c0 + 24].copy_from_slice(&3u32.to_le_bytes());
+    fix_record_crc(&mut b, c0);
+    let e = expect_err(&path, &b, &format!("corrupt at byte {}: chunk 0: unknown chunk flags 0x3", c0 + 20));
+    assert_eq!(e.offset(), Some(c0 as u64 + 20));
 }
 
 #[test]
@@ -527,7 +576,7 @@ fn path_count_mismatch_is_detected() {
     let bytes = std::fs::read(&good).unwrap();
     // N_k of light 1 ("lamp"): after the label, the count, light 0 (4+3+16+12+8), light 1's name,
     // shape and power.
-    let at = 96 + 4 + 4 + (4 + 3 + 16 + 12 + 8) + (4 + 4 + 16 + 12);
+    let at = 100 + 4 + 4 + (4 + 3 + 16 + 12 + 8) + (4 + 4 + 16 + 12);
     assert_eq!(u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()), 3);
     let mut b = bytes.clone();
     b[at..at + 8].copy_from_slice(&4u64.to_le_bytes());
@@ -613,7 +662,7 @@ fn throughput() {
     let path = dir.path().join("big.opds");
     let t = Instant::now();
     let mut w = DatasetWriter::create(&path, &header(&[0, 0])).unwrap();
-    let mut chunk = Chunk { light: 0, paths: 1000, samples: pool };
+    let mut chunk = Chunk { light: 0, paths: 1000, samples: pool, records: vec![] };
     let mut left = n;
     while left > 0 {
         chunk.samples.truncate(left.min(per_chunk));
@@ -652,8 +701,16 @@ fn throughput() {
 fn write_tiny_example() {
     let path = std::env::var("OPTICKS_TINY_DATASET").expect("set OPTICKS_TINY_DATASET");
     let chunks = vec![
-        Chunk { light: 0, paths: 4, samples: vec![Sample::emitted(Vec3::new(0.0, 1.98, 0.0), 7)] },
-        Chunk { light: 0, paths: 0, samples: vec![] },
+        Chunk {
+            light: 0,
+            paths: 4,
+            samples: vec![Sample::emitted(Vec3::new(0.0, 1.98, 0.0), 7)],
+            // An emission vertex of a light of area 1/4: vcm = A (its root), the hit class.
+            records: vec![
+                LightVertexMis::emission_vertex(Emitter::area(4.0, 0.25), Heuristic::Power).record(),
+            ],
+        },
+        Chunk { light: 0, paths: 0, samples: vec![], records: vec![] },
     ];
     let h = DatasetHeader {
         fingerprint: Fingerprint { geometry: [0xaa; 16], lights: [0xbb; 16] },
@@ -666,6 +723,7 @@ fn write_tiny_example() {
                 rr_depth: 5,
                 seconds: 0.5,
                 planned: vec![(0, 4)],
+                mis: POWER,
                 ..Default::default()
             }],
         },
@@ -703,23 +761,35 @@ fn version_1_files_are_still_read() {
     let dir = tempfile::tempdir().unwrap();
     let good = dir.path().join("good.opds");
     let (h, chunks) = tiny(&good);
-    let v2 = std::fs::read(&good).unwrap();
-    let header_len = u32::from_le_bytes(v2[12..16].try_into().unwrap()) as usize;
+    let v3 = std::fs::read(&good).unwrap();
+    let header_len = u32::from_le_bytes(v3[12..16].try_into().unwrap()) as usize;
     // The tiny header's contents end after the label and both lights (see its builder).
-    let end = 92 + (4 + 4) + 4 + (4 + 3 + 36) + (4 + 4 + 36);
-    // Drop the pass's strategy bytes and plan length (the 8 bytes after its 32 version-1 bytes).
-    let mut b = [&v2[..84], &v2[92..end]].concat();
+    let end = 96 + (4 + 4) + 4 + (4 + 3 + 36) + (4 + 4 + 36);
+    // Drop the pass's strategy bytes, signature and plan length (the 12 bytes after its 32
+    // version-1 bytes).
+    let mut b = [&v3[..84], &v3[96..end]].concat();
     let len = (b.len() + 4).div_ceil(32) * 32;
     b.resize(len - 4, 0);
     b[8..12].copy_from_slice(&1u32.to_le_bytes());
     b[12..16].copy_from_slice(&(len as u32).to_le_bytes());
     b.extend_from_slice(&crc32fast::hash(&b).to_le_bytes());
-    b.extend_from_slice(&v2[header_len..]);
+    // Version-1 chunks have no records: keep the samples only.
+    let c0 = header_len;
+    let mut c0_header: [u8; 32] = v3[c0..c0 + 32].try_into().unwrap();
+    c0_header[20..24].copy_from_slice(&0u32.to_le_bytes());
+    fix_record_crc(&mut c0_header, 0);
+    b.extend_from_slice(&c0_header);
+    b.extend_from_slice(&v3[c0 + 32..c0 + 96]);
+    b.extend_from_slice(&v3[c0 + 160..]);
     let old = dir.path().join("v1.opds");
     std::fs::write(&old, &b).unwrap();
     let (read, read_chunks) = read_all(&old).unwrap();
-    assert_eq!(read, DatasetHeader { table: read.table.clone(), ..h });
-    assert_eq!(read_chunks, chunks);
+    let mut want = DatasetHeader { table: read.table.clone(), ..h };
+    want.trace.passes[0].mis = None;
+    assert_eq!(read, want);
+    let mut want = chunks.clone();
+    want[0].records.clear();
+    assert_eq!(read_chunks, want);
     assert!(read.trace.passes[0].is_complete() && read.trace.passes[0].planned.is_empty());
 }
 
@@ -738,4 +808,123 @@ fn the_file_format_imports_nothing_from_the_tracer() {
         files += 1;
     }
     assert!(files >= 4, "{files} files in {}", dir.display());
+}
+
+/// Format 3: chunks with MIS records round trip next to chunks without; `chunk` hands out the
+/// same samples either way (the light estimator's bytes), `chunk_records` the records.
+#[test]
+fn mis_records_round_trip_beside_chunks_without_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mis.opds");
+    let mut rng = Rng(3);
+    let mut chunks: Vec<Chunk> =
+        (0..8u32).map(|i| rng.chunk(i % 2, 7, [0, 1, 2, 17, 4096][i as usize % 5])).collect();
+    chunks.push(Chunk { records: vec![], ..rng.chunk(1, 3, 5) });
+    let mut h = header(&[0, 0]);
+    h.trace.passes[0].mis = Some(PassMis { heuristic: Heuristic::Balance, signature: 7 });
+    h.trace.passes.push(TracePass { seed: 1, ..Default::default() });
+    let summary = write(&path, &h, &chunks);
+    let (h2, c2) = read_all(&path).unwrap();
+    assert_eq!((h2.trace, c2), (h.trace.clone(), chunks.clone()));
+    let r = DatasetReader::open(&path).unwrap();
+    r.verify().unwrap();
+    let record_bytes: u64 = chunks
+        .iter()
+        .filter(|c| !c.records.is_empty())
+        .map(|c| (16 * c.records.len() as u64 + 4).div_ceil(32) * 32)
+        .sum();
+    let sample_bytes: u64 = chunks.iter().map(|c| 32 * c.samples.len() as u64 + 32).sum();
+    assert_eq!(
+        summary.bytes,
+        first_chunk(&std::fs::read(&path).unwrap()) as u64 + sample_bytes + record_bytes + 32
+    );
+    for (i, c) in chunks.iter().enumerate() {
+        let v = r.chunk(i).unwrap();
+        assert_eq!(v.samples, &c.samples[..]);
+        assert_eq!(v.samples.as_ptr() as usize % 32, 0);
+        assert_eq!(r.has_records(i), Some(!c.records.is_empty() || c.samples.is_empty()));
+        match r.chunk_records(i) {
+            Ok(records) => assert_eq!(records, &c.records[..]),
+            Err(e) => {
+                assert!(c.records.is_empty() && !c.samples.is_empty(), "{e}");
+                assert!(matches!(e, DatasetError::NoRecords { chunk: 8, .. }), "{e}");
+                assert!(
+                    e.to_string().contains("chunk 8 (header at byte")
+                        && e.to_string().contains("no MIS records"),
+                    "{e}"
+                );
+            }
+        }
+    }
+}
+
+/// The writer refuses records that are not one per sample or fail the reader's checks, and the
+/// reader catches such records even under a valid checksum.
+#[test]
+fn invalid_mis_records_are_refused_and_detected() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("bad.opds");
+    let mut rng = Rng(4);
+    let mut w = DatasetWriter::create(&path, &header(&[0])).unwrap();
+    let good = rng.chunk(0, 1, 6);
+    let short = Chunk { records: good.records[..5].to_vec(), ..good.clone() };
+    assert!(w.write_chunk(&short).unwrap_err().to_string().contains("6 samples but 5 MIS records"));
+    let emission = good.samples.iter().position(|s| s.is_emission()).unwrap();
+    let scattered = good.samples.iter().position(|s| !s.is_emission()).unwrap();
+    let mut swapped = good.clone();
+    swapped.records.swap(emission, scattered);
+    let e = w.write_chunk(&swapped).unwrap_err().to_string();
+    assert!(e.contains("MIS record") && e.contains("emission"), "{e}");
+    let mut negative = good.clone();
+    let mut v: [f32; 4] = bytemuck::cast(negative.records[scattered]);
+    v[2] = -1.0;
+    negative.records[scattered] = bytemuck::cast(v);
+    assert!(w.write_chunk(&negative).unwrap_err().to_string().contains("negative or NaN MIS quantity"));
+    drop(w);
+
+    // On disk: a NaN and a misplaced emission class under valid checksums.
+    tiny(&path);
+    let bytes = std::fs::read(&path).unwrap();
+    let c0 = first_chunk(&bytes);
+    let block = c0 + 32 + 64;
+    let refresh = |b: &mut Vec<u8>| {
+        let crc = crc32fast::hash(&b[block..block + 60]);
+        b[block + 60..block + 64].copy_from_slice(&crc.to_le_bytes());
+    };
+    let mut b = bytes.clone();
+    b[block + 16 + 8..block + 16 + 12].copy_from_slice(&f32::NAN.to_le_bytes());
+    refresh(&mut b);
+    let e = expect_err(&path, &b, &format!("invalid MIS record 1 of chunk 0 at byte {}", block + 16));
+    assert!(matches!(e, DatasetError::InvalidRecord { .. }));
+    let mut b = bytes.clone();
+    b[block + 32] = 1;
+    refresh(&mut b);
+    expect_err(&path, &b, &format!("corrupt at byte {}: chunk 0: non-zero byte in the padding", block + 32));
+    let mut b = bytes.clone();
+    b[block + 7] ^= 0x80; // the class bit of record 0's vc_hit
+    refresh(&mut b);
+    expect_err(&path, &b, "invalid MIS record 0 of chunk 0");
+    let mut b = bytes.clone();
+    b[block + 3] ^= 1;
+    expect_err(&path, &b, &format!("corrupt chunk 0 MIS records at byte {block}: CRC-32 stored"));
+    // The samples are still readable: a damaged record block costs only the records.
+    std::fs::write(&path, &b).unwrap();
+    let r = DatasetReader::open(&path).unwrap();
+    assert!(r.chunk(0).is_ok() && r.chunk_records(0).is_err());
+}
+
+/// The committed format-2 datasets read as datasets without MIS records.
+#[test]
+fn format_2_datasets_read_without_records() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/datasets");
+    for name in ["cornell-v2.opds", "rough-v2.opds"] {
+        let r = DatasetReader::open(&root.join(name)).unwrap();
+        r.verify().unwrap();
+        assert!(r.header().trace.passes.iter().all(|p| p.mis.is_none()), "{name}");
+        let i = (0..r.chunk_count()).find(|&i| r.chunk_summary(i).unwrap().2 > 0).unwrap();
+        assert_eq!(r.has_records(i), Some(false));
+        let e = r.chunk_records(i).unwrap_err();
+        assert!(matches!(e, DatasetError::NoRecords { .. }), "{e}");
+        assert!(r.owned_chunk(i).unwrap().records.is_empty());
+    }
 }

@@ -3,7 +3,7 @@
 //! dataset's own folder and absolute (`opticks_io::scene_ref`) — with which of them is found.
 
 use crate::output;
-use crate::strategy_args::{directions_name, roulette_name, selection_name};
+use crate::strategy_args::{directions_name, mis_records_name, roulette_name, selection_name};
 use anyhow::Result;
 use opticks_core::dataset::DatasetHeader;
 use opticks_io::dataset_file::DatasetReader;
@@ -51,11 +51,13 @@ pub fn run(a: Args) -> Result<()> {
 fn strategy(h: &DatasetHeader, i: usize) -> String {
     let p = &h.trace.passes[i];
     format!(
-        "--roulette {} --rr-depth {} --directions {} --selection {}",
+        "--roulette {} --rr-depth {} --directions {} --selection {} --mis-records {}{}",
         roulette_name(p.roulette),
         p.rr_depth,
         directions_name(p.directions),
-        selection_name(p.selection)
+        selection_name(p.selection),
+        mis_records_name(p.mis.map(|m| m.heuristic)),
+        p.mis.map_or(String::new(), |m| format!(" (sampling signature {})", m.signature))
     )
 }
 
@@ -99,6 +101,13 @@ fn readable(a: &Args, reader: &DatasetReader, checked: &str) -> Vec<String> {
             strategy(h, i)
         ));
     }
+    out.push(match opticks_core::dataset::mis_compatibility(h) {
+        Ok(m) => format!(
+            "mis       the bidirectional estimator can weight it ({} heuristic)",
+            mis_records_name(Some(m.heuristic))
+        ),
+        Err(e) => format!("mis       not usable by the bidirectional estimator: {e}"),
+    });
     out.push(format!("paths     {paths}"));
     out.push(format!("samples   {samples} ({:.2} per path)", samples as f64 / paths.max(1) as f64));
     out.push(format!("chunks    {}", reader.chunk_count()));
@@ -147,6 +156,8 @@ fn as_json(a: &Args, reader: &DatasetReader, checked: &str) -> serde_json::Value
                 "rr_depth": p.rr_depth,
                 "directions": directions_name(p.directions),
                 "selection": selection_name(p.selection),
+                "mis_records": mis_records_name(p.mis.map(|m| m.heuristic)),
+                "sampling_signature": p.mis.map(|m| m.signature),
             })
         })
         .collect();
@@ -164,6 +175,7 @@ fn as_json(a: &Args, reader: &DatasetReader, checked: &str) -> serde_json::Value
         "geometry_fingerprint": h.fingerprint.geometry_hex(),
         "lights_fingerprint": h.fingerprint.lights_hex(),
         "passes": passes,
+        "bidirectional": opticks_core::dataset::mis_compatibility(h).is_ok(),
         "paths": h.table.total_paths(),
         "samples": reader.total_samples(),
         "chunks": reader.chunk_count(),

@@ -7,6 +7,7 @@
 pub mod add_light;
 pub mod bench;
 pub mod demo;
+pub mod estimator;
 pub mod extend_args;
 pub mod info;
 pub mod light_args;
@@ -265,6 +266,8 @@ pub struct LitDataset {
     pub scene: Scene,
     lighting: opticks_core::dataset::Lighting,
     chunks: Vec<usize>,
+    /// The kept chunks in memory, once the bidirectional estimator has asked for them.
+    cache: std::sync::OnceLock<Vec<opticks_core::dataset::Chunk>>,
 }
 
 impl DatasetArgs {
@@ -290,7 +293,7 @@ impl DatasetArgs {
             crate::output::note(note);
         }
         let chunks = (0..reader.chunk_count()).collect();
-        Ok(LitDataset { reader, description, scene, lighting, chunks })
+        Ok(LitDataset { reader, description, scene, lighting, chunks, cache: std::sync::OnceLock::new() })
     }
 }
 
@@ -312,6 +315,29 @@ impl LitDataset {
         Ok(OwnedBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
     }
 
+    /// The dataset's light names, in table order.
+    pub fn light_names(&self) -> Vec<&str> {
+        self.reader.header().table.lights.iter().map(|l| l.name.as_str()).collect()
+    }
+
+    /// Per table light, the flux Φ'_k/N_k its samples stand for (relit; over the kept chunks).
+    pub fn flux_per_path(&self) -> &[opticks_core::math::Rgb] {
+        &self.lighting.flux_per_path
+    }
+
+    /// The kept chunks as the bidirectional estimator's light vertex cache (each verified),
+    /// read into memory on the first call and kept for the next ones (a walkthrough's frames).
+    pub fn cache_chunks(&self) -> Result<Vec<opticks_core::sensor::bidirectional::CacheChunk<'_>>> {
+        let chunks = match self.cache.get() {
+            Some(c) => c,
+            None => {
+                let read = opticks_io::light_cache::read_cache(&self.reader, &self.chunks)?;
+                self.cache.get_or_init(|| read)
+            }
+        };
+        Ok(opticks_io::light_cache::cache_views(&self.reader, chunks)?)
+    }
+
     /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises, by the
     /// preview-subset law (`opticks_core::dataset::subset`): the kept chunks' samples stand for
     /// Φ_k/N'_k each — an unbiased estimate from fewer paths, a cheaper, noisier preview.
@@ -321,6 +347,7 @@ impl LitDataset {
             .map(|(light, paths, _)| (light, paths))
             .collect();
         let kept = subset(&chunks, self.lighting.flux_per_path.len(), fraction)?;
+        self.cache = std::sync::OnceLock::new();
         for (flux, scale) in self.lighting.flux_per_path.iter_mut().zip(kept.flux_scale) {
             *flux *= scale;
         }

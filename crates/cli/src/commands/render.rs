@@ -1,12 +1,15 @@
 //! `opticks render`: a dataset, seen through a camera, into an EXR or PNG image, optionally
-//! relit (`--light`). The dataset is streamed chunk by chunk; its scene must
-//! match (geometry fingerprint; each light's shape). Every argument and the output location are
-//! checked before the dataset is read.
+//! relit (`--light`), with the light estimator (the default) or the bidirectional one
+//! (`--estimator bidirectional`, `--spp`, `--connections`, `--time`). The dataset is streamed
+//! chunk by chunk (the bidirectional estimator holds its light vertex cache in memory); its
+//! scene must match (geometry fingerprint; each light's shape). Every argument and the output
+//! location are checked before the dataset is read.
 
+use super::estimator::{Estimator, EstimatorArgs};
 use super::{DatasetArgs, ThreadArgs, render_with_progress, warn_if_black, write_film};
 use crate::camera_args::{CameraArgs, exposure_for};
 use crate::output;
-use anyhow::Result;
+use anyhow::{Result, bail};
 use opticks_io::output_paths::{OutputKind, check_output};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -26,6 +29,12 @@ pub struct Args {
     threads: ThreadArgs,
     #[command(flatten)]
     camera: CameraArgs,
+    #[command(flatten)]
+    estimator: EstimatorArgs,
+    /// Bidirectional: add camera passes (of --spp paths per pixel each) over the same dataset
+    /// until SECONDS have passed, with a progress bar and a running error estimate.
+    #[arg(long, value_name = "SECONDS")]
+    time: Option<f64>,
 }
 
 /// Runs the render.
@@ -37,8 +46,39 @@ pub fn run(a: Args) -> Result<()> {
     let data = a.input.open()?;
     let scene = &data.scene;
     let camera = a.camera.resolve(scene.camera)?;
+    a.estimator.check()?;
+    if let Some(t) = a.time {
+        if a.estimator.estimator != Estimator::Bidirectional {
+            bail!(
+                "--time applies to --estimator bidirectional (the light estimator renders the dataset once)"
+            );
+        }
+        if !(t.is_finite() && t > 0.0) {
+            bail!("--time {t} must be a positive number of seconds");
+        }
+    }
     let t0 = Instant::now();
     let _graceful = crate::interrupt::graceful();
+    if a.estimator.estimator == Estimator::Bidirectional {
+        let run = a.estimator.render(&data, &camera, a.time, 0, true)?;
+        let secs = t0.elapsed().as_secs_f64();
+        warn_if_black(&run.film, data.samples(), "camera");
+        write_film(&run.film, &a.output, exposure)?;
+        let error =
+            run.error.map_or(String::new(), |e| format!(", estimated relative error {:.2}%", 100.0 * e));
+        output::result(&format!(
+            "rendered bidirectionally: {} samples and {} camera paths per pixel ({} passes, {} connections) at {}x{} in {:.2} s{error} → {}",
+            data.samples(),
+            run.spp,
+            run.passes,
+            a.estimator.connections,
+            camera.width(),
+            camera.height(),
+            secs,
+            a.output.display()
+        ));
+        return Ok(());
+    }
     let film = render_with_progress(scene, &camera, data.count(), data.samples(), |i| data.batch(i))?;
     let secs = t0.elapsed().as_secs_f64();
     warn_if_black(&film, data.samples(), "camera");

@@ -6,6 +6,7 @@
 //! frame count (at least 1, at most 100000, computed without overflow) and every frame's camera
 //! (an interpolated field of view can be invalid where no keyframe's is).
 
+use super::estimator::{Estimator, EstimatorArgs};
 use super::{DatasetArgs, ThreadArgs, warn_if_black, write_film};
 use crate::camera_args::exposure_for;
 use crate::output;
@@ -40,6 +41,8 @@ pub struct Args {
     exposure: Option<f32>,
     #[command(flatten)]
     threads: ThreadArgs,
+    #[command(flatten)]
+    estimator: EstimatorArgs,
 }
 
 /// Renders the walkthrough.
@@ -49,6 +52,7 @@ pub fn run(a: Args) -> Result<()> {
     if a.output.exists() && !a.output.is_dir() {
         bail!("{}: exists and is not a folder (walk writes its frames into a folder)", a.output.display());
     }
+    a.estimator.check()?;
     let mut data = a.input.open()?;
     data.keep_fraction(a.fraction)?;
     let (reader, scene) = (&data.reader, &data.scene);
@@ -82,7 +86,11 @@ pub fn run(a: Args) -> Result<()> {
         if crate::interrupt::requested() {
             bail!("interrupted after {f} of {frames} frames");
         }
-        let film = render(scene, &camera.into(), data.count(), |i| data.batch(i), |_| {})?;
+        let film = match a.estimator.estimator {
+            Estimator::Light => render(scene, &camera.into(), data.count(), |i| data.batch(i), |_| {})?,
+            // Each frame its own camera streams (pass = frame number).
+            Estimator::Bidirectional => a.estimator.render(&data, &camera.into(), None, f as u64, false)?.film,
+        };
         if f == 0 {
             warn_if_black(&film, data.samples(), "camera of frame 0");
         }

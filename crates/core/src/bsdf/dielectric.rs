@@ -138,6 +138,19 @@ impl SmoothDielectric {
         let wo = if inside { flip(wo) } else { wo };
         Some(BsdfSample { wo, weight, pdf, delta: true })
     }
+
+    /// The probability with which [`SmoothDielectric::sample`] given `wi` picks the lobe that
+    /// leads to `wo` (reflection if both lie on one side, else refraction): F or 1 − F, computed
+    /// exactly as `sample` computes it (`wo` is assumed to be that lobe's direction).
+    #[inline]
+    pub fn lobe_probability(&self, wi: Vec3, wo: Vec3) -> f32 {
+        if wi.z == 0.0 || !wi.is_finite() {
+            return 0.0;
+        }
+        let eta = if wi.z < 0.0 { 1.0 / self.eta } else { self.eta };
+        let f = fresnel::dielectric(wi.z.abs(), eta).0;
+        if wi.z * wo.z > 0.0 { f } else { 1.0 - f }
+    }
 }
 
 /// Microfacet dielectric interface.

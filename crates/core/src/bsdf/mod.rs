@@ -123,6 +123,19 @@ impl Bsdf {
         }
     }
 
+    /// For a delta BSDF, the discrete probability with which [`Bsdf::sample`] given `wi` picks
+    /// the lobe that leads to `wo` (`wo` assumed to be that lobe's direction; the same in both
+    /// transport modes): 1 for a mirror lit from the front, F or 1 − F for smooth glass. Zero
+    /// for the other BSDFs, whose densities are [`Bsdf::pdf`].
+    #[inline]
+    pub fn lobe_probability(&self, wi: Vec3, wo: Vec3) -> f32 {
+        match self {
+            Bsdf::SmoothConductor(_) if wi.z > 0.0 => 1.0,
+            Bsdf::SmoothDielectric(b) => b.lobe_probability(wi, wo),
+            _ => 0.0,
+        }
+    }
+
     /// Importance-samples a direction given `wi` from three uniform numbers (`u_lobe` picks a
     /// lobe), with the weight of `mode`. `None` when the sampled direction carries no energy
     /// (e.g. below the surface).
@@ -233,6 +246,34 @@ impl Material {
             return Rgb::ZERO;
         }
         self.bsdf.eval(a, b) * f.incident_factor(wi, a)
+    }
+
+    /// The density with which [`Material::sample_world`] (either [`TransportMode`]) given `wi`
+    /// returns `wo`: [`Bsdf::pdf`] in the shading frame, or for a delta BSDF the probability of
+    /// the lobe leading to `wo` ([`Bsdf::lobe_probability`]); 0 where `sample_world` never
+    /// returns `wo` (the side refused by [`Material::frame_for`], the light-leak guard). The
+    /// camera tracer's density at a surface, and the light tracer's under
+    /// `Directions::Importance` (`crate::trace::light_direction_pdf` says which).
+    #[inline]
+    pub fn pdf_world(&self, n: SurfaceNormals, wi: Vec3, wo: Vec3) -> f32 {
+        let Some(f) = self.frame_for(n, wi) else { return 0.0 };
+        let (a, b) = (f.frame.to_local(wi), f.frame.to_local(wo));
+        if !f.flat && !f.agrees(wi, wo, a, b) {
+            return 0.0;
+        }
+        if self.bsdf.is_delta() { self.bsdf.lobe_probability(a, b) } else { self.bsdf.pdf(a, b) }
+    }
+
+    /// The density with which [`Material::sample_uniform_world`] given `wi` returns `wo`:
+    /// 1/2π on the shading hemisphere, 0 where it never returns `wo`.
+    #[inline]
+    pub fn pdf_uniform_world(&self, n: SurfaceNormals, wi: Vec3, wo: Vec3) -> f32 {
+        let Some(f) = self.frame_for(n, wi) else { return 0.0 };
+        let (a, b) = (f.frame.to_local(wi), f.frame.to_local(wo));
+        if !(b.z > 0.0) || (!f.flat && !f.agrees(wi, wo, a, b)) {
+            return 0.0;
+        }
+        crate::sampling::warp::UNIFORM_HEMISPHERE_PDF
     }
 
     /// Samples a world-space outgoing direction uniformly over the scattering hemisphere (the

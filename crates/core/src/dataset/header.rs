@@ -7,6 +7,18 @@
 use super::{Directions, Roulette, Selection};
 use super::{LightPlan, LightTable, TraceSettings};
 use crate::scene::Fingerprint;
+use crate::sensor::bidirectional::Heuristic;
+
+/// The MIS records a pass stored with its samples (dataset format 3, `docs/bidirectional.md`
+/// §5, §7): the heuristic they are powered for and the sampling signature of the tracer that
+/// computed them (`crate::trace::SAMPLING_SIGNATURE`; never 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PassMis {
+    /// The heuristic of the records.
+    pub heuristic: Heuristic,
+    /// The sampling signature of the tracer that wrote them.
+    pub signature: u32,
+}
 
 /// One run of light sampling that contributed paths to the dataset: a trace, a refinement, an
 /// added light, or a dataset merged in. Kept so that refinements pick a fresh random stream and
@@ -35,12 +47,16 @@ pub struct TracePass {
     /// order. The pass is complete when `paths` reaches their sum; empty = unknown (format
     /// version 1), taken as complete.
     pub planned: Vec<(u32, u64)>,
+    /// The MIS records its chunks carry, `None` if they carry none (traced without them, or
+    /// by an Opticks older than format 3).
+    pub mis: Option<PassMis>,
 }
 
 impl TracePass {
     /// A new pass of `settings` planning `plan` (its paths and time are filled in when it ends).
     pub fn new(settings: &TraceSettings, plan: &[LightPlan]) -> Self {
-        let TraceSettings { paths: _, seed, stream, rr_depth, roulette, directions, selection } = *settings;
+        let TraceSettings { paths: _, seed, stream, rr_depth, roulette, directions, selection, mis } =
+            *settings;
         TracePass {
             seed,
             stream,
@@ -51,6 +67,7 @@ impl TracePass {
             directions,
             selection,
             planned: plan.iter().map(|p| (p.table_index, p.paths)).collect(),
+            mis: mis.map(|heuristic| PassMis { heuristic, signature: crate::trace::SAMPLING_SIGNATURE }),
         }
     }
 
@@ -78,6 +95,7 @@ impl TracePass {
             roulette: self.roulette,
             directions: self.directions,
             selection: self.selection,
+            mis: self.mis.map(|m| m.heuristic),
         }
     }
 }
@@ -165,6 +183,7 @@ mod tests {
             roulette: Roulette::Fixed,
             directions: Directions::Uniform,
             selection: Selection::Priority,
+            mis: TraceSettings::default().mis,
         };
         let plan = [
             LightPlan { scene_light: 4, table_index: 1, paths: 60 },

@@ -17,11 +17,15 @@
 //!   the rest of an interrupted pass (`resume.rs`) — and their bookkeeping
 //!   ([`DatasetHeader::record_traced`]);
 //! * the laws of using one — relighting (`relight.rs`), merging (`merge.rs`), a preview from a
-//!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`).
+//!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`);
+//! * whether its MIS records (one per sample, [`Chunk::records`]) serve the bidirectional
+//!   estimator ([`mis_compatibility`], `mis.rs`): every law keeps them exact as long as all
+//!   passes agree on heuristic, sampling signature and direction rule.
 
 mod extend;
 mod header;
 mod merge;
+mod mis;
 mod plan;
 mod relight;
 mod resume;
@@ -33,8 +37,9 @@ mod table;
 mod testing;
 
 pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
-pub use header::{DatasetHeader, NoPassRecord, TraceInfo, TracePass};
+pub use header::{DatasetHeader, NoPassRecord, PassMis, TraceInfo, TracePass};
 pub use merge::{MergeError, merge_header, merge_tables};
+pub use mis::{MisSettings, MisUnavailable, mis_compatibility};
 pub use plan::{BLOCK_PATHS, Block, Directions, LightPlan, PassPlan, Roulette, Selection, StrategyChoice};
 pub use plan::{BlockOrder, MAX_PATHS, TooManyPaths, check_path_budget, planned_table, quota_weight};
 pub use plan::{NoEmission, check_emission};

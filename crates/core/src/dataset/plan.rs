@@ -14,6 +14,7 @@
 use super::{LightRecord, LightTable};
 use crate::math::Rgb;
 use crate::scene::Scene;
+use crate::sensor::bidirectional::Heuristic;
 
 /// Paths per block (one block = one chunk = one random stream).
 pub const BLOCK_PATHS: u64 = 4096;
@@ -69,6 +70,11 @@ pub struct TraceSettings {
     pub directions: Directions,
     /// Vertex selection for extension.
     pub selection: Selection,
+    /// The MIS heuristic the bidirectional estimator's per-sample records are computed for
+    /// (`docs/bidirectional.md` §5; the tracer stores one [`MisRecord`](crate::sensor::bidirectional::MisRecord)
+    /// per sample), or `None` for no records (the light estimator needs none). Records never
+    /// change the samples: the random numbers drawn are the same either way.
+    pub mis: Option<Heuristic>,
 }
 
 impl Default for TraceSettings {
@@ -81,6 +87,7 @@ impl Default for TraceSettings {
             roulette: Roulette::default(),
             directions: Directions::default(),
             selection: Selection::default(),
+            mis: Some(Heuristic::Power),
         }
     }
 }
@@ -98,6 +105,8 @@ pub struct StrategyChoice {
     pub directions: Option<Directions>,
     /// Vertex selection for extension.
     pub selection: Option<Selection>,
+    /// MIS records: `Some(None)` for none, `Some(Some(h))` for records of heuristic h.
+    pub mis: Option<Option<Heuristic>>,
 }
 
 impl StrategyChoice {
@@ -108,6 +117,7 @@ impl StrategyChoice {
             roulette: self.roulette.unwrap_or(base.roulette),
             directions: self.directions.unwrap_or(base.directions),
             selection: self.selection.unwrap_or(base.selection),
+            mis: self.mis.unwrap_or(base.mis),
             ..base
         }
     }

@@ -2,6 +2,7 @@
 
 use super::Sample;
 use crate::math::Rgb;
+use crate::sensor::bidirectional::MisRecord;
 
 /// One light's row in the dataset: its power Φ_k at trace time and its path count N_k.
 #[derive(Clone, Debug, PartialEq)]
@@ -48,4 +49,17 @@ pub struct Chunk {
     pub paths: u64,
     /// The stored vertices of those paths.
     pub samples: Vec<Sample>,
+    /// The bidirectional estimator's MIS record of each sample (`docs/bidirectional.md` §5),
+    /// parallel to `samples` (same length, same order), or empty when the chunk has none
+    /// (traced without [`super::TraceSettings::mis`], or read from a format-2 file).
+    pub records: Vec<MisRecord>,
+}
+
+impl Chunk {
+    /// Whether the chunk carries MIS records (one per sample; a chunk without samples has
+    /// records vacuously, so this is false only when samples lack them).
+    #[inline]
+    pub fn has_records(&self) -> bool {
+        self.records.len() == self.samples.len()
+    }
 }

@@ -108,6 +108,16 @@ impl AreaLight {
         }
     }
 
+    /// The solid-angle density with which [`AreaLight::sample_emission`] draws the world
+    /// direction `dir` from a point of normal `normal`: the profile's sampling pdf.
+    #[inline]
+    pub fn direction_pdf(&self, normal: Vec3, dir: Vec3) -> f32 {
+        match self.profile {
+            BuiltProfile::Cosine => dir.dot(normal).max(0.0) * std::f32::consts::FRAC_1_PI,
+            ref p => p.sampling_pdf(self.frame(normal).to_local(dir)),
+        }
+    }
+
     /// A path start: `u_pos.x` picks a triangle ∝ area and is reused, rescaled, with `u_pos.y`
     /// for a point uniform on it (so stratified inputs stay stratified); `u_dir` a direction
     /// from the profile, in the triangle's frame.

@@ -53,6 +53,12 @@ impl DirectionalLight {
         self.irradiance * (std::f32::consts::PI * self.radius * self.radius)
     }
 
+    /// The area density of a path's start point on the disk: 1/(π r²).
+    #[inline]
+    pub fn disk_pdf(&self) -> f32 {
+        1.0 / (std::f32::consts::PI * self.radius * self.radius)
+    }
+
     /// A path start: `u_pos` a point uniform on the disk; the direction is the light's.
     #[inline]
     pub fn sample_emission(&self, u_pos: Vec2) -> Emission {

@@ -93,6 +93,22 @@ impl Light {
         }
     }
 
+    /// The densities [`Light::sample_emission`] draws a path start with, for a start point of
+    /// geometric normal `normal` (area lights; ignored otherwise) emitting along the unit world
+    /// direction `dir`: (position, second) = (1/A, the profile's *sampling* pdf of `dir`) for
+    /// area lights, (1, the profile's sampling pdf) for point lights (a delta position), and
+    /// (1, 1/(π r²)) for directional lights (a delta direction, the start point uniform on the
+    /// disk). What the bidirectional estimator's MIS needs of a light
+    /// (`crate::trace::emitter_densities`); the tracer's weights do not use it.
+    #[inline]
+    pub fn emission_pdfs(&self, normal: Vec3, dir: Vec3) -> (f32, f32) {
+        match self {
+            Light::Area(l) => (1.0 / l.area(), l.direction_pdf(normal, dir)),
+            Light::Point(l) => (1.0, l.direction_pdf(dir)),
+            Light::Directional(l) => (1.0, l.disk_pdf()),
+        }
+    }
+
     /// Draws a path start from two uniform points of [0,1)²: `u_pos` picks a point uniform over
     /// the light's area (p_A = 1/A; its x coordinate first picks a triangle ∝ area and is then
     /// reused, rescaled, so stratified inputs stay stratified), `u_dir` a direction from the

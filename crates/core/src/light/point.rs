@@ -53,6 +53,16 @@ impl PointLight {
         Ok(PointLight { name, position, intensity, power, profile, frame })
     }
 
+    /// The solid-angle density with which [`PointLight::sample_emission`] draws the unit world
+    /// direction `dir`: the profile's sampling pdf.
+    #[inline]
+    pub fn direction_pdf(&self, dir: Vec3) -> f32 {
+        match self.profile {
+            BuiltProfile::Uniform { hemisphere: false } => warp::UNIFORM_SPHERE_PDF,
+            ref p => p.sampling_pdf(self.frame.to_local(dir)),
+        }
+    }
+
     /// A path start at the light: `u_dir` draws a direction from the profile (uniform on the
     /// sphere, exactly, for an isotropic light).
     #[inline]

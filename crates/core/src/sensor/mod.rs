@@ -162,7 +162,7 @@ impl Sensor {
 
     /// Whether [`Sensor::connect`] uses its random numbers.
     #[inline]
-    fn samples_aperture(&self) -> bool {
+    pub(crate) fn samples_aperture(&self) -> bool {
         matches!(self, Sensor::ThinLens(t) if t.radius > 0.0)
     }
 }
@@ -188,6 +188,67 @@ pub fn sample_hash_2d(s: &Sample) -> Vec2 {
     Vec2::new(to_unit(h), to_unit(h << 24))
 }
 
+/// A stored sample connected to a sensor: the pixel, the BSDF (or emission) factor f toward
+/// the sensor, |cos θ_x| and the sensor's factor — Δpixel = (Φ_k/N_k)·β·f·(|cos θ_x|·W), the
+/// visibility already tested.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SampleConnection {
+    /// The sensor's connection (pixel, aperture point, W).
+    pub conn: Connection,
+    /// f_r(x; ω_in → ω_c), or L_e·A_k/Φ_k for an emission vertex.
+    pub f: Rgb,
+    /// cos θ_x (geometric normal; its absolute value enters Δ).
+    pub cos_x: f32,
+    /// Unit direction from x to the aperture point.
+    pub to_sensor: Vec3,
+    /// |x − c|².
+    pub dist2: f32,
+}
+
+/// Connects stored sample `s` to `sensor` (aperture point from the sample's hash when
+/// `random`): `None` when it projects outside the image, its f is 0, or the sensor cannot see it.
+#[inline]
+pub(crate) fn connect_sample(
+    scene: &Scene,
+    sensor: &Sensor,
+    s: &Sample,
+    random: bool,
+) -> Option<SampleConnection> {
+    let x = s.position();
+    let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
+    let conn = sensor.connect(x, u)?;
+    let to_c = conn.point - x;
+    let d = to_c.length();
+    if !(d > 0.0) {
+        return None;
+    }
+    let wc = to_c / d;
+    let prim = s.triangle();
+    let n = scene.normal(prim);
+    // |cos θ_x| is the connection's geometry term: always the geometric normal's. Shading
+    // normals enter only through f_r (the adjoint f_eff, see `crate::bsdf::shading`).
+    let cos_x = n.dot(wc);
+    let f = if s.is_emission() {
+        if cos_x <= 0.0 {
+            return None; // emitters are one-sided
+        }
+        Rgb::splat(scene.light_of(prim).map_or(0.0, |k| scene.lights[k].emitted_fraction(n, wc)))
+    } else {
+        let f = scene.material(prim).eval_world(scene.normals_at(prim, x), s.from_dir(), wc);
+        if f == Rgb::ZERO {
+            return None;
+        }
+        f
+    };
+    let origin = offset_ray_origin(x, n, wc);
+    let to_c = conn.point - origin;
+    let t = to_c.length();
+    if scene.occluded(&Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) }) {
+        return None;
+    }
+    Some(SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d })
+}
+
 /// Adds the contribution of `batch` to `film` as seen by `sensor` — the one splat loop every
 /// image-forming sensor shares.
 pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
@@ -196,38 +257,9 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
     }
     let random = sensor.samples_aperture();
     for s in batch.samples {
-        let x = s.position();
-        let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-        let Some(conn) = sensor.connect(x, u) else { continue };
-        let to_c = conn.point - x;
-        let d = to_c.length();
-        if !(d > 0.0) {
+        let Some(SampleConnection { conn, f, cos_x, .. }) = connect_sample(scene, sensor, s, random) else {
             continue;
-        }
-        let wc = to_c / d;
-        let prim = s.triangle();
-        let n = scene.normal(prim);
-        // |cos θ_x| is the connection's geometry term: always the geometric normal's. Shading
-        // normals enter only through f_r (the adjoint f_eff, see `crate::bsdf::shading`).
-        let cos_x = n.dot(wc);
-        let f = if s.is_emission() {
-            if cos_x <= 0.0 {
-                continue; // emitters are one-sided
-            }
-            Rgb::splat(scene.light_of(prim).map_or(0.0, |k| scene.lights[k].emitted_fraction(n, wc)))
-        } else {
-            let f = scene.material(prim).eval_world(scene.normals_at(prim, x), s.from_dir(), wc);
-            if f == Rgb::ZERO {
-                continue;
-            }
-            f
         };
-        let origin = offset_ray_origin(x, n, wc);
-        let to_c = conn.point - origin;
-        let t = to_c.length();
-        if scene.occluded(&Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) }) {
-            continue;
-        }
         film.splat(conn.pixel, batch.flux_per_path * s.beta() * f * (cos_x.abs() * conn.weight));
     }
 }

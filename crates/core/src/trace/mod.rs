@@ -47,9 +47,16 @@ use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
+#[cfg(doc)]
+use crate::sensor::bidirectional::LightVertexMis;
+use crate::sensor::bidirectional::MisRecord;
+use mis::{PathMis, SegmentMis};
 use rayon::prelude::*;
 
+mod mis;
+
 pub use crate::dataset::{BLOCK_PATHS, Directions, LightPlan, Roulette, Selection, TraceSettings};
+pub use mis::{SAMPLING_SIGNATURE, emitter_densities, light_direction_pdf, samples_uniformly};
 
 /// Russian roulette survival probability is q = min(0.95, ROULETTE_SCALE · max β): a path still
 /// carrying half of its light's share is never culled more often than one time in twenty.
@@ -80,9 +87,11 @@ pub const PRIORITY_TARGET: f32 = 0.5;
 /// Most children a vertex gets under [`Selection::Priority`].
 pub const MAX_SPLIT: f32 = 8.0;
 
-/// A path continuation waiting to be traced (splitting makes a path a tree).
+/// A path continuation waiting to be traced (splitting makes a path a tree), carrying the MIS
+/// state `M` of its segment (`()` when no records are made, so that a trace without records
+/// moves exactly the bytes it always moved).
 #[derive(Clone, Copy, Debug)]
-pub struct Branch {
+struct Branch<M> {
     origin: Vec3,
     dir: Vec3,
     beta: Rgb,
@@ -91,10 +100,31 @@ pub struct Branch {
     delta_run: u32,
     /// Absorption coefficient σ_a (1/m) of the medium this segment travels in (module docs).
     absorption: Rgb,
+    mis: M,
+}
+
+/// Scratch space of [`trace_path`], reused across paths: the branches waiting to be traced.
+#[derive(Clone, Debug, Default)]
+pub struct PathScratch {
+    plain: Vec<Branch<()>>,
+    with_records: Vec<Branch<SegmentMis>>,
 }
 
 /// Traces one path (a tree, under [`Selection::Priority`]) from light `k`, appending its stored
-/// vertices to `out`. `stack` is scratch space, reused across paths.
+/// vertices to `out` and, when `settings.mis` asks for them, each one's MIS record to
+/// `records` (the same order: `records[i]` belongs to `out[i]`). `scratch` is reused across
+/// paths.
+///
+/// The records follow `docs/bidirectional.md` §4: the state starts at the emission
+/// ([`LightVertexMis::at_emission`] with the light's own densities, [`emitter_densities`]; y₀
+/// of an area light stores [`LightVertexMis::emission_vertex`]), becomes the hit vertex's
+/// ([`LightVertexMis::after_hit`]: squared distance between the vertices, |cos θ| of the
+/// arriving direction against the geometric normal) and continues with every child
+/// ([`LightVertexMis::after_scatter`]: |cos θ| of the new direction, the density it was drawn
+/// with — uniform or importance, or the delta lobe's probability — and the camera tracer's
+/// density [`crate::bsdf::Material::pdf_world`] of the reverse step). Roulette, selection and
+/// the delta-run survival do not enter. Records draw no random numbers: the samples are the
+/// same with and without them.
 #[inline]
 pub fn trace_path(
     scene: &Scene,
@@ -102,17 +132,45 @@ pub fn trace_path(
     settings: &TraceSettings,
     rng: &mut RandomStream,
     out: &mut Vec<Sample>,
-    stack: &mut Vec<Branch>,
+    records: &mut Vec<MisRecord>,
+    scratch: &mut PathScratch,
+) {
+    match settings.mis {
+        None => walk(scene, k, settings, rng, out, &mut (), &mut scratch.plain),
+        Some(h) => walk(scene, k, settings, rng, out, &mut (h, records), &mut scratch.with_records),
+    }
+}
+
+/// [`trace_path`] with the MIS state `M` (the records it makes go to `sink`).
+#[inline(always)]
+fn walk<M: PathMis>(
+    scene: &Scene,
+    k: usize,
+    settings: &TraceSettings,
+    rng: &mut RandomStream,
+    out: &mut Vec<Sample>,
+    sink: &mut M::Sink<'_>,
+    stack: &mut Vec<Branch<M>>,
 ) {
     let (u_pos, u_dir) = (rng.next_2d(), rng.next_2d());
-    let e = scene.lights[k].sample_emission(&scene.triangles, u_pos, u_dir);
+    let light = &scene.lights[k];
+    let e = light.sample_emission(&scene.triangles, u_pos, u_dir);
     let mut origin = e.origin;
+    let mis = M::at_emission(light, &e, sink);
     if let Some((normal, prim)) = e.surface {
         out.push(Sample::emitted(e.origin, prim));
         origin = offset_ray_origin(e.origin, normal, e.dir);
     }
     stack.clear();
-    stack.push(Branch { origin, dir: e.dir, beta: e.weight, depth: 0, delta_run: 0, absorption: Rgb::ZERO });
+    stack.push(Branch {
+        origin,
+        dir: e.dir,
+        beta: e.weight,
+        depth: 0,
+        delta_run: 0,
+        absorption: Rgb::ZERO,
+        mis,
+    });
     while let Some(mut b) = stack.pop() {
         let Some(hit) = scene.intersect(&Ray { origin: b.origin, dir: b.dir, t_max: f32::INFINITY }) else {
             continue;
@@ -127,9 +185,11 @@ pub fn trace_path(
         if b.absorption != Rgb::ZERO {
             b.beta *= (-b.absorption * hit.t).exp(); // Beer–Lambert along the segment
         }
+        let mis = b.mis.after_hit(hit.position, wi.dot(hit.normal).abs());
         let delta = material.bsdf.is_delta();
         if !delta {
             out.push(Sample::scattered(hit.position, wi, hit.prim, b.beta));
+            mis.store(sink);
         }
         // Priority selection: c expected children, each carrying 1/c of the weight.
         let c = match settings.selection {
@@ -141,8 +201,7 @@ pub fn trace_path(
             let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
             // Importance mode: `wi` is where the light came from (no 1/η² on refraction, DESIGN §2).
             // Uniform directions only make sense for reflecting, non-delta surfaces.
-            let uniform = settings.directions == Directions::Uniform && !delta && !material.bsdf.transmits();
-            let sampled = if uniform {
+            let sampled = if samples_uniformly(settings.directions, &material.bsdf) {
                 material.sample_uniform_world(normals, wi, u)
             } else {
                 material.sample_world(normals, wi, u_lobe, u, TransportMode::Importance)
@@ -180,6 +239,9 @@ pub fn trace_path(
                 false => b.absorption,
             };
             if beta.max_element() > 0.0 {
+                // The camera tracer, arriving from s.wo, would continue toward wi.
+                let rev = || material.pdf_world(normals, s.wo, wi);
+                let mis = mis.after_scatter(s.wo.dot(hit.normal).abs(), s.pdf, rev, s.delta);
                 stack.push(Branch {
                     origin: offset_ray_origin(hit.position, hit.normal, s.wo),
                     dir: s.wo,
@@ -187,6 +249,7 @@ pub fn trace_path(
                     depth,
                     delta_run,
                     absorption,
+                    mis,
                 });
             }
         }
@@ -205,11 +268,13 @@ pub fn trace_block(
 ) -> Chunk {
     let mut rng = RandomStream::new(settings.seed, &[settings.stream, table_index as u64, block]);
     let mut samples = Vec::with_capacity(paths as usize * 6);
-    let mut stack = Vec::with_capacity(16);
+    let mut records = Vec::with_capacity(if settings.mis.is_some() { samples.capacity() } else { 0 });
+    let mut scratch = PathScratch::default();
     for _ in 0..paths {
-        trace_path(scene, k, settings, &mut rng, &mut samples, &mut stack);
+        trace_path(scene, k, settings, &mut rng, &mut samples, &mut records, &mut scratch);
     }
-    Chunk { light: table_index, paths, samples }
+    debug_assert!(records.is_empty() || records.len() == samples.len());
+    Chunk { light: table_index, paths, samples, records }
 }
 
 /// Traces the plan, handing chunks to `sink` in a deterministic order and calling

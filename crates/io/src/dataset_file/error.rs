@@ -116,6 +116,35 @@ pub enum DatasetError {
         /// What is wrong.
         detail: String,
     },
+    /// A MIS record decodes but cannot be valid (a negative or NaN quantity, a class that
+    /// disagrees with its sample's emission flag).
+    #[error("{}: invalid MIS record {index} of chunk {chunk} at byte {offset}: {detail}", path.display())]
+    InvalidRecord {
+        /// The file.
+        path: PathBuf,
+        /// Offset of the record.
+        offset: u64,
+        /// Chunk index.
+        chunk: u64,
+        /// Record (= sample) index within the chunk.
+        index: usize,
+        /// What is wrong.
+        detail: String,
+    },
+    /// The MIS records of a chunk that has none were asked for.
+    #[error(
+        "{}: chunk {chunk} (header at byte {offset}) has no MIS records: it was traced without them \
+         (by an Opticks older than dataset format 3, or with MIS records switched off)",
+        path.display()
+    )]
+    NoRecords {
+        /// The file.
+        path: PathBuf,
+        /// Offset of the chunk header.
+        offset: u64,
+        /// Chunk index.
+        chunk: u64,
+    },
     /// `chunk(i)` with `i` out of range.
     #[error("{}: no chunk {index}: the file has {count} chunks", path.display())]
     NoSuchChunk {
@@ -147,7 +176,9 @@ impl DatasetError {
             | DatasetError::Corrupt { offset, .. }
             | DatasetError::LightOutOfRange { offset, .. }
             | DatasetError::PathCountMismatch { offset, .. }
-            | DatasetError::InvalidSample { offset, .. } => Some(*offset),
+            | DatasetError::InvalidSample { offset, .. }
+            | DatasetError::InvalidRecord { offset, .. }
+            | DatasetError::NoRecords { offset, .. } => Some(*offset),
             DatasetError::Io { .. }
             | DatasetError::NoSuchChunk { .. }
             | DatasetError::InvalidInput { .. } => None,

@@ -2,10 +2,11 @@
 
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMAT_VERSION};
 use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
-use opticks_core::dataset::{DatasetHeader, Directions, Roulette, Selection, TraceInfo, TracePass};
+use opticks_core::dataset::{DatasetHeader, Directions, PassMis, Roulette, Selection, TraceInfo, TracePass};
 use opticks_core::dataset::{LightRecord, LightTable, MAX_PATHS, Sample};
 use opticks_core::math::Rgb;
 use opticks_core::scene::Fingerprint;
+use opticks_core::sensor::bidirectional::{Heuristic, LightVertexMis, MisRecord, VcmClass};
 use std::path::Path;
 
 /// Size of the fixed part of the header, up to and including the pass count.
@@ -17,6 +18,9 @@ const PASS_RECORD_V1_LEN: usize = 8 + 8 + 8 + 4 + 4;
 /// Bytes of a version-2 pass record besides its plan: the version-1 fields, roulette,
 /// directions, selection, a zero byte, the plan's length.
 const PASS_RECORD_LEN: usize = PASS_RECORD_V1_LEN + 4 + 4;
+/// Bytes of a version-3 pass record besides its plan: the version-2 fields (the reserved byte
+/// now the MIS heuristic) and the sampling signature.
+const PASS_RECORD_V3_LEN: usize = PASS_RECORD_LEN + 4;
 /// Bytes of one entry of a pass's plan: light table index, planned paths.
 const PLAN_ENTRY_LEN: usize = 4 + 8;
 /// Bytes of a light record besides its name: name length, shape hash, power, paths.
@@ -47,8 +51,16 @@ pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
             roulette_code(p.roulette),
             directions_code(p.directions),
             selection_code(p.selection),
-            0,
+            mis_code(p.mis.map(|m| m.heuristic)),
         ]);
+        let signature = match p.mis {
+            Some(m) if m.signature == 0 => {
+                return Err("a pass with MIS records has sampling signature 0".into());
+            }
+            Some(m) => m.signature,
+            None => 0,
+        };
+        b.extend_from_slice(&signature.to_le_bytes());
         let planned =
             u32::try_from(p.planned.len()).map_err(|_| "more than 2^32 planned lights".to_string())?;
         b.extend_from_slice(&planned.to_le_bytes());
@@ -88,6 +100,8 @@ pub(crate) struct DecodedHeader {
     pub len: usize,
     /// Offset of each light's N_k field (for messages).
     pub paths_offsets: Vec<u64>,
+    /// The file's format version.
+    pub version: u32,
 }
 
 /// Reads and validates the header at the start of `file`.
@@ -169,7 +183,11 @@ pub(crate) fn decode_header(
     fingerprint.lights.copy_from_slice(c.take(16, "light hash")?);
     let pass_count_at = c.pos;
     let pass_count = c.u32("pass count")? as usize;
-    let record_len = if version == 1 { PASS_RECORD_V1_LEN } else { PASS_RECORD_LEN };
+    let record_len = match version {
+        1 => PASS_RECORD_V1_LEN,
+        2 => PASS_RECORD_LEN,
+        _ => PASS_RECORD_V3_LEN,
+    };
     if pass_count > (body.len() - c.pos) / record_len {
         return Err(corrupt(
             pass_count_at,
@@ -198,8 +216,29 @@ pub(crate) fn decode_header(
             pass.roulette = roulette_from(codes[0]).ok_or_else(|| bad("roulette", codes[0]))?;
             pass.directions = directions_from(codes[1]).ok_or_else(|| bad("directions", codes[1]))?;
             pass.selection = selection_from(codes[2]).ok_or_else(|| bad("selection", codes[2]))?;
-            if codes[3] != 0 {
+            if version == 2 && codes[3] != 0 {
                 return Err(corrupt(at + 3, format!("pass {i}: non-zero reserved byte")));
+            }
+            if version >= 3 {
+                let heuristic = mis_from(codes[3]).ok_or_else(|| bad("MIS heuristic", codes[3]))?;
+                let signature_at = c.pos;
+                let signature = c.u32("pass sampling signature")?;
+                pass.mis = match (heuristic, signature) {
+                    (None, 0) => None,
+                    (Some(heuristic), s) if s != 0 => Some(PassMis { heuristic, signature: s }),
+                    (None, s) => {
+                        return Err(corrupt(
+                            signature_at,
+                            format!("pass {i}: sampling signature {s} for a pass without MIS records"),
+                        ));
+                    }
+                    (Some(_), _) => {
+                        return Err(corrupt(
+                            signature_at,
+                            format!("pass {i}: MIS records with sampling signature 0"),
+                        ));
+                    }
+                };
             }
             let planned_at = c.pos;
             let n = c.u32("pass plan length")? as usize;
@@ -283,6 +322,7 @@ pub(crate) fn decode_header(
         },
         len,
         paths_offsets,
+        version,
     })
 }
 
@@ -313,6 +353,17 @@ fn selection_code(s: Selection) -> u8 {
 }
 fn selection_from(c: u8) -> Option<Selection> {
     [Selection::Single, Selection::Priority].into_iter().find(|&s| selection_code(s) == c)
+}
+/// The pass's MIS byte: 0 no records, 1 + [`Heuristic::code`] otherwise.
+fn mis_code(h: Option<Heuristic>) -> u8 {
+    h.map_or(0, |h| h.code() + 1)
+}
+/// `None` for an unknown code; `Some(None)` for "no records".
+fn mis_from(c: u8) -> Option<Option<Heuristic>> {
+    match c {
+        0 => Some(None),
+        c => Heuristic::from_code(c - 1).map(Some),
+    }
 }
 
 struct Cursor<'a> {
@@ -353,42 +404,89 @@ impl<'a> Cursor<'a> {
     }
 }
 
-/// A chunk header: 32 bytes.
+/// A chunk header: 32 bytes. Version 3 splits version 2's u64 sample count into a u32 count
+/// and a u32 of flags, of which bit 0 ([`RECORDS_FLAG`]) says that a block of MIS records
+/// follows the samples (on a little-endian disk a version-3 header without records is a
+/// version-2 header).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct ChunkHeader {
     pub light: u32,
     pub paths: u64,
     pub count: u64,
+    /// Whether a record block follows the samples (version 3).
+    pub records: bool,
     pub payload_crc: u32,
 }
 
+/// The flag of a version-3 chunk header whose samples are followed by their MIS records.
+pub(crate) const RECORDS_FLAG: u32 = 1;
+
+/// Why a chunk header does not decode.
+pub(crate) enum ChunkHeaderError {
+    /// Its CRC: (stored, computed).
+    Checksum(u32, u32),
+    /// Version 3: unknown flag bits (at byte 20 of the header).
+    Flags(u32),
+}
+
 impl ChunkHeader {
+    /// Encodes in the current format; `count` must fit 32 bits.
     pub(crate) fn encode(&self) -> [u8; CHUNK_HEADER_LEN] {
+        debug_assert!(self.count <= u32::MAX as u64);
         let mut b = [0u8; CHUNK_HEADER_LEN];
         b[0..4].copy_from_slice(&CHUNK_MAGIC);
         b[4..8].copy_from_slice(&self.light.to_le_bytes());
         b[8..16].copy_from_slice(&self.paths.to_le_bytes());
-        b[16..24].copy_from_slice(&self.count.to_le_bytes());
+        b[16..20].copy_from_slice(&(self.count as u32).to_le_bytes());
+        b[20..24].copy_from_slice(&(if self.records { RECORDS_FLAG } else { 0 }).to_le_bytes());
         b[24..28].copy_from_slice(&self.payload_crc.to_le_bytes());
         let crc = crc32fast::hash(&b[..28]);
         b[28..32].copy_from_slice(&crc.to_le_bytes());
         b
     }
 
-    /// Decodes after the caller has checked the magic; `Err((stored, computed))` on a bad CRC.
-    pub(crate) fn decode(b: &[u8; CHUNK_HEADER_LEN]) -> Result<Self, (u32, u32)> {
+    /// Decodes a header of format `version` after the caller has checked the magic.
+    pub(crate) fn decode(b: &[u8; CHUNK_HEADER_LEN], version: u32) -> Result<Self, ChunkHeaderError> {
         let stored = u32::from_le_bytes(b[28..32].try_into().unwrap());
         let computed = crc32fast::hash(&b[..28]);
         if stored != computed {
-            return Err((stored, computed));
+            return Err(ChunkHeaderError::Checksum(stored, computed));
         }
+        let (count, records) = if version >= 3 {
+            let flags = u32::from_le_bytes(b[20..24].try_into().unwrap());
+            if flags & !RECORDS_FLAG != 0 {
+                return Err(ChunkHeaderError::Flags(flags));
+            }
+            (u32::from_le_bytes(b[16..20].try_into().unwrap()) as u64, flags == RECORDS_FLAG)
+        } else {
+            (u64::from_le_bytes(b[16..24].try_into().unwrap()), false)
+        };
         Ok(ChunkHeader {
             light: u32::from_le_bytes(b[4..8].try_into().unwrap()),
             paths: u64::from_le_bytes(b[8..16].try_into().unwrap()),
-            count: u64::from_le_bytes(b[16..24].try_into().unwrap()),
+            count,
+            records,
             payload_crc: u32::from_le_bytes(b[24..28].try_into().unwrap()),
         })
     }
+}
+
+/// Bytes of the record block of a chunk of `count` samples: the records, zero padding, and
+/// the block's CRC-32 in its last 4 bytes, the whole a multiple of 32 (`None` on overflow).
+pub(crate) fn record_block_len(count: u64) -> Option<u64> {
+    let raw = count.checked_mul(size_of::<MisRecord>() as u64)?.checked_add(4)?;
+    Some(raw.div_ceil(ALIGN as u64) * ALIGN as u64)
+}
+
+/// The record block of `records`: the records, zero padding, CRC-32 of everything before it.
+pub(crate) fn encode_record_block(records: &[MisRecord]) -> Vec<u8> {
+    let len = record_block_len(records.len() as u64).expect("an in-memory slice's length fits") as usize;
+    let mut b = Vec::with_capacity(len);
+    b.extend_from_slice(bytemuck::cast_slice(records));
+    b.resize(len - 4, 0);
+    let crc = crc32fast::hash(&b);
+    b.extend_from_slice(&crc.to_le_bytes());
+    b
 }
 
 /// The end record: 32 bytes.
@@ -444,6 +542,31 @@ pub(crate) fn validate_samples(samples: &[Sample], triangles: Option<u32>) -> Re
             return Err((
                 i,
                 format!("triangle {} does not exist: the scene has {n} triangles", s.triangle()),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Checks what a record block's checksum cannot: that every record is possible
+/// ([`MisRecord::is_valid`]: each field ≥ 0 or +∞) and that its class agrees with its sample
+/// (the emitter-hit class exactly on emission samples). Returns the index of the first bad
+/// record and what is wrong.
+pub(crate) fn validate_records(samples: &[Sample], records: &[MisRecord]) -> Result<(), (usize, String)> {
+    for (i, (s, r)) in samples.iter().zip(records).enumerate() {
+        if !r.is_valid() {
+            return Err((i, format!("negative or NaN MIS quantity: {r:?}")));
+        }
+        // The class does not depend on the heuristic.
+        let hit = LightVertexMis::from_record(*r, Heuristic::Power).class() == VcmClass::Hit;
+        if hit != s.is_emission() {
+            return Err((
+                i,
+                if hit {
+                    "MIS record of an emission vertex, but its sample is a reflection vertex".into()
+                } else {
+                    "the sample is an emission vertex, but its MIS record is not one".into()
+                },
             ));
         }
     }

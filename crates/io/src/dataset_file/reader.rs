@@ -7,9 +7,11 @@
 //! did, and only one chunk per thread is in memory at a time, so render memory stays
 //! independent of the dataset's size.
 
-use super::format::{ChunkHeader, Trailer, decode_header, validate_samples};
+use super::format::{ChunkHeader, ChunkHeaderError, Trailer, decode_header, record_block_len};
+use super::format::{validate_records, validate_samples};
 use super::{CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, TRAILER_LEN};
 use opticks_core::dataset::{Chunk, DatasetHeader, MAX_PATHS, Sample};
+use opticks_core::sensor::bidirectional::MisRecord;
 use rayon::prelude::*;
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -22,6 +24,20 @@ struct Entry {
     paths: u64,
     count: usize,
     crc: u32,
+    /// Whether a record block follows the samples.
+    records: bool,
+}
+
+impl Entry {
+    /// Offset of the samples.
+    fn samples_at(&self) -> usize {
+        self.offset + CHUNK_HEADER_LEN
+    }
+
+    /// Offset of the record block.
+    fn records_at(&self) -> usize {
+        self.samples_at() + self.count * size_of::<Sample>()
+    }
 }
 
 /// A validated dataset file, open for reading.
@@ -29,10 +45,12 @@ struct Entry {
 /// [`open`](Self::open) checks the header (magic, version, CRC, light table), every chunk header
 /// (magic, CRC, light index, length) and the end record, and that each light's N_k equals the sum
 /// of its chunks' paths. It does not read the payloads: [`chunk`](Self::chunk) reads a chunk's
-/// payload and verifies its CRC and samples each time it is called (from any number of threads:
-/// the reader is `Sync`), and [`verify`](Self::verify) checks them all. Once
-/// [`check_triangles`](Self::check_triangles) has given the scene's triangle count, every sample
-/// read must also name an existing triangle.
+/// samples and verifies their CRC and values each time it is called (from any number of
+/// threads: the reader is `Sync`), [`read_chunk_records`](Self::read_chunk_records) also its MIS
+/// records (format 3), and [`verify`](Self::verify) checks them all. `chunk` reads only the
+/// samples, so the light estimator reads the same bytes from a format-3 file as from a format-2
+/// one. Once [`check_triangles`](Self::check_triangles) has given the scene's triangle count,
+/// every sample read must also name an existing triangle.
 #[derive(Debug)]
 pub struct DatasetReader {
     path: PathBuf,
@@ -109,18 +127,14 @@ impl DatasetReader {
     pub fn chunk(&self, i: usize) -> Result<Chunk, DatasetError> {
         let mut samples = Vec::new();
         let (light, paths) = self.read_chunk(i, &mut samples)?;
-        Ok(Chunk { light, paths, samples })
+        Ok(Chunk { light, paths, samples, records: Vec::new() })
     }
 
     /// [`chunk`](Self::chunk) into `samples` (replacing its contents, reusing its memory):
     /// returns the chunk's light index and path count.
     pub fn read_chunk(&self, i: usize, samples: &mut Vec<Sample>) -> Result<(u32, u64), DatasetError> {
-        let e = *self.index.get(i).ok_or_else(|| DatasetError::NoSuchChunk {
-            path: self.path.clone(),
-            index: i,
-            count: self.index.len(),
-        })?;
-        let start = e.offset + CHUNK_HEADER_LEN;
+        let e = self.entry(i)?;
+        let start = e.samples_at();
         samples.clear();
         samples.resize(e.count, Sample::default());
         self.read_exact_at(start as u64, bytemuck::cast_slice_mut(samples))?;
@@ -146,17 +160,114 @@ impl DatasetReader {
         Ok((e.light, e.paths))
     }
 
+    /// Whether chunk `i`'s samples carry MIS records (format 3; true for a chunk without
+    /// samples, whose records are empty), from the index (no payload is read).
+    pub fn has_records(&self, i: usize) -> Option<bool> {
+        self.index.get(i).map(|e| e.records || e.count == 0)
+    }
+
+    /// [`read_chunk`](Self::read_chunk) plus the MIS records of the chunk's samples into
+    /// `records` (`records[j]` belongs to `samples[j]`; both replaced, their memory reused),
+    /// after checking the record block's CRC, its zero padding, that every record is possible
+    /// ([`MisRecord::is_valid`]) and that the emitter-hit class marks exactly the emission
+    /// samples. An error for a chunk with samples but no records ([`has_records`](Self::has_records)).
+    pub fn read_chunk_records(
+        &self,
+        i: usize,
+        samples: &mut Vec<Sample>,
+        records: &mut Vec<MisRecord>,
+    ) -> Result<(u32, u64), DatasetError> {
+        let (light, paths) = self.read_chunk(i, samples)?;
+        let e = self.entry(i)?;
+        records.clear();
+        if e.count == 0 {
+            return Ok((light, paths));
+        }
+        if !e.records {
+            return Err(DatasetError::NoRecords { path: self.path.clone(), offset: e.offset as u64, chunk: i as u64 });
+        }
+        let start = e.records_at();
+        let len = record_block_len(e.count as u64).expect("checked by open") as usize;
+        let block = self.bytes_at(start, len)?;
+        let stored = u32::from_le_bytes(block[len - 4..].try_into().unwrap());
+        let computed = crc32fast::hash(&block[..len - 4]);
+        if stored != computed {
+            return Err(DatasetError::Checksum {
+                path: self.path.clone(),
+                offset: start as u64,
+                what: format!("chunk {i} MIS records"),
+                stored,
+                computed,
+            });
+        }
+        let records_len = e.count * size_of::<MisRecord>();
+        if let Some(k) = block[records_len..len - 4].iter().position(|&x| x != 0) {
+            return Err(DatasetError::Corrupt {
+                path: self.path.clone(),
+                offset: (start + records_len + k) as u64,
+                detail: format!("chunk {i}: non-zero byte in the padding of the MIS records"),
+            });
+        }
+        records.resize(e.count, bytemuck::Zeroable::zeroed());
+        bytemuck::cast_slice_mut::<MisRecord, u8>(records).copy_from_slice(&block[..records_len]);
+        if let Err((k, detail)) = validate_records(samples, records) {
+            return Err(DatasetError::InvalidRecord {
+                path: self.path.clone(),
+                offset: (start + k * size_of::<MisRecord>()) as u64,
+                chunk: i as u64,
+                index: k,
+                detail,
+            });
+        }
+        Ok((light, paths))
+    }
+
+    /// The MIS records of chunk `i`, checked as [`read_chunk_records`](Self::read_chunk_records)
+    /// checks them (its samples are read for that too).
+    pub fn chunk_records(&self, i: usize) -> Result<Vec<MisRecord>, DatasetError> {
+        let (mut samples, mut records) = (Vec::new(), Vec::new());
+        self.read_chunk_records(i, &mut samples, &mut records)?;
+        Ok(records)
+    }
+
+    /// Chunk `i` as an owned [`Chunk`]: its samples and, if it has them, its MIS records (both
+    /// checked). What copying a chunk into another dataset needs.
+    pub fn owned_chunk(&self, i: usize) -> Result<Chunk, DatasetError> {
+        let (mut samples, mut records) = (Vec::new(), Vec::new());
+        let (light, paths) = if self.entry(i)?.records {
+            self.read_chunk_records(i, &mut samples, &mut records)?
+        } else {
+            self.read_chunk(i, &mut samples)?
+        };
+        Ok(Chunk { light, paths, samples, records })
+    }
+
+    fn entry(&self, i: usize) -> Result<Entry, DatasetError> {
+        self.index.get(i).copied().ok_or_else(|| DatasetError::NoSuchChunk {
+            path: self.path.clone(),
+            index: i,
+            count: self.index.len(),
+        })
+    }
+
     /// Light index, path count and sample count of chunk `i`, from the index built by
     /// [`open`](Self::open) (no payload is read).
     pub fn chunk_summary(&self, i: usize) -> Option<(u32, u64, usize)> {
         self.index.get(i).map(|e| (e.light, e.paths, e.count))
     }
 
-    /// Checks every chunk's payload (in parallel); the error of the lowest-numbered bad chunk.
+    /// Checks every chunk's payload and MIS records (in parallel); the error of the
+    /// lowest-numbered bad chunk.
     pub fn verify(&self) -> Result<(), DatasetError> {
         match (0..self.index.len())
             .into_par_iter()
-            .map_init(Vec::new, |buf, i| self.read_chunk(i, buf).map(|_| ()))
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(samples, records), i| match self.index[i].records {
+                    true => self.read_chunk_records(i, samples, records).map(|_| ()),
+                    false => self.read_chunk(i, samples).map(|_| ()),
+                },
+            )
             .find_first(|r| r.is_err())
         {
             Some(r) => r,
@@ -193,10 +304,12 @@ impl DatasetReader {
     }
 }
 
-/// Reads a whole dataset into memory, verifying every chunk.
+/// Reads a whole dataset into memory, verifying every chunk ([`DatasetReader::owned_chunk`]:
+/// samples and MIS records).
 pub fn read_all(path: &Path) -> Result<(DatasetHeader, Vec<Chunk>), DatasetError> {
     let r = DatasetReader::open(path)?;
-    let chunks = (0..r.chunk_count()).into_par_iter().map(|i| r.chunk(i)).collect::<Result<Vec<_>, _>>()?;
+    let chunks =
+        (0..r.chunk_count()).into_par_iter().map(|i| r.owned_chunk(i)).collect::<Result<Vec<_>, _>>()?;
     Ok((r.header.clone(), chunks))
 }
 
@@ -237,12 +350,17 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
         let rec: &[u8; 32] = rec[..].try_into().unwrap();
         let n = index.len() as u64;
         if rec[..4] == CHUNK_MAGIC {
-            let h = ChunkHeader::decode(rec).map_err(|(stored, computed)| DatasetError::Checksum {
-                path: path.to_owned(),
-                offset: pos as u64,
-                what: format!("chunk {n} header"),
-                stored,
-                computed,
+            let h = ChunkHeader::decode(rec, decoded.version).map_err(|e| match e {
+                ChunkHeaderError::Checksum(stored, computed) => DatasetError::Checksum {
+                    path: path.to_owned(),
+                    offset: pos as u64,
+                    what: format!("chunk {n} header"),
+                    stored,
+                    computed,
+                },
+                ChunkHeaderError::Flags(flags) => {
+                    corrupt(pos + 20, format!("chunk {n}: unknown chunk flags {flags:#x}"))
+                }
             })?;
             if h.light as usize >= lights {
                 return Err(DatasetError::LightOutOfRange {
@@ -254,15 +372,24 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
                 });
             }
             let avail = rest - CHUNK_HEADER_LEN;
-            let payload = h.count.checked_mul(size_of::<Sample>() as u64).filter(|&b| b <= avail as u64);
+            let records = if h.records { record_block_len(h.count) } else { Some(0) };
+            let payload = h
+                .count
+                .checked_mul(size_of::<Sample>() as u64)
+                .zip(records)
+                .and_then(|(s, r)| s.checked_add(r))
+                .filter(|&b| b <= avail as u64);
             let Some(payload) = payload else {
+                let with = if h.records { " and their MIS records" } else { "" };
+                let bytes = h.count as u128
+                    * (size_of::<Sample>() + if h.records { size_of::<MisRecord>() } else { 0 }) as u128;
                 return Err(DatasetError::Truncated {
                     path: path.to_owned(),
                     offset: (pos + CHUNK_HEADER_LEN) as u64,
                     detail: format!(
-                        "chunk {n} declares {} samples ({} bytes) but only {avail} bytes follow its header",
+                        "chunk {n} declares {} samples{with} (at least {bytes} bytes) but only {avail} bytes \
+                         follow its header",
                         h.count,
-                        h.count as u128 * size_of::<Sample>() as u128
                     ),
                 });
             };
@@ -281,6 +408,7 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
                 paths: h.paths,
                 count: h.count as usize,
                 crc: h.payload_crc,
+                records: h.records,
             });
             pos += CHUNK_HEADER_LEN + payload as usize;
         } else if rec[..4] == END_MAGIC {

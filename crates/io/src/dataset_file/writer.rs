@@ -1,7 +1,9 @@
 //! Writing a dataset: sequential, buffered, atomic (temporary file + rename).
 
 use super::DatasetError;
-use super::format::{ChunkHeader, Trailer, encode_header, validate_samples};
+use super::format::{
+    ChunkHeader, Trailer, encode_header, encode_record_block, validate_records, validate_samples,
+};
 use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, MAX_PATHS, TraceInfo};
 use std::fs::{File, OpenOptions};
 use std::io::{Seek, SeekFrom, Write};
@@ -126,8 +128,10 @@ impl DatasetWriter {
         &self.path
     }
 
-    /// Appends one chunk. Refuses (without writing anything) a chunk whose light is not in the
-    /// table or whose samples are not finite with β ≥ 0.
+    /// Appends one chunk, with its MIS records if it has them (a record block after the
+    /// samples). Refuses (without writing anything) a chunk whose light is not in the table,
+    /// whose samples are not finite with β ≥ 0, whose records are neither absent nor one per
+    /// sample or fail the reader's checks, or with more than 2³² − 1 samples.
     pub fn write_chunk(&mut self, chunk: &Chunk) -> Result<(), DatasetError> {
         let invalid = |detail: String| DatasetError::InvalidInput { path: self.path.clone(), detail };
         let lights = self.written.light_paths.len();
@@ -149,11 +153,27 @@ impl DatasetWriter {
         if let Err((i, what)) = validate_samples(&chunk.samples, None) {
             return Err(invalid(format!("sample {i} of a chunk of light {}: {what}", chunk.light)));
         }
+        if u32::try_from(chunk.samples.len()).is_err() {
+            return Err(invalid(format!("a chunk of {} samples (at most 2^32 - 1)", chunk.samples.len())));
+        }
+        let records = !chunk.records.is_empty();
+        if records && chunk.records.len() != chunk.samples.len() {
+            return Err(invalid(format!(
+                "a chunk of light {} with {} samples but {} MIS records",
+                chunk.light,
+                chunk.samples.len(),
+                chunk.records.len()
+            )));
+        }
+        if let Err((i, what)) = validate_records(&chunk.samples, &chunk.records) {
+            return Err(invalid(format!("MIS record {i} of a chunk of light {}: {what}", chunk.light)));
+        }
         let payload: &[u8] = bytemuck::cast_slice(&chunk.samples);
         let head = ChunkHeader {
             light: chunk.light,
             paths: chunk.paths,
             count: chunk.samples.len() as u64,
+            records,
             payload_crc: crc32fast::hash(payload),
         };
         if self.failed {
@@ -161,6 +181,9 @@ impl DatasetWriter {
         }
         self.write(&head.encode())?;
         self.write(payload)?;
+        if records {
+            self.write(&encode_record_block(&chunk.records))?;
+        }
         self.written.light_paths[chunk.light as usize] = sum;
         self.written.chunks += 1;
         self.written.samples += chunk.samples.len() as u64;

@@ -220,6 +220,14 @@ fn mul(a: f64, b: f64) -> f64 {
     if a == 0.0 || b == 0.0 { 0.0 } else { a * b }
 }
 
+/// Returns a/b, or 0 when a is 0 (even if b is 0 too): a zero density or cosine in the
+/// numerator makes a strategy impossible, as in [`mul`]. (A light path emitted exactly along
+/// its surface, where a cosine profile's density is 0 too, would otherwise make a NaN.)
+#[inline]
+fn div(a: f64, b: f64) -> f64 {
+    if a == 0.0 { 0.0 } else { a / b }
+}
+
 /// 1/(1 + sum), the weight of a strategy whose other strategies' ratios sum to `sum`.
 #[inline]
 fn weight(sum: f64) -> f32 {
@@ -252,7 +260,7 @@ impl<const N: usize> Subpath<N> {
     #[inline]
     fn after_hit(self, dist2: f32, cos_in: f32) -> Self {
         let (h, dist2, cos_in) = (self.heuristic, dist2 as f64, cos_in as f64);
-        let g = if self.infinite_segment { 1.0 / cos_in } else { dist2 / cos_in };
+        let g = if self.infinite_segment { 1.0 / cos_in } else { div(dist2, cos_in) };
         let inv_cos = h.mis(1.0 / cos_in);
         Subpath {
             vcm: mul(self.vcm, h.mis(g)),
@@ -271,10 +279,10 @@ impl<const N: usize> Subpath<N> {
         if delta {
             // No connection can end here: the strategies of `vcm` and of the next vertex are
             // impossible; the older ones pass through (their δ cancel against this side's).
-            let g = h.mis(cos_out / pdf_fwd_w * pdf_rev_w);
+            let g = h.mis(mul(div(cos_out, pdf_fwd_w), pdf_rev_w));
             return Subpath { vcm: 0.0, vc: self.vc.map(|v| mul(v, g)), class: Self::CONN, ..self };
         }
-        let g = h.mis(cos_out / pdf_fwd_w);
+        let g = h.mis(div(cos_out, pdf_fwd_w));
         let r = h.mis(pdf_rev_w);
         let mut vc = self.vc.map(|v| mul(v, r));
         vc[self.class] += self.vcm;
@@ -326,7 +334,7 @@ impl LightVertexMis {
         let vc_hit = match emitter.kind {
             // The emitter hit's camera-side density of x₀ is r·cos θ₀/d²: cos θ₀ now, the d²
             // cancels against the light's own 1/d², r comes at the connection.
-            LightKind::Area => h.mis(cos_light as f64 / (emitter.first * emitter.second)),
+            LightKind::Area => h.mis(div(cos_light as f64, emitter.first * emitter.second)),
             LightKind::Point | LightKind::Directional => 0.0, // never hit by a camera path
         };
         LightVertexMis(Subpath {

@@ -4,15 +4,40 @@
 //! non-delta camera vertex the camera path estimates next-event (s = 1) and connects to n_c
 //! vertices drawn from the whole cache (s ≥ 2); camera paths that hit an emitter estimate s = 0;
 //! and every stored sample is still splatted to the camera (t = 1, the thesis's light tracer).
+//! All of them are combined with multiple importance sampling; the derivation is
+//! `docs/bidirectional.md`.
 //!
-//! So far this holds the multiple-importance-sampling mathematics that combines those
-//! strategies ([`mis`]): the per-vertex quantities the tracer stores with each sample and the
-//! camera path carries, and the weights. Its derivation, the storage it needs (dataset format
-//! v3) and how it keeps every dataset law exact are in `docs/bidirectional.md`.
+//! | module | its one job |
+//! |---|---|
+//! | [`mis`] | the MIS weights and the per-vertex quantities both sides carry |
+//! | `camera.rs` | camera rays of every sensor, the image-wide density of a direction |
+//! | `lights.rs` | the lights that are on: NEE's pick and light points, emitter hits |
+//! | `cache.rs` | the light vertex cache: uniform draws, |Y|, per-light N_k |
+//! | `vertex.rs` | what a camera-side vertex (a [`Receiver`]) gathers: NEE and connections |
+//! | `path.rs` | camera subpaths and their emitter hits |
+//! | `splat.rs` | the MIS-weighted light-tracing splat |
+//! | `render.rs` | the [`Renderer`]: passes, counts, determinism |
+//! | `progressive.rs` | camera passes accumulated into one image, with a running error estimate |
 
+mod cache;
+mod camera;
+mod lights;
 pub mod mis;
+mod path;
+mod progressive;
+mod render;
+mod splat;
+mod vertex;
 
+pub use cache::{CacheChunk, CachedVertex, LightCache, RecordMismatch};
+pub use camera::{CameraRay, camera_ray, image_pdf};
+pub use lights::{LightPoint, RenderLight, RenderLights};
 pub use mis::{
     CameraVertexMis, ConnectionEnd, Counts, Emitter, Heuristic, LightKind, LightVertexMis, MisRecord,
     VcmClass, weight_connection, weight_emitter_hit, weight_light_trace, weight_nee,
 };
+pub use path::{camera_path, scatter_mis};
+pub use progressive::Progressive;
+pub use render::{Renderer, Settings, combine};
+pub use splat::{light_trace_weight, splat_chunk};
+pub use vertex::{Context, Receiver, connect, connection_weight, nee, nee_weight};

@@ -1,0 +1,205 @@
+//! `--estimator light|bidirectional` and its options, shared by `render` and `walk`, and the
+//! bidirectional render as the command line runs it: the dataset's chunks as the core's light
+//! vertex cache (`opticks_io::light_cache`), one splat pass, then camera passes — a fixed
+//! number of camera paths per pixel (`--spp`), or passes until `--time` is up with a progress
+//! bar and the running error estimate of `opticks_core::sensor::bidirectional::Progressive`.
+
+use super::LitDataset;
+use crate::progress;
+use anyhow::{Result, anyhow, bail};
+use clap::ValueEnum;
+use opticks_core::dataset::Directions;
+use opticks_core::film::Film;
+use opticks_core::sensor::Sensor;
+use opticks_core::sensor::bidirectional::{Heuristic, Progressive, Renderer, Settings};
+use opticks_core::trace::SAMPLING_SIGNATURE;
+use std::time::Instant;
+
+/// Which estimator renders the image.
+#[derive(ValueEnum, Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Estimator {
+    /// The thesis's light tracer: every stored sample connected to the camera.
+    #[default]
+    Light,
+    /// Camera paths with NEE, connections to the dataset and emitter hits, plus the light
+    /// tracer's splats, combined by MIS: sees mirrors, glass and what lies behind them.
+    Bidirectional,
+}
+
+/// The estimator options.
+#[derive(clap::Args, Debug, Clone)]
+pub struct EstimatorArgs {
+    /// The estimator: `light` (the thesis's, the default) or `bidirectional` (needs a dataset
+    /// with MIS records, written by this version's `trace`).
+    #[arg(long, value_enum, default_value_t = Estimator::Light)]
+    pub estimator: Estimator,
+    /// Bidirectional: camera paths per pixel.
+    #[arg(long, default_value_t = 16)]
+    pub spp: u32,
+    /// Bidirectional: dataset vertices each camera vertex connects to (n_c).
+    #[arg(long, default_value_t = 1)]
+    pub connections: u32,
+    /// Bidirectional: seed of the camera paths' random streams.
+    #[arg(long = "camera-seed", default_value_t = 0)]
+    pub seed: u64,
+}
+
+/// What a bidirectional render did.
+pub struct BidirectionalRun {
+    /// The image.
+    pub film: Film,
+    /// Camera passes and camera paths per pixel.
+    pub passes: u64,
+    /// Camera paths per pixel in all.
+    pub spp: u64,
+    /// The running estimate of the relative error (after two passes).
+    pub error: Option<f64>,
+}
+
+impl EstimatorArgs {
+    /// Checks the options that do not depend on the dataset.
+    pub fn check(&self) -> Result<()> {
+        if self.estimator == Estimator::Bidirectional && self.spp == 0 {
+            bail!("--spp must be at least 1");
+        }
+        Ok(())
+    }
+
+    /// Renders `data` through `camera` bidirectionally: `self.spp` camera paths per pixel in one
+    /// pass, or, with `time`, passes of that many until `time` seconds have passed since the
+    /// start. `pass` names the first pass's random streams (a walkthrough's frame number).
+    pub fn render(
+        &self,
+        data: &LitDataset,
+        camera: &Sensor,
+        time: Option<f64>,
+        pass: u64,
+        bars: bool,
+    ) -> Result<BidirectionalRun> {
+        let start = Instant::now();
+        let (heuristic, directions) = mis_settings(data)?;
+        let chunks = data.cache_chunks()?;
+        if !chunks.iter().all(|c| c.records.len() == c.samples.len()) {
+            bail!(
+                "{} has no MIS records (written by an older Opticks): --estimator bidirectional needs them; \
+                 trace the scene again with this version (`opticks trace`), or render with --estimator light",
+                data.reader.path().display()
+            );
+        }
+        let names = data.light_names();
+        let settings = Settings { connections: self.connections, seed: self.seed, heuristic, directions };
+        let (w, h) = (camera.width(), camera.height());
+        let per_pass = w as u64 * h as u64 * self.spp as u64;
+        let stop = crate::interrupt::requested;
+        let interrupted = || anyhow!("interrupted: stopped, nothing written");
+        // M, the camera paths the render will take: known for --spp; for --time planned from a
+        // one-path-per-pixel pilot (any constant is unbiased, docs/bidirectional.md §10.2).
+        let planned = match time {
+            None => per_pass,
+            Some(t) => {
+                let pilot = Renderer::new(
+                    &data.scene,
+                    *camera,
+                    chunks.clone(),
+                    &names,
+                    data.flux_per_path(),
+                    settings,
+                    per_pass,
+                );
+                let t0 = Instant::now();
+                pilot.camera_pass(u64::MAX, 1, |_| {}, stop).ok_or_else(interrupted)?;
+                let per_spp = t0.elapsed().as_secs_f64().max(1e-6);
+                let left = (t - start.elapsed().as_secs_f64()).max(0.0);
+                let passes = (left / (per_spp * self.spp as f64)).floor().max(1.0);
+                per_pass * passes as u64
+            }
+        };
+        let renderer =
+            Renderer::new(&data.scene, *camera, chunks, &names, data.flux_per_path(), settings, planned);
+        let samples: u64 = renderer.cache().chunks().iter().map(|c| c.samples.len() as u64).sum();
+        let pb = if bars {
+            progress::bar(samples, "splatting", "samples")
+        } else {
+            indicatif::ProgressBar::hidden()
+        };
+        let splat = renderer.splat_pass(|n| pb.inc(n as u64), stop).ok_or_else(interrupted)?;
+        pb.finish_and_clear();
+        let mut acc = Progressive::new(w, h);
+        match time {
+            None => {
+                let pb = if bars {
+                    progress::bar(w as u64 * h as u64, "camera", "pixels")
+                } else {
+                    indicatif::ProgressBar::hidden()
+                };
+                let film = renderer
+                    .camera_pass(pass, self.spp, |n| pb.inc(n as u64), stop)
+                    .ok_or_else(interrupted)?;
+                pb.finish_and_clear();
+                acc.add(&film, self.spp);
+            }
+            Some(t) => {
+                let pb = if bars { progress::seconds_bar(t) } else { indicatif::ProgressBar::hidden() };
+                let mut p = pass;
+                loop {
+                    let film = renderer.camera_pass(p, self.spp, |_| {}, stop).ok_or_else(interrupted)?;
+                    acc.add(&film, self.spp);
+                    p += 1;
+                    let elapsed = start.elapsed().as_secs_f64();
+                    pb.set_position(elapsed.min(t) as u64);
+                    pb.set_message(match acc.relative_error() {
+                        Some(e) => format!(
+                            "{} passes, {} spp, rel. error ≈ {:.2}%",
+                            acc.passes(),
+                            acc.spp(),
+                            100.0 * e
+                        ),
+                        None => format!("{} passes, {} spp", acc.passes(), acc.spp()),
+                    });
+                    if elapsed >= t {
+                        break;
+                    }
+                }
+                pb.finish_and_clear();
+            }
+        }
+        Ok(BidirectionalRun {
+            film: acc.image(&splat),
+            passes: acc.passes(),
+            spp: acc.spp(),
+            error: acc.relative_error(),
+        })
+    }
+}
+
+/// The heuristic and direction strategy the dataset's records were traced with: every pass
+/// with paths must have records of one heuristic and of this build's sampling signature, and
+/// one direction rule.
+fn mis_settings(data: &LitDataset) -> Result<(Heuristic, Directions)> {
+    let path = data.reader.path().display();
+    let passes: Vec<_> = data.reader.header().trace.passes.iter().filter(|p| p.paths > 0).collect();
+    let Some(first) = passes.first() else { bail!("{path} has no traced paths") };
+    for p in &passes {
+        let Some(mis) = p.mis else {
+            bail!(
+                "{path} has no MIS records (written by an older Opticks, or traced without them): \
+                 --estimator bidirectional needs them; trace the scene again with this version \
+                 (`opticks trace`), or render with --estimator light"
+            );
+        };
+        if mis.signature != SAMPLING_SIGNATURE || Some(mis.heuristic) != first.mis.map(|m| m.heuristic) {
+            bail!(
+                "{path}: its passes' MIS records differ (heuristic or tracer version): re-trace it, or render with --estimator light"
+            );
+        }
+        if p.directions != first.directions {
+            bail!(
+                "{path} mixes passes traced with --directions {:?} and {:?}: the bidirectional estimator's \
+                 weights need one light-tracing density; render with --estimator light",
+                first.directions,
+                p.directions
+            );
+        }
+    }
+    Ok((first.mis.map_or(Heuristic::Power, |m| m.heuristic), first.directions))
+}

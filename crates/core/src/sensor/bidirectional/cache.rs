@@ -1,0 +1,223 @@
+//! The light vertex cache: the dataset as the light half of the bidirectional estimator
+//! (`docs/bidirectional.md` §1). It holds borrowed views of the rendered chunks — their samples
+//! and the samples' [`MisRecord`]s, from memory ([`LightCache::from_chunks`], the core's tests)
+//! or from a memory-mapped dataset file (`opticks_io`, which verifies each chunk once and hands
+//! its views here) — so its own memory is a few words per chunk, whatever the dataset's size.
+//!
+//! What the renderer asks of it: |Y|, the stored non-emission vertices of the lights that are
+//! on; a vertex drawn uniformly from them ([`LightCache::draw`]: a chunk by prefix sums of its
+//! non-emission count, then a sample of it by rejection of its emission vertices, which is
+//! exactly uniform); every chunk in turn for the light-tracing splat; and per table light its
+//! paths N_k in the rendered chunks. Emission vertices are counted per chunk when a view is
+//! made ([`CacheChunk::new`]), so nothing is assumed about where a chunk keeps them.
+
+use super::MisRecord;
+use crate::dataset::{Chunk, Sample};
+use crate::sampling::RandomStream;
+
+/// One chunk of the cache: `paths` light paths of table light `light`, their `samples` and the
+/// samples' MIS records (parallel to `samples`; empty for a dataset without records).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CacheChunk<'a> {
+    /// Index of the light in the dataset's table.
+    pub light: u32,
+    /// Light paths the chunk accounts for.
+    pub paths: u64,
+    /// The stored vertices.
+    pub samples: &'a [Sample],
+    /// Their records (`records[i]` belongs to `samples[i]`), or empty.
+    pub records: &'a [MisRecord],
+    /// How many of `samples` are not emission vertices.
+    non_emission: u64,
+}
+
+/// Records do not match the samples one to one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("a chunk of {samples} samples has {records} MIS records")]
+pub struct RecordMismatch {
+    /// Samples in the chunk.
+    pub samples: usize,
+    /// Records given for them.
+    pub records: usize,
+}
+
+impl<'a> CacheChunk<'a> {
+    /// A view of a chunk (counts its emission vertices: one pass over the samples).
+    pub fn new(
+        light: u32,
+        paths: u64,
+        samples: &'a [Sample],
+        records: &'a [MisRecord],
+    ) -> Result<Self, RecordMismatch> {
+        if !records.is_empty() && records.len() != samples.len() {
+            return Err(RecordMismatch { samples: samples.len(), records: records.len() });
+        }
+        let non_emission = samples.iter().filter(|s| !s.is_emission()).count() as u64;
+        Ok(CacheChunk { light, paths, samples, records, non_emission })
+    }
+
+    /// The chunk's non-emission samples.
+    pub fn non_emission(&self) -> u64 {
+        self.non_emission
+    }
+}
+
+/// A vertex drawn from the cache.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CachedVertex<'a> {
+    /// Index of its light in the dataset's table.
+    pub light: u32,
+    /// The stored sample.
+    pub sample: &'a Sample,
+    /// Its MIS record.
+    pub record: MisRecord,
+}
+
+/// The light vertex cache (module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LightCache<'a> {
+    chunks: Vec<CacheChunk<'a>>,
+    /// Per chunk, the drawable vertices of the chunks before it (0 for lights that are off).
+    prefix: Vec<u64>,
+    /// |Y|.
+    vertices: u64,
+    /// Per table light, its paths in the cache's chunks.
+    paths: Vec<u64>,
+    /// Whether every chunk has records.
+    records: bool,
+}
+
+impl<'a> LightCache<'a> {
+    /// The cache of `chunks` for a table of `lights` lights, of which those with `on[k]` are
+    /// drawn from (a light switched off keeps its N_k in [`LightCache::paths`] but gives no
+    /// vertices).
+    pub fn new(chunks: Vec<CacheChunk<'a>>, lights: usize, on: &[bool]) -> Self {
+        let mut prefix = Vec::with_capacity(chunks.len());
+        let (mut vertices, mut paths) = (0u64, vec![0u64; lights]);
+        for c in &chunks {
+            prefix.push(vertices);
+            let k = c.light as usize;
+            if k < lights {
+                paths[k] += c.paths;
+            }
+            if on.get(k).copied().unwrap_or(false) {
+                vertices += c.non_emission;
+            }
+        }
+        let records = chunks.iter().all(|c| c.records.len() == c.samples.len());
+        LightCache { chunks, prefix, vertices, paths, records }
+    }
+
+    /// The in-memory cache of `chunks` (a dataset held in memory, with the records they carry).
+    pub fn from_chunks(chunks: &'a [Chunk], lights: usize, on: &[bool]) -> Result<Self, RecordMismatch> {
+        let views = chunks
+            .iter()
+            .map(|c| CacheChunk::new(c.light, c.paths, &c.samples, &c.records))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(LightCache::new(views, lights, on))
+    }
+
+    /// The chunks, in dataset order.
+    pub fn chunks(&self) -> &[CacheChunk<'a>] {
+        &self.chunks
+    }
+
+    /// |Y|: the stored non-emission vertices of the lights that are on.
+    pub fn vertices(&self) -> u64 {
+        self.vertices
+    }
+
+    /// Per table light, its paths N_k in the cache's chunks.
+    pub fn paths(&self) -> &[u64] {
+        &self.paths
+    }
+
+    /// Whether every sample has its MIS record.
+    pub fn has_records(&self) -> bool {
+        self.records
+    }
+
+    /// Draws a vertex uniformly from the |Y| drawable ones; `None` if there are none or the
+    /// cache has no records.
+    #[inline]
+    pub fn draw(&self, rng: &mut RandomStream) -> Option<CachedVertex<'a>> {
+        if self.vertices == 0 || !self.records {
+            return None;
+        }
+        let g = below(rng, self.vertices);
+        let c = self.prefix.partition_point(|&p| p <= g) - 1;
+        // `prefix` is non-decreasing; the last chunk starting at or before g with vertices.
+        let chunk = &self.chunks[c];
+        debug_assert!(chunk.non_emission > 0);
+        let n = chunk.samples.len() as u64;
+        loop {
+            let i = below(rng, n) as usize;
+            let sample = &chunk.samples[i];
+            if !sample.is_emission() {
+                return Some(CachedVertex { light: chunk.light, sample, record: chunk.records[i] });
+            }
+        }
+    }
+}
+
+/// A uniform integer in [0, n) (n > 0), by the multiply-high map of 64 random bits (its bias,
+/// below n/2⁶⁴, is far beneath any other rounding).
+#[inline]
+fn below(rng: &mut RandomStream, n: u64) -> u64 {
+    ((rng.next_u64() as u128 * n as u128) >> 64) as u64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Rgb, Vec3};
+
+    fn chunk(light: u32, emission: &[bool]) -> Chunk {
+        let samples = emission
+            .iter()
+            .enumerate()
+            .map(|(i, &e)| {
+                let p = Vec3::new(light as f32, i as f32, 0.0);
+                if e { Sample::emitted(p, 0) } else { Sample::scattered(p, Vec3::Y, 0, Rgb::ONE) }
+            })
+            .collect();
+        let records = vec![MisRecord::default(); emission.len()];
+        Chunk { light, paths: emission.iter().filter(|e| **e).count() as u64, samples, records }
+    }
+
+    /// Every drawable vertex is drawn with probability 1/|Y|, none of a light that is off, no
+    /// emission vertex, chunks without drawable vertices never.
+    #[test]
+    fn draws_are_uniform_over_the_non_emission_vertices_of_lights_on() {
+        let chunks = vec![
+            chunk(0, &[true, false, false, true, false]),
+            chunk(1, &[true, false, true, false, false, false]),
+            chunk(0, &[true, true]),
+            chunk(2, &[false, false, false]),
+            chunk(0, &[false]),
+        ];
+        let cache = LightCache::from_chunks(&chunks, 3, &[true, false, true]).unwrap();
+        assert_eq!(cache.vertices(), 3 + 3 + 1);
+        assert_eq!(cache.paths(), &[2 + 2, 2, 0]);
+        let mut rng = RandomStream::new(1, &[]);
+        let mut counts = std::collections::HashMap::new();
+        let n = 140_000;
+        for _ in 0..n {
+            let v = cache.draw(&mut rng).unwrap();
+            assert!(!v.sample.is_emission() && v.light != 1);
+            *counts.entry(v.sample.position.map(f32::to_bits)).or_insert(0u32) += 1;
+        }
+        assert_eq!(counts.len(), 7);
+        for c in counts.values() {
+            let expected = n as f64 / 7.0;
+            assert!((*c as f64 - expected).abs() < 5.0 * expected.sqrt(), "{c} vs {expected}");
+        }
+        let mut bare = chunks.clone();
+        bare.iter_mut().for_each(|c| c.records.clear());
+        let bare = LightCache::from_chunks(&bare, 3, &[true, true, true]).unwrap();
+        assert!(!bare.has_records() && bare.draw(&mut rng).is_none());
+        let mut short = chunks[..1].to_vec();
+        short[0].records.truncate(2);
+        assert!(LightCache::from_chunks(&short, 3, &[true; 3]).is_err());
+    }
+}

@@ -1,0 +1,237 @@
+//! The lights as a bidirectional render sees them (`docs/bidirectional.md` §6): the lights that
+//! are **on** — a relit power Φ'_k > 0 and paths N_k > 0 in the part of the dataset rendered —
+//! with NEE's pick probability P_k = N_k/N (N = Σ N_k over the lights on, whatever their relit
+//! powers), and the two things camera paths ask of a light: a point drawn with its own emission
+//! position sampling, with what it emits toward a receiver (NEE, [`RenderLights::sample`]), and
+//! what an area light emits at a point a camera ray found ([`RenderLights::hit`]). Both come with
+//! the light's own [`Emitter`] densities for the MIS weights.
+//!
+//! Lights are matched to the dataset's light table by name, as `crate::dataset::lighting` does,
+//! and every emitted quantity scales with Φ'_k: relighting, switching a light off, add-light'ed
+//! and merged datasets and `--fraction` previews (whose N'_k are the rendered chunks' paths)
+//! stay exact.
+
+use super::Emitter;
+use crate::light::Light;
+use crate::math::{Rgb, Vec2, Vec3};
+use crate::scene::Scene;
+use crate::trace::emitter_densities;
+use std::f32::consts::PI;
+
+/// One light that is on.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderLight {
+    /// Its index in the scene.
+    pub scene_index: usize,
+    /// Its index in the dataset's light table.
+    pub table_index: usize,
+    /// Its relit power Φ'_k (W per channel).
+    pub power: Rgb,
+    /// Its paths N_k in the rendered part of the dataset.
+    pub paths: u64,
+    /// P_k = N_k/N.
+    pub pick: f32,
+}
+
+/// The lights that are on, and the maps from scene and table indices to them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RenderLights {
+    lights: Vec<RenderLight>,
+    /// Cumulative pick probabilities (last = 1).
+    cumulative: Vec<f64>,
+    by_scene: Vec<Option<u32>>,
+    by_table: Vec<Option<u32>>,
+    /// N = Σ N_k over the lights on.
+    total_paths: u64,
+}
+
+/// A light point drawn for NEE, seen from a receiver.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightPoint {
+    /// Unit direction from the receiver toward the light.
+    pub dir: Vec3,
+    /// Distance to the light point (∞ for a directional light).
+    pub distance: f32,
+    /// What arrives at the receiver per unit projected receiver area, before its cosine, divided
+    /// by the pick probability: L_e·|cos θ₀|/(d²·p₀·P_k) (area), I/(d²·P_k) (point), E/P_k
+    /// (directional), relit.
+    pub radiance: Rgb,
+    /// The light's own densities of the point and of the direction toward the receiver.
+    pub emitter: Emitter,
+    /// |cos θ₀| at the light point (area lights; 1 otherwise).
+    pub cos_light: f32,
+    /// P_k.
+    pub pick: f32,
+    /// The light's geometric normal (area lights), for the shadow ray's offset.
+    pub normal: Option<Vec3>,
+}
+
+impl RenderLights {
+    /// The lights of `scene` that are on, given the dataset table's light `names` and per table
+    /// light the flux per path Φ'_k/N_k after relighting and `paths` N_k in the rendered chunks.
+    pub fn new(scene: &Scene, names: &[&str], flux_per_path: &[Rgb], paths: &[u64]) -> Self {
+        let mut lights = Vec::new();
+        let mut by_scene = vec![None; scene.lights.len()];
+        let mut by_table = vec![None; names.len()];
+        for (k, name) in names.iter().enumerate() {
+            let (flux, n) = (flux_per_path[k], paths[k]);
+            let Some(scene_index) = scene.light_index(name) else { continue };
+            if n == 0 || !(flux.max_element() > 0.0) {
+                continue;
+            }
+            by_scene[scene_index] = Some(lights.len() as u32);
+            by_table[k] = Some(lights.len() as u32);
+            lights.push(RenderLight {
+                scene_index,
+                table_index: k,
+                power: flux * n as f32,
+                paths: n,
+                pick: 0.0,
+            });
+        }
+        let total_paths: u64 = lights.iter().map(|l| l.paths).sum();
+        let mut cumulative = Vec::with_capacity(lights.len());
+        let mut acc = 0u64;
+        for l in &mut lights {
+            acc += l.paths;
+            l.pick = (l.paths as f64 / total_paths as f64) as f32;
+            cumulative.push(acc as f64 / total_paths as f64);
+        }
+        RenderLights { lights, cumulative, by_scene, by_table, total_paths }
+    }
+
+    /// The lights that are on.
+    pub fn lights(&self) -> &[RenderLight] {
+        &self.lights
+    }
+
+    /// N = Σ N_k over the lights on.
+    pub fn total_paths(&self) -> u64 {
+        self.total_paths
+    }
+
+    /// The light that is on of table index `k`, if it is on.
+    #[inline]
+    pub fn of_table(&self, k: usize) -> Option<&RenderLight> {
+        self.by_table.get(k).copied().flatten().map(|i| &self.lights[i as usize])
+    }
+
+    /// The area light that is on whose emitter triangle `prim` is, if any.
+    #[inline]
+    pub fn of_triangle(&self, scene: &Scene, prim: u32) -> Option<&RenderLight> {
+        let l = scene.light_of(prim)?;
+        self.by_scene[l].map(|i| &self.lights[i as usize])
+    }
+
+    /// NEE from the receiver at `x`: picks a light with probability P_k (`u_pick`), draws its
+    /// point with its own emission-position sampling (`u_pos`), and says what it sends toward x
+    /// ([`RenderLights::toward`]). `None` if no light is on or the point cannot light x.
+    #[inline]
+    pub fn sample(&self, scene: &Scene, x: Vec3, u_pick: f32, u_pos: Vec2) -> Option<LightPoint> {
+        let i =
+            self.cumulative.partition_point(|&c| c <= u_pick as f64).min(self.lights.len().checked_sub(1)?);
+        let (at, normal) = match &scene.lights[self.lights[i].scene_index] {
+            Light::Area(a) => {
+                let e = a.sample_emission(&scene.triangles, u_pos, Vec2::ZERO);
+                (e.origin, Some(e.surface?.0))
+            }
+            _ => (Vec3::ZERO, None),
+        };
+        self.toward(scene, i, at, normal, x)
+    }
+
+    /// What light `i` (of [`RenderLights::lights`]) sends from its point `at` (normal
+    /// `normal`; area lights only, ignored for the others) toward `x`, as NEE sees it. `None`
+    /// behind a one-sided emitter or at x itself.
+    #[inline]
+    pub fn toward(
+        &self,
+        scene: &Scene,
+        i: usize,
+        at: Vec3,
+        normal: Option<Vec3>,
+        x: Vec3,
+    ) -> Option<LightPoint> {
+        let rl = &self.lights[i];
+        let finite = |p: Vec3| {
+            let v = p - x;
+            let d2 = v.length_squared();
+            (d2 > 0.0).then(|| (v / d2.sqrt(), d2.sqrt(), d2))
+        };
+        let light = &scene.lights[rl.scene_index];
+        match light {
+            Light::Area(a) => {
+                let normal = normal?;
+                let (dir, d, d2) = finite(at)?;
+                let cos_light = -normal.dot(dir);
+                if !(cos_light > 0.0) {
+                    return None;
+                }
+                let fraction = a.emitted_fraction(normal, -dir);
+                // L_e·cos θ₀/(d²·p₀·P) with L_e = fraction·Φ/A and p₀ = 1/A.
+                let radiance = rl.power * (fraction * cos_light / (d2 * rl.pick));
+                let emitter = emitter_densities(light, normal, -dir);
+                Some(LightPoint {
+                    dir,
+                    distance: d,
+                    radiance,
+                    emitter,
+                    cos_light,
+                    pick: rl.pick,
+                    normal: Some(normal),
+                })
+            }
+            Light::Point(p) => {
+                let (dir, d, d2) = finite(p.position)?;
+                let radiance = rl.power * (p.profile.eval(p.frame.to_local(-dir)) / (d2 * rl.pick));
+                let emitter = emitter_densities(light, Vec3::ZERO, -dir);
+                Some(LightPoint {
+                    dir,
+                    distance: d,
+                    radiance,
+                    emitter,
+                    cos_light: 1.0,
+                    pick: rl.pick,
+                    normal: None,
+                })
+            }
+            Light::Directional(s) => {
+                let disk = PI * s.radius * s.radius;
+                let radiance = rl.power / (disk * rl.pick);
+                let dir = -s.direction;
+                let emitter = emitter_densities(light, Vec3::ZERO, -dir);
+                Some(LightPoint {
+                    dir,
+                    distance: f32::INFINITY,
+                    radiance,
+                    emitter,
+                    cos_light: 1.0,
+                    pick: rl.pick,
+                    normal: None,
+                })
+            }
+        }
+    }
+
+    /// A camera ray arriving at `prim` (an emitter triangle of normal `normal`) from the
+    /// direction `to_camera`: the relit radiance L_e toward the camera, the light's densities
+    /// of the point and of that direction, and P_k. `None` if `prim` emits for no light that is
+    /// on, or the ray arrives from behind.
+    #[inline]
+    pub fn hit(
+        &self,
+        scene: &Scene,
+        prim: u32,
+        normal: Vec3,
+        to_camera: Vec3,
+    ) -> Option<(Rgb, Emitter, f32)> {
+        let rl = self.of_triangle(scene, prim)?;
+        let Light::Area(a) = &scene.lights[rl.scene_index] else { return None };
+        if !(normal.dot(to_camera) > 0.0) {
+            return None;
+        }
+        let radiance = rl.power * (a.emitted_fraction(normal, to_camera) / a.area());
+        let emitter = emitter_densities(&scene.lights[rl.scene_index], normal, to_camera);
+        Some((radiance, emitter, rl.pick))
+    }
+}

@@ -1,0 +1,126 @@
+//! Camera subpaths: from a pixel of the sensor through the scene, importance-sampling each BSDF
+//! in radiance mode (through mirrors and glass, absorbing glass as the tracer does it), and at
+//! every vertex the camera strategies of `docs/bidirectional.md` §1: the emitter hit (s = 0)
+//! where the path finds an area light, and at non-delta vertices NEE and cache connections
+//! (`vertex.rs`). The MIS state ([`CameraVertexMis`]) is carried along with the densities both
+//! tracers would use (`Material::pdf_world`, `crate::trace::light_direction_pdf`); Russian roulette and the delta-run survival divide the
+//! throughput and stay out of the weights (§2).
+
+use super::camera::camera_ray;
+use super::vertex::{Context, Receiver, connect, nee, segment_medium, transmittance};
+use super::{CameraVertexMis, weight_emitter_hit};
+use crate::bsdf::Material;
+use crate::bsdf::TransportMode;
+use crate::dataset::Directions;
+use crate::geometry::SurfaceNormals;
+use crate::geometry::{Ray, offset_ray_origin};
+use crate::math::Rgb;
+use crate::math::Vec3;
+use crate::sampling::RandomStream;
+use crate::sensor::Sensor;
+use crate::trace::light_direction_pdf;
+
+/// Camera vertices from which Russian roulette may end a path (at non-delta vertices, survival
+/// q = min(0.95, 2·max T) with T the throughput, as the tracer's energy-driven rule).
+const RR_DEPTH: u32 = 3;
+
+/// After this many delta bounces in a row, each further one survives with
+/// [`DELTA_RUN_SURVIVAL`] (divided out): light trapped by total internal reflection still ends,
+/// and nothing is truncated (the tracer's `MAX_DELTA_RUN`).
+const MAX_DELTA_RUN: u32 = 1024;
+
+/// Survival probability of a delta bounce beyond [`MAX_DELTA_RUN`].
+const DELTA_RUN_SURVIVAL: f32 = 0.95;
+
+/// The radiance estimate of one camera path through pixel (`i`, `j`): every camera strategy,
+/// MIS-weighted (the light-tracing splat of the same pixel is added separately).
+pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut RandomStream) -> Rgb {
+    let (u_film, u_lens) = (rng.next_2d(), rng.next_2d());
+    let start = camera_ray(sensor, i, j, u_film, u_lens);
+    let scene = ctx.scene;
+    let mut mis = CameraVertexMis::at_camera(start.pdf_w, ctx.heuristic);
+    let mut throughput = Rgb::splat(start.throughput);
+    let mut ray = Ray { origin: start.origin, dir: start.dir, t_max: f32::INFINITY };
+    let mut medium = Rgb::ZERO;
+    let (mut depth, mut delta_run) = (0u32, 0u32);
+    let mut radiance = Rgb::ZERO;
+    while let Some(hit) = scene.intersect(&ray) {
+        depth += 1;
+        throughput *= transmittance(medium, hit.t);
+        let to_camera = -ray.dir;
+        let cos_in = hit.normal.dot(to_camera).abs();
+        if !(cos_in > 0.0) {
+            break;
+        }
+        mis = mis.after_hit(hit.t * hit.t, cos_in);
+        if let Some((emitted, emitter, pick)) = ctx.lights.hit(scene, hit.prim, hit.normal, to_camera) {
+            let w = weight_emitter_hit(&mis, emitter, pick, ctx.counts);
+            radiance += throughput * emitted * w;
+        }
+        let material = scene.material(hit.prim);
+        let normals = scene.normals_at(hit.prim, hit.position);
+        if material.frame_for(normals, to_camera).is_none() {
+            break; // the back of a one-sided surface
+        }
+        let delta = material.bsdf.is_delta();
+        if !delta {
+            let r = Receiver { position: hit.position, normals, material, to_camera, medium };
+            radiance += throughput * (nee(ctx, &r, &mis, rng) + connect(ctx, &r, &mis, rng));
+        }
+        let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
+        let Some(s) = material.sample_world(normals, to_camera, u_lobe, u, TransportMode::Radiance) else {
+            break;
+        };
+        throughput *= s.weight;
+        if s.delta {
+            delta_run += 1;
+            if delta_run > MAX_DELTA_RUN {
+                if !(rng.next_f32() < DELTA_RUN_SURVIVAL) {
+                    break;
+                }
+                throughput /= DELTA_RUN_SURVIVAL;
+            }
+        } else {
+            delta_run = 0;
+            if depth >= RR_DEPTH {
+                let q = (2.0 * throughput.max_element()).min(0.95);
+                if !(rng.next_f32() < q) {
+                    break;
+                }
+                throughput /= q;
+            }
+        }
+        if !(throughput.max_element() > 0.0) {
+            break;
+        }
+        mis = scatter_mis(mis, ctx.directions, material, normals, to_camera, s.wo, s.pdf, s.delta);
+        medium = segment_medium(material, hit.normal, s.wo, medium);
+        ray = Ray {
+            origin: offset_ray_origin(hit.position, hit.normal, s.wo),
+            dir: s.wo,
+            t_max: f32::INFINITY,
+        };
+    }
+    radiance
+}
+
+/// The camera subpath's MIS state after scattering at a surface of `material` (`normals`) from
+/// `to_camera` into `wo`, sampled with density (or, `delta`, lobe probability) `pdf_fwd`: the
+/// reverse density is the light tracer's with the dataset's `directions`.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn scatter_mis(
+    mis: CameraVertexMis,
+    directions: Directions,
+    material: &Material,
+    normals: SurfaceNormals,
+    to_camera: Vec3,
+    wo: Vec3,
+    pdf_fwd: f32,
+    delta: bool,
+) -> CameraVertexMis {
+    // The light tracer arriving along `wo` and continuing to `to_camera` (for a delta event
+    // the probability of that lobe, the same for both tracers).
+    let pdf_rev = light_direction_pdf(material, normals, wo, to_camera, directions);
+    mis.after_scatter(normals.geometric.dot(wo).abs(), pdf_fwd, pdf_rev, delta)
+}

@@ -1,0 +1,218 @@
+//! The bidirectional renderer: the light vertex cache, the lights that are on, the render's
+//! [`Counts`] and the two kinds of pass that make an image —
+//!
+//! * one **splat pass** ([`Renderer::splat_pass`]): every stored sample's MIS-weighted
+//!   light-tracing splat (t = 1), and
+//! * any number of **camera passes** ([`Renderer::camera_pass`]), each tracing `spp` camera
+//!   paths per pixel with the camera strategies (emitter hits, NEE, cache connections).
+//!
+//! The image is the splat film plus the camera films' sum divided by the total spp
+//! ([`combine`]). The counts are constants of the render, fixed when the renderer is made from
+//! the total camera paths M the render is planned to take (`docs/bidirectional.md` §2, §10.2:
+//! any constants keep the estimator unbiased; the planned ones make it the heuristic of the
+//! actual sample numbers). A cache without records renders the camera strategies only
+//! (emitter hits and NEE with their MIS, no connections, no splats: a path tracer); the command
+//! line refuses such datasets for `--estimator bidirectional`, the core's tests use it for the
+//! camera half alone.
+//!
+//! Determinism: a camera path draws from its own random stream, named by (seed, pass, pixel),
+//! and adds only to its own pixel; rows of the image are rendered in parallel bands. The splat
+//! pass cuts the chunks into a fixed number of runs and adds their films in run order. So an
+//! image depends on the seed, never on the thread count.
+
+use super::cache::{CacheChunk, LightCache};
+use super::lights::RenderLights;
+use super::path::camera_path;
+use super::splat::splat_chunk;
+use super::vertex::Context;
+use super::{Counts, Heuristic};
+use crate::dataset::Directions;
+use crate::film::{Accumulator, Film};
+use crate::math::Rgb;
+use crate::sampling::RandomStream;
+use crate::scene::Scene;
+use crate::sensor::Sensor;
+use rayon::prelude::*;
+
+/// The options of a bidirectional render.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// n_c: cache vertices each non-delta camera vertex connects to.
+    pub connections: u32,
+    /// Names the camera paths' random streams.
+    pub seed: u64,
+    /// The dataset's MIS heuristic (its records are powered for it).
+    pub heuristic: Heuristic,
+    /// The dataset's direction strategy (the light tracer's densities).
+    pub directions: Directions,
+}
+
+/// First key word of every camera path's random stream (distinct from the tracer's streams).
+const CAMERA_STREAM: u64 = 0x6361_6d65_7261; // "camera"
+
+/// Image rows per parallel band of a camera pass.
+const BAND_ROWS: usize = 2;
+
+/// Runs the splat pass's chunks are cut into, whatever the thread count.
+const SPLAT_RUNS: usize = 64;
+
+/// Runs of the splat pass rendered at once (each with its own film), then added in order.
+const SPLAT_GROUP: usize = 4;
+
+/// A bidirectional render of one dataset through one sensor (module docs).
+#[derive(Debug)]
+pub struct Renderer<'a> {
+    scene: &'a Scene,
+    sensor: Sensor,
+    cache: LightCache<'a>,
+    lights: RenderLights,
+    flux_per_path: Vec<Rgb>,
+    counts: Counts,
+    settings: Settings,
+}
+
+impl<'a> Renderer<'a> {
+    /// A render of `chunks` (the dataset's, or a preview's subset) whose table has the light
+    /// `names`, each light's samples standing for `flux_per_path[k]` = Φ'_k/N_k (relit, over
+    /// these chunks' N_k), planned to take `camera_paths` camera paths in all (M = W·H·spp).
+    pub fn new(
+        scene: &'a Scene,
+        sensor: Sensor,
+        chunks: Vec<CacheChunk<'a>>,
+        names: &[&str],
+        flux_per_path: &[Rgb],
+        settings: Settings,
+        camera_paths: u64,
+    ) -> Self {
+        let mut paths = vec![0u64; names.len()];
+        for c in &chunks {
+            if let Some(p) = paths.get_mut(c.light as usize) {
+                *p += c.paths;
+            }
+        }
+        let lights = RenderLights::new(scene, names, flux_per_path, &paths);
+        let on: Vec<bool> = (0..names.len()).map(|k| lights.of_table(k).is_some()).collect();
+        let cache = LightCache::new(chunks, names.len(), &on);
+        let counts = if cache.has_records() {
+            Counts::new(settings.connections, lights.total_paths(), cache.vertices(), camera_paths.max(1))
+        } else {
+            Counts { conn: 0.0, light_trace: 0.0 }
+        };
+        Renderer { scene, sensor, cache, lights, flux_per_path: flux_per_path.to_vec(), counts, settings }
+    }
+
+    /// The render's counts (c_conn = n_c·N/|Y|, c_LT = N/M).
+    pub fn counts(&self) -> Counts {
+        self.counts
+    }
+
+    /// The light vertex cache.
+    pub fn cache(&self) -> &LightCache<'a> {
+        &self.cache
+    }
+
+    /// The lights that are on.
+    pub fn lights(&self) -> &RenderLights {
+        &self.lights
+    }
+
+    /// The context camera vertices gather with.
+    pub fn context(&self) -> Context<'_> {
+        Context {
+            scene: self.scene,
+            lights: &self.lights,
+            cache: &self.cache,
+            flux_per_path: &self.flux_per_path,
+            counts: self.counts,
+            heuristic: self.settings.heuristic,
+            directions: self.settings.directions,
+            connections: self.settings.connections,
+        }
+    }
+
+    /// The MIS-weighted light-tracing splats of every sample (black without records);
+    /// `progress(samples)` after each chunk; `None` if `stop()` said so between chunks.
+    pub fn splat_pass(
+        &self,
+        progress: impl Fn(usize) + Sync,
+        stop: impl Fn() -> bool + Sync,
+    ) -> Option<Film> {
+        let (w, h) = (self.sensor.width(), self.sensor.height());
+        let mut total = Film::new(w, h);
+        if !self.cache.has_records() || self.counts.light_trace == 0.0 {
+            return Some(total);
+        }
+        let ctx = self.context();
+        let chunks = self.cache.chunks();
+        let run_len = chunks.len().div_ceil(SPLAT_RUNS).max(1);
+        let runs: Vec<usize> = (0..chunks.len().div_ceil(run_len)).collect();
+        for group in runs.chunks(SPLAT_GROUP) {
+            let films: Option<Vec<Film>> = group
+                .par_iter()
+                .map(|&r| {
+                    let mut acc = Accumulator::new(w, h);
+                    for c in &chunks[r * run_len..((r + 1) * run_len).min(chunks.len())] {
+                        if stop() {
+                            return None;
+                        }
+                        splat_chunk(&ctx, &self.sensor, c, &mut acc);
+                        progress(c.samples.len());
+                    }
+                    Some(acc.into_film())
+                })
+                .collect();
+            for f in &films? {
+                total.add(f);
+            }
+        }
+        Some(total)
+    }
+
+    /// Pass number `pass` of `spp` camera paths per pixel: per pixel the **sum** of their
+    /// estimates; `progress(pixels)` after each band of rows; `None` if `stop()` said so.
+    pub fn camera_pass(
+        &self,
+        pass: u64,
+        spp: u32,
+        progress: impl Fn(usize) + Sync,
+        stop: impl Fn() -> bool + Sync,
+    ) -> Option<Film> {
+        let (w, h) = (self.sensor.width(), self.sensor.height());
+        let mut film = Film::new(w, h);
+        let ctx = self.context();
+        let band = w as usize * BAND_ROWS;
+        let stopped = film.pixels.par_chunks_mut(band).enumerate().any(|(b, pixels)| {
+            if stop() {
+                return true;
+            }
+            for (k, px) in pixels.iter_mut().enumerate() {
+                let p = b * band + k;
+                let (i, j) = ((p % w as usize) as u32, (p / w as usize) as u32);
+                let mut rng = RandomStream::new(self.settings.seed, &[CAMERA_STREAM, pass, p as u64]);
+                let mut sum = [0.0f64; 3];
+                for _ in 0..spp {
+                    let l = camera_path(&ctx, &self.sensor, i, j, &mut rng);
+                    for c in 0..3 {
+                        sum[c] += l[c] as f64;
+                    }
+                }
+                *px = sum;
+            }
+            progress(pixels.len());
+            false
+        });
+        (!stopped).then_some(film)
+    }
+}
+
+/// The image: the splat film plus the camera films' sum over `spp` camera paths per pixel.
+pub fn combine(splat: &Film, camera_sum: &Film, spp: u64) -> Film {
+    let mut image = splat.clone();
+    let inv = 1.0 / spp.max(1) as f64;
+    for (a, b) in image.pixels.iter_mut().zip(&camera_sum.pixels) {
+        for c in 0..3 {
+            a[c] += b[c] * inv;
+        }
+    }
+    image
+}

@@ -1,0 +1,63 @@
+//! The light-tracing strategy (t = 1) of the bidirectional estimator: every stored sample of a
+//! light that is on is splatted to the camera exactly as the light estimator does it
+//! (`crate::sensor::splat`'s connection, `connect_sample`) and weighted by
+//! [`weight_light_trace`] with its stored record ([`light_trace_weight`]). The camera-side
+//! density of the splat is the image-wide density of the camera's own rays ([`image_pdf`]); the
+//! camera tracer's density of continuing from the sample to its predecessor is that of the
+//! camera subpaths.
+
+use super::camera::image_pdf;
+use super::vertex::Context;
+use super::{ConnectionEnd, LightVertexMis, MisRecord, cache::CacheChunk, weight_light_trace};
+use crate::dataset::Sample;
+use crate::film::SplatTarget;
+use crate::math::Vec3;
+use crate::sensor::{SampleConnection, Sensor, connect_sample};
+
+/// Adds the MIS-weighted splats of `chunk`'s samples to `film`.
+pub fn splat_chunk(ctx: &Context, sensor: &Sensor, chunk: &CacheChunk<'_>, film: &mut impl SplatTarget) {
+    let k = chunk.light as usize;
+    if ctx.lights.of_table(k).is_none() {
+        return;
+    }
+    let flux = ctx.flux_per_path[k];
+    let random = sensor.samples_aperture();
+    for (s, record) in chunk.samples.iter().zip(chunk.records) {
+        let Some(SampleConnection { conn, f, cos_x, .. }) = connect_sample(ctx.scene, sensor, s, random)
+        else {
+            continue;
+        };
+        let w = light_trace_weight(ctx, sensor, chunk.light, s, *record, conn.point);
+        film.splat(conn.pixel, flux * s.beta() * f * (cos_x.abs() * conn.weight * w));
+    }
+}
+
+/// The MIS weight of splatting the stored sample `s` of table light `light` (record `record`)
+/// to the sensor point `c` (the eye, or the lens point its connection chose); 0 if the light
+/// is off.
+#[inline]
+pub fn light_trace_weight(
+    ctx: &Context,
+    sensor: &Sensor,
+    light: u32,
+    s: &Sample,
+    record: MisRecord,
+    c: Vec3,
+) -> f32 {
+    let Some(light) = ctx.lights.of_table(light as usize) else { return 0.0 };
+    let x = s.position();
+    let v = c - x;
+    let dist2 = v.length_squared();
+    let to_sensor = v / dist2.sqrt();
+    let prim = s.triangle();
+    let pdf_rev_w = if s.is_emission() {
+        0.0 // y₀ has no predecessor
+    } else {
+        let (m, n) = (ctx.scene.material(prim), ctx.scene.normals_at(prim, x));
+        m.pdf_world(n, to_sensor, s.from_dir())
+    };
+    let cos = ctx.scene.normal(prim).dot(to_sensor).abs();
+    let at_light = ConnectionEnd { cos, pdf_fwd_w: 0.0, pdf_rev_w };
+    let state = LightVertexMis::from_record(record, ctx.heuristic);
+    weight_light_trace(&state, at_light, image_pdf(sensor, -to_sensor), dist2, light.pick, ctx.counts)
+}

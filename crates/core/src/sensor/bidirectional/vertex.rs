@@ -1,0 +1,213 @@
+//! What a camera-side vertex gathers from the light side: next-event estimation (s = 1,
+//! [`nee`]) and connections to vertices drawn from the light vertex cache (s ≥ 2,
+//! [`connect`]), each MIS-weighted with `mis.rs`.
+//!
+//! Both take a [`Receiver`] — a point, its normals, how it scatters and the direction back
+//! toward the camera side — and the camera subpath's MIS state there, not a pixel: a camera
+//! vertex is one receiver, and a point sensor of cosine importance (an illuminance meter in the
+//! air) is another that can reuse them once `Receiver` learns its scattering (today: a surface
+//! material). They return the radiance toward the camera side per unit throughput, already
+//! weighted; the caller multiplies by its throughput.
+
+use super::cache::{CachedVertex, LightCache};
+use super::lights::{LightPoint, RenderLights};
+use super::{
+    CameraVertexMis, ConnectionEnd, Counts, Heuristic, LightVertexMis, weight_connection, weight_nee,
+};
+use crate::bsdf::Material;
+use crate::dataset::Directions;
+use crate::geometry::{Ray, SurfaceNormals, offset_ray_origin};
+use crate::math::{Rgb, Vec3};
+use crate::sampling::RandomStream;
+use crate::scene::Scene;
+use crate::trace::light_direction_pdf;
+
+/// Everything a camera-side vertex needs to know about the render.
+#[derive(Clone, Copy, Debug)]
+pub struct Context<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The lights that are on.
+    pub lights: &'a RenderLights,
+    /// The light half.
+    pub cache: &'a LightCache<'a>,
+    /// Per table light: Φ'_k/N_k (relit, over the rendered chunks' N_k).
+    pub flux_per_path: &'a [Rgb],
+    /// The render's counts.
+    pub counts: Counts,
+    /// The dataset's heuristic.
+    pub heuristic: Heuristic,
+    /// The dataset's direction strategy (the light tracer's densities).
+    pub directions: Directions,
+    /// n_c, cache vertices drawn per receiver.
+    pub connections: u32,
+}
+
+/// A camera-side vertex that gathers light: where it is, how it scatters, and where the
+/// camera side came from.
+#[derive(Clone, Copy, Debug)]
+pub struct Receiver<'a> {
+    /// The point.
+    pub position: Vec3,
+    /// Its normals (the geometric one decides cosines and ray offsets).
+    pub normals: SurfaceNormals,
+    /// How it scatters.
+    pub material: &'a Material,
+    /// Unit direction toward the previous camera-side vertex.
+    pub to_camera: Vec3,
+    /// The absorption coefficient of the medium the camera side arrived in.
+    pub medium: Rgb,
+}
+
+impl Receiver<'_> {
+    /// f(to_light → to_camera) in light-flow order (the adjoint f_eff with shading normals).
+    #[inline]
+    fn eval(&self, to_light: Vec3) -> Rgb {
+        self.material.eval_world(self.normals, to_light, self.to_camera)
+    }
+
+    /// The connection end at this receiver for the direction `to_light`: |cos θ| (geometric),
+    /// the camera tracer's density of `to_light`, the light tracer's of continuing to the camera
+    /// side.
+    #[inline]
+    pub fn end(&self, to_light: Vec3, directions: Directions) -> ConnectionEnd {
+        ConnectionEnd {
+            cos: self.normals.geometric.dot(to_light).abs(),
+            pdf_fwd_w: self.material.pdf_world(self.normals, self.to_camera, to_light),
+            pdf_rev_w: light_direction_pdf(self.material, self.normals, to_light, self.to_camera, directions),
+        }
+    }
+
+    /// Absorption coefficient of a segment leaving here along `dir`: a dielectric's inside is
+    /// behind its normal; other surfaces keep the medium (the tracer's rule).
+    #[inline]
+    fn medium_toward(&self, dir: Vec3) -> Rgb {
+        segment_medium(self.material, self.normals.geometric, dir, self.medium)
+    }
+}
+
+/// The absorption coefficient of the segment leaving a surface of `material` (geometric normal
+/// `n`) along `dir`, having arrived in a medium of `current` (`crate::trace`'s rule).
+#[inline]
+pub(super) fn segment_medium(material: &Material, n: Vec3, dir: Vec3, current: Rgb) -> Rgb {
+    match material.bsdf.transmits() {
+        true if dir.dot(n) < 0.0 => material.bsdf.absorption(),
+        true => Rgb::ZERO,
+        false => current,
+    }
+}
+
+/// exp(−σ·d), 1 when σ = 0 (also for d = ∞).
+#[inline]
+pub(super) fn transmittance(sigma: Rgb, d: f32) -> Rgb {
+    if sigma == Rgb::ZERO { Rgb::ONE } else { (-sigma * d).exp() }
+}
+
+/// Whether the segment from `a` (geometric normal `na`) toward `b` along unit `dir`, `d` long,
+/// is unblocked; `nb` is `b`'s normal if it lies on a surface.
+#[inline]
+fn visible(scene: &Scene, a: Vec3, na: Vec3, dir: Vec3, d: f32, b: Option<(Vec3, Vec3)>) -> bool {
+    let origin = offset_ray_origin(a, na, dir);
+    let ray = match b {
+        _ if d.is_infinite() => Ray { origin, dir, t_max: f32::INFINITY },
+        Some((b, nb)) => {
+            let end = offset_ray_origin(b, nb, -dir);
+            let v = end - origin;
+            let t = v.length();
+            if !(t > 0.0) {
+                return false;
+            }
+            Ray { origin, dir: v / t, t_max: t * (1.0 - 1e-5) }
+        }
+        None => Ray { origin, dir, t_max: d * (1.0 - 1e-5) },
+    };
+    !scene.occluded(&ray)
+}
+
+/// Next-event estimation (s = 1) at `r`, whose camera subpath is in state `camera`: one light
+/// picked with P_k = N_k/N, its point drawn with its own position sampling; MIS-weighted.
+#[inline]
+pub fn nee(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, rng: &mut RandomStream) -> Rgb {
+    let (u_pick, u_pos) = (rng.next_f32(), rng.next_2d());
+    let Some(lp) = ctx.lights.sample(ctx.scene, r.position, u_pick, u_pos) else { return Rgb::ZERO };
+    let f = r.eval(lp.dir);
+    if f == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let end = r.end(lp.dir, ctx.directions);
+    let target = lp.normal.map(|n| (r.position + lp.dir * lp.distance, n));
+    if !visible(ctx.scene, r.position, r.normals.geometric, lp.dir, lp.distance, target) {
+        return Rgb::ZERO;
+    }
+    let w = nee_weight(ctx, r, camera, &lp);
+    f * lp.radiance * (end.cos * w) * transmittance(r.medium_toward(lp.dir), lp.distance)
+}
+
+/// The MIS weight of NEE at `r` (camera state `camera`) to the light point `lp`.
+#[inline]
+pub fn nee_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, lp: &LightPoint) -> f32 {
+    let d2 = lp.distance * lp.distance;
+    weight_nee(camera, r.end(lp.dir, ctx.directions), lp.emitter, lp.cos_light, d2, lp.pick, ctx.counts)
+}
+
+/// The MIS weight of connecting `r` (camera state `camera`) to the cache vertex `v`; 0 if its
+/// light is off.
+#[inline]
+pub fn connection_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &CachedVertex) -> f32 {
+    let Some(light) = ctx.lights.of_table(v.light as usize) else { return 0.0 };
+    let (y, prim) = (v.sample.position(), v.sample.triangle());
+    let to_y = y - r.position;
+    let d2 = to_y.length_squared();
+    let dir = to_y / d2.sqrt();
+    let (n_y, m_y) = (ctx.scene.normals_at(prim, y), ctx.scene.material(prim));
+    let from = v.sample.from_dir();
+    let at_light = ConnectionEnd {
+        cos: n_y.geometric.dot(dir).abs(),
+        pdf_fwd_w: light_direction_pdf(m_y, n_y, from, -dir, ctx.directions),
+        pdf_rev_w: m_y.pdf_world(n_y, -dir, from),
+    };
+    let state = LightVertexMis::from_record(v.record, ctx.heuristic);
+    weight_connection(camera, r.end(dir, ctx.directions), &state, at_light, d2, light.pick, ctx.counts)
+}
+
+/// Connections (s ≥ 2) of `r`, camera state `camera`, to n_c vertices drawn uniformly from the
+/// cache, each weighted by |Y|/n_c and by MIS.
+#[inline]
+pub fn connect(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, rng: &mut RandomStream) -> Rgb {
+    if ctx.connections == 0 || ctx.counts.conn == 0.0 {
+        return Rgb::ZERO;
+    }
+    let mut total = Rgb::ZERO;
+    for _ in 0..ctx.connections {
+        let Some(v) = ctx.cache.draw(rng) else { break };
+        let (y, prim) = (v.sample.position(), v.sample.triangle());
+        let to_y = y - r.position;
+        let d2 = to_y.length_squared();
+        if !(d2 > 0.0) {
+            continue;
+        }
+        let d = d2.sqrt();
+        let dir = to_y / d;
+        let f_z = r.eval(dir);
+        if f_z == Rgb::ZERO {
+            continue;
+        }
+        let n_y = ctx.scene.normals_at(prim, y);
+        let f_y = ctx.scene.material(prim).eval_world(n_y, v.sample.from_dir(), -dir);
+        if f_y == Rgb::ZERO {
+            continue;
+        }
+        if !visible(ctx.scene, r.position, r.normals.geometric, dir, d, Some((y, n_y.geometric))) {
+            continue;
+        }
+        let w = connection_weight(ctx, r, camera, &v);
+        let g = r.normals.geometric.dot(dir).abs() * n_y.geometric.dot(dir).abs() / d2;
+        total += f_z
+            * f_y
+            * ctx.flux_per_path[v.light as usize]
+            * v.sample.beta()
+            * (g * w)
+            * transmittance(r.medium_toward(dir), d);
+    }
+    total * (ctx.cache.vertices() as f32 / ctx.connections as f32)
+}
