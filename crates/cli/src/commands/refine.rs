@@ -7,7 +7,7 @@
 //! added after an interrupted one would make it impossible to resume).
 
 use super::extend_args::ExtendArgs;
-use super::{Opened, begin_dataset_write, check_finished, job_error, open_with_scene, check_before_trace};
+use super::{Opened, begin_dataset_write, check_before_trace, check_finished, job_error, open_with_scene};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};

@@ -8,7 +8,7 @@
 //! finishing the old run there would discard that refinement, so the command refuses (write the
 //! result elsewhere with `-o`, or give `--overwrite`).
 
-use super::{Opened, ThreadArgs, begin_dataset_write, job_error, open_with_scene, check_before_trace};
+use super::{Opened, ThreadArgs, begin_dataset_write, check_before_trace, job_error, open_with_scene};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};

@@ -2,7 +2,7 @@
 //! An existing dataset at the output is replaced only with `--overwrite` (it may hold hours of
 //! refined work); see `opticks_io::dataset_lock` for every rule checked before the trace starts.
 
-use super::{ThreadArgs, begin_dataset_write, job_error, check_before_trace};
+use super::{ThreadArgs, begin_dataset_write, check_before_trace, job_error};
 use crate::output;
 use crate::progress::TraceProgress;
 use crate::scene_arg::{is_builtin, load_scene};
