@@ -45,7 +45,7 @@ pub fn compare(test: &[f32], reference: &[f32]) -> Comparison {
         reference.len()
     );
     assert!(
-        !test.is_empty() && test.len() % 3 == 0,
+        !test.is_empty() && test.len().is_multiple_of(3),
         "compare: buffer length {} is not a positive multiple of 3 (interleaved RGB)",
         test.len()
     );

@@ -129,7 +129,7 @@ pub enum JobError {
         path: PathBuf,
         /// The counts.
         #[source]
-        source: TooManyPaths
+        source: TooManyPaths,
     },
     /// Writing failed while tracing (a full disk): the target is untouched, and the chunks
     /// written before the failure are saved in `partial`, if that could be done.
@@ -149,7 +149,7 @@ pub enum JobError {
         paths: u64,
         /// Why writing failed.
         #[source]
-        source: DatasetError,
+        source: Box<DatasetError>,
     },
     /// The writer thread ended before the tracer.
     #[error("the dataset writer stopped")]
@@ -261,6 +261,7 @@ fn save_written(
     seconds: f64,
     source: DatasetError,
 ) -> JobError {
+    let source = Box::new(source);
     let failed = |partial, paths| JobError::WriteFailed { output: output.to_owned(), partial, paths, source };
     if writer.keep_written_prefix().is_err() {
         return failed(None, 0);

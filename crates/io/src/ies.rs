@@ -224,11 +224,11 @@ pub fn parse_ies(text: &str, file: &Path) -> Result<IesFile, IesError> {
             tilt_line = Some(i);
             break;
         }
-        if let Some(k) = l.strip_prefix('[') {
-            if let Some(end) = k.find(']') {
-                keywords.push((k[..end].to_string(), k[end + 1..].trim().to_string()));
-                continue;
-            }
+        if let Some(k) = l.strip_prefix('[')
+            && let Some(end) = k.find(']')
+        {
+            keywords.push((k[..end].to_string(), k[end + 1..].trim().to_string()));
+            continue;
         }
         // Free text lines are allowed before TILT in LM-63-1986 files.
     }

@@ -28,7 +28,7 @@ impl Rng {
     fn sample(&mut self) -> Sample {
         let p = Vec3::new(self.f() * 4.0 - 2.0, self.f() * 3.0, self.f() - 5.0);
         let d = Vec3::new(self.f() - 0.5, self.f() - 0.5, self.f() - 0.5).normalize_or(Vec3::Y);
-        if self.next() % 5 == 0 {
+        if self.next().is_multiple_of(5) {
             Sample::emitted(p, (self.next() % 1000) as u32)
         } else {
             Sample::scattered(p, d, (self.next() % 1000) as u32, Rgb::new(self.f(), self.f() * 2.0, self.f()))

@@ -239,7 +239,7 @@ fn mangled_inputs_never_panic() {
     for round in 0..300 {
         let (mut o, mut m) = (obj.clone(), mtl.clone());
         for _ in 0..1 + rng.next() % 8 {
-            let target = if rng.next() % 2 == 0 { &mut o } else { &mut m };
+            let target = if rng.next().is_multiple_of(2) { &mut o } else { &mut m };
             let at = (rng.next() as usize) % target.len();
             match rng.next() % 3 {
                 0 => target[at] = alphabet[(rng.next() as usize) % alphabet.len()],

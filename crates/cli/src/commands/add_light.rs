@@ -5,7 +5,7 @@
 //! to.
 
 use super::extend_args::ExtendArgs;
-use super::{Opened, begin_dataset_write, check_finished, job_error, open_with_scene, warn_if_low_space};
+use super::{Opened, begin_dataset_write, check_before_trace, check_finished, job_error, open_with_scene};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
@@ -61,7 +61,7 @@ pub fn run(a: Args) -> Result<()> {
     let paths = pass.settings.paths;
     header.label = label_for(&scene_spec, &output);
     let sources = [Source::as_is(&reader)];
-    warn_if_low_space(&output, estimate_bytes(&sources, paths));
+    check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, paths))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let report =

@@ -112,9 +112,18 @@ pub fn describe_plan(table: &LightTable, pass: &opticks_core::dataset::PassPlan)
     parts.join(", ")
 }
 
-/// Warns, before a long trace, when the estimated dataset would not fit in the free space of
-/// the output's file system.
-pub fn warn_if_low_space(output: &Path, estimate: u64) {
+/// Before a long trace: refuses a pass that would take the dataset beyond the most paths a
+/// dataset may hold (`opticks_core::dataset::check_path_budget`, which the job checks again),
+/// then warns when the estimated dataset would not fit in the free space of the output's file
+/// system.
+pub fn check_before_trace(
+    output: &Path,
+    table: &LightTable,
+    pass: &opticks_core::dataset::PassPlan,
+    estimate: u64,
+) -> Result<()> {
+    opticks_core::dataset::check_path_budget(table, pass)
+        .map_err(|e| anyhow!("cannot trace into {}: {e}", output.display()))?;
     if let Some(free) = opticks_io::dataset_job::free_space(output).filter(|&free| free < estimate) {
         crate::output::warning(&format!(
             "{} will need about {} but its file system has {} free; if it fills up, the paths \
@@ -125,6 +134,7 @@ pub fn warn_if_low_space(output: &Path, estimate: u64) {
             opticks_io::dataset_job::partial_path(output).display()
         ));
     }
+    Ok(())
 }
 
 /// Warns when an image or a measurement received nothing at all (`what` names the sensor).

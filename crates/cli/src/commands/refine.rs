@@ -7,7 +7,7 @@
 //! added after an interrupted one would make it impossible to resume).
 
 use super::extend_args::ExtendArgs;
-use super::{Opened, begin_dataset_write, check_finished, job_error, open_with_scene, warn_if_low_space};
+use super::{Opened, begin_dataset_write, check_before_trace, check_finished, job_error, open_with_scene};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
@@ -51,7 +51,7 @@ pub fn run(a: Args) -> Result<()> {
     output::detail(&format!("plan: {}", super::describe_plan(&header.table, &pass)));
     let before = reader.header().table.total_paths();
     let sources = [Source::as_is(&reader)];
-    warn_if_low_space(&output, estimate_bytes(&sources, a.paths));
+    check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, a.paths))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let report =

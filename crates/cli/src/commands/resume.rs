@@ -8,7 +8,7 @@
 //! finishing the old run there would discard that refinement, so the command refuses (write the
 //! result elsewhere with `-o`, or give `--overwrite`).
 
-use super::{Opened, ThreadArgs, begin_dataset_write, job_error, open_with_scene, warn_if_low_space};
+use super::{Opened, ThreadArgs, begin_dataset_write, check_before_trace, job_error, open_with_scene};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
@@ -70,7 +70,7 @@ pub fn run(a: Args) -> Result<()> {
     let (done, planned) = (header.trace.passes.last().map_or(0, |p| p.paths), pass.settings.paths);
     header.label = label_for(&scene_spec, &output);
     let sources = [Source::as_is(&reader)];
-    warn_if_low_space(&output, estimate_bytes(&sources, planned - done));
+    check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, planned - done))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let report =

@@ -2,7 +2,7 @@
 //! An existing dataset at the output is replaced only with `--overwrite` (it may hold hours of
 //! refined work); see `opticks_io::dataset_lock` for every rule checked before the trace starts.
 
-use super::{ThreadArgs, begin_dataset_write, job_error, warn_if_low_space};
+use super::{ThreadArgs, begin_dataset_write, check_before_trace, job_error};
 use crate::output;
 use crate::progress::TraceProgress;
 use crate::scene_arg::{is_builtin, load_scene};
@@ -58,7 +58,7 @@ pub fn run(a: Args) -> Result<()> {
         output::count(scene.lights.len() as u64, "light"),
         super::describe_plan(&header.table, &pass)
     ));
-    warn_if_low_space(&a.output, a.paths.saturating_mul(ASSUMED_BYTES_PER_PATH));
+    check_before_trace(&a.output, &header.table, &pass, a.paths.saturating_mul(ASSUMED_BYTES_PER_PATH))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let report =

@@ -219,15 +219,15 @@ impl Builder<'_> {
             // All centroids coincide: no plane separates them, halve by index.
             return prims.len() / 2;
         }
-        if depth + ceil_log2(prims.len()) < self.max_depth {
-            if let Some((axis, bin)) = self.best_binned_split(prims, clo, extent) {
-                let scale = BINS as f64 / extent[axis];
-                let lo = clo[axis] as f64;
-                let c = &self.centroids;
-                let left = partition(prims, |i| bin_of(c[i as usize][axis], lo, scale) < bin);
-                if left > 0 && left < prims.len() {
-                    return left;
-                }
+        if depth + ceil_log2(prims.len()) < self.max_depth
+            && let Some((axis, bin)) = self.best_binned_split(prims, clo, extent)
+        {
+            let scale = BINS as f64 / extent[axis];
+            let lo = clo[axis] as f64;
+            let c = &self.centroids;
+            let left = partition(prims, |i| bin_of(c[i as usize][axis], lo, scale) < bin);
+            if left > 0 && left < prims.len() {
+                return left;
             }
         }
         // Median split on the widest axis: halves the count, so depth stays bounded.

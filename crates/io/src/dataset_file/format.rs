@@ -140,7 +140,7 @@ pub(crate) fn decode_header(
     }
     let version = u32::from_le_bytes(file[8..12].try_into().unwrap());
     let len = u32::from_le_bytes(file[12..16].try_into().unwrap()) as usize;
-    if len < MIN_HEADER_LEN || len % ALIGN != 0 {
+    if len < MIN_HEADER_LEN || !len.is_multiple_of(ALIGN) {
         return Err(corrupt(
             12,
             format!(

@@ -297,10 +297,10 @@ impl DatasetWriter {
         self.tmp = None;
         // Make the rename itself durable. Not every platform can sync a directory; the data is
         // already safe, so a failure here is not worth failing the (completed) write for.
-        if let Some(dir) = self.path.parent().filter(|d| !d.as_os_str().is_empty()) {
-            if let Ok(d) = File::open(dir) {
-                let _ = d.sync_all();
-            }
+        if let Some(dir) = self.path.parent().filter(|d| !d.as_os_str().is_empty())
+            && let Ok(d) = File::open(dir)
+        {
+            let _ = d.sync_all();
         }
         Ok(DatasetSummary {
             path: self.path.clone(),

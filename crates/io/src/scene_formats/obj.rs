@@ -369,29 +369,29 @@ impl ObjGeometry {
     /// The vertices, once every face is checked against the number of vertices and normals in
     /// the file.
     fn finish(self) -> Result<ObjVertices, ObjError> {
-        if let Some((m, line)) = self.max_normal {
-            if m as usize >= self.normals.len() {
-                return Err(ObjError {
-                    line,
-                    message: format!(
-                        "face refers to normal {}, but the file defines only {} normals",
-                        m as u64 + 1,
-                        self.normals.len()
-                    ),
-                });
-            }
+        if let Some((m, line)) = self.max_normal
+            && m as usize >= self.normals.len()
+        {
+            return Err(ObjError {
+                line,
+                message: format!(
+                    "face refers to normal {}, but the file defines only {} normals",
+                    m as u64 + 1,
+                    self.normals.len()
+                ),
+            });
         }
-        if let Some((m, line)) = self.max_index {
-            if m as usize >= self.positions.len() {
-                return Err(ObjError {
-                    line,
-                    message: format!(
-                        "face refers to vertex {}, but the file defines only {} vertices",
-                        m as u64 + 1,
-                        self.positions.len()
-                    ),
-                });
-            }
+        if let Some((m, line)) = self.max_index
+            && m as usize >= self.positions.len()
+        {
+            return Err(ObjError {
+                line,
+                message: format!(
+                    "face refers to vertex {}, but the file defines only {} vertices",
+                    m as u64 + 1,
+                    self.positions.len()
+                ),
+            });
         }
         Ok(ObjVertices { positions: self.positions, normals: self.normals, pairs: self.pairs })
     }

@@ -108,13 +108,13 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
 /// `<integrator>`: read and ignored (Opticks always traces unbounded paths).
 fn integrator<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
     let mut p = Props::of(e)?;
-    if let Some((d, node)) = p.int("max_depth")? {
-        if d != -1 {
-            b.warn(
-                node,
-                format!("max_depth = {d} is ignored: Opticks always traces unbounded paths (Mitsuba's -1)"),
-            );
-        }
+    if let Some((d, node)) = p.int("max_depth")?
+        && d != -1
+    {
+        b.warn(
+            node,
+            format!("max_depth = {d} is ignored: Opticks always traces unbounded paths (Mitsuba's -1)"),
+        );
     }
     // Everything else about the integrator is Mitsuba's business.
     Ok(())

@@ -241,10 +241,10 @@ fn substitute(raw: &str, vars: &HashMap<String, String>) -> std::result::Result<
 
 /// Points each `<ref>` at or below `e` to the top-level element its `id` names.
 fn resolve_refs(e: &mut Element, ids: &HashMap<String, usize>) {
-    if e.tag == "ref" {
-        if let Ok(Some(id)) = e.attr("id") {
-            e.target = ids.get(id).copied();
-        }
+    if e.tag == "ref"
+        && let Ok(Some(id)) = e.attr("id")
+    {
+        e.target = ids.get(id).copied();
     }
     e.children.iter_mut().for_each(|c| resolve_refs(c, ids));
 }

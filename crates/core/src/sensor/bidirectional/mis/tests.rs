@@ -388,10 +388,10 @@ fn check(path: &Path, render: Render, mutant: Mutant, report: &mut Report) {
     let mut sum = 0.0f64;
     let mut any = false;
     for (truth, got) in exact.iter().zip(&api) {
-        if let Some(w) = got {
-            if !(0.0..=1.0).contains(w) {
-                report.out_of_range += 1;
-            }
+        if let Some(w) = got
+            && !(0.0..=1.0).contains(w)
+        {
+            report.out_of_range += 1;
         }
         match (*truth, *got) {
             (Truth::Weight(w), Some(g)) => {
