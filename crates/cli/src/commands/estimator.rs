@@ -8,7 +8,7 @@ use super::LitDataset;
 use crate::progress;
 use anyhow::{Result, anyhow, bail};
 use clap::ValueEnum;
-use opticks_core::dataset::{Directions, mis_compatibility};
+use opticks_core::dataset::{Directions, MisUnavailable, mis_compatibility};
 use opticks_core::film::Film;
 use opticks_core::sensor::Sensor;
 use opticks_core::sensor::bidirectional::{Heuristic, Progressive, Renderer, Settings};
@@ -172,7 +172,13 @@ impl EstimatorArgs {
 /// with MIS); the command line adds the other way out.
 fn mis_settings(data: &LitDataset) -> Result<(Heuristic, Directions)> {
     let s = mis_compatibility(data.reader.header()).map_err(|e| {
-        anyhow!("{}: {e} (or render it with --estimator light)", data.reader.path().display())
+        let path = data.reader.path().display();
+        match e {
+            MisUnavailable::NoRecords { .. } | MisUnavailable::Signature { .. } => anyhow!(
+                "{path}: {e} (`opticks upgrade {path}` does that; or render it with --estimator light)"
+            ),
+            _ => anyhow!("{path}: {e} (or render it with --estimator light)"),
+        }
     })?;
     Ok((s.heuristic, s.directions))
 }
