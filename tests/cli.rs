@@ -397,7 +397,7 @@ fn render_and_walk_with_the_bidirectional_estimator() {
         d,
     );
     assert!(
-        e.contains("no MIS records") && e.contains("opticks trace") && e.contains("--estimator light"),
+        e.contains("without MIS records") && e.contains("opticks upgrade") && e.contains("--estimator light"),
         "{e}"
     );
     std::fs::write(

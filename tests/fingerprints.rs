@@ -317,12 +317,33 @@ fn every_bsdf_and_light_kind_fingerprint_is_pinned() {
 
 /// Renders `testdata/datasets/NAME.opds` against `scene` (64×48, one thread, so the sum is in
 /// one order) and compares it, pixel for pixel, with `NAME.exr`, rendered from the same dataset
-/// by the Opticks that wrote it (commit fbd7ee8).
-fn renders_as_when_written(name: &str, scene: &str) {
+/// by the Opticks that wrote it (commit fbd7ee8). With `upgrade`, the dataset is first
+/// upgraded to MIS records (`opticks upgrade`: every pass re-traced, bit for bit) and the
+/// upgraded file, of the current format, must render the same image.
+fn renders_as_when_written(name: &str, scene: &str, upgrade: bool) {
     let repo = common::repo();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.exr");
-    let dataset = repo.join("testdata/datasets").join(format!("{name}.opds"));
+    let mut dataset = repo.join("testdata/datasets").join(format!("{name}.opds"));
+    if upgrade {
+        let upgraded = dir.path().join("upgraded.opds");
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_opticks"))
+            .args(["upgrade".as_ref(), dataset.as_os_str()])
+            .args(["--scene".as_ref(), repo.join(scene).as_os_str()])
+            .arg("-o")
+            .arg(&upgraded)
+            .output()
+            .unwrap();
+        assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
+        let r = opticks_io::dataset_file::DatasetReader::open(&upgraded).unwrap();
+        r.verify().unwrap();
+        assert!(opticks_core::dataset::mis_compatibility(r.header()).is_ok());
+        assert!(
+            (0..r.chunk_count())
+                .all(|i| r.chunk_records(i).unwrap().len() == r.chunk(i).unwrap().samples.len())
+        );
+        dataset = upgraded;
+    }
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_opticks"))
         .args(["render".as_ref(), dataset.as_os_str()])
         .args(["--scene".as_ref(), repo.join(scene).as_os_str()])
@@ -344,10 +365,17 @@ fn renders_as_when_written(name: &str, scene: &str) {
 
 #[test]
 fn a_cornell_dataset_of_format_version_2_still_renders_the_same() {
-    renders_as_when_written("cornell-v2", "testdata/scenes/cornell/scene.xml");
+    renders_as_when_written("cornell-v2", "testdata/scenes/cornell/scene.xml", false);
 }
 
 #[test]
 fn a_rough_materials_dataset_of_format_version_2_still_renders_the_same() {
-    renders_as_when_written("rough-v2", "testdata/mitsuba/rough/scene.xml");
+    renders_as_when_written("rough-v2", "testdata/mitsuba/rough/scene.xml", false);
+}
+
+/// The old datasets re-trace bit for bit with today's tracer, gaining their MIS records.
+#[test]
+fn format_version_2_datasets_upgrade_to_records_and_still_render_the_same() {
+    renders_as_when_written("cornell-v2", "testdata/scenes/cornell/scene.xml", true);
+    renders_as_when_written("rough-v2", "testdata/mitsuba/rough/scene.xml", true);
 }

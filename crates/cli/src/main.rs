@@ -55,6 +55,8 @@ enum Command {
     Bench(commands::bench::Args),
     /// Measure irradiance (W/m², lux) on a grid over a scene surface into CSV and a heat map.
     Measure(commands::measure::Args),
+    /// Give a dataset without MIS records its records, by re-tracing its passes bit for bit.
+    Upgrade(commands::upgrade::Args),
 }
 
 fn main() -> ExitCode {
@@ -73,6 +75,7 @@ fn main() -> ExitCode {
         Command::Info(a) => commands::info::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Measure(a) => commands::measure::run(a),
+        Command::Upgrade(a) => commands::upgrade::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

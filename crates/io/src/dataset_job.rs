@@ -14,9 +14,13 @@
 
 use crate::dataset_file::{DatasetError, DatasetReader, DatasetSummary, DatasetWriter};
 use opticks_core::dataset::check_path_budget;
-use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan, TooManyPaths};
+use opticks_core::dataset::{
+    Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan, TooManyPaths, UpgradeError, upgrade_plan,
+};
 use opticks_core::scene::Scene;
-use opticks_core::trace::trace_plan_from;
+use opticks_core::sensor::bidirectional::Heuristic;
+use opticks_core::trace::{trace_block, trace_plan_from};
+use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -151,6 +155,25 @@ pub enum JobError {
         #[source]
         source: Box<DatasetError>,
     },
+    /// The dataset's passes cannot be re-traced.
+    #[error(transparent)]
+    Upgrade(#[from] UpgradeError),
+    /// A re-traced chunk differs from the dataset's: nothing was written.
+    #[error(
+        "chunk {chunk} (pass {pass}: seed {seed}, stream {stream}) does not re-trace to the same samples: this \
+         Opticks traces differently from the one that wrote the dataset, or a merge renumbered its light; \
+         nothing was written (trace the dataset anew instead)"
+    )]
+    NotReproduced {
+        /// The chunk.
+        chunk: usize,
+        /// Its pass.
+        pass: usize,
+        /// The pass's seed.
+        seed: u64,
+        /// The pass's stream.
+        stream: u64,
+    },
     /// The writer thread ended before the tracer.
     #[error("the dataset writer stopped")]
     WriterStopped,
@@ -225,6 +248,64 @@ pub fn write_dataset(
             paths: header.trace.passes.last().map_or(0, |p| p.paths),
         });
     }
+    Ok(JobReport { summary, table: header.table, trace_seconds })
+}
+
+/// Writes the dataset of `reader`, traced from `scene`, to `output` with MIS records of
+/// `heuristic` (`docs/bidirectional.md` §7): every chunk is re-traced from its block's own
+/// random stream ([`upgrade_plan`]), in parallel batches, and compared with the dataset's bit for
+/// bit before it is written with its records. A chunk that does not re-trace, or a stop request,
+/// writes nothing. The header keeps every pass's figures and gains the records' heuristic and
+/// sampling signature.
+pub fn upgrade_dataset(
+    reader: &DatasetReader,
+    scene: &Scene,
+    heuristic: Heuristic,
+    output: &Path,
+    progress: &dyn JobProgress,
+) -> Result<JobReport, JobError> {
+    let (header, blocks) = upgrade_plan(reader.header(), scene, heuristic, reader.chunk_count())?;
+    let mut writer = DatasetWriter::create(output, &header)
+        .map_err(|source| JobError::Create { path: output.to_owned(), source })?;
+    let t0 = Instant::now();
+    progress.tracing(blocks.iter().map(|b| b.block.paths).sum());
+    let mut done = 0;
+    const BATCH: usize = 64;
+    for (n, batch) in blocks.chunks(BATCH).enumerate() {
+        if progress.stop() {
+            return Err(JobError::Stopped { output: output.to_owned() });
+        }
+        let traced: Vec<Chunk> = batch
+            .par_iter()
+            .map(|b| {
+                let l = b.block.light;
+                trace_block(scene, &b.settings, l.scene_light, l.table_index, b.block.index, b.block.paths)
+            })
+            .collect();
+        for (j, (c, b)) in traced.into_iter().zip(batch).enumerate() {
+            let i = n * BATCH + j;
+            let old = reader.chunk(i)?;
+            let same =
+                bytemuck::cast_slice::<_, u8>(&c.samples) == bytemuck::cast_slice::<_, u8>(old.samples);
+            if (c.light, c.paths) != (old.light, old.paths) || !same {
+                let p = &header.trace.passes[b.pass];
+                return Err(JobError::NotReproduced {
+                    chunk: i,
+                    pass: b.pass,
+                    seed: p.seed,
+                    stream: p.stream,
+                });
+            }
+            done += c.paths;
+            writer.write_chunk(&c)?;
+        }
+        progress.traced(done);
+    }
+    progress.traced_all();
+    let trace_seconds = t0.elapsed().as_secs_f64();
+    let summary = writer
+        .finish(&header.table, &header.trace)
+        .map_err(|source| JobError::Finish { path: output.to_owned(), source })?;
     Ok(JobReport { summary, table: header.table, trace_seconds })
 }
 
@@ -558,5 +639,42 @@ mod tests {
         remove_partial(Path::new("no such file"), Path::new("no such file")).unwrap();
         let e = remove_partial(Path::new("no such file"), Path::new("x.opds")).unwrap_err();
         assert!(e.to_string().starts_with("finished x.opds, but cannot remove no such file: "), "{e}");
+    }
+
+    /// A dataset traced without records upgrades to exactly the dataset traced with them; one
+    /// whose samples were altered (as if another tracer had written it) is refused, and nothing
+    /// is written.
+    #[test]
+    fn an_upgrade_re_traces_to_the_dataset_traced_with_records() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = scene(true);
+        let write = |name: &str, mis| {
+            let path = dir.path().join(name);
+            let settings = TraceSettings { paths: 9000, seed: 4, mis, ..Default::default() };
+            let (header, pass) = new_trace(&scene, "box", settings);
+            write_dataset(&path, header, &[], Some(NewPaths { scene: &scene, pass }), &()).unwrap();
+            path
+        };
+        let (plain, with) = (write("plain.opds", None), write("with.opds", Some(Heuristic::Power)));
+        let up = dir.path().join("up.opds");
+        let reader = DatasetReader::open(&plain).unwrap();
+        upgrade_dataset(&reader, &scene, Heuristic::Power, &up, &()).unwrap();
+        let (mut a, b) = (read_all(&up).unwrap(), read_all(&with).unwrap());
+        a.0.trace.passes.iter_mut().zip(&b.0.trace.passes).for_each(|(p, q)| p.seconds = q.seconds);
+        assert_eq!(a, b);
+        assert!(a.1.iter().all(|c| c.records.len() == c.samples.len()));
+
+        // Another seed's samples under this header: chunk 0 does not re-trace.
+        let other = DatasetReader::open(&write("other.opds", None)).unwrap();
+        let mut h = other.header().clone();
+        h.trace.passes[0].seed = 5;
+        let forged = dir.path().join("forged.opds");
+        write_dataset(&forged, h, &[Source::as_is(&other)], None, &()).unwrap();
+        let bad = dir.path().join("bad.opds");
+        let e = upgrade_dataset(&DatasetReader::open(&forged).unwrap(), &scene, Heuristic::Power, &bad, &())
+            .unwrap_err();
+        assert!(matches!(e, JobError::NotReproduced { chunk: 0, pass: 0, seed: 5, stream: 0 }), "{e}");
+        assert!(e.to_string().contains("does not re-trace to the same samples"), "{e}");
+        assert!(!bad.exists(), "nothing written");
     }
 }

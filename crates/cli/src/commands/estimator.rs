@@ -8,11 +8,10 @@ use super::LitDataset;
 use crate::progress;
 use anyhow::{Result, anyhow, bail};
 use clap::ValueEnum;
-use opticks_core::dataset::Directions;
+use opticks_core::dataset::{Directions, MisUnavailable, mis_compatibility};
 use opticks_core::film::Film;
 use opticks_core::sensor::Sensor;
 use opticks_core::sensor::bidirectional::{Heuristic, Progressive, Renderer, Settings};
-use opticks_core::trace::SAMPLING_SIGNATURE;
 use std::time::Instant;
 
 /// Which estimator renders the image.
@@ -80,11 +79,7 @@ impl EstimatorArgs {
         let (heuristic, directions) = mis_settings(data)?;
         let chunks = data.cache_chunks()?;
         if !chunks.iter().all(|c| c.records.len() == c.samples.len()) {
-            bail!(
-                "{} has no MIS records (written by an older Opticks): --estimator bidirectional needs them; \
-                 trace the scene again with this version (`opticks trace`), or render with --estimator light",
-                data.reader.path().display()
-            );
+            bail!("{}: a chunk of a pass with MIS records has none", data.reader.path().display());
         }
         let names = data.light_names();
         let settings = Settings { connections: self.connections, seed: self.seed, heuristic, directions };
@@ -172,34 +167,18 @@ impl EstimatorArgs {
     }
 }
 
-/// The heuristic and direction strategy the dataset's records were traced with: every pass
-/// with paths must have records of one heuristic and of this build's sampling signature, and
-/// one direction rule.
+/// The heuristic and direction strategy the dataset's records were traced with
+/// (`opticks_core::dataset::mis_compatibility`, which words why a dataset cannot be rendered
+/// with MIS); the command line adds the other way out.
 fn mis_settings(data: &LitDataset) -> Result<(Heuristic, Directions)> {
-    let path = data.reader.path().display();
-    let passes: Vec<_> = data.reader.header().trace.passes.iter().filter(|p| p.paths > 0).collect();
-    let Some(first) = passes.first() else { bail!("{path} has no traced paths") };
-    for p in &passes {
-        let Some(mis) = p.mis else {
-            bail!(
-                "{path} has no MIS records (written by an older Opticks, or traced without them): \
-                 --estimator bidirectional needs them; trace the scene again with this version \
-                 (`opticks trace`), or render with --estimator light"
-            );
-        };
-        if mis.signature != SAMPLING_SIGNATURE || Some(mis.heuristic) != first.mis.map(|m| m.heuristic) {
-            bail!(
-                "{path}: its passes' MIS records differ (heuristic or tracer version): re-trace it, or render with --estimator light"
-            );
+    let s = mis_compatibility(data.reader.header()).map_err(|e| {
+        let path = data.reader.path().display();
+        match e {
+            MisUnavailable::NoRecords { .. } | MisUnavailable::Signature { .. } => anyhow!(
+                "{path}: {e} (`opticks upgrade {path}` does that; or render it with --estimator light)"
+            ),
+            _ => anyhow!("{path}: {e} (or render it with --estimator light)"),
         }
-        if p.directions != first.directions {
-            bail!(
-                "{path} mixes passes traced with --directions {:?} and {:?}: the bidirectional estimator's \
-                 weights need one light-tracing density; render with --estimator light",
-                first.directions,
-                p.directions
-            );
-        }
-    }
-    Ok((first.mis.map_or(Heuristic::Power, |m| m.heuristic), first.directions))
+    })?;
+    Ok((s.heuristic, s.directions))
 }

@@ -17,6 +17,7 @@ pub mod refine;
 pub mod render;
 pub mod resume;
 pub mod trace;
+pub mod upgrade;
 pub mod walk;
 
 use crate::progress;

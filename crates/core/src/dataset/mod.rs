@@ -20,7 +20,8 @@
 //!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`);
 //! * whether its MIS records (one per sample, [`Chunk::records`]) serve the bidirectional
 //!   estimator ([`mis_compatibility`], `mis.rs`): every law keeps them exact as long as all
-//!   passes agree on heuristic, sampling signature and direction rule.
+//!   passes agree on heuristic, sampling signature and direction rule; a dataset without them
+//!   gains them by re-tracing its passes block for block ([`upgrade_plan`], `upgrade.rs`).
 
 mod extend;
 mod header;
@@ -35,6 +36,7 @@ mod subset;
 mod table;
 #[cfg(test)]
 mod testing;
+mod upgrade;
 
 pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
 pub use header::{DatasetHeader, NoPassRecord, PassMis, TraceInfo, TracePass};
@@ -50,3 +52,4 @@ pub use sample::{EMISSION_FLAG, Sample};
 pub use scene_check::{LightMismatch, SceneMismatch, check_scene, scene_lights};
 pub use subset::{BadFraction, Subset, subset};
 pub use table::{Chunk, LightRecord, LightTable};
+pub use upgrade::{RetraceBlock, UpgradeError, upgrade_plan};

@@ -235,3 +235,61 @@ impl RenderLights {
         Some((radiance, emitter, rl.pick))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{PointLightDesc, cornell_box};
+
+    fn cornell_with_bulb() -> crate::scene::SceneDescription {
+        let mut d = cornell_box();
+        let position = Vec3::new(0.3, -0.2, 0.6);
+        d.point_lights.push(PointLightDesc {
+            name: "bulb".into(),
+            position,
+            intensity: Rgb::ONE,
+            ..Default::default()
+        });
+        d
+    }
+
+    /// Lights are matched by name; a light is on with paths and a relit power > 0; P_k = N_k/N
+    /// over the lights on only; what NEE and emitter hits return scales with the relit power.
+    #[test]
+    fn lights_on_their_picks_and_their_relit_emission() {
+        let scene = Scene::build(&cornell_with_bulb()).unwrap(); // "light" (area), "bulb" (point)
+        let flux = [Rgb::splat(2.0), Rgb::splat(0.5)];
+        // The table lists them the other way round, plus a light gone from the scene.
+        let both = RenderLights::new(
+            &scene,
+            &["bulb", "light", "gone"],
+            &[flux[1], flux[0], Rgb::ONE],
+            &[300, 100, 50],
+        );
+        assert_eq!(both.total_paths(), 400);
+        assert_eq!(both.lights().len(), 2);
+        let (bulb, area) = (both.of_table(0).unwrap(), both.of_table(1).unwrap());
+        assert!(both.of_table(2).is_none());
+        assert_eq!((bulb.scene_index, area.scene_index), (1, 0));
+        assert_eq!((bulb.pick, area.pick), (0.75, 0.25));
+        assert_eq!(area.power, Rgb::splat(200.0)); // Φ' = flux per path × N_k
+        // The bulb off: the area light alone, picked with probability 1.
+        let one = RenderLights::new(&scene, &["bulb", "light"], &[Rgb::ZERO, flux[0]], &[300, 100]);
+        assert!(one.of_table(0).is_none());
+        assert_eq!((one.total_paths(), one.of_table(1).unwrap().pick), (100, 1.0));
+        // NEE from a point of the floor toward the ceiling light: twice the power, twice the light.
+        let x = Vec3::new(0.1, -0.99, 0.2);
+        let a = one.sample(&scene, x, 0.3, Vec2::new(0.4, 0.6)).unwrap();
+        let doubled = RenderLights::new(&scene, &["bulb", "light"], &[Rgb::ZERO, 2.0 * flux[0]], &[300, 100]);
+        let b = doubled.sample(&scene, x, 0.3, Vec2::new(0.4, 0.6)).unwrap();
+        assert_eq!((a.dir, a.pick), (b.dir, b.pick));
+        assert!((b.radiance - 2.0 * a.radiance).abs().max_element() <= 1e-6 * b.radiance.max_element());
+        // An emitter hit on the ceiling light from below, and none from above.
+        let prim = (0..scene.triangles.len() as u32).find(|&p| scene.light_of(p) == Some(0)).unwrap();
+        let n = scene.normal(prim);
+        assert!(one.hit(&scene, prim, n, n).is_some() && one.hit(&scene, prim, n, -n).is_none());
+        assert!(
+            RenderLights::new(&scene, &["light"], &[Rgb::ZERO], &[100]).hit(&scene, prim, n, n).is_none()
+        );
+    }
+}
