@@ -176,24 +176,8 @@ impl DatasetReader {
                 detail: format!("chunk {i}: non-zero byte in the padding of the MIS records"),
             });
         }
-        // Cannot fail: the map is page aligned, record blocks sit at multiples of 32 bytes.
-        let cast = |bytes| {
-            bytemuck::try_cast_slice(bytes).map_err(|err| DatasetError::Corrupt {
-                path: self.path.clone(),
-                offset: start as u64,
-                detail: format!("payload cannot be viewed as records: {err}"),
-            })
-        };
-        let records: &[MisRecord] = cast(&block[..records_len])?;
-        let samples_at = e.samples_at();
-        let samples: &[Sample] =
-            bytemuck::try_cast_slice(&self.bytes()[samples_at..start]).map_err(|err| {
-                DatasetError::Corrupt {
-                    path: self.path.clone(),
-                    offset: samples_at as u64,
-                    detail: format!("payload cannot be viewed as samples: {err}"),
-                }
-            })?;
+        let records: &[MisRecord] = self.view(start, e.count, "MIS records")?;
+        let samples: &[Sample] = self.view(e.samples_at(), e.count, "samples")?;
         if let Err((k, detail)) = validate_records(samples, records) {
             return Err(DatasetError::InvalidRecord {
                 path: self.path.clone(),
@@ -215,6 +199,19 @@ impl DatasetReader {
             c.records = self.chunk_records(i)?.to_vec();
         }
         Ok(c)
+    }
+
+    /// `count` records of type `T` at byte `at` of the mapped file, without a copy. Cannot fail
+    /// for the payloads `open` indexed: the map is page aligned, payloads and record blocks sit
+    /// at multiples of 32 bytes and inside the file.
+    fn view<T: bytemuck::Pod>(&self, at: usize, count: usize, what: &str) -> Result<&[T], DatasetError> {
+        bytemuck::try_cast_slice(&self.bytes()[at..at + count * size_of::<T>()]).map_err(|err| {
+            DatasetError::Corrupt {
+                path: self.path.clone(),
+                offset: at as u64,
+                detail: format!("payload cannot be viewed as {what}: {err}"),
+            }
+        })
     }
 
     fn entry(&self, i: usize) -> Result<Entry, DatasetError> {
@@ -239,12 +236,7 @@ impl DatasetReader {
                 computed,
             });
         }
-        // Cannot fail: the map is page aligned, payloads sit at multiples of 32 bytes.
-        let samples: &[Sample] = bytemuck::try_cast_slice(payload).map_err(|err| DatasetError::Corrupt {
-            path: self.path.clone(),
-            offset: start as u64,
-            detail: format!("payload cannot be viewed as samples: {err}"),
-        })?;
+        let samples: &[Sample] = self.view(start, e.count, "samples")?;
         if let Err((k, detail)) = validate_samples(samples) {
             return Err(DatasetError::InvalidSample {
                 path: self.path.clone(),
