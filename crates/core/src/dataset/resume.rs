@@ -4,7 +4,7 @@
 //! blocks saved are a known prefix and tracing only the rest gives exactly the samples of an
 //! uninterrupted run.
 
-use super::{DatasetHeader, LightMismatch, LightPlan, PassPlan, blocks_done, scene_lights};
+use super::{DatasetHeader, LightMismatch, LightPlan, PassPlan, TracePass, blocks_done, scene_lights};
 use crate::scene::Scene;
 
 /// Why a dataset's last pass cannot be resumed.
@@ -36,6 +36,15 @@ pub fn resume_plan(header: &DatasetHeader, scene: &Scene) -> Result<PassPlan, Re
         return Err(ResumeError::Complete);
     };
     let scene_lights = scene_lights(&header.table, scene)?;
+    let (lights, done) = traced_plan(pass, &scene_lights);
+    let first_block = done.ok_or(ResumeError::NotBlockAligned { paths: pass.paths })?;
+    Ok(PassPlan { settings: pass.settings(), lights, first_block })
+}
+
+/// The plan of `pass` with its light table indices mapped to the scene lights `scene_lights`
+/// ([`scene_lights`]), and how many of its blocks (in [`super::block_order`]) it traced
+/// (`None` if its paths are no whole number of them).
+pub(super) fn traced_plan(pass: &TracePass, scene_lights: &[usize]) -> (Vec<LightPlan>, Option<usize>) {
     let lights: Vec<LightPlan> = pass
         .planned
         .iter()
@@ -45,9 +54,8 @@ pub fn resume_plan(header: &DatasetHeader, scene: &Scene) -> Result<PassPlan, Re
             paths,
         })
         .collect();
-    let first_block =
-        blocks_done(&lights, pass.paths).ok_or(ResumeError::NotBlockAligned { paths: pass.paths })?;
-    Ok(PassPlan { settings: pass.settings(), lights, first_block })
+    let done = blocks_done(&lights, pass.paths);
+    (lights, done)
 }
 
 /// A dataset whose last pass was interrupted: only resuming it keeps it resumable. A pass

@@ -8,10 +8,8 @@
 //! chunk's and refuse on any difference: a tracer that changed since, or a merge that renumbered
 //! a light (its stream was named by its old index), does not reproduce the dataset.
 
-use super::scene_lights;
-use super::{
-    Block, DatasetHeader, LightMismatch, LightPlan, PassMis, TraceSettings, block_order, blocks_done,
-};
+use super::resume::traced_plan;
+use super::{Block, DatasetHeader, LightMismatch, PassMis, TraceSettings, block_order, scene_lights};
 use crate::scene::Scene;
 use crate::sensor::bidirectional::Heuristic;
 use crate::trace::SAMPLING_SIGNATURE;
@@ -80,17 +78,8 @@ pub fn upgrade_plan(
         if p.planned.is_empty() && p.paths > 0 {
             return Err(UpgradeError::NoPlan { pass: i, seed: p.seed, stream: p.stream });
         }
-        let lights: Vec<LightPlan> = p
-            .planned
-            .iter()
-            .map(|&(table_index, paths)| LightPlan {
-                scene_light: scene_lights[table_index as usize],
-                table_index,
-                paths,
-            })
-            .collect();
-        let done =
-            blocks_done(&lights, p.paths).ok_or(UpgradeError::NotBlockAligned { pass: i, paths: p.paths })?;
+        let (lights, done) = traced_plan(p, &scene_lights);
+        let done = done.ok_or(UpgradeError::NotBlockAligned { pass: i, paths: p.paths })?;
         let settings = TraceSettings { mis: Some(heuristic), ..p.settings() };
         blocks.extend(block_order(&lights)[..done].iter().map(|&block| RetraceBlock {
             pass: i,
