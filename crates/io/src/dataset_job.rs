@@ -286,7 +286,7 @@ pub fn upgrade_dataset(
             let i = n * BATCH + j;
             let old = reader.chunk(i)?;
             let same =
-                bytemuck::cast_slice::<_, u8>(&c.samples) == bytemuck::cast_slice::<_, u8>(old.samples);
+                bytemuck::cast_slice::<_, u8>(&c.samples) == bytemuck::cast_slice::<_, u8>(&old.samples);
             if (c.light, c.paths) != (old.light, old.paths) || !same {
                 let p = &header.trace.passes[b.pass];
                 return Err(JobError::NotReproduced {

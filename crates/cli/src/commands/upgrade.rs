@@ -43,7 +43,7 @@ pub struct Args {
 /// Runs the upgrade.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let super::Opened { reader, scene, .. } = open_with_scene(&a.dataset, a.scene.as_deref())?;
     let heuristic = match a.mis_records {
         HeuristicArg::Power => Heuristic::Power,
         HeuristicArg::Balance => Heuristic::Balance,

@@ -81,7 +81,7 @@ pub fn upgrade_plan(
         let (lights, done) = traced_plan(p, &scene_lights);
         let done = done.ok_or(UpgradeError::NotBlockAligned { pass: i, paths: p.paths })?;
         let settings = TraceSettings { mis: Some(heuristic), ..p.settings() };
-        blocks.extend(block_order(&lights)[..done].iter().map(|&block| RetraceBlock {
+        blocks.extend(block_order(&lights).take(done).map(|block| RetraceBlock {
             pass: i,
             settings,
             block,

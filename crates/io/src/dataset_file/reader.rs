@@ -242,19 +242,6 @@ impl DatasetReader {
         Ok(Chunk { light, paths, samples, records })
     }
 
-    /// `count` records of type `T` at byte `at` of the mapped file, without a copy. Cannot fail
-    /// for the payloads `open` indexed: the map is page aligned, payloads and record blocks sit
-    /// at multiples of 32 bytes and inside the file.
-    fn view<T: bytemuck::Pod>(&self, at: usize, count: usize, what: &str) -> Result<&[T], DatasetError> {
-        bytemuck::try_cast_slice(&self.bytes()[at..at + count * size_of::<T>()]).map_err(|err| {
-            DatasetError::Corrupt {
-                path: self.path.clone(),
-                offset: at as u64,
-                detail: format!("payload cannot be viewed as {what}: {err}"),
-            }
-        })
-    }
-
     fn entry(&self, i: usize) -> Result<Entry, DatasetError> {
         self.index.get(i).copied().ok_or_else(|| DatasetError::NoSuchChunk {
             path: self.path.clone(),
