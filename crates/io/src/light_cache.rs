@@ -25,14 +25,19 @@ pub fn read_cache(reader: &DatasetReader, chunks: &[usize]) -> Result<Vec<Chunk>
 }
 
 /// The core's views of chunks read by [`read_cache`] (`reader` names the file in errors).
-pub fn cache_views<'a>(reader: &DatasetReader, chunks: &'a [Chunk]) -> Result<Vec<CacheChunk<'a>>, DatasetError> {
+pub fn cache_views<'a>(
+    reader: &DatasetReader,
+    chunks: &'a [Chunk],
+) -> Result<Vec<CacheChunk<'a>>, DatasetError> {
     chunks
         .iter()
         .enumerate()
         .map(|(i, c)| {
-            CacheChunk::new(c.light, c.paths, &c.samples, &c.records).map_err(|e| DatasetError::InvalidInput {
-                path: reader.path().to_owned(),
-                detail: format!("chunk {i}: {e}"),
+            CacheChunk::new(c.light, c.paths, &c.samples, &c.records).map_err(|e| {
+                DatasetError::InvalidInput {
+                    path: reader.path().to_owned(),
+                    detail: format!("chunk {i}: {e}"),
+                }
             })
         })
         .collect()

@@ -267,7 +267,12 @@ fn a_file_truncated_or_rewritten_while_open_is_an_error_not_a_signal() {
     let path = dir.path().join("cut.opds");
     let mut rng = Rng(5);
     let chunks: Vec<Chunk> = (0..8u32)
-        .map(|_| Chunk { light: 0, paths: 4, samples: (0..500).map(|_| rng.sample()).collect(), records: Vec::new() })
+        .map(|_| Chunk {
+            light: 0,
+            paths: 4,
+            samples: (0..500).map(|_| rng.sample()).collect(),
+            records: Vec::new(),
+        })
         .collect();
     write(&path, &header(&[0]), &chunks);
     let r = DatasetReader::open(&path).unwrap();
@@ -841,7 +846,6 @@ fn mis_records_round_trip_beside_chunks_without_them() {
     for (i, c) in chunks.iter().enumerate() {
         let v = r.chunk(i).unwrap();
         assert_eq!(v.samples, &c.samples[..]);
-        assert_eq!(v.samples.as_ptr() as usize % 32, 0);
         assert_eq!(r.has_records(i), Some(!c.records.is_empty() || c.samples.is_empty()));
         match r.chunk_records(i) {
             Ok(records) => assert_eq!(records, &c.records[..]),

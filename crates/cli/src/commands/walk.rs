@@ -89,7 +89,9 @@ pub fn run(a: Args) -> Result<()> {
         let film = match a.estimator.estimator {
             Estimator::Light => render(scene, &camera.into(), data.count(), |i| data.batch(i), |_| {})?,
             // Each frame its own camera streams (pass = frame number).
-            Estimator::Bidirectional => a.estimator.render(&data, &camera.into(), None, f as u64, false)?.film,
+            Estimator::Bidirectional => {
+                a.estimator.render(&data, &camera.into(), None, f as u64, false)?.film
+            }
         };
         if f == 0 {
             warn_if_black(&film, data.samples(), "camera of frame 0");

@@ -81,11 +81,7 @@ pub fn upgrade_plan(
         let (lights, done) = traced_plan(p, &scene_lights);
         let done = done.ok_or(UpgradeError::NotBlockAligned { pass: i, paths: p.paths })?;
         let settings = TraceSettings { mis: Some(heuristic), ..p.settings() };
-        blocks.extend(block_order(&lights).take(done).map(|block| RetraceBlock {
-            pass: i,
-            settings,
-            block,
-        }));
+        blocks.extend(block_order(&lights).take(done).map(|block| RetraceBlock { pass: i, settings, block }));
     }
     if blocks.len() != chunks {
         return Err(UpgradeError::ChunkCount { blocks: blocks.len(), chunks });

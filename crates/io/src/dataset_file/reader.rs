@@ -184,7 +184,11 @@ impl DatasetReader {
             return Ok((light, paths));
         }
         if !e.records {
-            return Err(DatasetError::NoRecords { path: self.path.clone(), offset: e.offset as u64, chunk: i as u64 });
+            return Err(DatasetError::NoRecords {
+                path: self.path.clone(),
+                offset: e.offset as u64,
+                chunk: i as u64,
+            });
         }
         let start = e.records_at();
         let len = record_block_len(e.count as u64).expect("checked by open") as usize;
