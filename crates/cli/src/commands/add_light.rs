@@ -4,14 +4,13 @@
 //! The result records the scene file used (`--scene`): it is the scene the dataset now belongs
 //! to.
 
-use super::extend_args::ExtendArgs;
-use super::{Opened, begin_dataset_write, check_before_trace, check_finished, job_error, open_with_scene};
+use super::extend_args::{ExtendArgs, Extending};
+use super::{Opened, check_before_trace, job_error};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::AddLightError;
 use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, write_dataset};
-use opticks_io::dataset_lock::WriteIntent;
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
@@ -35,15 +34,8 @@ pub struct Args {
 
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
-    a.extend.threads.apply()?;
-    let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
-    let inputs = [a.dataset.as_path()];
-    let _lock = begin_dataset_write(
-        &output,
-        WriteIntent { inputs: &inputs, overwrite: a.extend.overwrite, ..Default::default() },
-    )?;
-    let Opened { reader, scene, scene_spec, .. } = open_with_scene(&a.dataset, a.scene.as_deref())?;
-    check_finished(&a.dataset, reader.header())?;
+    let Extending { output, lock: _lock, opened } = a.extend.begin(&a.dataset, a.scene.as_deref())?;
+    let Opened { reader, scene, scene_spec, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) =
         opticks_core::dataset::add_light(reader.header(), &scene, &a.light, a.paths, seed, &strategy)

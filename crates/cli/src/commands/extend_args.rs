@@ -1,8 +1,11 @@
 //! The arguments `refine` and `add-light` share: where the extended dataset goes, and the
 //! seed, strategy and threads of the pass they add.
 
+use super::{Opened, begin_dataset_write, check_finished, open_with_scene};
 use crate::strategy_args::StrategyArgs;
-use std::path::PathBuf;
+use anyhow::Result;
+use opticks_io::dataset_lock::{WriteIntent, WriteLock};
+use std::path::{Path, PathBuf};
 
 /// Output, seed, strategy and threads of a pass that extends a dataset.
 #[derive(clap::Args, Debug)]
@@ -21,4 +24,34 @@ pub struct ExtendArgs {
     pub strategy: StrategyArgs,
     #[command(flatten)]
     pub threads: super::ThreadArgs,
+}
+
+/// A dataset about to be extended: where the result goes, the write lock held on it, and the
+/// dataset opened against its scene (checked to be finished: a pass added after an interrupted
+/// one would make that one impossible to resume).
+pub struct Extending {
+    /// The result's path (`--output`, else the dataset itself).
+    pub output: PathBuf,
+    /// Held until the result is written.
+    pub lock: WriteLock,
+    /// The dataset and its scene.
+    pub opened: Opened,
+}
+
+impl ExtendArgs {
+    /// What `refine` and `add-light` do first: apply `--threads`, lock the output (refusing to
+    /// write onto an input or an existing dataset without `--overwrite`), open `dataset` with
+    /// `scene` (or the one it records) and refuse an unfinished dataset.
+    pub fn begin(&self, dataset: &Path, scene: Option<&str>) -> Result<Extending> {
+        self.threads.apply()?;
+        let output = self.output.clone().unwrap_or_else(|| dataset.to_path_buf());
+        let inputs = [dataset];
+        let lock = begin_dataset_write(
+            &output,
+            WriteIntent { inputs: &inputs, overwrite: self.overwrite, ..Default::default() },
+        )?;
+        let opened = open_with_scene(dataset, scene)?;
+        check_finished(dataset, opened.reader.header())?;
+        Ok(Extending { output, lock, opened })
+    }
 }
