@@ -308,14 +308,6 @@ fn write_png_to(
         .map_err(|source| ImageError::Png { path: path.to_path_buf(), source })
 }
 
-/// Writes `bytes` to `path` atomically (temporary file, sync, rename), like every image: a
-/// failure or an interruption leaves any previous file intact. For non-image outputs (CSV).
-pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
-    atomic_write(path, |file| {
-        file.write_all(bytes).map_err(|source| ImageError::Io { path: path.to_path_buf(), source })
-    })
-}
-
 /// Writes several files all or none: each into its temporary file first, and only when every
 /// one is complete are they renamed into place (so `measure -o x.csv --png y.png` never leaves
 /// one written and the other not because of a write error).
