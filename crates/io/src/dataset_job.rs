@@ -138,7 +138,7 @@ pub enum JobError {
         paths: u64,
         /// Why writing failed.
         #[source]
-        source: DatasetError,
+        source: Box<DatasetError>,
     },
     /// The writer thread ended before the tracer.
     #[error("the dataset writer stopped")]
@@ -246,7 +246,12 @@ fn save_written(
     seconds: f64,
     source: DatasetError,
 ) -> JobError {
-    let failed = |partial, paths| JobError::WriteFailed { output: output.to_owned(), partial, paths, source };
+    let failed = |partial, paths| JobError::WriteFailed {
+        output: output.to_owned(),
+        partial,
+        paths,
+        source: Box::new(source),
+    };
     if writer.keep_written_prefix().is_err() {
         return failed(None, 0);
     }
@@ -531,6 +536,20 @@ mod tests {
             "the box's light is light 0 in both"
         );
         assert_eq!(written.table.lights[0].paths, a.header().table.lights[0].paths + 5000);
+    }
+
+    #[test]
+    fn sizes_are_estimated_from_the_sources_or_assumed() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.opds");
+        trace(&scene(false), &path, 9000, 1, &()).unwrap();
+        let reader = DatasetReader::open(&path).unwrap();
+        let per_path = reader.file_len().div_ceil(9000);
+        assert_eq!(estimate_bytes(&[Source::as_is(&reader)], 1000), reader.file_len() + 1000 * per_path);
+        assert_eq!(estimate_bytes(&[], 1000), 1000 * ASSUMED_BYTES_PER_PATH);
+        assert_eq!(estimate_bytes(&[], u64::MAX), u64::MAX, "saturates");
+        #[cfg(unix)]
+        assert!(free_space(&path).is_some_and(|b| b > 0));
     }
 
     #[test]

@@ -20,7 +20,7 @@
 //!   `opticks_core::dataset::check_resume_target`), or `overwrite` is given.
 //!
 //! The lock file is removed when the lock is released. Removing a lock file can race with a
-//! process that has opened but not yet locked it; [`lock`] therefore re-checks after locking
+//! process that has opened but not yet locked it; the locking step therefore re-checks after locking
 //! that the path still names the file it locked, and retries if not.
 
 use crate::dataset_job::partial_path;

@@ -6,7 +6,7 @@
 use super::{DatasetArgs, ThreadArgs, render_with_progress, warn_if_black, write_film};
 use crate::camera_args::{CameraArgs, exposure_for};
 use crate::output;
-use anyhow::Result;
+use anyhow::{Context, Result};
 use opticks_io::output_paths::{OutputKind, check_output};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -36,7 +36,10 @@ pub fn run(a: Args) -> Result<()> {
     a.camera.check()?;
     let data = a.input.open()?;
     let scene = &data.scene;
-    let camera = a.camera.resolve(scene.camera)?;
+    let camera = a.camera.resolve(scene.camera).with_context(|| match a.input.scene() {
+        Some(spec) => format!("the scene given with --scene ({spec})"),
+        None => "the dataset's scene".to_string(),
+    })?;
     let t0 = Instant::now();
     let _graceful = crate::interrupt::graceful();
     let film = render_with_progress(scene, &camera, data.count(), data.samples(), |i| data.batch(i))?;

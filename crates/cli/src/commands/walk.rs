@@ -124,18 +124,6 @@ fn frame_count(t0: f32, t1: f32, fps: f32) -> Option<f64> {
     (n.is_finite() && n >= 1.0).then_some(n)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn frame_counts_never_overflow_to_zero() {
-        assert_eq!(frame_count(0.0, 1.0, 24.0), Some(25.0));
-        assert_eq!(frame_count(0.0, 0.0, 24.0), Some(1.0));
-        assert!(frame_count(0.0, 1e30, 1000.0).unwrap() > MAX_FRAMES, "refused as too many, not 0 frames");
-        assert_eq!(frame_count(0.0, f32::INFINITY, 24.0), None);
-    }
-}
 
 /// Encodes this run's `frames` PNG frames into `video`: exactly frames 0..frames (stale frames
 /// of an earlier, longer run in the same folder are not read), into a temporary file renamed
@@ -174,4 +162,17 @@ fn ffmpeg_available() -> bool {
         .stderr(Stdio::null())
         .status()
         .is_ok_and(|s| s.success())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_counts_never_overflow_to_zero() {
+        assert_eq!(frame_count(0.0, 1.0, 24.0), Some(25.0));
+        assert_eq!(frame_count(0.0, 0.0, 24.0), Some(1.0));
+        assert!(frame_count(0.0, 1e30, 1000.0).unwrap() > MAX_FRAMES, "refused as too many, not 0 frames");
+        assert_eq!(frame_count(0.0, f32::INFINITY, 24.0), None);
+    }
 }

@@ -505,14 +505,11 @@ impl Converter {
             None => SceneFileError::Material { at: s.loc(Pos::default()), element: "default".into(), source },
         };
         let sum = kd + ks;
-        let (kd, ks) = if rescale
-            && sum.max_element() > 1.0
-            && kd.min_element() >= 0.0
-            && ks.min_element() >= 0.0
-        {
-            let scale = Rgb::ONE / sum.max(Rgb::ONE);
-            if let Some(m) = mat {
-                self.warn_once(
+        let (kd, ks) =
+            if rescale && sum.max_element() > 1.0 && kd.min_element() >= 0.0 && ks.min_element() >= 0.0 {
+                let scale = Rgb::ONE / sum.max(Rgb::ONE);
+                if let Some(m) = mat {
+                    self.warn_once(
                     m,
                     "energy",
                     format!(
@@ -520,11 +517,11 @@ impl Converter {
                         sum.x, sum.y, sum.z
                     ),
                 );
-            }
-            (kd * scale, ks * scale)
-        } else {
-            (kd, ks)
-        };
+                }
+                (kd * scale, ks * scale)
+            } else {
+                (kd, ks)
+            };
         if ks == Rgb::ZERO {
             Lambert::new(kd).map(Bsdf::Lambert).map_err(|e| material_error(self, e))
         } else {
