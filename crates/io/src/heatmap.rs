@@ -255,27 +255,8 @@ pub fn draw(
     Ok(r)
 }
 
-/// Draws the heat map (see [`draw`]) and writes it as a PNG (atomically: a temporary file in the
-/// same directory, renamed when complete).
-pub fn write_heatmap(
-    path: &Path,
-    values: &[f64],
-    nx: u32,
-    ny: u32,
-    u_len: f64,
-    v_len: f64,
-    title: &str,
-) -> Result<(), HeatmapError> {
-    let png = encode_heatmap(path, values, nx, ny, u_len, v_len, title)?;
-    crate::image_file::write_file_atomically(path, &png).map_err(|e| HeatmapError::Io {
-        path: path.to_path_buf(),
-        source: std::io::Error::other(e.to_string()),
-    })
-}
-
-/// The PNG bytes of the heat map (see [`draw`]); `path` only names it in errors. For commands
-/// that write it together with other files, all or none
-/// (`crate::image_file::write_files_atomically`).
+/// The PNG bytes of the heat map (see [`draw`]); `path` only names it in errors. Written with
+/// the command's other outputs, all or none (`crate::image_file::write_files_atomically`).
 pub fn encode_heatmap(
     path: &Path,
     values: &[f64],

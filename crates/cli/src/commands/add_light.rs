@@ -5,13 +5,12 @@
 //! to.
 
 use super::extend_args::ExtendArgs;
-use super::{Opened, begin_dataset_write, check_finished, job_error, open_with_scene, warn_if_low_space};
+use super::{Opened, job_error, warn_if_low_space};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::AddLightError;
 use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, write_dataset};
-use opticks_io::dataset_lock::WriteIntent;
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
@@ -35,15 +34,8 @@ pub struct Args {
 
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
-    a.extend.threads.apply()?;
-    let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
-    let inputs = [a.dataset.as_path()];
-    let _lock = begin_dataset_write(
-        &output,
-        WriteIntent { inputs: &inputs, overwrite: a.extend.overwrite, ..Default::default() },
-    )?;
-    let Opened { reader, scene, scene_spec, .. } = open_with_scene(&a.dataset, a.scene.as_deref())?;
-    check_finished(&a.dataset, reader.header())?;
+    let (_lock, output, Opened { reader, scene, scene_spec, .. }) =
+        a.extend.begin(&a.dataset, a.scene.as_deref())?;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) =
         opticks_core::dataset::add_light(reader.header(), &scene, &a.light, a.paths, seed, &strategy)

@@ -1,8 +1,11 @@
 //! The arguments `refine` and `add-light` share: where the extended dataset goes, and the
 //! seed, strategy and threads of the pass they add.
 
+use super::{Opened, begin_dataset_write, check_finished, open_with_scene};
 use crate::strategy_args::StrategyArgs;
-use std::path::PathBuf;
+use anyhow::Result;
+use opticks_io::dataset_lock::{WriteIntent, WriteLock};
+use std::path::{Path, PathBuf};
 
 /// Output, seed, strategy and threads of a pass that extends a dataset.
 #[derive(clap::Args, Debug)]
@@ -21,4 +24,23 @@ pub struct ExtendArgs {
     pub strategy: StrategyArgs,
     #[command(flatten)]
     pub threads: super::ThreadArgs,
+}
+
+impl ExtendArgs {
+    /// The start of every extension of `dataset`: the output (default: the dataset itself)
+    /// locked for writing, the dataset opened against its scene (`scene`, else the recorded
+    /// one), and refused if its last pass was interrupted. Returns the lock, the output and
+    /// the opened dataset.
+    pub fn begin(&self, dataset: &Path, scene: Option<&str>) -> Result<(WriteLock, PathBuf, Opened)> {
+        self.threads.apply()?;
+        let output = self.output.clone().unwrap_or_else(|| dataset.to_owned());
+        let inputs = [dataset];
+        let lock = begin_dataset_write(
+            &output,
+            WriteIntent { inputs: &inputs, overwrite: self.overwrite, ..Default::default() },
+        )?;
+        let opened = open_with_scene(dataset, scene)?;
+        check_finished(dataset, opened.reader.header())?;
+        Ok((lock, output, opened))
+    }
 }

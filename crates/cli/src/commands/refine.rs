@@ -7,13 +7,12 @@
 //! added after an interrupted one would make it impossible to resume).
 
 use super::extend_args::ExtendArgs;
-use super::{Opened, begin_dataset_write, check_finished, job_error, open_with_scene, warn_if_low_space};
+use super::{Opened, job_error, warn_if_low_space};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::check_emission;
 use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, write_dataset};
-use opticks_io::dataset_lock::WriteIntent;
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
@@ -34,15 +33,8 @@ pub struct Args {
 
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
-    a.extend.threads.apply()?;
-    let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
-    let inputs = [a.dataset.as_path()];
-    let _lock = begin_dataset_write(
-        &output,
-        WriteIntent { inputs: &inputs, overwrite: a.extend.overwrite, ..Default::default() },
-    )?;
-    let Opened { reader, scene, scene_spec, .. } = open_with_scene(&a.dataset, a.scene.as_deref())?;
-    check_finished(&a.dataset, reader.header())?;
+    let (_lock, output, Opened { reader, scene, scene_spec, .. }) =
+        a.extend.begin(&a.dataset, a.scene.as_deref())?;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)
         .map_err(|e| anyhow!("{e}: refine needs the same scene"))?;

@@ -124,7 +124,6 @@ fn frame_count(t0: f32, t1: f32, fps: f32) -> Option<f64> {
     (n.is_finite() && n >= 1.0).then_some(n)
 }
 
-
 /// Encodes this run's `frames` PNG frames into `video`: exactly frames 0..frames (stale frames
 /// of an earlier, longer run in the same folder are not read), into a temporary file renamed
 /// into place only when ffmpeg succeeded.
