@@ -388,6 +388,15 @@ fn the_first_ten_minutes_read_well() {
     assert_eq!(v["passes"].as_array().unwrap().len(), 2);
     let help = ok(&["trace", "--help"], d);
     assert!(help.contains("VRML97") && help.contains("glTF") && !help.contains('§'), "{help}");
+    assert!(help.contains("Russian roulette rule [default: energy]") && !help.contains("refine"), "{help}");
+    let refine = ok(&["refine", "--help"], d);
+    assert!(refine.contains("Russian roulette rule [default: the dataset's last pass's]"), "{refine}");
+    let seed_default = |verb: &str| {
+        let h = ok(&[verb, "--help"], d);
+        let at = h.find("--seed").unwrap();
+        h[at..].lines().take(3).collect::<String>().contains("[default: 0]")
+    };
+    assert!(seed_default("trace") && seed_default("bench"), "trace and bench share --seed's default");
     let e = fails(&["render", "m.opds", "-o", "x.exr", "--light", "sun=2"], d);
     assert!(e.contains("the dataset's lights are light (give"), "no Debug lists: {e}");
 }
