@@ -394,7 +394,7 @@ fn the_first_ten_minutes_read_well() {
     let seed_default = |verb: &str| {
         let h = ok(&[verb, "--help"], d);
         let at = h.find("--seed").unwrap();
-        h[at..].lines().take(3).collect::<String>().contains("[default: 0]")
+        h[at..].lines().take(4).collect::<String>().contains("[default: 0]")
     };
     assert!(seed_default("trace") && seed_default("bench"), "trace and bench share --seed's default");
     let e = fails(&["render", "m.opds", "-o", "x.exr", "--light", "sun=2"], d);
