@@ -9,33 +9,16 @@
 //! and resuming a dataset file is tested with the job that does it
 //! (`crates/io/src/dataset_job.rs`). Small path counts: these tests check behaviour, not noise.
 
+mod cli_run;
 mod common;
 
+use cli_run::*;
 use common::*;
 use opticks_core::dataset::{Chunk, DatasetHeader};
 use opticks_io::dataset_file::{DatasetReader, read_all};
 use opticks_io::image_file::read_exr_rgb;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn opticks(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_opticks")).args(args).current_dir(dir).output().expect("runs opticks")
-}
-
-fn ok(args: &[&str], dir: &Path) -> String {
-    let out = opticks(args, dir);
-    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "opticks {args:?} failed:\nstdout: {so}\nstderr: {se}");
-    format!("{so}{se}")
-}
-
-fn fails(args: &[&str], dir: &Path) -> String {
-    let out = opticks(args, dir);
-    let se = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!out.status.success(), "expected {args:?} to fail; stderr: {se}");
-    assert!(se.starts_with("error: ") && !se.contains("panicked"), "{se}");
-    se
-}
+use std::process::Command;
 
 /// Runs opticks as if Ctrl-C were pressed once `paths` paths are traced (at the end of the
 /// first batch of 64 blocks); returns its stderr.

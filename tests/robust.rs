@@ -2,40 +2,15 @@
 //! or a second process does to the command line, end to end. Each test reproduces a way the
 //! command line used to destroy data or print a wrong answer with exit code 0.
 
+mod cli_run;
 mod common;
 
+use cli_run::*;
 use common::*;
 use opticks_io::dataset_file::{DatasetReader, read_all};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, Command, Stdio};
 use std::time::Duration;
-
-fn opticks_env(args: &[&str], dir: &Path, env: &[(&str, &str)]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_opticks"));
-    c.args(args).current_dir(dir);
-    for (k, v) in env {
-        c.env(k, v);
-    }
-    c.output().expect("runs opticks")
-}
-
-fn opticks(args: &[&str], dir: &Path) -> Output {
-    opticks_env(args, dir, &[])
-}
-
-fn ok(args: &[&str], dir: &Path) -> String {
-    let out = opticks(args, dir);
-    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "opticks {args:?} failed:\nstdout: {so}\nstderr: {se}");
-    format!("{so}{se}")
-}
-
-fn fails(args: &[&str], dir: &Path) -> String {
-    let out = opticks(args, dir);
-    let se = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!out.status.success(), "expected {args:?} to fail; stderr: {se}");
-    se
-}
 
 /// The files of `dir`, sorted.
 fn files(dir: &Path) -> Vec<String> {
@@ -413,6 +388,15 @@ fn the_first_ten_minutes_read_well() {
     assert_eq!(v["passes"].as_array().unwrap().len(), 2);
     let help = ok(&["trace", "--help"], d);
     assert!(help.contains("VRML97") && help.contains("glTF") && !help.contains('§'), "{help}");
+    assert!(help.contains("Russian roulette rule [default: energy]") && !help.contains("refine"), "{help}");
+    let refine = ok(&["refine", "--help"], d);
+    assert!(refine.contains("Russian roulette rule [default: the dataset's last pass's]"), "{refine}");
+    let seed_default = |verb: &str| {
+        let h = ok(&[verb, "--help"], d);
+        let at = h.find("--seed").unwrap();
+        h[at..].lines().take(4).collect::<String>().contains("[default: 0]")
+    };
+    assert!(seed_default("trace") && seed_default("bench"), "trace and bench share --seed's default");
     let e = fails(&["render", "m.opds", "-o", "x.exr", "--light", "sun=2"], d);
     assert!(e.contains("the dataset's lights are light (give"), "no Debug lists: {e}");
 }
@@ -462,4 +446,24 @@ fn the_testdata_documentation_matches_the_files() {
             assert_eq!(n, format!("{faces} triangles)"), "{scene}/SCENE.md");
         }
     }
+}
+
+/// Item 7 (the part that stays): `measure` says which side it measures, and a plane facing away
+/// from the light is not a silent zero.
+#[test]
+fn the_meter_states_the_side_it_measures() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(&["trace", "builtin:cornell", "--paths", "20000", "-o", "c.opds"], d);
+    let up =
+        ok(&["measure", "c.opds", "--plane", "-1,-1,-1,0,0,2,2,0,0", "--cells", "2x2", "-o", "up.csv"], d);
+    assert!(
+        up.contains("front side (light arriving from normal 0.000,1.000,0.000)") && !up.contains("warning"),
+        "{up}"
+    );
+    let down =
+        ok(&["measure", "c.opds", "--plane", "-1,-1,-1,2,0,0,0,0,2", "--cells", "2x2", "-o", "down.csv"], d);
+    assert!(down.contains("normal 0.000,-1.000,0.000") && down.contains("swap u and v"), "{down}");
+    let help = ok(&["measure", "--help"], d);
+    assert!(help.contains("u × v") && help.contains("swap u and v"), "{help}");
 }

@@ -50,16 +50,16 @@ pub enum MisRecordsArg {
 /// dataset traced with, say, `--roulette fixed` continues it with the same estimator).
 #[derive(Args, Debug, Clone)]
 pub struct StrategyArgs {
-    /// Path depth from which Russian roulette may end paths [default: 5, or with refine and add-light the dataset's last pass's].
+    /// Path depth from which Russian roulette may end paths [default: 5].
     #[arg(long)]
     pub rr_depth: Option<u32>,
-    /// Russian roulette rule [default: energy, or with refine and add-light the dataset's last pass's].
+    /// Russian roulette rule [default: energy].
     #[arg(long, value_enum)]
     pub roulette: Option<RouletteArg>,
-    /// Direction sampling [default: importance, or with refine and add-light the dataset's last pass's].
+    /// Direction sampling [default: importance].
     #[arg(long, value_enum)]
     pub directions: Option<DirectionsArg>,
-    /// Vertex selection [default: single, or with refine and add-light the dataset's last pass's].
+    /// Vertex selection [default: single].
     #[arg(long, value_enum)]
     pub selection: Option<SelectionArg>,
     /// MIS records for the bidirectional estimator, 16 bytes per sample (docs/bidirectional.md) [default: power; refine and add-light: the dataset's last pass].

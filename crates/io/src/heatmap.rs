@@ -255,9 +255,8 @@ pub fn draw(
     Ok(r)
 }
 
-/// The PNG bytes of the heat map (see [`draw`]); `path` only names it in errors. For commands
-/// that write it together with other files, all or none
-/// (`crate::image_file::write_files_atomically`).
+/// The PNG bytes of the heat map (see [`draw`]); `path` only names it in errors. Written with
+/// the command's other outputs, all or none (`crate::image_file::write_files_atomically`).
 pub fn encode_heatmap(
     path: &Path,
     values: &[f64],

@@ -11,7 +11,7 @@
 //! refused (the error names the first bad pixel) rather than written as a silently wrong image.
 
 use std::fs::{self, File};
-use std::io::{BufWriter, Write};
+use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -131,18 +131,33 @@ pub fn write_image(
     rgb: &[f32],
     exposure_stops: f32,
 ) -> Result<(), ImageError> {
+    let bytes = encode_image(path, width, height, rgb, exposure_stops)?;
+    write_files_atomically(&[(path, &bytes)])
+}
+
+/// The bytes [`write_image`] would write to `path` (same format, exposure and checks), for a
+/// command that writes several files all or none ([`write_files_atomically`]).
+pub fn encode_image(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[f32],
+    exposure_stops: f32,
+) -> Result<Vec<u8>, ImageError> {
     let format = output_format(path)?;
     check_pixels(path, width, height, rgb)?;
+    let mut out = std::io::Cursor::new(Vec::new());
     match format {
-        Format::Exr => atomic_write(path, |file| write_exr_to(file, path, width, height, rgb)),
+        Format::Exr => write_exr_to(&mut out, path, width, height, rgb)?,
         Format::Png => {
             if !exposure_stops.is_finite() {
                 return Err(ImageError::BadExposure { path: path.to_path_buf(), exposure_stops });
             }
             let bytes = srgb8_from_linear(rgb, exposure_stops);
-            atomic_write(path, |file| write_png_to(file, path, width, height, &bytes))
+            write_png_to(&mut out, path, width, height, &bytes)?;
         }
     }
+    Ok(out.into_inner())
 }
 
 /// The format [`write_image`] would write to `path`, chosen by its extension; an error for an
@@ -275,7 +290,7 @@ fn srgb8_from_linear(rgb: &[f32], exposure_stops: f32) -> Vec<u8> {
 }
 
 fn write_exr_to(
-    file: &mut BufWriter<File>,
+    file: &mut (impl Write + Seek),
     path: &Path,
     width: u32,
     height: u32,
@@ -296,7 +311,7 @@ fn write_exr_to(
 }
 
 fn write_png_to(
-    file: &mut BufWriter<File>,
+    file: &mut impl Write,
     path: &Path,
     width: u32,
     height: u32,
@@ -334,20 +349,8 @@ pub fn write_files_atomically(files: &[(&Path, &[u8])]) -> Result<(), ImageError
     Ok(())
 }
 
-/// Writes through `write` into a fresh temporary file next to `path`, flushes and syncs it, then
-/// renames it to `path`. On any failure the temporary file is removed.
-fn atomic_write(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), ImageError>,
-) -> Result<(), ImageError> {
-    let tmp = write_temporary(path, write)?;
-    fs::rename(&tmp, path).map_err(|e| {
-        let _ = fs::remove_file(&tmp);
-        ImageError::Io { path: path.to_path_buf(), source: e }
-    })
-}
-
-/// The first half of [`atomic_write`]: the complete, synced temporary file, not yet renamed.
+/// A complete, synced temporary file next to `path` holding what `write` wrote, not yet renamed
+/// (the first half of [`write_files_atomically`]).
 fn write_temporary(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<(), ImageError>,
@@ -406,5 +409,21 @@ mod tests {
         assert!((srgb_oetf(0.002) - 0.02584).abs() < 1e-6);
         assert_eq!(srgb8_from_linear(&[0.0, 1.0, 0.5, 0.25], 0.0), vec![0, 255, 188, 137]);
         assert_eq!(srgb8_from_linear(&[0.25], 1.0), vec![188]);
+    }
+
+    #[test]
+    fn several_files_are_written_all_or_none() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        std::fs::write(d.join("a.csv"), b"old").unwrap();
+        let e = write_files_atomically(&[(&d.join("a.csv"), b"new"), (&d.join("nodir/b.png"), b"png")]);
+        assert!(e.is_err());
+        assert_eq!(std::fs::read(d.join("a.csv")).unwrap(), b"old", "the first is not replaced either");
+        assert_eq!(std::fs::read_dir(d).unwrap().count(), 1, "no temporary file is left");
+        write_files_atomically(&[(&d.join("a.csv"), b"new"), (&d.join("b.png"), b"png")]).unwrap();
+        assert_eq!(
+            (std::fs::read(d.join("a.csv")).unwrap(), std::fs::read(d.join("b.png")).unwrap()),
+            (b"new".to_vec(), b"png".to_vec())
+        );
     }
 }

@@ -2,7 +2,7 @@
 //! By default the images go into the folder `opticks-demo/` (created; git-ignored in the
 //! repository), never among the user's own files.
 
-use super::{ThreadArgs, render_chunks, warn_if_black, write_film};
+use super::{ThreadArgs, render_chunks, warn_if_black};
 use crate::camera_args::CameraArgs;
 use crate::output;
 use crate::progress::TraceProgress;
@@ -84,8 +84,13 @@ pub fn run(a: Args) -> Result<()> {
     let t2 = Instant::now();
     let samples: usize = chunks.iter().map(|c| c.samples.len()).sum();
     warn_if_black(&film, samples as u64, "camera");
-    write_film(&film, &a.output, a.exposure)?;
-    write_film(&film, &other, a.exposure)?;
+    // Both images or neither.
+    let encode = |path: &Path| {
+        opticks_io::image_file::encode_image(path, film.width, film.height, &film.to_rgb_f32(), a.exposure)
+    };
+    let (first, second) = (encode(&a.output)?, encode(&other)?);
+    opticks_io::image_file::write_files_atomically(&[(&a.output, &first), (&other, &second)])
+        .context("nothing was written")?;
     output::result(&format!(
         "traced {} paths ({} samples) in {:.2} s, rendered {}x{} in {:.2} s → {} and {}",
         a.paths,

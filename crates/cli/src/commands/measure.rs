@@ -24,7 +24,7 @@ use crate::progress;
 use anyhow::{Context, Result, bail};
 use opticks_core::light::LUMENS_PER_WATT;
 use opticks_core::math::Vec3;
-use opticks_core::sensor::{IlluminanceMeter, measure};
+use opticks_core::sensor::{IlluminanceMeter, measure_both_sides};
 use opticks_io::output_paths::{OutputKind, check_outputs};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -101,7 +101,7 @@ pub fn run(a: Args) -> Result<()> {
     let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
-    let film = measure(
+    let (film, behind) = measure_both_sides(
         &meter,
         data.count(),
         |i| {
@@ -112,14 +112,17 @@ pub fn run(a: Args) -> Result<()> {
     )?;
     pb.finish_and_clear();
     let n = meter.normal();
-    super::warn_if_black(
-        &film,
-        data.samples(),
-        &format!(
-            "meter's front (normal {:.3},{:.3},{:.3}; to measure the other side, swap u and v)",
-            n.x, n.y, n.z
-        ),
-    );
+    let (front_mean, back_mean) = (film.mean(), behind.mean());
+    let (front_sum, back_sum) = (front_mean.iter().sum::<f64>(), back_mean.iter().sum::<f64>());
+    if back_sum > front_sum {
+        output::warning(&format!(
+            "more light reaches this plane from behind (mean E {:.4e} W/m² summed over RGB) than from its \
+             front (normal {:.3},{:.3},{:.3}: {:.4e} W/m²); to measure the other side, swap u and v",
+            back_sum, n.x, n.y, n.z, front_sum
+        ));
+    } else {
+        super::warn_if_black(&film, data.samples(), "meter's front");
+    }
 
     let lux: Vec<f64> = film
         .pixels
@@ -157,7 +160,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     opticks_io::image_file::write_files_atomically(&files).context("nothing was written")?;
     let area = (meter.cell_area() as f64) * (nx * ny) as f64;
-    let mean = film.mean();
+    let mean = front_mean;
     let (min, max) = lux.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
     output::result(&format!(
         "{nx}x{ny} cells on {area:.4} m², front side (light arriving from normal {:.3},{:.3},{:.3}): mean E = \

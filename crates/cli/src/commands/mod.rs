@@ -289,6 +289,11 @@ impl DatasetArgs {
         inputs
     }
 
+    /// The scene given with `--scene`, if any.
+    pub fn scene(&self) -> Option<&str> {
+        self.scene.as_deref()
+    }
+
     /// Opens the dataset against its scene and works out the lighting; prints the notes.
     pub fn open(&self) -> Result<LitDataset> {
         let Opened { reader, description, scene, .. } =

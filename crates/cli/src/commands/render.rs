@@ -9,7 +9,7 @@ use super::estimator::{Estimator, EstimatorArgs};
 use super::{DatasetArgs, ThreadArgs, render_with_progress, warn_if_black, write_film};
 use crate::camera_args::{CameraArgs, exposure_for};
 use crate::output;
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use opticks_io::output_paths::{OutputKind, check_output};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -45,7 +45,10 @@ pub fn run(a: Args) -> Result<()> {
     a.camera.check()?;
     let data = a.input.open()?;
     let scene = &data.scene;
-    let camera = a.camera.resolve(scene.camera)?;
+    let camera = a.camera.resolve(scene.camera).with_context(|| match a.input.scene() {
+        Some(spec) => format!("the scene given with --scene ({spec})"),
+        None => "the dataset's scene".to_string(),
+    })?;
     a.estimator.check()?;
     if let Some(t) = a.time {
         if a.estimator.estimator != Estimator::Bidirectional {

@@ -37,7 +37,7 @@ mod pinhole;
 mod thin_lens;
 
 pub use equirect::Equirectangular;
-pub use meter::{IlluminanceMeter, MeterError, measure};
+pub use meter::{IlluminanceMeter, MeterError, measure, measure_both_sides};
 pub use pinhole::{CameraError, Pinhole, check_fov};
 pub use thin_lens::{LensError, ThinLens};
 

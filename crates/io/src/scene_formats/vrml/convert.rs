@@ -509,14 +509,11 @@ impl Converter {
             if rescale && sum.max_element() > 1.0 && kd.min_element() >= 0.0 && ks.min_element() >= 0.0 {
                 let scale = Rgb::ONE / sum.max(Rgb::ONE);
                 if let Some(m) = mat {
-                    self.warn_once(
-                    m,
-                    "energy",
-                    format!(
-                        "diffuse + specular = ({}, {}, {}) exceeds 1: both scaled down to conserve energy",
-                        sum.x, sum.y, sum.z
-                    ),
-                );
+                    let [r, g, b] = sum.to_array();
+                    let note = format!(
+                        "diffuse + specular = ({r}, {g}, {b}) exceeds 1: both scaled down to conserve energy"
+                    );
+                    self.warn_once(m, "energy", note);
                 }
                 (kd * scale, ks * scale)
             } else {
