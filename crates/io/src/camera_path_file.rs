@@ -100,9 +100,7 @@ pub fn read_camera_path(path: &Path, default_fov: f32) -> Result<Walkthrough, Ca
         return Err(invalid(format!("fps {fps} must be in (0, 1000]")));
     }
     if let Some([w, h]) = file.size {
-        if w == 0 || h == 0 || w > 32768 || h > 32768 {
-            return Err(invalid(format!("size {w}x{h} must be between 1x1 and 32768x32768")));
-        }
+        opticks_core::sensor::check_image_size(w, h).map_err(|e| invalid(format!("size: {e}")))?;
     }
     let mut fov = default_fov;
     let mut keys = Vec::with_capacity(file.keyframes.len());

@@ -11,7 +11,8 @@
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios);
-//! * [`input_file`]: how every reader opens its files (regular files only, bounded by their size).
+//! * [`input_file`]: how every reader opens its files (regular files only, bounded by their size);
+//! * [`memory`]: the memory available, checked before a large film is allocated.
 
 pub mod camera_path_file;
 pub mod compare;
@@ -21,6 +22,7 @@ pub mod heatmap;
 pub mod ies;
 pub mod image_file;
 pub mod input_file;
+pub mod memory;
 pub mod scene_formats;
 
 pub use scene_formats::{

@@ -45,6 +45,7 @@ pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     let scene = load_scene(&a.scene)?;
     let camera = a.camera.resolve(scene.camera)?;
+    super::check_film_fits("an image", (camera.width(), camera.height()), 0)?;
     let settings = a.strategy.settings(a.paths, a.seed);
     let mut best_trace = f64::INFINITY;
     let mut chunks: Vec<Chunk> = Vec::new();

@@ -51,6 +51,7 @@ pub fn run(a: Args) -> Result<()> {
     if frames > 100_000 {
         bail!("{}: {frames} frames is more than this command renders (100000)", a.path.display());
     }
+    super::check_film_fits("a frame", (w, h), super::IMAGE_OUTPUT_BYTES)?;
     std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
     let pb = progress::bar(frames as u64, "frames", "frames");
     let start = Instant::now();

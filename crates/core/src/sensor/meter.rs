@@ -21,7 +21,7 @@
 //! [`Film`] of nx × ny cells: entry `j * nx + i` is cell i along u and j along v (row 0 at the
 //! origin's side — not an image's top row).
 
-use super::{SampleBatch, accumulate};
+use super::{SampleBatch, Splatter, accumulate};
 use crate::film::{Film, SplatTarget};
 use crate::math::Vec3;
 use crate::scene::SceneDescription;
@@ -200,7 +200,14 @@ pub fn measure<B: super::AsBatch, E: Send>(
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
-    accumulate((meter.nx, meter.ny), count, batch, progress, |b, film| meter.splat(b, film))
+    accumulate((meter.nx, meter.ny), count, batch, progress, meter)
+}
+
+impl Splatter for IlluminanceMeter {
+    #[inline]
+    fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T) {
+        self.splat(batch, film)
+    }
 }
 
 #[cfg(test)]
