@@ -42,7 +42,15 @@ fn exercise(loaded: &LoadedScene) {
     let Ok(scene) = Scene::build(&loaded.description) else { return };
     let settings = TraceSettings { paths: 16, seed: 1, ..Default::default() };
     let mut chunks: Vec<Chunk> = Vec::new();
-    let table = match trace(&scene, &settings, |c| Ok::<_, ()>(chunks.push(c)), |_| {}) {
+    let table = match trace(
+        &scene,
+        &settings,
+        |c| {
+            chunks.push(c);
+            Ok::<_, ()>(())
+        },
+        |_| {},
+    ) {
         Ok(t) => t,
         Err(()) => unreachable!("the sink never fails"),
     };
@@ -114,7 +122,9 @@ pub fn ies(data: &[u8]) {
         <emitter type=\"ies\"><string name=\"filename\" value=\"fuzz.ies\"/><point name=\"position\" value=\"0,1,0\"/></emitter>\
         <shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/><scale value=\"4\"/></transform></shape>\
         </scene>";
-    if let Ok(loaded) = opticks_io::scene_formats::mitsuba::parse(xml, &scratch().join("ies.xml"), &Default::default()) {
+    if let Ok(loaded) =
+        opticks_io::scene_formats::mitsuba::parse(xml, &scratch().join("ies.xml"), &Default::default())
+    {
         exercise(&loaded);
     }
 }

@@ -10,7 +10,10 @@ mod entry;
 
 use std::path::Path;
 
-const TARGETS: [(&str, fn(&[u8])); 7] = [
+/// A fuzz target's entry point.
+type Entry = fn(&[u8]);
+
+const TARGETS: [(&str, Entry); 7] = [
     ("mitsuba", entry::mitsuba),
     ("vrml", entry::vrml),
     ("obj_mtl", entry::obj_mtl),
@@ -44,7 +47,9 @@ fn every_input_that_ever_crashed_a_fuzz_target_is_handled() {
 /// stopped loading would show here.
 #[test]
 fn the_seed_inputs_run_through_every_entry_point() {
-    let data = |rel: &str| std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata").join(rel)).unwrap();
+    let data = |rel: &str| {
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata").join(rel)).unwrap()
+    };
     entry::mitsuba(&data("scenes/cornell/scene.xml"));
     entry::vrml(&data("vrml/cornell.wrl"));
     let obj = [data("obj/cornell.obj"), b"\n#MTL\n".to_vec(), data("obj/cornell.mtl")].concat();

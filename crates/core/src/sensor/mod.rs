@@ -47,7 +47,6 @@ use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::Scene;
 use rayon::prelude::*;
-use std::sync::Mutex;
 
 /// A run of samples from one light and the flux each unit of β stands for (Φ_k/N_k, after any
 /// relighting). What a sensor consumes; the source can be memory or a file ([`OwnedBatch`]).
@@ -242,11 +241,12 @@ pub(crate) trait Splatter: Sync {
 
 /// Accumulates `count` batches (fetched by index, from memory or read from a file) into a
 /// `width`×`height` film on all cores, with `splatter` doing the per-batch work. The batches are
-/// cut into a few contiguous runs per thread. Small films: each running thread has one
-/// [`Accumulator`] (taken from a pool and given back after each run, so there are never more
-/// than the threads), summed at the end. Films whose accumulators would exceed
-/// [`crate::film::PRIVATE_FILMS_BUDGET`]: one [`SharedFilm`] all threads add to atomically. Memory
-/// is therefore bounded by [`crate::film::accumulation_bytes`], never threads × pixels.
+/// shared out over the threads. Small films: one [`Accumulator`] per thread, summed at the end in
+/// a fixed order, so an image is reproducible bit for bit at a given thread count. Films whose
+/// accumulators would exceed [`crate::film::PRIVATE_FILMS_BUDGET`]: one [`SharedFilm`] that all
+/// threads add to atomically (its last bits may vary from run to run), fed by a few contiguous
+/// runs of batches per thread. Memory is therefore bounded by
+/// [`crate::film::accumulation_bytes`], never threads × pixels.
 pub(crate) fn accumulate<B: AsBatch, E: Send>(
     (width, height): (u32, u32),
     count: usize,
@@ -268,35 +268,41 @@ fn accumulate_in<B: AsBatch, E: Send>(
     private: bool,
 ) -> Result<Film, E> {
     let threads = rayon::current_num_threads();
-    let runs = (threads * 4).clamp(1, count.max(1));
-    let run_len = count.div_ceil(runs).max(1);
-    let run = |r: usize, film: &mut dyn FnMut(SampleBatch<'_>)| -> Result<(), E> {
-        for i in (r * run_len)..((r + 1) * run_len).min(count) {
-            let b = batch(i)?;
-            let b = b.as_batch();
-            film(b);
-            progress(b.samples.len());
-        }
-        Ok(())
-    };
     if !private {
+        // A few contiguous runs of batches per thread, all into the one shared film.
+        let runs = (threads * 4).clamp(1, count.max(1));
+        let run_len = count.div_ceil(runs).max(1);
         let shared = SharedFilm::new(width, height);
         (0..runs).into_par_iter().try_for_each(|r| {
             let mut target = &shared;
-            run(r, &mut |b| splatter.splat_batch(b, &mut target))
+            for i in (r * run_len)..((r + 1) * run_len).min(count) {
+                let b = batch(i)?;
+                let b = b.as_batch();
+                splatter.splat_batch(b, &mut target);
+                progress(b.samples.len());
+            }
+            Ok(())
         })?;
         return Ok(shared.into_film());
     }
-    let pool: Mutex<Vec<Accumulator>> = Mutex::new(Vec::new());
-    let take = || pool.lock().unwrap_or_else(|e| e.into_inner()).pop();
-    (0..runs).into_par_iter().try_for_each(|r| {
-        let mut acc = take().unwrap_or_else(|| Accumulator::new(width, height));
-        let result = run(r, &mut |b| splatter.splat_batch(b, &mut acc));
-        pool.lock().unwrap_or_else(|e| e.into_inner()).push(acc);
-        result
-    })?;
-    let mut films =
-        pool.into_inner().unwrap_or_else(|e| e.into_inner()).into_iter().map(Accumulator::into_film);
+    // One accumulator per thread, each taking every `groups`-th batch (interleaved, so each
+    // gets its share of every light's chunks), summed in a fixed order: the same image, bit for
+    // bit, on every run with the same thread count.
+    let groups = threads.clamp(1, count.max(1));
+    let films = (0..groups)
+        .into_par_iter()
+        .map(|g| {
+            let mut acc = Accumulator::new(width, height);
+            for i in (g..count).step_by(groups) {
+                let b = batch(i)?;
+                let b = b.as_batch();
+                splatter.splat_batch(b, &mut acc);
+                progress(b.samples.len());
+            }
+            Ok(acc.into_film())
+        })
+        .collect::<Result<Vec<Film>, E>>()?;
+    let mut films = films.into_iter();
     let mut film = films.next().unwrap_or_else(|| Film::new(width, height));
     films.for_each(|f| film.add(&f));
     Ok(film)
@@ -350,7 +356,16 @@ mod tests {
         let scene = Scene::build(&desc).unwrap();
         let mut chunks = Vec::new();
         let settings = crate::trace::TraceSettings { paths: 40_000, seed: 3, ..Default::default() };
-        let table = crate::trace::trace(&scene, &settings, |c| Ok::<_, ()>(chunks.push(c)), |_| {}).unwrap();
+        let table = crate::trace::trace(
+            &scene,
+            &settings,
+            |c| {
+                chunks.push(c);
+                Ok::<_, ()>(())
+            },
+            |_| {},
+        )
+        .unwrap();
         let batch = |i: usize| {
             let c: &crate::dataset::Chunk = &chunks[i];
             Ok::<_, ()>(SampleBatch {
