@@ -18,16 +18,26 @@ use opticks_io::LoadedScene;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-/// A folder of this process's own for the files the readers are given.
-fn scratch() -> &'static Path {
-    static DIR: OnceLock<PathBuf> = OnceLock::new();
-    DIR.get_or_init(|| {
+thread_local! {
+    /// A folder of this thread's own for the files the readers are given.
+    static SCRATCH: PathBuf = {
         let base = Path::new("/dev/shm");
         let base = if base.is_dir() { base.to_path_buf() } else { std::env::temp_dir() };
-        let dir = base.join(format!("opticks-fuzz-{}", std::process::id()));
+        let id = format!("{:?}", std::thread::current().id()).replace(|c: char| !c.is_ascii_digit(), "");
+        let dir = base.join(format!("opticks-fuzz-{}-{id}", std::process::id()));
         std::fs::create_dir_all(&dir).expect("cannot create the fuzz scratch folder");
         dir
-    })
+    };
+}
+
+fn scratch() -> PathBuf {
+    SCRATCH.with(|d| d.clone())
+}
+
+/// Removes this thread's scratch folder (the regression test's cleanup; a fuzzing process
+/// leaves it, with the last input in it, for inspection).
+pub fn remove_scratch() {
+    let _ = std::fs::remove_dir_all(scratch());
 }
 
 /// Writes `data` to `name` in the scratch folder; returns its path.

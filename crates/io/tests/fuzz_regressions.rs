@@ -40,6 +40,7 @@ fn every_input_that_ever_crashed_a_fuzz_target_is_handled() {
         }
     }
     eprintln!("{replayed} inputs replayed");
+    entry::remove_scratch();
 }
 
 /// The seeds the targets start from (`fuzz/seed-corpus.sh` copies them from `testdata/`) pass
@@ -59,4 +60,5 @@ fn the_seed_inputs_run_through_every_entry_point() {
     entry::dataset(&data("datasets/cornell-v2.opds"));
     entry::camera_path(br#"{"fps": 4, "size": [8, 8], "keyframes": [
         {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [1, 0, 3.9], "target": [0, 0, 0]}]}"#);
+    entry::remove_scratch();
 }
