@@ -67,9 +67,7 @@ pub fn parse_vec3(s: &str) -> Result<Vec3> {
 pub fn parse_size(s: &str) -> Result<(u32, u32)> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| anyhow!("'{s}' must look like 640x480"))?;
     let (w, h): (u32, u32) = (w.trim().parse()?, h.trim().parse()?);
-    if w == 0 || h == 0 || w > 32768 || h > 32768 {
-        bail!("image size {w}x{h} must be between 1x1 and 32768x32768");
-    }
+    opticks_core::sensor::check_image_size(w, h)?;
     Ok((w, h))
 }
 

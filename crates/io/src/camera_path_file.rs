@@ -99,10 +99,8 @@ pub fn read_camera_path(path: &Path, default_fov: f32) -> Result<Walkthrough, Ca
     if !(fps > 0.0 && fps <= 1000.0) {
         return Err(invalid(format!("fps {fps} must be in (0, 1000]")));
     }
-    if let Some([w, h]) = file.size
-        && (w == 0 || h == 0 || w > 32768 || h > 32768)
-    {
-        return Err(invalid(format!("size {w}x{h} must be between 1x1 and 32768x32768")));
+    if let Some([w, h]) = file.size {
+        opticks_core::sensor::check_image_size(w, h).map_err(|e| invalid(format!("size: {e}")))?;
     }
     let mut fov = default_fov;
     let mut keys = Vec::with_capacity(file.keyframes.len());

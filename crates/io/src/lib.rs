@@ -17,7 +17,8 @@
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
 //! * [`light_cache`]: the bidirectional estimator's light vertex cache over a dataset file;
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios);
-//! * [`input_file`]: how every reader opens its files (regular files only, bounded by their size).
+//! * [`input_file`]: how every reader opens its files (regular files only, bounded by their size);
+//! * [`memory`]: the memory available, checked before a large film is allocated.
 
 pub mod camera_path_file;
 pub mod compare;
@@ -29,6 +30,7 @@ pub mod ies;
 pub mod image_file;
 pub mod input_file;
 pub mod light_cache;
+pub mod memory;
 pub mod output_paths;
 pub mod scene_formats;
 pub mod scene_ref;

@@ -610,7 +610,7 @@ fn bad_scenes_name_file_line_and_element() {
         ),
         (
             "<sensor type=\"perspective\"><film type=\"hdrfilm\"><integer name=\"width\" value=\"0\"/></film></sensor>",
-            "width 0 must be a positive integer",
+            "width 0 must be an integer from 1 to 32768",
         ),
         ("<shape type=\"obj\"/>", "missing <string name=\"filename\""),
         (

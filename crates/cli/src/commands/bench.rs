@@ -62,6 +62,7 @@ pub fn run(a: Args) -> Result<()> {
         }
         None => None,
     };
+    super::check_film_fits("an image", (camera.width(), camera.height()), 0)?;
     let settings = a.strategy.settings(a.paths, a.seed);
     let mut best_trace = f64::INFINITY;
     let mut chunks: Vec<Chunk> = Vec::new();
@@ -135,11 +136,59 @@ pub fn run(a: Args) -> Result<()> {
             c.mean_ratio[1],
             c.mean_ratio[2]
         ));
-        quality = format!(",\"relmse\":{:.6e},\"efficiency\":{efficiency:.3}", c.relmse);
+        quality = format!(
+            ",\"relmse\":{},\"efficiency\":{}",
+            json_number(c.relmse, 6, true),
+            json_number(efficiency, 3, false)
+        );
     }
+    let mean = m.map(|x| json_number(x, 6, false)).join(",");
     output::data(&format!(
-        "{{\"scene\":\"{}\",\"paths\":{},\"threads\":{threads},\"trace_s\":{best_trace:.4},\"render_s\":{best_render:.4},\"samples\":{samples},\"mean_rgb\":[{:.6},{:.6},{:.6}]{quality}}}",
-        a.scene, a.paths, m[0], m[1], m[2]
+        "{{\"scene\":{},\"paths\":{},\"threads\":{threads},\"trace_s\":{},\"render_s\":{},\"samples\":{samples},\"mean_rgb\":[{mean}]{quality}}}",
+        json_string(&a.scene),
+        a.paths,
+        json_number(best_trace, 4, false),
+        json_number(best_render, 4, false)
     ));
     Ok(())
+}
+
+/// `x` as a JSON number with `digits` decimals (in exponent form if `exp`), or `null` when it
+/// is not finite: JSON has no infinity or NaN, and the line must parse whatever was rendered.
+fn json_number(x: f64, digits: usize, exp: bool) -> String {
+    match (x.is_finite(), exp) {
+        (false, _) => "null".into(),
+        (true, true) => format!("{x:.digits$e}"),
+        (true, false) => format!("{x:.digits$}"),
+    }
+}
+
+/// `s` as a JSON string (quotes, backslashes and control characters escaped).
+fn json_string(s: &str) -> String {
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 10, item 20: `bench` printed `"mean_rgb":[inf,inf,inf]`, which no JSON parser reads.
+    #[test]
+    fn the_json_line_has_only_json_numbers_and_strings() {
+        assert_eq!(json_number(f64::INFINITY, 6, false), "null");
+        assert_eq!(json_number(f64::NAN, 6, true), "null");
+        assert_eq!(json_number(0.5, 3, false), "0.500");
+        assert_eq!(json_number(4.069e-3, 3, true), "4.069e-3");
+        assert_eq!(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
+    }
 }

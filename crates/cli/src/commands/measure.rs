@@ -99,6 +99,8 @@ pub fn run(a: Args) -> Result<()> {
         (None, None) => bail!("give --surface NAME or --plane ox,oy,oz,ux,uy,uz,vx,vy,vz"),
     };
     let _graceful = crate::interrupt::graceful();
+    // Per cell: its lux value and its CSV line (about 120 characters).
+    super::check_film_fits("a meter", (nx, ny), 8 + 128)?;
     let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
     let (film, behind) = measure_both_sides(

@@ -158,8 +158,33 @@ pub fn unless_interrupted() -> Result<()> {
     Ok(())
 }
 
+/// Refuses, before any work, a `width`×`height` film (an image, or a meter's cells) whose
+/// accumulation ([`opticks_core::film::accumulation_bytes`]) and output (`output_bytes` a pixel:
+/// the f32 image or the CSV) need more memory than the machine has available.
+pub fn check_film_fits(what: &str, (width, height): (u32, u32), output_bytes: u64) -> Result<()> {
+    let threads = rayon::current_num_threads();
+    let pixels = width as u64 * height as u64;
+    let need = opticks_core::film::accumulation_bytes(width, height, threads)
+        .saturating_add(pixels.saturating_mul(output_bytes));
+    match opticks_io::memory::available_bytes() {
+        Some(available) if need > available => anyhow::bail!(
+            "{what} of {width}x{height} needs about {} of memory ({} bytes a pixel to accumulate, {output_bytes} \
+             to write), but {} are available: choose a smaller size",
+            opticks_io::memory::human_bytes(need),
+            opticks_core::film::FILM_BYTES_PER_PIXEL,
+            opticks_io::memory::human_bytes(available)
+        ),
+        _ => Ok(()),
+    }
+}
+
+/// Bytes a pixel of an image output needs while it is written (the f32 RGB copy the writers
+/// take, and their own buffer).
+pub const IMAGE_OUTPUT_BYTES: u64 = 12 + 8;
+
 /// Renders `count` sample batches through `camera` with a progress bar over `total_samples`;
-/// stops with an error on Ctrl-C.
+/// stops with an error on Ctrl-C. The film is checked to fit in memory first
+/// ([`check_film_fits`]).
 pub fn render_with_progress<B: AsBatch>(
     scene: &Scene,
     camera: &Sensor,
@@ -167,6 +192,7 @@ pub fn render_with_progress<B: AsBatch>(
     total_samples: u64,
     batch: impl Fn(usize) -> Result<B> + Sync,
 ) -> Result<Film> {
+    check_film_fits("an image", (camera.width(), camera.height()), IMAGE_OUTPUT_BYTES)?;
     let pb = progress::bar(total_samples, "rendering", "samples");
     let done = AtomicU64::new(0);
     let batch = |i| {

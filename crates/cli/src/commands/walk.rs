@@ -78,6 +78,7 @@ pub fn run(a: Args) -> Result<()> {
                 .with_context(|| format!("{}: frame {f} (t = {t} s): invalid camera", a.path.display()))
         })
         .collect::<Result<_>>()?;
+    super::check_film_fits("a frame", (w, h), super::IMAGE_OUTPUT_BYTES)?;
     std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
     let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(frames as u64, "frames", "frames");

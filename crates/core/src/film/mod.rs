@@ -4,9 +4,43 @@
 //! Splatting is a random read-modify-write per stored sample, so the film's size in cache
 //! decides much of the render time. An [`Accumulator`] stages splats in an f32 copy (half the
 //! bytes: a 256×256 image fits a core's L2) and folds them into the f64 film every
-//! [`FLUSH_SPLATS`] splats, long before f32 could lose precision.
+//! [`FLUSH_SPLATS`] splats, long before f32 could lose precision. Each worker thread of a render
+//! has its own accumulator while they fit in [`PRIVATE_FILMS_BUDGET`]; larger images are
+//! accumulated into one [`SharedFilm`] that every thread adds to atomically (`shared.rs`), so a
+//! render's memory never grows as threads × pixels ([`accumulation_bytes`]).
+
+mod shared;
+
+pub use shared::SharedFilm;
 
 use crate::math::Rgb;
+
+/// Bytes the per-thread [`Accumulator`]s of a render may take together; beyond it, one
+/// [`SharedFilm`] is used. 256 MiB: private accumulators up to about 1920×1920 on two threads
+/// (they are faster while they fit in cache), a shared film above.
+pub const PRIVATE_FILMS_BUDGET: u64 = 256 << 20;
+
+/// Bytes of one [`Accumulator`] per pixel: the f64 film and its f32 staging copy.
+pub const ACCUMULATOR_BYTES_PER_PIXEL: u64 = 36;
+
+/// Bytes of a [`Film`] (and of a [`SharedFilm`]) per pixel.
+pub const FILM_BYTES_PER_PIXEL: u64 = 24;
+
+/// Whether a `width`×`height` render on `threads` threads accumulates into private per-thread
+/// accumulators (else into one [`SharedFilm`]).
+pub fn private_films(width: u32, height: u32, threads: usize) -> bool {
+    let pixels = width as u64 * height as u64;
+    (threads as u64 + 1).saturating_mul(pixels * ACCUMULATOR_BYTES_PER_PIXEL) <= PRIVATE_FILMS_BUDGET
+}
+
+/// The most memory accumulating a `width`×`height` film on `threads` threads takes, in bytes:
+/// at most [`PRIVATE_FILMS_BUDGET`] plus the resulting film for small images, one shared film
+/// (24 bytes a pixel) for large ones — never threads × pixels. What a caller checks against
+/// the memory it has before any work.
+pub fn accumulation_bytes(width: u32, height: u32, threads: usize) -> u64 {
+    let film = width as u64 * height as u64 * FILM_BYTES_PER_PIXEL;
+    if private_films(width, height, threads) { PRIVATE_FILMS_BUDGET + film } else { film }
+}
 
 /// Anything splats can be added to.
 pub trait SplatTarget {

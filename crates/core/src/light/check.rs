@@ -40,6 +40,12 @@ pub enum LightError {
     /// An impossible emission profile.
     #[error(transparent)]
     Profile(#[from] ProfileError),
+    /// A light's power (from its emission and its size) is not a finite number of watts, or
+    /// the sum of its channels is not: its paths would carry infinite flux.
+    #[error(
+        "its power {0:?} W (from its emission and size) is not a finite number: the emission or the emitter is too large"
+    )]
+    PowerNotFinite([f32; 3]),
     /// A power given for an area light without area.
     #[error("power {0:?} W on an emitter of zero area")]
     PowerWithoutArea([f32; 3]),

@@ -86,4 +86,7 @@ pub enum SceneError {
     /// Nothing emits.
     #[error("the scene has no light source (an area emitter or a point light)")]
     NoLight,
+    /// The lights' powers are each finite but their sum is not (quotas are shared out by it).
+    #[error("the lights' total power is not a finite number of watts: their emission is too large")]
+    TotalPowerNotFinite,
 }

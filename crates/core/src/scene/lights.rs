@@ -1,8 +1,8 @@
 //! The lights stage of [`super::Scene::build`]: each light description becomes a core
 //! [`Light`] through its kind's constructor ([`AreaLight::new`], [`PointLight::new`],
 //! [`DirectionalLight::new`], which hold the checks), whose [`crate::light::LightError`] is
-//! located here at the light's declaration. Then the scene's light table as a whole: at least
-//! one light, unique names.
+//! located here at the light's declaration, as is a light whose power is not finite. Then the
+//! scene's light table as a whole: at least one light, unique names, a finite total power.
 
 use super::meshes::Emitter;
 use super::{AreaEmission, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneError, Source};
@@ -13,6 +13,18 @@ use crate::math::Vec3;
 fn located(at: &Source, name: &str) -> impl FnOnce(LightError) -> SceneError {
     let (at, light) = (at.clone(), name.to_string());
     move |source| SceneError::Light { at, light, source }
+}
+
+/// A constructed light whose power is finite, channel by channel and summed (the weight its
+/// path quota is computed from): radiance 1e38 on a unit square, or a sun over a scene of huge
+/// coordinates, has finite parameters but infinite power, and its samples would carry ∞.
+fn finite_power(light: Light) -> Result<Light, LightError> {
+    let p = light.power();
+    if p.is_finite() && (p.x + p.y + p.z).is_finite() {
+        Ok(light)
+    } else {
+        Err(LightError::PowerNotFinite(p.to_array()))
+    }
 }
 
 /// The area light of the emissive `mesh` (emitting `emission`) over its flattened triangles.
@@ -34,6 +46,7 @@ pub(super) fn area_light(
         emitter.cumulative_area,
     )
     .map(Light::Area)
+    .and_then(finite_power)
     .map_err(located(&mesh.source, &mesh.name))
 }
 
@@ -41,6 +54,7 @@ pub(super) fn area_light(
 pub(super) fn point_light(p: &PointLightDesc) -> Result<Light, SceneError> {
     PointLight::new(p.name.clone(), p.position, p.intensity, p.profile.as_ref(), p.orientation, p.power)
         .map(Light::Point)
+        .and_then(finite_power)
         .map_err(located(&p.source, &p.name))
 }
 
@@ -61,6 +75,7 @@ pub(super) fn directional_lights(
         .map(|d| {
             DirectionalLight::new(d.name.clone(), d.direction, d.irradiance, bounds)
                 .map(Light::Directional)
+                .and_then(finite_power)
                 .map_err(located(&d.source, &d.name))
         })
         .collect()
@@ -72,9 +87,48 @@ pub(super) fn check_light_table(lights: &[Light]) -> Result<(), SceneError> {
     if lights.is_empty() {
         return Err(SceneError::NoLight);
     }
+    let total: f32 = lights.iter().map(|l| crate::dataset::quota_weight(l.power())).sum();
+    if !total.is_finite() {
+        return Err(SceneError::TotalPowerNotFinite);
+    }
     let mut names = std::collections::HashSet::new();
     match lights.iter().map(Light::name).find(|n| !names.insert(*n)) {
         Some(dup) => Err(SceneError::DuplicateLightName(dup.to_string())),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::math::Rgb;
+    use crate::scene::{AreaEmission, Scene, SceneError, cornell_box};
+
+    /// Issue 10, item 20: a light of radiance 1e38 passed `Scene::build` with infinite power, and
+    /// `bench` then printed `"mean_rgb":[inf,inf,inf]`. A light whose power (or the sum of its
+    /// channels, or of all lights') is not finite is refused, located at its declaration.
+    #[test]
+    fn lights_of_infinite_power_are_refused() {
+        // The box's light, ten times larger (area 17.48 m²): radiance L gives Φ = π·A·L.
+        let box_with = |radiance: Rgb| {
+            let mut desc = cornell_box();
+            let light = &mut desc.meshes[3];
+            light.positions.iter_mut().for_each(|p| *p *= 10.0);
+            light.emission = Some(AreaEmission::lambertian(radiance));
+            desc
+        };
+        let per_watt = 1.0 / (std::f32::consts::PI * 17.48);
+        let e = Scene::build(&box_with(Rgb::new(1e38, 1.0, 1.0))).unwrap_err();
+        assert!(matches!(e, SceneError::Light { .. }), "{e}");
+        assert!(e.to_string().contains("light 'light': its power [inf, "), "{e}");
+        // Each channel finite, their sum not.
+        let e = Scene::build(&box_with(Rgb::splat(1.5e38 * per_watt))).unwrap_err();
+        assert!(e.to_string().contains("is not a finite number"), "{e}");
+        // Each light finite, all of them together not.
+        let mut desc = box_with(Rgb::new(3e38 * per_watt, 0.0, 0.0));
+        assert!(Scene::build(&desc).is_ok(), "one such light alone is finite");
+        let mut second = desc.meshes[3].clone();
+        second.name = "light2".into();
+        desc.meshes.push(second);
+        assert!(matches!(Scene::build(&desc), Err(SceneError::TotalPowerNotFinite)));
     }
 }

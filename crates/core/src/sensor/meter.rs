@@ -21,7 +21,7 @@
 //! [`Film`] of nx × ny cells: entry `j * nx + i` is cell i along u and j along v (row 0 at the
 //! origin's side — not an image's top row).
 
-use super::{SampleBatch, accumulate};
+use super::{SampleBatch, Splatter, accumulate};
 use crate::film::{Film, SplatTarget};
 use crate::math::Vec3;
 use crate::scene::SceneDescription;
@@ -202,7 +202,14 @@ pub fn measure<B: super::AsBatch, E: Send>(
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
-    accumulate((meter.nx, meter.ny), count, batch, progress, |b, film| meter.splat(b, film))
+    accumulate((meter.nx, meter.ny), count, batch, progress, meter)
+}
+
+impl Splatter for IlluminanceMeter {
+    #[inline]
+    fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T) {
+        self.splat(batch, film)
+    }
 }
 
 /// The meter's front irradiance per cell, as [`measure`] gives it, and per cell the irradiance
@@ -215,7 +222,22 @@ pub fn measure_both_sides<B: super::AsBatch, E: Send>(
     progress: impl Fn(usize) + Sync,
 ) -> Result<(Film, Film), E> {
     let cells = meter.nx as usize * meter.ny as usize;
-    let both = accumulate((meter.nx, 2 * meter.ny), count, batch, progress, |b, film| {
+    let both = accumulate((meter.nx, 2 * meter.ny), count, batch, progress, &BothSides(meter))?;
+    let mut front = Film::new(meter.nx, meter.ny);
+    let mut back = Film::new(meter.nx, meter.ny);
+    front.pixels.copy_from_slice(&both.pixels[..cells]);
+    back.pixels.copy_from_slice(&both.pixels[cells..]);
+    Ok((front, back))
+}
+
+/// [`measure_both_sides`]'s per-batch work: a film of 2·ny rows, the front cells first, then the
+/// same cells for the light arriving from behind.
+struct BothSides<'a>(&'a IlluminanceMeter);
+
+impl Splatter for BothSides<'_> {
+    fn splat_batch<T: SplatTarget>(&self, b: SampleBatch<'_>, film: &mut T) {
+        let meter = self.0;
+        let cells = meter.nx as usize * meter.ny as usize;
         let scale = b.flux_per_path / meter.cell_area();
         for s in b.samples {
             if s.is_emission() {
@@ -225,12 +247,7 @@ pub fn measure_both_sides<B: super::AsBatch, E: Send>(
             let back = s.from_dir().dot(meter.normal) <= 0.0;
             film.splat(cell + if back { cells } else { 0 }, scale * s.beta());
         }
-    })?;
-    let mut front = Film::new(meter.nx, meter.ny);
-    let mut back = Film::new(meter.nx, meter.ny);
-    front.pixels.copy_from_slice(&both.pixels[..cells]);
-    back.pixels.copy_from_slice(&both.pixels[cells..]);
-    Ok((front, back))
+    }
 }
 
 #[cfg(test)]

@@ -38,11 +38,11 @@ mod thin_lens;
 
 pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure, measure_both_sides};
-pub use pinhole::{CameraError, Pinhole, check_fov};
+pub use pinhole::{CameraError, MAX_IMAGE_SIDE, Pinhole, check_fov, check_image_size};
 pub use thin_lens::{LensError, ThinLens};
 
 use crate::dataset::Sample;
-use crate::film::{Accumulator, Film, SplatTarget};
+use crate::film::{Accumulator, Film, SharedFilm, SplatTarget, private_films};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::Scene;
@@ -264,42 +264,97 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
     }
 }
 
+/// The per-batch work of a render or a measurement: adds a batch's contributions to any splat
+/// target (a thread's [`Accumulator`] or a [`SharedFilm`]). What [`accumulate`] runs on all cores.
+pub(crate) trait Splatter: Sync {
+    /// Adds `batch` to `film`.
+    fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T);
+}
+
 /// Accumulates `count` batches (fetched by index, from memory or read from a file) into a
-/// `width`×`height` film on all cores, with `add` doing the per-batch work. The batches are
-/// cut into a few contiguous runs per thread, each with one [`Accumulator`], so there are only a
-/// handful of films to clear and sum whatever the number of batches.
+/// `width`×`height` film on all cores, with `splatter` doing the per-batch work. The batches are
+/// shared out over the threads. Small films: one [`Accumulator`] per thread, summed at the end in
+/// a fixed order, so an image is reproducible bit for bit at a given thread count. Films whose
+/// accumulators would exceed [`crate::film::PRIVATE_FILMS_BUDGET`]: one [`SharedFilm`] that all
+/// threads add to atomically (its last bits may vary from run to run), fed by a few contiguous
+/// runs of batches per thread. Memory is therefore bounded by
+/// [`crate::film::accumulation_bytes`], never threads × pixels.
 pub(crate) fn accumulate<B: AsBatch, E: Send>(
     (width, height): (u32, u32),
     count: usize,
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
-    add: impl Fn(SampleBatch<'_>, &mut Accumulator) + Sync,
+    splatter: &impl Splatter,
 ) -> Result<Film, E> {
-    let runs = (rayon::current_num_threads() * 4).clamp(1, count.max(1));
-    let run_len = count.div_ceil(runs).max(1);
-    (0..runs)
-        .into_par_iter()
-        .map(|r| {
-            let mut acc = Accumulator::new(width, height);
+    let private = private_films(width, height, rayon::current_num_threads());
+    accumulate_in((width, height), count, batch, progress, splatter, private)
+}
+
+/// [`accumulate`] into private accumulators (`private`) or one shared film.
+fn accumulate_in<B: AsBatch, E: Send>(
+    (width, height): (u32, u32),
+    count: usize,
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+    splatter: &impl Splatter,
+    private: bool,
+) -> Result<Film, E> {
+    let threads = rayon::current_num_threads();
+    if !private {
+        // A few contiguous runs of batches per thread, all into the one shared film.
+        let runs = (threads * 4).clamp(1, count.max(1));
+        let run_len = count.div_ceil(runs).max(1);
+        let shared = SharedFilm::new(width, height);
+        (0..runs).into_par_iter().try_for_each(|r| {
+            let mut target = &shared;
             for i in (r * run_len)..((r + 1) * run_len).min(count) {
                 let b = batch(i)?;
                 let b = b.as_batch();
-                add(b, &mut acc);
+                splatter.splat_batch(b, &mut target);
+                progress(b.samples.len());
+            }
+            Ok(())
+        })?;
+        return Ok(shared.into_film());
+    }
+    // One accumulator per thread, each taking every `groups`-th batch (interleaved, so each
+    // gets its share of every light's chunks), summed in a fixed order: the same image, bit for
+    // bit, on every run with the same thread count.
+    let groups = threads.clamp(1, count.max(1));
+    let films = (0..groups)
+        .into_par_iter()
+        .map(|g| {
+            let mut acc = Accumulator::new(width, height);
+            for i in (g..count).step_by(groups) {
+                let b = batch(i)?;
+                let b = b.as_batch();
+                splatter.splat_batch(b, &mut acc);
                 progress(b.samples.len());
             }
             Ok(acc.into_film())
         })
-        .try_reduce(
-            || Film::new(width, height),
-            |mut a, b| {
-                a.add(&b);
-                Ok(a)
-            },
-        )
+        .collect::<Result<Vec<Film>, E>>()?;
+    let mut films = films.into_iter();
+    let mut film = films.next().unwrap_or_else(|| Film::new(width, height));
+    films.for_each(|f| film.add(&f));
+    Ok(film)
+}
+
+/// The splat loop of an image-forming sensor, as [`accumulate`] runs it.
+struct SensorSplat<'a> {
+    scene: &'a Scene,
+    sensor: &'a Sensor,
+}
+
+impl Splatter for SensorSplat<'_> {
+    #[inline]
+    fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T) {
+        splat(self.scene, self.sensor, batch, film)
+    }
 }
 
 /// Renders `count` batches (fetched by index, from memory or read from a file) through
-/// `sensor` on all cores.
+/// `sensor` on all cores, in memory bounded by [`crate::film::accumulation_bytes`].
 pub fn render<B: AsBatch, E: Send>(
     scene: &Scene,
     sensor: &Sensor,
@@ -307,14 +362,61 @@ pub fn render<B: AsBatch, E: Send>(
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
-    accumulate((sensor.width(), sensor.height()), count, batch, progress, |b, film| {
-        splat(scene, sensor, b, film)
-    })
+    accumulate((sensor.width(), sensor.height()), count, batch, progress, &SensorSplat { scene, sensor })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 10, item 11: a 4096² render took 3.1 GB on two threads (one film per thread and
+    /// run). Accumulation now never takes threads × pixels: small films are private to each
+    /// thread within a fixed budget, large ones one shared film; both give the same image.
+    #[test]
+    fn film_memory_is_bounded_and_both_accumulations_agree() {
+        use crate::film::{FILM_BYTES_PER_PIXEL, PRIVATE_FILMS_BUDGET, accumulation_bytes};
+        for threads in [1, 2, 64, 1024] {
+            assert_eq!(accumulation_bytes(4096, 4096, threads), 4096 * 4096 * FILM_BYTES_PER_PIXEL);
+            assert!(
+                accumulation_bytes(256, 256, threads)
+                    <= PRIVATE_FILMS_BUDGET + 256 * 256 * FILM_BYTES_PER_PIXEL
+            );
+        }
+        assert!(private_films(256, 256, 2) && !private_films(4096, 4096, 2));
+        let desc = crate::scene::cornell_box();
+        let sensor: Sensor = Pinhole::new(&desc.camera.unwrap()).unwrap().into();
+        let scene = Scene::build(&desc).unwrap();
+        let mut chunks = Vec::new();
+        let settings = crate::trace::TraceSettings { paths: 40_000, seed: 3, ..Default::default() };
+        let table = crate::trace::trace(
+            &scene,
+            &settings,
+            |c| {
+                chunks.push(c);
+                Ok::<_, ()>(())
+            },
+            |_| {},
+        )
+        .unwrap();
+        let batch = |i: usize| {
+            let c: &crate::dataset::Chunk = &chunks[i];
+            Ok::<_, ()>(SampleBatch {
+                flux_per_path: table.flux_per_path(c.light as usize),
+                samples: &c.samples,
+            })
+        };
+        let splatter = SensorSplat { scene: &scene, sensor: &sensor };
+        let dims = (sensor.width(), sensor.height());
+        let private = accumulate_in(dims, chunks.len(), batch, |_| {}, &splatter, true).unwrap();
+        let shared = accumulate_in(dims, chunks.len(), batch, |_| {}, &splatter, false).unwrap();
+        let mean = private.mean();
+        assert!(mean[0] > 0.0);
+        for (a, b) in private.pixels.iter().zip(&shared.pixels) {
+            for c in 0..3 {
+                assert!((a[c] - b[c]).abs() <= 1e-6 * (a[c].abs() + 1e-12), "{a:?} vs {b:?}");
+            }
+        }
+    }
 
     #[test]
     fn sample_hash_is_uniform_enough_and_deterministic() {

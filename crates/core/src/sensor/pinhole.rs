@@ -44,8 +44,8 @@ pub enum CameraError {
     /// Field of view outside (0°, 180°).
     #[error("field of view {0}° is outside (0°, 180°)")]
     FieldOfView(f32),
-    /// Zero-sized image.
-    #[error("image size {0}x{1} must be at least 1x1")]
+    /// An image side of zero or beyond [`MAX_IMAGE_SIDE`].
+    #[error("image size {0}x{1} must be between 1x1 and 32768x32768")]
     Size(u32, u32),
 }
 
@@ -55,12 +55,23 @@ pub fn check_fov(degrees: f32) -> Result<(), CameraError> {
     if degrees > 0.0 && degrees < 180.0 { Ok(()) } else { Err(CameraError::FieldOfView(degrees)) }
 }
 
+/// The largest image side any camera may have (a 32768² film is 25.8 GB of f64 sums; whether
+/// a size fits the machine's memory is checked before rendering, see
+/// [`crate::film::accumulation_bytes`]).
+pub const MAX_IMAGE_SIDE: u32 = 32768;
+
+/// An image size a camera can have: each side from 1 to [`MAX_IMAGE_SIDE`]. Public so that
+/// every reader of image sizes (scene files, camera paths, the command line) applies this one
+/// rule before anything is allocated from them.
+pub fn check_image_size(width: u32, height: u32) -> Result<(), CameraError> {
+    let ok = |s: u32| (1..=MAX_IMAGE_SIDE).contains(&s);
+    if ok(width) && ok(height) { Ok(()) } else { Err(CameraError::Size(width, height)) }
+}
+
 impl Pinhole {
     /// Validates a description into a pinhole camera.
     pub fn new(d: &CameraDesc) -> Result<Self, CameraError> {
-        if d.width == 0 || d.height == 0 {
-            return Err(CameraError::Size(d.width, d.height));
-        }
+        check_image_size(d.width, d.height)?;
         check_fov(d.fov_x_degrees)?;
         let forward = (d.target - d.eye).normalize_or_zero();
         let right = forward.cross(d.up).normalize_or_zero();

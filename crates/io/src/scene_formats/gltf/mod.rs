@@ -49,6 +49,19 @@ pub const SPOT_MIN_BEAM: f64 = 1e-3;
 /// Image height (and width without `aspectRatio`) of a glTF camera, pixels.
 pub const DEFAULT_IMAGE_HEIGHT: u32 = 512;
 
+/// The first mesh primitive whose POSITION attribute names a missing accessor: (mesh,
+/// primitive, accessor index).
+fn bad_position_accessor(json: &::gltf::json::Root) -> Option<(usize, usize, usize)> {
+    use ::gltf::json::validation::Checked;
+    let position = Checked::Valid(::gltf::json::mesh::Semantic::Positions);
+    json.meshes.iter().enumerate().find_map(|(m, mesh)| {
+        mesh.primitives.iter().enumerate().find_map(|(p, prim)| {
+            let index = prim.attributes.get(&position)?.value();
+            (index >= json.accessors.len()).then_some((m, p, index))
+        })
+    })
+}
+
 /// Loads a `.gltf` or `.glb` file as a scene (see the module docs).
 pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let data = crate::input_file::read(path)
@@ -57,7 +70,21 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let invalid =
         |element: String, message: String| SceneFileError::Invalid { at: loc(0, 0), element, message };
 
-    let gltf = ::gltf::Gltf::from_slice(&data).map_err(|e| match e {
+    // Parsed without validation first: gltf-json 1.4.1's validation indexes the POSITION
+    // accessor without a bounds check (a panic, found by fuzzing), so that index is checked
+    // here before the crate's validation runs.
+    let gltf = ::gltf::Gltf::from_slice_without_validation(&data).and_then(|g| {
+        let json = g.document.into_json();
+        if let Some((m, p, index)) = bad_position_accessor(&json) {
+            let message = format!(
+                "meshes[{m}].primitives[{p}].attributes.POSITION: accessor {index} does not exist (the file has {})",
+                json.accessors.len()
+            );
+            return Ok(Err(invalid("glTF document".into(), format!("invalid glTF: {message}"))));
+        }
+        Ok(Ok(::gltf::Gltf { document: ::gltf::Document::from_json(json)?, blob: g.blob }))
+    });
+    let gltf = gltf.map_err(|e| match e {
         ::gltf::Error::Deserialize(j) => {
             // serde_json's message ends with the position, which the location already gives.
             let text = j.to_string();
@@ -76,7 +103,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
         }
         ::gltf::Error::Binary(b) => invalid("GLB container".into(), format!("malformed binary glTF: {b}")),
         other => invalid("glTF".into(), other.to_string()),
-    })?;
+    })??;
     let doc = &gltf.document;
     let folder = path.parent().unwrap_or(Path::new(""));
     let buffers = buffers::load_buffers(doc, gltf.blob.as_deref(), folder).map_err(|(i, e)| {

@@ -14,7 +14,7 @@ use super::transform::Transform;
 use super::xml::Element;
 use glam::{DMat3, DVec3};
 use opticks_core::scene::CameraDesc;
-use opticks_core::sensor::check_fov;
+use opticks_core::sensor::{MAX_IMAGE_SIDE, check_fov, check_image_size};
 
 /// A sensor builder: the `<sensor>` element and its properties.
 type BuildSensor = for<'d> fn(&mut Builder<'d>, &'d Element, Props<'d>) -> Result<CameraDesc>;
@@ -133,10 +133,10 @@ fn film<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<(u32, u32)> {
     let mut size = [DEFAULT_FILM.0, DEFAULT_FILM.1];
     for (s, name) in size.iter_mut().zip(["width", "height"]) {
         if let Some((v, node)) = p.int(name)? {
-            *s = u32::try_from(v)
-                .ok()
-                .filter(|&v| v > 0)
-                .ok_or_else(|| node.err(format!("{name} {v} must be a positive integer")))?;
+            // The core's one rule for image sizes, checked here where the file gives them.
+            *s = u32::try_from(v).ok().filter(|&v| check_image_size(v, 1).is_ok()).ok_or_else(|| {
+                node.err(format!("{name} {v} must be an integer from 1 to {MAX_IMAGE_SIDE}"))
+            })?;
         }
     }
     p.ignore(&[

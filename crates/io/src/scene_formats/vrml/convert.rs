@@ -561,9 +561,12 @@ impl Converter {
                 DEFAULT_IMAGE_SIZE as i32,
             ),
         };
-        let (Ok(width), Ok(height)) = (u32::try_from(width), u32::try_from(height)) else {
+        let size = (u32::try_from(width), u32::try_from(height));
+        let (Ok(width), Ok(height)) = size else {
             return Err(self.invalid(n, format!("image size {width}x{height} must be positive")));
         };
+        // The core's one rule for image sizes, before anything is sized by them.
+        opticks_core::sensor::check_image_size(width, height).map_err(|e| self.invalid(n, e.to_string()))?;
         let q = rotation(orientation);
         let eye = m.transform_point3(dv(position));
         let forward = m.transform_vector3(q * DVec3::NEG_Z).normalize_or_zero();

@@ -1,0 +1,63 @@
+//! How much memory the machine can give a new allocation, so that a command can refuse a film
+//! (an image, a meter grid) that cannot fit before it does any work, with a clear error, instead
+//! of being killed or aborting halfway. Linux: `MemAvailable` of `/proc/meminfo`, lowered to a
+//! cgroup v2 limit (`memory.max` − `memory.current`) when the process runs under one.
+
+use std::path::Path;
+
+/// Bytes available for new allocations, or `None` where that is unknown (other systems).
+pub fn available_bytes() -> Option<u64> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let mut available = meminfo_available(&meminfo)?;
+    if let Some(limit) = cgroup_headroom(Path::new("/sys/fs/cgroup")) {
+        available = available.min(limit);
+    }
+    Some(available)
+}
+
+/// `MemAvailable` of a `/proc/meminfo` text, in bytes.
+fn meminfo_available(text: &str) -> Option<u64> {
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kb.checked_mul(1024)
+}
+
+/// `memory.max − memory.current` of the cgroup v2 mounted at `root`, if it has a limit.
+fn cgroup_headroom(root: &Path) -> Option<u64> {
+    let read = |name: &str| std::fs::read_to_string(root.join(name)).ok()?.trim().parse::<u64>().ok();
+    let (max, current) = (read("memory.max")?, read("memory.current")?);
+    Some(max.saturating_sub(current))
+}
+
+/// Bytes as people read them: "25.8 GB", "403 MB".
+pub fn human_bytes(bytes: u64) -> String {
+    match bytes {
+        b if b >= 1_000_000_000 => format!("{:.1} GB", b as f64 / 1e9),
+        b => format!("{:.0} MB", (b as f64 / 1e6).max(1.0)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn meminfo_and_cgroup_limits_are_read() {
+        let text = "MemTotal:       24000000 kB\nMemFree:  100 kB\nMemAvailable:   22279392 kB\n";
+        assert_eq!(meminfo_available(text), Some(22_279_392 * 1024));
+        assert_eq!(meminfo_available("MemTotal: 5 kB\n"), None);
+        let dir = tempfile::tempdir().unwrap();
+        assert_eq!(cgroup_headroom(dir.path()), None);
+        std::fs::write(dir.path().join("memory.max"), "max\n").unwrap();
+        std::fs::write(dir.path().join("memory.current"), "1000\n").unwrap();
+        assert_eq!(cgroup_headroom(dir.path()), None, "no limit");
+        std::fs::write(dir.path().join("memory.max"), "3000\n").unwrap();
+        assert_eq!(cgroup_headroom(dir.path()), Some(2000));
+        assert_eq!(
+            (human_bytes(25_769_803_776), human_bytes(403_000_000)),
+            ("25.8 GB".into(), "403 MB".into())
+        );
+        #[cfg(target_os = "linux")]
+        assert!(available_bytes().is_some_and(|b| b > 0));
+    }
+}

@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# Runs the fuzz targets, each for SECONDS seconds (default 20), from seeds taken from testdata/,
+# scenes/ and fuzz/seeds/ (copied into fuzz/corpus/, which keeps what the fuzzer finds between
+# runs and is not committed). Needs the nightly toolchain and cargo-fuzz (`cargo install
+# cargo-fuzz`). A crash stops the run with the input saved under fuzz/artifacts/TARGET/: fix
+# the defect, then commit the input under testdata/fuzz-regressions/TARGET/ (a stable test
+# replays every file there).
+#
+#   fuzz/run.sh            # every target, 20 s each
+#   fuzz/run.sh 600 vrml   # one target, ten minutes
+set -euo pipefail
+cd "$(dirname "$0")"
+seconds=${1:-20}
+shift || true
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then
+    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset)
+fi
+
+# seed TARGET FILE...: small files only (libFuzzer mutates better, and faster, from small inputs).
+seed() {
+    local target=$1
+    shift
+    mkdir -p "corpus/$target"
+    for f in "$@"; do
+        if [ -f "$f" ] && [ "$(stat -c %s "$f")" -le 65536 ]; then
+            cp "$f" "corpus/$target/seed-$(echo "$f" | tr '/' '_')"
+        fi
+    done
+}
+seed mitsuba $(find ../testdata ../scenes -name '*.xml')
+seed vrml $(find ../testdata ../scenes -name '*.wrl')
+seed obj_mtl seeds/obj_mtl/* $(find ../testdata -name '*.obj')
+seed gltf seeds/gltf/* ../testdata/gltf/cornell.gltf
+seed ies $(find ../testdata ../scenes -name '*.ies')
+seed camera_path seeds/camera_path/*
+seed dataset seeds/dataset/*
+
+for t in "${targets[@]}"; do
+    echo "== fuzzing $t for ${seconds} s"
+    # -rss_limit_mb: a reader must never need more for a small input; -timeout: nor hang.
+    cargo +nightly fuzz run -O "$t" "corpus/$t" -- \
+        -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 2>&1 |
+        grep -E '^(==|stat::number_of_executed_units|Done|SUMMARY|ERROR|.*(panicked|deadly signal|Test unit written))' || true
+    # grep swallowed the exit status: a crash leaves an artifact, which is what fails the run.
+    if compgen -G "artifacts/$t/*" >/dev/null; then
+        echo "fuzz target $t found a crashing input: fuzz/artifacts/$t/" >&2
+        ls "artifacts/$t" >&2
+        exit 1
+    fi
+done

@@ -1,0 +1,181 @@
+//! The entry points of the fuzz targets, one per reader, shared by the cargo-fuzz binaries
+//! (`fuzz/fuzz_targets/`, nightly) and the stable regression test that replays every input that
+//! ever crashed (`crates/io/tests/fuzz_regressions.rs`, which includes this file by path).
+//!
+//! Each entry point feeds the bytes to a reader through its public API, exactly as a user's file
+//! reaches it (written to a file in a private temporary folder when the reader takes a path), and
+//! then exercises whatever loaded: the scene build (bad values bite there), a short trace and a
+//! tiny render. Errors are the expected outcome for almost every input; what a target reports is
+//! a panic, an abort, a hang, a stack overflow or an out-of-memory, and the invariants asserted
+//! here: every traced sample is finite with β ≥ 0 (a dataset writer would refuse it), and every
+//! rendered pixel is finite.
+
+use opticks_core::dataset::{Chunk, check_scene, lighting};
+use opticks_core::scene::{CameraDesc, Scene, cornell_box};
+use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
+use opticks_core::trace::{TraceSettings, trace};
+use opticks_io::LoadedScene;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+thread_local! {
+    /// A folder of this thread's own for the files the readers are given.
+    static SCRATCH: PathBuf = {
+        let base = Path::new("/dev/shm");
+        let base = if base.is_dir() { base.to_path_buf() } else { std::env::temp_dir() };
+        let id = format!("{:?}", std::thread::current().id()).replace(|c: char| !c.is_ascii_digit(), "");
+        let dir = base.join(format!("opticks-fuzz-{}-{id}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("cannot create the fuzz scratch folder");
+        dir
+    };
+}
+
+fn scratch() -> PathBuf {
+    SCRATCH.with(|d| d.clone())
+}
+
+/// Removes this thread's scratch folder (the regression test's cleanup; a fuzzing process
+/// leaves it, with the last input in it, for inspection).
+pub fn remove_scratch() {
+    let _ = std::fs::remove_dir_all(scratch());
+}
+
+/// Writes `data` to `name` in the scratch folder; returns its path.
+fn file(name: &str, data: &[u8]) -> PathBuf {
+    let path = scratch().join(name);
+    std::fs::write(&path, data).expect("cannot write a fuzz input file");
+    path
+}
+
+/// Builds, traces and renders a loaded scene, checking the invariants of the module docs.
+fn exercise(loaded: &LoadedScene) {
+    let Ok(scene) = Scene::build(&loaded.description) else { return };
+    let settings = TraceSettings { paths: 16, seed: 1, ..Default::default() };
+    let mut chunks: Vec<Chunk> = Vec::new();
+    let table = match trace(
+        &scene,
+        &settings,
+        |c| {
+            chunks.push(c);
+            Ok::<_, ()>(())
+        },
+        |_| {},
+    ) {
+        Ok(t) => t,
+        Err(()) => unreachable!("the sink never fails"),
+    };
+    for s in chunks.iter().flat_map(|c| &c.samples) {
+        assert!(s.position.iter().all(|x| x.is_finite()), "traced a non-finite position {s:?}");
+        assert!(s.beta.iter().all(|b| *b >= 0.0 && b.is_finite()), "traced an invalid β {s:?}");
+        assert!((s.triangle() as usize) < scene.triangles.len(), "traced a missing triangle {s:?}");
+    }
+    let Some(camera) = loaded.description.camera else { return };
+    let small = CameraDesc { width: camera.width.min(8), height: camera.height.min(8), ..camera };
+    let Ok(pinhole) = Pinhole::new(&small) else { return };
+    let sensor: Sensor = pinhole.into();
+    let batch = |i: usize| {
+        let c: &Chunk = &chunks[i];
+        Ok::<_, ()>(SampleBatch { flux_per_path: table.flux_per_path(c.light as usize), samples: &c.samples })
+    };
+    let film = render(&scene, &sensor, chunks.len(), batch, |_| {}).unwrap_or_else(|()| unreachable!());
+    assert!(film.pixels.iter().flatten().all(|x| x.is_finite()), "rendered a non-finite pixel");
+}
+
+/// A Mitsuba 3 XML scene (meshes it names are looked up beside it, in the scratch folder).
+pub fn mitsuba(data: &[u8]) {
+    let Ok(text) = std::str::from_utf8(data) else { return };
+    let path = scratch().join("fuzz.xml");
+    if let Ok(loaded) = opticks_io::scene_formats::mitsuba::parse(text, &path, &Default::default()) {
+        exercise(&loaded);
+    }
+}
+
+/// A VRML97 scene (plain or gzip-compressed).
+pub fn vrml(data: &[u8]) {
+    if let Ok(loaded) = opticks_io::load_scene(&file("fuzz.wrl", data)) {
+        exercise(&loaded);
+    }
+}
+
+/// An OBJ scene and its MTL library: the input is the OBJ text, then, after a line `#MTL`, the
+/// MTL text (the OBJ names the library `fuzz.mtl` first).
+pub fn obj_mtl(data: &[u8]) {
+    let (obj, mtl) = match data.windows(6).position(|w| w == b"\n#MTL\n") {
+        Some(i) => (&data[..i], &data[i + 6..]),
+        None => (data, &b""[..]),
+    };
+    file("fuzz.mtl", mtl);
+    let obj = [&b"mtllib fuzz.mtl\n"[..], obj].concat();
+    if let Ok(loaded) = opticks_io::load_scene(&file("fuzz.obj", &obj)) {
+        exercise(&loaded);
+    }
+}
+
+/// A glTF 2.0 scene: binary (GLB) if it starts with the GLB magic, else JSON.
+pub fn gltf(data: &[u8]) {
+    let name = if data.starts_with(b"glTF") { "fuzz.glb" } else { "fuzz.gltf" };
+    if let Ok(loaded) = opticks_io::load_scene(&file(name, data)) {
+        exercise(&loaded);
+    }
+}
+
+/// An IES LM-63 file, read alone and then as the profile of a Mitsuba `ies` emitter lighting a
+/// floor (so the table also goes through the core's checks, sampling grid and tracer).
+pub fn ies(data: &[u8]) {
+    let path = file("fuzz.ies", data);
+    if opticks_io::ies::load_ies(&path).is_err() {
+        return;
+    }
+    let xml = "<scene version=\"3.0.0\">\
+        <sensor type=\"perspective\"><float name=\"fov\" value=\"60\"/>\
+        <transform name=\"to_world\"><lookat origin=\"0,3,3\" target=\"0,0,0\" up=\"0,1,0\"/></transform></sensor>\
+        <emitter type=\"ies\"><string name=\"filename\" value=\"fuzz.ies\"/><point name=\"position\" value=\"0,1,0\"/></emitter>\
+        <shape type=\"rectangle\"><transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/><scale value=\"4\"/></transform></shape>\
+        </scene>";
+    if let Ok(loaded) =
+        opticks_io::scene_formats::mitsuba::parse(xml, &scratch().join("ies.xml"), &Default::default())
+    {
+        exercise(&loaded);
+    }
+}
+
+/// A walkthrough camera path (JSON keyframes), evaluated at its ends and between.
+pub fn camera_path(data: &[u8]) {
+    let Ok(walk) = opticks_io::camera_path_file::read_camera_path(&file("fuzz.json", data), 45.0) else {
+        return;
+    };
+    let (t0, t1) = walk.path.span();
+    let (w, h) = walk.size.unwrap_or((8, 8));
+    for k in 0..=4 {
+        let t = t0 + (t1 - t0) * k as f32 / 4.0;
+        let desc = walk.path.at(t, w, h);
+        let _ = Pinhole::new(&desc);
+    }
+}
+
+/// A dataset file: opened, every chunk read and checked; if it belongs to the built-in Cornell
+/// box, also checked against it, lit and rendered as `render` does.
+pub fn dataset(data: &[u8]) {
+    static CORNELL: OnceLock<Scene> = OnceLock::new();
+    let scene = CORNELL.get_or_init(|| Scene::build(&cornell_box()).expect("the built-in box builds"));
+    let Ok(mut reader) = opticks_io::dataset_file::DatasetReader::open(&file("fuzz.opds", data)) else {
+        return;
+    };
+    let _ = reader.verify();
+    if check_scene(reader.header(), scene).is_err() {
+        return;
+    }
+    reader.check_triangles(scene.triangles.len());
+    let Ok(lit) = lighting(&reader.header().table, scene, &[]) else { return };
+    let camera = CameraDesc { width: 8, height: 8, ..scene.camera.expect("the box has a camera") };
+    let sensor: Sensor = Pinhole::new(&camera).expect("a valid camera").into();
+    let batch = |i: usize| {
+        reader.chunk(i).map(|c| opticks_core::sensor::OwnedBatch {
+            flux_per_path: lit.flux_per_path[c.light as usize],
+            samples: c.samples,
+        })
+    };
+    if let Ok(film) = render(scene, &sensor, reader.chunk_count(), batch, |_| {}) {
+        assert!(film.pixels.iter().flatten().all(|x| x.is_finite()), "rendered a non-finite pixel");
+    }
+}
