@@ -20,6 +20,8 @@ pub struct Args {
     /// Scene file with the new light (default: the one recorded in the dataset).
     #[arg(long)]
     scene: Option<String>,
+    #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
     /// Paths for the new light (default: its fair share, N·Φ_new/ΣΦ of the lights already traced).
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     paths: Option<u64>,
@@ -30,7 +32,7 @@ pub struct Args {
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
     a.extend.threads.apply()?;
-    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref(), &a.defines)?;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (header, pass) =
         opticks_core::dataset::add_light(reader.header(), &scene, &a.light, a.paths, seed, &strategy)

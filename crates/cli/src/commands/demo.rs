@@ -45,7 +45,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     a.threads.apply()?;
     opticks_io::image_file::check_output_path(&a.output)?;
-    let scene = load_scene(BUILTIN_CORNELL)?;
+    let scene = load_scene(BUILTIN_CORNELL, &Default::default())?;
     let camera = a.camera.resolve(scene.camera)?;
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
     let t0 = Instant::now();

@@ -19,6 +19,7 @@ pub mod trace;
 pub mod walk;
 
 use crate::progress;
+use crate::scene_arg::DefineArgs;
 use anyhow::{Context, Result, anyhow};
 use opticks_core::dataset::{Chunk, LightTable, LightingError, check_scene, lighting, subset};
 use opticks_core::film::Film;
@@ -101,17 +102,19 @@ pub fn render_with_progress<'a>(
 pub fn open_with_scene(
     dataset: &Path,
     scene: Option<&str>,
+    defines: &DefineArgs,
 ) -> Result<(DatasetReader, SceneDescription, Scene)> {
     let reader = DatasetReader::open(dataset)?;
     let label = &reader.header().label;
     let spec = scene.unwrap_or(label);
     let context =
         || format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)");
-    let description = crate::scene_arg::load_description(spec).with_context(context)?;
+    let description = crate::scene_arg::load_description(spec, defines).with_context(context)?;
     let scene = crate::scene_arg::build_scene(spec, &description)?;
     check_scene(reader.header(), &scene).map_err(|e| {
         anyhow!(
-            "{} was traced from a different scene than {spec}: geometry/material fingerprint {} ≠ {}",
+            "{} was traced from a different scene than {spec}: geometry/material fingerprint {} ≠ {} \
+             (a scene traced with -D parameters needs the same ones)",
             dataset.display(),
             e.recorded.geometry_hex(),
             e.current.geometry_hex()
@@ -133,6 +136,8 @@ pub struct DatasetArgs {
     /// (0 switches it off); repeatable. No re-tracing: exact.
     #[arg(long = "light", value_parser = light_args::parse_light_scale, allow_hyphen_values = true)]
     light: Vec<opticks_core::dataset::LightScale>,
+    #[command(flatten)]
+    defines: DefineArgs,
 }
 
 /// An opened dataset, its scene, and the flux each light's samples stand for — over all its
@@ -151,7 +156,8 @@ pub struct LitDataset {
 impl DatasetArgs {
     /// Opens the dataset against its scene and works out the lighting; prints the notes.
     pub fn open(&self) -> Result<LitDataset> {
-        let (reader, description, scene) = open_with_scene(&self.dataset, self.scene.as_deref())?;
+        let (reader, description, scene) =
+            open_with_scene(&self.dataset, self.scene.as_deref(), &self.defines)?;
         let lighting = lighting(&reader.header().table, &scene, &self.light).map_err(|e| match &e {
             LightingError::NotTraced(name) => {
                 anyhow!("{e}: add it with `opticks add-light`, or switch it off with --light '{name}=0'")

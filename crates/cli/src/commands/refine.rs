@@ -24,13 +24,15 @@ pub struct Args {
     #[arg(long)]
     scene: Option<String>,
     #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
+    #[command(flatten)]
     extend: ExtendArgs,
 }
 
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
     a.extend.threads.apply()?;
-    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let (reader, _, scene) = open_with_scene(&a.dataset, a.scene.as_deref(), &a.defines)?;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)
         .map_err(|e| anyhow!("{e}: refine needs the same scene"))?;

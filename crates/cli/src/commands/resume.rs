@@ -22,13 +22,15 @@ pub struct Args {
     #[arg(long)]
     scene: Option<String>,
     #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
+    #[command(flatten)]
     threads: ThreadArgs,
 }
 
 /// Resumes the run.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let (reader, _, scene) = open_with_scene(&a.partial, a.scene.as_deref())?;
+    let (reader, _, scene) = open_with_scene(&a.partial, a.scene.as_deref(), &a.defines)?;
     let header = reader.header().clone();
     let partial = a.partial.display();
     let pass = resume_plan(&header, &scene).map_err(|e| match e {

@@ -27,12 +27,14 @@ pub struct Args {
     strategy: StrategyArgs,
     #[command(flatten)]
     threads: ThreadArgs,
+    #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
 }
 
 /// Runs the trace.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let scene = load_scene(&a.scene)?;
+    let scene = load_scene(&a.scene, &a.defines)?;
     let (header, pass) = new_trace(&scene, &a.scene, a.strategy.settings(a.paths, a.seed));
     let new = NewPaths { scene: &scene, pass };
     let report =

@@ -76,7 +76,7 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
     let mut b = Builder {
         doc,
         desc: SceneDescription::default(),
-        warnings: Vec::new(),
+        warnings: doc.warnings.clone(),
         bsdfs: HashMap::new(),
         in_progress: HashSet::new(),
         material_of: HashMap::new(),

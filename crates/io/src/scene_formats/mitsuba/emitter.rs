@@ -263,7 +263,7 @@ fn ies_file<'d>(
     hemisphere: bool,
 ) -> Result<Option<(Ies, f32, &'d Element)>> {
     let Some((file, fnode)) = p.string("filename")? else { return Ok(None) };
-    let path = fnode.resolve(&file);
+    let path = b.doc.resolve(fnode, &file);
     let ies = lights::ies_luminaire(&path, hemisphere).map_err(|e| fnode.err(e))?;
     if let Some(w) = ies.warning {
         b.warn(fnode, w);

@@ -8,6 +8,7 @@
 //! | file | job |
 //! |---|---|
 //! | `xml.rs` | text → records (`Element`: tag, attributes, children, each with `file:line:column`), `$name` parameters substituted, `<ref>`s resolved, ids checked |
+//! | `include.rs` | `<include>` replaced by the included file's records (each keeping its own file's locations), `<path>` search folders collected |
 //! | `build.rs` | records → [`SceneDescription`](opticks_core::scene::SceneDescription): the walk over the top-level elements and the state the builders share |
 //! | `properties.rs`, `transform.rs` | the typed property getters every builder reads its parameters through, and `<transform>` |
 //! | `sensor.rs` | `<sensor>` and `<film>` → the camera |
@@ -35,6 +36,7 @@
 mod bsdf;
 mod build;
 mod emitter;
+mod include;
 mod medium;
 mod properties;
 mod sensor;

@@ -168,7 +168,7 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
 fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
     let (file, fnode) =
         p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))?;
-    let path = fnode.resolve(&file);
+    let path = b.doc.resolve(fnode, &file);
     let mesh = read_obj(&path, Some((e.describe(), e.at.clone())))?;
     if mesh.triangles.is_empty() {
         b.warn(e, format!("{} has no faces", path.display()));
