@@ -551,8 +551,8 @@ fn bad_scenes_name_file_line_and_element() {
             "dir/test.xml:2:13: <bsdf type=\"plastic\" id=\"p\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric)",
         ),
         (
-            r#"<shape type="sphere"/>"#,
-            "dir/test.xml:2:14: <shape type=\"sphere\">: unsupported shape type \"sphere\" (supported: obj, rectangle, cube)",
+            r#"<shape type="teapot"/>"#,
+            "dir/test.xml:2:14: <shape type=\"teapot\">: unsupported shape type \"teapot\" (supported: obj, ply, serialized, rectangle, cube, sphere, disk, cylinder)",
         ),
         (
             r#"<texture type="bitmap"/>"#,

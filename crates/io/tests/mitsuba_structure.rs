@@ -6,6 +6,8 @@
 mod common;
 
 use common::{error_of, load_files, load_ok};
+use opticks_core::bsdf::Bsdf;
+use opticks_core::math::Vec3;
 use opticks_io::{LoadOptions, load_scene_with};
 
 const BSDF: &str = r#"<bsdf type="diffuse" id="grey"><rgb name="reflectance" value="0.25"/></bsdf>"#;
@@ -42,7 +44,7 @@ fn includes_splice_scenes_and_single_objects_relative_to_the_including_file() {
     assert_eq!(d.meshes.len(), 2);
     assert_eq!((d.meshes[0].name.as_str(), d.meshes[0].triangles.len()), ("tri", 1));
     let albedo = |i: usize| match &d.materials[d.meshes[i].material].bsdf {
-        opticks_core::bsdf::Bsdf::Lambert(l) => l.reflectance.x,
+        Bsdf::Lambert(l) => l.reflectance.x,
         b => panic!("{b:?}"),
     };
     assert_eq!((albedo(0), albedo(1)), (0.75, 0.25));
@@ -155,7 +157,7 @@ fn parameters_reach_included_files_and_the_first_default_wins() {
             LoadOptions { defines: defines.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect() };
         let s = load_scene_with(&dir.path().join("main.xml"), &opts).unwrap();
         match &s.description.materials[0].bsdf {
-            opticks_core::bsdf::Bsdf::Lambert(l) => (s.description.meshes[0].name.clone(), l.reflectance.x),
+            Bsdf::Lambert(l) => (s.description.meshes[0].name.clone(), l.reflectance.x),
             b => panic!("{b:?}"),
         }
     };
@@ -169,4 +171,85 @@ fn parameters_reach_included_files_and_the_first_default_wins() {
         "{:?}",
         s.warnings
     );
+}
+
+#[test]
+fn analytic_shapes_take_mitsuba_parameters() {
+    let s = load_ok(&[(
+        "s.xml",
+        &scene(
+            r#"<shape type="sphere"><point name="center" x="1" y="2" z="3"/><float name="radius" value="0.5"/></shape>
+               <shape type="cylinder"><point name="p0" x="0" y="0" z="0"/><point name="p1" x="0" y="2" z="0"/></shape>
+               <shape type="disk"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#,
+        ),
+    )]);
+    let m = &s.description.meshes;
+    let far = |i: usize, c: Vec3| m[i].positions.iter().map(|p| (*p - c).length()).fold(0.0f32, f32::max);
+    assert!((far(0, Vec3::new(1.0, 2.0, 3.0)) - 0.5).abs() < 1e-3 && !m[0].normals.is_empty());
+    assert!(m[1].positions.iter().all(|p| (0.0..=2.0).contains(&p.y) && (p.x.hypot(p.z) - 1.0).abs() < 1e-3));
+    assert!(m[2].normals.is_empty() && m[2].emission.is_some());
+    // An emitter shape without a BSDF is black, as in Mitsuba; others get diffuse 0.5.
+    let albedo = |i: usize| match &s.description.materials[m[i].material].bsdf {
+        Bsdf::Lambert(l) => l.reflectance.x,
+        b => panic!("{b:?}"),
+    };
+    assert_eq!((albedo(0), albedo(2)), (0.5, 0.0));
+
+    for (body, msg) in [
+        (
+            r#"<shape type="sphere"><float name="radius" value="0"/></shape>"#,
+            "2:22: <float name=\"radius\">: radius must be > 0",
+        ),
+        (
+            r#"<shape type="cylinder"><point name="p1" x="0" y="0" z="0"/></shape>"#,
+            "2:24: <point name=\"p1\">: the cylinder's p0 and p1 are the same point",
+        ),
+        (
+            r#"<shape type="serialized"><string name="filename" value="x"/><integer name="shape_index" value="-1"/></shape>"#,
+            "shape_index must be ≥ 0",
+        ),
+    ] {
+        let e = error_of(&[("s.xml", &scene(body))]);
+        assert!(e.contains(msg), "{msg}: {e}");
+    }
+}
+
+#[test]
+fn mesh_file_errors_name_the_file_the_byte_and_the_shape() {
+    let shape = |ty: &str, file: &str| {
+        scene(&format!(r#"<shape type="{ty}" id="m"><string name="filename" value="{file}"/></shape>"#))
+    };
+    let ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    let mut good = ply.to_vec();
+    for v in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        good.extend(v.to_le_bytes());
+    }
+    good.push(3);
+    for i in [0i32, 1, 2] {
+        good.extend(i.to_le_bytes());
+    }
+    let s = load_ok(&[("s.xml", &shape("ply", "m.ply")), ("m.ply", &good)]);
+    let m = &s.description.meshes[0];
+    assert_eq!(
+        (m.positions.len(), m.triangles.len(), m.normals.len()),
+        (3, 1, 3),
+        "smooth normals generated"
+    );
+    let bad = &good[..good.len() - 2];
+    let e = error_of(&[("s.xml", &shape("ply", "m.ply")), ("m.ply", bad)]);
+    let at = good.len() - 4;
+    assert!(e.starts_with(&format!("TMP/m.ply: byte {at}: the file ends here")), "{e}");
+    assert!(e.ends_with("(mesh of <shape type=\"ply\" id=\"m\"> at TMP/s.xml:2:1)"), "{e}");
+    let huge = String::from_utf8_lossy(ply).replace("vertex 3", "vertex 1000000000000");
+    let e = error_of(&[("s.xml", &shape("ply", "m.ply")), ("m.ply", huge.as_bytes())]);
+    assert!(
+        e.starts_with("TMP/m.ply:3: byte 36: 1000000000000 vertices is more than a mesh can index"),
+        "{e}"
+    );
+    let e =
+        error_of(&[("s.xml", &shape("serialized", "m.serialized")), ("m.serialized", b"\x1c\x04\x09\x00")]);
+    assert!(e.starts_with("TMP/m.serialized: byte 2: unsupported serialized format version 9"), "{e}");
+    let e = error_of(&[("s.xml", &shape("ply", "none.ply"))]);
+    assert!(e.contains("cannot read mesh file TMP/none.ply"), "{e}");
 }

@@ -30,8 +30,11 @@
 
 pub mod gltf;
 pub mod lights;
+pub mod mesh_bytes;
 pub mod mitsuba;
 pub mod obj;
+pub mod ply;
+pub mod serialized;
 pub mod vrml;
 pub mod wavefront;
 
@@ -148,6 +151,19 @@ pub enum SceneFileError {
         #[source]
         source: std::io::Error,
     },
+    /// A PLY or serialized mesh file's content is wrong: the file (with the line, for text
+    /// parts) and the byte offset.
+    #[error("{at}: byte {offset}: {message}{}", referenced_by(.referenced_from))]
+    MeshData {
+        /// The mesh file, and the line for a PLY header or ASCII PLY data (else 0).
+        at: FileLocation,
+        /// Byte offset in the file.
+        offset: u64,
+        /// What is wrong.
+        message: String,
+        /// The scene element that loaded this mesh, and where: (`<shape ...>`, location).
+        referenced_from: Option<(String, FileLocation)>,
+    },
     /// An OBJ file's content is wrong.
     #[error("{at}: {message}{}", referenced_by(.referenced_from))]
     Obj {
@@ -176,6 +192,7 @@ impl SceneFileError {
             | SceneFileError::Invalid { at, .. }
             | SceneFileError::Material { at, .. }
             | SceneFileError::MeshFile { at, .. }
+            | SceneFileError::MeshData { at, .. }
             | SceneFileError::Obj { at, .. } => Some(at),
         }
     }

@@ -129,15 +129,20 @@ pub fn material_index(b: &mut Builder, parsed: &ParsedBsdf, key: Option<&str>) -
 }
 
 /// The material of a shape without a BSDF: Mitsuba's default, a one-sided `diffuse` of
-/// reflectance 0.5, shared by all such shapes.
-pub fn default_material(b: &mut Builder) -> usize {
-    const KEY: &str = "\u{0}default";
+/// reflectance 0.5, shared by all such shapes — black (reflectance 0) for an `emitter` shape,
+/// as Mitsuba's `Shape` constructor makes it.
+pub fn default_material(b: &mut Builder, emitter: bool) -> usize {
+    let (key, name, rho) = if emitter {
+        ("\u{0}default-emitter", "default-emitter", 0.0)
+    } else {
+        ("\u{0}default", "default", 0.5)
+    };
     let parsed = ParsedBsdf {
-        name: "default".into(),
-        bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(0.5)).expect("valid albedo")),
+        name: name.into(),
+        bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(rho)).expect("valid albedo")),
         two_sided: false,
     };
-    material_index(b, &parsed, Some(KEY))
+    material_index(b, &parsed, Some(key))
 }
 
 /// The core's [`MaterialError`] located at the element of the parameter it names (`params`:

@@ -13,7 +13,7 @@
 //! | `properties.rs`, `transform.rs` | the typed property getters every builder reads its parameters through, and `<transform>` |
 //! | `sensor.rs` | `<sensor>` and `<film>` → the camera |
 //! | `bsdf.rs` | `<bsdf>` → materials |
-//! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior) |
+//! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior; `tessellate.rs`: the analytic sphere, disk and cylinder as meshes) |
 //! | `emitter.rs` | `<emitter>` → area, point, spot, IES and directional lights |
 //!
 //! # Adding a plugin type
@@ -41,6 +41,7 @@ mod medium;
 mod properties;
 mod sensor;
 mod shape;
+mod tessellate;
 mod transform;
 mod xml;
 
