@@ -41,12 +41,14 @@ mod dielectric;
 pub mod fresnel;
 mod lambert;
 mod phong;
+mod plastic;
 pub mod shading;
 
 pub use conductor::{RoughConductor, SmoothConductor};
 pub use dielectric::{RoughDielectric, SmoothDielectric, check_absorption};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
+pub use plastic::Plastic;
 
 use crate::geometry::SurfaceNormals;
 use crate::math::{Rgb, Vec2, Vec3};
@@ -94,6 +96,8 @@ pub enum Bsdf {
     RoughConductor(RoughConductor),
     /// Microfacet dielectric interface (GGX or Beckmann; oriented).
     RoughDielectric(RoughDielectric),
+    /// Smooth plastic: a diffuse base under a dielectric coating (a delta lobe and a diffuse one).
+    Plastic(Plastic),
 }
 
 impl Bsdf {
@@ -107,6 +111,7 @@ impl Bsdf {
             Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) => Rgb::ZERO,
             Bsdf::RoughConductor(b) => b.eval(wi, wo),
             Bsdf::RoughDielectric(b) => b.eval(wi, wo),
+            Bsdf::Plastic(b) => b.eval(wi, wo),
         }
     }
 
@@ -120,6 +125,7 @@ impl Bsdf {
             Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) => 0.0,
             Bsdf::RoughConductor(b) => b.pdf(wi, wo),
             Bsdf::RoughDielectric(b) => b.pdf(wi, wo),
+            Bsdf::Plastic(b) => b.pdf(wi, wo),
         }
     }
 
@@ -135,6 +141,7 @@ impl Bsdf {
             Bsdf::SmoothDielectric(b) => b.sample(wi, u_lobe, mode),
             Bsdf::RoughConductor(b) => b.sample(wi, u),
             Bsdf::RoughDielectric(b) => b.sample(wi, u_lobe, u, mode),
+            Bsdf::Plastic(b) => b.sample(wi, u_lobe, u),
         }
     }
 
@@ -144,6 +151,14 @@ impl Bsdf {
     #[inline]
     pub fn is_delta(&self) -> bool {
         matches!(self, Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_))
+    }
+
+    /// Whether some sampled directions are Dirac deltas (every delta BSDF, and the coating of
+    /// [`Plastic`]): `eval` then misses part of the scattering, so directions must come from
+    /// [`Bsdf::sample`], never from another density weighted by `eval`.
+    #[inline]
+    pub fn has_delta_lobe(&self) -> bool {
+        self.is_delta() || matches!(self, Bsdf::Plastic(_))
     }
 
     /// Whether light crosses the surface (dielectrics): such BSDFs are oriented and accept light
@@ -175,6 +190,7 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.specular_reflectance,
             Bsdf::SmoothDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::RoughDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
+            Bsdf::Plastic(b) => b.max_albedo(),
         }
     }
 }

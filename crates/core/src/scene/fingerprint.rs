@@ -89,7 +89,7 @@
 //! field, so adding a field to a BSDF does not compile until its encoding is decided here.
 
 use crate::bsdf::{
-    Bsdf, Lambert, Material, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
+    Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
     SmoothDielectric,
 };
 use crate::geometry::Triangle;
@@ -199,6 +199,14 @@ pub(crate) fn material_v2(material: &Material) -> String {
                 .rgb("specular_reflectance", *specular_reflectance)
                 .rgb("specular_transmittance", *specular_transmittance)
                 .rgb("absorption", *absorption);
+        }
+        // The private fields are functions of these.
+        Bsdf::Plastic(Plastic { diffuse_reflectance, specular_reflectance, eta, nonlinear, .. }) => {
+            t.variant("Plastic")
+                .rgb("diffuse_reflectance", *diffuse_reflectance)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .num("eta", *eta)
+                .num("nonlinear", if *nonlinear { 1.0 } else { 0.0 });
         }
     }
     t.0.push_str(" })|");
@@ -353,7 +361,7 @@ fn profile(h: &mut Hasher, profile: &BuiltProfile) {
 mod tests {
     use super::{material_hash, material_v2};
     use crate::bsdf::{
-        Bsdf, Lambert, Material, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
+        Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
         SmoothDielectric,
     };
     use crate::light::EmissionProfile;
@@ -405,6 +413,10 @@ mod tests {
         }
     }
 
+    fn plastic(d: Rgb, s: Rgb, eta: f32, nonlinear: bool) -> Plastic {
+        Plastic::new(d, s, eta, 1.0, nonlinear).unwrap()
+    }
+
     /// One material of every BSDF variant, with every option used.
     fn one_of_each() -> Vec<Material> {
         vec![
@@ -414,6 +426,7 @@ mod tests {
             material(Bsdf::SmoothDielectric(glass()), false),
             material(Bsdf::RoughConductor(rough_metal()), false),
             material(Bsdf::RoughDielectric(rough_glass()), true),
+            material(Bsdf::Plastic(plastic(Rgb::new(0.5, 0.25, 0.0), Rgb::ONE, 1.49, true)), false),
         ]
     }
 
@@ -435,6 +448,8 @@ mod tests {
                 "RoughDielectric(RoughDielectric { eta: 1.5, microfacet: Microfacet { distribution: Ggx, alpha_u: 0.25, \
                  alpha_v: 0.25 }, specular_reflectance: Vec3(1.0, 0.99, 0.98), specular_transmittance: Vec3(1.0, 1.0, \
                  1.0), absorption: Vec3(0.0, 0.5, 12.0) })|true",
+                "Plastic(Plastic { diffuse_reflectance: Vec3(0.5, 0.25, 0.0), specular_reflectance: Vec3(1.0, 1.0, \
+                 1.0), eta: 1.49, nonlinear: 1.0 })|false",
             ]
         );
         let lambert = &one_of_each()[0];
@@ -518,6 +533,10 @@ mod tests {
                 ..rg.clone()
             }),
             Bsdf::RoughDielectric(RoughDielectric { absorption: rgb(0.0, 0.5, 0.0), ..rg }),
+            Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.01), Rgb::ONE, 1.49, true)),
+            Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), rgb(1.0, 0.5, 1.0), 1.49, true)),
+            Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), Rgb::ONE, 1.5, true)),
+            Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), Rgb::ONE, 1.49, false)),
         ];
         let mut all = base.clone();
         all.extend(base.iter().map(|m| Material { two_sided: !m.two_sided, ..m.clone() }));

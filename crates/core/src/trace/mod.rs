@@ -140,8 +140,10 @@ pub fn trace_path(
         for _ in 0..children {
             let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
             // Importance mode: `wi` is where the light came from (no 1/η² on refraction, DESIGN §2).
-            // Uniform directions only make sense for reflecting, non-delta surfaces.
-            let uniform = settings.directions == Directions::Uniform && !delta && !material.bsdf.transmits();
+            // Uniform directions only make sense for reflecting surfaces without a delta lobe.
+            let uniform = settings.directions == Directions::Uniform
+                && !material.bsdf.has_delta_lobe()
+                && !material.bsdf.transmits();
             let sampled = if uniform {
                 material.sample_uniform_world(normals, wi, u)
             } else {

@@ -20,7 +20,7 @@
 //! element it is about, in the `file:line:column: <element>: message` form compilers use:
 //!
 //! ```text
-//! scene.xml:42:5: <bsdf type="plastic">: unsupported BSDF type "plastic" (supported: diffuse, phong (Opticks extension), twosided)
+//! scene.xml:42:5: <bsdf type="hair">: unsupported BSDF type "hair" (supported: diffuse, phong (Opticks extension), twosided, …)
 //! meshes/box.obj:17: face refers to vertex 9, but the file defines only 8 vertices (mesh of <shape type="obj" id="box"> at scene.xml:30:5)
 //! ```
 //!
@@ -122,7 +122,7 @@ pub enum SceneFileError {
     Invalid {
         /// Where.
         at: FileLocation,
-        /// The element, as written: `<bsdf type="plastic" id="floor">`.
+        /// The element, as written: `<bsdf type="hair" id="floor">`.
         element: String,
         /// What is wrong and, where useful, what is supported.
         message: String,

@@ -12,7 +12,7 @@
 //! | `build.rs` | records → [`SceneDescription`](opticks_core::scene::SceneDescription): the walk over the top-level elements and the state the builders share |
 //! | `properties.rs`, `transform.rs` | the typed property getters every builder reads its parameters through, and `<transform>` |
 //! | `sensor.rs` | `<sensor>` and `<film>` → the camera |
-//! | `bsdf.rs` | `<bsdf>` → materials |
+//! | `bsdf.rs` | `<bsdf>` → materials (`conductors.rs`: Mitsuba's named conductors in RGB, generated) |
 //! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior; `tessellate.rs`: the analytic sphere, disk and cylinder as meshes) |
 //! | `emitter.rs` | `<emitter>` → area, point, spot, IES and directional lights |
 //!
@@ -35,6 +35,7 @@
 
 mod bsdf;
 mod build;
+mod conductors;
 mod emitter;
 mod include;
 mod medium;
