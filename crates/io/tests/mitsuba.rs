@@ -608,7 +608,7 @@ fn bad_scenes_name_file_line_and_element() {
     let cases: &[(&str, &str)] = &[
         (
             r#"<bsdf type="hair" id="p"/>"#,
-            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, plastic)",
+            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic)",
         ),
         (
             r#"<shape type="teapot"/>"#,
@@ -702,4 +702,20 @@ fn malformed_xml_and_missing_root_attributes() {
     assert!(e.contains("Mitsuba 0.x"), "{e}");
     let e = load_str("<world version=\"3.0.0\"/>").unwrap_err().to_string();
     assert!(e.contains("root element must be <scene"), "{e}");
+}
+
+#[test]
+fn references_reach_emitters_and_samplers() {
+    let s = scene(
+        r#"<emitter type="area" id="glow"><rgb name="radiance" value="2"/></emitter>
+           <sampler type="independent" id="smp"><integer name="sample_count" value="4"/></sampler>
+           <sensor type="perspective"><float name="fov" value="40"/><ref id="smp"/></sensor>
+           <shape type="rectangle"><ref id="glow"/></shape>"#,
+    );
+    assert!(s.warnings.iter().all(|w| !w.contains("never used")), "{:?}", s.warnings);
+    let m = &s.description.meshes[0];
+    assert_eq!(m.emission.as_ref().unwrap().radiance, Rgb::splat(2.0));
+    assert!(err(r#"<emitter type="area"/>"#).contains("must be nested inside a <shape> (or have an id"));
+    let e = err(r#"<bsdf type="diffuse" id="b"/><sensor type="perspective"><ref id="b"/></sensor>"#);
+    assert!(e.contains("may name a <sampler>; this one names a <bsdf>"), "{e}");
 }

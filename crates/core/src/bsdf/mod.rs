@@ -43,12 +43,14 @@ mod lambert;
 mod phong;
 mod plastic;
 pub mod shading;
+mod thin;
 
 pub use conductor::{RoughConductor, SmoothConductor};
 pub use dielectric::{RoughDielectric, SmoothDielectric, check_absorption};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 pub use plastic::Plastic;
+pub use thin::ThinDielectric;
 
 use crate::geometry::SurfaceNormals;
 use crate::math::{Rgb, Vec2, Vec3};
@@ -98,6 +100,9 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     /// Smooth plastic: a diffuse base under a dielectric coating (a delta lobe and a diffuse one).
     Plastic(Plastic),
+    /// Thin dielectric sheet: delta reflection and straight delta transmission (oriented by
+    /// nothing: the same on both faces).
+    ThinDielectric(ThinDielectric),
 }
 
 impl Bsdf {
@@ -108,7 +113,7 @@ impl Bsdf {
         match self {
             Bsdf::Lambert(b) => b.eval(wi, wo),
             Bsdf::ModifiedPhong(b) => b.eval(wi, wo),
-            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) => Rgb::ZERO,
+            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => Rgb::ZERO,
             Bsdf::RoughConductor(b) => b.eval(wi, wo),
             Bsdf::RoughDielectric(b) => b.eval(wi, wo),
             Bsdf::Plastic(b) => b.eval(wi, wo),
@@ -122,7 +127,7 @@ impl Bsdf {
         match self {
             Bsdf::Lambert(b) => b.pdf(wi, wo),
             Bsdf::ModifiedPhong(b) => b.pdf(wi, wo),
-            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) => 0.0,
+            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => 0.0,
             Bsdf::RoughConductor(b) => b.pdf(wi, wo),
             Bsdf::RoughDielectric(b) => b.pdf(wi, wo),
             Bsdf::Plastic(b) => b.pdf(wi, wo),
@@ -142,6 +147,7 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.sample(wi, u),
             Bsdf::RoughDielectric(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::Plastic(b) => b.sample(wi, u_lobe, u),
+            Bsdf::ThinDielectric(b) => b.sample(wi, u_lobe),
         }
     }
 
@@ -150,7 +156,7 @@ impl Bsdf {
     /// tracer does not store it (the path continues through it).
     #[inline]
     pub fn is_delta(&self) -> bool {
-        matches!(self, Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_))
+        matches!(self, Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_))
     }
 
     /// Whether some sampled directions are Dirac deltas (every delta BSDF, and the coating of
@@ -165,7 +171,7 @@ impl Bsdf {
     /// from both sides.
     #[inline]
     pub fn transmits(&self) -> bool {
-        matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_))
+        matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) | Bsdf::ThinDielectric(_))
     }
 
     /// The absorption coefficient σ_a (1/m) of the inside of a dielectric (zero for every other
@@ -191,6 +197,7 @@ impl Bsdf {
             Bsdf::SmoothDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::RoughDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::Plastic(b) => b.max_albedo(),
+            Bsdf::ThinDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
         }
     }
 }

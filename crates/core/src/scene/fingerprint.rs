@@ -90,7 +90,7 @@
 
 use crate::bsdf::{
     Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
-    SmoothDielectric,
+    SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
 use crate::light::{BuiltProfile, Light};
@@ -207,6 +207,12 @@ pub(crate) fn material_v2(material: &Material) -> String {
                 .rgb("specular_reflectance", *specular_reflectance)
                 .num("eta", *eta)
                 .num("nonlinear", if *nonlinear { 1.0 } else { 0.0 });
+        }
+        Bsdf::ThinDielectric(ThinDielectric { eta, specular_reflectance, specular_transmittance }) => {
+            t.variant("ThinDielectric")
+                .num("eta", *eta)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .rgb("specular_transmittance", *specular_transmittance);
         }
     }
     t.0.push_str(" })|");
@@ -362,7 +368,7 @@ mod tests {
     use super::{material_hash, material_v2};
     use crate::bsdf::{
         Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
-        SmoothDielectric,
+        SmoothDielectric, ThinDielectric,
     };
     use crate::light::EmissionProfile;
     use crate::math::{Frame, Rgb, Vec3};
@@ -417,6 +423,14 @@ mod tests {
         Plastic::new(d, s, eta, 1.0, nonlinear).unwrap()
     }
 
+    fn thin() -> ThinDielectric {
+        ThinDielectric {
+            eta: 1.5,
+            specular_reflectance: Rgb::new(1.0, 0.5, 0.25),
+            specular_transmittance: Rgb::ONE,
+        }
+    }
+
     /// One material of every BSDF variant, with every option used.
     fn one_of_each() -> Vec<Material> {
         vec![
@@ -427,6 +441,7 @@ mod tests {
             material(Bsdf::RoughConductor(rough_metal()), false),
             material(Bsdf::RoughDielectric(rough_glass()), true),
             material(Bsdf::Plastic(plastic(Rgb::new(0.5, 0.25, 0.0), Rgb::ONE, 1.49, true)), false),
+            material(Bsdf::ThinDielectric(thin()), false),
         ]
     }
 
@@ -450,6 +465,8 @@ mod tests {
                  1.0), absorption: Vec3(0.0, 0.5, 12.0) })|true",
                 "Plastic(Plastic { diffuse_reflectance: Vec3(0.5, 0.25, 0.0), specular_reflectance: Vec3(1.0, 1.0, \
                  1.0), eta: 1.49, nonlinear: 1.0 })|false",
+                "ThinDielectric(ThinDielectric { eta: 1.5, specular_reflectance: Vec3(1.0, 0.5, 0.25), \
+                 specular_transmittance: Vec3(1.0, 1.0, 1.0) })|false",
             ]
         );
         let lambert = &one_of_each()[0];
@@ -537,6 +554,9 @@ mod tests {
             Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), rgb(1.0, 0.5, 1.0), 1.49, true)),
             Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), Rgb::ONE, 1.5, true)),
             Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), Rgb::ONE, 1.49, false)),
+            Bsdf::ThinDielectric(ThinDielectric { eta: 1.33, ..thin() }),
+            Bsdf::ThinDielectric(ThinDielectric { specular_reflectance: Rgb::ONE, ..thin() }),
+            Bsdf::ThinDielectric(ThinDielectric { specular_transmittance: rgb(1.0, 1.0, 0.9), ..thin() }),
         ];
         let mut all = base.clone();
         all.extend(base.iter().map(|m| Material { two_sided: !m.two_sided, ..m.clone() }));

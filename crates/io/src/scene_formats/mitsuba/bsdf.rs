@@ -15,7 +15,7 @@ use super::xml::Element;
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
     Bsdf, Lambert, Material, MaterialError, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
-    SmoothConductor, SmoothDielectric, fresnel,
+    SmoothConductor, SmoothDielectric, ThinDielectric, fresnel,
 };
 use opticks_core::math::Rgb;
 use opticks_core::sampling::microfacet::{Distribution, Microfacet};
@@ -52,6 +52,7 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "roughconductor", extension: false, build: specular },
     BsdfType { name: "dielectric", extension: false, build: specular },
     BsdfType { name: "roughdielectric", extension: false, build: specular },
+    BsdfType { name: "thindielectric", extension: false, build: thindielectric },
     BsdfType { name: "plastic", extension: false, build: plastic },
 ];
 
@@ -297,6 +298,34 @@ fn specular<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>
         }
     };
     Ok((result.map_err(|source| material_error(source, &nodes, e))?, false))
+}
+
+/// `thindielectric`: Mitsuba 3's thin sheet (`int_ior` BK7, `ext_ior` air,
+/// `specular_reflectance`, `specular_transmittance` 1).
+fn thindielectric<'d>(
+    _: &mut Builder<'d>,
+    e: &'d Element,
+    ty: &str,
+    p: &mut Props<'d>,
+) -> Result<(Bsdf, bool)> {
+    if let Some(c) = p.objects().first() {
+        return Err(
+            c.err(format!("unsupported element inside <bsdf type=\"{ty}\"> (textures are not supported)"))
+        );
+    }
+    let (int_ior, inode) = ior(p, "int_ior", 1.5046)?;
+    let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
+    let (r, rnode) = p.color_or("specular_reflectance", Rgb::ONE)?;
+    let (t, tnode) = p.color_or("specular_transmittance", Rgb::ONE)?;
+    let nodes = [
+        ("int_ior", inode),
+        ("ext_ior", enode),
+        ("specular_reflectance", rnode),
+        ("specular_transmittance", tnode),
+    ];
+    let b =
+        ThinDielectric::new(int_ior, ext_ior, r, t).map_err(|source| material_error(source, &nodes, e))?;
+    Ok((Bsdf::ThinDielectric(b), false))
 }
 
 /// `plastic`: Mitsuba 3's smooth plastic (`diffuse_reflectance` 0.5, `specular_reflectance` 1,

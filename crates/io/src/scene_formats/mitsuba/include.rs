@@ -10,7 +10,8 @@
 //!   `<path>` folders and the main scene's folder; it may use `$name` parameters, with the
 //!   values known at that point (the caller's defines and the `<default>`s met before it);
 //! * `<path>` is allowed only as a child of a root `<scene>`; a relative folder is taken
-//!   relative to the file it is in and must exist;
+//!   relative to the file it is in, else searched like a file name (the `<path>` folders so
+//!   far, the main scene's folder), and must exist;
 //! * includes nest at most [`MAX_INCLUDE_DEPTH`] deep (Mitsuba's limit).
 //!
 //! Beyond Mitsuba, a file that includes itself (directly or not) is an error naming the chain,
@@ -146,7 +147,14 @@ impl Expander {
     /// Records a `<path>`'s folder.
     fn path(&mut self, e: &Element) -> Result<()> {
         let value = self.value(e, "value")?;
-        let dir = e.resolve(&value);
+        let own = e.resolve(&value);
+        // Relative to the file it is in, else (Mitsuba's fallback) to the folders searched so far.
+        let dir = if own.is_dir() || Path::new(&value).is_absolute() {
+            own
+        } else {
+            let mut dirs = self.search.iter().rev().chain([&self.main_dir]);
+            dirs.find(|d| d.join(&value).is_dir()).map_or(own, |d| d.join(&value))
+        };
         if !dir.is_dir() {
             return Err(e.attr_err("value", format!("folder \"{}\" not found", dir.display())));
         }

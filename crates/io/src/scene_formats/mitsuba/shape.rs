@@ -113,6 +113,15 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
     let mut interior = None;
     let mut emission = None;
     for &c in p.objects() {
+        // A <ref> to a top-level area emitter (Mitsuba accepts a reference wherever an object goes).
+        if let Some(t) = c.target.map(|i| b.doc.top(i)).filter(|t| c.tag == "ref" && t.tag == "emitter") {
+            if emission.is_some() {
+                return Err(c.err("a shape can have only one emitter"));
+            }
+            b.used.insert(c.required("id")?.to_string());
+            emission = Some(emitter::area_emitter(b, t)?);
+            continue;
+        }
         match (c.tag.as_str(), c.raw("name")) {
             ("ref" | "medium", Some("interior")) => {
                 if interior.is_some() {
