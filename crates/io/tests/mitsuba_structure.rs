@@ -253,3 +253,42 @@ fn mesh_file_errors_name_the_file_the_byte_and_the_shape() {
     let e = error_of(&[("s.xml", &shape("ply", "none.ply"))]);
     assert!(e.contains("cannot read mesh file TMP/none.ply"), "{e}");
 }
+
+#[test]
+fn spectra_become_mitsubas_rgb() {
+    let s = load_ok(&[
+        (
+            "s.xml",
+            &scene(
+                r#"<shape type="cube"><bsdf type="diffuse"><spectrum name="reflectance" value="400:0.1, 500:0.9, 600:0.3, 700:0.5"/></bsdf>
+                     <emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>
+                   <shape type="cube"><bsdf type="diffuse"><spectrum name="reflectance" filename="grey.spd"/></bsdf></shape>"#,
+            ),
+        ),
+        ("grey.spd", b"# flat\n360 0.5\n830 0.5\n"),
+    ]);
+    let d = &s.description;
+    let albedo = |i: usize| match &d.materials[d.meshes[i].material].bsdf {
+        Bsdf::Lambert(l) => l.reflectance,
+        b => panic!("{b:?}"),
+    };
+    // Mitsuba 3.9's spectrum_list_to_srgb(…, bounded, d65) of the same spectrum.
+    let near = |a: Vec3, b: Vec3, tol: f32| (a - b).abs().max_element() < tol;
+    assert!(near(albedo(0), Vec3::new(0.173511, 0.683318, 0.524217), 2e-5), "{}", albedo(0));
+    assert!(near(albedo(1), Vec3::splat(0.5), 2e-3), "{}", albedo(1));
+    // A constant emission spectrum is Mitsuba's equal-energy colour in RGB.
+    let l = d.meshes[0].emission.as_ref().unwrap().radiance;
+    assert!(near(l, Vec3::new(1.204794, 0.948291, 0.908916) * 2.0, 1e-4), "{l}");
+    for (body, msg) in [
+        (r#"<spectrum name="reflectance" value="500:0.5, 400:0.5"/>"#, "400 nm follows 500 nm"),
+        (r#"<spectrum name="reflectance" value="500:0.5, x"/>"#, "\"x\" is not wavelength:value"),
+        (r#"<spectrum name="reflectance" filename="none.spd"/>"#, "cannot read spectrum file"),
+        (r#"<spectrum name="reflectance"/>"#, "needs either `value` or `filename`"),
+    ] {
+        let e = error_of(&[(
+            "s.xml",
+            &scene(&format!("<shape type=\"cube\"><bsdf type=\"diffuse\">{body}</bsdf></shape>")),
+        )]);
+        assert!(e.contains(msg), "{msg}: {e}");
+    }
+}
