@@ -202,8 +202,11 @@ mod tests {
     use super::*;
     use std::io::Write;
 
-    /// A version-4 file of `meshes` (positions, triangles, normals?) and its dictionary.
-    pub fn write_v4(meshes: &[(&[[f32; 3]], &[[u32; 3]], bool)]) -> Vec<u8> {
+    /// A mesh to write: positions, triangles, whether to store (+z) normals.
+    type TestMesh<'a> = (&'a [[f32; 3]], &'a [[u32; 3]], bool);
+
+    /// A version-4 file of `meshes` and its dictionary.
+    pub fn write_v4(meshes: &[TestMesh]) -> Vec<u8> {
         let mut out = Vec::new();
         let mut offsets = Vec::new();
         for (p, t, normals) in meshes {

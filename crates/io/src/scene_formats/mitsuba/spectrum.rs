@@ -42,7 +42,8 @@ pub fn to_srgb(wavelengths: &[f64], values: &[f64], bounded: bool, d65: bool) ->
         let [x, y, z, d] = node(w);
         xyz += DVec3::new(x, y, z) * v * if d65 { d } else { 1.0 };
     }
-    xyz *= (MAX - MIN) / 106.7502593994140625 / STEPS as f64;
+    // Mitsuba's MI_CIE_Y_NORMALIZATION = 1/106.75025939941406: a constant 1 has Y = 1.
+    xyz *= (MAX - MIN) / 106.750_259_399_414_06 / STEPS as f64;
     let rgb = xyz_to_srgb(xyz).max(DVec3::ZERO);
     if bounded { rgb.min(DVec3::ONE) } else { rgb }
 }
