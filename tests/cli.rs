@@ -423,4 +423,31 @@ fn render_and_walk_with_the_bidirectional_estimator() {
         d,
     ));
     assert!(d.join("frames/frame_00002.exr").exists());
+#[test]
+fn every_verb_that_loads_a_scene_takes_its_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    let xml = r#"<scene version="3.0.0">
+  <default name="r" value="0.5"/>
+  <sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
+  <shape type="rectangle"><bsdf type="diffuse"><float name="reflectance" value="$r"/></bsdf></shape>
+  <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="180"/><translate z="2"/></transform>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>"#;
+    std::fs::write(dir.path().join("s.xml"), xml).unwrap();
+    let d = dir.path();
+    ok(opticks(&["trace", "s.xml", "--paths", "20000", "-o", "a.opds", "-D", "r=0.25"], d));
+    let e = fails(&["render", "a.opds", "-o", "a.exr"], d);
+    assert!(e.contains("different scene"), "{e}");
+    for verb in [&["render", "a.opds", "-o", "a.exr"][..], &["refine", "a.opds", "--paths", "4096"]] {
+        ok(opticks(&[verb, &["-Dr=0.25"]].concat(), d));
+    }
+    ok(opticks(&["bench", "s.xml", "--paths", "4096", "--repeat", "1", "-D", "r=0.75"], d));
+    let e = fails(&["trace", "s.xml", "--paths", "10", "-o", "b.opds", "-D", "r"], d);
+    assert!(e.contains("expected NAME=VALUE"), "{e}");
+    let e = fails(&["trace", "builtin:cornell", "--paths", "10", "-o", "b.opds", "-D", "r=1"], d);
+    assert!(e.contains("has none"), "{e}");
+    let out = opticks(&["trace", "s.xml", "--paths", "10", "-o", "b.opds", "-D", "q=1"], d);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("never uses $q"));
 }

@@ -20,9 +20,8 @@
 mod common;
 
 use common::*;
-use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::scene::Scene;
-use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
+use opticks_core::sensor::Pinhole;
 use opticks_core::trace::{Directions, Roulette, Selection, TraceSettings};
 use opticks_io::compare::compare;
 
@@ -33,117 +32,12 @@ const GRID: usize = 8;
 /// Allowed difference, in standard errors of the difference.
 const Z: f64 = 5.0;
 
-/// Per-channel means of the whole image (entry 0) and of the GRID × GRID regions (entries
-/// 1..), with their standard errors; and the full image as interleaved RGB.
-struct Estimate {
-    mean: Vec<[f64; 3]>,
-    err: Vec<[f64; 3]>,
-    image: Vec<f32>,
-}
-
-/// Traces with `settings`, renders K disjoint batches of chunks and measures the estimate of
-/// every region and its standard error from their spread.
 fn estimate(scene: &Scene, cam: &Pinhole, settings: &TraceSettings) -> Estimate {
-    let (table, chunks) = trace_chunks_with(scene, settings);
-    let sensor = Sensor::from(*cam);
-    let regions = 1 + GRID * GRID;
-    let mut sums = vec![[0.0f64; 3]; regions];
-    let mut squares = vec![[0.0f64; 3]; regions];
-    let mut image = vec![0.0f32; (sensor.width() * sensor.height() * 3) as usize];
-    for g in 0..K {
-        let members: Vec<usize> = (g..chunks.len()).step_by(K).collect();
-        let film =
-            render(scene, &sensor, members.len(), |i| scaled_batch(&table, &chunks, &members, i), |_| {})
-                .unwrap();
-        for (o, p) in image.chunks_mut(3).zip(&film.pixels) {
-            for c in 0..3 {
-                o[c] += (p[c] / K as f64) as f32;
-            }
-        }
-        for (r, m) in region_means(&film).into_iter().enumerate() {
-            for c in 0..3 {
-                sums[r][c] += m[c];
-                squares[r][c] += m[c] * m[c];
-            }
-        }
-    }
-    let k = K as f64;
-    let mean: Vec<[f64; 3]> = sums.iter().map(|s| s.map(|x| x / k)).collect();
-    let err = squares
-        .iter()
-        .zip(&mean)
-        .map(|(q, m)| std::array::from_fn(|c| ((q[c] / k - m[c] * m[c]).max(0.0) * k / (k - 1.0) / k).sqrt()))
-        .collect();
-    Estimate { mean, err, image }
+    regions::estimate(scene, cam, settings, K, GRID)
 }
 
-/// Chunk `members[i]` as a batch that stands for the whole trace: its light's Φ/N_k scaled by
-/// N_k over the paths of that light in the batch.
-fn scaled_batch<'a>(
-    table: &LightTable,
-    chunks: &'a [Chunk],
-    members: &[usize],
-    i: usize,
-) -> Result<SampleBatch<'a>, ()> {
-    let mut b = batch(table, chunks, members[i])?;
-    let light = chunks[members[i]].light;
-    let in_batch: u64 =
-        members.iter().map(|&j| &chunks[j]).filter(|c| c.light == light).map(|c| c.paths).sum();
-    b.flux_per_path *= (table.lights[light as usize].paths as f64 / in_batch as f64) as f32;
-    Ok(b)
-}
-
-/// The whole image's mean and the GRID × GRID region means, per channel.
-fn region_means(film: &opticks_core::film::Film) -> Vec<[f64; 3]> {
-    let (w, h) = (film.width as usize, film.height as usize);
-    let mut out = vec![[0.0f64; 3]; 1 + GRID * GRID];
-    let mut counts = vec![0usize; 1 + GRID * GRID];
-    for (i, p) in film.pixels.iter().enumerate() {
-        let (x, y) = (i % w, i / w);
-        let r = 1 + (y * GRID / h) * GRID + x * GRID / w;
-        for idx in [0, r] {
-            counts[idx] += 1;
-            for c in 0..3 {
-                out[idx][c] += p[c];
-            }
-        }
-    }
-    out.iter().zip(&counts).map(|(s, &n)| s.map(|x| x / n as f64)).collect()
-}
-
-/// Asserts that `v` agrees with `base` in the image mean and every region (module docs).
 fn assert_same_expectation(name: &str, v: &Estimate, base: &Estimate) {
-    let mut worst = (0.0f64, 0usize, 0usize);
-    for r in 0..v.mean.len() {
-        for c in 0..3 {
-            let sigma = v.err[r][c].hypot(base.err[r][c]);
-            let d = v.mean[r][c] - base.mean[r][c];
-            if sigma == 0.0 {
-                assert_eq!(d, 0.0, "{name}: region {r} channel {c}");
-                continue;
-            }
-            let z = d.abs() / sigma;
-            if z > worst.0 {
-                worst = (z, r, c);
-            }
-            let what = if r == 0 { "image mean".to_string() } else { format!("region {}", r - 1) };
-            assert!(
-                z < Z,
-                "{name}: {what}, channel {c}: {} vs default {} (difference {z:.1}σ, σ = {sigma:.3e})",
-                v.mean[r][c],
-                base.mean[r][c]
-            );
-        }
-    }
-    let rel = |e: &Estimate| e.err[0][1] / e.mean[0][1];
-    eprintln!(
-        "{name}: mean ratio {:.5} (standard error {:.3}%), worst of 65 comparisons {:.2}σ (region {}, channel {})",
-        v.mean[0][1] / base.mean[0][1],
-        100.0 * rel(v).hypot(rel(base)),
-        worst.0,
-        worst.1 as i64 - 1,
-        worst.2
-    );
+    regions::assert_same_expectation(name, v, base, Z);
 }
 
 /// The strategies of §6.2, on top of `base`.

@@ -1,12 +1,16 @@
 //! Helpers shared by the end-to-end tests: the reference scenes of `testdata/scenes` (loaded
 //! through `opticks-io`), their reference images and statistics, and everything of
-//! [`physics`] (trace-and-render in memory, small scenes, statistics), which needs only the core.
+//! [`physics`] (trace-and-render in memory, small scenes, statistics), which needs only the core,
+//! and [`regions`] (image and region means with measured standard errors).
 
 #![allow(dead_code)] // each test binary uses a different subset
 
 mod physics;
 #[allow(unused_imports)] // some test binaries use none of them
 pub use physics::*;
+pub mod regions;
+#[allow(unused_imports)]
+pub use regions::Estimate;
 
 use opticks_core::scene::Scene;
 use std::path::{Path, PathBuf};

@@ -383,6 +383,62 @@ fn conductor_and_dielectric_bsdfs_follow_mitsuba_3() {
 }
 
 #[test]
+fn named_conductors_are_mitsubas_rgb_values() {
+    // The values Mitsuba 3.9's scalar_rgb `conductor` plugin reports for these materials.
+    for (name, eta, k) in [
+        ("Au", Rgb::new(0.143036, 0.375307, 1.44205), Rgb::new(3.983, 2.38556, 1.60336)),
+        ("Cu", Rgb::new(0.201005, 0.923749, 1.10221), Rgb::new(3.91326, 2.45304, 2.14209)),
+    ] {
+        for ty in ["conductor", "roughconductor"] {
+            let s = scene(&format!(
+                r#"<shape type="cube"><bsdf type="{ty}"><string name="material" value="{name}"/></bsdf></shape>"#
+            ));
+            let ior = match &s.description.materials[0].bsdf {
+                Bsdf::SmoothConductor(c) => c.ior,
+                Bsdf::RoughConductor(c) => c.ior,
+                b => panic!("{b:?}"),
+            };
+            let (e, kk) = ior.unwrap();
+            let near = |a: Vec3, b: Vec3| (a - b).abs().max_element() <= 1e-4 * b.max_element();
+            assert!(near(e, eta) && near(kk, k), "{name}: {e} {kk}");
+        }
+    }
+}
+
+#[test]
+fn plastic_takes_mitsubas_parameters() {
+    let s = scene(
+        r#"<shape type="cube"><bsdf type="plastic"/></shape>
+           <shape type="cube"><bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.2, 0.4, 0.6"/>
+             <string name="int_ior" value="bk7"/><float name="ext_ior" value="1.2"/>
+             <boolean name="nonlinear" value="true"/><rgb name="specular_reflectance" value="0.5"/></bsdf></shape>"#,
+    );
+    let p = |i: usize| match &s.description.materials[i].bsdf {
+        Bsdf::Plastic(p) => p.clone(),
+        b => panic!("{b:?}"),
+    };
+    let (a, b) = (p(0), p(1));
+    assert!(!s.description.materials[0].two_sided);
+    assert_eq!(
+        (a.diffuse_reflectance, a.specular_reflectance, a.nonlinear),
+        (Rgb::splat(0.5), Rgb::ONE, false)
+    );
+    assert!((a.eta - 1.49 / 1.000277).abs() < 1e-6);
+    assert_eq!(
+        (b.diffuse_reflectance, b.specular_reflectance, b.nonlinear),
+        (Rgb::new(0.2, 0.4, 0.6), Rgb::splat(0.5), true)
+    );
+    assert!((b.eta - 1.5046 / 1.2).abs() < 1e-6);
+    let e = err(
+        r#"<shape type="cube"><bsdf type="plastic"><rgb name="diffuse_reflectance" value="1.5"/></bsdf></shape>"#,
+    );
+    assert!(
+        e.contains("<rgb name=\"diffuse_reflectance\">: invalid material: diffuse_reflectance exceeds 1"),
+        "{e}"
+    );
+}
+
+#[test]
 fn interior_media_make_absorbing_glass() {
     let s = scene(
         r#"<medium type="homogeneous" id="ink"><float name="albedo" value="0"/>
@@ -490,8 +546,12 @@ fn impossible_specular_parameters_are_located() {
             "dir/test.xml:3:3: <float name=\"alpha_v\">: invalid material: alpha_v must be positive",
         ),
         (
-            "<bsdf type=\"conductor\"><string name=\"material\" value=\"Au\"/></bsdf>",
-            "named conductor \"Au\"",
+            "<bsdf type=\"conductor\"><string name=\"material\" value=\"Gold\"/></bsdf>",
+            "dir/test.xml:2:55: <string name=\"material\">: unknown conductor \"Gold\" (known: none, Ag, Al,",
+        ),
+        (
+            "<bsdf type=\"conductor\"><string name=\"material\" value=\"Au\"/>\n <rgb name=\"k\" value=\"1\"/></bsdf>",
+            "dir/test.xml:3:2: <rgb name=\"k\">: give either `material` or `eta` and `k`, not both",
         ),
         ("<bsdf type=\"conductor\">\n <rgb name=\"eta\" value=\"nan\"/></bsdf>", "not a finite number"),
         ("<bsdf type=\"twosided\"><bsdf type=\"dielectric\"/></bsdf>", "already scatters on both faces"),
@@ -547,12 +607,12 @@ fn ignored_features_are_warnings() {
 fn bad_scenes_name_file_line_and_element() {
     let cases: &[(&str, &str)] = &[
         (
-            r#"<bsdf type="plastic" id="p"/>"#,
-            "dir/test.xml:2:13: <bsdf type=\"plastic\" id=\"p\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric)",
+            r#"<bsdf type="hair" id="p"/>"#,
+            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic)",
         ),
         (
-            r#"<shape type="sphere"/>"#,
-            "dir/test.xml:2:14: <shape type=\"sphere\">: unsupported shape type \"sphere\" (supported: obj, rectangle, cube)",
+            r#"<shape type="teapot"/>"#,
+            "dir/test.xml:2:14: <shape type=\"teapot\">: unsupported shape type \"teapot\" (supported: obj, ply, serialized, rectangle, cube, sphere, disk, cylinder)",
         ),
         (
             r#"<texture type="bitmap"/>"#,
@@ -642,4 +702,20 @@ fn malformed_xml_and_missing_root_attributes() {
     assert!(e.contains("Mitsuba 0.x"), "{e}");
     let e = load_str("<world version=\"3.0.0\"/>").unwrap_err().to_string();
     assert!(e.contains("root element must be <scene"), "{e}");
+}
+
+#[test]
+fn references_reach_emitters_and_samplers() {
+    let s = scene(
+        r#"<emitter type="area" id="glow"><rgb name="radiance" value="2"/></emitter>
+           <sampler type="independent" id="smp"><integer name="sample_count" value="4"/></sampler>
+           <sensor type="perspective"><float name="fov" value="40"/><ref id="smp"/></sensor>
+           <shape type="rectangle"><ref id="glow"/></shape>"#,
+    );
+    assert!(s.warnings.iter().all(|w| !w.contains("never used")), "{:?}", s.warnings);
+    let m = &s.description.meshes[0];
+    assert_eq!(m.emission.as_ref().unwrap().radiance, Rgb::splat(2.0));
+    assert!(err(r#"<emitter type="area"/>"#).contains("must be nested inside a <shape> (or have an id"));
+    let e = err(r#"<bsdf type="diffuse" id="b"/><sensor type="perspective"><ref id="b"/></sensor>"#);
+    assert!(e.contains("may name a <sampler>; this one names a <bsdf>"), "{e}");
 }

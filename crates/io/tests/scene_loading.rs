@@ -169,11 +169,11 @@ fn nan_in_a_transform() {
 
 #[test]
 fn unknown_plugin_type() {
-    let xml = format!("{HEAD}\n  <bsdf type=\"plastic\" id=\"shiny\"/>\n</scene>");
+    let xml = format!("{HEAD}\n  <bsdf type=\"hair\" id=\"shiny\"/>\n</scene>");
     let e = error_of(&[("s.xml", &xml)]);
     assert_eq!(
         e,
-        "TMP/s.xml:4:15: <bsdf type=\"plastic\" id=\"shiny\">: unsupported BSDF type \"plastic\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric)"
+        "TMP/s.xml:4:15: <bsdf type=\"hair\" id=\"shiny\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic)"
     );
 }
 
@@ -214,7 +214,7 @@ fn unreadable_scene_file_and_error_locations() {
     let e = load_scene(Path::new("no/such/scene.xml")).unwrap_err();
     assert!(e.to_string().starts_with("no/such/scene.xml: cannot read the scene file:"), "{e}");
     assert!(e.location().is_none());
-    let xml = format!("{HEAD}<shape type=\"sphere\"/>\n</scene>");
+    let xml = format!("{HEAD}<shape type=\"teapot\"/>\n</scene>");
     let (_d, r) = load_files(&[("s.xml", &xml)]);
     let e = r.unwrap_err();
     let at = e.location().unwrap();

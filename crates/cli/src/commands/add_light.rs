@@ -25,6 +25,8 @@ pub struct Args {
     /// records it.
     #[arg(long)]
     scene: Option<String>,
+    #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
     /// Paths for the new light (default: its fair share, N·Φ_new/ΣΦ of the lights already traced).
     #[arg(long, value_parser = crate::count_arg::parse_count)]
     paths: Option<u64>,
@@ -34,7 +36,7 @@ pub struct Args {
 
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
-    let Extending { output, lock: _lock, opened } = a.extend.begin(&a.dataset, a.scene.as_deref())?;
+    let Extending { output, lock: _lock, opened } = a.extend.begin(&a.dataset, a.scene.as_deref(), &a.defines)?;
     let Opened { reader, scene, scene_spec, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) =

@@ -38,13 +38,15 @@ pub struct Args {
     #[command(flatten)]
     threads: ThreadArgs,
     #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
+    #[command(flatten)]
     camera: CameraArgs,
 }
 
 /// Runs the benchmark and prints one JSON line after the human-readable report.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let scene = load_scene(&a.scene)?;
+    let scene = load_scene(&a.scene, &a.defines)?;
     let camera = a.camera.resolve(scene.camera)?;
     // The reference is read and its size checked before the expensive runs.
     let reference = match &a.reference {

@@ -63,7 +63,7 @@ pub fn run(a: Args) -> Result<()> {
     let other =
         a.output.with_extension(if a.output.extension().is_some_and(|e| e == "exr") { "png" } else { "exr" });
     check_outputs(&[(&a.output, OutputKind::Image), (&other, OutputKind::Image)], &[])?;
-    let scene = load_scene(BUILTIN_CORNELL)?;
+    let scene = load_scene(BUILTIN_CORNELL, &Default::default())?;
     let camera = a.camera.resolve(scene.camera)?;
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
     let t0 = Instant::now();

@@ -2,6 +2,7 @@
 //! seed, strategy and threads of the pass they add.
 
 use super::{Opened, begin_dataset_write, check_finished, open_with_scene};
+use crate::scene_arg::DefineArgs;
 use crate::strategy_args::StrategyArgs;
 use anyhow::Result;
 use opticks_io::dataset_lock::{WriteIntent, WriteLock};
@@ -42,7 +43,7 @@ impl ExtendArgs {
     /// What `refine` and `add-light` do first: apply `--threads`, lock the output (refusing to
     /// write onto an input or an existing dataset without `--overwrite`), open `dataset` with
     /// `scene` (or the one it records) and refuse an unfinished dataset.
-    pub fn begin(&self, dataset: &Path, scene: Option<&str>) -> Result<Extending> {
+    pub fn begin(&self, dataset: &Path, scene: Option<&str>, defines: &DefineArgs) -> Result<Extending> {
         self.threads.apply()?;
         let output = self.output.clone().unwrap_or_else(|| dataset.to_path_buf());
         let inputs = [dataset];
@@ -50,7 +51,7 @@ impl ExtendArgs {
             &output,
             WriteIntent { inputs: &inputs, overwrite: self.overwrite, ..Default::default() },
         )?;
-        let opened = open_with_scene(dataset, scene)?;
+        let opened = open_with_scene(dataset, scene, defines)?;
         check_finished(dataset, opened.reader.header())?;
         Ok(Extending { output, lock, opened })
     }

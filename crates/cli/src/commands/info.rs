@@ -28,7 +28,7 @@ pub fn run(a: Args) -> Result<()> {
     let mut reader = DatasetReader::open(&a.dataset)?;
     // Samples are range-checked against the scene's triangles when the scene loads (as `render`
     // checks them); the checksums and values are checked in any case.
-    let checked = match super::open_with_scene(&a.dataset, None) {
+    let checked = match super::open_with_scene(&a.dataset, None, &Default::default()) {
         Ok(opened) => {
             let triangles = opened.scene.triangles.len();
             reader.check_triangles(triangles);

@@ -21,6 +21,7 @@ pub mod upgrade;
 pub mod walk;
 
 use crate::progress;
+use crate::scene_arg::DefineArgs;
 use anyhow::{Context, Result, anyhow};
 use opticks_core::dataset::{Chunk, LightTable, LightingError, check_scene, lighting, subset};
 use opticks_core::film::Film;
@@ -212,7 +213,7 @@ pub fn render_with_progress<B: AsBatch>(
 /// and checks that the geometry and materials are those it was traced in
 /// (`opticks_core::dataset::check_scene`; lights are checked one by one where they are used:
 /// see `opticks_core::dataset::lighting`).
-pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<Opened> {
+pub fn open_with_scene(dataset: &Path, scene: Option<&str>, defines: &DefineArgs) -> Result<Opened> {
     check_input_file(dataset, "a dataset")?;
     let mut reader = DatasetReader::open(dataset)?;
     let label = reader.header().label.clone();
@@ -227,7 +228,7 @@ pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<Opened> {
             )
         })?,
     };
-    let description = crate::scene_arg::load_description(&spec).with_context(|| {
+    let description = crate::scene_arg::load_description(&spec, defines).with_context(|| {
         if scene.is_some() {
             "cannot load the scene given with --scene".to_string()
         } else {
@@ -238,7 +239,8 @@ pub fn open_with_scene(dataset: &Path, scene: Option<&str>) -> Result<Opened> {
     check_scene(reader.header(), &scene).map_err(|e| {
         anyhow!(
             "{} was traced from a different scene than {spec}: its geometry or materials differ (fingerprint \
-             {} ≠ {}; the dataset keeps only their hash, not which mesh or material changed){}",
+             {} ≠ {}; the dataset keeps only their hash, not which mesh or material changed; a scene traced with -D \
+             parameters needs the same ones){}",
             dataset.display(),
             e.recorded.geometry_hex(),
             e.current.geometry_hex(),
@@ -290,6 +292,8 @@ pub struct DatasetArgs {
     /// (0 switches it off); repeatable. No re-tracing: exact.
     #[arg(long = "light", value_parser = light_args::parse_light_scale, allow_hyphen_values = true)]
     light: Vec<opticks_core::dataset::LightScale>,
+    #[command(flatten)]
+    defines: DefineArgs,
 }
 
 /// An opened dataset, its scene, and the flux each light's samples stand for — over all its
@@ -323,7 +327,7 @@ impl DatasetArgs {
     /// Opens the dataset against its scene and works out the lighting; prints the notes.
     pub fn open(&self) -> Result<LitDataset> {
         let Opened { reader, description, scene, .. } =
-            open_with_scene(&self.dataset, self.scene.as_deref())?;
+            open_with_scene(&self.dataset, self.scene.as_deref(), &self.defines)?;
         let lighting = lighting(&reader.header().table, &scene, &self.light).map_err(|e| match &e {
             LightingError::NotTraced(name) => {
                 anyhow!("{e}: add it with `opticks add-light`, or switch it off with --light '{name}=0'")

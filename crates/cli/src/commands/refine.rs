@@ -28,12 +28,14 @@ pub struct Args {
     #[arg(long)]
     scene: Option<String>,
     #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
+    #[command(flatten)]
     extend: ExtendArgs,
 }
 
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
-    let Extending { output, lock: _lock, opened } = a.extend.begin(&a.dataset, a.scene.as_deref())?;
+    let Extending { output, lock: _lock, opened } = a.extend.begin(&a.dataset, a.scene.as_deref(), &a.defines)?;
     let Opened { reader, scene, scene_spec, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)

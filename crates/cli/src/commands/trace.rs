@@ -36,6 +36,8 @@ pub struct Args {
     strategy: StrategyArgs,
     #[command(flatten)]
     threads: ThreadArgs,
+    #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
 }
 
 /// Runs the trace.
@@ -47,7 +49,7 @@ pub fn run(a: Args) -> Result<()> {
         &a.output,
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
     )?;
-    let scene = load_scene(&a.scene)?;
+    let scene = load_scene(&a.scene, &a.defines)?;
     let (header, pass) =
         new_trace(&scene, &label_for(&a.scene, &a.output), a.strategy.settings(a.paths, a.seed));
     check_emission(&pass.lights).map_err(|e| anyhow!("{}: {e}", a.scene))?;

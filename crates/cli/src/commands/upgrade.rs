@@ -30,6 +30,8 @@ pub struct Args {
     /// Scene file (default: the one recorded in the dataset).
     #[arg(long)]
     scene: Option<String>,
+    #[command(flatten)]
+    defines: crate::scene_arg::DefineArgs,
     /// Where to write the result (default: replace the dataset).
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -43,7 +45,7 @@ pub struct Args {
 /// Runs the upgrade.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let super::Opened { reader, scene, .. } = open_with_scene(&a.dataset, a.scene.as_deref())?;
+    let super::Opened { reader, scene, .. } = open_with_scene(&a.dataset, a.scene.as_deref(), &a.defines)?;
     let heuristic = match a.mis_records {
         HeuristicArg::Power => Heuristic::Power,
         HeuristicArg::Balance => Heuristic::Balance,

@@ -22,6 +22,19 @@ pub fn dielectric(cos_i: f32, eta: f32) -> (f32, f32) {
     (0.5 * (rs * rs + rp * rp), cos_t)
 }
 
+/// The diffuse Fresnel reflectance F_dr(η) of a smooth interface of relative index `eta`: the
+/// fraction of uniformly diffuse (cosine-weighted) light arriving from the side of index 1 that
+/// it reflects. The fits Mitsuba 3 uses (`fresnel_diffuse_reflectance`): Egan & Hilgeman (1973)
+/// for η < 1, d'Eon & Irving (2011) for η ≥ 1 (errors below 0.6% for η in 1/2 … 2).
+pub fn diffuse_reflectance(eta: f32) -> f32 {
+    let inv = 1.0 / eta;
+    if eta < 1.0 {
+        0.0636 * inv + eta * (eta * -1.4399 + 0.7099) + 0.6681
+    } else {
+        0.919317 + inv * (-3.4793 + inv * (6.75335 + inv * (-7.80989 + inv * (4.98554 + inv * -1.36881))))
+    }
+}
+
 /// Exact Fresnel reflectance of a conductor of complex relative index η + iκ, per channel, for
 /// light arriving with `cos_i` (the formula of Mitsuba's `fresnel_conductor`, after Born & Wolf).
 /// η = 0, κ = 1 (Mitsuba's `material="none"`) gives exactly 1.

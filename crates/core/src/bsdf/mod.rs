@@ -41,12 +41,16 @@ mod dielectric;
 pub mod fresnel;
 mod lambert;
 mod phong;
+mod plastic;
 pub mod shading;
+mod thin;
 
 pub use conductor::{RoughConductor, SmoothConductor};
 pub use dielectric::{RoughDielectric, SmoothDielectric, check_absorption};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
+pub use plastic::Plastic;
+pub use thin::ThinDielectric;
 
 use crate::geometry::SurfaceNormals;
 use crate::math::{Rgb, Vec2, Vec3};
@@ -94,6 +98,11 @@ pub enum Bsdf {
     RoughConductor(RoughConductor),
     /// Microfacet dielectric interface (GGX or Beckmann; oriented).
     RoughDielectric(RoughDielectric),
+    /// Smooth plastic: a diffuse base under a dielectric coating (a delta lobe and a diffuse one).
+    Plastic(Plastic),
+    /// Thin dielectric sheet: delta reflection and straight delta transmission (oriented by
+    /// nothing: the same on both faces).
+    ThinDielectric(ThinDielectric),
 }
 
 impl Bsdf {
@@ -104,9 +113,10 @@ impl Bsdf {
         match self {
             Bsdf::Lambert(b) => b.eval(wi, wo),
             Bsdf::ModifiedPhong(b) => b.eval(wi, wo),
-            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) => Rgb::ZERO,
+            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => Rgb::ZERO,
             Bsdf::RoughConductor(b) => b.eval(wi, wo),
             Bsdf::RoughDielectric(b) => b.eval(wi, wo),
+            Bsdf::Plastic(b) => b.eval(wi, wo),
         }
     }
 
@@ -117,9 +127,10 @@ impl Bsdf {
         match self {
             Bsdf::Lambert(b) => b.pdf(wi, wo),
             Bsdf::ModifiedPhong(b) => b.pdf(wi, wo),
-            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) => 0.0,
+            Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_) => 0.0,
             Bsdf::RoughConductor(b) => b.pdf(wi, wo),
             Bsdf::RoughDielectric(b) => b.pdf(wi, wo),
+            Bsdf::Plastic(b) => b.pdf(wi, wo),
         }
     }
 
@@ -148,6 +159,8 @@ impl Bsdf {
             Bsdf::SmoothDielectric(b) => b.sample(wi, u_lobe, mode),
             Bsdf::RoughConductor(b) => b.sample(wi, u),
             Bsdf::RoughDielectric(b) => b.sample(wi, u_lobe, u, mode),
+            Bsdf::Plastic(b) => b.sample(wi, u_lobe, u),
+            Bsdf::ThinDielectric(b) => b.sample(wi, u_lobe),
         }
     }
 
@@ -156,14 +169,22 @@ impl Bsdf {
     /// tracer does not store it (the path continues through it).
     #[inline]
     pub fn is_delta(&self) -> bool {
-        matches!(self, Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_))
+        matches!(self, Bsdf::SmoothConductor(_) | Bsdf::SmoothDielectric(_) | Bsdf::ThinDielectric(_))
+    }
+
+    /// Whether some sampled directions are Dirac deltas (every delta BSDF, and the coating of
+    /// [`Plastic`]): `eval` then misses part of the scattering, so directions must come from
+    /// [`Bsdf::sample`], never from another density weighted by `eval`.
+    #[inline]
+    pub fn has_delta_lobe(&self) -> bool {
+        self.is_delta() || matches!(self, Bsdf::Plastic(_))
     }
 
     /// Whether light crosses the surface (dielectrics): such BSDFs are oriented and accept light
     /// from both sides.
     #[inline]
     pub fn transmits(&self) -> bool {
-        matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_))
+        matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) | Bsdf::ThinDielectric(_))
     }
 
     /// The absorption coefficient σ_a (1/m) of the inside of a dielectric (zero for every other
@@ -188,6 +209,8 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.specular_reflectance,
             Bsdf::SmoothDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::RoughDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
+            Bsdf::Plastic(b) => b.max_albedo(),
+            Bsdf::ThinDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
         }
     }
 }

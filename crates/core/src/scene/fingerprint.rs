@@ -89,8 +89,8 @@
 //! field, so adding a field to a BSDF does not compile until its encoding is decided here.
 
 use crate::bsdf::{
-    Bsdf, Lambert, Material, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
-    SmoothDielectric,
+    Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
+    SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
 use crate::light::{BuiltProfile, Light};
@@ -199,6 +199,20 @@ pub(crate) fn material_v2(material: &Material) -> String {
                 .rgb("specular_reflectance", *specular_reflectance)
                 .rgb("specular_transmittance", *specular_transmittance)
                 .rgb("absorption", *absorption);
+        }
+        // The private fields are functions of these.
+        Bsdf::Plastic(Plastic { diffuse_reflectance, specular_reflectance, eta, nonlinear, .. }) => {
+            t.variant("Plastic")
+                .rgb("diffuse_reflectance", *diffuse_reflectance)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .num("eta", *eta)
+                .num("nonlinear", if *nonlinear { 1.0 } else { 0.0 });
+        }
+        Bsdf::ThinDielectric(ThinDielectric { eta, specular_reflectance, specular_transmittance }) => {
+            t.variant("ThinDielectric")
+                .num("eta", *eta)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .rgb("specular_transmittance", *specular_transmittance);
         }
     }
     t.0.push_str(" })|");
@@ -353,8 +367,8 @@ fn profile(h: &mut Hasher, profile: &BuiltProfile) {
 mod tests {
     use super::{material_hash, material_v2};
     use crate::bsdf::{
-        Bsdf, Lambert, Material, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
-        SmoothDielectric,
+        Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
+        SmoothDielectric, ThinDielectric,
     };
     use crate::light::EmissionProfile;
     use crate::math::{Frame, Rgb, Vec3};
@@ -405,6 +419,18 @@ mod tests {
         }
     }
 
+    fn plastic(d: Rgb, s: Rgb, eta: f32, nonlinear: bool) -> Plastic {
+        Plastic::new(d, s, eta, 1.0, nonlinear).unwrap()
+    }
+
+    fn thin() -> ThinDielectric {
+        ThinDielectric {
+            eta: 1.5,
+            specular_reflectance: Rgb::new(1.0, 0.5, 0.25),
+            specular_transmittance: Rgb::ONE,
+        }
+    }
+
     /// One material of every BSDF variant, with every option used.
     fn one_of_each() -> Vec<Material> {
         vec![
@@ -414,6 +440,8 @@ mod tests {
             material(Bsdf::SmoothDielectric(glass()), false),
             material(Bsdf::RoughConductor(rough_metal()), false),
             material(Bsdf::RoughDielectric(rough_glass()), true),
+            material(Bsdf::Plastic(plastic(Rgb::new(0.5, 0.25, 0.0), Rgb::ONE, 1.49, true)), false),
+            material(Bsdf::ThinDielectric(thin()), false),
         ]
     }
 
@@ -435,6 +463,10 @@ mod tests {
                 "RoughDielectric(RoughDielectric { eta: 1.5, microfacet: Microfacet { distribution: Ggx, alpha_u: 0.25, \
                  alpha_v: 0.25 }, specular_reflectance: Vec3(1.0, 0.99, 0.98), specular_transmittance: Vec3(1.0, 1.0, \
                  1.0), absorption: Vec3(0.0, 0.5, 12.0) })|true",
+                "Plastic(Plastic { diffuse_reflectance: Vec3(0.5, 0.25, 0.0), specular_reflectance: Vec3(1.0, 1.0, \
+                 1.0), eta: 1.49, nonlinear: 1.0 })|false",
+                "ThinDielectric(ThinDielectric { eta: 1.5, specular_reflectance: Vec3(1.0, 0.5, 0.25), \
+                 specular_transmittance: Vec3(1.0, 1.0, 1.0) })|false",
             ]
         );
         let lambert = &one_of_each()[0];
@@ -518,6 +550,13 @@ mod tests {
                 ..rg.clone()
             }),
             Bsdf::RoughDielectric(RoughDielectric { absorption: rgb(0.0, 0.5, 0.0), ..rg }),
+            Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.01), Rgb::ONE, 1.49, true)),
+            Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), rgb(1.0, 0.5, 1.0), 1.49, true)),
+            Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), Rgb::ONE, 1.5, true)),
+            Bsdf::Plastic(plastic(rgb(0.5, 0.25, 0.0), Rgb::ONE, 1.49, false)),
+            Bsdf::ThinDielectric(ThinDielectric { eta: 1.33, ..thin() }),
+            Bsdf::ThinDielectric(ThinDielectric { specular_reflectance: Rgb::ONE, ..thin() }),
+            Bsdf::ThinDielectric(ThinDielectric { specular_transmittance: rgb(1.0, 1.0, 0.9), ..thin() }),
         ];
         let mut all = base.clone();
         all.extend(base.iter().map(|m| Material { two_sided: !m.two_sided, ..m.clone() }));

@@ -31,11 +31,11 @@ pub const SAMPLING_SIGNATURE: u32 = 1;
 
 /// Whether the tracer, under `directions`, draws continuation directions at a surface of
 /// `bsdf` uniformly over the hemisphere (the thesis's §6.2.2 baseline) instead of importance
-/// sampling the BSDF: only for [`Directions::Uniform`] on non-delta, non-transmitting
-/// surfaces.
+/// sampling the BSDF: only for [`Directions::Uniform`] on non-transmitting surfaces without a
+/// delta lobe (a plastic's coating must be sampled by [`Bsdf::sample`]).
 #[inline]
 pub fn samples_uniformly(directions: Directions, bsdf: &Bsdf) -> bool {
-    directions == Directions::Uniform && !bsdf.is_delta() && !bsdf.transmits()
+    directions == Directions::Uniform && !bsdf.has_delta_lobe() && !bsdf.transmits()
 }
 
 /// The solid-angle density with which the light tracer, under `directions`, continues a path

@@ -200,7 +200,7 @@ fn walk<M: PathMis>(
         for _ in 0..children {
             let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
             // Importance mode: `wi` is where the light came from (no 1/η² on refraction, DESIGN §2).
-            // Uniform directions only make sense for reflecting, non-delta surfaces.
+            // Uniform directions only make sense for reflecting surfaces without a delta lobe.
             let sampled = if samples_uniformly(settings.directions, &material.bsdf) {
                 material.sample_uniform_world(normals, wi, u)
             } else {

@@ -20,7 +20,7 @@
 //! element it is about, in the `file:line:column: <element>: message` form compilers use:
 //!
 //! ```text
-//! scene.xml:42:5: <bsdf type="plastic">: unsupported BSDF type "plastic" (supported: diffuse, phong (Opticks extension), twosided)
+//! scene.xml:42:5: <bsdf type="hair">: unsupported BSDF type "hair" (supported: diffuse, phong (Opticks extension), twosided, …)
 //! meshes/box.obj:17: face refers to vertex 9, but the file defines only 8 vertices (mesh of <shape type="obj" id="box"> at scene.xml:30:5)
 //! ```
 //!
@@ -30,8 +30,11 @@
 
 pub mod gltf;
 pub mod lights;
+pub mod mesh_bytes;
 pub mod mitsuba;
 pub mod obj;
+pub mod ply;
+pub mod serialized;
 pub mod vrml;
 pub mod wavefront;
 
@@ -119,7 +122,7 @@ pub enum SceneFileError {
     Invalid {
         /// Where.
         at: FileLocation,
-        /// The element, as written: `<bsdf type="plastic" id="floor">`.
+        /// The element, as written: `<bsdf type="hair" id="floor">`.
         element: String,
         /// What is wrong and, where useful, what is supported.
         message: String,
@@ -147,6 +150,19 @@ pub enum SceneFileError {
         /// The operating system's reason.
         #[source]
         source: std::io::Error,
+    },
+    /// A PLY or serialized mesh file's content is wrong: the file (with the line, for text
+    /// parts) and the byte offset.
+    #[error("{at}: byte {offset}: {message}{}", referenced_by(.referenced_from))]
+    MeshData {
+        /// The mesh file, and the line for a PLY header or ASCII PLY data (else 0).
+        at: FileLocation,
+        /// Byte offset in the file.
+        offset: u64,
+        /// What is wrong.
+        message: String,
+        /// The scene element that loaded this mesh, and where: (`<shape ...>`, location).
+        referenced_from: Option<(String, FileLocation)>,
     },
     /// An OBJ file's content is wrong.
     #[error("{at}: {message}{}", referenced_by(.referenced_from))]
@@ -176,6 +192,7 @@ impl SceneFileError {
             | SceneFileError::Invalid { at, .. }
             | SceneFileError::Material { at, .. }
             | SceneFileError::MeshFile { at, .. }
+            | SceneFileError::MeshData { at, .. }
             | SceneFileError::Obj { at, .. } => Some(at),
         }
     }

@@ -611,10 +611,7 @@ pub fn read_obj(
     path: &Path,
     referenced_from: Option<(String, FileLocation)>,
 ) -> Result<ObjMesh, SceneFileError> {
-    let data = crate::input_file::read(path).map_err(|source| match referenced_from.clone() {
-        Some((element, at)) => SceneFileError::MeshFile { at, element, mesh: path.to_path_buf(), source },
-        None => SceneFileError::Read { path: path.to_path_buf(), source },
-    })?;
+    let data = super::mesh_bytes::read_bytes(path, referenced_from.as_ref())?;
     parse_obj(&data).map_err(|e| SceneFileError::Obj {
         at: FileLocation { file: path.to_path_buf(), line: e.line, column: 0 },
         message: e.message,

@@ -15,11 +15,13 @@ pub fn testdata(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata").join(rel)
 }
 
-/// Writes `files` into a fresh folder and loads the first one.
+/// Writes `files` into a fresh folder (names may contain folders) and loads the first one.
 pub fn load_files(files: &[(&str, &[u8])]) -> (tempfile::TempDir, Result<LoadedScene, SceneFileError>) {
     let dir = tempfile::tempdir().unwrap();
     for (name, text) in files {
-        std::fs::write(dir.path().join(name), text).unwrap();
+        let path = dir.path().join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, text).unwrap();
     }
     let r = load_scene(&dir.path().join(files[0].0));
     (dir, r)

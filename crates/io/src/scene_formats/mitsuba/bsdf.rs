@@ -14,8 +14,8 @@ use super::properties::Props;
 use super::xml::Element;
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
-    Bsdf, Lambert, Material, MaterialError, ModifiedPhong, RoughConductor, RoughDielectric, SmoothConductor,
-    SmoothDielectric, fresnel,
+    Bsdf, Lambert, Material, MaterialError, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
+    SmoothConductor, SmoothDielectric, ThinDielectric, fresnel,
 };
 use opticks_core::math::Rgb;
 use opticks_core::sampling::microfacet::{Distribution, Microfacet};
@@ -52,6 +52,8 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "roughconductor", extension: false, build: specular },
     BsdfType { name: "dielectric", extension: false, build: specular },
     BsdfType { name: "roughdielectric", extension: false, build: specular },
+    BsdfType { name: "thindielectric", extension: false, build: thindielectric },
+    BsdfType { name: "plastic", extension: false, build: plastic },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
@@ -129,15 +131,20 @@ pub fn material_index(b: &mut Builder, parsed: &ParsedBsdf, key: Option<&str>) -
 }
 
 /// The material of a shape without a BSDF: Mitsuba's default, a one-sided `diffuse` of
-/// reflectance 0.5, shared by all such shapes.
-pub fn default_material(b: &mut Builder) -> usize {
-    const KEY: &str = "\u{0}default";
+/// reflectance 0.5, shared by all such shapes — black (reflectance 0) for an `emitter` shape,
+/// as Mitsuba's `Shape` constructor makes it.
+pub fn default_material(b: &mut Builder, emitter: bool) -> usize {
+    let (key, name, rho) = if emitter {
+        ("\u{0}default-emitter", "default-emitter", 0.0)
+    } else {
+        ("\u{0}default", "default", 0.5)
+    };
     let parsed = ParsedBsdf {
-        name: "default".into(),
-        bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(0.5)).expect("valid albedo")),
+        name: name.into(),
+        bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(rho)).expect("valid albedo")),
         two_sided: false,
     };
-    material_index(b, &parsed, Some(KEY))
+    material_index(b, &parsed, Some(key))
 }
 
 /// The core's [`MaterialError`] located at the element of the parameter it names (`params`:
@@ -247,19 +254,29 @@ fn specular<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>
         let (material, mnode) = p.string_or("material", "none")?;
         let eta = p.color("eta")?;
         let k = p.color("k")?;
-        if material != "none" {
-            return Err(mnode.err(format!(
-                "named conductor \"{material}\" is not supported (Mitsuba derives it from \
-                 spectra); give <rgb name=\"eta\"> and <rgb name=\"k\">"
-            )));
-        }
         if let Some((_, en)) = eta {
             nodes.push(("eta", en));
         }
         if let Some((_, kn)) = k {
             nodes.push(("k", kn));
         }
-        let ior = eta.map(|(e, _)| (e, k.map_or(Rgb::ONE, |(k, _)| k)));
+        let ior = if material == "none" {
+            eta.map(|(e, _)| (e, k.map_or(Rgb::ONE, |(k, _)| k)))
+        } else {
+            if let Some((_, n)) = eta.or(k) {
+                return Err(n.err("give either `material` or `eta` and `k`, not both (Mitsuba's rule)"));
+            }
+            let named = super::conductors::named(&material).ok_or_else(|| {
+                let names: Vec<&str> = super::conductors::CONDUCTORS.iter().map(|c| c.0).collect();
+                mnode.attr_err(
+                    "value",
+                    format!("unknown conductor \"{material}\" (known: none, {})", names.join(", ")),
+                )
+            })?;
+            nodes.push(("eta", mnode));
+            nodes.push(("k", mnode));
+            Some(named)
+        };
         if rough {
             RoughConductor::with_microfacet(microfacet, r, ior).map(Bsdf::RoughConductor)
         } else {
@@ -281,6 +298,58 @@ fn specular<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>
         }
     };
     Ok((result.map_err(|source| material_error(source, &nodes, e))?, false))
+}
+
+/// `thindielectric`: Mitsuba 3's thin sheet (`int_ior` BK7, `ext_ior` air,
+/// `specular_reflectance`, `specular_transmittance` 1).
+fn thindielectric<'d>(
+    _: &mut Builder<'d>,
+    e: &'d Element,
+    ty: &str,
+    p: &mut Props<'d>,
+) -> Result<(Bsdf, bool)> {
+    if let Some(c) = p.objects().first() {
+        return Err(
+            c.err(format!("unsupported element inside <bsdf type=\"{ty}\"> (textures are not supported)"))
+        );
+    }
+    let (int_ior, inode) = ior(p, "int_ior", 1.5046)?;
+    let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
+    let (r, rnode) = p.color_or("specular_reflectance", Rgb::ONE)?;
+    let (t, tnode) = p.color_or("specular_transmittance", Rgb::ONE)?;
+    let nodes = [
+        ("int_ior", inode),
+        ("ext_ior", enode),
+        ("specular_reflectance", rnode),
+        ("specular_transmittance", tnode),
+    ];
+    let b =
+        ThinDielectric::new(int_ior, ext_ior, r, t).map_err(|source| material_error(source, &nodes, e))?;
+    Ok((Bsdf::ThinDielectric(b), false))
+}
+
+/// `plastic`: Mitsuba 3's smooth plastic (`diffuse_reflectance` 0.5, `specular_reflectance` 1,
+/// `int_ior` polypropylene = 1.49, `ext_ior` air, `nonlinear` false), one-sided.
+fn plastic<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    if let Some(c) = p.objects().first() {
+        return Err(c.err(format!(
+            "unsupported element inside <bsdf type=\"{ty}\"> (textures are not supported; use <rgb> parameters)"
+        )));
+    }
+    let (d, dnode) = p.color_or("diffuse_reflectance", Rgb::splat(0.5))?;
+    let (s, snode) = p.color_or("specular_reflectance", Rgb::ONE)?;
+    let (int_ior, inode) = ior(p, "int_ior", 1.49)?;
+    let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
+    let nonlinear = p.bool("nonlinear")?.unwrap_or(false);
+    let nodes = [
+        ("diffuse_reflectance", dnode),
+        ("specular_reflectance", snode),
+        ("int_ior", inode),
+        ("ext_ior", enode),
+    ];
+    let b = Plastic::new(d, s, int_ior, ext_ior, nonlinear)
+        .map_err(|source| material_error(source, &nodes, e))?;
+    Ok((Bsdf::Plastic(b), false))
 }
 
 /// The microfacet distribution of a rough BSDF: `distribution` (Beckmann by default), `alpha`

@@ -66,7 +66,8 @@ const TOP_LEVEL: &[(&str, TopLevel)] = &[
     ("integrator", integrator),
     ("sensor", top_sensor),
     ("bsdf", top_bsdf),
-    ("medium", |_, _| Ok(())), // read where a shape refers to it
+    ("medium", |_, _| Ok(())),  // read where a shape refers to it
+    ("sampler", |_, _| Ok(())), // a sensor may refer to it; sampling is Opticks's own
     ("shape", top_shape),
     ("emitter", top_emitter),
 ];
@@ -76,7 +77,7 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
     let mut b = Builder {
         doc,
         desc: SceneDescription::default(),
-        warnings: Vec::new(),
+        warnings: doc.warnings.clone(),
         bsdfs: HashMap::new(),
         in_progress: HashSet::new(),
         material_of: HashMap::new(),
@@ -97,8 +98,14 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
     }
     // Unused named BSDFs and media: Mitsuba would not mind either, but it is usually a typo.
     for e in &doc.root.children {
-        if matches!(e.tag.as_str(), "bsdf" | "medium") && e.raw("id").is_some_and(|id| !b.used.contains(id)) {
-            let what = if e.tag == "medium" { "medium" } else { "BSDF" };
+        let area = e.tag == "emitter" && e.raw("type") == Some("area");
+        if (area || matches!(e.tag.as_str(), "bsdf" | "medium" | "sampler"))
+            && e.raw("id").is_some_and(|id| !b.used.contains(id))
+        {
+            let what = match e.tag.as_str() {
+                "bsdf" => "BSDF",
+                other => other,
+            };
             b.warn(e, format!("this {what} is never used"));
         }
     }

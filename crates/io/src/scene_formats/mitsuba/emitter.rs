@@ -52,7 +52,12 @@ pub fn top_emitter<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Res
         return build(b, e, ty, name);
     }
     if SHAPE_EMITTERS.contains(&ty) {
-        return Err(e.err(format!("an {ty} emitter must be nested inside a <shape>")));
+        if e.attr("id")?.is_some() {
+            return Ok(()); // built where a shape refers to it
+        }
+        return Err(e.err(format!(
+            "an {ty} emitter must be nested inside a <shape> (or have an id a shape refers to)"
+        )));
     }
     let top: Vec<&str> = TOP_EMITTERS.iter().map(|(n, _)| *n).collect();
     Err(e.attr_err(
@@ -263,7 +268,7 @@ fn ies_file<'d>(
     hemisphere: bool,
 ) -> Result<Option<(Ies, f32, &'d Element)>> {
     let Some((file, fnode)) = p.string("filename")? else { return Ok(None) };
-    let path = fnode.resolve(&file);
+    let path = b.doc.resolve(fnode, &file);
     let ies = lights::ies_luminaire(&path, hemisphere).map_err(|e| fnode.err(e))?;
     if let Some(w) = ies.warning {
         b.warn(fnode, w);

@@ -8,11 +8,12 @@
 //! | file | job |
 //! |---|---|
 //! | `xml.rs` | text → records (`Element`: tag, attributes, children, each with `file:line:column`), `$name` parameters substituted, `<ref>`s resolved, ids checked |
+//! | `include.rs` | `<include>` replaced by the included file's records (each keeping its own file's locations), `<path>` search folders collected |
 //! | `build.rs` | records → [`SceneDescription`](opticks_core::scene::SceneDescription): the walk over the top-level elements and the state the builders share |
-//! | `properties.rs`, `transform.rs` | the typed property getters every builder reads its parameters through, and `<transform>` |
+//! | `properties.rs`, `transform.rs` | the typed property getters every builder reads its parameters through, and `<transform>` (`spectrum.rs`, `cie.rs`: `<spectrum>` to RGB as Mitsuba's RGB variants convert it) |
 //! | `sensor.rs` | `<sensor>` and `<film>` → the camera |
-//! | `bsdf.rs` | `<bsdf>` → materials |
-//! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior) |
+//! | `bsdf.rs` | `<bsdf>` → materials (`conductors.rs`: Mitsuba's named conductors in RGB, generated) |
+//! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior; `tessellate.rs`: the analytic sphere, disk and cylinder as meshes) |
 //! | `emitter.rs` | `<emitter>` → area, point, spot, IES and directional lights |
 //!
 //! # Adding a plugin type
@@ -34,11 +35,16 @@
 
 mod bsdf;
 mod build;
+mod cie;
+mod conductors;
 mod emitter;
+mod include;
 mod medium;
 mod properties;
 mod sensor;
 mod shape;
+mod spectrum;
+mod tessellate;
 mod transform;
 mod xml;
 

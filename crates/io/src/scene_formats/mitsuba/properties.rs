@@ -6,10 +6,11 @@
 //! its value (every number finite) and returns it with the element it came from, so that a
 //! builder reports an impossible value at its own line; the `_or` getters return a default
 //! located at the plugin element instead. [`Props::finish`] warns about the parameters nobody
-//! read. New value kinds (textures, spectra) belong here, as getters, so that every plugin
-//! accepts them the same way.
+//! read. New value kinds (textures) belong here, as getters, so that every plugin accepts them
+//! the same way; spectra are read here, by [`Props::color`].
 
 use super::Result;
+use super::spectrum;
 use super::transform::{self, Transform};
 use super::xml::Element;
 use glam::DVec3;
@@ -203,20 +204,15 @@ impl<'d> Props<'d> {
         Ok(self.string(name)?.unwrap_or((default.to_string(), self.owner)))
     }
 
-    /// A colour: `<rgb value="r, g, b">` (one number: grey), a constant `<spectrum value="v">`
-    /// or a `<float>`.
+    /// A colour: `<rgb value="r, g, b">` (one number: grey), a `<spectrum>` (a constant, wavelength:value
+    /// pairs or an `.spd` `filename`, converted as Mitsuba's RGB variants do, with emitter
+    /// semantics when the plugin is an `<emitter>` and without clamping for the indices `eta`
+    /// and `k`: [`super::spectrum`]) or a `<float>`.
     pub fn color(&mut self, name: &str) -> Result<Option<(Rgb, &'d Element)>> {
         let Some(e) = self.take_as(name, &["rgb", "spectrum", "float"])? else { return Ok(None) };
         if e.tag == "spectrum" {
-            if e.raw("filename").is_some() {
-                return Err(e.err("spectra from files are not supported (use <rgb>)"));
-            }
-            if e.attr("value")?.is_some_and(|v| v.contains(':')) {
-                return Err(e.err(
-                    "wavelength-dependent spectra are not supported: Opticks renders in RGB \
-                     (use <rgb> or a constant <spectrum value=\"v\">)",
-                ));
-            }
+            let emitter = self.owner.tag == "emitter";
+            return Ok(Some((spectrum_colour(e, emitter, matches!(name, "eta" | "k"))?.as_vec3(), e)));
         }
         let s = e.required("value")?;
         let v = e.numbers("value", s)?;
@@ -247,4 +243,34 @@ impl<'d> Props<'d> {
         let Some(e) = self.take_as(name, &["transform"])? else { return Ok(None) };
         Ok(Some((transform::read(e)?, e)))
     }
+}
+
+/// The RGB colour of the `<spectrum>` element `e` (module [`super::spectrum`]'s rules).
+fn spectrum_colour(e: &Element, emitter: bool, unbounded: bool) -> Result<DVec3> {
+    let (w, v) = match (e.attr("value")?, e.attr("filename")?) {
+        (Some(_), Some(_)) | (None, None) => {
+            return Err(e.err("a <spectrum> needs either `value` or `filename` (not both)"));
+        }
+        (Some(s), None) if !s.contains(':') => {
+            let v = e.numbers("value", s)?;
+            if v.len() != 1 {
+                return Err(e.attr_err(
+                    "value",
+                    format!("expected one number or wavelength:value pairs, found {}", v.len()),
+                ));
+            }
+            return Ok(if emitter { spectrum::uniform_emission(v[0]) } else { DVec3::splat(v[0]) });
+        }
+        (Some(s), None) => spectrum::parse_pairs(s).map_err(|m| e.attr_err("value", m))?,
+        (None, Some(file)) => {
+            let path = e.resolve(file);
+            let text = std::fs::read_to_string(&path).map_err(|err| {
+                e.attr_err("filename", format!("cannot read spectrum file {}: {err}", path.display()))
+            })?;
+            spectrum::parse_spd(&text)
+                .map_err(|(line, m)| e.attr_err("filename", format!("{}:{line}: {m}", path.display())))?
+        }
+    };
+    spectrum::check(&w).map_err(|m| e.err(m))?;
+    Ok(spectrum::to_srgb(&w, &v, !(emitter || unbounded), !emitter))
 }

@@ -41,9 +41,27 @@ fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Res
         match c.tag.as_str() {
             "film" => (width, height) = film(b, c)?,
             "sampler" => {}
+            // A reference to a top-level sampler (Mitsuba accepts a <ref> wherever an object
+            // goes); films are read inline only.
+            "ref" => match c.target.map(|i| b.doc.top(i)) {
+                Some(t) if t.tag == "sampler" => {
+                    b.used.insert(c.required("id")?.to_string());
+                }
+                Some(t) => {
+                    return Err(c.err(format!(
+                        "a <ref> inside <sensor> may name a <sampler>; this one names a <{}> (at {})",
+                        t.tag, t.at
+                    )));
+                }
+                None => {
+                    return Err(
+                        c.attr_err("id", format!("reference to unknown id \"{}\"", c.required("id")?))
+                    );
+                }
+            },
             other => {
                 return Err(c.err(format!(
-                    "unsupported element <{other}> inside <sensor> (supported: film, sampler)"
+                    "unsupported element <{other}> inside <sensor> (supported: film, sampler, ref to a sampler)"
                 )));
             }
         }

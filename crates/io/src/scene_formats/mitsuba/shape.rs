@@ -6,17 +6,22 @@
 //!
 //! Normals follow Mitsuba: a mesh file's vertex normals are the shading normals (carried by the
 //! inverse transpose of `to_world`); a mesh file without normals gets Mitsuba's generated smooth
-//! normals, computed on the world positions ([`generated_vertex_normals`]); analytic shapes are
-//! faceted, and a mirroring `to_world` reverses their winding so that their normal stays where
-//! Mitsuba's transformed normal is.
+//! normals, computed on the world positions ([`generated_vertex_normals`]) — OBJ, PLY and
+//! serialized files alike; `rectangle`, `cube` and `disk` are faceted, `sphere` and `cylinder`
+//! tessellated with their exact normals ([`super::tessellate`]), and a mirroring `to_world`
+//! reverses an analytic shape's winding so that its normal stays where Mitsuba's transformed
+//! normal is.
 
 use super::Result;
 use super::bsdf;
 use super::build::Builder;
 use super::properties::Props;
+use super::tessellate;
 use super::xml::Element;
 use super::{emitter, medium};
+use crate::scene_formats::mesh_bytes::{MeshData, read_mesh_file};
 use crate::scene_formats::obj::{generated_vertex_normals, read_obj};
+use crate::scene_formats::{ply::parse_ply, serialized::parse_serialized};
 use glam::{DMat3, DMat4};
 use opticks_core::math::Vec3;
 use opticks_core::scene::MeshDesc;
@@ -42,7 +47,16 @@ pub struct Geometry {
 type BuildGeometry = for<'d> fn(&mut Builder<'d>, &'d Element, &mut Props<'d>) -> Result<Geometry>;
 
 /// The supported shape types, in the order the error message lists them.
-const SHAPE_TYPES: &[(&str, BuildGeometry)] = &[("obj", obj), ("rectangle", rectangle), ("cube", cube)];
+const SHAPE_TYPES: &[(&str, BuildGeometry)] = &[
+    ("obj", obj),
+    ("ply", ply),
+    ("serialized", serialized),
+    ("rectangle", rectangle),
+    ("cube", cube),
+    ("sphere", sphere),
+    ("disk", disk),
+    ("cylinder", cylinder),
+];
 
 /// The mesh of a `<shape>`; `index` counts the scene's shapes (for the default name
 /// `<type>_<index>`). Materials it introduces are added to the scene.
@@ -99,6 +113,15 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
     let mut interior = None;
     let mut emission = None;
     for &c in p.objects() {
+        // A <ref> to a top-level area emitter (Mitsuba accepts a reference wherever an object goes).
+        if let Some(t) = c.target.map(|i| b.doc.top(i)).filter(|t| c.tag == "ref" && t.tag == "emitter") {
+            if emission.is_some() {
+                return Err(c.err("a shape can have only one emitter"));
+            }
+            b.used.insert(c.required("id")?.to_string());
+            emission = Some(emitter::area_emitter(b, t)?);
+            continue;
+        }
         match (c.tag.as_str(), c.raw("name")) {
             ("ref" | "medium", Some("interior")) => {
                 if interior.is_some() {
@@ -148,7 +171,7 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
                 .node
                 .err("an interior medium needs a dielectric BSDF on the shape (this shape has none)"));
         }
-        (None, None) => bsdf::default_material(b),
+        (None, None) => bsdf::default_material(b, emission.is_some()),
     };
     b.finish(&p);
     let mut mesh = MeshDesc {
@@ -168,7 +191,7 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
 fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
     let (file, fnode) =
         p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))?;
-    let path = fnode.resolve(&file);
+    let path = b.doc.resolve(fnode, &file);
     let mesh = read_obj(&path, Some((e.describe(), e.at.clone())))?;
     if mesh.triangles.is_empty() {
         b.warn(e, format!("{} has no faces", path.display()));
@@ -180,6 +203,81 @@ fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geo
         texcoords: Some(mesh.texcoords),
         analytic: false,
     })
+}
+
+/// `ply`: a PLY file's triangles, normals and texture coordinates (`filename`).
+fn ply<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
+    let (file, fnode) = mesh_filename(e, p)?;
+    let path = b.doc.resolve(fnode, &file);
+    let mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), parse_ply)?;
+    Ok(mesh_geometry(b, e, &path, mesh))
+}
+
+/// `serialized`: mesh `shape_index` (default 0) of a Mitsuba serialized file (`filename`).
+fn serialized<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
+    let (file, fnode) = mesh_filename(e, p)?;
+    let index = match p.int("shape_index")? {
+        Some((i, _)) if i >= 0 => i as u64,
+        Some((i, node)) => return Err(node.err(format!("shape_index must be ≥ 0, not {i}"))),
+        None => 0,
+    };
+    let path = b.doc.resolve(fnode, &file);
+    let mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), |d| parse_serialized(d, index))?;
+    Ok(mesh_geometry(b, e, &path, mesh))
+}
+
+/// A mesh file's `filename` parameter.
+fn mesh_filename<'d>(e: &'d Element, p: &mut Props<'d>) -> Result<(String, &'d Element)> {
+    p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))
+}
+
+/// The geometry of a mesh file without texture-coordinate splits (its vertices are already
+/// Mitsuba's); warns when it has no faces.
+fn mesh_geometry(b: &mut Builder, e: &Element, path: &std::path::Path, mesh: MeshData) -> Geometry {
+    if mesh.triangles.is_empty() {
+        b.warn(e, format!("{} has no faces", path.display()));
+    }
+    Geometry {
+        positions: mesh.positions,
+        triangles: mesh.triangles,
+        normals: mesh.normals,
+        texcoords: Some(Vec::new()),
+        analytic: false,
+    }
+}
+
+/// `sphere`: `center` (0), `radius` (1), tessellated with smooth normals.
+fn sphere<'d>(_: &mut Builder<'d>, _: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
+    let center = p.point("center")?.map_or(Vec3::ZERO, |(c, _)| c.as_vec3());
+    let radius = positive(p, "radius", 1.0)?;
+    let (positions, triangles, normals) = tessellate::sphere(center, radius as f32);
+    Ok(Geometry { positions, triangles, normals, texcoords: None, analytic: true })
+}
+
+/// `disk`: the unit disk at z = 0, normal +z.
+fn disk<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Geometry> {
+    let (positions, triangles, _) = tessellate::disk();
+    Ok(analytic(positions, triangles))
+}
+
+/// `cylinder`: `p0` (0, 0, 0) to `p1` (0, 0, 1), `radius` (1), open, smooth normals outward.
+fn cylinder<'d>(_: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
+    let p0 = p.point("p0")?;
+    let p1 = p.point("p1")?;
+    let radius = positive(p, "radius", 1.0)?;
+    let (a, b) = (p0.map_or(glam::DVec3::ZERO, |x| x.0), p1.map_or(glam::DVec3::Z, |x| x.0));
+    let (positions, triangles, normals) = tessellate::cylinder(a, b, radius)
+        .ok_or_else(|| p1.or(p0).map_or(e, |x| x.1).err("the cylinder's p0 and p1 are the same point"))?;
+    Ok(Geometry { positions, triangles, normals, texcoords: None, analytic: true })
+}
+
+/// A float parameter that must be > 0 (`default` if absent).
+fn positive<'d>(p: &mut Props<'d>, name: &str, default: f64) -> Result<f64> {
+    let (v, node) = p.float_or(name, default)?;
+    if v <= 0.0 {
+        return Err(node.err(format!("{name} must be > 0, not {v}")));
+    }
+    Ok(v)
 }
 
 /// `rectangle`: [-1, 1]² at z = 0, normal +z.

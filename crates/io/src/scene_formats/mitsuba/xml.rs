@@ -3,7 +3,8 @@
 //! resolved to the top-level element they name.
 //!
 //! This stage owns everything about the *document*: the XML parser's errors, the `<scene
-//! version>` check, `<default>` parameters and the caller's overrides, substitution, duplicate
+//! version>` check, the file structure (`<include>`, `<path>`: [`super::include`]),
+//! `<default>` parameters and the caller's overrides, substitution, duplicate
 //! ids. It knows nothing about plugins; the stages after it ([`super::build`]) read the records
 //! and never see `roxmltree`.
 //!
@@ -25,6 +26,12 @@ pub struct Document {
     pub root: Element,
     /// The index in `root.children` of each top-level element with an `id`, by id.
     pub ids: HashMap<String, usize>,
+    /// The folders of the `<path>` elements, in file order (of every file read).
+    pub search_paths: Vec<PathBuf>,
+    /// The scene file itself (its folder is searched last by [`Self::resolve`]).
+    pub main: PathBuf,
+    /// What the document stage had to say (a define the scene never uses).
+    pub warnings: Vec<String>,
 }
 
 impl Document {
@@ -68,34 +75,33 @@ pub struct Attribute {
 }
 
 /// Parses `text` (the file `path`) into records; `options` gives parameter values overriding
-/// the file's `<default>`s.
+/// the file's `<default>`s. `<include>`s are replaced by the files they name and `<path>`s
+/// collected ([`super::include`]).
 pub fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Document> {
-    refuse_declared_entities(text, path)?;
-    let xml = roxmltree::Document::parse_with_options(
-        text,
-        roxmltree::ParsingOptions { allow_dtd: true, ..Default::default() },
-    )
-    .map_err(|e| xml_error(text, path, e))?;
-    let mut positions = Positions { text, path, byte: 0, line: 1, column: 1 };
-    let mut root = record(xml.root_element(), &mut positions, false, 1)?;
+    let mut root = parse_root(text, path)?;
     if root.tag != "scene" {
         return Err(root.err("the root element must be <scene version=\"3.0.0\">"));
     }
-    // The root's own attributes are read before any `<default>`: a `$name` there is undefined.
-    substitute_attributes(&mut root, &HashMap::new());
-    check_version(&root)?;
+    let search_paths = super::include::expand(&mut root, path, options)?;
 
-    // Parameters: `<default>` anywhere at the top level, then the caller's overrides.
-    let mut vars = HashMap::new();
+    // Parameters: the caller's, then the first `<default>` of each name at the top level
+    // (Mitsuba's rule: a default never overrides a value already given).
+    let mut vars: HashMap<String, String> = options.defines.iter().cloned().collect();
     for d in root.children.iter().filter(|c| c.tag == "default") {
         let name = d.raw_required("name")?;
         let value = d.raw_required("value")?;
-        vars.insert(name.to_string(), value.to_string());
-    }
-    for (k, v) in &options.defines {
-        vars.insert(k.clone(), v.clone());
+        vars.entry(name.to_string()).or_insert_with(|| value.to_string());
     }
     root.children.iter_mut().for_each(|c| substitute_tree(c, &vars));
+    let mut warnings = Vec::new();
+    for (name, _) in &options.defines {
+        if !uses_parameter(&root, &format!("${name}")) {
+            warnings.push(format!(
+                "{}: parameter {name} is defined but the scene never uses ${name}",
+                path.display()
+            ));
+        }
+    }
 
     // Ids of top-level objects, so references may point forward.
     let mut ids: HashMap<String, usize> = HashMap::new();
@@ -109,7 +115,45 @@ pub fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Document> 
         }
     }
     root.children.iter_mut().for_each(|c| resolve_refs(c, &ids));
-    Ok(Document { root, ids })
+    Ok(Document { root, ids, search_paths, main: path.to_path_buf(), warnings })
+}
+
+/// Whether some attribute at or below `e` mentions `var` (`$name`).
+fn uses_parameter(e: &Element, var: &str) -> bool {
+    e.attributes.iter().any(|a| a.raw.contains(var)) || e.children.iter().any(|c| uses_parameter(c, var))
+}
+
+/// The records of one XML file (the scene, or a file it includes), with the root's own
+/// attributes substituted (with no parameters: a `$name` there is undefined) and its `version`
+/// checked.
+pub fn parse_root(text: &str, path: &Path) -> Result<Element> {
+    refuse_declared_entities(text, path)?;
+    let xml = roxmltree::Document::parse_with_options(
+        text,
+        roxmltree::ParsingOptions { allow_dtd: true, ..Default::default() },
+    )
+    .map_err(|e| xml_error(text, path, e))?;
+    let mut positions = Positions { text, path, byte: 0, line: 1, column: 1 };
+    let mut root = record(xml.root_element(), &mut positions, false, 1)?;
+    substitute_attributes(&mut root, &HashMap::new());
+    check_version(&root)?;
+    Ok(root)
+}
+
+impl Document {
+    /// The file `file` named in element `e`, found as Mitsuba's file resolver finds it: an
+    /// absolute path as it is; else the first existing one of `file` in the `<path>` folders
+    /// (the latest first), in the folder of the file `e` is in, in the main scene file's folder.
+    /// If none exists, `file` in `e`'s folder (so that the error names a plausible path).
+    pub fn resolve(&self, e: &Element, file: &str) -> PathBuf {
+        let own = e.resolve(file);
+        if Path::new(file).is_absolute() {
+            return own;
+        }
+        let main = self.main.parent().unwrap_or(Path::new(""));
+        let candidates = self.search_paths.iter().rev().map(|d| d.join(file));
+        candidates.chain([own.clone(), main.join(file)]).find(|p| p.exists()).unwrap_or(own)
+    }
 }
 
 impl Element {
@@ -247,7 +291,7 @@ fn refuse_declared_entities(text: &str, path: &Path) -> Result<()> {
 }
 
 /// Substitutes `vars` into the attributes of `e` and of everything below it.
-fn substitute_tree(e: &mut Element, vars: &HashMap<String, String>) {
+pub fn substitute_tree(e: &mut Element, vars: &HashMap<String, String>) {
     substitute_attributes(e, vars);
     e.children.iter_mut().for_each(|c| substitute_tree(c, vars));
 }
@@ -260,7 +304,7 @@ fn substitute_attributes(e: &mut Element, vars: &HashMap<String, String>) {
 
 /// `raw` with each `$name` (letters, digits, `_`) replaced by its value; a `$` not followed by
 /// a name stays. `Err` names the first undefined parameter.
-fn substitute(raw: &str, vars: &HashMap<String, String>) -> std::result::Result<String, String> {
+pub fn substitute(raw: &str, vars: &HashMap<String, String>) -> std::result::Result<String, String> {
     let mut out = String::with_capacity(raw.len());
     let mut rest = raw;
     while let Some(i) = rest.find('$') {

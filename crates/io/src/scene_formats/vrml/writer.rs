@@ -210,6 +210,8 @@ fn bsdf_kind(b: &Bsdf) -> &'static str {
         Bsdf::SmoothDielectric(_) => "glass",
         Bsdf::RoughConductor(_) => "rough conductor",
         Bsdf::RoughDielectric(_) => "rough dielectric",
+        Bsdf::Plastic(_) => "plastic",
+        Bsdf::ThinDielectric(_) => "thin dielectric",
     }
 }
 

@@ -1,0 +1,125 @@
+//! A thin dielectric sheet, Mitsuba 3's `thindielectric` (a window pane, a soap film): two
+//! parallel smooth interfaces of relative index η so close together that light leaves where it
+//! entered. Light is reflected (mirror direction) with R = r·2/(1 + r), r = F(|cos θ_i|, η) —
+//! the sum r + t²r + t²r³ + … over the internal reflections — and otherwise passes straight
+//! through (wo = −wi, no refraction: the two refractions cancel) with T = 1 − R. Both lobes are
+//! Dirac deltas, on either face (the sheet has no inside: no absorption, no medium). R and T are
+//! scaled by `specular_reflectance` and `specular_transmittance`; flux is conserved when both
+//! are 1. Transmission does not bend, so no η² appears in either transport mode.
+
+use super::{BsdfSample, MaterialError, check_unit_colour, fresnel};
+use crate::math::{Rgb, Vec3};
+
+/// A thin dielectric sheet (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThinDielectric {
+    /// Relative index int_ior / ext_ior of the sheet's material.
+    pub eta: f32,
+    /// Scale of the reflected part.
+    pub specular_reflectance: Rgb,
+    /// Scale of the transmitted part.
+    pub specular_transmittance: Rgb,
+}
+
+impl ThinDielectric {
+    /// A thin sheet; refuses indices ≤ 0 or non-finite, colours outside [0, 1].
+    pub fn new(
+        int_ior: f32,
+        ext_ior: f32,
+        specular_reflectance: Rgb,
+        specular_transmittance: Rgb,
+    ) -> Result<Self, MaterialError> {
+        for (name, v) in [("int_ior", int_ior), ("ext_ior", ext_ior)] {
+            if !v.is_finite() {
+                return Err(MaterialError::NotFinite(name));
+            }
+            if v <= 0.0 {
+                return Err(MaterialError::NotPositive(name));
+            }
+        }
+        check_unit_colour("specular_reflectance", specular_reflectance)?;
+        check_unit_colour("specular_transmittance", specular_transmittance)?;
+        Ok(ThinDielectric { eta: int_ior / ext_ior, specular_reflectance, specular_transmittance })
+    }
+
+    /// R for light arriving at cos θ = `cos_i` (either face).
+    pub fn reflectance(&self, cos_i: f32) -> f32 {
+        let r = fresnel::dielectric(cos_i.abs(), self.eta).0;
+        r * 2.0 / (1.0 + r)
+    }
+
+    /// Reflection with probability R (weight `specular_reflectance`), else straight
+    /// transmission (weight `specular_transmittance`).
+    #[inline]
+    pub fn sample(&self, wi: Vec3, u_lobe: f32) -> Option<BsdfSample> {
+        if wi.z == 0.0 {
+            return None;
+        }
+        let r = self.reflectance(wi.z);
+        Some(if u_lobe < r {
+            BsdfSample {
+                wo: Vec3::new(-wi.x, -wi.y, wi.z),
+                weight: self.specular_reflectance,
+                pdf: r,
+                delta: true,
+            }
+        } else {
+            BsdfSample { wo: -wi, weight: self.specular_transmittance, pdf: 1.0 - r, delta: true }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::chi2::incident;
+    use crate::sampling::RandomStream;
+
+    /// The reflected fraction is the series r + t²r + t²r³ + … of a slab's two interfaces
+    /// (summed here term by term), on both faces, and a white sheet loses no flux.
+    #[test]
+    fn reflectance_sums_the_internal_reflections_and_flux_is_kept() {
+        let sheet = ThinDielectric::new(1.5, 1.0, Rgb::ONE, Rgb::ONE).unwrap();
+        let mut rng = RandomStream::new(950, &[]);
+        for deg in [0.0, 30.0, 60.0, 85.0] {
+            let wi = incident(deg);
+            let r = fresnel::dielectric(wi.z, 1.5).0 as f64;
+            let t = 1.0 - r;
+            let series = r + (0..200).map(|k| t * t * r.powi(2 * k + 1)).sum::<f64>();
+            assert!((sheet.reflectance(wi.z) as f64 - series).abs() < 1e-6, "{deg}");
+            assert_eq!(sheet.reflectance(-wi.z), sheet.reflectance(wi.z));
+            let n = 100_000;
+            let (mut reflected, mut flux) = (0usize, 0.0f64);
+            for _ in 0..n {
+                let s = sheet.sample(wi, rng.next_f32()).unwrap();
+                assert!(s.delta);
+                if s.wo.z > 0.0 {
+                    reflected += 1;
+                    assert!((s.wo - Vec3::new(-wi.x, -wi.y, wi.z)).length() < 1e-6);
+                } else {
+                    assert_eq!(s.wo, -wi);
+                }
+                flux += s.weight.x as f64;
+            }
+            assert_eq!(flux, n as f64, "white sheet: every weight 1");
+            let f = reflected as f64 / n as f64;
+            let se = (series * (1.0 - series) / n as f64).sqrt();
+            assert!((f - series).abs() < 5.0 * se + 1e-9, "{deg}: {f} vs {series}");
+        }
+        let tinted = ThinDielectric::new(1.5, 1.0, Rgb::splat(0.5), Rgb::new(1.0, 0.5, 0.0)).unwrap();
+        let s = tinted.sample(Vec3::Z, 0.99).unwrap();
+        assert_eq!((s.wo, s.weight), (-Vec3::Z, Rgb::new(1.0, 0.5, 0.0)));
+        assert!(tinted.sample(Vec3::X, 0.5).is_none());
+    }
+
+    #[test]
+    fn parameters_are_validated() {
+        use MaterialError::*;
+        assert_eq!(ThinDielectric::new(0.0, 1.0, Rgb::ONE, Rgb::ONE), Err(NotPositive("int_ior")));
+        assert_eq!(ThinDielectric::new(1.5, f32::NAN, Rgb::ONE, Rgb::ONE), Err(NotFinite("ext_ior")));
+        assert_eq!(
+            ThinDielectric::new(1.5, 1.0, Rgb::splat(2.0), Rgb::ONE),
+            Err(AboveOne("specular_reflectance"))
+        );
+    }
+}
