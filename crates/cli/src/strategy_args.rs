@@ -62,7 +62,7 @@ pub struct StrategyArgs {
     /// Vertex selection [default: single].
     #[arg(long, value_enum)]
     pub selection: Option<SelectionArg>,
-    /// MIS records for the bidirectional estimator, 16 bytes per sample (docs/bidirectional.md) [default: power; refine and add-light: the dataset's last pass].
+    /// MIS records for the bidirectional estimator, 16 bytes per sample (docs/bidirectional.md) [default: power].
     #[arg(long, value_enum)]
     pub mis_records: Option<MisRecordsArg>,
 }

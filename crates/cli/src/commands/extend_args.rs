@@ -8,8 +8,16 @@ use anyhow::Result;
 use opticks_io::dataset_lock::{WriteIntent, WriteLock};
 use std::path::{Path, PathBuf};
 
-/// Output, seed, strategy and threads of a pass that extends a dataset.
+/// Output, seed, strategy and threads of a pass that extends a dataset. The strategy options'
+/// help says what their default is here: the dataset's last pass's, not `trace`'s.
 #[derive(clap::Args, Debug)]
+#[command(
+    mut_arg("rr_depth", |a| a.help("Path depth from which Russian roulette may end paths [default: the dataset's last pass's]")),
+    mut_arg("roulette", |a| a.help("Russian roulette rule [default: the dataset's last pass's]")),
+    mut_arg("directions", |a| a.help("Direction sampling [default: the dataset's last pass's]")),
+    mut_arg("selection", |a| a.help("Vertex selection [default: the dataset's last pass's]")),
+    mut_arg("mis_records", |a| a.help("MIS records for the bidirectional estimator, 16 bytes per sample (docs/bidirectional.md) [default: the dataset's last pass's]"))
+)]
 pub struct ExtendArgs {
     /// Where to write the result (default: replace the dataset, which the result contains).
     #[arg(short, long)]
