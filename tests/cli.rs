@@ -423,6 +423,8 @@ fn render_and_walk_with_the_bidirectional_estimator() {
         d,
     ));
     assert!(d.join("frames/frame_00002.exr").exists());
+}
+
 #[test]
 fn every_verb_that_loads_a_scene_takes_its_parameters() {
     let dir = tempfile::tempdir().unwrap();

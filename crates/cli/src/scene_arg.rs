@@ -15,6 +15,8 @@ pub const BUILTINS: &[&str] = &[BUILTIN_CORNELL];
 /// Whether `spec` names a built-in scene (`builtin:…`), known or not.
 pub fn is_builtin(spec: &str) -> bool {
     spec.starts_with("builtin:")
+}
+
 /// The `-D` option of every verb that loads a scene.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct DefineArgs {

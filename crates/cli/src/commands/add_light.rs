@@ -36,7 +36,8 @@ pub struct Args {
 
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
-    let Extending { output, lock: _lock, opened } = a.extend.begin(&a.dataset, a.scene.as_deref(), &a.defines)?;
+    let Extending { output, lock: _lock, opened } =
+        a.extend.begin(&a.dataset, a.scene.as_deref(), &a.defines)?;
     let Opened { reader, scene, scene_spec, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) =

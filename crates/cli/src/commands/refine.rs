@@ -35,7 +35,8 @@ pub struct Args {
 
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
-    let Extending { output, lock: _lock, opened } = a.extend.begin(&a.dataset, a.scene.as_deref(), &a.defines)?;
+    let Extending { output, lock: _lock, opened } =
+        a.extend.begin(&a.dataset, a.scene.as_deref(), &a.defines)?;
     let Opened { reader, scene, scene_spec, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)

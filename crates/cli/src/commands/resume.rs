@@ -47,7 +47,8 @@ pub fn run(a: Args) -> Result<()> {
     let output = a.output.clone().unwrap_or_else(|| finished_path(&a.partial));
     let intent = WriteIntent { inputs: &[], resuming: Some(&a.partial), overwrite: a.overwrite };
     let _lock = begin_dataset_write(&output, intent)?;
-    let Opened { reader, scene, scene_spec, .. } = open_with_scene(&a.partial, a.scene.as_deref(), &a.defines)?;
+    let Opened { reader, scene, scene_spec, .. } =
+        open_with_scene(&a.partial, a.scene.as_deref(), &a.defines)?;
     let mut header = reader.header().clone();
     let partial = a.partial.display();
     let pass = resume_plan(&header, &scene).map_err(|e| match e {

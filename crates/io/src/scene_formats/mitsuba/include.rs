@@ -70,10 +70,11 @@ impl Expander {
                 "path" if root => self.path(&c)?,
                 "path" => return Err(c.err("<path> is allowed only directly inside <scene>")),
                 _ => {
-                    if top && c.tag == "default" {
-                        if let (Some(n), Some(v)) = (c.raw("name"), c.raw("value")) {
-                            self.vars.entry(n.to_string()).or_insert_with(|| v.to_string());
-                        }
+                    if top
+                        && c.tag == "default"
+                        && let (Some(n), Some(v)) = (c.raw("name"), c.raw("value"))
+                    {
+                        self.vars.entry(n.to_string()).or_insert_with(|| v.to_string());
                     }
                     self.children(&mut c, false, false)?;
                     out.push(c);
