@@ -1,10 +1,18 @@
 #!/usr/bin/env bash
 # Runs the fuzz targets, each for SECONDS seconds (default 20), from seeds taken from testdata/,
 # scenes/ and fuzz/seeds/ (copied into fuzz/corpus/, which keeps what the fuzzer finds between
-# runs and is not committed). Needs the nightly toolchain and cargo-fuzz (`cargo install
-# cargo-fuzz`). A crash stops the run with the input saved under fuzz/artifacts/TARGET/: fix
-# the defect, then commit the input under testdata/fuzz-regressions/TARGET/ (a stable test
-# replays every file there).
+# runs and is not committed). Needs only the nightly toolchain (`rustup toolchain install
+# nightly`): the targets are built here with the coverage instrumentation libFuzzer needs, the
+# flags cargo-fuzz passes, so cargo-fuzz itself is not needed (`cargo fuzz run TARGET` works as
+# well, for a sanitizer or a longer campaign).
+#
+# No sanitizer by default: the readers are safe Rust, and without AddressSanitizer the targets
+# build about twice as fast and run several times as many executions in the same seconds, which
+# is what a short CI run needs. OPTICKS_FUZZ_SANITIZER=address adds it.
+#
+# A crash stops the run with the input saved under fuzz/artifacts/TARGET/: fix the defect, then
+# commit the input under testdata/fuzz-regressions/TARGET/ (a stable test replays every file
+# there).
 #
 #   fuzz/run.sh            # every target, 20 s each
 #   fuzz/run.sh 600 vrml   # one target, ten minutes
@@ -36,10 +44,26 @@ seed ies $(find ../testdata ../scenes -name '*.ies')
 seed camera_path seeds/camera_path/*
 seed dataset seeds/dataset/*
 
+# The instrumentation of `cargo fuzz build -O`: coverage counters and comparison tracing for
+# libFuzzer, debug assertions and overflow checks on. An explicit --target keeps build scripts
+# and proc-macros uninstrumented.
+triple=$(rustc +nightly -vV | sed -n 's/^host: //p')
+flags="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4"
+flags+=" -Cllvm-args=-sanitizer-coverage-inline-8bit-counters -Cllvm-args=-sanitizer-coverage-pc-table"
+flags+=" -Cllvm-args=-sanitizer-coverage-trace-compares --cfg fuzzing -Cdebug-assertions -Coverflow-checks"
+if [ "${OPTICKS_FUZZ_SANITIZER:-none}" = address ]; then
+    flags+=" -Zsanitizer=address"
+fi
+echo "== building the fuzz targets (nightly, $triple)"
+bins=()
+for t in "${targets[@]}"; do bins+=(--bin "$t"); done
+RUSTFLAGS="$flags" cargo +nightly build --release --target "$triple" "${bins[@]}"
+
 for t in "${targets[@]}"; do
     echo "== fuzzing $t for ${seconds} s"
+    mkdir -p "artifacts/$t"
     # -rss_limit_mb: a reader must never need more for a small input; -timeout: nor hang.
-    cargo +nightly fuzz run -O "$t" "corpus/$t" -- \
+    "target/$triple/release/$t" "corpus/$t" -artifact_prefix="artifacts/$t/" \
         -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 2>&1 |
         grep -E '^(==|stat::number_of_executed_units|Done|SUMMARY|ERROR|.*(panicked|deadly signal|Test unit written))' || true
     # grep swallowed the exit status: a crash leaves an artifact, which is what fails the run.
