@@ -10,7 +10,8 @@ mod common;
 use common::*;
 use glam::DVec3;
 use opticks_core::bsdf::{
-    Bsdf, Material, ModifiedPhong, RoughConductor, SmoothConductor, SmoothDielectric, TransportMode,
+    Bsdf, Material, ModifiedPhong, RoughConductor, SmoothConductor, SmoothDielectric, ThinDielectric,
+    TransportMode,
 };
 use opticks_core::dataset::{Chunk, Directions, Sample, subset};
 use opticks_core::geometry::{Ray, offset_ray_origin};
@@ -37,7 +38,8 @@ fn camera_half_alone_sees_the_emissive_furnace_uniform() {
 }
 
 /// An open box (floor, three walls; Lambertian, Phong and GGX surfaces), a mirror, a glass ball
-/// with smooth shading normals, a small ceiling panel light, a point light and a sun.
+/// with smooth shading normals, a thin dielectric pane (both faces, reflection and straight
+/// transmission), a small ceiling panel light, a point light and a sun.
 fn weights_scene() -> SceneDescription {
     let phong = ModifiedPhong::new(Rgb::splat(0.3), Rgb::splat(0.5), 40.0).unwrap();
     let ggx = RoughConductor::new(0.2, Rgb::splat(0.9), None).unwrap();
@@ -56,6 +58,11 @@ fn weights_scene() -> SceneDescription {
             two_sided: false,
         },
         lambert("lamp", 0.0, false),
+        Material {
+            name: "pane".into(),
+            bsdf: Bsdf::ThinDielectric(ThinDielectric::new(2.4, 1.0, Rgb::ONE, Rgb::splat(0.8)).unwrap()),
+            two_sided: true,
+        },
     ];
     let mut meshes = inward_box(Vec3::splat(-1.0), Vec3::splat(1.0), 0, None);
     meshes.retain(|m| m.name != "ceiling" && m.name != "z1");
@@ -71,6 +78,17 @@ fn weights_scene() -> SceneDescription {
             Vec3::new(0.2, -0.3, -0.9),
         ],
         3,
+        None,
+    ));
+    meshes.push(quad(
+        "pane",
+        [
+            Vec3::new(-0.9, -1.0, 0.5),
+            Vec3::new(-0.1, -1.0, 0.8),
+            Vec3::new(-0.1, -0.2, 0.8),
+            Vec3::new(-0.9, -0.2, 0.5),
+        ],
+        6,
         None,
     ));
     let mut ball = icosphere("ball", Vec3::new(-0.4, -0.6, 0.1), 0.3, 2, 4);
@@ -156,7 +174,7 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
                 Renderer::new(&scene, sensor, views, &names, &flux, settings, 1_000 + 37_000 * case as u64);
             let ctx = renderer.context();
             let mut trials = 0;
-            while trials < 1500 {
+            while trials < 1800 {
                 trials += 1;
                 let k = (rng.next_f32() * names.len() as f32) as usize % names.len();
                 let Some(path) = light_path(&scene, k, heuristic, directions, &mut rng) else { continue };
@@ -292,7 +310,7 @@ fn light_path(
         } else {
             m.sample_world(n, wi, rng.next_f32(), rng.next_2d(), TransportMode::Importance)?
         };
-        let rev = m.pdf_world(n, s.wo, wi);
+        let rev = m.pdf_world_of(n, s.wo, wi, s.delta);
         state = Some(st);
         pending = Some((hit.normal, s.pdf, rev, s.delta));
         origin = offset_ray_origin(hit.position, hit.normal, s.wo);

@@ -28,7 +28,7 @@ Run from the repository root (a few minutes per scene on 2 cores):
     export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
     /work/venv-mitsuba/bin/python tests/mitsuba/render_reference.py [NAME ...] \
         [--passes 16] [--spp 512] [--competitor-spp 64] [--threads 2] \
-        [--integrator path] [--max-depth -1] [--scene scene-gold.xml]
+        [--integrator path] [--max-depth -1] [--scene scene-gold.xml] [--output-stem reference-path]
 """
 import argparse
 import json
@@ -59,6 +59,10 @@ def main():
     ap.add_argument('--max-depth', type=int, default=-1)
     ap.add_argument('--scene', default='scene.xml',
                     help='scene file in each folder (scene-X.xml writes reference-X.*)')
+    ap.add_argument('--output-stem', default=None,
+                    help='name of the outputs (STEM.exr, STEM.png, STEM_stats.json; default '
+                    'reference, or reference-X for scene-X.xml), e.g. reference-path for a path '
+                    'tracer reference beside a particle tracer one')
     ap.add_argument('--competitor-spp', type=int, default=64)
     ap.add_argument('--threads', type=int, default=None)
     ap.add_argument('--exposure', type=float, default=1.0, help='for reference.png only')
@@ -76,7 +80,7 @@ def main():
         dr.set_thread_count(args.threads)
     integrator = mi.load_dict({'type': args.integrator, 'max_depth': args.max_depth})
     stem = os.path.splitext(args.scene)[0]
-    ref_name = 'reference' + (stem[len('scene'):] if stem.startswith('scene') else '-' + stem)
+    ref_name = args.output_stem or ('reference' + (stem[len('scene'):] if stem.startswith('scene') else '-' + stem))
 
     for name in args.names:
         src, dst = os.path.join(REPO, 'scenes', name), os.path.join(REPO, 'testdata', 'mitsuba', name)

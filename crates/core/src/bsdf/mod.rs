@@ -134,16 +134,24 @@ impl Bsdf {
         }
     }
 
-    /// For a delta BSDF, the discrete probability with which [`Bsdf::sample`] given `wi` picks
-    /// the lobe that leads to `wo` (`wo` assumed to be that lobe's direction; the same in both
-    /// transport modes): 1 for a mirror lit from the front, F or 1 − F for smooth glass. Zero
-    /// for the other BSDFs, whose densities are [`Bsdf::pdf`].
+    /// For a delta event (a direction [`Bsdf::sample`] returned with `delta` set), the discrete
+    /// probability with which [`Bsdf::sample`] given `wi` picks the delta lobe that leads to
+    /// `wo` (`wo` assumed to be that lobe's direction; the same in both transport modes): 1 for
+    /// a mirror lit from the front, F or 1 − F for smooth glass, R or 1 − R for a thin sheet,
+    /// the coating's share for a plastic. Zero for BSDFs without a delta lobe, whose densities
+    /// are [`Bsdf::pdf`]. Every BSDF with a delta lobe must answer here: MIS divides by it.
     #[inline]
     pub fn lobe_probability(&self, wi: Vec3, wo: Vec3) -> f32 {
         match self {
             Bsdf::SmoothConductor(_) if wi.z > 0.0 => 1.0,
             Bsdf::SmoothDielectric(b) => b.lobe_probability(wi, wo),
-            _ => 0.0,
+            Bsdf::ThinDielectric(b) => b.lobe_probability(wi, wo),
+            Bsdf::Plastic(b) => b.coating_probability(wi, wo),
+            Bsdf::SmoothConductor(_)
+            | Bsdf::Lambert(_)
+            | Bsdf::ModifiedPhong(_)
+            | Bsdf::RoughConductor(_)
+            | Bsdf::RoughDielectric(_) => 0.0,
         }
     }
 
@@ -276,15 +284,25 @@ impl Material {
     /// the lobe leading to `wo` ([`Bsdf::lobe_probability`]); 0 where `sample_world` never
     /// returns `wo` (the side refused by [`Material::frame_for`], the light-leak guard). The
     /// camera tracer's density at a surface, and the light tracer's under
-    /// `Directions::Importance` (`crate::trace::light_direction_pdf` says which).
+    /// `Directions::Importance` (`crate::trace::light_direction_pdf` says which). For a BSDF
+    /// with both kinds of lobe (plastic) this is the non-delta density: a delta event's is
+    /// [`Material::pdf_world_of`] with `delta` set.
     #[inline]
     pub fn pdf_world(&self, n: SurfaceNormals, wi: Vec3, wo: Vec3) -> f32 {
+        self.pdf_world_of(n, wi, wo, self.bsdf.is_delta())
+    }
+
+    /// [`Material::pdf_world`] for one kind of event: with `delta`, the probability of the delta
+    /// lobe leading to `wo` ([`Bsdf::lobe_probability`]), else the density of the other lobes
+    /// ([`Bsdf::pdf`]). MIS takes the kind from the sampled event (`BsdfSample::delta`).
+    #[inline]
+    pub fn pdf_world_of(&self, n: SurfaceNormals, wi: Vec3, wo: Vec3, delta: bool) -> f32 {
         let Some(f) = self.frame_for(n, wi) else { return 0.0 };
         let (a, b) = (f.frame.to_local(wi), f.frame.to_local(wo));
         if !f.flat && !f.agrees(wi, wo, a, b) {
             return 0.0;
         }
-        if self.bsdf.is_delta() { self.bsdf.lobe_probability(a, b) } else { self.bsdf.pdf(a, b) }
+        if delta { self.bsdf.lobe_probability(a, b) } else { self.bsdf.pdf(a, b) }
     }
 
     /// The density with which [`Material::sample_uniform_world`] given `wi` returns `wo`:

@@ -89,6 +89,16 @@ impl Plastic {
         if s + d > 0.0 { s / (s + d) } else { 0.0 }
     }
 
+    /// The probability with which [`Plastic::sample`] given `wi` picks the coating's delta lobe
+    /// (whose direction `wo` is the mirror of `wi`): P_spec, or 0 from below.
+    #[inline]
+    pub fn coating_probability(&self, wi: Vec3, wo: Vec3) -> f32 {
+        if !(wi.z > 0.0 && wo.z > 0.0) {
+            return 0.0;
+        }
+        self.specular_probability(fresnel::dielectric(wi.z, self.eta).0)
+    }
+
     /// The diffuse part f(wi → wo) (the delta lobe is not a function).
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {

@@ -48,6 +48,17 @@ impl ThinDielectric {
         r * 2.0 / (1.0 + r)
     }
 
+    /// The probability with which [`ThinDielectric::sample`] given `wi` picks the lobe leading
+    /// to `wo`: R for the reflection (same side), 1 − R for the transmission.
+    #[inline]
+    pub fn lobe_probability(&self, wi: Vec3, wo: Vec3) -> f32 {
+        if wi.z == 0.0 || !wi.is_finite() {
+            return 0.0;
+        }
+        let r = self.reflectance(wi.z);
+        if wi.z * wo.z > 0.0 { r } else { 1.0 - r }
+    }
+
     /// Reflection with probability R (weight `specular_reflectance`), else straight
     /// transmission (weight `specular_transmittance`).
     #[inline]

@@ -43,7 +43,9 @@ pub fn samples_uniformly(directions: Directions, bsdf: &Bsdf) -> bool {
 /// from `wi` (both unit, pointing away from the surface): [`Material::pdf_uniform_world`]
 /// where [`samples_uniformly`], else [`Material::pdf_world`] (importance sampling; for a delta
 /// BSDF the probability of the lobe leading to `wo`, which must then be that lobe's
-/// direction). Zero where the tracer never continues in `wo`.
+/// direction). Zero where the tracer never continues in `wo`. `delta` says which kind of event
+/// the density is for (`BsdfSample::delta`): a plastic has both, and a delta event's density is
+/// its coating's lobe probability ([`Material::pdf_world_of`]).
 ///
 /// The camera side uses it for the light tracer's density of continuing from a camera vertex
 /// (`CameraVertexMis::after_scatter`'s `pdf_rev_w`: `wi` the next camera direction, `wo`
@@ -56,11 +58,14 @@ pub fn light_direction_pdf(
     wi: Vec3,
     wo: Vec3,
     directions: Directions,
+    delta: bool,
 ) -> f32 {
-    if samples_uniformly(directions, &material.bsdf) {
+    if delta {
+        material.pdf_world_of(n, wi, wo, true)
+    } else if samples_uniformly(directions, &material.bsdf) {
         material.pdf_uniform_world(n, wi, wo)
     } else {
-        material.pdf_world(n, wi, wo)
+        material.pdf_world_of(n, wi, wo, material.bsdf.is_delta())
     }
 }
 

@@ -240,7 +240,7 @@ fn walk<M: PathMis>(
             };
             if beta.max_element() > 0.0 {
                 // The camera tracer, arriving from s.wo, would continue toward wi.
-                let rev = || material.pdf_world(normals, s.wo, wi);
+                let rev = || material.pdf_world_of(normals, s.wo, wi, s.delta);
                 let mis = mis.after_scatter(s.wo.dot(hit.normal).abs(), s.pdf, rev, s.delta);
                 stack.push(Branch {
                     origin: offset_ray_origin(hit.position, hit.normal, s.wo),

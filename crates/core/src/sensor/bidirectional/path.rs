@@ -120,7 +120,7 @@ pub fn scatter_mis(
     delta: bool,
 ) -> CameraVertexMis {
     // The light tracer arriving along `wo` and continuing to `to_camera` (for a delta event
-    // the probability of that lobe, the same for both tracers).
-    let pdf_rev = light_direction_pdf(material, normals, wo, to_camera, directions);
+    // the probability of that lobe, the same for both tracers; a plastic has both kinds).
+    let pdf_rev = light_direction_pdf(material, normals, wo, to_camera, directions, delta);
     mis.after_scatter(normals.geometric.dot(wo).abs(), pdf_fwd, pdf_rev, delta)
 }

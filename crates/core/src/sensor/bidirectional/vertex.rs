@@ -74,7 +74,14 @@ impl Receiver<'_> {
         ConnectionEnd {
             cos: self.normals.geometric.dot(to_light).abs(),
             pdf_fwd_w: self.material.pdf_world(self.normals, self.to_camera, to_light),
-            pdf_rev_w: light_direction_pdf(self.material, self.normals, to_light, self.to_camera, directions),
+            pdf_rev_w: light_direction_pdf(
+                self.material,
+                self.normals,
+                to_light,
+                self.to_camera,
+                directions,
+                false,
+            ),
         }
     }
 
@@ -163,7 +170,7 @@ pub fn connection_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, 
     let from = v.sample.from_dir();
     let at_light = ConnectionEnd {
         cos: n_y.geometric.dot(dir).abs(),
-        pdf_fwd_w: light_direction_pdf(m_y, n_y, from, -dir, ctx.directions),
+        pdf_fwd_w: light_direction_pdf(m_y, n_y, from, -dir, ctx.directions, false),
         pdf_rev_w: m_y.pdf_world(n_y, -dir, from),
     };
     let state = LightVertexMis::from_record(v.record, ctx.heuristic);
