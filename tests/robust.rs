@@ -115,7 +115,7 @@ fn every_stop_signal_saves_the_work_and_cleans_up() {
 }
 
 /// Items 2 and 21: a run killed outright (kill -9) leaves its temporary file; the next run on
-/// the same output removes it and says so.
+/// the same output removes it and says so — for datasets, images, meter tables and heat maps.
 #[cfg(unix)]
 #[test]
 fn a_killed_runs_temporary_file_is_removed_by_the_next_run() {
@@ -133,6 +133,21 @@ fn a_killed_runs_temporary_file_is_removed_by_the_next_run() {
     );
     assert!(out.contains("killed"), "{out}");
     assert_eq!(files(d), ["k.opds"]);
+
+    // Images, meter tables and heat maps too: the killed process's temporary files (what a
+    // kill -9 during their write leaves) are removed by the next write of the same output.
+    let dead = child.id();
+    let left: Vec<String> =
+        ["k.png", "m.csv", "m.png"].iter().map(|f| format!(".{f}.tmp-{dead}-0")).collect();
+    left.iter().for_each(|f| std::fs::write(d.join(f), b"half a file").unwrap());
+    let out = ok(&["render", "k.opds", "-o", "k.png", "--size", "16x16"], d);
+    assert!(out.contains(&left[0]) && out.contains("killed"), "{out}");
+    let out = ok(
+        &["measure", "k.opds", "--surface", "light", "--cells", "2x2", "-o", "m.csv", "--png", "m.png"],
+        d,
+    );
+    assert!(out.contains(&left[1]) && out.contains(&left[2]), "{out}");
+    assert_eq!(files(d), ["k.opds", "k.png", "m.csv", "m.png"]);
 }
 
 /// Item 21: a second writer of a dataset is refused while the first runs; an interrupted run's
