@@ -202,6 +202,36 @@ fn writers_take_turns_and_partial_runs_are_never_overwritten() {
     assert!(!d.join("d.partial.opds").exists());
 }
 
+/// Items 1 and 21 for `upgrade`: it obeys the output rules and the write lock of every other
+/// dataset writer (it used to write anywhere: onto another dataset, under any extension, while
+/// another process wrote the same file).
+#[cfg(unix)]
+#[test]
+fn upgrade_obeys_the_output_rules_and_the_write_lock() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for name in ["a.opds", "b.opds"] {
+        ok(&["trace", "builtin:cornell", "--paths", "4096", "--mis-records", "none", "-o", name], d);
+    }
+    let b = std::fs::read(d.join("b.opds")).unwrap();
+    let e = fails(&["upgrade", "a.opds", "-o", "b.opds"], d);
+    assert!(e.contains("b.opds exists and would be replaced") && e.contains("--overwrite"), "{e}");
+    let e = fails(&["upgrade", "a.opds", "-o", "a.png"], d);
+    assert!(e.contains(".opds"), "{e}");
+    assert!(std::fs::read(d.join("b.opds")).unwrap() == b && !d.join("a.png").exists());
+    // A second writer of the same output is refused while the first runs.
+    let mut child = start_long(&["trace", "builtin:cornell", "--paths", "4e9", "-o", "c.opds"], d, "c.opds");
+    let e = fails(&["upgrade", "a.opds", "-o", "c.opds"], d);
+    assert!(e.contains(&format!("c.opds is being written by another process (pid {})", child.id())), "{e}");
+    kill(&child, "-KILL");
+    child.wait().unwrap();
+    // In place, and onto another dataset with --overwrite.
+    ok(&["upgrade", "a.opds", "-o", "b.opds", "--overwrite"], d);
+    ok(&["upgrade", "a.opds"], d);
+    assert!(std::fs::read(d.join("b.opds")).unwrap() == std::fs::read(d.join("a.opds")).unwrap());
+    assert!(std::fs::read(d.join("b.opds")).unwrap() != b, "the records were added");
+}
+
 /// Item 3: a full disk keeps the chunks written so far as a valid, resumable partial dataset,
 /// and the error names the target, not the hidden temporary file.
 #[test]
