@@ -1,32 +1,14 @@
 //! The `opticks` binary end to end, in a temporary directory, as a user would run it.
 
+mod cli_run;
 mod common;
 
+use cli_run::*;
 use common::*;
 use opticks_io::dataset_file::{DatasetReader, read_all};
 use opticks_io::image_file::read_exr_rgb;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn opticks(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_opticks")).args(args).current_dir(dir).output().expect("runs opticks")
-}
-
-fn ok(out: Output) -> String {
-    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "opticks failed:\nstdout: {so}\nstderr: {se}");
-    so.into_owned()
-}
-
-/// Runs a command that must fail; returns its stderr.
-fn fails(args: &[&str], dir: &Path) -> String {
-    let out = opticks(args, dir);
-    let se = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!out.status.success(), "expected failure of {args:?}, got success; stderr: {se}");
-    assert!(se.starts_with("error: "), "error message should start with 'error: ': {se}");
-    assert!(!se.contains("panicked"), "must not panic: {se}");
-    se
-}
+use std::process::Command;
 
 fn mean(rgb: &[f32]) -> [f64; 3] {
     let mut m = [0.0; 3];
@@ -48,7 +30,7 @@ fn assert_mean_close(rgb: &[f32], name: &str, tol: f64) {
 #[test]
 fn demo_writes_png_and_exr() {
     let dir = tempfile::tempdir().unwrap();
-    let out = ok(opticks(&["demo", "--paths", "300000"], dir.path()));
+    let out = stdout(&["demo", "--paths", "300000"], dir.path());
     assert!(out.contains("opticks-demo/cornell.png") && out.contains("opticks-demo/cornell.exr"), "{out}");
     let folder = dir.path().join("opticks-demo");
     let png = image::ImageReader::open(folder.join("cornell.png")).unwrap().decode().unwrap();
@@ -67,17 +49,17 @@ fn trace_info_render_from_the_scene_camera_and_another() {
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_file("cornell", "scene.xml");
     let scene = scene.to_str().unwrap();
-    ok(opticks(&["trace", scene, "--paths", "500000", "-o", "c.opds", "--seed", "3"], dir.path()));
-    let info = ok(opticks(&["info", "c.opds"], dir.path()));
+    stdout(&["trace", scene, "--paths", "500000", "-o", "c.opds", "--seed", "3"], dir.path());
+    let info = stdout(&["info", "c.opds"], dir.path());
     for needle in ["500000", "light", "samples", "bytes/sample", "seed 3"] {
         assert!(info.contains(needle), "info lacks '{needle}':\n{info}");
     }
-    ok(opticks(&["render", "c.opds", "-o", "c.exr"], dir.path()));
+    stdout(&["render", "c.opds", "-o", "c.exr"], dir.path());
     let (w, h, rgb) = read_exr_rgb(&dir.path().join("c.exr")).unwrap();
     assert_eq!((w, h), (256, 256));
     assert_mean_close(&rgb, "cornell", 0.02);
     // The same dataset from elsewhere: no re-trace, another camera, another size.
-    ok(opticks(
+    stdout(
         &[
             "render",
             "c.opds",
@@ -93,11 +75,11 @@ fn trace_info_render_from_the_scene_camera_and_another() {
             "60",
         ],
         dir.path(),
-    ));
+    );
     let (w, h, side) = read_exr_rgb(&dir.path().join("side.exr")).unwrap();
     assert_eq!((w, h), (64, 48));
     assert!(mean(&side)[0] > 0.05, "the box is visible from the new viewpoint");
-    ok(opticks(&["render", "c.opds", "-o", "c.png", "--exposure", "1"], dir.path()));
+    stdout(&["render", "c.opds", "-o", "c.png", "--exposure", "1"], dir.path());
     assert!(dir.path().join("c.png").exists());
 }
 
@@ -106,9 +88,9 @@ fn a_seed_gives_the_same_dataset_whatever_the_thread_count() {
     let dir = tempfile::tempdir().unwrap();
     let scene = scene_file("cornell", "scene.xml");
     let scene = scene.to_str().unwrap();
-    ok(opticks(&["trace", scene, "--paths", "100000", "-o", "one.opds", "--threads", "1"], dir.path()));
-    ok(opticks(&["trace", scene, "--paths", "100000", "-o", "two.opds", "--threads", "2"], dir.path()));
-    ok(opticks(&["trace", scene, "--paths", "100000", "-o", "other.opds", "--seed", "1"], dir.path()));
+    stdout(&["trace", scene, "--paths", "100000", "-o", "one.opds", "--threads", "1"], dir.path());
+    stdout(&["trace", scene, "--paths", "100000", "-o", "two.opds", "--threads", "2"], dir.path());
+    stdout(&["trace", scene, "--paths", "100000", "-o", "other.opds", "--seed", "1"], dir.path());
     // Everything but the passes' wall-clock times must be identical.
     let read = |f: &str| {
         let (mut h, chunks) = read_all(&dir.path().join(f)).unwrap();
@@ -153,7 +135,7 @@ fn bad_datasets_are_clear_errors_and_never_damage_files() {
     let d = dir.path();
     let cornell = scene_file("cornell", "scene.xml");
     let furnace = scene_file("furnace", "scene.xml");
-    ok(opticks(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "good.opds"], d));
+    stdout(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "good.opds"], d);
     let good = std::fs::read(d.join("good.opds")).unwrap();
 
     std::fs::write(d.join("truncated.opds"), &good[..good.len() * 2 / 3]).unwrap();
@@ -206,7 +188,7 @@ fn ctrl_c_saves_the_paths_traced_so_far_and_leaves_the_old_dataset() {
     let d = dir.path();
     let cornell = scene_file("cornell", "scene.xml");
     let cornell = cornell.to_str().unwrap();
-    ok(opticks(&["trace", cornell, "--paths", "10000", "-o", "data.opds"], d));
+    stdout(&["trace", cornell, "--paths", "10000", "-o", "data.opds"], d);
     let before = std::fs::read(d.join("data.opds")).unwrap();
     let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
         .args(["trace", cornell, "--paths", "2000000000", "-o", "data.opds", "--overwrite"])
@@ -237,15 +219,15 @@ fn ctrl_c_saves_the_paths_traced_so_far_and_leaves_the_old_dataset() {
 fn demo_exports_its_scene_as_vrml_that_traces_like_the_builtin() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    ok(opticks(&["demo", "--export-scene", "cornell.wrl"], d));
+    stdout(&["demo", "--export-scene", "cornell.wrl"], d);
     let text = std::fs::read_to_string(d.join("cornell.wrl")).unwrap();
     assert!(
         text.starts_with("#VRML V2.0 utf8") && text.contains("PROTO PhysicalMaterial"),
         "{}",
         &text[..200]
     );
-    ok(opticks(&["trace", "cornell.wrl", "--paths", "300000", "-o", "w.opds"], d));
-    ok(opticks(&["render", "w.opds", "-o", "w.exr"], d));
+    stdout(&["trace", "cornell.wrl", "--paths", "300000", "-o", "w.opds"], d);
+    stdout(&["render", "w.opds", "-o", "w.exr"], d);
     let (w, h, rgb) = read_exr_rgb(&d.join("w.exr")).unwrap();
     assert_eq!((w, h), (256, 256));
     assert_mean_close(&rgb, "cornell", 0.03);
@@ -256,7 +238,7 @@ fn demo_exports_its_scene_as_vrml_that_traces_like_the_builtin() {
 #[test]
 fn every_verb_has_help() {
     let dir = tempfile::tempdir().unwrap();
-    let top = ok(opticks(&["--help"], dir.path()));
+    let top = stdout(&["--help"], dir.path());
     let verbs: Vec<&str> = top
         .lines()
         .skip_while(|l| !l.starts_with("Commands:"))
@@ -269,7 +251,7 @@ fn every_verb_has_help() {
         assert!(verbs.contains(&verb), "`opticks --help` lists {verbs:?}, not {verb}");
     }
     for verb in verbs {
-        let help = ok(opticks(&[verb, "--help"], dir.path()));
+        let help = stdout(&[verb, "--help"], dir.path());
         assert!(help.contains(&format!("Usage: opticks {verb}")), "{verb} --help:\n{help}");
     }
 }
@@ -280,10 +262,10 @@ fn every_verb_has_help() {
 fn bench_reports_speed_and_quality() {
     let dir = tempfile::tempdir().unwrap();
     let reference = scene_file("cornell", "reference.exr");
-    let out = ok(opticks(
+    let out = stdout(
         &["bench", "--paths", "65536", "--repeat", "1", "--reference", reference.to_str().unwrap()],
         dir.path(),
-    ));
+    );
     for field in ["M paths/s", "M samples/s", "samples/path", "relMSE", "efficiency"] {
         assert!(out.contains(field), "bench output lacks {field}:\n{out}");
     }
@@ -355,14 +337,13 @@ fn render_and_walk_with_the_bidirectional_estimator() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let scene = scene_file("cornell", "scene.xml");
-    ok(opticks(&["trace", scene.to_str().unwrap(), "--paths", "200000", "-o", "c.opds"], d));
-    let out =
-        ok(opticks(&["render", "c.opds", "-o", "b.exr", "--estimator", "bidirectional", "--spp", "4"], d));
+    stdout(&["trace", scene.to_str().unwrap(), "--paths", "200000", "-o", "c.opds"], d);
+    let out = stdout(&["render", "c.opds", "-o", "b.exr", "--estimator", "bidirectional", "--spp", "4"], d);
     assert!(out.contains("bidirectionally") && out.contains("4 camera paths per pixel"), "{out}");
     let (w, h, rgb) = read_exr_rgb(&d.join("b.exr")).unwrap();
     assert_eq!((w, h), (256, 256));
     assert_mean_close(&rgb, "cornell", 0.02);
-    let out = ok(opticks(
+    let out = stdout(
         &[
             "render",
             "c.opds",
@@ -378,7 +359,7 @@ fn render_and_walk_with_the_bidirectional_estimator() {
             "64x64",
         ],
         d,
-    ));
+    );
     assert!(out.contains("passes") && out.contains("estimated relative error"), "{out}");
     let e = fails(&["render", "c.opds", "-o", "x.exr", "--time", "1"], d);
     assert!(e.contains("--time applies to --estimator bidirectional"), "{e}");
@@ -405,7 +386,7 @@ fn render_and_walk_with_the_bidirectional_estimator() {
         r#"{"fps": 2, "size": [32, 32], "keyframes": [{"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [0.3, 0, 3.9], "target": [0, 0, 0]}]}"#,
     )
     .unwrap();
-    ok(opticks(
+    stdout(
         &[
             "walk",
             "c.opds",
@@ -421,7 +402,7 @@ fn render_and_walk_with_the_bidirectional_estimator() {
             "2",
         ],
         d,
-    ));
+    );
     assert!(d.join("frames/frame_00002.exr").exists());
 }
 
@@ -439,13 +420,13 @@ fn every_verb_that_loads_a_scene_takes_its_parameters() {
 </scene>"#;
     std::fs::write(dir.path().join("s.xml"), xml).unwrap();
     let d = dir.path();
-    ok(opticks(&["trace", "s.xml", "--paths", "20000", "-o", "a.opds", "-D", "r=0.25"], d));
+    stdout(&["trace", "s.xml", "--paths", "20000", "-o", "a.opds", "-D", "r=0.25"], d);
     let e = fails(&["render", "a.opds", "-o", "a.exr"], d);
     assert!(e.contains("different scene"), "{e}");
     for verb in [&["render", "a.opds", "-o", "a.exr"][..], &["refine", "a.opds", "--paths", "4096"]] {
-        ok(opticks(&[verb, &["-Dr=0.25"]].concat(), d));
+        stdout(&[verb, &["-Dr=0.25"]].concat(), d);
     }
-    ok(opticks(&["bench", "s.xml", "--paths", "4096", "--repeat", "1", "-D", "r=0.75"], d));
+    stdout(&["bench", "s.xml", "--paths", "4096", "--repeat", "1", "-D", "r=0.75"], d);
     let e = fails(&["trace", "s.xml", "--paths", "10", "-o", "b.opds", "-D", "r"], d);
     assert!(e.contains("expected NAME=VALUE"), "{e}");
     let e = fails(&["trace", "builtin:cornell", "--paths", "10", "-o", "b.opds", "-D", "r=1"], d);

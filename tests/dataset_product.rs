@@ -66,13 +66,6 @@ fn flux(dataset: &Path) -> [f64; 3] {
     sum
 }
 
-fn files(dir: &Path) -> Vec<String> {
-    let mut names: Vec<_> =
-        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
-    names.sort();
-    names
-}
-
 /// The Cornell box with `edit` applied to its scene file (mesh paths made absolute).
 fn edited_cornell(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> String {
     let xml = std::fs::read_to_string(scene_file("cornell", "scene.xml")).unwrap();

@@ -1,5 +1,7 @@
 //! Running the `opticks` binary from the end-to-end tests of the CLI package (which alone has
-//! `CARGO_BIN_EXE_opticks`): run it in a folder, expect success or a clean failure.
+//! `CARGO_BIN_EXE_opticks`): run it in a folder, expect success or a clean failure, list what
+//! it left there. Every end-to-end test that runs the binary uses these (one definition of what
+//! "a clean failure" is).
 
 #![allow(dead_code)] // each test binary uses a different subset
 
@@ -22,6 +24,7 @@ pub fn opticks(args: &[&str], dir: &Path) -> Output {
 }
 
 /// Runs it, expects success, returns stdout and stderr.
+#[track_caller]
 pub fn ok(args: &[&str], dir: &Path) -> String {
     let out = opticks(args, dir);
     let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
@@ -29,11 +32,32 @@ pub fn ok(args: &[&str], dir: &Path) -> String {
     format!("{so}{se}")
 }
 
-/// Runs it, expects a clean failure (an `error:` line, no panic), returns stderr.
+/// Runs it, expects success, returns stdout alone (for output a test parses: `--help`, JSON).
+#[track_caller]
+pub fn stdout(args: &[&str], dir: &Path) -> String {
+    let out = opticks(args, dir);
+    let (so, se) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(out.status.success(), "opticks {args:?} failed:\nstdout: {so}\nstderr: {se}");
+    so.into_owned()
+}
+
+/// Runs it, expects a clean failure, returns stderr: exit code 1 (an error) or 2 (clap's usage
+/// errors) — never a signal (no exit code) or an abort (134) — with an `error:` line and no panic.
+#[track_caller]
 pub fn fails(args: &[&str], dir: &Path) -> String {
     let out = opticks(args, dir);
     let se = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(!out.status.success(), "expected {args:?} to fail; stderr: {se}");
+    assert!(matches!(out.status.code(), Some(1 | 2)), "expected a clean failure of {args:?}; stderr: {se}");
     assert!(se.lines().any(|l| l.starts_with("error: ")) && !se.contains("panicked"), "{se}");
     se
+}
+
+/// The names of the files in `dir`, sorted.
+pub fn files(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
 }

@@ -1,6 +1,6 @@
 //! Who may write a dataset, and what a writer checks before it starts any work.
 //!
-//! Every verb that writes `NAME.opds` (trace, refine, add-light, resume, merge) first calls
+//! Every verb that writes `NAME.opds` (trace, refine, add-light, resume, merge, upgrade) first calls
 //! [`begin_write`], which
 //!
 //! * takes an advisory, exclusive lock on the hidden file `.NAME.opds.lock` beside the target

@@ -7,7 +7,9 @@
 //!
 //! Writes are atomic: the image is written to a temporary file in the destination directory and
 //! renamed over the destination only once it is complete, so a reader never sees a half-written
-//! image and a failed write leaves nothing behind. A buffer holding a NaN or infinite value is
+//! image and a failed write leaves nothing behind. A run killed outright (SIGKILL, a power cut)
+//! can still leave its temporary file `.NAME.tmp-PID-N`; the next write of `NAME` removes those
+//! whose process no longer exists and returns them, for the command to report. A buffer holding a NaN or infinite value is
 //! refused (the error names the first bad pixel) rather than written as a silently wrong image.
 
 use std::fs::{self, File};
@@ -124,13 +126,15 @@ pub enum ImageError {
 /// is an error, and then nothing is written. The write is atomic: a temporary file in the same
 /// directory is written, then renamed to `path` (replacing an existing file); the temporary file
 /// is removed if anything fails.
+///
+/// Returns the stale temporary files of killed runs it removed (see [`write_files_atomically`]).
 pub fn write_image(
     path: &Path,
     width: u32,
     height: u32,
     rgb: &[f32],
     exposure_stops: f32,
-) -> Result<(), ImageError> {
+) -> Result<Vec<(PathBuf, u64)>, ImageError> {
     let bytes = encode_image(path, width, height, rgb, exposure_stops)?;
     write_files_atomically(&[(path, &bytes)])
 }
@@ -326,7 +330,16 @@ fn write_png_to(
 /// Writes several files all or none: each into its temporary file first, and only when every
 /// one is complete are they renamed into place (so `measure -o x.csv --png y.png` never leaves
 /// one written and the other not because of a write error).
-pub fn write_files_atomically(files: &[(&Path, &[u8])]) -> Result<(), ImageError> {
+///
+/// Before writing, the temporary files `.NAME.tmp-PID-N` that killed runs left beside each
+/// destination `NAME` are removed, and returned with their sizes: only those whose process no
+/// longer exists (so a concurrent writer's file is never touched; on systems without `/proc`
+/// none are).
+pub fn write_files_atomically(files: &[(&Path, &[u8])]) -> Result<Vec<(PathBuf, u64)>, ImageError> {
+    let mut removed = Vec::new();
+    for &(path, _) in files {
+        removed.extend(remove_stale_temporaries(path));
+    }
     let mut done: Vec<(PathBuf, &Path)> = Vec::new();
     for &(path, bytes) in files {
         let written = write_temporary(path, |file| {
@@ -346,7 +359,35 @@ pub fn write_files_atomically(files: &[(&Path, &[u8])]) -> Result<(), ImageError
             return Err(ImageError::Io { path: path.to_path_buf(), source });
         }
     }
-    Ok(())
+    Ok(removed)
+}
+
+/// Removes `dir/.NAME.tmp-PID-N` beside `path` = `dir/NAME` whose process `PID` is not running
+/// (it was killed before it could clean up), returning each removed file with its size.
+fn remove_stale_temporaries(path: &Path) -> Vec<(PathBuf, u64)> {
+    let proc_fs = Path::new("/proc/self").exists();
+    let (Some(name), true) = (path.file_name(), proc_fs) else { return Vec::new() };
+    let prefix = format!(".{}.tmp-", name.to_string_lossy());
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let Ok(entries) = fs::read_dir(dir) else { return Vec::new() };
+    let mut removed = Vec::new();
+    for entry in entries.flatten() {
+        let file_name = entry.file_name().to_string_lossy().into_owned();
+        let Some(rest) = file_name.strip_prefix(&prefix) else { continue };
+        let Some((pid, n)) = rest.split_once('-') else { continue };
+        let (Ok(pid), true) = (pid.parse::<u32>(), n.bytes().all(|b| b.is_ascii_digit())) else { continue };
+        if pid == std::process::id() || Path::new(&format!("/proc/{pid}")).exists() {
+            continue; // a live writer's (or ours)
+        }
+        let bytes = entry.metadata().map(|m| m.len()).unwrap_or(0);
+        if fs::remove_file(entry.path()).is_ok() {
+            removed.push((entry.path(), bytes));
+        }
+    }
+    removed
 }
 
 /// A complete, synced temporary file next to `path` holding what `write` wrote, not yet renamed
@@ -409,6 +450,27 @@ mod tests {
         assert!((srgb_oetf(0.002) - 0.02584).abs() < 1e-6);
         assert_eq!(srgb8_from_linear(&[0.0, 1.0, 0.5, 0.25], 0.0), vec![0, 255, 188, 137]);
         assert_eq!(srgb8_from_linear(&[0.25], 1.0), vec![188]);
+    }
+
+    #[test]
+    fn a_killed_writers_temporary_file_is_removed_by_the_next_write() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        // A process that has exited: its pid names no live process (until reused, when the
+        // file is merely left alone).
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let stale = d.join(format!(".x.png.tmp-{dead}-0"));
+        let live = d.join(format!(".x.png.tmp-{}-7", std::process::id()));
+        let other = d.join(format!(".y.png.tmp-{dead}-0"));
+        for f in [&stale, &live, &other] {
+            std::fs::write(f, b"half an image").unwrap();
+        }
+        let removed = write_files_atomically(&[(&d.join("x.png"), b"png")]).unwrap();
+        assert_eq!(removed, vec![(stale.clone(), 13)]);
+        assert!(!stale.exists() && live.exists() && other.exists());
+        assert_eq!(std::fs::read(d.join("x.png")).unwrap(), b"png");
     }
 
     #[test]

@@ -133,11 +133,14 @@ pub fn rebase(label: &str, from: &Path, to: &Path) -> String {
     }
 }
 
-/// How `opticks info` shows the recorded scene: one line per place, and which was found.
+/// How `opticks info` shows the recorded scene: one line per place, each saying whether a file
+/// is there, and which one the verbs use (the first found, in [`candidates`] order).
 pub fn describe(label: &str, dataset: &Path) -> Vec<String> {
     let found = resolve(label, dataset).ok();
-    let mark = |p: &Path| {
-        if found.as_deref() == Some(p.to_string_lossy().as_ref()) { " (found)" } else { " (missing)" }
+    let mark = |p: &Path| match (p.is_file(), found.as_deref() == Some(p.to_string_lossy().as_ref())) {
+        (true, true) => " (found: used)",
+        (true, false) => " (found)",
+        (false, _) => " (missing)",
     };
     match parse(label) {
         RecordedScene::Builtin(name) => vec![format!("{name} (built in)")],
@@ -186,6 +189,10 @@ mod tests {
         std::fs::create_dir_all(moved.join("out/deep")).unwrap();
         std::fs::write(moved.join("scenes/a.xml"), "<scene/>").unwrap();
         let there = found(&moved.join("out/deep/a.opds")).unwrap();
+        // Both places hold the scene: `info` says both are there, and which one is used (it
+        // called the absolute one missing).
+        let shown = describe(&label, &moved.join("out/deep/a.opds"));
+        assert!(shown[0].ends_with("(found: used)") && shown[1].ends_with("(found)"), "{shown:?}");
         assert_eq!(there.canonicalize().unwrap(), moved.join("scenes/a.xml"));
         // Gone everywhere: the places tried are listed.
         std::fs::remove_file(&absolute).unwrap();

@@ -89,8 +89,9 @@ pub fn run(a: Args) -> Result<()> {
         opticks_io::image_file::encode_image(path, film.width, film.height, &film.to_rgb_f32(), a.exposure)
     };
     let (first, second) = (encode(&a.output)?, encode(&other)?);
-    opticks_io::image_file::write_files_atomically(&[(&a.output, &first), (&other, &second)])
+    let removed = opticks_io::image_file::write_files_atomically(&[(&a.output, &first), (&other, &second)])
         .context("nothing was written")?;
+    super::note_removed_stale(&removed);
     output::result(&format!(
         "traced {} paths ({} samples) in {:.2} s, rendered {}x{} in {:.2} s → {} and {}",
         a.paths,

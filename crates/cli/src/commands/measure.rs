@@ -160,7 +160,8 @@ pub fn run(a: Args) -> Result<()> {
     if let (Some(png), Some(bytes)) = (&a.png, &heatmap) {
         files.push((png.as_path(), bytes.as_slice()));
     }
-    opticks_io::image_file::write_files_atomically(&files).context("nothing was written")?;
+    let removed = opticks_io::image_file::write_files_atomically(&files).context("nothing was written")?;
+    super::note_removed_stale(&removed);
     let area = (meter.cell_area() as f64) * (nx * ny) as f64;
     let mean = front_mean;
     let (min, max) = lux.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));

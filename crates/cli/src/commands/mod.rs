@@ -88,14 +88,19 @@ pub fn begin_dataset_write(output: &Path, intent: WriteIntent<'_>) -> Result<Wri
         }
         _ => e.into(),
     })?;
-    for (path, bytes) in &lock.removed_stale {
+    note_removed_stale(&lock.removed_stale);
+    Ok(lock)
+}
+
+/// Reports the temporary files of killed runs that a write removed (datasets and images alike).
+pub fn note_removed_stale(removed: &[(std::path::PathBuf, u64)]) {
+    for (path, bytes) in removed {
         crate::output::note(&format!(
             "removed {} ({}), the temporary file of an earlier run that was killed",
             path.display(),
             crate::output::bytes(*bytes)
         ));
     }
-    Ok(lock)
 }
 
 /// Refuses to extend a dataset whose last pass was interrupted (refine, add-light, merge).
@@ -404,8 +409,11 @@ impl LitDataset {
 
 /// Writes the film to `path` (format from the extension).
 pub fn write_film(film: &Film, path: &Path, exposure: f32) -> Result<()> {
-    opticks_io::image_file::write_image(path, film.width, film.height, &film.to_rgb_f32(), exposure)
-        .with_context(|| format!("cannot write image {}", path.display()))
+    let removed =
+        opticks_io::image_file::write_image(path, film.width, film.height, &film.to_rgb_f32(), exposure)
+            .with_context(|| format!("cannot write image {}", path.display()))?;
+    note_removed_stale(&removed);
+    Ok(())
 }
 
 /// Renders in-memory chunks (as traced, with the table's Φ_k/N_k).

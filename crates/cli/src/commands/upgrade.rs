@@ -3,14 +3,18 @@
 //! re-tracing every pass from its own seeds and streams and checking that the samples come out
 //! bit for bit the same (`opticks_io::dataset_job::upgrade_dataset`; the plan is
 //! `opticks_core::dataset::upgrade_plan`). The result is written atomically; a chunk that does
-//! not re-trace writes nothing.
+//! not re-trace writes nothing. Like every dataset writer it first checks its output and takes
+//! the output's write lock ([`begin_dataset_write`]): it replaces its own input in place (the
+//! result holds the same samples), but `-o` onto a scene or another existing dataset is refused
+//! without `--overwrite`, and a second writer of the same dataset is refused while it runs.
 
-use super::{job_error, open_with_scene};
+use super::{begin_dataset_write, job_error, open_with_scene};
 use crate::progress::TraceProgress;
 use anyhow::Result;
 use clap::ValueEnum;
 use opticks_core::sensor::bidirectional::Heuristic;
 use opticks_io::dataset_job::upgrade_dataset;
+use opticks_io::dataset_lock::WriteIntent;
 use std::path::PathBuf;
 
 /// The heuristic of the records.
@@ -35,6 +39,9 @@ pub struct Args {
     /// Where to write the result (default: replace the dataset).
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Replace an existing dataset at --output that is not the one upgraded.
+    #[arg(long, requires = "output")]
+    overwrite: bool,
     /// Heuristic of the MIS records.
     #[arg(long, value_enum, default_value = "power")]
     mis_records: HeuristicArg,
@@ -45,12 +52,17 @@ pub struct Args {
 /// Runs the upgrade.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
+    let inputs = [a.dataset.as_path()];
+    let _lock = begin_dataset_write(
+        &output,
+        WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
+    )?;
     let super::Opened { reader, scene, .. } = open_with_scene(&a.dataset, a.scene.as_deref(), &a.defines)?;
     let heuristic = match a.mis_records {
         HeuristicArg::Power => Heuristic::Power,
         HeuristicArg::Balance => Heuristic::Balance,
     };
-    let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
     let report =
         upgrade_dataset(&reader, &scene, heuristic, &output, &TraceProgress::default()).map_err(job_error)?;
     println!(

@@ -12,7 +12,9 @@
 //! and the mesh bytes, positions counted as well as triangles, by [`MAX_MESH_BYTES`] and
 //! max([`MIN_MESH_BUDGET`], [`MAX_AMPLIFICATION`] × the source)) because `DEF`/`USE` can
 //! multiply geometry exponentially; a geometry node is triangulated once however often it is
-//! `USE`d, and an Inlined file is parsed once however often it is included.
+//! `USE`d, and an Inlined file is parsed once however often it is included. The budgets are
+//! checked by a first, counting walk that copies nothing, so a bomb is refused while memory
+//! holds only the parsed file and its distinct meshes — not the copies that would exceed them.
 
 use super::extension;
 use super::geometry::{self, Geometry, LocalMesh};
@@ -100,7 +102,13 @@ pub fn convert_sized(
         visits: 0,
         triangles: 0,
         extra_viewpoints: 0,
+        counting: true,
     };
+    // First count (every budget checked, nothing copied), then convert.
+    for n in nodes {
+        c.walk(n, &DMat4::IDENTITY, 0)?;
+    }
+    (c.counting, c.visits, c.triangles, c.mesh_bytes) = (false, 0, 0, 0);
     for n in nodes {
         c.walk(n, &DMat4::IDENTITY, 0)?;
     }
@@ -138,6 +146,9 @@ pub(super) struct Converter {
     geometries: HashMap<usize, Option<Rc<LocalMesh>>>,
     /// Each Inlined file (canonical path), read and parsed once however often it is included.
     inlines: HashMap<PathBuf, Rc<Vec<NodeRef>>>,
+    /// The first walk: shapes are triangulated (once each) and counted against the budgets,
+    /// nothing is copied into the output and no light or camera is made.
+    counting: bool,
 }
 
 fn ptr(n: &Node) -> usize {
@@ -269,6 +280,7 @@ impl Converter {
                 None => Ok(()),
             },
             "Shape" => self.shape(n, m),
+            "Viewpoint" | "PointLight" | "SpotLight" | "DirectionalLight" if self.counting => Ok(()),
             "Viewpoint" => self.viewpoint(n, m),
             "PointLight" => self.point_light(n, m),
             "SpotLight" => self.spot_light(n, m),
@@ -344,6 +356,9 @@ impl Converter {
                 n,
                 format!("the scene has more than {MAX_TRIANGLES} triangles (DEF/USE or Inline multiplies geometry)"),
             ));
+        }
+        if self.counting {
+            return Ok(());
         }
         let (material, emission) = self.material(n.node("appearance").map(|a| &**a), local.solid)?;
         let mut triangles = local.triangles.clone();
@@ -611,7 +626,11 @@ impl Converter {
         };
         let canonical = path.canonicalize().unwrap_or_else(|_| path.clone());
         if self.files.iter().any(|f| f.canonicalize().ok().as_ref() == Some(&canonical)) {
-            self.warn(n, format!("{} includes itself (Inline recursion): ignored", path.display()));
+            self.warn_once(
+                n,
+                "recursion",
+                format!("{} includes itself (Inline recursion): ignored", path.display()),
+            );
             return Ok(());
         }
         if self.files.len() > MAX_INLINE_DEPTH {

@@ -11,7 +11,9 @@
 //! | [`writer`] | [`SceneDescription`](opticks_core::scene::SceneDescription) → VRML97 with the extension |
 //!
 //! `.wrl`, `.wrz` and `.wrl.gz` files are read; gzip compression is recognised by its magic
-//! bytes whatever the extension.
+//! bytes whatever the extension. Inflating stops at [`MAX_INFLATED_BYTES`]: a gzip bomb (a few
+//! KB that inflate to gigabytes) is an error naming the file, not an allocation until memory
+//! runs out.
 //!
 //! # Why a hand-written parser
 //!
@@ -72,13 +74,36 @@ pub fn load_str(text: &str, path: &Path) -> Result<LoadedScene, SceneFileError> 
     convert::convert_sized(&nodes, path, warnings, text.len())
 }
 
+/// Most bytes a gzip-compressed VRML file (or Inline) may inflate to: 1 GiB, ten times the text
+/// of a 1 M-triangle mesh. Beyond it the file is refused.
+pub const MAX_INFLATED_BYTES: u64 = 1 << 30;
+
 /// Reads a file's text, gunzipping it if it starts with the gzip magic bytes.
 pub fn read_source(path: &Path) -> Result<String, SceneFileError> {
+    read_source_capped(path, MAX_INFLATED_BYTES)
+}
+
+/// [`read_source`] with the inflated size bounded by `cap` bytes.
+fn read_source_capped(path: &Path, cap: u64) -> Result<String, SceneFileError> {
     let read_err = |source| SceneFileError::Read { path: path.to_path_buf(), source };
     let bytes = crate::input_file::read(path).map_err(read_err)?;
     let bytes = if bytes.starts_with(&[0x1f, 0x8b]) {
-        let mut out = Vec::with_capacity(bytes.len() * 4);
-        flate2::read::MultiGzDecoder::new(&bytes[..]).read_to_end(&mut out).map_err(read_err)?;
+        let mut out = Vec::new();
+        let reserve = usize::try_from(cap).unwrap_or(usize::MAX).min(bytes.len().saturating_mul(4));
+        out.try_reserve(reserve).map_err(|e| read_err(std::io::Error::other(e)))?;
+        flate2::read::MultiGzDecoder::new(&bytes[..])
+            .take(cap.saturating_add(1))
+            .read_to_end(&mut out)
+            .map_err(read_err)?;
+        if out.len() as u64 > cap {
+            return Err(read_err(std::io::Error::new(
+                std::io::ErrorKind::InvalidData,
+                format!(
+                    "the gzip-compressed file ({} bytes) inflates to more than {cap} bytes, the most a VRML file may have",
+                    bytes.len()
+                ),
+            )));
+        }
         out
     } else {
         bytes
@@ -106,4 +131,45 @@ pub fn parse_text(text: &str, path: &Path) -> Result<(Vec<NodeRef>, Vec<String>)
     })?;
     let warnings = parsed.warnings.into_iter().map(|(pos, m)| format!("{}: {m}", loc(pos))).collect();
     Ok((parsed.nodes, warnings))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use flate2::{Compression, write::GzEncoder};
+    use std::io::Write;
+
+    /// One gzip member of `n` zero bytes.
+    fn zeros_gz(n: usize) -> Vec<u8> {
+        let mut e = GzEncoder::new(Vec::new(), Compression::best());
+        e.write_all(&vec![0u8; n]).unwrap();
+        e.finish().unwrap()
+    }
+
+    #[test]
+    fn a_gzip_bomb_is_refused_at_the_bound_naming_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        // 16 members of 4 MiB of zeros: ~65 KB that inflate to 64 MiB.
+        let member = zeros_gz(4 << 20);
+        let bomb: Vec<u8> = (0..16).flat_map(|_| member.iter().copied()).collect();
+        assert!(bomb.len() < 100_000, "{}", bomb.len());
+        let path = dir.path().join("bomb.wrz");
+        std::fs::write(&path, &bomb).unwrap();
+        let e = read_source_capped(&path, 8 << 20).unwrap_err().to_string();
+        assert!(e.contains("bomb.wrz") && e.contains("inflates to more than 8388608 bytes"), "{e}");
+        // Under the bound, the same stream reads whole (as text of zero bytes).
+        assert_eq!(read_source_capped(&path, 64 << 20).unwrap().len(), 64 << 20);
+    }
+
+    #[test]
+    fn a_gzipped_scene_under_the_bound_loads() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "#VRML V2.0 utf8\nShape { geometry Box {} }\n";
+        let mut e = GzEncoder::new(Vec::new(), Compression::default());
+        e.write_all(text.as_bytes()).unwrap();
+        let path = dir.path().join("box.wrz");
+        std::fs::write(&path, e.finish().unwrap()).unwrap();
+        assert_eq!(read_source(&path).unwrap(), text);
+        assert_eq!(MAX_INFLATED_BYTES, 1 << 30, "documented in docs/scene-formats.md");
+    }
 }

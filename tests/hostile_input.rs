@@ -4,38 +4,14 @@
 //! number. The readers' own hostile-input tests are beside them (`crates/io/tests/`), and every
 //! input a fuzzer ever crashed is replayed by `crates/io/tests/fuzz_regressions.rs`.
 
+mod cli_run;
 mod common;
 
+use cli_run::*;
 #[allow(unused_imports)]
 use common::*;
 use opticks_io::dataset_file::{DatasetReader, DatasetWriter, read_all};
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn opticks(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_opticks")).args(args).current_dir(dir).output().expect("runs opticks")
-}
-
-/// Runs a command that must fail cleanly; returns its stderr.
-#[track_caller]
-fn fails(args: &[&str], dir: &Path) -> String {
-    let out = opticks(args, dir);
-    let se = String::from_utf8_lossy(&out.stderr).into_owned();
-    // 1: an error; 2: clap's usage errors. Never a signal (no exit code) or an abort (134).
-    assert!(matches!(out.status.code(), Some(1 | 2)), "expected a clean failure of {args:?}; stderr: {se}");
-    assert!(se.starts_with("error: "), "error message should start with 'error: ': {se}");
-    assert!(!se.contains("panicked"), "must not panic: {se}");
-    se
-}
-
-fn files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<_> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
+use std::process::Command;
 
 /// Issue 10, item 10: `--paths 18446744073709551615` aborted allocating 2·10¹⁷ bytes of block
 /// plan. Now the plan is lazy and a count beyond the documented bound (2^53) is refused before
