@@ -381,27 +381,34 @@ fn measure_and_sensor_options_on_the_command_line() {
     let csv = std::fs::read_to_string(d.join("a.csv")).unwrap();
     let rows: Vec<Vec<f64>> =
         csv.lines().skip(1).map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect()).collect();
-    assert_eq!(csv.lines().next().unwrap(), "i,j,x,y,z,E_R,E_G,E_B,E_v_lux");
+    assert_eq!(csv.lines().next().unwrap(), "i,j,x,y,z,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux");
     assert_eq!(rows.len(), 12);
     for r in &rows {
         assert!((r[2] + 1.0).abs() < 1e-3, "the red wall is x = −1: {r:?}");
         assert!(r[5] > 0.0 && r[5] > r[6], "red wall lit, reflecting red: {r:?}");
         let lux = 683.0 * (0.2126 * r[5] + 0.7152 * r[6] + 0.0722 * r[7]);
         assert!((r[8] / lux - 1.0).abs() < 1e-6);
+        assert!(r[12] > 0.0 && r[12] < 0.2 * r[8], "a standard error, and a small one: {r:?}");
     }
     let png = image::open(d.join("a.png")).unwrap();
     assert!(png.width() > 300 && png.height() > 200);
-    // The same rectangle as a plane: x = −1, y and z ∈ [−1, 1], u = −z (to the right), v = +y.
-    ok(opticks(
-        &["measure", "c.opds", "--plane", "-1,-1,1,0,0,-2,0,2,0", "--cells", "4x3", "-o", "b.csv"],
-        d,
-    ));
+    // The same rectangle as a plane: x = −1, y and z ∈ [−1, 1], u = −z (to the right), v = +y;
+    // a plane counts the samples on it when asked to (`--surface` does by default).
+    let plane = ["measure", "c.opds", "--plane", "-1,-1,1,0,0,-2,0,2,0", "--cells", "4x3"];
+    ok(opticks(&[&plane[..], &["--estimator", "samples", "-o", "b.csv"]].concat(), d));
     let b = std::fs::read_to_string(d.join("b.csv")).unwrap();
     assert_eq!(b.lines().skip(1).count(), 12);
     let total = |s: &str| -> f64 {
         s.lines().skip(1).map(|l| l.split(',').nth(8).unwrap().parse::<f64>().unwrap()).sum()
     };
     assert!((total(&csv) / total(&b) - 1.0).abs() < 1e-9, "surface and plane meters disagree");
+    // By default a plane connects the samples to itself: the same wall within the errors.
+    ok(opticks(&[&plane[..], &["-o", "c.csv"]].concat(), d));
+    let c = std::fs::read_to_string(d.join("c.csv")).unwrap();
+    for (r, q) in rows.iter().zip(c.lines().skip(1)) {
+        let q: Vec<f64> = q.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((r[8] - q[8]).abs() < 4.0 * r[12].hypot(q[12]), "samples {r:?} vs connections {q:?}");
+    }
     for (args, msg) in [
         (vec!["--surface", "nope"], "no mesh named 'nope'"),
         (vec!["--surface", "white_geometry"], "not planar"),

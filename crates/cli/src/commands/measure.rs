@@ -84,7 +84,7 @@ pub struct Args {
     connections: u32,
     /// Connections: points per cell at which the direct light of point and directional lights
     /// is gathered.
-    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
     direct_samples: u32,
     /// Connections: seed of the meter's random streams.
     #[arg(long, default_value_t = 0)]

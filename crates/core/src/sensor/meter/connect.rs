@@ -66,7 +66,7 @@ pub struct ConnectedSettings {
 
 impl Default for ConnectedSettings {
     fn default() -> Self {
-        ConnectedSettings { connections: 1, direct_samples: 64, seed: 0 }
+        ConnectedSettings { connections: 1, direct_samples: 256, seed: 0 }
     }
 }
 
