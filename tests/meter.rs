@@ -117,41 +117,15 @@ fn plane_in_the_air_under_a_point_light() {
 
 /// A plane in the air 0.4 m under a Lambertian square emitter (no point light, a black floor):
 /// the light reaches it only through the connected emission vertices; each cell reads the
-/// closed form (`tests/sensors.rs`'s corner formula) within its stated error.
+/// closed form (`panel_irradiance`) within its stated error.
 #[test]
 fn plane_in_the_air_under_an_area_light() {
     let (l, h, half) = (1.5f32, 0.6f32, 0.5f32);
-    let panel = quad(
-        "panel",
-        [
-            Vec3::new(-half, h, -half),
-            Vec3::new(half, h, -half),
-            Vec3::new(half, h, half),
-            Vec3::new(-half, h, half),
-        ],
-        0,
-        Some(Rgb::splat(l)),
-    );
-    let desc = SceneDescription {
-        materials: vec![lambert("black", 0.0, false)],
-        meshes: vec![black_floor(), panel],
-        ..Default::default()
-    };
-    let scene = Scene::build(&desc).unwrap();
+    let scene = Scene::build(&panel_over_black_floor(l, h, half)).unwrap();
     let (table, chunks) = trace_chunks(&scene, 1_000_000, 4);
     let y = 0.2;
     let got = read(&scene, &table, &chunks, &MeterLayout::Grid(plane(y, 6, true)));
-    let (l, d, half) = (l as f64, (h - y) as f64, half as f64);
-    let corner = |a: f64, b: f64| {
-        let (sa, sb) = (a.signum(), b.signum());
-        let (a, b) = (a.abs() / d, b.abs() / d);
-        let (ra, rb) = ((1.0 + a * a).sqrt(), (1.0 + b * b).sqrt());
-        sa * sb * 0.5 * l * (a / ra * (b / ra).atan() + b / rb * (a / rb).atan())
-    };
-    let e = |x: f64, z: f64| {
-        corner(half - x, half - z) - corner(-half - x, half - z) - corner(half - x, -half - z)
-            + corner(-half - x, -half - z)
-    };
+    let e = |x: f64, z: f64| panel_irradiance(l as f64, (h - y) as f64, half as f64, x, z);
     let expected: Vec<f64> = (0..36).map(|t| cell_mean(6, t, &e)).collect();
     check("area light", &got, &expected, &[0.0; 36]);
 }

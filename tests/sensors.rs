@@ -124,44 +124,13 @@ fn meter_matches_point_light_inverse_square_law() {
     check_cells("point light 2x2", &film, &err, &expected, 4);
 }
 
-/// Irradiance at height-h distance below the corner of an a×b Lambertian rectangle of radiance
-/// L (parallel planes): E = (L/2)·[A/√(1+A²)·atan(B/√(1+A²)) + B/√(1+B²)·atan(A/√(1+B²))],
-/// A = a/h, B = b/h (= π·L·F with F the corner view factor). Signed for the superposition.
-fn corner(l: f64, h: f64, a: f64, b: f64) -> f64 {
-    let (sa, sb) = (a.signum(), b.signum());
-    let (a, b) = (a.abs() / h, b.abs() / h);
-    let (ra, rb) = ((1.0 + a * a).sqrt(), (1.0 + b * b).sqrt());
-    sa * sb * 0.5 * l * (a / ra * (b / ra).atan() + b / rb * (a / rb).atan())
-}
-
 /// A Lambertian square emitter over a parallel black floor, against the closed form.
 #[test]
 fn meter_matches_parallel_rectangle_emitter() {
     let (l, h, half) = (1.5f32, 0.5f32, 0.5f32);
-    let panel = quad(
-        "panel",
-        [
-            Vec3::new(-half, h, -half),
-            Vec3::new(half, h, -half),
-            Vec3::new(half, h, half),
-            Vec3::new(-half, h, half),
-        ],
-        0,
-        Some(Rgb::splat(l)),
-    );
-    let desc = SceneDescription {
-        materials: vec![lambert("black", 0.0, false)],
-        meshes: vec![floor(50.0, 0), panel],
-        point_lights: vec![],
-        camera: None,
-        ..Default::default()
-    };
-    let scene = Scene::build(&desc).unwrap();
+    let scene = Scene::build(&panel_over_black_floor(l, h, half)).unwrap();
     let (l, h, half) = (l as f64, h as f64, half as f64);
-    let e = |x: f64, z: f64| {
-        let f = |a: f64, b: f64| corner(l, h, a, b);
-        f(half - x, half - z) - f(-half - x, half - z) - f(half - x, -half - z) + f(-half - x, -half - z)
-    };
+    let e = |x: f64, z: f64| panel_irradiance(l, h, half, x, z);
     // The formula itself, against brute-force quadrature of L·h²/r⁴ over the panel.
     for (px, pz) in [(0.0, 0.0), (0.3, -0.7), (0.9, 0.95)] {
         let k = 400;

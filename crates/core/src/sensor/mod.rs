@@ -29,7 +29,7 @@
 //!
 //! The [`meter`] module holds the illuminance meter: on scene geometry it needs no connection
 //! (a stored sample already *is* flux arriving at a surface); anywhere else it connects the
-//! samples to itself through the same [`connect_to`] as the cameras.
+//! samples to itself through the same `connect_to` as the cameras.
 
 pub mod bidirectional;
 mod equirect;

@@ -168,10 +168,10 @@ impl Tally {
             let t = t as usize;
             let x = std::mem::replace(&mut scratch.cells[t], [0.0; 4]);
             scratch.marked[t] = false;
-            for c in 0..4 {
-                m.s1[t][c] += x[c];
-                m.s2[t][c] += x[c] * x[c];
-                m.sn[t][c] += n * x[c];
+            for (c, x) in x.into_iter().enumerate() {
+                m.s1[t][c] += x;
+                m.s2[t][c] += x * x;
+                m.sn[t][c] += n * x;
             }
         }
         scratch.touched.clear();
@@ -193,19 +193,19 @@ impl Tally {
         let mut var = vec![[0.0f64; 4]; self.targets];
         for m in self.lights.iter().flatten() {
             let spread = 1.0 - m.q / (m.n * m.n);
-            for t in 0..self.targets {
-                for c in 0..4 {
-                    r.value[t][c] += m.s1[t][c];
-                    if m.s2[t][c] == 0.0 {
+            for (t, (value, var)) in r.value.iter_mut().zip(&mut var).enumerate() {
+                for (c, (value, var)) in value.iter_mut().zip(var).enumerate() {
+                    let (s1, s2, sn) = (m.s1[t][c], m.s2[t][c], m.sn[t][c]);
+                    *value += s1;
+                    if s2 == 0.0 {
                         continue;
                     }
-                    let mu = m.s1[t][c] / m.n;
-                    let v = if m.groups < 2 || !(spread > 0.0) {
+                    let mu = s1 / m.n;
+                    *var += if m.groups < 2 || !(spread > 0.0) {
                         f64::NAN
                     } else {
-                        ((m.s2[t][c] - 2.0 * mu * m.sn[t][c] + mu * mu * m.q) / spread).max(0.0)
+                        ((s2 - 2.0 * mu * sn + mu * mu * m.q) / spread).max(0.0)
                     };
-                    var[t][c] += v;
                 }
             }
         }
@@ -236,12 +236,13 @@ pub(crate) fn tally_groups<B: super::super::AsBatch, E: Send>(
         .map(|r| {
             let mut tally = Tally::new(targets, lights);
             let mut scratch = Scratch::new(targets);
-            for i in (r * run_len)..((r + 1) * run_len).min(count) {
+            let first = (r * run_len).min(count);
+            for (i, &group) in groups.iter().enumerate().take(((r + 1) * run_len).min(count)).skip(first) {
                 let b = batch(i)?;
                 let b = b.as_batch();
-                if groups[i].paths > 0 {
+                if group.paths > 0 {
                     add(i, b.samples, b.flux_per_path, &mut scratch);
-                    tally.fold(groups[i], &mut scratch);
+                    tally.fold(group, &mut scratch);
                 }
                 progress(b.samples.len());
             }
