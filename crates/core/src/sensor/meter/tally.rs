@@ -15,7 +15,9 @@
 //! contributions of variance σ², so E[(X_c − n_c·μ)²] = n_c·σ²·(1 − n_c/N), whose sum over c
 //! is σ²·(N − Q/N), and Var(Σ X_c) = N·σ². With equal chunks (m of n paths) this is m times the
 //! chunks' sample variance. A light with a single chunk gives no variance estimate: its targets
-//! that it lit get NaN. The channels are R, G, B and E_v in lux ([`lux`]).
+//! that it lit get NaN. The channels are R, G, B and E_v in lux ([`lux`]). The chunks are cut into a
+//! fixed number of runs whose tallies are summed in order, so a reading is the same bit for bit
+//! whatever the thread count.
 
 use crate::dataset::Sample;
 use crate::film::SplatTarget;
@@ -216,6 +218,9 @@ impl Tally {
     }
 }
 
+/// Runs the groups are cut into, whatever the thread count.
+const RUNS: usize = 32;
+
 /// Reads `groups.len()` batches (batch i is group i: one chunk, fetched from memory or a file)
 /// on all cores: `add(i, samples, flux per path, scratch)` puts batch i's contribution to every
 /// target into the scratch row, and the result is the sum with its standard error. `targets`
@@ -229,26 +234,36 @@ pub(crate) fn tally_groups<B: super::super::AsBatch, E: Send>(
 ) -> Result<Reading, E> {
     let lights = groups.iter().map(|g| g.light as usize + 1).max().unwrap_or(0);
     let count = groups.len();
-    let runs = (rayon::current_num_threads() * 2).clamp(1, count.max(1));
+    // A fixed cut into runs, and their tallies folded in run order: the sums do not depend on
+    // the thread count. Runs go in waves of one per thread, so only that many tallies live.
+    let runs = RUNS.clamp(1, count.max(1));
     let run_len = count.div_ceil(runs).max(1);
-    let tally = (0..runs)
-        .into_par_iter()
-        .map(|r| {
-            let mut tally = Tally::new(targets, lights);
-            let mut scratch = Scratch::new(targets);
-            let first = (r * run_len).min(count);
-            for (i, &group) in groups.iter().enumerate().take(((r + 1) * run_len).min(count)).skip(first) {
-                let b = batch(i)?;
-                let b = b.as_batch();
-                if group.paths > 0 {
-                    add(i, b.samples, b.flux_per_path, &mut scratch);
-                    tally.fold(group, &mut scratch);
+    let wave = rayon::current_num_threads().max(1);
+    let mut tally = Tally::new(targets, lights);
+    for first_run in (0..runs).step_by(wave) {
+        let done: Vec<Tally> = (first_run..(first_run + wave).min(runs))
+            .into_par_iter()
+            .map(|r| {
+                let mut tally = Tally::new(targets, lights);
+                let mut scratch = Scratch::new(targets);
+                let first = (r * run_len).min(count);
+                for (i, &group) in groups.iter().enumerate().take(((r + 1) * run_len).min(count)).skip(first)
+                {
+                    let b = batch(i)?;
+                    let b = b.as_batch();
+                    if group.paths > 0 {
+                        add(i, b.samples, b.flux_per_path, &mut scratch);
+                        tally.fold(group, &mut scratch);
+                    }
+                    progress(b.samples.len());
                 }
-                progress(b.samples.len());
-            }
-            Ok(tally)
-        })
-        .try_reduce(|| Tally::new(targets, lights), |a, b| Ok(a.add(b)))?;
+                Ok(tally)
+            })
+            .collect::<Result<_, E>>()?;
+        for t in done {
+            tally = tally.add(t);
+        }
+    }
     Ok(tally.reading())
 }
 
@@ -296,6 +311,31 @@ mod tests {
         assert!((var / 158.0 - 1.0).abs() < 0.1, "spread {var} vs 158");
         // The mean of the estimated variances is unbiased: within its own noise (~2%).
         assert!((var_est / 158.0 - 1.0).abs() < 0.05, "estimated variance {var_est} vs 158");
+    }
+
+    /// The same reading, bit for bit, on one thread and on three.
+    #[test]
+    fn readings_do_not_depend_on_the_thread_count() {
+        let groups: Vec<Group> = (0..100).map(|i| Group { light: i % 3, paths: 7 + i as u64 % 5 }).collect();
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                tally_groups(
+                    4,
+                    &groups,
+                    |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
+                    |_| {},
+                    |i, _, _, s| {
+                        let mut rng = RandomStream::new(9, &[i as u64]);
+                        for _ in 0..groups[i].paths {
+                            s.splat((rng.next_f32() * 4.0) as usize, Rgb::splat(rng.next_f32() * 1e3));
+                        }
+                    },
+                )
+                .unwrap()
+            })
+        };
+        assert_eq!(run(1), run(3));
     }
 
     #[test]
