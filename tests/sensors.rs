@@ -124,44 +124,13 @@ fn meter_matches_point_light_inverse_square_law() {
     check_cells("point light 2x2", &film, &err, &expected, 4);
 }
 
-/// Irradiance at height-h distance below the corner of an a×b Lambertian rectangle of radiance
-/// L (parallel planes): E = (L/2)·[A/√(1+A²)·atan(B/√(1+A²)) + B/√(1+B²)·atan(A/√(1+B²))],
-/// A = a/h, B = b/h (= π·L·F with F the corner view factor). Signed for the superposition.
-fn corner(l: f64, h: f64, a: f64, b: f64) -> f64 {
-    let (sa, sb) = (a.signum(), b.signum());
-    let (a, b) = (a.abs() / h, b.abs() / h);
-    let (ra, rb) = ((1.0 + a * a).sqrt(), (1.0 + b * b).sqrt());
-    sa * sb * 0.5 * l * (a / ra * (b / ra).atan() + b / rb * (a / rb).atan())
-}
-
 /// A Lambertian square emitter over a parallel black floor, against the closed form.
 #[test]
 fn meter_matches_parallel_rectangle_emitter() {
     let (l, h, half) = (1.5f32, 0.5f32, 0.5f32);
-    let panel = quad(
-        "panel",
-        [
-            Vec3::new(-half, h, -half),
-            Vec3::new(half, h, -half),
-            Vec3::new(half, h, half),
-            Vec3::new(-half, h, half),
-        ],
-        0,
-        Some(Rgb::splat(l)),
-    );
-    let desc = SceneDescription {
-        materials: vec![lambert("black", 0.0, false)],
-        meshes: vec![floor(50.0, 0), panel],
-        point_lights: vec![],
-        camera: None,
-        ..Default::default()
-    };
-    let scene = Scene::build(&desc).unwrap();
+    let scene = Scene::build(&panel_over_black_floor(l, h, half)).unwrap();
     let (l, h, half) = (l as f64, h as f64, half as f64);
-    let e = |x: f64, z: f64| {
-        let f = |a: f64, b: f64| corner(l, h, a, b);
-        f(half - x, half - z) - f(-half - x, half - z) - f(half - x, -half - z) + f(-half - x, -half - z)
-    };
+    let e = |x: f64, z: f64| panel_irradiance(l, h, half, x, z);
     // The formula itself, against brute-force quadrature of L·h²/r⁴ over the panel.
     for (px, pz) in [(0.0, 0.0), (0.3, -0.7), (0.9, 0.95)] {
         let k = 400;
@@ -381,27 +350,34 @@ fn measure_and_sensor_options_on_the_command_line() {
     let csv = std::fs::read_to_string(d.join("a.csv")).unwrap();
     let rows: Vec<Vec<f64>> =
         csv.lines().skip(1).map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect()).collect();
-    assert_eq!(csv.lines().next().unwrap(), "i,j,x,y,z,E_R,E_G,E_B,E_v_lux");
+    assert_eq!(csv.lines().next().unwrap(), "i,j,x,y,z,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux");
     assert_eq!(rows.len(), 12);
     for r in &rows {
         assert!((r[2] + 1.0).abs() < 1e-3, "the red wall is x = −1: {r:?}");
         assert!(r[5] > 0.0 && r[5] > r[6], "red wall lit, reflecting red: {r:?}");
         let lux = 683.0 * (0.2126 * r[5] + 0.7152 * r[6] + 0.0722 * r[7]);
         assert!((r[8] / lux - 1.0).abs() < 1e-6);
+        assert!(r[12] > 0.0 && r[12] < 0.2 * r[8], "a standard error, and a small one: {r:?}");
     }
     let png = image::open(d.join("a.png")).unwrap();
     assert!(png.width() > 300 && png.height() > 200);
-    // The same rectangle as a plane: x = −1, y and z ∈ [−1, 1], u = −z (to the right), v = +y.
-    ok(opticks(
-        &["measure", "c.opds", "--plane", "-1,-1,1,0,0,-2,0,2,0", "--cells", "4x3", "-o", "b.csv"],
-        d,
-    ));
+    // The same rectangle as a plane: x = −1, y and z ∈ [−1, 1], u = −z (to the right), v = +y;
+    // a plane counts the samples on it when asked to (`--surface` does by default).
+    let plane = ["measure", "c.opds", "--plane", "-1,-1,1,0,0,-2,0,2,0", "--cells", "4x3"];
+    ok(opticks(&[&plane[..], &["--estimator", "samples", "-o", "b.csv"]].concat(), d));
     let b = std::fs::read_to_string(d.join("b.csv")).unwrap();
     assert_eq!(b.lines().skip(1).count(), 12);
     let total = |s: &str| -> f64 {
         s.lines().skip(1).map(|l| l.split(',').nth(8).unwrap().parse::<f64>().unwrap()).sum()
     };
     assert!((total(&csv) / total(&b) - 1.0).abs() < 1e-9, "surface and plane meters disagree");
+    // By default a plane connects the samples to itself: the same wall within the errors.
+    ok(opticks(&[&plane[..], &["-o", "c.csv"]].concat(), d));
+    let c = std::fs::read_to_string(d.join("c.csv")).unwrap();
+    for (r, q) in rows.iter().zip(c.lines().skip(1)) {
+        let q: Vec<f64> = q.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((r[8] - q[8]).abs() < 4.0 * r[12].hypot(q[12]), "samples {r:?} vs connections {q:?}");
+    }
     for (args, msg) in [
         (vec!["--surface", "nope"], "no mesh named 'nope'"),
         (vec!["--surface", "white_geometry"], "not planar"),

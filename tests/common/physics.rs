@@ -314,3 +314,47 @@ pub fn turned_inside_out(mut mesh: MeshDesc) -> MeshDesc {
 pub fn point_light(name: &str, position: Vec3, intensity: Rgb) -> PointLightDesc {
     PointLightDesc { name: name.into(), position, intensity, ..Default::default() }
 }
+
+/// A square Lambertian emitter of radiance `l` (half-size `half`, at height `h`, facing −y)
+/// over a black floor y = 0 of half-size 50: the meter tests' parallel-rectangle scene
+/// ([`panel_irradiance`] is its closed form).
+pub fn panel_over_black_floor(l: f32, h: f32, half: f32) -> SceneDescription {
+    let (s, y) = (50.0, 0.0);
+    let floor = quad(
+        "floor",
+        [Vec3::new(-s, y, -s), Vec3::new(-s, y, s), Vec3::new(s, y, s), Vec3::new(s, y, -s)],
+        0,
+        None,
+    );
+    let panel = quad(
+        "panel",
+        [
+            Vec3::new(-half, h, -half),
+            Vec3::new(half, h, -half),
+            Vec3::new(half, h, half),
+            Vec3::new(-half, h, half),
+        ],
+        0,
+        Some(Rgb::splat(l)),
+    );
+    SceneDescription {
+        materials: vec![lambert("black", 0.0, false)],
+        meshes: vec![floor, panel],
+        ..Default::default()
+    }
+}
+
+/// The irradiance on a plane facing the square emitter of [`panel_over_black_floor`] (radiance
+/// `l`, half-size `half`), at distance `d` below it and at (x, z): four superposed corners of
+/// E = (L/2)·[A/√(1+A²)·atan(B/√(1+A²)) + B/√(1+B²)·atan(A/√(1+B²))], A = a/d, B = b/d (= π·L·F
+/// with F the corner view factor).
+pub fn panel_irradiance(l: f64, d: f64, half: f64, x: f64, z: f64) -> f64 {
+    let corner = |a: f64, b: f64| {
+        let (sa, sb) = (a.signum(), b.signum());
+        let (a, b) = (a.abs() / d, b.abs() / d);
+        let (ra, rb) = ((1.0 + a * a).sqrt(), (1.0 + b * b).sqrt());
+        sa * sb * 0.5 * l * (a / ra * (b / ra).atan() + b / rb * (a / rb).atan())
+    };
+    corner(half - x, half - z) - corner(-half - x, half - z) - corner(half - x, -half - z)
+        + corner(-half - x, -half - z)
+}

@@ -15,6 +15,7 @@
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
+//! * [`meter_points`]: the points an illuminance meter reads at (`x,y,z,nx,ny,nz` lines);
 //! * [`light_cache`]: the bidirectional estimator's light vertex cache over a dataset file;
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios);
 //! * [`input_file`]: how every reader opens its files (regular files only, bounded by their size);
@@ -31,6 +32,7 @@ pub mod image_file;
 pub mod input_file;
 pub mod light_cache;
 pub mod memory;
+pub mod meter_points;
 pub mod output_paths;
 pub mod scene_formats;
 pub mod scene_ref;

@@ -1,34 +1,57 @@
-//! `opticks measure`: an illuminance meter over a dataset — irradiance per cell on a planar
-//! scene surface (a mesh by name, or a rectangle given by a corner and two edges), written as
-//! CSV and optionally as a heat-map PNG.
+//! `opticks measure`: an illuminance meter over a dataset — irradiance per cell of a plane
+//! (a mesh by name, or a rectangle given by a corner and two edges, on a surface or in the
+//! air) or at points read from a file, with a standard error per cell; written as CSV and, for
+//! planes, optionally as a heat-map PNG.
 //!
-//! CSV columns: `i,j` (cell along u and v), `x,y,z` (cell centre, m), `E_R,E_G,E_B` (irradiance,
-//! W/m² per RGB channel) and `E_v_lux`. The photometric column uses the convention
-//! E_v = 683 lm/W · (0.2126·E_R + 0.7152·E_G + 0.0722·E_B): the Rec. 709 luminance weights with
-//! the 555 nm luminous efficacy. It is an approximation — exact only if the RGB channels were
-//! radiometric quantities with the spectral shapes the weights assume; renderers' RGB light is
-//! not a spectrum. The PNG shows E_v.
+//! CSV columns, planes: `i,j` (cell along u and v), `x,y,z` (cell centre, m); points: `point`
+//! (its index in the file, from 0), `x,y,z`, `nx,ny,nz` (the unit normal); then `E_R,E_G,E_B`
+//! (irradiance, W/m² per RGB channel), `E_v_lux`, and their standard errors
+//! `SE_R,SE_G,SE_B,SE_v_lux` (from the dataset's independent chunks; `NaN` where a light has a
+//! single chunk). The photometric column uses E_v = 683 lm/W · (0.2126·E_R + 0.7152·E_G +
+//! 0.0722·E_B) (`opticks_core::sensor::meter::lux`): the Rec. 709 luminance weights with the
+//! 555 nm luminous efficacy, an approximation — exact only if the RGB channels were radiometric
+//! quantities with the spectral shapes the weights assume. The PNG shows E_v.
+//!
+//! Estimators (`--estimator`): `connections` works anywhere — every stored sample connected to
+//! `--connections` uniform points of the meter, plus the direct light of point and directional
+//! lights gathered at `--direct-samples` points per cell; `samples` counts the samples that
+//! landed on the meter and so only reads meters on scene geometry, where it is several times
+//! cheaper and less noisy (measured in README's "Sensors"). `--surface` uses `samples`,
+//! `--plane` and `--points` `connections`, unless `--estimator` says otherwise
+//! (`opticks_core::sensor::meter`).
 //!
 //! Orientation: only light arriving from the meter's front is counted — the side its normal
-//! n = u × v faces (for `--surface`, the side the mesh's triangles face). The summary line
-//! states that normal; a plane lit only from behind reads 0, with a warning saying to swap u
-//! and v to measure the other side.
+//! n = u × v faces (for `--surface`, the side the mesh's triangles face; for points, their
+//! normal). The summary line states the normal; a meter lit only from behind reads 0, with a
+//! warning.
 //!
-//! The scene is resolved and checked against the dataset as `opticks render` does. Both outputs
-//! are checked before the dataset is read and written all or none.
+//! The scene is resolved and checked against the dataset as `opticks render` does. Every output
+//! and the points file are checked before the dataset is read; outputs are written all or none.
 
 use super::{DatasetArgs, ThreadArgs};
 use crate::camera_args::parse_vec3;
 use crate::output;
 use crate::progress;
 use anyhow::{Context, Result, bail};
-use opticks_core::light::LUMENS_PER_WATT;
+use opticks_core::film::Film;
 use opticks_core::math::Vec3;
-use opticks_core::sensor::{IlluminanceMeter, measure_both_sides};
+use opticks_core::sensor::IlluminanceMeter;
+use opticks_core::sensor::bidirectional::RenderLights;
+use opticks_core::sensor::meter::{ConnectedSettings, MeterLayout, Reading, read_connected, read_samples};
 use opticks_io::output_paths::{OutputKind, check_outputs};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
+
+/// How `measure` estimates.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeterEstimator {
+    /// Connect every stored sample to the meter (+ direct light of point and directional
+    /// lights): anywhere, in the air too.
+    Connections,
+    /// Count the samples that landed on the meter: only for meters on scene geometry.
+    Samples,
+}
 
 /// Arguments of `opticks measure`.
 #[derive(clap::Args, Debug)]
@@ -37,35 +60,55 @@ pub struct Args {
     input: DatasetArgs,
     /// Measure on the planar mesh of this name (its bounding rectangle in its plane), on the side
     /// its triangles face.
-    #[arg(long, conflicts_with = "plane", required_unless_present = "plane")]
+    #[arg(long, conflicts_with_all = ["plane", "points"], required_unless_present_any = ["plane", "points"])]
     surface: Option<String>,
-    /// Measure on the rectangle "ox,oy,oz,ux,uy,uz,vx,vy,vz" (corner and two edges, m); it must
-    /// lie on scene geometry. Only light arriving from its front, the side u × v points to, is
+    /// Measure on the rectangle "ox,oy,oz,ux,uy,uz,vx,vy,vz" (corner and two edges, m), on a
+    /// surface or in the air. Only light arriving from its front, the side u × v points to, is
     /// counted: swap u and v to measure the other side.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "points")]
     plane: Option<String>,
-    /// Cells "NXxNY" along u and v.
-    #[arg(long, default_value = "10x10", value_parser = parse_cells)]
-    cells: (u32, u32),
+    /// Measure at the points of this file: one "x,y,z,nx,ny,nz" per line (position and the
+    /// normal of the measured side; commas or spaces; '#' comments and an x,y,z,nx,ny,nz header
+    /// allowed).
+    #[arg(long)]
+    points: Option<PathBuf>,
+    /// Cells "NXxNY" along u and v (planes; default 10x10).
+    #[arg(long, value_parser = parse_cells)]
+    cells: Option<(u32, u32)>,
+    /// How to estimate: `connections` works anywhere; `samples` only on scene geometry, where it
+    /// is cheaper and less noisy. Default: `samples` for --surface, `connections` otherwise.
+    #[arg(long, value_enum)]
+    estimator: Option<MeterEstimator>,
+    /// Connections: meter points each stored sample is connected to.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    connections: u32,
+    /// Connections: points per cell at which the direct light of point and directional lights
+    /// is gathered.
+    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+    direct_samples: u32,
+    /// Connections: seed of the meter's random streams.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
     /// Output CSV file (.csv).
     #[arg(short, long)]
     output: PathBuf,
-    /// Also write a heat-map PNG (.png) of the illuminance (lux).
+    /// Also write a heat-map PNG (.png) of the illuminance (lux); planes only.
     #[arg(long)]
     png: Option<PathBuf>,
     #[command(flatten)]
     threads: ThreadArgs,
 }
 
-/// Parses "NXxNY" cell counts (1..=65536 each).
+/// Parses "NXxNY" cell counts (1..=65536 in all).
 fn parse_cells(s: &str) -> Result<(u32, u32)> {
     let (x, y) = s.split_once(['x', 'X']).with_context(|| format!("'{s}' must look like 10x8"))?;
     let (x, y): (u32, u32) = (
         x.trim().parse().with_context(|| format!("'{s}': '{x}' is not a cell count"))?,
         y.trim().parse().with_context(|| format!("'{s}': '{y}' is not a cell count"))?,
     );
-    if x == 0 || y == 0 || x > 65536 || y > 65536 {
-        bail!("{x}x{y} cells: each count must be between 1 and 65536");
+    let max = opticks_core::sensor::meter::MAX_TARGETS as u64;
+    if x == 0 || y == 0 || x as u64 * y as u64 > max {
+        bail!("{x}x{y} cells: each count must be between 1 and 65536, and at most {max} cells in all");
     }
     Ok((x, y))
 }
@@ -84,77 +127,103 @@ fn parse_plane(s: &str) -> Result<(Vec3, Vec3, Vec3)> {
 /// Runs the measurement.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let mut outputs = vec![(a.output.as_path(), OutputKind::Csv)];
-    outputs.extend(a.png.as_deref().map(|p| (p, OutputKind::Png)));
-    check_outputs(&outputs, &a.input.inputs())?;
-    let data = a.input.open()?;
-    let desc = &data.description;
-    let (nx, ny) = a.cells;
-    let meter = match (&a.surface, &a.plane) {
-        (Some(name), _) => IlluminanceMeter::on_mesh(desc, name, nx, ny)?,
-        (None, Some(p)) => {
-            let (o, u, v) = parse_plane(p)?;
-            IlluminanceMeter::new(o, u, v, nx, ny).with_context(|| format!("--plane '{p}'"))?
+    let estimator = a.estimator.unwrap_or(match a.surface {
+        Some(_) => MeterEstimator::Samples,
+        None => MeterEstimator::Connections,
+    });
+    if a.points.is_some() {
+        if a.cells.is_some() {
+            bail!("--cells is for planes; with --points every point is one cell");
         }
-        (None, None) => bail!("give --surface NAME or --plane ox,oy,oz,ux,uy,uz,vx,vy,vz"),
-    };
-    let _graceful = crate::interrupt::graceful();
-    // Per cell: its lux value and its CSV line (about 120 characters).
-    super::check_film_fits("a meter", (nx, ny), 8 + 128)?;
-    let pb = progress::bar(data.samples(), "measuring", "samples");
-    let done = AtomicU64::new(0);
-    let (film, behind) = measure_both_sides(
-        &meter,
-        data.count(),
-        |i| {
-            super::unless_interrupted()?;
-            data.batch(i)
-        },
-        |n| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64),
-    )?;
-    pb.finish_and_clear();
-    let n = meter.normal();
-    let (front_mean, back_mean) = (film.mean(), behind.mean());
-    let (front_sum, back_sum) = (front_mean.iter().sum::<f64>(), back_mean.iter().sum::<f64>());
-    if back_sum > front_sum {
-        output::warning(&format!(
-            "more light reaches this plane from behind (mean E {:.4e} W/m² summed over RGB) than from its \
-             front (normal {:.3},{:.3},{:.3}: {:.4e} W/m²); to measure the other side, swap u and v",
-            back_sum, n.x, n.y, n.z, front_sum
-        ));
-    } else {
-        super::warn_if_black(&film, data.samples(), "meter's front");
-    }
-
-    let lux: Vec<f64> = film
-        .pixels
-        .iter()
-        .map(|e| f64::from(LUMENS_PER_WATT) * (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]))
-        .collect();
-    let mut csv = String::from("i,j,x,y,z,E_R,E_G,E_B,E_v_lux\n");
-    for j in 0..ny {
-        for i in 0..nx {
-            let k = (j * nx + i) as usize;
-            let c = meter.cell_centre(i, j);
-            let e = film.pixels[k];
-            let _ = writeln!(
-                csv,
-                "{i},{j},{},{},{},{:e},{:e},{:e},{:e}",
-                c.x, c.y, c.z, e[0], e[1], e[2], lux[k]
+        if a.png.is_some() {
+            bail!("--png draws a plane's heat map; points have none (the CSV has every point)");
+        }
+        if estimator == MeterEstimator::Samples {
+            bail!(
+                "--estimator samples counts samples landing on a surface and cannot read points: use connections"
             );
         }
     }
-    let heatmap = match &a.png {
-        Some(png) => Some(opticks_io::heatmap::encode_heatmap(
+    let mut outputs = vec![(a.output.as_path(), OutputKind::Csv)];
+    outputs.extend(a.png.as_deref().map(|p| (p, OutputKind::Png)));
+    let mut inputs = a.input.inputs();
+    inputs.extend(a.points.as_deref());
+    check_outputs(&outputs, &inputs)?;
+    let points = match &a.points {
+        Some(p) => Some(MeterLayout::points(opticks_io::meter_points::read_points(p)?)?),
+        None => None,
+    };
+    let data = a.input.open()?;
+    let desc = &data.description;
+    let (nx, ny) = a.cells.unwrap_or((10, 10));
+    let layout = match (&a.surface, &a.plane, points) {
+        (_, _, Some(points)) => points,
+        (Some(name), _, _) => MeterLayout::Grid(IlluminanceMeter::on_mesh(desc, name, nx, ny)?),
+        (None, Some(p), _) => {
+            let (o, u, v) = parse_plane(p)?;
+            MeterLayout::Grid(
+                IlluminanceMeter::new(o, u, v, nx, ny).with_context(|| format!("--plane '{p}'"))?,
+            )
+        }
+        (None, None, None) => {
+            bail!("give --surface NAME, --plane ox,oy,oz,ux,uy,uz,vx,vy,vz or --points FILE")
+        }
+    };
+    let groups = data.groups();
+    // Per cell: its lux value and its CSV line (about 120 characters).
+    super::check_film_fits("a meter", (layout.len() as u32, 1), 8 + 128)?;
+    let _graceful = crate::interrupt::graceful();
+    let pb = progress::bar(data.samples(), "measuring", "samples");
+    let done = AtomicU64::new(0);
+    let batch = |i| {
+        super::unless_interrupted()?;
+        data.batch(i)
+    };
+    let progress = |n: usize| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64);
+    let reading = match (&layout, estimator) {
+        (MeterLayout::Grid(meter), MeterEstimator::Samples) => read_samples(meter, &groups, batch, progress)?,
+        (_, _) => {
+            let mut paths = vec![0u64; data.flux_per_path().len()];
+            for g in &groups {
+                paths[g.light as usize] += g.paths;
+            }
+            let lights = RenderLights::new(&data.scene, &data.light_names(), data.flux_per_path(), &paths);
+            let settings = ConnectedSettings {
+                connections: a.connections,
+                direct_samples: a.direct_samples,
+                seed: a.seed,
+            };
+            read_connected(&data.scene, &lights, &layout, settings, &groups, batch, progress)?
+        }
+    };
+    super::unless_interrupted()?;
+    pb.finish_and_clear();
+    let side = match &layout {
+        MeterLayout::Grid(m) => {
+            let n = m.normal();
+            format!("normal {:.3},{:.3},{:.3}; to measure the other side, swap u and v", n.x, n.y, n.z)
+        }
+        MeterLayout::Points(_) => "points' normals".into(),
+    };
+    let mut film = Film::new(layout.len() as u32, 1);
+    for (p, v) in film.pixels.iter_mut().zip(&reading.value) {
+        *p = [v[0], v[1], v[2]];
+    }
+    super::warn_if_black(&film, data.samples(), &format!("meter's front ({side})"));
+
+    let csv = table(&layout, &reading);
+    let lux: Vec<f64> = reading.value.iter().map(|v| v[3]).collect();
+    let heatmap = match (&a.png, &layout) {
+        (Some(png), MeterLayout::Grid(m)) => Some(opticks_io::heatmap::encode_heatmap(
             png,
             &lux,
             nx,
             ny,
-            meter.u.length() as f64,
-            meter.v.length() as f64,
+            m.u.length() as f64,
+            m.v.length() as f64,
             "E (lux)",
         )?),
-        None => None,
+        _ => None,
     };
     let mut files = vec![(a.output.as_path(), csv.as_bytes())];
     if let (Some(png), Some(bytes)) = (&a.png, &heatmap) {
@@ -162,22 +231,76 @@ pub fn run(a: Args) -> Result<()> {
     }
     let removed = opticks_io::image_file::write_files_atomically(&files).context("nothing was written")?;
     super::note_removed_stale(&removed);
-    let area = (meter.cell_area() as f64) * (nx * ny) as f64;
-    let mean = front_mean;
+    let mean = film.mean();
     let (min, max) = lux.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
+    let what = match &layout {
+        MeterLayout::Grid(m) => {
+            let n = m.normal();
+            let area = (m.cell_area() as f64) * (nx * ny) as f64;
+            format!(
+                "{nx}x{ny} cells on {area:.4} m², front side (light arriving from normal {:.3},{:.3},{:.3})",
+                n.x, n.y, n.z
+            )
+        }
+        MeterLayout::Points(p) => format!("{} points, each facing its normal", p.len()),
+    };
     output::result(&format!(
-        "{nx}x{ny} cells on {area:.4} m², front side (light arriving from normal {:.3},{:.3},{:.3}): mean E = \
-         {:.5e},{:.5e},{:.5e} W/m², E_v {min:.4e}..{max:.4e} lux → {}{}",
-        n.x,
-        n.y,
-        n.z,
+        "{what}: mean E = {:.5e},{:.5e},{:.5e} W/m², E_v {min:.4e}..{max:.4e} lux → {}{}",
         mean[0],
         mean[1],
         mean[2],
         a.output.display(),
         a.png.as_ref().map(|p| format!(" and {}", p.display())).unwrap_or_default()
     ));
+    let (rel_max, rel_mean, lit) = reading.relative_error();
+    if lit > 0 {
+        output::result(&format!(
+            "relative standard error of E_v over the {lit} lit {}: max {:.3} %, mean {:.3} % ({} estimator)",
+            if layout.is_point() { "points" } else { "cells" },
+            100.0 * rel_max,
+            100.0 * rel_mean,
+            match estimator {
+                MeterEstimator::Connections => "connections",
+                MeterEstimator::Samples => "samples",
+            }
+        ));
+    }
+    if rel_max.is_nan() {
+        output::warning(
+            "some standard errors are unknown (NaN): a light with a single chunk of paths gives no \
+             spread to estimate them from; trace more paths",
+        );
+    }
     Ok(())
+}
+
+/// The CSV table of a reading.
+fn table(layout: &MeterLayout, r: &Reading) -> String {
+    let values = |k: usize| {
+        let (v, e) = (r.value[k], r.std_error[k]);
+        format!("{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}", v[0], v[1], v[2], v[3], e[0], e[1], e[2], e[3])
+    };
+    let mut csv = String::new();
+    match layout {
+        MeterLayout::Grid(m) => {
+            csv += "i,j,x,y,z,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux\n";
+            for j in 0..m.ny {
+                for i in 0..m.nx {
+                    let c = m.cell_centre(i, j);
+                    let _ =
+                        writeln!(csv, "{i},{j},{},{},{},{}", c.x, c.y, c.z, values((j * m.nx + i) as usize));
+                }
+            }
+        }
+        MeterLayout::Points(points) => {
+            csv += "point,x,y,z,nx,ny,nz,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux\n";
+            for (k, p) in points.iter().enumerate() {
+                let (c, n) = (p.position, p.normal);
+                let _ = writeln!(csv, "{k},{},{},{},{},{},{},{}", c.x, c.y, c.z, n.x, n.y, n.z, values(k));
+            }
+        }
+    }
+    csv
 }
 
 #[cfg(test)]

@@ -366,6 +366,18 @@ impl LitDataset {
         Ok(OwnedBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
     }
 
+    /// The kept chunks as independent groups of paths (light, paths), in batch order: what a
+    /// meter's standard error is estimated from.
+    pub fn groups(&self) -> Vec<opticks_core::sensor::meter::Group> {
+        self.chunks
+            .iter()
+            .map(|&i| {
+                let (light, paths, _) = self.reader.chunk_summary(i).unwrap_or_default();
+                opticks_core::sensor::meter::Group { light, paths }
+            })
+            .collect()
+    }
+
     /// The dataset's light names, in table order.
     pub fn light_names(&self) -> Vec<&str> {
         self.reader.header().table.lights.iter().map(|l| l.name.as_str()).collect()

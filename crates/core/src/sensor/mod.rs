@@ -27,8 +27,9 @@
 //! sample's own bits, so a render is reproducible and does not depend on how the dataset was
 //! chunked or how many threads render it.
 //!
-//! The [`meter`] module holds the illuminance meter, which needs no connection: a stored sample
-//! already *is* flux arriving at a surface.
+//! The [`meter`] module holds the illuminance meter: on scene geometry it needs no connection
+//! (a stored sample already *is* flux arriving at a surface); anywhere else it connects the
+//! samples to itself through the same `connect_to` as the cameras.
 
 pub mod bidirectional;
 mod equirect;
@@ -214,9 +215,17 @@ pub(crate) fn connect_sample(
     s: &Sample,
     random: bool,
 ) -> Option<SampleConnection> {
-    let x = s.position();
     let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-    let conn = sensor.connect(x, u)?;
+    connect_to(scene, s, sensor.connect(s.position(), u)?)
+}
+
+/// Connects stored sample `s` to the sensor point `conn.point` (the rest of `conn` is passed
+/// through): f toward it (or the emission factor), cos θ_x, and the shadow ray. `None` when
+/// f is 0, an emitter is seen from behind, or the point is hidden. Shared by the cameras and
+/// the connected illuminance meter ([`meter`]).
+#[inline]
+pub(crate) fn connect_to(scene: &Scene, s: &Sample, conn: Connection) -> Option<SampleConnection> {
+    let x = s.position();
     let to_c = conn.point - x;
     let d = to_c.length();
     if !(d > 0.0) {

@@ -40,4 +40,5 @@ pub use path::{camera_path, scatter_mis};
 pub use progressive::Progressive;
 pub use render::{Renderer, Settings, combine};
 pub use splat::{light_trace_weight, splat_chunk};
+pub(crate) use vertex::visible;
 pub use vertex::{Context, Receiver, connect, connection_weight, nee, nee_weight};

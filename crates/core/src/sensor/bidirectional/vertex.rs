@@ -111,9 +111,10 @@ pub(super) fn transmittance(sigma: Rgb, d: f32) -> Rgb {
 }
 
 /// Whether the segment from `a` (geometric normal `na`) toward `b` along unit `dir`, `d` long,
-/// is unblocked; `nb` is `b`'s normal if it lies on a surface.
+/// is unblocked; `nb` is `b`'s normal if it lies on a surface. Also the illuminance meter's
+/// shadow ray (`crate::sensor::meter`).
 #[inline]
-fn visible(scene: &Scene, a: Vec3, na: Vec3, dir: Vec3, d: f32, b: Option<(Vec3, Vec3)>) -> bool {
+pub(crate) fn visible(scene: &Scene, a: Vec3, na: Vec3, dir: Vec3, d: f32, b: Option<(Vec3, Vec3)>) -> bool {
     let origin = offset_ray_origin(a, na, dir);
     let ray = match b {
         _ if d.is_infinite() => Ray { origin, dir, t_max: f32::INFINITY },

@@ -1,25 +1,40 @@
-//! The illuminance meter: irradiance E (W/m²) on a grid of cells over a planar piece of a scene
-//! surface (the thesis §6.1.5's measuring devices).
+//! The illuminance meter: irradiance E (W/m²) per cell of a grid, or at points (the thesis
+//! §6.1.5's measuring devices), with a standard error per target. Two estimators:
 //!
-//! No connection is needed: a stored sample on a surface *is* the flux Φ_k·β/N_k arriving there
-//! (docs/estimator.md §2), so the irradiance of a cell is the flux of the samples that landed in it,
-//! divided by its area:
+//! * **Connected** (`connect.rs`, [`read_connected`]): anywhere — on a plane in the air, at a
+//!   list of points ([`MeterPoint`]), or on a surface. Every stored sample (scattered vertices
+//!   and area lights' emission points) is connected to a uniform point of the meter, the light
+//!   tracer's t = 1 strategy with the meter as a sensor of cosine importance; the point and
+//!   directional lights, which store no emission vertex, add their direct light at the meter.
+//! * **Stored samples** ([`read_samples`], and [`measure`] without the errors): only for a meter
+//!   lying *on* scene geometry. No connection is needed: a stored sample on a surface *is* the
+//!   flux Φ_k·β/N_k arriving there (docs/estimator.md §2), so
 //!
 //! ```text
 //! E_cell = Σ_{samples x in the cell, arriving from the front} (Φ_k/N_k) · β  /  A_cell
 //! ```
 //!
-//! — unbiased for the cell's mean irradiance, whatever the light paths did before. Consequences:
-//! the meter must lie *on* scene geometry (a free-floating plane receives no samples and reads
-//! 0); emission vertices are not incident light and are skipped; only light arriving from the
-//! side the meter's normal n = u × v faces is counted (a sample's `from_dir` · n > 0), so a
-//! meter on a wall reads that wall's front irradiance.
+//!   — unbiased for the cell's mean irradiance, whatever the light paths did before; a plane in
+//!   the air receives no samples and reads 0; emission vertices are not incident light and are
+//!   skipped.
 //!
-//! A meter is a parallelogram (origin, edge vectors u and v) divided into nx × ny cells; a sample
-//! belongs to it when it lies within a small tolerance of that plane. [`IlluminanceMeter::on_mesh`]
-//! builds one covering a planar mesh's bounding rectangle in its own plane. The result is a
-//! [`Film`] of nx × ny cells: entry `j * nx + i` is cell i along u and j along v (row 0 at the
+//! Both count only light arriving from the side the meter's normal faces (n = u × v; a
+//! sample's `from_dir` · n > 0 here), so a meter on a wall reads that wall's front irradiance.
+//! Their standard errors come from the dataset's chunks, which are independent (`tally.rs`).
+//!
+//! A grid meter is a parallelogram (origin, edge vectors u and v) divided into nx × ny cells; a
+//! sample belongs to it when it lies within a small tolerance of that plane.
+//! [`IlluminanceMeter::on_mesh`] builds one covering a planar mesh's bounding rectangle in its
+//! own plane. Entry `j * nx + i` of a reading is cell i along u and j along v (row 0 at the
 //! origin's side — not an image's top row).
+
+mod connect;
+mod layout;
+mod tally;
+
+pub use connect::{ConnectedSettings, read_connected};
+pub use layout::{MeterDraw, MeterLayout, MeterPoint};
+pub use tally::{Group, Reading, lux};
 
 use super::{SampleBatch, Splatter, accumulate};
 use crate::film::{Film, SplatTarget};
@@ -29,8 +44,8 @@ use crate::scene::SceneDescription;
 /// Why a meter cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeterError {
-    /// nx or ny is zero (or absurdly large).
-    #[error("a meter needs at least 1x1 cells and at most 65536 per side, got {0}x{1}")]
+    /// nx or ny is zero, or there are more than [`MAX_TARGETS`] cells.
+    #[error("a meter needs at least 1x1 cells and at most 65536 in all, got {0}x{1}")]
     Cells(u32, u32),
     /// Non-finite numbers, or u and v parallel or zero.
     #[error(
@@ -58,7 +73,17 @@ pub enum MeterError {
     /// The mesh has no (non-degenerate) triangles.
     #[error("mesh '{0}' has no area to measure")]
     EmptySurface(String),
+    /// A meter point's position or normal is not finite, or its normal is zero.
+    #[error("a meter point needs a finite position and a finite, non-zero normal")]
+    BadPoint,
+    /// No points, or more than [`MAX_TARGETS`].
+    #[error("a meter needs between 1 and 65536 points, got {0}")]
+    PointCount(usize),
 }
+
+/// The most cells or points one meter reads (its statistics take ~100 bytes per target and
+/// light on each thread).
+pub const MAX_TARGETS: usize = 65536;
 
 /// A grid of nx × ny irradiance cells on the parallelogram origin + a·u + b·v, a, b ∈ [0,1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,7 +108,7 @@ impl IlluminanceMeter {
     /// A meter on the parallelogram (origin, u, v) with nx × ny cells. Its front (the side whose
     /// incident light it measures) is n = u × v.
     pub fn new(origin: Vec3, u: Vec3, v: Vec3, nx: u32, ny: u32) -> Result<Self, MeterError> {
-        if nx == 0 || ny == 0 || nx > 65536 || ny > 65536 {
+        if nx == 0 || ny == 0 || nx as u64 * ny as u64 > MAX_TARGETS as u64 {
             return Err(MeterError::Cells(nx, ny));
         }
         let c = u.cross(v);
@@ -193,7 +218,22 @@ impl IlluminanceMeter {
     }
 }
 
-/// Irradiance per cell (W/m², RGB) from `count` batches, on all cores.
+/// The stored-samples estimator with standard errors: irradiance per cell of a meter on scene
+/// geometry from `groups.len()` batches (batch i is chunk i, of light and paths `groups[i]`).
+pub fn read_samples<B: super::AsBatch, E: Send>(
+    meter: &IlluminanceMeter,
+    groups: &[Group],
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Reading, E> {
+    let cells = meter.nx as usize * meter.ny as usize;
+    tally::tally_groups(cells, groups, batch, progress, |_, samples, flux_per_path, scratch| {
+        meter.splat(SampleBatch { flux_per_path, samples }, scratch)
+    })
+}
+
+/// Irradiance per cell (W/m², RGB) from `count` batches, on all cores (the stored-samples
+/// estimator without errors).
 ///
 /// See [`measure_both_sides`] for the light arriving from behind as well.
 pub fn measure<B: super::AsBatch, E: Send>(
