@@ -17,7 +17,9 @@
 //! * [`sensor`] connects stored samples to a sensor (pinhole camera) and accumulates a [`film::Film`].
 //!
 //! This crate does no file IO and is deterministic for a given seed.
-#![forbid(unsafe_code)]
+// One exception, allowed where it stands: the prefetch hint of the light vertex cache
+// (`sensor::bidirectional`'s cache), which reads no memory into the program.
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 // `!(x > 0.0)` is how this crate rejects NaN along with the out-of-range values: deliberate.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

@@ -83,6 +83,21 @@ impl Accumulator {
         self.flush();
         self.film
     }
+
+    /// The accumulated film, in place (the staged splats folded in): what
+    /// [`Accumulator::into_film`] would return, for a caller that reuses the accumulator.
+    pub fn film(&mut self) -> &Film {
+        if self.staged > 0 {
+            self.flush();
+        }
+        &self.film
+    }
+
+    /// Black again, keeping its memory: the same as a new accumulator of its size.
+    pub fn clear(&mut self) {
+        self.flush();
+        self.film.pixels.fill([0.0; 3]);
+    }
 }
 
 impl SplatTarget for Accumulator {
@@ -157,5 +172,30 @@ impl Film {
             }
         }
         m.map(|x| x / n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cleared accumulator is a new one: reused, it gives the film a fresh one gives, and
+    /// `film` (in place) is `into_film`.
+    #[test]
+    fn a_cleared_accumulator_is_a_new_one() {
+        let splats = |acc: &mut Accumulator, k: f32| {
+            for i in 0..50 {
+                acc.splat(i % 6, Rgb::new(k * i as f32, 0.5, 1e-3 * k));
+            }
+        };
+        let mut reused = Accumulator::new(3, 2);
+        splats(&mut reused, 7.0);
+        reused.clear();
+        assert_eq!(reused.film(), &Film::new(3, 2));
+        splats(&mut reused, 0.25);
+        let mut fresh = Accumulator::new(3, 2);
+        splats(&mut fresh, 0.25);
+        assert_eq!(reused.film(), &fresh.clone().into_film());
+        assert_ne!(fresh.into_film(), Film::new(3, 2));
     }
 }

@@ -1,13 +1,15 @@
 //! The light vertex cache: the dataset as the light half of the bidirectional estimator
 //! (`docs/bidirectional.md` §1). It holds borrowed views of the rendered chunks — their samples
 //! and the samples' [`MisRecord`]s, from memory ([`LightCache::from_chunks`], the core's tests)
-//! or from a memory-mapped dataset file (`opticks_io`, which verifies each chunk once and hands
+//! or from a dataset file read into memory (`opticks_io::light_cache`, which verifies each chunk once and hands
 //! its views here) — so its own memory is a few words per chunk, whatever the dataset's size.
 //!
 //! What the renderer asks of it: |Y|, the stored non-emission vertices of the lights that are
 //! on; a vertex drawn uniformly from them ([`LightCache::draw`]: a chunk by prefix sums of its
 //! non-emission count, then a sample of it by rejection of its emission vertices, which is
-//! exactly uniform); every chunk in turn for the light-tracing splat; and per table light its
+//! exactly uniform — in two halves, so that a camera path can begin the draw one vertex ahead
+//! and its random read of memory overlaps that vertex's work: [`LightCache::begin_draw`]
+//! prefetches, [`LightCache::finish_draw`] reads); every chunk in turn for the light-tracing splat; and per table light its
 //! paths N_k in the rendered chunks. Emission vertices are counted per chunk when a view is
 //! made ([`CacheChunk::new`]), so nothing is assumed about where a chunk keeps them.
 
@@ -138,9 +140,23 @@ impl<'a> LightCache<'a> {
     }
 
     /// Draws a vertex uniformly from the |Y| drawable ones; `None` if there are none or the
-    /// cache has no records.
+    /// cache has no records. The same as [`LightCache::begin_draw`] then
+    /// [`LightCache::finish_draw`] at once.
     #[inline]
     pub fn draw(&self, rng: &mut RandomStream) -> Option<CachedVertex<'a>> {
+        let p = self.begin_draw(rng)?;
+        Some(self.finish_draw(p, rng))
+    }
+
+    /// The first half of a draw, which can be made well before the vertex is needed: the chunk
+    /// (by prefix sums of the non-emission counts, so with probability ∝ its drawable vertices)
+    /// and [`CANDIDATES`] sample indices drawn uniformly in it, whose sample and record are
+    /// prefetched into the CPU cache; `None` if there is nothing to draw. A connection's vertex
+    /// lies anywhere in a cache of hundreds of MB, so reading it is a miss all the way to
+    /// memory; started one camera vertex ahead, the read overlaps that vertex's rays instead of
+    /// stalling the connection (`docs/performance.md`).
+    #[inline]
+    pub fn begin_draw(&self, rng: &mut RandomStream) -> Option<PendingDraw> {
         if self.vertices == 0 || !self.records {
             return None;
         }
@@ -150,15 +166,68 @@ impl<'a> LightCache<'a> {
         let chunk = &self.chunks[c];
         debug_assert!(chunk.non_emission > 0);
         let n = chunk.samples.len() as u64;
+        let candidates = [(); CANDIDATES].map(|_| below(rng, n) as usize);
+        for &i in &candidates {
+            prefetch(&chunk.samples[i]);
+            prefetch(&chunk.records[i]);
+        }
+        Some(PendingDraw { chunk: c, candidates })
+    }
+
+    /// The vertex of a draw begun by [`LightCache::begin_draw`] on this cache: the first of its
+    /// candidates that is not an emission vertex, or else further uniform candidates in the same
+    /// chunk until one is not (rejection sampling, whose candidates are independent and uniform
+    /// however many of them were drawn ahead: the vertex is uniform over the chunk's drawable
+    /// ones, and so over all |Y|).
+    #[inline]
+    pub fn finish_draw(&self, p: PendingDraw, rng: &mut RandomStream) -> CachedVertex<'a> {
+        let chunk = &self.chunks[p.chunk];
+        let vertex = |i: usize| CachedVertex {
+            light: chunk.light,
+            sample: &chunk.samples[i],
+            record: chunk.records[i],
+        };
+        if let Some(&i) = p.candidates.iter().find(|&&i| !chunk.samples[i].is_emission()) {
+            return vertex(i);
+        }
+        let n = chunk.samples.len() as u64;
         loop {
             let i = below(rng, n) as usize;
-            let sample = &chunk.samples[i];
-            if !sample.is_emission() {
-                return Some(CachedVertex { light: chunk.light, sample, record: chunk.records[i] });
+            if !chunk.samples[i].is_emission() {
+                return vertex(i);
             }
         }
     }
 }
+
+/// Candidate indices a [`PendingDraw`] draws ahead: with a fraction e of emission vertices in a
+/// chunk (a quarter in a closed room), a draw must still read memory synchronously with
+/// probability e^CANDIDATES.
+pub const CANDIDATES: usize = 2;
+
+/// A draw from the cache begun ahead of its use ([`LightCache::begin_draw`]): its chunk and
+/// candidate samples, already on their way into the CPU cache.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PendingDraw {
+    chunk: usize,
+    candidates: [usize; CANDIDATES],
+}
+
+/// Asks the CPU to start loading the cache line of `value` (a hint: no effect on any result).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+#[allow(unsafe_code)]
+fn prefetch<T>(value: &T) {
+    use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+    // SAFETY: a prefetch is only a hint: it reads nothing into the program and cannot fault,
+    // and the pointer comes from a live reference. SSE is part of the x86_64 baseline.
+    unsafe { _mm_prefetch::<_MM_HINT_T0>((value as *const T).cast::<i8>()) }
+}
+
+/// Elsewhere a prefetch is nothing.
+#[cfg(not(target_arch = "x86_64"))]
+#[inline(always)]
+fn prefetch<T>(_: &T) {}
 
 /// A uniform integer in [0, n) (n > 0), by the multiply-high map of 64 random bits (its bias,
 /// below n/2⁶⁴, is far beneath any other rounding).

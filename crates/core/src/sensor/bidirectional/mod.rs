@@ -29,7 +29,7 @@ mod render;
 mod splat;
 mod vertex;
 
-pub use cache::{CacheChunk, CachedVertex, LightCache, RecordMismatch};
+pub use cache::{CANDIDATES, CacheChunk, CachedVertex, LightCache, PendingDraw, RecordMismatch};
 pub use camera::{CameraRay, camera_ray, image_pdf};
 pub use lights::{LightPoint, RenderLight, RenderLights};
 pub use mis::{
@@ -41,4 +41,4 @@ pub use progressive::Progressive;
 pub use render::{Renderer, Settings, combine};
 pub use splat::{light_trace_weight, splat_chunk};
 pub(crate) use vertex::visible;
-pub use vertex::{Context, Receiver, connect, connection_weight, nee, nee_weight};
+pub use vertex::{Context, DrawsAhead, Receiver, connect, connect_ahead, connection_weight, nee, nee_weight};

@@ -7,7 +7,7 @@
 //! throughput and stay out of the weights (§2).
 
 use super::camera::camera_ray;
-use super::vertex::{Context, Receiver, connect, nee, segment_medium, transmittance};
+use super::vertex::{Context, DrawsAhead, Receiver, connect_ahead, nee, segment_medium, transmittance};
 use super::{CameraVertexMis, weight_emitter_hit};
 use crate::bsdf::Material;
 use crate::bsdf::TransportMode;
@@ -44,6 +44,8 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
     let mut medium = Rgb::ZERO;
     let (mut depth, mut delta_run) = (0u32, 0u32);
     let mut radiance = Rgb::ZERO;
+    // The first connections' cache reads start now, each later vertex's at the one before.
+    let mut ahead = DrawsAhead::begin(ctx, rng);
     while let Some(hit) = scene.intersect(&ray) {
         depth += 1;
         throughput *= transmittance(medium, hit.t);
@@ -65,7 +67,8 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
         let delta = material.bsdf.is_delta();
         if !delta {
             let r = Receiver { position: hit.position, normals, material, to_camera, medium };
-            radiance += throughput * (nee(ctx, &r, &mis, rng) + connect(ctx, &r, &mis, rng));
+            let gathered = nee(ctx, &r, &mis, rng) + connect_ahead(ctx, &r, &mis, rng, &mut ahead);
+            radiance += throughput * gathered;
         }
         let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
         let Some(s) = material.sample_world(normals, to_camera, u_lobe, u, TransportMode::Radiance) else {

@@ -146,23 +146,28 @@ impl<'a> Renderer<'a> {
         let chunks = self.cache.chunks();
         let run_len = chunks.len().div_ceil(SPLAT_RUNS).max(1);
         let runs: Vec<usize> = (0..chunks.len().div_ceil(run_len)).collect();
+        // One accumulator per run of a group, reused group after group: a run's film is the
+        // same as a fresh one's, without allocating, faulting in and freeing 64 films.
+        let mut accs: Vec<Accumulator> =
+            (0..SPLAT_GROUP.min(runs.len())).map(|_| Accumulator::new(w, h)).collect();
         for group in runs.chunks(SPLAT_GROUP) {
-            let films: Option<Vec<Film>> = group
-                .par_iter()
-                .map(|&r| {
-                    let mut acc = Accumulator::new(w, h);
-                    for c in &chunks[r * run_len..((r + 1) * run_len).min(chunks.len())] {
-                        if stop() {
-                            return None;
-                        }
-                        splat_chunk(&ctx, &self.sensor, c, &mut acc);
-                        progress(c.samples.len());
+            let done = accs[..group.len()].par_iter_mut().zip(group).all(|(acc, &r)| {
+                for c in &chunks[r * run_len..((r + 1) * run_len).min(chunks.len())] {
+                    if stop() {
+                        return false;
                     }
-                    Some(acc.into_film())
-                })
-                .collect();
-            for f in &films? {
-                total.add(f);
+                    splat_chunk(&ctx, &self.sensor, c, acc);
+                    progress(c.samples.len());
+                }
+                acc.film();
+                true
+            });
+            if !done {
+                return None;
+            }
+            for acc in &mut accs[..group.len()] {
+                total.add(acc.film());
+                acc.clear();
             }
         }
         Some(total)

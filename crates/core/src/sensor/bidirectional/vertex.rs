@@ -9,7 +9,7 @@
 //! material). They return the radiance toward the camera side per unit throughput, already
 //! weighted; the caller multiplies by its throughput.
 
-use super::cache::{CachedVertex, LightCache};
+use super::cache::{CachedVertex, LightCache, PendingDraw};
 use super::lights::{LightPoint, RenderLights};
 use super::{
     CameraVertexMis, ConnectionEnd, Counts, Heuristic, LightVertexMis, weight_connection, weight_nee,
@@ -147,27 +147,72 @@ pub fn nee(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, rng: &mut Rand
     if !visible(ctx.scene, r.position, r.normals.geometric, lp.dir, lp.distance, target) {
         return Rgb::ZERO;
     }
-    let w = nee_weight(ctx, r, camera, &lp);
+    let w = weight_of_nee(ctx, camera, end, &lp);
     f * lp.radiance * (end.cos * w) * transmittance(r.medium_toward(lp.dir), lp.distance)
 }
 
 /// The MIS weight of NEE at `r` (camera state `camera`) to the light point `lp`.
 #[inline]
 pub fn nee_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, lp: &LightPoint) -> f32 {
+    weight_of_nee(ctx, camera, r.end(lp.dir, ctx.directions), lp)
+}
+
+/// [`nee_weight`] with the receiver's end of the segment already known (what [`nee`] reuses).
+#[inline]
+fn weight_of_nee(ctx: &Context, camera: &CameraVertexMis, end: ConnectionEnd, lp: &LightPoint) -> f32 {
     let d2 = lp.distance * lp.distance;
-    weight_nee(camera, r.end(lp.dir, ctx.directions), lp.emitter, lp.cos_light, d2, lp.pick, ctx.counts)
+    weight_nee(camera, end, lp.emitter, lp.cos_light, d2, lp.pick, ctx.counts)
+}
+
+/// The segment from a receiver to a cache vertex and the vertex's surface, found once for
+/// both the connection's contribution and its weight.
+struct Link<'s> {
+    /// Unit direction from the receiver to the vertex.
+    dir: Vec3,
+    /// Squared length of the segment.
+    d2: f32,
+    /// The vertex's normals and material.
+    normals: SurfaceNormals,
+    material: &'s Material,
+}
+
+impl<'s> Link<'s> {
+    /// The direction and squared distance from `r` to `y` (NaN direction if they coincide).
+    #[inline]
+    fn segment(r: &Receiver, y: Vec3) -> (Vec3, f32) {
+        let to_y = y - r.position;
+        let d2 = to_y.length_squared();
+        (to_y / d2.sqrt(), d2)
+    }
+
+    /// The link of the segment `dir`, `d2` to `v`'s surface.
+    #[inline]
+    fn to(scene: &'s Scene, v: &CachedVertex, (dir, d2): (Vec3, f32)) -> Self {
+        let (y, prim) = (v.sample.position(), v.sample.triangle());
+        Link { dir, d2, normals: scene.normals_at(prim, y), material: scene.material(prim) }
+    }
 }
 
 /// The MIS weight of connecting `r` (camera state `camera`) to the cache vertex `v`; 0 if its
 /// light is off.
 #[inline]
 pub fn connection_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &CachedVertex) -> f32 {
+    let link = Link::to(ctx.scene, v, Link::segment(r, v.sample.position()));
+    weight_of_link(ctx, camera, r.end(link.dir, ctx.directions), v, &link)
+}
+
+/// [`connection_weight`] with the link and the receiver's end of it already known (what a
+/// connection reuses).
+#[inline]
+fn weight_of_link(
+    ctx: &Context,
+    camera: &CameraVertexMis,
+    end: ConnectionEnd,
+    v: &CachedVertex,
+    link: &Link,
+) -> f32 {
     let Some(light) = ctx.lights.of_table(v.light as usize) else { return 0.0 };
-    let (y, prim) = (v.sample.position(), v.sample.triangle());
-    let to_y = y - r.position;
-    let d2 = to_y.length_squared();
-    let dir = to_y / d2.sqrt();
-    let (n_y, m_y) = (ctx.scene.normals_at(prim, y), ctx.scene.material(prim));
+    let (dir, n_y, m_y) = (link.dir, link.normals, link.material);
     let from = v.sample.from_dir();
     let at_light = ConnectionEnd {
         cos: n_y.geometric.dot(dir).abs(),
@@ -175,47 +220,106 @@ pub fn connection_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, 
         pdf_rev_w: m_y.pdf_world(n_y, -dir, from),
     };
     let state = LightVertexMis::from_record(v.record, ctx.heuristic);
-    weight_connection(camera, r.end(dir, ctx.directions), &state, at_light, d2, light.pick, ctx.counts)
+    weight_connection(camera, end, &state, at_light, link.d2, light.pick, ctx.counts)
 }
 
 /// Connections (s ≥ 2) of `r`, camera state `camera`, to n_c vertices drawn uniformly from the
 /// cache, each weighted by |Y|/n_c and by MIS.
 #[inline]
 pub fn connect(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, rng: &mut RandomStream) -> Rgb {
+    connect_ahead(ctx, r, camera, rng, &mut DrawsAhead::default())
+}
+
+/// Most cache draws a camera path begins one vertex ahead ([`DrawsAhead`]); connections beyond
+/// them draw when they connect.
+const MAX_AHEAD: usize = 4;
+
+/// The cache draws of a camera path's next connections, begun ahead of them
+/// ([`LightCache::begin_draw`]), so that their memory reads overlap the work in between. Start a
+/// path with [`DrawsAhead::begin`]; [`connect_ahead`] uses them and begins the next vertex's.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DrawsAhead {
+    draws: [Option<PendingDraw>; MAX_AHEAD],
+}
+
+impl DrawsAhead {
+    /// The first vertex's draws (min(n_c, 4) of them), begun now.
+    #[inline]
+    pub fn begin(ctx: &Context, rng: &mut RandomStream) -> Self {
+        let mut d = DrawsAhead::default();
+        d.refill(ctx, rng);
+        d
+    }
+
+    #[inline]
+    fn refill(&mut self, ctx: &Context, rng: &mut RandomStream) {
+        if ctx.connections == 0 || ctx.counts.conn == 0.0 {
+            return;
+        }
+        let n = (ctx.connections as usize).min(MAX_AHEAD);
+        for d in &mut self.draws[..n] {
+            *d = ctx.cache.begin_draw(rng);
+        }
+    }
+}
+
+/// [`connect`] with the draws begun in `ahead` (a draw missing there is made now); begins the
+/// draws of the next vertex's connections into `ahead`.
+#[inline]
+pub fn connect_ahead(
+    ctx: &Context,
+    r: &Receiver,
+    camera: &CameraVertexMis,
+    rng: &mut RandomStream,
+    ahead: &mut DrawsAhead,
+) -> Rgb {
     if ctx.connections == 0 || ctx.counts.conn == 0.0 {
         return Rgb::ZERO;
     }
     let mut total = Rgb::ZERO;
-    for _ in 0..ctx.connections {
-        let Some(v) = ctx.cache.draw(rng) else { break };
-        let (y, prim) = (v.sample.position(), v.sample.triangle());
-        let to_y = y - r.position;
-        let d2 = to_y.length_squared();
-        if !(d2 > 0.0) {
-            continue;
-        }
-        let d = d2.sqrt();
-        let dir = to_y / d;
-        let f_z = r.eval(dir);
-        if f_z == Rgb::ZERO {
-            continue;
-        }
-        let n_y = ctx.scene.normals_at(prim, y);
-        let f_y = ctx.scene.material(prim).eval_world(n_y, v.sample.from_dir(), -dir);
-        if f_y == Rgb::ZERO {
-            continue;
-        }
-        if !visible(ctx.scene, r.position, r.normals.geometric, dir, d, Some((y, n_y.geometric))) {
-            continue;
-        }
-        let w = connection_weight(ctx, r, camera, &v);
-        let g = r.normals.geometric.dot(dir).abs() * n_y.geometric.dot(dir).abs() / d2;
-        total += f_z
-            * f_y
-            * ctx.flux_per_path[v.light as usize]
-            * v.sample.beta()
-            * (g * w)
-            * transmittance(r.medium_toward(dir), d);
+    for k in 0..ctx.connections as usize {
+        let pending = match ahead.draws.get_mut(k).and_then(Option::take) {
+            Some(p) => p,
+            None => match ctx.cache.begin_draw(rng) {
+                Some(p) => p,
+                None => break,
+            },
+        };
+        let v = ctx.cache.finish_draw(pending, rng);
+        total += connect_one(ctx, r, camera, &v);
     }
+    ahead.refill(ctx, rng);
     total * (ctx.cache.vertices() as f32 / ctx.connections as f32)
+}
+
+/// The MIS-weighted contribution of connecting `r` (camera state `camera`) to the cache vertex
+/// `v`, before the |Y|/n_c of the draw.
+#[inline]
+fn connect_one(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &CachedVertex) -> Rgb {
+    let y = v.sample.position();
+    let (dir, d2) = Link::segment(r, y);
+    if !(d2 > 0.0) {
+        return Rgb::ZERO;
+    }
+    let d = d2.sqrt();
+    let f_z = r.eval(dir);
+    if f_z == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    let link = Link::to(ctx.scene, v, (dir, d2));
+    let n_y = link.normals;
+    let f_y = link.material.eval_world(n_y, v.sample.from_dir(), -dir);
+    if f_y == Rgb::ZERO {
+        return Rgb::ZERO;
+    }
+    if !visible(ctx.scene, r.position, r.normals.geometric, dir, d, Some((y, n_y.geometric))) {
+        return Rgb::ZERO;
+    }
+    let w = weight_of_link(ctx, camera, r.end(dir, ctx.directions), v, &link);
+    let g = r.normals.geometric.dot(dir).abs() * n_y.geometric.dot(dir).abs() / d2;
+    f_z * f_y
+        * ctx.flux_per_path[v.light as usize]
+        * v.sample.beta()
+        * (g * w)
+        * transmittance(r.medium_toward(dir), d)
 }
