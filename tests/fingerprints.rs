@@ -318,7 +318,7 @@ fn every_bsdf_and_light_kind_fingerprint_is_pinned() {
 /// Renders `testdata/datasets/NAME.opds` against `scene` (64×48, one thread, so the sum is in
 /// one order) and compares it, pixel for pixel, with `NAME.exr`, rendered from the same dataset
 /// by the Opticks that wrote it (commit fbd7ee8). With `upgrade`, the dataset is first
-/// upgraded to MIS records (`opticks upgrade`: every pass re-traced, bit for bit) and the
+/// upgraded to MIS records (`opticks upgrade`: every pass re-traced to the same paths, the samples kept) and the
 /// upgraded file, of the current format, must render the same image.
 fn renders_as_when_written(name: &str, scene: &str, upgrade: bool) {
     let repo = common::repo();
@@ -373,7 +373,8 @@ fn a_rough_materials_dataset_of_format_version_2_still_renders_the_same() {
     renders_as_when_written("rough-v2", "testdata/mitsuba/rough/scene.xml", false);
 }
 
-/// The old datasets re-trace bit for bit with today's tracer, gaining their MIS records.
+/// The old datasets re-trace to the same paths with today's tracer (up to rounding: hit points
+/// are snapped onto their triangles since), keep their samples and gain their MIS records.
 #[test]
 fn format_version_2_datasets_upgrade_to_records_and_still_render_the_same() {
     renders_as_when_written("cornell-v2", "testdata/scenes/cornell/scene.xml", true);

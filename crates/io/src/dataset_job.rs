@@ -13,10 +13,10 @@
 //! again ([`finished_path`]).
 
 use crate::dataset_file::{DatasetError, DatasetReader, DatasetSummary, DatasetWriter};
-use opticks_core::dataset::check_path_budget;
 use opticks_core::dataset::{
     Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan, TooManyPaths, UpgradeError, upgrade_plan,
 };
+use opticks_core::dataset::{check_path_budget, reproduces};
 use opticks_core::scene::Scene;
 use opticks_core::sensor::bidirectional::Heuristic;
 use opticks_core::trace::{trace_block, trace_plan_from};
@@ -253,8 +253,9 @@ pub fn write_dataset(
 
 /// Writes the dataset of `reader`, traced from `scene`, to `output` with MIS records of
 /// `heuristic` (`docs/bidirectional.md` §7): every chunk is re-traced from its block's own
-/// random stream ([`upgrade_plan`]), in parallel batches, and compared with the dataset's bit for
-/// bit before it is written with its records. A chunk that does not re-trace, or a stop request,
+/// random stream ([`upgrade_plan`]), in parallel batches, and compared with the dataset's
+/// (`opticks_core::dataset::reproduces`: the same paths, up to rounding); the dataset's samples
+/// are written unchanged, with the records of the re-trace. A chunk that does not re-trace, or a stop request,
 /// writes nothing. The header keeps every pass's figures and gains the records' heuristic and
 /// sampling signature.
 pub fn upgrade_dataset(
@@ -285,9 +286,7 @@ pub fn upgrade_dataset(
         for (j, (c, b)) in traced.into_iter().zip(batch).enumerate() {
             let i = n * BATCH + j;
             let old = reader.chunk(i)?;
-            let same =
-                bytemuck::cast_slice::<_, u8>(&c.samples) == bytemuck::cast_slice::<_, u8>(&old.samples);
-            if (c.light, c.paths) != (old.light, old.paths) || !same {
+            if (c.light, c.paths) != (old.light, old.paths) || !reproduces(&old.samples, &c.samples) {
                 let p = &header.trace.passes[b.pass];
                 return Err(JobError::NotReproduced {
                     chunk: i,
@@ -297,7 +296,8 @@ pub fn upgrade_dataset(
                 });
             }
             done += c.paths;
-            writer.write_chunk(&c)?;
+            // The dataset's own samples, bit for bit, with the re-trace's records.
+            writer.write_chunk(&Chunk { samples: old.samples, ..c })?;
         }
         progress.traced(done);
     }

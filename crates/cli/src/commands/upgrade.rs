@@ -1,7 +1,8 @@
 //! `opticks upgrade`: gives a dataset written without MIS records (dataset format 1 or 2, or
 //! traced with `--mis-records none`) the records the bidirectional estimator needs, by
-//! re-tracing every pass from its own seeds and streams and checking that the samples come out
-//! bit for bit the same (`opticks_io::dataset_job::upgrade_dataset`; the plan is
+//! re-tracing every pass from its own seeds and streams and checking that they trace the same
+//! paths, up to rounding (`opticks_core::dataset::reproduces`; the dataset's samples are kept
+//! bit for bit) (`opticks_io::dataset_job::upgrade_dataset`; the plan is
 //! `opticks_core::dataset::upgrade_plan`). The result is written atomically; a chunk that does
 //! not re-trace writes nothing. Like every dataset writer it first checks its output and takes
 //! the output's write lock ([`begin_dataset_write`]): it replaces its own input in place (the

@@ -52,4 +52,4 @@ pub use sample::{EMISSION_FLAG, Sample};
 pub use scene_check::{LightMismatch, SceneMismatch, check_scene, scene_lights};
 pub use subset::{BadFraction, Subset, subset};
 pub use table::{Chunk, LightRecord, LightTable};
-pub use upgrade::{RetraceBlock, UpgradeError, upgrade_plan};
+pub use upgrade::{RetraceBlock, UpgradeError, reproduces, upgrade_plan};
