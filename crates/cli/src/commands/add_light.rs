@@ -3,11 +3,11 @@
 //! the fingerprint says so — while the light table may grow): `opticks_core::dataset::add_light`.
 
 use super::extend_args::ExtendArgs;
-use super::{job_error, open_with_scene};
+use super::{job_error, open_with_scene, scene_spec, write_job};
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::AddLightError;
-use opticks_io::dataset_job::{NewPaths, Source, write_dataset};
+use opticks_io::dataset_job::{NewPaths, Source};
 use std::path::PathBuf;
 
 /// Arguments of `opticks add-light`.
@@ -24,7 +24,7 @@ pub struct Args {
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
     paths: Option<u64>,
     #[command(flatten)]
-    extend: ExtendArgs,
+    pub(crate) extend: ExtendArgs,
 }
 
 /// Adds the light.
@@ -48,8 +48,9 @@ pub fn run(a: Args) -> Result<()> {
     let paths = pass.settings.paths;
     let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
     let new = NewPaths { scene: &scene, pass };
+    let spec = scene_spec(&reader, a.scene.as_deref());
     let report =
-        write_dataset(&output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
+        write_job(spec, &output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
             .map_err(job_error)?;
     println!(
         "added light '{}' with {paths} paths ({:.2} s) → {} ({} lights, {} samples)",

@@ -25,7 +25,7 @@ use opticks_core::film::Film;
 use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{SampleBatch, Sensor, render};
 use opticks_io::dataset_file::DatasetReader;
-use opticks_io::dataset_job::JobError;
+use opticks_io::dataset_job::{JobError, JobReport};
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -38,6 +38,11 @@ pub struct ThreadArgs {
 }
 
 impl ThreadArgs {
+    /// The thread count asked for (0: all cores).
+    pub fn count(&self) -> usize {
+        self.threads
+    }
+
     /// Sizes rayon's global pool.
     pub fn apply(&self) -> Result<()> {
         if self.threads > 0 {
@@ -47,6 +52,56 @@ impl ThreadArgs {
                 .context("cannot set --threads")?;
         }
         Ok(())
+    }
+}
+
+/// Writes a dataset (`opticks_io::dataset_job::write_dataset`), its new paths traced in this
+/// process or — in the cluster build, on the master of an `mpirun` job — by the worker ranks,
+/// which load `scene` (the file the verb loaded its scene from) themselves.
+pub fn write_job(
+    scene: &str,
+    output: &Path,
+    header: opticks_core::dataset::DatasetHeader,
+    sources: &[opticks_io::dataset_job::Source<'_>],
+    new: Option<opticks_io::dataset_job::NewPaths<'_>>,
+    progress: &dyn opticks_io::dataset_job::JobProgress,
+) -> Result<JobReport, JobError> {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::is_master() {
+        let tracer = crate::cluster::trace::ClusterTracer::new(scene);
+        return opticks_io::dataset_job::write_dataset_with(output, header, sources, new, progress, &tracer);
+    }
+    let _ = scene;
+    opticks_io::dataset_job::write_dataset(output, header, sources, new, progress)
+}
+
+/// The outcome of a dataset job run with a time limit: the report, or `None` when the time was
+/// up first — then the paths traced so far are saved as `NAME.partial.opds` (said here), which
+/// `opticks resume` completes, and that is a success.
+pub fn unless_time_up(
+    result: Result<JobReport, JobError>,
+    progress: &crate::progress::TraceProgress,
+) -> Result<Option<JobReport>> {
+    match result {
+        Err(JobError::Interrupted { output, partial, paths }) if progress.time_was_up() => {
+            println!(
+                "time up after {paths} paths: saved {} (a valid dataset; `opticks resume {}` traces the rest \
+                 into {})",
+                partial.display(),
+                partial.display(),
+                output.display()
+            );
+            Ok(None)
+        }
+        r => r.map(Some).map_err(job_error),
+    }
+}
+
+/// A positive, finite number of seconds (`--time`).
+pub fn parse_seconds(text: &str) -> Result<std::time::Duration, String> {
+    match text.parse::<f64>() {
+        Ok(s) if s.is_finite() && s > 0.0 && s < 1e12 => Ok(std::time::Duration::from_secs_f64(s)),
+        _ => Err(format!("'{text}' is not a positive number of seconds")),
     }
 }
 
@@ -94,6 +149,38 @@ pub fn render_with_progress<'a>(
     Ok(film)
 }
 
+/// Renders `count` sample batches through `camera` like [`render_with_progress`], or split over
+/// the ranks of a cluster job (`crate::cluster::render`): the film, or `None` on a worker rank,
+/// whose part went to the master. The image is the same either way, bit for bit.
+pub fn render_film<'a>(
+    scene: &Scene,
+    camera: &Sensor,
+    count: usize,
+    total_samples: u64,
+    batch: impl Fn(usize) -> Result<SampleBatch<'a>> + Sync,
+) -> Result<Option<Film>> {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::active() {
+        let pb = progress::bar(0, "rendering", "runs");
+        let batch = |i| {
+            unless_interrupted()?;
+            batch(i)
+        };
+        let film = crate::cluster::render::render(scene, camera, count, batch, |done, runs| {
+            pb.set_length(runs as u64);
+            pb.set_position(done as u64);
+        })?;
+        pb.finish_and_clear();
+        return Ok(film);
+    }
+    render_with_progress(scene, camera, count, total_samples, batch).map(Some)
+}
+
+/// The scene file a dataset is used with: `scene` if given, else the one recorded in it.
+pub fn scene_spec<'a>(reader: &'a DatasetReader, scene: Option<&'a str>) -> &'a str {
+    scene.unwrap_or(&reader.header().label)
+}
+
 /// Opens a dataset and the scene it is to be used with — `scene` if given, else the scene file
 /// recorded in the dataset — and checks that the geometry and materials are those it was traced
 /// in (`opticks_core::dataset::check_scene`; lights are checked one by one where they are used:
@@ -104,7 +191,7 @@ pub fn open_with_scene(
 ) -> Result<(DatasetReader, SceneDescription, Scene)> {
     let reader = DatasetReader::open(dataset)?;
     let label = &reader.header().label;
-    let spec = scene.unwrap_or(label);
+    let spec = scene_spec(&reader, scene);
     let context =
         || format!("cannot load the dataset's scene (recorded as '{label}'; pass --scene to name it)");
     let description = crate::scene_arg::load_description(spec).with_context(context)?;

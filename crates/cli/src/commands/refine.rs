@@ -6,10 +6,10 @@
 //! (`opticks_core::dataset::refine`).
 
 use super::extend_args::ExtendArgs;
-use super::{job_error, open_with_scene};
+use super::{job_error, open_with_scene, scene_spec, write_job};
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
-use opticks_io::dataset_job::{NewPaths, Source, write_dataset};
+use opticks_io::dataset_job::{NewPaths, Source};
 use std::path::PathBuf;
 
 /// Arguments of `opticks refine`.
@@ -24,7 +24,7 @@ pub struct Args {
     #[arg(long)]
     scene: Option<String>,
     #[command(flatten)]
-    extend: ExtendArgs,
+    pub(crate) extend: ExtendArgs,
 }
 
 /// Runs the refinement.
@@ -37,8 +37,9 @@ pub fn run(a: Args) -> Result<()> {
     let output = a.extend.output.clone().unwrap_or_else(|| a.dataset.clone());
     let before = reader.header().table.total_paths();
     let new = NewPaths { scene: &scene, pass };
+    let spec = scene_spec(&reader, a.scene.as_deref());
     let report =
-        write_dataset(&output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
+        write_job(spec, &output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
             .map_err(job_error)?;
     println!(
         "refined {}: {} + {} paths = {} paths, {} samples ({:.2} s) → {}",

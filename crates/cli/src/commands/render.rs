@@ -2,7 +2,7 @@
 //! relit (`--light`). The dataset is memory-mapped and streamed chunk by chunk; its scene must
 //! match (geometry fingerprint; each light's shape).
 
-use super::{DatasetArgs, ThreadArgs, render_with_progress, write_film};
+use super::{DatasetArgs, ThreadArgs, render_film, write_film};
 use crate::camera_args::CameraArgs;
 use anyhow::Result;
 use std::path::PathBuf;
@@ -33,7 +33,9 @@ pub fn run(a: Args) -> Result<()> {
     let scene = &data.scene;
     let camera = a.camera.resolve(scene.camera)?;
     let t0 = Instant::now();
-    let film = render_with_progress(scene, &camera, data.count(), data.samples(), |i| data.batch(i))?;
+    let Some(film) = render_film(scene, &camera, data.count(), data.samples(), |i| data.batch(i))? else {
+        return Ok(()); // a worker rank of a cluster job: its part went to the master
+    };
     let secs = t0.elapsed().as_secs_f64();
     write_film(&film, &a.output, a.exposure)?;
     println!(

@@ -3,11 +3,11 @@
 //! `opticks_core::dataset::resume_plan` finds the blocks still missing, and only those are
 //! traced. The result holds exactly the samples of an uninterrupted run.
 
-use super::{ThreadArgs, job_error, open_with_scene};
+use super::{ThreadArgs, job_error, open_with_scene, scene_spec, write_job};
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::{ResumeError, resume_plan};
-use opticks_io::dataset_job::{NewPaths, Source, finished_path, remove_partial, write_dataset};
+use opticks_io::dataset_job::{NewPaths, Source, finished_path, remove_partial};
 use std::path::PathBuf;
 
 /// Arguments of `opticks resume`.
@@ -22,7 +22,7 @@ pub struct Args {
     #[arg(long)]
     scene: Option<String>,
     #[command(flatten)]
-    threads: ThreadArgs,
+    pub(crate) threads: ThreadArgs,
 }
 
 /// Resumes the run.
@@ -42,8 +42,9 @@ pub fn run(a: Args) -> Result<()> {
     let (done, planned) = (header.trace.passes.last().map_or(0, |p| p.paths), pass.settings.paths);
     let output = a.output.clone().unwrap_or_else(|| finished_path(&a.partial));
     let new = NewPaths { scene: &scene, pass };
+    let spec = scene_spec(&reader, a.scene.as_deref());
     let report =
-        write_dataset(&output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
+        write_job(spec, &output, header, &[Source::as_is(&reader)], Some(new), &TraceProgress::default())
             .map_err(job_error)?;
     remove_partial(&a.partial, &output)?;
     println!(

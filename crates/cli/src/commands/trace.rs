@@ -1,13 +1,17 @@
 //! `opticks trace`: light sampling of a scene file into a dataset file (written atomically).
+//! `--time` stops it at a block boundary when the time is up, leaving a valid
+//! `NAME.partial.opds` that `opticks resume` completes (the blocks are traced in a fixed order,
+//! so what a run of any length traced is a prefix of the plan).
 
-use super::{ThreadArgs, job_error};
+use super::{ThreadArgs, parse_seconds, unless_time_up, write_job};
 use crate::progress::TraceProgress;
 use crate::scene_arg::load_scene;
 use crate::strategy_args::StrategyArgs;
 use anyhow::Result;
 use opticks_core::dataset::new_trace;
-use opticks_io::dataset_job::{NewPaths, write_dataset};
+use opticks_io::dataset_job::NewPaths;
 use std::path::PathBuf;
+use std::time::Duration;
 
 /// Arguments of `opticks trace`.
 #[derive(clap::Args, Debug)]
@@ -23,10 +27,14 @@ pub struct Args {
     /// Random seed; the same seed gives the same dataset whatever the thread count.
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// Stop after this many seconds (at the next block boundary), saving the paths traced as
+    /// NAME.partial.opds for `opticks resume`; give a large --paths to trace for a fixed time.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    time: Option<Duration>,
     #[command(flatten)]
     strategy: StrategyArgs,
     #[command(flatten)]
-    threads: ThreadArgs,
+    pub(crate) threads: ThreadArgs,
 }
 
 /// Runs the trace.
@@ -35,8 +43,12 @@ pub fn run(a: Args) -> Result<()> {
     let scene = load_scene(&a.scene)?;
     let (header, pass) = new_trace(&scene, &a.scene, a.strategy.settings(a.paths, a.seed));
     let new = NewPaths { scene: &scene, pass };
-    let report =
-        write_dataset(&a.output, header, &[], Some(new), &TraceProgress::default()).map_err(job_error)?;
+    let progress = TraceProgress::with_time_limit(a.time);
+    let Some(report) =
+        unless_time_up(write_job(&a.scene, &a.output, header, &[], Some(new), &progress), &progress)?
+    else {
+        return Ok(());
+    };
     let paths = report.table.total_paths();
     println!(
         "traced {paths} paths → {} samples in {:.2} s ({:.2} M paths/s) → {} ({:.1} MB)",

@@ -34,11 +34,13 @@ pub mod bidirectional;
 mod equirect;
 pub mod meter;
 mod pinhole;
+mod runs;
 mod thin_lens;
 
 pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure};
 pub use pinhole::{CameraError, Pinhole, check_fov};
+pub use runs::{RunFold, batches_per_run, render_run, render_runs, run_count};
 pub use thin_lens::{LensError, ThinLens};
 
 use crate::dataset::Sample;
@@ -46,7 +48,6 @@ use crate::film::{Accumulator, Film, SplatTarget};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::Scene;
-use rayon::prelude::*;
 
 /// A run of samples from one light and the flux each unit of β stands for (Φ_k/N_k, after any
 /// relighting). What a sensor consumes; the source can be memory or a mapped file.
@@ -203,36 +204,17 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
 }
 
 /// Accumulates `count` batches (fetched by index, possibly from a memory-mapped file) into a
-/// `width`×`height` film on all cores, with `add` doing the per-batch work. The batches are
-/// cut into a few contiguous runs per thread, each with one [`Accumulator`], so there are only a
-/// handful of films to clear and sum whatever the number of batches.
+/// `width`×`height` film on all cores, with `add` doing the per-batch work: in runs of
+/// consecutive batches, each with one [`Accumulator`], summed in run order (`runs.rs`), so the
+/// film is the same whatever the number of threads or processes.
 pub(crate) fn accumulate<'a, E: Send>(
-    (width, height): (u32, u32),
+    size: (u32, u32),
     count: usize,
     batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
     progress: impl Fn(usize) + Sync,
     add: impl Fn(SampleBatch<'a>, &mut Accumulator) + Sync,
 ) -> Result<Film, E> {
-    let runs = (rayon::current_num_threads() * 4).clamp(1, count.max(1));
-    let run_len = count.div_ceil(runs).max(1);
-    (0..runs)
-        .into_par_iter()
-        .map(|r| {
-            let mut acc = Accumulator::new(width, height);
-            for i in (r * run_len)..((r + 1) * run_len).min(count) {
-                let b = batch(i)?;
-                add(b, &mut acc);
-                progress(b.samples.len());
-            }
-            Ok(acc.into_film())
-        })
-        .try_reduce(
-            || Film::new(width, height),
-            |mut a, b| {
-                a.add(&b);
-                Ok(a)
-            },
-        )
+    runs::accumulate_runs(size, count, batch, progress, add)
 }
 
 /// Renders `count` batches (fetched by index, possibly from a memory-mapped file) through

@@ -1,0 +1,369 @@
+//! Light sampling over the ranks: the master's [`ClusterTracer`], which hands a pass's blocks
+//! out on demand and passes the chunks on in block order, and the workers' [`serve`] loop.
+//!
+//! The conversation (tags in `wire.rs`): the master sends every worker the [`wire::TraceJob`];
+//! a worker loads the scene and answers `READY` (or `FAILED`, which fails the job), then gets
+//! `BLOCKS` — as many as it asked for, about two per thread — traces them in parallel and
+//! answers `RESULT` with their chunks, which is also its next request. An empty `BLOCKS` ends
+//! the job for that worker; `QUIT` ends the session (the worker answers `BYE`).
+//!
+//! Failure: a block is outstanding for at most the worker timeout (`OPTICKS_WORKER_TIMEOUT`
+//! seconds, default 60, or ten times the slowest answer seen, whichever is longer); after it
+//! the worker counts as lost, its blocks go to the others (or to the master itself when none
+//! is left), and a late answer is ignored — the block's samples are the same whoever traces it.
+//! Whether the job survives a rank that *died* is the launcher's choice: Open MPI's `mpirun`
+//! ends the whole job (the master then gets SIGTERM and saves its partial dataset) unless run
+//! with `--enable-recovery` (docs/cluster.md).
+
+use super::wire::{self, Numbered, TraceJob};
+use super::world;
+use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
+use mpi::topology::Communicator;
+use opticks_core::dataset::{Block, Chunk, PassPlan, block_order};
+use opticks_core::scene::Scene;
+use opticks_core::trace::trace_block;
+use opticks_io::dataset_job::{JobError, JobProgress, PassTracer};
+use rayon::prelude::*;
+use std::collections::{BTreeMap, HashMap, VecDeque};
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+/// Seconds a block may be outstanding before its worker counts as lost (module docs).
+fn worker_timeout() -> Duration {
+    let secs = std::env::var("OPTICKS_WORKER_TIMEOUT").ok().and_then(|v| v.parse::<f64>().ok());
+    Duration::from_secs_f64(secs.filter(|s| s.is_finite() && *s > 0.0).unwrap_or(60.0))
+}
+
+/// Blocks a worker asks for at a time: two per thread, so its cores stay busy.
+fn blocks_wanted() -> usize {
+    2 * rayon::current_num_threads().max(1)
+}
+
+/// The master's tracer: the pass's blocks go to the worker ranks; `scene` names the file they
+/// load (made absolute, as the workers may start elsewhere).
+pub struct ClusterTracer {
+    scene: String,
+}
+
+impl ClusterTracer {
+    /// A tracer whose workers load `scene` (a path, or `builtin:…`).
+    pub fn new(scene: &str) -> Self {
+        let absolute = std::fs::canonicalize(scene).ok().and_then(|p| p.to_str().map(str::to_owned));
+        ClusterTracer { scene: absolute.unwrap_or_else(|| scene.to_owned()) }
+    }
+}
+
+/// What the master knows of a worker.
+#[derive(Clone, Debug, PartialEq)]
+enum Worker {
+    /// Loading the scene; not asked for anything yet.
+    Starting,
+    /// Waiting for blocks (its request is unanswered), wanting this many.
+    Idle(usize),
+    /// Tracing the blocks it was given.
+    Busy,
+    /// Timed out, or ended for this job: gets nothing more.
+    Out,
+}
+
+/// The master's bookkeeping of one pass.
+struct Dispatch<'p> {
+    /// The pass's blocks in order, numbered, from the first not traced yet.
+    order: Box<dyn Iterator<Item = (usize, Block)> + 'p>,
+    /// Blocks to hand out again (their worker was lost), before new ones.
+    again: VecDeque<Numbered>,
+    /// Blocks handed out: to whom, and when.
+    in_flight: HashMap<u64, (i32, Block, Instant)>,
+    /// Chunks returned ahead of the next one to pass on.
+    done: BTreeMap<u64, Chunk>,
+    /// The next block number to pass on.
+    next: u64,
+    exhausted: bool,
+}
+
+impl Dispatch<'_> {
+    /// Up to `n` blocks to hand out (`again` first).
+    fn take(&mut self, n: usize) -> Vec<Numbered> {
+        let mut out = Vec::with_capacity(n);
+        while out.len() < n {
+            if let Some(b) = self.again.pop_front() {
+                out.push(b);
+            } else if let Some((seq, b)) = self.order.next() {
+                out.push((seq as u64, b));
+            } else {
+                self.exhausted = true;
+                break;
+            }
+        }
+        out
+    }
+
+    fn accept(&mut self, seq: u64, chunk: Chunk) {
+        self.in_flight.remove(&seq);
+        if seq >= self.next {
+            self.done.entry(seq).or_insert(chunk);
+        }
+    }
+}
+
+impl PassTracer for ClusterTracer {
+    fn trace_pass(
+        &self,
+        scene: &Scene,
+        pass: &PassPlan,
+        sink: &mut dyn FnMut(Chunk) -> Result<(), JobError>,
+        progress: &dyn JobProgress,
+    ) -> Result<Vec<u64>, JobError> {
+        let world = world();
+        let job =
+            TraceJob { scene: self.scene.clone(), fingerprint: scene.fingerprint, settings: pass.settings };
+        let message = wire::encode_job(&job);
+        let ranks: Vec<i32> = (1..world.size()).collect();
+        for &r in &ranks {
+            world.process_at_rank(r).send_with_tag(&message[..], wire::JOB);
+        }
+        progress.tracing(pass.lights.iter().map(|p| p.paths).sum());
+        let mut workers: HashMap<i32, Worker> = ranks.iter().map(|&r| (r, Worker::Starting)).collect();
+        let mut hosts: HashMap<i32, String> = HashMap::new();
+        let mut d = Dispatch {
+            // `into_iter`: the plan's block order, a list or (lazily) an iterator.
+            order: Box::new(block_order(&pass.lights).into_iter().enumerate().skip(pass.first_block)),
+            again: VecDeque::new(),
+            in_flight: HashMap::new(),
+            done: BTreeMap::new(),
+            next: pass.first_block as u64,
+            exhausted: false,
+        };
+        let (base_timeout, mut slowest) = (worker_timeout(), Duration::ZERO);
+        let started = Instant::now();
+        let mut traced = vec![0u64; pass.lights.len()];
+        let mut done_paths = 0u64;
+        let mut stopping = false;
+        loop {
+            let mut quiet = true;
+            while let Some(probed) = world.any_process().immediate_matched_probe() {
+                quiet = false;
+                let (bytes, status) = probed.matched_receive_vec::<u8>();
+                let rank = status.source_rank();
+                let bad = |e: wire::Malformed| JobError::Trace(format!("rank {rank}: {e}"));
+                match status.tag() {
+                    wire::READY => {
+                        let (host, want) = wire::decode_ready(&bytes).map_err(bad)?;
+                        hosts.insert(rank, host);
+                        workers.insert(rank, Worker::Idle(want.max(1)));
+                    }
+                    wire::FAILED => {
+                        let host = hosts.get(&rank).map_or(String::new(), |h| format!(" ({h})"));
+                        let why = String::from_utf8_lossy(&bytes);
+                        return Err(JobError::Trace(format!(
+                            "worker rank {rank}{host} cannot take part: {why}"
+                        )));
+                    }
+                    wire::RESULT => {
+                        let (want, chunks) = wire::decode_chunks(&bytes).map_err(bad)?;
+                        for (seq, chunk) in chunks {
+                            if let Some((_, _, sent)) = d.in_flight.get(&seq) {
+                                slowest = slowest.max(sent.elapsed());
+                            }
+                            d.accept(seq, chunk);
+                        }
+                        // A worker that timed out but answered after all gets nothing more.
+                        if workers.get(&rank) == Some(&Worker::Busy) {
+                            workers.insert(rank, Worker::Idle(want.max(1)));
+                        } else {
+                            world
+                                .process_at_rank(rank)
+                                .send_with_tag(&wire::encode_blocks(&[])[..], wire::BLOCKS);
+                        }
+                    }
+                    _ => {} // a stray answer of a lost worker
+                }
+            }
+            // Pass the chunks on in block order.
+            while let Some(chunk) = d.done.remove(&d.next) {
+                done_paths += chunk.paths;
+                if let Some(i) = pass.lights.iter().position(|p| p.table_index == chunk.light) {
+                    traced[i] += chunk.paths;
+                }
+                sink(chunk)?;
+                d.next += 1;
+                progress.traced(done_paths);
+            }
+            if !stopping && progress.stop() {
+                stopping = true;
+                d.again.clear();
+            }
+            // Lost workers: their blocks go to the others.
+            let timeout = base_timeout.max(slowest * 10);
+            let lost: Vec<i32> = d
+                .in_flight
+                .values()
+                .filter(|(_, _, sent)| sent.elapsed() > timeout)
+                .map(|&(r, _, _)| r)
+                .collect();
+            for r in lost {
+                if workers.insert(r, Worker::Out) != Some(Worker::Out) {
+                    let host = hosts.get(&r).map_or(String::new(), |h| format!(" ({h})"));
+                    eprintln!(
+                        "warning: worker rank {r}{host} sent nothing for {:.0} s: its blocks go to others",
+                        timeout.as_secs_f64()
+                    );
+                }
+                let mine: Vec<u64> = d.in_flight.iter().filter(|(_, v)| v.0 == r).map(|(&s, _)| s).collect();
+                for seq in mine {
+                    let (_, b, _) = d.in_flight.remove(&seq).expect("listed");
+                    if !stopping {
+                        d.again.push_back((seq, b));
+                    }
+                }
+            }
+            // Hand out blocks to the workers waiting for them.
+            for (&r, w) in workers.iter_mut() {
+                let Worker::Idle(want) = *w else { continue };
+                let blocks = if stopping { Vec::new() } else { d.take(want) };
+                if blocks.is_empty() && !stopping && !d.in_flight.is_empty() {
+                    continue; // nothing now, but a lost worker's blocks may come back
+                }
+                world.process_at_rank(r).send_with_tag(&wire::encode_blocks(&blocks)[..], wire::BLOCKS);
+                let now = Instant::now();
+                for (seq, b) in &blocks {
+                    d.in_flight.insert(*seq, (r, *b, now));
+                }
+                *w = if blocks.is_empty() { Worker::Out } else { Worker::Busy };
+            }
+            let finished = (stopping || (d.exhausted && d.again.is_empty())) && d.in_flight.is_empty();
+            if finished {
+                break;
+            }
+            // No worker left (all lost, or none ever answered): the master traces the rest.
+            if started.elapsed() > base_timeout {
+                // Not started within the timeout: counted out (a late `READY` still counts it in).
+                workers.values_mut().filter(|w| **w == Worker::Starting).for_each(|w| *w = Worker::Out);
+            }
+            if workers.values().all(|w| *w == Worker::Out) {
+                if !stopping {
+                    let blocks = d.take(blocks_wanted());
+                    let chunks: Vec<(u64, Chunk)> =
+                        blocks.par_iter().map(|(seq, b)| (*seq, trace(scene, pass, b))).collect();
+                    for (seq, c) in chunks {
+                        d.accept(seq, c);
+                    }
+                }
+                continue;
+            }
+            if quiet {
+                std::thread::sleep(Duration::from_micros(200));
+            }
+        }
+        // Workers still waiting are told the job is over.
+        for (&r, w) in workers.iter_mut() {
+            if matches!(w, Worker::Idle(_)) {
+                world.process_at_rank(r).send_with_tag(&wire::encode_blocks(&[])[..], wire::BLOCKS);
+                *w = Worker::Out;
+            }
+        }
+        progress.traced_all();
+        Ok(traced)
+    }
+}
+
+/// One block of the pass, as every rank traces it.
+fn trace(scene: &Scene, pass: &PassPlan, b: &Block) -> Chunk {
+    trace_block(scene, &pass.settings, b.light.scene_light, b.light.table_index, b.index, b.paths)
+}
+
+/// A worker's life: jobs until `QUIT`. Returns the exit code (success unless the master's
+/// messages did not decode).
+pub fn serve(threads: usize) -> ExitCode {
+    if threads > 0 {
+        let _ = rayon::ThreadPoolBuilder::new().num_threads(threads).build_global();
+    }
+    let world = world();
+    let master = world.process_at_rank(0);
+    let host = mpi::environment::processor_name().unwrap_or_default();
+    let mut loaded: Option<(String, Scene)> = None;
+    loop {
+        let (bytes, status) = master.receive_vec::<u8>();
+        match status.tag() {
+            wire::QUIT => {
+                master.send_with_tag(&[0u8][..], wire::BYE);
+                return ExitCode::SUCCESS;
+            }
+            wire::JOB => {}
+            _ => continue, // the end of a job this worker had already left
+        }
+        let job = match wire::decode_job(&bytes) {
+            Ok(job) => job,
+            Err(e) => {
+                master.send_with_tag(e.to_string().as_bytes(), wire::FAILED);
+                continue;
+            }
+        };
+        if loaded.as_ref().is_none_or(|(spec, _)| *spec != job.scene) {
+            loaded = match crate::scene_arg::load_scene(&job.scene) {
+                Ok(scene) => Some((job.scene.clone(), scene)),
+                Err(e) => {
+                    let why = format!("{}", crate::error_chain(&e));
+                    master.send_with_tag(why.as_bytes(), wire::FAILED);
+                    None
+                }
+            };
+        }
+        let Some((_, scene)) = &loaded else { continue };
+        if scene.fingerprint != job.fingerprint {
+            let why = format!(
+                "its {} has geometry/material fingerprint {}, the master's {}",
+                job.scene,
+                scene.fingerprint.geometry_hex(),
+                job.fingerprint.geometry_hex()
+            );
+            master.send_with_tag(why.as_bytes(), wire::FAILED);
+            continue;
+        }
+        let pass = PassPlan { settings: job.settings, lights: Vec::new(), first_block: 0 };
+        master.send_with_tag(&wire::encode_ready(&host, blocks_wanted())[..], wire::READY);
+        loop {
+            let (bytes, status) = master.receive_vec::<u8>();
+            if status.tag() == wire::QUIT {
+                master.send_with_tag(&[0u8][..], wire::BYE);
+                return ExitCode::SUCCESS;
+            }
+            let Ok(blocks) = wire::decode_blocks(&bytes) else {
+                eprintln!("error: rank {}: malformed message from the master", world.rank());
+                return ExitCode::FAILURE;
+            };
+            if blocks.is_empty() {
+                break; // the job is over for this worker
+            }
+            let chunks: Vec<(u64, Chunk)> =
+                blocks.par_iter().map(|(seq, b)| (*seq, trace(scene, &pass, b))).collect();
+            master.send_with_tag(&wire::encode_chunks(&chunks, blocks_wanted())[..], wire::RESULT);
+        }
+    }
+}
+
+/// The master's end of the session: every worker is told to quit, and their answers awaited
+/// (messages a lost worker still sends are received and dropped, so none blocks on a send).
+/// Workers that do not answer within the worker timeout are reported and left to the launcher.
+pub fn release_workers() {
+    let world = world();
+    let mut waiting: Vec<i32> = (1..world.size()).collect();
+    for &r in &waiting {
+        world.process_at_rank(r).send_with_tag(&[0u8][..], wire::QUIT);
+    }
+    let deadline = Instant::now() + worker_timeout();
+    while !waiting.is_empty() && Instant::now() < deadline {
+        match world.any_process().immediate_matched_probe() {
+            Some(probed) => {
+                let (_, status) = probed.matched_receive_vec::<u8>();
+                if status.tag() == wire::BYE {
+                    waiting.retain(|&r| r != status.source_rank());
+                }
+            }
+            None => std::thread::sleep(Duration::from_millis(1)),
+        }
+    }
+    if !waiting.is_empty() {
+        eprintln!("warning: worker ranks {waiting:?} did not answer at the end (lost?)");
+    }
+}

@@ -1,0 +1,316 @@
+//! The messages of a cluster job, as bytes: tags, and the encoding of jobs, blocks, chunks and
+//! films. Both ends run the same `opticks` binary, so the format needs no versioning; numbers
+//! are little-endian, and samples travel in their compact 32-byte form, exactly as the dataset
+//! file stores them (`opticks_core::dataset::Sample` is plain old data).
+//!
+//! A decoding error means a peer sent something this binary does not write: it is reported as
+//! an error naming the message, never a panic.
+
+use opticks_core::dataset::{
+    Block, Chunk, Directions, LightPlan, Roulette, Sample, Selection, TraceSettings,
+};
+use opticks_core::scene::Fingerprint;
+
+/// Master → worker: a trace job ([`TraceJob`]).
+pub const JOB: i32 = 1;
+/// Master → worker: the end of the session; the worker answers [`BYE`] and exits.
+pub const QUIT: i32 = 2;
+/// Master → worker: blocks to trace ([`encode_blocks`]); none = the job is over.
+pub const BLOCKS: i32 = 3;
+/// Worker → master: the job's scene is loaded; asks for blocks (payload: [`encode_ready`]).
+pub const READY: i32 = 10;
+/// Worker → master: the job cannot be done here (payload: the message, UTF-8).
+pub const FAILED: i32 = 11;
+/// Worker → master: traced chunks, and a request for more ([`encode_chunks`]).
+pub const RESULT: i32 = 12;
+/// Worker → master: the answer to [`QUIT`].
+pub const BYE: i32 = 13;
+/// Worker → master: one run's film of a distributed render (f64 pixels).
+pub const FILM: i32 = 20;
+
+/// A message that does not decode.
+#[derive(Debug, thiserror::Error)]
+#[error("malformed {what} message at byte {at}")]
+pub struct Malformed {
+    what: &'static str,
+    at: usize,
+}
+
+/// Appends little-endian numbers and strings.
+#[derive(Default)]
+pub struct Writer(pub Vec<u8>);
+
+impl Writer {
+    fn u8(&mut self, v: u8) -> &mut Self {
+        self.0.push(v);
+        self
+    }
+    fn u32(&mut self, v: u32) -> &mut Self {
+        self.0.extend_from_slice(&v.to_le_bytes());
+        self
+    }
+    fn u64(&mut self, v: u64) -> &mut Self {
+        self.0.extend_from_slice(&v.to_le_bytes());
+        self
+    }
+    fn bytes(&mut self, v: &[u8]) -> &mut Self {
+        self.u64(v.len() as u64);
+        self.0.extend_from_slice(v);
+        self
+    }
+}
+
+/// Reads what [`Writer`] wrote, checking every length against what is there.
+pub struct Reader<'a> {
+    data: &'a [u8],
+    at: usize,
+    what: &'static str,
+}
+
+impl<'a> Reader<'a> {
+    fn new(data: &'a [u8], what: &'static str) -> Self {
+        Reader { data, at: 0, what }
+    }
+    fn take(&mut self, n: usize) -> Result<&'a [u8], Malformed> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.data.len());
+        let end = end.ok_or(Malformed { what: self.what, at: self.at })?;
+        let s = &self.data[self.at..end];
+        self.at = end;
+        Ok(s)
+    }
+    fn u8(&mut self) -> Result<u8, Malformed> {
+        Ok(self.take(1)?[0])
+    }
+    fn u32(&mut self) -> Result<u32, Malformed> {
+        Ok(u32::from_le_bytes(self.take(4)?.try_into().expect("4 bytes")))
+    }
+    fn u64(&mut self) -> Result<u64, Malformed> {
+        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
+    }
+    fn len(&mut self) -> Result<usize, Malformed> {
+        let at = self.at;
+        usize::try_from(self.u64()?).map_err(|_| Malformed { what: self.what, at })
+    }
+    fn bytes(&mut self) -> Result<&'a [u8], Malformed> {
+        let n = self.len()?;
+        self.take(n)
+    }
+    fn string(&mut self) -> Result<String, Malformed> {
+        let at = self.at;
+        let b = self.bytes()?;
+        String::from_utf8(b.to_vec()).map_err(|_| Malformed { what: self.what, at })
+    }
+    fn end(&self) -> Result<(), Malformed> {
+        match self.at == self.data.len() {
+            true => Ok(()),
+            false => Err(Malformed { what: self.what, at: self.at }),
+        }
+    }
+    fn bad(&self) -> Malformed {
+        Malformed { what: self.what, at: self.at }
+    }
+}
+
+/// What a worker needs for a trace job: the scene to load (a path every rank can read, or
+/// `builtin:cornell`), the fingerprint its scene must have, and the pass's settings. The
+/// blocks themselves come one request at a time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceJob {
+    /// Scene file (absolute path) or built-in scene.
+    pub scene: String,
+    /// The master's scene fingerprint: a worker whose scene differs refuses the job.
+    pub fingerprint: Fingerprint,
+    /// Seed, stream and strategy.
+    pub settings: TraceSettings,
+}
+
+/// Encodes a job.
+pub fn encode_job(job: &TraceJob) -> Vec<u8> {
+    let s = &job.settings;
+    let mut w = Writer::default();
+    w.bytes(job.scene.as_bytes()).bytes(&job.fingerprint.geometry).bytes(&job.fingerprint.lights);
+    w.u64(s.paths).u64(s.seed).u64(s.stream).u32(s.rr_depth);
+    w.u8(match s.roulette {
+        Roulette::Energy => 0,
+        Roulette::Fixed => 1,
+    });
+    w.u8(match s.directions {
+        Directions::Importance => 0,
+        Directions::Uniform => 1,
+    });
+    w.u8(match s.selection {
+        Selection::Single => 0,
+        Selection::Priority => 1,
+    });
+    w.0
+}
+
+/// Decodes a job.
+pub fn decode_job(data: &[u8]) -> Result<TraceJob, Malformed> {
+    let mut r = Reader::new(data, "job");
+    let scene = r.string()?;
+    let hash = |r: &mut Reader<'_>| -> Result<[u8; 16], Malformed> {
+        r.bytes()?.try_into().map_err(|_| Malformed { what: "job", at: r.at })
+    };
+    let fingerprint = Fingerprint { geometry: hash(&mut r)?, lights: hash(&mut r)? };
+    let (paths, seed, stream, rr_depth) = (r.u64()?, r.u64()?, r.u64()?, r.u32()?);
+    let roulette = match r.u8()? {
+        0 => Roulette::Energy,
+        1 => Roulette::Fixed,
+        _ => return Err(r.bad()),
+    };
+    let directions = match r.u8()? {
+        0 => Directions::Importance,
+        1 => Directions::Uniform,
+        _ => return Err(r.bad()),
+    };
+    let selection = match r.u8()? {
+        0 => Selection::Single,
+        1 => Selection::Priority,
+        _ => return Err(r.bad()),
+    };
+    r.end()?;
+    let settings = TraceSettings { paths, seed, stream, rr_depth, roulette, directions, selection };
+    Ok(TraceJob { scene, fingerprint, settings })
+}
+
+/// A block handed out, numbered by its place in the pass (`seq`), which orders the results.
+pub type Numbered = (u64, Block);
+
+/// Encodes blocks to trace (none: the job is over for this worker).
+pub fn encode_blocks(blocks: &[Numbered]) -> Vec<u8> {
+    let mut w = Writer::default();
+    w.u64(blocks.len() as u64);
+    for (seq, b) in blocks {
+        w.u64(*seq).u64(b.light.scene_light as u64).u32(b.light.table_index).u64(b.light.paths);
+        w.u64(b.index).u64(b.paths);
+    }
+    w.0
+}
+
+/// Decodes blocks to trace.
+pub fn decode_blocks(data: &[u8]) -> Result<Vec<Numbered>, Malformed> {
+    let mut r = Reader::new(data, "blocks");
+    let n = r.len()?;
+    // 48 bytes a block: a count larger than the message could hold is malformed, not allocated.
+    if n > data.len() / 48 {
+        return Err(r.bad());
+    }
+    let mut blocks = Vec::with_capacity(n);
+    for _ in 0..n {
+        let seq = r.u64()?;
+        let scene_light = usize::try_from(r.u64()?).map_err(|_| r.bad())?;
+        let light = LightPlan { scene_light, table_index: r.u32()?, paths: r.u64()? };
+        blocks.push((seq, Block { light, index: r.u64()?, paths: r.u64()? }));
+    }
+    r.end()?;
+    Ok(blocks)
+}
+
+/// A worker's request for blocks: its host name and how many blocks it wants at a time.
+pub fn encode_ready(host: &str, want: usize) -> Vec<u8> {
+    let mut w = Writer::default();
+    w.bytes(host.as_bytes()).u64(want as u64);
+    w.0
+}
+
+/// Decodes a [`READY`] message.
+pub fn decode_ready(data: &[u8]) -> Result<(String, usize), Malformed> {
+    let mut r = Reader::new(data, "ready");
+    let host = r.string()?;
+    let want = r.len()?;
+    r.end()?;
+    Ok((host, want))
+}
+
+/// Encodes traced chunks with their block numbers, and how many blocks the worker wants next.
+/// The samples go as their 32 bytes each (TODO(format v3): a chunk's MIS records, once chunks
+/// carry them, travel right after its samples).
+pub fn encode_chunks(chunks: &[(u64, Chunk)], want: usize) -> Vec<u8> {
+    let bytes: usize = chunks.iter().map(|(_, c)| 40 + c.samples.len() * 32).sum();
+    let mut w = Writer(Vec::with_capacity(bytes + 16));
+    w.u64(want as u64).u64(chunks.len() as u64);
+    for (seq, c) in chunks {
+        w.u64(*seq).u32(c.light).u64(c.paths);
+        w.bytes(bytemuck::cast_slice(&c.samples));
+    }
+    w.0
+}
+
+/// Decodes a [`RESULT`] message.
+pub fn decode_chunks(data: &[u8]) -> Result<(usize, Vec<(u64, Chunk)>), Malformed> {
+    let mut r = Reader::new(data, "result");
+    let want = r.len()?;
+    let n = r.len()?;
+    if n > data.len() / 28 {
+        return Err(r.bad());
+    }
+    let mut chunks = Vec::with_capacity(n);
+    for _ in 0..n {
+        let (seq, light, paths) = (r.u64()?, r.u32()?, r.u64()?);
+        let raw = r.bytes()?;
+        if raw.len() % 32 != 0 {
+            return Err(r.bad());
+        }
+        // Copied, not cast in place: the message buffer need not be aligned for `Sample`.
+        let samples: Vec<Sample> = raw.chunks_exact(32).map(bytemuck::pod_read_unaligned).collect();
+        chunks.push((seq, Chunk { light, paths, samples }));
+    }
+    r.end()?;
+    Ok((want, chunks))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use opticks_core::math::{Rgb, Vec3};
+
+    #[test]
+    fn every_message_decodes_to_what_was_encoded() {
+        let settings = TraceSettings {
+            paths: 123_456,
+            seed: 9,
+            stream: 2,
+            rr_depth: 3,
+            roulette: Roulette::Fixed,
+            directions: Directions::Uniform,
+            selection: Selection::Priority,
+        };
+        let job = TraceJob {
+            scene: "/data/scène.xml".into(),
+            fingerprint: Fingerprint { geometry: [7; 16], lights: [3; 16] },
+            settings,
+        };
+        assert_eq!(decode_job(&encode_job(&job)).unwrap(), job);
+        let light = LightPlan { scene_light: 4, table_index: 1, paths: 9000 };
+        let blocks =
+            vec![(5, Block { light, index: 2, paths: 808 }), (6, Block { light, index: 0, paths: 1 })];
+        assert_eq!(decode_blocks(&encode_blocks(&blocks)).unwrap(), blocks);
+        assert_eq!(decode_ready(&encode_ready("node-7", 16)).unwrap(), ("node-7".to_string(), 16));
+        let s = Sample::scattered(Vec3::new(1.0, 2.0, 3.0), Vec3::Y, 11, Rgb::new(0.5, 0.25, 1.0));
+        let chunks =
+            vec![(3, Chunk { light: 1, paths: 4096, samples: vec![s, Sample::emitted(Vec3::X, 2)] })];
+        let bytes = encode_chunks(&chunks, 4);
+        assert_eq!(bytes.len(), 16 + 28 + 2 * 32, "32 bytes a sample on the wire");
+        assert_eq!(decode_chunks(&bytes).unwrap(), (4, chunks));
+    }
+
+    #[test]
+    fn a_truncated_or_padded_message_is_an_error_not_a_panic() {
+        let light = LightPlan { scene_light: 0, table_index: 0, paths: 1 };
+        let bytes = encode_blocks(&[(0, Block { light, index: 0, paths: 1 })]);
+        for cut in 0..bytes.len() {
+            assert!(decode_blocks(&bytes[..cut]).is_err(), "cut at {cut}");
+        }
+        let mut padded = bytes.clone();
+        padded.push(0);
+        assert!(decode_blocks(&padded).is_err());
+        // A count no message could hold is refused before anything is allocated.
+        let mut huge = Writer::default();
+        huge.u64(u64::MAX);
+        assert!(decode_blocks(&huge.0).is_err());
+        assert!(decode_chunks(&huge.0).is_err());
+        let e = decode_job(b"\x05").unwrap_err();
+        assert_eq!(e.to_string(), "malformed job message at byte 0");
+    }
+}
