@@ -272,8 +272,8 @@ fn trace(scene: &Scene, pass: &PassPlan, b: &Block) -> Chunk {
     trace_block(scene, &pass.settings, b.light.scene_light, b.light.table_index, b.index, b.paths)
 }
 
-/// A worker's life: jobs until `QUIT`. Returns the exit code (success unless the master's
-/// messages did not decode).
+/// A worker's life: jobs until `QUIT`. Returns the exit code (success: a job this worker
+/// could not do was reported to the master, whose verb fails with the reason).
 pub fn serve(threads: usize) -> ExitCode {
     if threads > 0 {
         let _ = rayon::ThreadPoolBuilder::new().num_threads(threads).build_global();
@@ -328,9 +328,13 @@ pub fn serve(threads: usize) -> ExitCode {
                 master.send_with_tag(&[0u8][..], wire::BYE);
                 return ExitCode::SUCCESS;
             }
-            let Ok(blocks) = wire::decode_blocks(&bytes) else {
-                eprintln!("error: rank {}: malformed message from the master", world.rank());
-                return ExitCode::FAILURE;
+            let blocks = match wire::decode_blocks(&bytes) {
+                Ok(blocks) => blocks,
+                Err(e) => {
+                    // Fails the job at once (the master waits for nothing) and waits for `QUIT`.
+                    master.send_with_tag(format!("{e} from the master").as_bytes(), wire::FAILED);
+                    break;
+                }
             };
             if blocks.is_empty() {
                 break; // the job is over for this worker

@@ -177,6 +177,9 @@ pub fn decode_job(data: &[u8]) -> Result<TraceJob, Malformed> {
 /// A block handed out, numbered by its place in the pass (`seq`), which orders the results.
 pub type Numbered = (u64, Block);
 
+/// Bytes of one encoded block.
+const BLOCK_BYTES: usize = 44;
+
 /// Encodes blocks to trace (none: the job is over for this worker).
 pub fn encode_blocks(blocks: &[Numbered]) -> Vec<u8> {
     let mut w = Writer::default();
@@ -192,8 +195,8 @@ pub fn encode_blocks(blocks: &[Numbered]) -> Vec<u8> {
 pub fn decode_blocks(data: &[u8]) -> Result<Vec<Numbered>, Malformed> {
     let mut r = Reader::new(data, "blocks");
     let n = r.len()?;
-    // 48 bytes a block: a count larger than the message could hold is malformed, not allocated.
-    if n > data.len() / 48 {
+    // A count larger than the message could hold is malformed, not allocated.
+    if n > data.len() / BLOCK_BYTES {
         return Err(r.bad());
     }
     let mut blocks = Vec::with_capacity(n);
@@ -286,6 +289,9 @@ mod tests {
         let blocks =
             vec![(5, Block { light, index: 2, paths: 808 }), (6, Block { light, index: 0, paths: 1 })];
         assert_eq!(decode_blocks(&encode_blocks(&blocks)).unwrap(), blocks);
+        let many: Vec<Numbered> = (0..100).map(|i| (i, Block { light, index: i, paths: 4096 })).collect();
+        assert_eq!(encode_blocks(&many).len(), 8 + 100 * BLOCK_BYTES);
+        assert_eq!(decode_blocks(&encode_blocks(&many)).unwrap(), many);
         assert_eq!(decode_ready(&encode_ready("node-7", 16)).unwrap(), ("node-7".to_string(), 16));
         let s = Sample::scattered(Vec3::new(1.0, 2.0, 3.0), Vec3::Y, 11, Rgb::new(0.5, 0.25, 1.0));
         let chunks =
