@@ -412,7 +412,7 @@ fn trace_time_stops_at_a_block_boundary_and_resumes_to_the_whole() {
     ok(&["resume", "cut.partial.opds"], d);
     assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")), "resumed ≠ uninterrupted");
     for bad in ["0", "-1", "soon", "inf"] {
-        let e = fails(&["trace", "builtin:cornell", "-o", "x.opds", "--time", bad], d);
+        let e = fails(&["trace", "builtin:cornell", "-o", "x.opds", &format!("--time={bad}")], d);
         assert!(e.contains("is not a positive number of seconds"), "{e}");
     }
 }

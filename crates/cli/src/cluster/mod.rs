@@ -127,7 +127,14 @@ impl Session {
     pub fn finish(self, code: ExitCode) -> ExitCode {
         let failed = code != ExitCode::SUCCESS;
         match (self.role, self.rank()) {
-            (Role::Serve, 0) => trace::release_workers(),
+            (Role::Serve, 0) => {
+                if !trace::release_workers() {
+                    // MPI_Finalize would wait for the lost rank forever: end the job instead
+                    // (everything is written by now), with the verb's outcome as its code.
+                    eprintln!("ending the cluster job without MPI's final handshake (a worker is lost)");
+                    self.universe.world().abort(i32::from(failed))
+                }
+            }
             (Role::Split, _) if failed => {
                 eprintln!("error on rank {}: ending the cluster job", self.rank());
                 self.universe.world().abort(1)

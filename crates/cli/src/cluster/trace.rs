@@ -3,8 +3,9 @@
 //!
 //! The conversation (tags in `wire.rs`): the master sends every worker the [`wire::TraceJob`];
 //! a worker loads the scene and answers `READY` (or `FAILED`, which fails the job), then gets
-//! `BLOCKS` — as many as it asked for, about two per thread — traces them in parallel and
-//! answers `RESULT` with their chunks, which is also its next request. An empty `BLOCKS` ends
+//! `BLOCKS` — as many as it asked for, about two per thread. It asks for the next ones
+//! (`REQUEST`) *before* tracing those in parallel, then sends their chunks (`RESULT`): the next
+//! blocks are waiting when it is done, and it never idles on the master. An empty `BLOCKS` ends
 //! the job for that worker; `QUIT` ends the session (the worker answers `BYE`).
 //!
 //! Failure: a block is outstanding for at most the worker timeout (`OPTICKS_WORKER_TIMEOUT`
@@ -58,9 +59,9 @@ impl ClusterTracer {
 enum Worker {
     /// Loading the scene; not asked for anything yet.
     Starting,
-    /// Waiting for blocks (its request is unanswered), wanting this many.
+    /// Its request for this many blocks is unanswered (it may still be tracing others).
     Idle(usize),
-    /// Tracing the blocks it was given.
+    /// Tracing the blocks it was given, no request pending.
     Busy,
     /// Timed out, or ended for this job: gets nothing more.
     Out,
@@ -139,11 +140,15 @@ impl PassTracer for ClusterTracer {
         let mut traced = vec![0u64; pass.lights.len()];
         let mut done_paths = 0u64;
         let mut stopping = false;
+        let mut stats = WireStats::default();
         loop {
             let mut quiet = true;
             while let Some(probed) = world.any_process().immediate_matched_probe() {
                 quiet = false;
+                let busy = Instant::now();
                 let (bytes, status) = probed.matched_receive_vec::<u8>();
+                stats.bytes += bytes.len() as u64;
+                stats.messages += 1;
                 let rank = status.source_rank();
                 let bad = |e: wire::Malformed| JobError::Trace(format!("rank {rank}: {e}"));
                 match status.tag() {
@@ -159,15 +164,9 @@ impl PassTracer for ClusterTracer {
                             "worker rank {rank}{host} cannot take part: {why}"
                         )));
                     }
-                    wire::RESULT => {
-                        let (want, chunks) = wire::decode_chunks(&bytes).map_err(bad)?;
-                        for (seq, chunk) in chunks {
-                            if let Some((_, _, sent)) = d.in_flight.get(&seq) {
-                                slowest = slowest.max(sent.elapsed());
-                            }
-                            d.accept(seq, chunk);
-                        }
-                        // A worker that timed out but answered after all gets nothing more.
+                    wire::REQUEST => {
+                        let want = wire::decode_request(&bytes).map_err(bad)?;
+                        // A worker that timed out but asks after all gets nothing more.
                         if workers.get(&rank) == Some(&Worker::Busy) {
                             workers.insert(rank, Worker::Idle(want.max(1)));
                         } else {
@@ -176,9 +175,19 @@ impl PassTracer for ClusterTracer {
                                 .send_with_tag(&wire::encode_blocks(&[])[..], wire::BLOCKS);
                         }
                     }
+                    wire::RESULT => {
+                        for (seq, chunk) in wire::decode_chunks(&bytes).map_err(bad)? {
+                            if let Some((_, _, sent)) = d.in_flight.get(&seq) {
+                                slowest = slowest.max(sent.elapsed());
+                            }
+                            d.accept(seq, chunk);
+                        }
+                    }
                     _ => {} // a stray answer of a lost worker
                 }
+                stats.busy += busy.elapsed();
             }
+            let busy = Instant::now();
             // Pass the chunks on in block order.
             while let Some(chunk) = d.done.remove(&d.next) {
                 done_paths += chunk.paths;
@@ -189,6 +198,7 @@ impl PassTracer for ClusterTracer {
                 d.next += 1;
                 progress.traced(done_paths);
             }
+            stats.busy += busy.elapsed();
             if !stopping && progress.stop() {
                 stopping = true;
                 d.again.clear();
@@ -263,7 +273,34 @@ impl PassTracer for ClusterTracer {
             }
         }
         progress.traced_all();
+        stats.report(done_paths, started.elapsed(), ranks.len());
         Ok(traced)
+    }
+}
+
+/// What the master received, and how long it spent on it (receiving, decoding, passing chunks
+/// to the writer, which blocks when the disk falls behind): the measure of its bound.
+#[derive(Default)]
+struct WireStats {
+    bytes: u64,
+    messages: u64,
+    busy: Duration,
+}
+
+impl WireStats {
+    /// One line on stderr (docs/cluster.md explains how to read it).
+    fn report(&self, paths: u64, elapsed: Duration, workers: usize) {
+        let per_path = self.bytes as f64 / paths.max(1) as f64;
+        let rate = self.bytes as f64 / self.busy.as_secs_f64().max(1e-9) / 1e6;
+        eprintln!(
+            "cluster: {workers} workers, {paths} paths in {:.2} s; {:.1} MB received in {} messages ({per_path:.1} \
+             bytes/path); master busy {:.2} s ({:.0}%, {rate:.0} MB/s while busy)",
+            elapsed.as_secs_f64(),
+            self.bytes as f64 / 1e6,
+            self.messages,
+            self.busy.as_secs_f64(),
+            100.0 * self.busy.as_secs_f64() / elapsed.as_secs_f64().max(1e-9),
+        );
     }
 }
 
@@ -303,7 +340,7 @@ pub fn serve(threads: usize) -> ExitCode {
             loaded = match crate::scene_arg::load_scene(&job.scene) {
                 Ok(scene) => Some((job.scene.clone(), scene)),
                 Err(e) => {
-                    let why = format!("{}", crate::error_chain(&e));
+                    let why = crate::error_chain(&e);
                     master.send_with_tag(why.as_bytes(), wire::FAILED);
                     None
                 }
@@ -339,17 +376,19 @@ pub fn serve(threads: usize) -> ExitCode {
             if blocks.is_empty() {
                 break; // the job is over for this worker
             }
+            master.send_with_tag(&wire::encode_request(blocks_wanted())[..], wire::REQUEST);
             let chunks: Vec<(u64, Chunk)> =
                 blocks.par_iter().map(|(seq, b)| (*seq, trace(scene, &pass, b))).collect();
-            master.send_with_tag(&wire::encode_chunks(&chunks, blocks_wanted())[..], wire::RESULT);
+            master.send_with_tag(&wire::encode_chunks(&chunks)[..], wire::RESULT);
         }
     }
 }
 
 /// The master's end of the session: every worker is told to quit, and their answers awaited
 /// (messages a lost worker still sends are received and dropped, so none blocks on a send).
-/// Workers that do not answer within the worker timeout are reported and left to the launcher.
-pub fn release_workers() {
+/// Workers that do not answer within the worker timeout are reported; returns whether all
+/// answered (MPI's final handshake would wait forever for a dead one).
+pub fn release_workers() -> bool {
     let world = world();
     let mut waiting: Vec<i32> = (1..world.size()).collect();
     for &r in &waiting {
@@ -370,4 +409,5 @@ pub fn release_workers() {
     if !waiting.is_empty() {
         eprintln!("warning: worker ranks {waiting:?} did not answer at the end (lost?)");
     }
+    waiting.is_empty()
 }

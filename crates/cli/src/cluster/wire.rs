@@ -21,8 +21,11 @@ pub const BLOCKS: i32 = 3;
 pub const READY: i32 = 10;
 /// Worker → master: the job cannot be done here (payload: the message, UTF-8).
 pub const FAILED: i32 = 11;
-/// Worker → master: traced chunks, and a request for more ([`encode_chunks`]).
+/// Worker → master: traced chunks ([`encode_chunks`]).
 pub const RESULT: i32 = 12;
+/// Worker → master: a request for the next blocks, sent before it traces the ones it has, so
+/// the answer is there when it is done (payload: how many, u64).
+pub const REQUEST: i32 = 14;
 /// Worker → master: the answer to [`QUIT`].
 pub const BYE: i32 = 13;
 /// Worker → master: one run's film of a distributed render (f64 pixels).
@@ -226,13 +229,12 @@ pub fn decode_ready(data: &[u8]) -> Result<(String, usize), Malformed> {
     Ok((host, want))
 }
 
-/// Encodes traced chunks with their block numbers, and how many blocks the worker wants next.
-/// The samples go as their 32 bytes each (TODO(format v3): a chunk's MIS records, once chunks
+/// Encodes traced chunks with their block numbers. The samples go as their 32 bytes each (TODO(format v3): a chunk's MIS records, once chunks
 /// carry them, travel right after its samples).
-pub fn encode_chunks(chunks: &[(u64, Chunk)], want: usize) -> Vec<u8> {
-    let bytes: usize = chunks.iter().map(|(_, c)| 40 + c.samples.len() * 32).sum();
-    let mut w = Writer(Vec::with_capacity(bytes + 16));
-    w.u64(want as u64).u64(chunks.len() as u64);
+pub fn encode_chunks(chunks: &[(u64, Chunk)]) -> Vec<u8> {
+    let bytes: usize = chunks.iter().map(|(_, c)| 28 + c.samples.len() * 32).sum();
+    let mut w = Writer(Vec::with_capacity(bytes + 8));
+    w.u64(chunks.len() as u64);
     for (seq, c) in chunks {
         w.u64(*seq).u32(c.light).u64(c.paths);
         w.bytes(bytemuck::cast_slice(&c.samples));
@@ -241,9 +243,8 @@ pub fn encode_chunks(chunks: &[(u64, Chunk)], want: usize) -> Vec<u8> {
 }
 
 /// Decodes a [`RESULT`] message.
-pub fn decode_chunks(data: &[u8]) -> Result<(usize, Vec<(u64, Chunk)>), Malformed> {
+pub fn decode_chunks(data: &[u8]) -> Result<Vec<(u64, Chunk)>, Malformed> {
     let mut r = Reader::new(data, "result");
-    let want = r.len()?;
     let n = r.len()?;
     if n > data.len() / 28 {
         return Err(r.bad());
@@ -260,7 +261,20 @@ pub fn decode_chunks(data: &[u8]) -> Result<(usize, Vec<(u64, Chunk)>), Malforme
         chunks.push((seq, Chunk { light, paths, samples }));
     }
     r.end()?;
-    Ok((want, chunks))
+    Ok(chunks)
+}
+
+/// Encodes a [`REQUEST`] for `want` blocks.
+pub fn encode_request(want: usize) -> Vec<u8> {
+    (want as u64).to_le_bytes().to_vec()
+}
+
+/// Decodes a [`REQUEST`].
+pub fn decode_request(data: &[u8]) -> Result<usize, Malformed> {
+    let mut r = Reader::new(data, "request");
+    let want = r.len()?;
+    r.end()?;
+    Ok(want)
 }
 
 #[cfg(test)]
@@ -296,9 +310,10 @@ mod tests {
         let s = Sample::scattered(Vec3::new(1.0, 2.0, 3.0), Vec3::Y, 11, Rgb::new(0.5, 0.25, 1.0));
         let chunks =
             vec![(3, Chunk { light: 1, paths: 4096, samples: vec![s, Sample::emitted(Vec3::X, 2)] })];
-        let bytes = encode_chunks(&chunks, 4);
-        assert_eq!(bytes.len(), 16 + 28 + 2 * 32, "32 bytes a sample on the wire");
-        assert_eq!(decode_chunks(&bytes).unwrap(), (4, chunks));
+        let bytes = encode_chunks(&chunks);
+        assert_eq!(bytes.len(), 8 + 28 + 2 * 32, "32 bytes a sample on the wire");
+        assert_eq!(decode_chunks(&bytes).unwrap(), chunks);
+        assert_eq!(decode_request(&encode_request(12)).unwrap(), 12);
     }
 
     #[test]
