@@ -1,4 +1,5 @@
-//! Ctrl-C: long work stops cleanly instead of dying mid-write. The first Ctrl-C sets a flag that
+//! Ctrl-C (and SIGTERM, what batch schedulers send): long work stops cleanly instead of dying
+//! mid-write. The first Ctrl-C sets a flag that
 //! the trace loop checks between batches; the paths traced so far are saved as a valid dataset
 //! beside the target (`NAME.partial.opds`), and whatever was on disk before stays intact.
 //! Verbs that only read a dataset (`render`, `walk`, `measure`) and `merge` stop at the next
