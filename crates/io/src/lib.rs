@@ -10,9 +10,11 @@
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
-//! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios).
+//! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios);
+//! * [`cluster_wire`]: the messages of a cluster (MPI) job as bytes — jobs, blocks, chunks.
 
 pub mod camera_path_file;
+pub mod cluster_wire;
 pub mod compare;
 pub mod dataset_file;
 pub mod dataset_job;

@@ -9,13 +9,14 @@
 //! * **Dataset verbs** (`trace`, `refine`, `add-light`, `resume`): only the master runs the
 //!   verb: it parses, opens, plans, and writes the one dataset through
 //!   `opticks_io::dataset_job` exactly as a single process does. Its tracer
-//!   ([`trace::ClusterTracer`]) hands the pass's blocks out **on demand** to the workers, which
+//!   ([`trace::ClusterTracer`], its bookkeeping the core's `PassDispatch`) hands the pass's
+//!   blocks out **on demand** to the workers, which
 //!   wait in [`trace::serve`]: a worker gets the job (the scene's path, its fingerprint and the
 //!   pass's settings), loads the scene **itself** from the shared file system — a scene file is
 //!   small and every site has one, while a built scene (BVH, lights) has no wire format, and
 //!   loading in parallel costs the master nothing — refuses the job if its fingerprint differs
 //!   from the master's, then asks for blocks, traces them on all its cores and returns each
-//!   block's chunk (its samples in their 32-byte form, `wire.rs`). The master writes the chunks
+//!   block's chunk (its samples in their 32-byte form, `opticks_io::cluster_wire`). The master writes the chunks
 //!   in block order, so **the dataset is the single-process one, sample for sample**, whatever
 //!   N and the thread counts. Stopping (`--time`, a signal) stops the handing out; the blocks
 //!   in flight are awaited, and the file is a valid partial that `opticks resume` completes. A
@@ -29,12 +30,13 @@
 
 pub mod render;
 pub mod trace;
-pub mod wire;
 
 use crate::Command;
 use mpi::environment::Universe;
+use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Communicator, SimpleCommunicator};
 use std::process::ExitCode;
+use std::time::Duration;
 
 /// How a verb uses the ranks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,6 +92,47 @@ pub(crate) fn world() -> SimpleCommunicator {
     SimpleCommunicator::world()
 }
 
+/// How long a rank sleeps between looks at a message it waits for.
+const PATIENCE: Duration = Duration::from_micros(50);
+
+/// Receives the next message from `from`, sleeping between looks: MPI's blocking receive
+/// busy-polls a core away (on a node it does not know to be shared) while the rank waits;
+/// `tag`: only a message of that tag.
+pub(crate) fn patient_receive<T: mpi::datatype::Equivalence>(
+    from: &mpi::topology::Process<'_>,
+    tag: Option<i32>,
+) -> (Vec<T>, mpi::point_to_point::Status) {
+    loop {
+        let probed = match tag {
+            Some(t) => from.immediate_matched_probe_with_tag(t),
+            None => from.immediate_matched_probe(),
+        };
+        if let Some(probed) = probed {
+            return probed.matched_receive_vec::<T>();
+        }
+        std::thread::sleep(PATIENCE);
+    }
+}
+
+/// Sends `bytes` to `to`, sleeping while the receiver has not taken them yet (a large message
+/// waits for its receiver), for the reason of [`patient_receive`].
+pub(crate) fn patient_send<T: mpi::datatype::Equivalence>(
+    to: &mpi::topology::Process<'_>,
+    bytes: &[T],
+    tag: i32,
+) {
+    mpi::request::scope(|scope| {
+        let mut request = to.immediate_send_with_tag(scope, bytes, tag);
+        loop {
+            match request.test() {
+                Ok(_) => return,
+                Err(pending) => request = pending,
+            }
+            std::thread::sleep(PATIENCE);
+        }
+    })
+}
+
 /// Whether a cluster session of more than one rank runs.
 pub fn active() -> bool {
     mpi::environment::is_initialized() && !mpi::environment::is_finalized() && world().size() > 1
@@ -127,13 +170,11 @@ impl Session {
     pub fn finish(self, code: ExitCode) -> ExitCode {
         let failed = code != ExitCode::SUCCESS;
         match (self.role, self.rank()) {
-            (Role::Serve, 0) => {
-                if !trace::release_workers() {
-                    // MPI_Finalize would wait for the lost rank forever: end the job instead
-                    // (everything is written by now), with the verb's outcome as its code.
-                    eprintln!("ending the cluster job without MPI's final handshake (a worker is lost)");
-                    self.universe.world().abort(i32::from(failed))
-                }
+            // MPI_Finalize would wait for a lost rank forever: end the job instead (everything
+            // is written by now), with the verb's outcome as its code.
+            (Role::Serve, 0) if !trace::release_workers() => {
+                eprintln!("ending the cluster job without MPI's final handshake (a worker is lost)");
+                self.universe.world().abort(i32::from(failed))
             }
             (Role::Split, _) if failed => {
                 eprintln!("error on rank {}: ending the cluster job", self.rank());

@@ -5,13 +5,17 @@
 //! therefore bit for bit the single-process one. The master only adds: with N ranks, N − 1
 //! render.
 
-use super::wire;
-use super::world;
-use mpi::point_to_point::{Destination, Source};
+use super::{patient_receive, patient_send, world};
 use mpi::topology::Communicator;
 use opticks_core::film::Film;
 use opticks_core::scene::Scene;
 use opticks_core::sensor::{RunFold, SampleBatch, Sensor, render_runs, run_count, splat};
+use opticks_io::cluster_wire as wire;
+
+/// f64 values in a `width`×`height` film.
+fn film_len(width: u32, height: u32) -> usize {
+    3 * width as usize * height as usize
+}
 
 /// The rank that renders run `run` of a job of `size` ranks.
 fn owner(run: usize, size: usize) -> usize {
@@ -20,13 +24,13 @@ fn owner(run: usize, size: usize) -> usize {
 
 /// Renders `count` batches through `camera` on the cluster: the film on the master, `None` on a
 /// worker (its part went to the master). `progress(done, total)` counts runs on the master.
-pub fn render<'a, E: Send>(
+pub fn render<'a>(
     scene: &Scene,
     camera: &Sensor,
     count: usize,
-    batch: impl Fn(usize) -> Result<SampleBatch<'a>, E> + Sync,
+    batch: impl Fn(usize) -> anyhow::Result<SampleBatch<'a>> + Sync,
     progress: impl Fn(usize, usize),
-) -> Result<Option<Film>, E> {
+) -> anyhow::Result<Option<Film>> {
     let world = world();
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let (width, height) = (camera.width(), camera.height());
@@ -36,8 +40,15 @@ pub fn render<'a, E: Send>(
         for r in 0..runs {
             // Each worker sends its runs in order, and messages between two ranks do not
             // overtake one another: the next message from the owner is run r's film.
-            let (pixels, _) =
-                world.process_at_rank(owner(r, size) as i32).receive_vec_with_tag::<f64>(wire::FILM);
+            let from = world.process_at_rank(owner(r, size) as i32);
+            let (pixels, _) = patient_receive::<f64>(&from, Some(wire::FILM));
+            if pixels.len() != film_len(width, height) {
+                anyhow::bail!(
+                    "rank {} sent a film of {} values for {width}x{height}",
+                    owner(r, size),
+                    pixels.len()
+                );
+            }
             let mut film = Film::new(width, height);
             for (p, v) in film.pixels.iter_mut().zip(pixels.chunks_exact(3)) {
                 *p = [v[0], v[1], v[2]];
@@ -58,7 +69,7 @@ pub fn render<'a, E: Send>(
         |b, film| splat(scene, camera, b, film),
         |_, film| {
             let flat: Vec<f64> = film.pixels.iter().flatten().copied().collect();
-            master.send_with_tag(&flat[..], wire::FILM);
+            patient_send(&master, &flat, wire::FILM);
             Ok(())
         },
     )?;

@@ -1,7 +1,7 @@
 //! Light sampling over the ranks: the master's [`ClusterTracer`], which hands a pass's blocks
 //! out on demand and passes the chunks on in block order, and the workers' [`serve`] loop.
 //!
-//! The conversation (tags in `wire.rs`): the master sends every worker the [`wire::TraceJob`];
+//! The conversation (tags in `opticks_io::cluster_wire`): the master sends every worker the [`wire::TraceJob`];
 //! a worker loads the scene and answers `READY` (or `FAILED`, which fails the job), then gets
 //! `BLOCKS` — as many as it asked for, about two per thread. It asks for the next ones
 //! (`REQUEST`) *before* tracing those in parallel, then sends their chunks (`RESULT`): the next
@@ -16,16 +16,16 @@
 //! ends the whole job (the master then gets SIGTERM and saves its partial dataset) unless run
 //! with `--enable-recovery` (docs/cluster.md).
 
-use super::wire::{self, Numbered, TraceJob};
-use super::world;
+use super::{patient_receive, patient_send, world};
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::Communicator;
-use opticks_core::dataset::{Block, Chunk, PassPlan, block_order};
+use opticks_core::dataset::{Block, Chunk, PassDispatch, PassPlan, TraceSettings};
 use opticks_core::scene::Scene;
 use opticks_core::trace::trace_block;
+use opticks_io::cluster_wire::{self as wire, TraceJob};
 use opticks_io::dataset_job::{JobError, JobProgress, PassTracer};
 use rayon::prelude::*;
-use std::collections::{BTreeMap, HashMap, VecDeque};
+use std::collections::HashMap;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -67,46 +67,6 @@ enum Worker {
     Out,
 }
 
-/// The master's bookkeeping of one pass.
-struct Dispatch<'p> {
-    /// The pass's blocks in order, numbered, from the first not traced yet.
-    order: Box<dyn Iterator<Item = (usize, Block)> + 'p>,
-    /// Blocks to hand out again (their worker was lost), before new ones.
-    again: VecDeque<Numbered>,
-    /// Blocks handed out: to whom, and when.
-    in_flight: HashMap<u64, (i32, Block, Instant)>,
-    /// Chunks returned ahead of the next one to pass on.
-    done: BTreeMap<u64, Chunk>,
-    /// The next block number to pass on.
-    next: u64,
-    exhausted: bool,
-}
-
-impl Dispatch<'_> {
-    /// Up to `n` blocks to hand out (`again` first).
-    fn take(&mut self, n: usize) -> Vec<Numbered> {
-        let mut out = Vec::with_capacity(n);
-        while out.len() < n {
-            if let Some(b) = self.again.pop_front() {
-                out.push(b);
-            } else if let Some((seq, b)) = self.order.next() {
-                out.push((seq as u64, b));
-            } else {
-                self.exhausted = true;
-                break;
-            }
-        }
-        out
-    }
-
-    fn accept(&mut self, seq: u64, chunk: Chunk) {
-        self.in_flight.remove(&seq);
-        if seq >= self.next {
-            self.done.entry(seq).or_insert(chunk);
-        }
-    }
-}
-
 impl PassTracer for ClusterTracer {
     fn trace_pass(
         &self,
@@ -126,19 +86,11 @@ impl PassTracer for ClusterTracer {
         progress.tracing(pass.lights.iter().map(|p| p.paths).sum());
         let mut workers: HashMap<i32, Worker> = ranks.iter().map(|&r| (r, Worker::Starting)).collect();
         let mut hosts: HashMap<i32, String> = HashMap::new();
-        let mut d = Dispatch {
-            // `into_iter`: the plan's block order, a list or (lazily) an iterator.
-            order: Box::new(block_order(&pass.lights).into_iter().enumerate().skip(pass.first_block)),
-            again: VecDeque::new(),
-            in_flight: HashMap::new(),
-            done: BTreeMap::new(),
-            next: pass.first_block as u64,
-            exhausted: false,
-        };
+        // Each block out carries its worker's rank and when it was sent.
+        let mut d = PassDispatch::<(i32, Instant)>::new(pass);
         let (base_timeout, mut slowest) = (worker_timeout(), Duration::ZERO);
         let started = Instant::now();
-        let mut traced = vec![0u64; pass.lights.len()];
-        let mut done_paths = 0u64;
+        let mut done = 0u64;
         let mut stopping = false;
         let mut stats = WireStats::default();
         loop {
@@ -176,10 +128,11 @@ impl PassTracer for ClusterTracer {
                         }
                     }
                     wire::RESULT => {
+                        let oldest = d.tickets().filter(|t| t.0 == rank).map(|t| t.1).min();
+                        if let Some(sent) = oldest {
+                            slowest = slowest.max(sent.elapsed());
+                        }
                         for (seq, chunk) in wire::decode_chunks(&bytes).map_err(bad)? {
-                            if let Some((_, _, sent)) = d.in_flight.get(&seq) {
-                                slowest = slowest.max(sent.elapsed());
-                            }
                             d.accept(seq, chunk);
                         }
                     }
@@ -189,28 +142,20 @@ impl PassTracer for ClusterTracer {
             }
             let busy = Instant::now();
             // Pass the chunks on in block order.
-            while let Some(chunk) = d.done.remove(&d.next) {
-                done_paths += chunk.paths;
-                if let Some(i) = pass.lights.iter().position(|p| p.table_index == chunk.light) {
-                    traced[i] += chunk.paths;
-                }
+            while let Some(chunk) = d.next_in_order() {
+                done += chunk.paths;
                 sink(chunk)?;
-                d.next += 1;
-                progress.traced(done_paths);
+                progress.traced(done);
             }
             stats.busy += busy.elapsed();
             if !stopping && progress.stop() {
                 stopping = true;
-                d.again.clear();
+                d.stop();
             }
             // Lost workers: their blocks go to the others.
             let timeout = base_timeout.max(slowest * 10);
-            let lost: Vec<i32> = d
-                .in_flight
-                .values()
-                .filter(|(_, _, sent)| sent.elapsed() > timeout)
-                .map(|&(r, _, _)| r)
-                .collect();
+            let mut lost: Vec<i32> = d.tickets().filter(|t| t.1.elapsed() > timeout).map(|t| t.0).collect();
+            lost.dedup();
             for r in lost {
                 if workers.insert(r, Worker::Out) != Some(Worker::Out) {
                     let host = hosts.get(&r).map_or(String::new(), |h| format!(" ({h})"));
@@ -219,31 +164,21 @@ impl PassTracer for ClusterTracer {
                         timeout.as_secs_f64()
                     );
                 }
-                let mine: Vec<u64> = d.in_flight.iter().filter(|(_, v)| v.0 == r).map(|(&s, _)| s).collect();
-                for seq in mine {
-                    let (_, b, _) = d.in_flight.remove(&seq).expect("listed");
-                    if !stopping {
-                        d.again.push_back((seq, b));
-                    }
-                }
+                d.reclaim(|t| t.0 == r);
             }
             // Hand out blocks to the workers waiting for them.
             for (&r, w) in workers.iter_mut() {
                 let Worker::Idle(want) = *w else { continue };
-                let blocks = if stopping { Vec::new() } else { d.take(want) };
-                if blocks.is_empty() && !stopping && !d.in_flight.is_empty() {
+                let now = Instant::now();
+                let blocks = d.hand_out(want, || (r, now));
+                if blocks.is_empty() && !stopping && d.outstanding() {
                     continue; // nothing now, but a lost worker's blocks may come back
                 }
                 world.process_at_rank(r).send_with_tag(&wire::encode_blocks(&blocks)[..], wire::BLOCKS);
-                let now = Instant::now();
-                for (seq, b) in &blocks {
-                    d.in_flight.insert(*seq, (r, *b, now));
-                }
                 *w = if blocks.is_empty() { Worker::Out } else { Worker::Busy };
             }
-            let finished = (stopping || (d.exhausted && d.again.is_empty())) && d.in_flight.is_empty();
-            if finished {
-                break;
+            if d.is_over() {
+                break; // (chunks past a gap, of blocks lost while stopping, are dropped)
             }
             // No worker left (all lost, or none ever answered): the master traces the rest.
             if started.elapsed() > base_timeout {
@@ -251,13 +186,11 @@ impl PassTracer for ClusterTracer {
                 workers.values_mut().filter(|w| **w == Worker::Starting).for_each(|w| *w = Worker::Out);
             }
             if workers.values().all(|w| *w == Worker::Out) {
-                if !stopping {
-                    let blocks = d.take(blocks_wanted());
-                    let chunks: Vec<(u64, Chunk)> =
-                        blocks.par_iter().map(|(seq, b)| (*seq, trace(scene, pass, b))).collect();
-                    for (seq, c) in chunks {
-                        d.accept(seq, c);
-                    }
+                let blocks = d.hand_out(blocks_wanted(), || (0, Instant::now()));
+                let chunks: Vec<(u64, Chunk)> =
+                    blocks.par_iter().map(|(seq, b)| (*seq, trace(scene, &pass.settings, b))).collect();
+                for (seq, c) in chunks {
+                    d.accept(seq, c);
                 }
                 continue;
             }
@@ -273,8 +206,8 @@ impl PassTracer for ClusterTracer {
             }
         }
         progress.traced_all();
-        stats.report(done_paths, started.elapsed(), ranks.len());
-        Ok(traced)
+        stats.report(done, started.elapsed(), ranks.len());
+        Ok(d.traced().to_vec())
     }
 }
 
@@ -304,9 +237,9 @@ impl WireStats {
     }
 }
 
-/// One block of the pass, as every rank traces it.
-fn trace(scene: &Scene, pass: &PassPlan, b: &Block) -> Chunk {
-    trace_block(scene, &pass.settings, b.light.scene_light, b.light.table_index, b.index, b.paths)
+/// One block of a pass of `settings`, as every rank traces it.
+fn trace(scene: &Scene, settings: &TraceSettings, b: &Block) -> Chunk {
+    trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths)
 }
 
 /// A worker's life: jobs until `QUIT`. Returns the exit code (success: a job this worker
@@ -320,7 +253,7 @@ pub fn serve(threads: usize) -> ExitCode {
     let host = mpi::environment::processor_name().unwrap_or_default();
     let mut loaded: Option<(String, Scene)> = None;
     loop {
-        let (bytes, status) = master.receive_vec::<u8>();
+        let (bytes, status) = patient_receive::<u8>(&master, None);
         match status.tag() {
             wire::QUIT => {
                 master.send_with_tag(&[0u8][..], wire::BYE);
@@ -357,10 +290,9 @@ pub fn serve(threads: usize) -> ExitCode {
             master.send_with_tag(why.as_bytes(), wire::FAILED);
             continue;
         }
-        let pass = PassPlan { settings: job.settings, lights: Vec::new(), first_block: 0 };
         master.send_with_tag(&wire::encode_ready(&host, blocks_wanted())[..], wire::READY);
         loop {
-            let (bytes, status) = master.receive_vec::<u8>();
+            let (bytes, status) = patient_receive::<u8>(&master, None);
             if status.tag() == wire::QUIT {
                 master.send_with_tag(&[0u8][..], wire::BYE);
                 return ExitCode::SUCCESS;
@@ -378,8 +310,8 @@ pub fn serve(threads: usize) -> ExitCode {
             }
             master.send_with_tag(&wire::encode_request(blocks_wanted())[..], wire::REQUEST);
             let chunks: Vec<(u64, Chunk)> =
-                blocks.par_iter().map(|(seq, b)| (*seq, trace(scene, &pass, b))).collect();
-            master.send_with_tag(&wire::encode_chunks(&chunks)[..], wire::RESULT);
+                blocks.par_iter().map(|(seq, b)| (*seq, trace(scene, &job.settings, b))).collect();
+            patient_send(&master, &wire::encode_chunks(&chunks), wire::RESULT);
         }
     }
 }

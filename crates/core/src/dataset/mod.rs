@@ -15,10 +15,12 @@
 //!   (`plan.rs`), carried out by `crate::trace`;
 //! * the passes a dataset gains — a first trace, a refinement, an added light (`extend.rs`),
 //!   the rest of an interrupted pass (`resume.rs`) — and their bookkeeping
-//!   ([`DatasetHeader::record_traced`]);
+//!   ([`DatasetHeader::record_traced`]); a pass traced by many hands, its chunks put back in
+//!   block order ([`PassDispatch`], `dispatch.rs`);
 //! * the laws of using one — relighting (`relight.rs`), merging (`merge.rs`), a preview from a
 //!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`).
 
+mod dispatch;
 mod extend;
 mod header;
 mod merge;
@@ -32,6 +34,7 @@ mod table;
 #[cfg(test)]
 mod testing;
 
+pub use dispatch::{NumberedBlock, PassDispatch};
 pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
 pub use header::{DatasetHeader, NoPassRecord, TraceInfo, TracePass};
 pub use merge::{MergeError, merge_header, merge_tables};

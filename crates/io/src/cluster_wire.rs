@@ -1,7 +1,9 @@
-//! The messages of a cluster job, as bytes: tags, and the encoding of jobs, blocks, chunks and
-//! films. Both ends run the same `opticks` binary, so the format needs no versioning; numbers
-//! are little-endian, and samples travel in their compact 32-byte form, exactly as the dataset
-//! file stores them (`opticks_core::dataset::Sample` is plain old data).
+//! The messages of a cluster job (the CLI's `--features mpi` build, docs/cluster.md), as bytes:
+//! tags, and the encoding of jobs, blocks and chunks. Pure bytes — the transport (MPI) is the
+//! CLI's, so nothing here depends on it. Both ends run the same `opticks` binary, so the format
+//! needs no versioning; numbers are little-endian, and samples travel in their compact 32-byte
+//! form, exactly as the dataset file stores them (`opticks_core::dataset::Sample` is plain old
+//! data).
 //!
 //! A decoding error means a peer sent something this binary does not write: it is reported as
 //! an error naming the message, never a panic.
@@ -28,7 +30,7 @@ pub const RESULT: i32 = 12;
 pub const REQUEST: i32 = 14;
 /// Worker → master: the answer to [`QUIT`].
 pub const BYE: i32 = 13;
-/// Worker → master: one run's film of a distributed render (f64 pixels).
+/// Worker → master: one run's film of a distributed render (f64 pixels, sent as they are).
 pub const FILM: i32 = 20;
 
 /// A message that does not decode.
@@ -177,8 +179,7 @@ pub fn decode_job(data: &[u8]) -> Result<TraceJob, Malformed> {
     Ok(TraceJob { scene, fingerprint, settings })
 }
 
-/// A block handed out, numbered by its place in the pass (`seq`), which orders the results.
-pub type Numbered = (u64, Block);
+use opticks_core::dataset::NumberedBlock as Numbered;
 
 /// Bytes of one encoded block.
 const BLOCK_BYTES: usize = 44;
