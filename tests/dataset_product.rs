@@ -383,6 +383,31 @@ fn resume_finishes_an_interrupted_trace_or_refine_bit_for_bit() {
     assert_eq!(files(d), ["cut.opds", "lamps.xml", "whole.opds"], "no temporary or partial file is left");
 }
 
+/// `trace --time`: when the time is up the trace stops at a block boundary, says so, succeeds,
+/// and leaves a valid `NAME.partial.opds` that `resume` completes to the uninterrupted dataset.
+/// 300 000 paths are 74 blocks, more than the first batch of 64, and a millisecond is less than
+/// any machine takes to trace that batch: the run is cut, after 0 or 64 blocks.
+#[test]
+fn trace_time_stops_at_a_block_boundary_and_resumes_to_the_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let trace = ["trace", "builtin:cornell", "--paths", "300000", "--seed", "8"];
+    ok(&[&trace[..], &["-o", "whole.opds"]].concat(), d);
+    let out = ok(&[&trace[..], &["-o", "cut.opds", "--time", "0.001"]].concat(), d);
+    assert!(!d.join("cut.opds").exists(), "{out}");
+    let partial = DatasetReader::open(&d.join("cut.partial.opds")).unwrap();
+    let done = partial.header().trace.passes[0].paths;
+    assert!(done == 0 || done == 64 * 4096, "stopped at a batch of blocks: {done}");
+    assert!(out.starts_with(&format!("time up after {done} paths: saved cut.partial.opds (")), "{out}");
+    drop(partial);
+    ok(&["resume", "cut.partial.opds"], d);
+    assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")), "resumed ≠ uninterrupted");
+    for bad in ["0", "-1", "soon", "inf"] {
+        let e = fails(&["trace", "builtin:cornell", "-o", "x.opds", &format!("--time={bad}")], d);
+        assert!(e.contains("is not a positive number of seconds"), "{e}");
+    }
+}
+
 /// Ctrl-C during `refine` or `add-light` (simulated; the real signal is tested on `trace` in
 /// tests/cli.rs, through the same job) saves the completed paths as a valid
 /// `data.partial.opds` and leaves the dataset intact, with no temporary file.

@@ -5,12 +5,12 @@
 //! to.
 
 use super::extend_args::{ExtendArgs, Extending};
-use super::{Opened, check_before_trace, job_error};
+use super::{Opened, check_before_trace, job_error, write_job};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::AddLightError;
-use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, write_dataset};
+use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes};
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
@@ -31,7 +31,7 @@ pub struct Args {
     #[arg(long, value_parser = crate::count_arg::parse_count)]
     paths: Option<u64>,
     #[command(flatten)]
-    extend: ExtendArgs,
+    pub(crate) extend: ExtendArgs,
 }
 
 /// Adds the light.
@@ -60,7 +60,8 @@ pub fn run(a: Args) -> Result<()> {
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let report =
-        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
+        write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &TraceProgress::default())
+            .map_err(job_error)?;
     output::result(&format!(
         "added light '{}' with {paths} paths ({:.2} s) → {} ({}, {} samples)",
         a.light,

@@ -7,12 +7,12 @@
 //! added after an interrupted one would make it impossible to resume).
 
 use super::extend_args::{ExtendArgs, Extending};
-use super::{Opened, check_before_trace, job_error};
+use super::{Opened, check_before_trace, job_error, write_job};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::check_emission;
-use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, write_dataset};
+use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes};
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
@@ -30,7 +30,7 @@ pub struct Args {
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
-    extend: ExtendArgs,
+    pub(crate) extend: ExtendArgs,
 }
 
 /// Runs the refinement.
@@ -50,7 +50,8 @@ pub fn run(a: Args) -> Result<()> {
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let report =
-        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
+        write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &TraceProgress::default())
+            .map_err(job_error)?;
     output::result(&format!(
         "refined {}: {} + {} paths = {} paths, {} samples ({:.2} s) → {}",
         a.dataset.display(),

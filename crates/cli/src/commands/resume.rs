@@ -8,15 +8,15 @@
 //! finishing the old run there would discard that refinement, so the command refuses (write the
 //! result elsewhere with `-o`, or give `--overwrite`).
 
-use super::{Opened, ThreadArgs, begin_dataset_write, check_before_trace, job_error, open_with_scene};
+use super::{
+    Opened, ThreadArgs, begin_dataset_write, check_before_trace, job_error, open_with_scene, write_job,
+};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::{ResumeError, check_resume_target, resume_plan};
 use opticks_io::dataset_file::DatasetReader;
-use opticks_io::dataset_job::{
-    NewPaths, Source, estimate_bytes, finished_path, remove_partial, write_dataset,
-};
+use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, finished_path, remove_partial};
 use opticks_io::dataset_lock::{WriteIntent, same_file};
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
@@ -38,7 +38,7 @@ pub struct Args {
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
-    threads: ThreadArgs,
+    pub(crate) threads: ThreadArgs,
 }
 
 /// Resumes the run.
@@ -77,7 +77,8 @@ pub fn run(a: Args) -> Result<()> {
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let report =
-        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
+        write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &TraceProgress::default())
+            .map_err(job_error)?;
     remove_partial(&a.partial, &output)?;
     output::result(&format!(
         "resumed {partial}: {done} + {} paths = {planned} planned ({:.2} s) → {} ({} paths, {} samples)",
