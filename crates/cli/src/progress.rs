@@ -45,16 +45,20 @@ pub fn seconds_bar(seconds: f64) -> ProgressBar {
 #[derive(Default)]
 pub struct TraceProgress {
     bar: RefCell<Option<ProgressBar>>,
-    /// When `--time` is up (none: never).
-    deadline: Option<Instant>,
+    /// The `--time` limit (none: never), counted from the start of tracing: copying a dataset's
+    /// existing chunks is bounded work, and a stop during it would save nothing.
+    limit: Option<Duration>,
+    /// When the limit is up, once tracing started.
+    deadline: Cell<Option<Instant>>,
     /// Whether the stop asked for was the deadline's.
     time_up: Cell<bool>,
 }
 
 impl TraceProgress {
-    /// A bar that also asks to stop once `limit` has passed from now (`--time`; `None`: never).
+    /// A bar that also asks to stop once `limit` has passed since tracing started (`--time`;
+    /// `None`: never).
     pub fn with_time_limit(limit: Option<Duration>) -> Self {
-        TraceProgress { deadline: limit.map(|d| Instant::now() + d), ..Default::default() }
+        TraceProgress { limit, ..Default::default() }
     }
 
     /// Whether tracing stopped because the time limit was reached (not because of a signal).
@@ -65,6 +69,7 @@ impl TraceProgress {
 
 impl JobProgress for TraceProgress {
     fn tracing(&self, paths: u64) {
+        self.deadline.set(self.limit.map(|d| Instant::now() + d));
         *self.bar.borrow_mut() = Some(bar(paths, "tracing", "paths"));
     }
 
@@ -82,7 +87,7 @@ impl JobProgress for TraceProgress {
     }
 
     fn stop(&self) -> bool {
-        if self.deadline.is_some_and(|d| Instant::now() >= d) {
+        if self.deadline.get().is_some_and(|d| Instant::now() >= d) {
             self.time_up.set(true);
         }
         crate::interrupt::requested() || self.time_up.get()

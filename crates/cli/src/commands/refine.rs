@@ -7,7 +7,7 @@
 //! added after an interrupted one would make it impossible to resume).
 
 use super::extend_args::{ExtendArgs, Extending};
-use super::{Opened, check_before_trace, job_error, write_job};
+use super::{Opened, check_before_trace, unless_time_up, write_job};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
@@ -49,9 +49,11 @@ pub fn run(a: Args) -> Result<()> {
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, a.paths))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
-    let report =
-        write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &TraceProgress::default())
-            .map_err(job_error)?;
+    let progress = TraceProgress::with_time_limit(a.extend.time);
+    let job = write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &progress);
+    let Some(report) = unless_time_up(job, &progress)? else {
+        return Ok(());
+    };
     output::result(&format!(
         "refined {}: {} + {} paths = {} paths, {} samples ({:.2} s) → {}",
         a.dataset.display(),

@@ -1,7 +1,8 @@
 //! `opticks resume`: finishes an interrupted `trace`, `refine` or `add-light` from the
 //! `NAME.partial.opds` it saved. The partial file's last pass records what the run planned;
 //! `opticks_core::dataset::resume_plan` finds the blocks still missing, and only those are
-//! traced. The result holds exactly the samples of an uninterrupted run.
+//! traced. The result holds exactly the samples of an uninterrupted run. With `--time` it stops
+//! at a block boundary when the time is up and saves what it has as the partial again.
 //!
 //! An existing `NAME.opds` is replaced only if it is still the dataset the interrupted run
 //! started from (`opticks_core::dataset::check_resume_target`): after a later refinement of it,
@@ -9,7 +10,8 @@
 //! result elsewhere with `-o`, or give `--overwrite`).
 
 use super::{
-    Opened, ThreadArgs, begin_dataset_write, check_before_trace, job_error, open_with_scene, write_job,
+    Opened, ThreadArgs, begin_dataset_write, check_before_trace, open_with_scene, parse_seconds,
+    unless_time_up, write_job,
 };
 use crate::output;
 use crate::progress::TraceProgress;
@@ -39,6 +41,10 @@ pub struct Args {
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
     pub(crate) threads: ThreadArgs,
+    /// Stop after this many seconds of tracing (at the next block boundary), saving the paths traced so
+    /// far as NAME.partial.opds again, for the next `opticks resume`.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    time: Option<std::time::Duration>,
 }
 
 /// Resumes the run.
@@ -76,9 +82,11 @@ pub fn run(a: Args) -> Result<()> {
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, planned - done))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
-    let report =
-        write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &TraceProgress::default())
-            .map_err(job_error)?;
+    let progress = TraceProgress::with_time_limit(a.time);
+    let job = write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &progress);
+    let Some(report) = unless_time_up(job, &progress)? else {
+        return Ok(());
+    };
     remove_partial(&a.partial, &output)?;
     output::result(&format!(
         "resumed {partial}: {done} + {} paths = {planned} planned ({:.2} s) → {} ({} paths, {} samples)",

@@ -36,7 +36,7 @@ pub struct Args {
     /// Random seed; the same seed gives the same dataset whatever the thread count.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Stop after this many seconds (at the next block boundary), saving the paths traced as
+    /// Stop after this many seconds of tracing (at the next block boundary), saving the paths traced as
     /// NAME.partial.opds for `opticks resume`; give a large --paths to trace for a fixed time.
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     time: Option<Duration>,
