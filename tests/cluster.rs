@@ -4,7 +4,9 @@
 //! recorded seconds) for N = 1, 2, 3 and any thread count; `--time` stops a cluster trace and
 //! its partial resumes to the uninterrupted dataset; a worker killed mid-trace hangs nothing and
 //! leaves a complete (or resumable) dataset; a distributed render is the single-process image,
-//! bit for bit. Every run has a deadline, so a hang fails the test instead of stalling CI.
+//! bit for bit, and a distributed walk writes the single-process frames; MIS records travel
+//! with their samples; the bidirectional estimator is refused under `mpirun`. Every run has a
+//! deadline, so a hang fails the test instead of stalling CI.
 
 use opticks_core::dataset::{Chunk, DatasetHeader};
 use opticks_io::dataset_file::{DatasetReader, read_all};
@@ -20,8 +22,18 @@ fn opticks() -> &'static str {
 
 /// `mpirun -n ranks opticks args…` in `dir`, started (as root, oversubscribed: CI has 2 cores).
 fn mpirun(ranks: usize, args: &[&str], dir: &Path, env: &[(&str, &str)]) -> Child {
+    mpirun_with(true, ranks, args, dir, env)
+}
+
+/// [`mpirun`], with Open MPI's `--enable-recovery` (the job survives a dead rank, and its exit
+/// code is then 0 even when a rank aborts) or without it (a rank's failure fails the job).
+fn mpirun_with(recovery: bool, ranks: usize, args: &[&str], dir: &Path, env: &[(&str, &str)]) -> Child {
     let mut c = Command::new("mpirun");
-    c.args(["--allow-run-as-root", "--oversubscribe", "--enable-recovery", "-n", &ranks.to_string()]);
+    c.args(["--allow-run-as-root", "--oversubscribe"]);
+    if recovery {
+        c.arg("--enable-recovery");
+    }
+    c.args(["-n", &ranks.to_string()]);
     for (k, v) in env {
         c.args(["-x", &format!("{k}={v}")]);
     }
@@ -85,6 +97,28 @@ fn a_cluster_trace_and_refine_are_the_single_process_datasets_for_any_rank_and_t
     assert!(contents(&d.join("n3.opds")) == contents(&d.join("alone.opds")), "refined on 3 ranks");
 }
 
+/// MIS records (format 3, `--mis-records`) travel with their samples: a cluster trace writes
+/// the single-process dataset, records included, and `info` reads both as one.
+#[test]
+fn a_cluster_trace_with_mis_records_writes_the_same_records() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let trace = ["trace", SCENE, "--paths", "60000", "--seed", "3", "--mis-records", "power"];
+    ok_alone(&[&trace[..], &["-o", "alone.opds"]].concat(), d);
+    ok_mpi(3, &[&trace[..], &["-o", "n3.opds", "--threads", "1"]].concat(), d);
+    let (alone, n3) = (
+        DatasetReader::open(&d.join("alone.opds")).unwrap(),
+        DatasetReader::open(&d.join("n3.opds")).unwrap(),
+    );
+    assert_eq!(alone.chunk_count(), n3.chunk_count());
+    for i in 0..alone.chunk_count() {
+        let (a, b) = (alone.chunk_records(i).unwrap(), n3.chunk_records(i).unwrap());
+        assert!(!a.is_empty() && a == b, "chunk {i}: records differ");
+    }
+    drop((alone, n3));
+    assert!(contents(&d.join("n3.opds")) == contents(&d.join("alone.opds")));
+}
+
 #[test]
 fn a_cluster_trace_stopped_by_time_resumes_to_the_uninterrupted_dataset() {
     let dir = tempfile::tempdir().unwrap();
@@ -96,7 +130,7 @@ fn a_cluster_trace_stopped_by_time_resumes_to_the_uninterrupted_dataset() {
     assert!(out.starts_with("time up after ") && !d.join("cut.opds").exists(), "{out}");
     let partial = DatasetReader::open(&d.join("cut.partial.opds")).unwrap();
     let pass = &partial.header().trace.passes[0];
-    assert!(pass.paths < pass.planned_paths() && pass.paths % 4096 == 0, "a prefix of whole blocks");
+    assert!(pass.paths < pass.planned_paths() && pass.paths.is_multiple_of(4096), "a prefix of whole blocks");
     drop(partial);
     let out = ok_mpi(2, &["resume", "cut.partial.opds"], d);
     assert!(out.starts_with("resumed cut.partial.opds: "), "{out}");
@@ -186,4 +220,44 @@ fn a_render_split_over_ranks_is_the_single_process_image_bit_for_bit() {
     assert!(std::fs::read(d.join("alone-1.exr")).unwrap() == alone, "1 thread ≠ all threads");
     ok_mpi(3, &[&render[..], &["-o", "n3-plain.exr"]].concat(), d);
     assert!(std::fs::read(d.join("n3-plain.exr")).unwrap() == alone);
+}
+
+/// `walk` under `mpirun`: the frames are split over the ranks, each writing its own, and they
+/// are the files a single-process walk writes.
+#[test]
+fn a_walk_split_over_ranks_writes_the_single_process_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok_alone(&["trace", SCENE, "--paths", "100000", "--seed", "4", "-o", "box.opds"], d);
+    std::fs::write(
+        d.join("path.json"),
+        r#"{ "fps": 4, "size": [40, 32], "keyframes": [
+            { "time": 0.0, "eye": [0, 0, 3.9], "target": [0, 0, 0], "fov": 39.3 },
+            { "time": 1.0, "eye": [0.6, 0.2, 3.2], "target": [0, -0.3, 0] } ] }"#,
+    )
+    .unwrap();
+    let walk = ["walk", "box.opds", "--path", "path.json"];
+    ok_alone(&[&walk[..], &["-o", "alone"]].concat(), d);
+    let out = ok_mpi(3, &[&walk[..], &["-o", "n3"]].concat(), d);
+    assert!(out.starts_with("rendered 5 frames of 40x32"), "{out}");
+    for f in 0..5 {
+        let name = format!("frame_{f:05}.png");
+        let (a, b) =
+            (std::fs::read(d.join("alone").join(&name)).unwrap(), std::fs::read(d.join("n3").join(&name)));
+        assert!(b.is_ok_and(|b| b == a), "frame {f}");
+    }
+}
+
+/// The bidirectional estimator is not split over ranks yet: under `mpirun` it is refused with
+/// the way out, not run once per rank.
+#[test]
+fn a_bidirectional_render_under_mpirun_is_refused_with_the_fix() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok_alone(&["trace", SCENE, "--paths", "20000", "-o", "box.opds"], d);
+    let render = ["render", "box.opds", "--size", "32x32", "--estimator", "bidirectional", "-o", "b.exr"];
+    let out = finish(mpirun_with(false, 2, &render, d, &[]), "a refused bidirectional render");
+    let se = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && !d.join("b.exr").exists(), "{se}");
+    assert!(se.contains("does not run under mpirun yet") && se.contains("without mpirun"), "{se}");
 }

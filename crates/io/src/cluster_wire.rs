@@ -34,6 +34,8 @@ pub const REQUEST: i32 = 14;
 pub const BYE: i32 = 13;
 /// Worker → master: one run's film of a distributed render (f64 pixels, sent as they are).
 pub const FILM: i32 = 20;
+/// Worker → master: this rank's share of a split verb is done (walk's frames; empty payload).
+pub const DONE: i32 = 21;
 
 /// A message that does not decode.
 #[derive(Debug, thiserror::Error)]

@@ -26,6 +26,10 @@
 //!   of the core's fixed partition (`opticks_core::sensor::render_runs`) are split over the
 //!   workers, run r to worker 1 + r mod (N − 1), and the master adds them in run order
 //!   ([`render::render`]): the image is the single-process one, bit for bit.
+//! * **`walk`**: every rank runs the verb and renders the frames f with f mod N = its rank,
+//!   writing them itself (the output folder is on the shared file system); the master waits
+//!   for every rank's [`share_done`] before it encodes the video. Each frame is rendered exactly
+//!   as a single process renders it, so the frames are the same files.
 //! * **Other verbs** run on the master only; workers exit at once.
 
 pub mod render;
@@ -52,7 +56,7 @@ enum Role {
 fn role(command: &Command) -> Role {
     match command {
         Command::Trace(_) | Command::Refine(_) | Command::AddLight(_) | Command::Resume(_) => Role::Serve,
-        Command::Render(_) => Role::Split,
+        Command::Render(_) | Command::Walk(_) => Role::Split,
         _ => Role::MasterOnly,
     }
 }
@@ -140,6 +144,32 @@ pub(crate) fn patient_send<T: mpi::datatype::Equivalence>(
 /// Whether a cluster session of more than one rank runs.
 pub fn active() -> bool {
     mpi::environment::is_initialized() && !mpi::environment::is_finalized() && world().size() > 1
+}
+
+/// This rank and the number of ranks (valid while a [`Session`] lives).
+pub fn rank_and_size() -> (usize, usize) {
+    let world = world();
+    (world.rank() as usize, world.size() as usize)
+}
+
+/// The end of a split verb's independent shares (walk's frames): a worker tells the master its
+/// share is done; the master waits until every worker has (a signal ends its wait with an error,
+/// and a failed worker ends the whole job: [`Session::finish`]).
+pub fn share_done() -> anyhow::Result<()> {
+    let world = world();
+    if world.rank() != 0 {
+        world.process_at_rank(0).send_with_tag(&[0u8][..], opticks_io::cluster_wire::DONE);
+        return Ok(());
+    }
+    for r in 1..world.size() {
+        let from = world.process_at_rank(r);
+        let got =
+            patient_receive::<u8>(&from, Some(opticks_io::cluster_wire::DONE), &crate::interrupt::requested);
+        if got.is_none() {
+            anyhow::bail!("interrupted while waiting for rank {r}'s frames");
+        }
+    }
+    Ok(())
 }
 
 /// Whether a cluster session runs and this is its master (dataset jobs then go through

@@ -250,6 +250,9 @@ fn trace(scene: &Scene, settings: &TraceSettings, b: &Block) -> Chunk {
     trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths)
 }
 
+/// What a worker's loaded scene was loaded from: the file and its `-D` parameters.
+type SceneKey = (String, Vec<(String, String)>);
+
 /// A worker's life: jobs until `QUIT`. Returns the exit code (success: a job this worker
 /// could not do was reported to the master, whose verb fails with the reason).
 pub fn serve(threads: usize) -> ExitCode {
@@ -267,7 +270,7 @@ pub fn serve(threads: usize) -> ExitCode {
     let give_up =
         || crate::interrupt::requested() && signalled.get_or_init(Instant::now).elapsed() > worker_timeout();
     let gone = || crate::interrupt::exit_code().map_or(ExitCode::FAILURE, ExitCode::from);
-    let mut loaded: Option<((String, Vec<(String, String)>), Scene)> = None;
+    let mut loaded: Option<(SceneKey, Scene)> = None;
     loop {
         let Some((bytes, status)) = patient_receive::<u8>(&master, None, &give_up) else {
             return gone();

@@ -292,6 +292,28 @@ pub fn render_film<B: AsBatch>(
     render_with_progress(scene, camera, count, total_samples, batch).map(Some)
 }
 
+/// This process's share of independent items (walk's frames): item i is this process's when
+/// i mod `.1` = `.0` — (rank, ranks) under `mpirun` with more than one rank, else (0, 1).
+pub fn my_share() -> (usize, usize) {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::active() {
+        return crate::cluster::rank_and_size();
+    }
+    (0, 1)
+}
+
+/// After this process's share ([`my_share`]): under `mpirun`, a worker reports it done and the
+/// master waits for every worker's; whether this process goes on to finish the verb (the
+/// master, or a process alone).
+pub fn shares_done() -> Result<bool> {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::active() {
+        crate::cluster::share_done()?;
+        return Ok(crate::cluster::is_master());
+    }
+    Ok(true)
+}
+
 /// Refuses `what` under `mpirun` with more than one rank (the cluster build): work that is not
 /// split over the ranks is run as one process, never once per rank.
 pub fn single_process_only(what: &str) -> Result<()> {
