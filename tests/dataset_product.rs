@@ -376,6 +376,47 @@ fn resume_finishes_an_interrupted_trace_or_refine_bit_for_bit() {
     assert_eq!(files(d), ["cut.opds", "lamps.xml", "whole.opds"], "no temporary or partial file is left");
 }
 
+/// `trace --time` (and `refine --time`, `resume --time`): when the time is up the trace stops at
+/// a block boundary, says so, succeeds, and leaves a valid `NAME.partial.opds` that `resume`
+/// completes to the uninterrupted dataset.
+/// 300 000 paths are 74 blocks, more than the first batch of 64, and a millisecond is less than
+/// any machine takes to trace that batch: the run is cut, after 0 or 64 blocks.
+#[test]
+fn trace_time_stops_at_a_block_boundary_and_resumes_to_the_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let trace = ["trace", "builtin:cornell", "--paths", "300000", "--seed", "8"];
+    ok(&[&trace[..], &["-o", "whole.opds"]].concat(), d);
+    let out = ok(&[&trace[..], &["-o", "cut.opds", "--time", "0.001"]].concat(), d);
+    assert!(!d.join("cut.opds").exists(), "{out}");
+    let partial = DatasetReader::open(&d.join("cut.partial.opds")).unwrap();
+    let done = partial.header().trace.passes[0].paths;
+    assert!(done == 0 || done == 64 * 4096, "stopped at a batch of blocks: {done}");
+    assert!(out.starts_with(&format!("time up after {done} paths: saved cut.partial.opds (")), "{out}");
+    drop(partial);
+    ok(&["resume", "cut.partial.opds"], d);
+    assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")), "resumed ≠ uninterrupted");
+    // The same on `refine` (and `add-light`, which shares its options): 270 000 paths are 66
+    // blocks, cut after 0 or 64 of them. `resume --time` takes the same limit: it saves the
+    // partial again when it is cut, and the resumes end in the uninterrupted dataset either way.
+    ok(&["refine", "whole.opds", "--paths", "270000", "-o", "more.opds"], d);
+    let out = ok(&["refine", "whole.opds", "--paths", "270000", "-o", "cut2.opds", "--time", "0.001"], d);
+    assert!(out.starts_with("time up after ") && !d.join("cut2.opds").exists(), "{out}");
+    let out = ok(&["resume", "cut2.partial.opds", "--time", "0.001"], d);
+    let cut = out.starts_with("time up after ");
+    assert!(cut || out.starts_with("resumed cut2.partial.opds: "), "{out}");
+    assert_eq!(d.join("cut2.partial.opds").exists(), cut, "{out}");
+    if cut {
+        ok(&["resume", "cut2.partial.opds"], d);
+    }
+    assert!(contents(&d.join("cut2.opds")) == contents(&d.join("more.opds")), "refine cut twice ≠ whole");
+    assert!(!d.join("cut2.partial.opds").exists());
+    for bad in ["0", "-1", "soon", "inf"] {
+        let e = fails(&["trace", "builtin:cornell", "-o", "x.opds", &format!("--time={bad}")], d);
+        assert!(e.contains("is not a positive number of seconds"), "{e}");
+    }
+}
+
 /// Ctrl-C during `refine` or `add-light` (simulated; the real signal is tested on `trace` in
 /// tests/cli.rs, through the same job) saves the completed paths as a valid
 /// `data.partial.opds` and leaves the dataset intact, with no temporary file.

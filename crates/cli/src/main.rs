@@ -4,8 +4,12 @@
 //! errors are reported with their whole chain and a non-zero exit code. No rendering or
 //! dataset logic lives here: every dataset law and operation is a function of
 //! `opticks_core::dataset`, and every dataset is written by `opticks_io::dataset_job`.
+//! Built with the `mpi` feature and started by `mpirun`, one verb runs over many processes
+//! (`cluster/`, docs/cluster.md); without it no MPI code is compiled.
 
 mod camera_args;
+#[cfg(feature = "mpi")]
+mod cluster;
 mod commands;
 mod count_arg;
 mod interrupt;
@@ -63,7 +67,38 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     output::set_level(cli.quiet, cli.verbose);
     interrupt::install();
-    let result = match cli.command {
+    #[cfg(feature = "mpi")]
+    let session = cluster::start(&cli.command);
+    #[cfg(feature = "mpi")]
+    if let Some(code) = session.as_ref().and_then(|s| s.run_worker(cli.command.threads())) {
+        return code;
+    }
+    let code = run(cli.command);
+    #[cfg(feature = "mpi")]
+    let code = match session {
+        Some(s) => s.finish(code),
+        None => code,
+    };
+    code
+}
+
+impl Command {
+    /// `--threads` of the verbs that trace (0: all cores).
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    fn threads(&self) -> usize {
+        match self {
+            Command::Trace(a) => a.threads.count(),
+            Command::Resume(a) => a.threads.count(),
+            Command::Refine(a) => a.extend.threads.count(),
+            Command::AddLight(a) => a.extend.threads.count(),
+            _ => 0,
+        }
+    }
+}
+
+/// Runs the verb and reports its error.
+fn run(command: Command) -> ExitCode {
+    let result = match command {
         Command::Demo(a) => commands::demo::run(a),
         Command::Trace(a) => commands::trace::run(a),
         Command::Render(a) => commands::render::run(a),

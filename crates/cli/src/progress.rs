@@ -1,11 +1,12 @@
 //! Progress bars (indicatif) for long work: light paths traced and samples rendered, with rates.
 //! Bars draw on stderr only when it is a terminal, so scripts and CI logs stay clean.
 //! [`TraceProgress`] is what the dataset jobs of `opticks_io` report to: a bar while tracing,
-//! and Ctrl-C as the request to stop.
+//! and Ctrl-C or the end of `--time` as the request to stop.
 
 use indicatif::{HumanCount, ProgressBar, ProgressState, ProgressStyle};
 use opticks_io::dataset_job::JobProgress;
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
+use std::time::{Duration, Instant};
 
 /// A bar counting `total` items of `unit` (e.g. "paths"), showing the rate per second as a
 /// whole number ("458,006/s"). Hidden with `--quiet`.
@@ -44,10 +45,31 @@ pub fn seconds_bar(seconds: f64) -> ProgressBar {
 #[derive(Default)]
 pub struct TraceProgress {
     bar: RefCell<Option<ProgressBar>>,
+    /// The `--time` limit (none: never), counted from the start of tracing: copying a dataset's
+    /// existing chunks is bounded work, and a stop during it would save nothing.
+    limit: Option<Duration>,
+    /// When the limit is up, once tracing started.
+    deadline: Cell<Option<Instant>>,
+    /// Whether the stop asked for was the deadline's.
+    time_up: Cell<bool>,
+}
+
+impl TraceProgress {
+    /// A bar that also asks to stop once `limit` has passed since tracing started (`--time`;
+    /// `None`: never).
+    pub fn with_time_limit(limit: Option<Duration>) -> Self {
+        TraceProgress { limit, ..Default::default() }
+    }
+
+    /// Whether tracing stopped because the time limit was reached (not because of a signal).
+    pub fn time_was_up(&self) -> bool {
+        self.time_up.get() && !crate::interrupt::requested()
+    }
 }
 
 impl JobProgress for TraceProgress {
     fn tracing(&self, paths: u64) {
+        self.deadline.set(self.limit.map(|d| Instant::now() + d));
         *self.bar.borrow_mut() = Some(bar(paths, "tracing", "paths"));
     }
 
@@ -65,6 +87,9 @@ impl JobProgress for TraceProgress {
     }
 
     fn stop(&self) -> bool {
-        crate::interrupt::requested()
+        if self.deadline.get().is_some_and(|d| Instant::now() >= d) {
+            self.time_up.set(true);
+        }
+        crate::interrupt::requested() || self.time_up.get()
     }
 }

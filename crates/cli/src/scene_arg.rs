@@ -28,6 +28,18 @@ pub struct DefineArgs {
 }
 
 impl DefineArgs {
+    /// The parameters as given, `(NAME, VALUE)` (what a cluster worker is sent).
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    pub fn pairs(&self) -> &[(String, String)] {
+        &self.define
+    }
+
+    /// The parameters `pairs` (as [`DefineArgs::pairs`] gave them).
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    pub fn from_pairs(pairs: Vec<(String, String)>) -> Self {
+        DefineArgs { define: pairs }
+    }
+
     fn options(&self) -> LoadOptions {
         LoadOptions { defines: self.define.clone() }
     }

@@ -11,6 +11,11 @@
 //! left as it was. Its last pass records the plan, so resuming it
 //! (`opticks_core::dataset::resume_plan`) traces exactly the missing blocks, into the target
 //! again ([`finished_path`]).
+//!
+//! Who traces the new paths is a [`PassTracer`]: this process on its rayon pool
+//! ([`LocalTracer`], what [`write_dataset`] uses), or, in the CLI's cluster build, worker
+//! processes that an MPI master hands the blocks to ([`write_dataset_with`]). Either way the
+//! chunks arrive in the plan's block order, so the file is the same.
 
 use crate::dataset_file::{DatasetError, DatasetReader, DatasetSummary, DatasetWriter};
 use opticks_core::dataset::{
@@ -174,6 +179,10 @@ pub enum JobError {
         /// The pass's stream.
         stream: u64,
     },
+    /// The tracer failed (a [`PassTracer`] other than [`LocalTracer`]: e.g. a cluster job whose
+    /// workers could not take part).
+    #[error("{0}")]
+    Trace(String),
     /// The writer thread ended before the tracer.
     #[error("the dataset writer stopped")]
     WriterStopped,
@@ -200,10 +209,52 @@ pub enum JobError {
 /// [`partial_path`]`(output)` instead and the error says so.
 pub fn write_dataset(
     output: &Path,
+    header: DatasetHeader,
+    sources: &[Source<'_>],
+    new: Option<NewPaths<'_>>,
+    progress: &dyn JobProgress,
+) -> Result<JobReport, JobError> {
+    write_dataset_with(output, header, sources, new, progress, &LocalTracer)
+}
+
+/// Who traces a pass's blocks for [`write_dataset_with`]. `trace_pass` hands every chunk to
+/// `sink` in the plan's block order (after the first `pass.first_block`), reports to
+/// `progress` and stops between blocks when it asks to; it returns the paths traced per plan
+/// entry. Every chunk handed over is complete, so a stop leaves a valid prefix of the plan.
+pub trait PassTracer {
+    /// Traces `pass` of `scene` into `sink`.
+    fn trace_pass(
+        &self,
+        scene: &Scene,
+        pass: &PassPlan,
+        sink: &mut dyn FnMut(Chunk) -> Result<(), JobError>,
+        progress: &dyn JobProgress,
+    ) -> Result<Vec<u64>, JobError>;
+}
+
+/// Traces in this process, on the rayon pool ([`trace_observed`]).
+pub struct LocalTracer;
+
+impl PassTracer for LocalTracer {
+    fn trace_pass(
+        &self,
+        scene: &Scene,
+        pass: &PassPlan,
+        sink: &mut dyn FnMut(Chunk) -> Result<(), JobError>,
+        progress: &dyn JobProgress,
+    ) -> Result<Vec<u64>, JobError> {
+        trace_observed(scene, pass, sink, progress)
+    }
+}
+
+/// [`write_dataset`] with the new paths traced by `tracer`.
+pub fn write_dataset_with(
+    output: &Path,
     mut header: DatasetHeader,
     sources: &[Source<'_>],
     new: Option<NewPaths<'_>>,
     progress: &dyn JobProgress,
+    tracer: &dyn PassTracer,
 ) -> Result<JobReport, JobError> {
     if let Some(new) = &new {
         check_path_budget(&header.table, &new.pass)
@@ -228,7 +279,7 @@ pub fn write_dataset(
     let mut interrupted = false;
     if let Some(new) = new {
         let t0 = Instant::now();
-        let (traced, w, failed) = trace_overlapped(writer, &new, progress)?;
+        let (traced, w, failed) = trace_overlapped(writer, &new, progress, tracer)?;
         writer = w;
         trace_seconds = t0.elapsed().as_secs_f64();
         if let Some(source) = failed {
@@ -371,11 +422,12 @@ fn save_written(
 /// writer, and the write error that stopped it, if one did.
 type Overlapped = (Result<Vec<u64>, JobError>, DatasetWriter, Option<DatasetError>);
 
-/// Traces `new` on the rayon pool while a writer thread appends the chunks.
+/// Traces `new` with `tracer` while a writer thread appends the chunks.
 fn trace_overlapped(
     mut writer: DatasetWriter,
     new: &NewPaths<'_>,
     progress: &dyn JobProgress,
+    tracer: &dyn PassTracer,
 ) -> Result<Overlapped, JobError> {
     std::thread::scope(|s| {
         let (send, receive) = std::sync::mpsc::sync_channel::<Chunk>(128);
@@ -387,10 +439,10 @@ fn trace_overlapped(
             }
             (writer, None)
         });
-        let traced = trace_observed(
+        let traced = tracer.trace_pass(
             new.scene,
             &new.pass,
-            |c| send.send(c).map_err(|_| JobError::WriterStopped),
+            &mut |c| send.send(c).map_err(|_| JobError::WriterStopped),
             progress,
         );
         drop(send);

@@ -19,9 +19,11 @@
 //! * [`light_cache`]: the bidirectional estimator's light vertex cache over a dataset file;
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios);
 //! * [`input_file`]: how every reader opens its files (regular files only, bounded by their size);
-//! * [`memory`]: the memory available, checked before a large film is allocated.
+//! * [`memory`]: the memory available, checked before a large film is allocated;
+//! * [`cluster_wire`]: the messages of a cluster (MPI) job as bytes — jobs, blocks, chunks.
 
 pub mod camera_path_file;
+pub mod cluster_wire;
 pub mod compare;
 pub mod dataset_file;
 pub mod dataset_job;

@@ -5,12 +5,12 @@
 //! to.
 
 use super::extend_args::{ExtendArgs, Extending};
-use super::{Opened, check_before_trace, job_error};
+use super::{Opened, check_before_trace, unless_time_up, write_job};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::AddLightError;
-use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, write_dataset};
+use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes};
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
 
@@ -31,7 +31,7 @@ pub struct Args {
     #[arg(long, value_parser = crate::count_arg::parse_count)]
     paths: Option<u64>,
     #[command(flatten)]
-    extend: ExtendArgs,
+    pub(crate) extend: ExtendArgs,
 }
 
 /// Adds the light.
@@ -59,8 +59,11 @@ pub fn run(a: Args) -> Result<()> {
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, paths))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
-    let report =
-        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
+    let progress = TraceProgress::with_time_limit(a.extend.time);
+    let job = write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &progress);
+    let Some(report) = unless_time_up(job, &progress)? else {
+        return Ok(());
+    };
     output::result(&format!(
         "added light '{}' with {paths} paths ({:.2} s) → {} ({}, {} samples)",
         a.light,

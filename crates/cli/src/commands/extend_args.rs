@@ -1,5 +1,6 @@
 //! The arguments `refine` and `add-light` share: where the extended dataset goes, and the
-//! seed, strategy and threads of the pass they add.
+//! seed, strategy, threads and time limit (`--time`: stop at a block boundary, saving
+//! `NAME.partial.opds` for `opticks resume`) of the pass they add.
 
 use super::{Opened, begin_dataset_write, check_finished, open_with_scene};
 use crate::scene_arg::DefineArgs;
@@ -33,6 +34,10 @@ pub struct ExtendArgs {
     pub strategy: StrategyArgs,
     #[command(flatten)]
     pub threads: super::ThreadArgs,
+    /// Stop after this many seconds of tracing (at the next block boundary), saving the paths traced as
+    /// NAME.partial.opds for `opticks resume`.
+    #[arg(long, value_name = "SECONDS", value_parser = super::parse_seconds)]
+    pub time: Option<std::time::Duration>,
 }
 
 /// A dataset about to be extended: where the result goes, the write lock held on it, and the

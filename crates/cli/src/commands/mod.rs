@@ -28,7 +28,7 @@ use opticks_core::film::Film;
 use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{AsBatch, OwnedBatch, SampleBatch, Sensor, render};
 use opticks_io::dataset_file::DatasetReader;
-use opticks_io::dataset_job::JobError;
+use opticks_io::dataset_job::{JobError, JobReport};
 use opticks_io::dataset_lock::{WriteIntent, WriteLock, WriteRefused, begin_write, same_file};
 use opticks_io::output_paths::{OutputKind, check_input_file, check_output};
 use opticks_io::scene_ref;
@@ -44,6 +44,11 @@ pub struct ThreadArgs {
 }
 
 impl ThreadArgs {
+    /// The thread count asked for (0: all cores).
+    pub fn count(&self) -> usize {
+        self.threads
+    }
+
     /// Sizes rayon's global pool.
     pub fn apply(&self) -> Result<()> {
         if self.threads > 0 {
@@ -53,6 +58,57 @@ impl ThreadArgs {
                 .context("cannot set --threads")?;
         }
         Ok(())
+    }
+}
+
+/// Writes a dataset (`opticks_io::dataset_job::write_dataset`), its new paths traced in this
+/// process or — in the cluster build, on the master of an `mpirun` job — by the worker ranks,
+/// which load `scene` (the file the verb loaded its scene from, with its `-D` parameters)
+/// themselves.
+pub fn write_job(
+    scene: (&str, &crate::scene_arg::DefineArgs),
+    output: &Path,
+    header: opticks_core::dataset::DatasetHeader,
+    sources: &[opticks_io::dataset_job::Source<'_>],
+    new: Option<opticks_io::dataset_job::NewPaths<'_>>,
+    progress: &dyn opticks_io::dataset_job::JobProgress,
+) -> Result<JobReport, JobError> {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::is_master() {
+        let tracer = crate::cluster::trace::ClusterTracer::new(scene.0, scene.1);
+        return opticks_io::dataset_job::write_dataset_with(output, header, sources, new, progress, &tracer);
+    }
+    let _ = scene;
+    opticks_io::dataset_job::write_dataset(output, header, sources, new, progress)
+}
+
+/// The outcome of a dataset job run with a time limit: the report, or `None` when the time was
+/// up first — then the paths traced so far are saved as `NAME.partial.opds` (said here), which
+/// `opticks resume` completes, and that is a success.
+pub fn unless_time_up(
+    result: Result<JobReport, JobError>,
+    progress: &crate::progress::TraceProgress,
+) -> Result<Option<JobReport>> {
+    match result {
+        Err(JobError::Interrupted { output, partial, paths }) if progress.time_was_up() => {
+            crate::output::result(&format!(
+                "time up after {paths} paths: saved {} (a valid dataset; `opticks resume {}` traces the rest \
+                 into {})",
+                partial.display(),
+                partial.display(),
+                output.display()
+            ));
+            Ok(None)
+        }
+        r => r.map(Some).map_err(job_error),
+    }
+}
+
+/// A positive, finite number of seconds (`--time`).
+pub fn parse_seconds(text: &str) -> Result<std::time::Duration, String> {
+    match text.parse::<f64>() {
+        Ok(s) if s.is_finite() && s > 0.0 && s < 1e12 => Ok(std::time::Duration::from_secs_f64(s)),
+        _ => Err(format!("'{text}' is not a positive number of seconds")),
     }
 }
 
@@ -211,6 +267,70 @@ pub fn render_with_progress<B: AsBatch>(
     })?;
     pb.finish_and_clear();
     Ok(film)
+}
+
+/// Renders `count` sample batches through `camera` like [`render_with_progress`], or split over
+/// the ranks of a cluster job (`crate::cluster::render`): the film, or `None` on a worker rank,
+/// whose part went to the master. The image is the same either way, bit for bit.
+pub fn render_film<B: AsBatch>(
+    scene: &Scene,
+    camera: &Sensor,
+    count: usize,
+    total_samples: u64,
+    batch: impl Fn(usize) -> Result<B> + Sync,
+) -> Result<Option<Film>> {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::active() {
+        check_film_fits("an image", (camera.width(), camera.height()), IMAGE_OUTPUT_BYTES)?;
+        let pb = progress::bar(0, "rendering", "runs");
+        let batch = |i| {
+            unless_interrupted()?;
+            batch(i)
+        };
+        let film = crate::cluster::render::render(scene, camera, count, batch, |done, runs| {
+            pb.set_length(runs as u64);
+            pb.set_position(done as u64);
+        })?;
+        pb.finish_and_clear();
+        return Ok(film);
+    }
+    render_with_progress(scene, camera, count, total_samples, batch).map(Some)
+}
+
+/// This process's share of independent items (walk's frames): item i is this process's when
+/// i mod `.1` = `.0` — (rank, ranks) under `mpirun` with more than one rank, else (0, 1).
+pub fn my_share() -> (usize, usize) {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::active() {
+        return crate::cluster::rank_and_size();
+    }
+    (0, 1)
+}
+
+/// After this process's share ([`my_share`]): under `mpirun`, a worker reports it done and the
+/// master waits for every worker's; whether this process goes on to finish the verb (the
+/// master, or a process alone).
+pub fn shares_done() -> Result<bool> {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::active() {
+        crate::cluster::share_done()?;
+        return Ok(crate::cluster::is_master());
+    }
+    Ok(true)
+}
+
+/// Refuses `what` under `mpirun` with more than one rank (the cluster build): work that is not
+/// split over the ranks is run as one process, never once per rank.
+pub fn single_process_only(what: &str) -> Result<()> {
+    #[cfg(feature = "mpi")]
+    if crate::cluster::active() {
+        anyhow::bail!(
+            "{what} does not run under mpirun yet (its camera passes are not split over the ranks): run it as \
+             one process, `opticks render …` without mpirun (docs/cluster.md)"
+        );
+    }
+    let _ = what;
+    Ok(())
 }
 
 /// Opens a dataset and the scene it is to be used with — `scene` if given, else the scene file

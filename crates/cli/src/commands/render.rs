@@ -6,7 +6,7 @@
 //! location are checked before the dataset is read.
 
 use super::estimator::{Estimator, EstimatorArgs};
-use super::{DatasetArgs, ThreadArgs, render_with_progress, warn_if_black, write_film};
+use super::{DatasetArgs, ThreadArgs, render_film, warn_if_black, write_film};
 use crate::camera_args::{CameraArgs, exposure_for};
 use crate::output;
 use anyhow::{Context, Result, bail};
@@ -63,6 +63,7 @@ pub fn run(a: Args) -> Result<()> {
     let t0 = Instant::now();
     let _graceful = crate::interrupt::graceful();
     if a.estimator.estimator == Estimator::Bidirectional {
+        super::single_process_only("render --estimator bidirectional")?;
         let run = a.estimator.render(&data, &camera, a.time, 0, true)?;
         let secs = t0.elapsed().as_secs_f64();
         warn_if_black(&run.film, data.samples(), "camera");
@@ -82,7 +83,9 @@ pub fn run(a: Args) -> Result<()> {
         ));
         return Ok(());
     }
-    let film = render_with_progress(scene, &camera, data.count(), data.samples(), |i| data.batch(i))?;
+    let Some(film) = render_film(scene, &camera, data.count(), data.samples(), |i| data.batch(i))? else {
+        return Ok(()); // a worker rank of a cluster job: its part went to the master
+    };
     let secs = t0.elapsed().as_secs_f64();
     warn_if_black(&film, data.samples(), "camera");
     write_film(&film, &a.output, exposure)?;

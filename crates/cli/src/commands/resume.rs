@@ -1,22 +1,24 @@
 //! `opticks resume`: finishes an interrupted `trace`, `refine` or `add-light` from the
 //! `NAME.partial.opds` it saved. The partial file's last pass records what the run planned;
 //! `opticks_core::dataset::resume_plan` finds the blocks still missing, and only those are
-//! traced. The result holds exactly the samples of an uninterrupted run.
+//! traced. The result holds exactly the samples of an uninterrupted run. With `--time` it stops
+//! at a block boundary when the time is up and saves what it has as the partial again.
 //!
 //! An existing `NAME.opds` is replaced only if it is still the dataset the interrupted run
 //! started from (`opticks_core::dataset::check_resume_target`): after a later refinement of it,
 //! finishing the old run there would discard that refinement, so the command refuses (write the
 //! result elsewhere with `-o`, or give `--overwrite`).
 
-use super::{Opened, ThreadArgs, begin_dataset_write, check_before_trace, job_error, open_with_scene};
+use super::{
+    Opened, ThreadArgs, begin_dataset_write, check_before_trace, open_with_scene, parse_seconds,
+    unless_time_up, write_job,
+};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::{ResumeError, check_resume_target, resume_plan};
 use opticks_io::dataset_file::DatasetReader;
-use opticks_io::dataset_job::{
-    NewPaths, Source, estimate_bytes, finished_path, remove_partial, write_dataset,
-};
+use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, finished_path, remove_partial};
 use opticks_io::dataset_lock::{WriteIntent, same_file};
 use opticks_io::scene_ref::label_for;
 use std::path::PathBuf;
@@ -38,7 +40,11 @@ pub struct Args {
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
-    threads: ThreadArgs,
+    pub(crate) threads: ThreadArgs,
+    /// Stop after this many seconds of tracing (at the next block boundary), saving the paths traced so
+    /// far as NAME.partial.opds again, for the next `opticks resume`.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    time: Option<std::time::Duration>,
 }
 
 /// Resumes the run.
@@ -76,8 +82,11 @@ pub fn run(a: Args) -> Result<()> {
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, planned - done))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
-    let report =
-        write_dataset(&output, header, &sources, Some(new), &TraceProgress::default()).map_err(job_error)?;
+    let progress = TraceProgress::with_time_limit(a.time);
+    let job = write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &progress);
+    let Some(report) = unless_time_up(job, &progress)? else {
+        return Ok(());
+    };
     remove_partial(&a.partial, &output)?;
     output::result(&format!(
         "resumed {partial}: {done} + {} paths = {planned} planned ({:.2} s) → {} ({} paths, {} samples)",

@@ -1,18 +1,22 @@
 //! `opticks trace`: light sampling of a scene file into a dataset file (written atomically).
 //! An existing dataset at the output is replaced only with `--overwrite` (it may hold hours of
 //! refined work); see `opticks_io::dataset_lock` for every rule checked before the trace starts.
+//! `--time` stops it at a block boundary when the time is up, leaving a valid
+//! `NAME.partial.opds` that `opticks resume` completes (the blocks are traced in a fixed order,
+//! so what a run of any length traced is a prefix of the plan).
 
-use super::{ThreadArgs, begin_dataset_write, check_before_trace, job_error};
+use super::{ThreadArgs, begin_dataset_write, check_before_trace, parse_seconds, unless_time_up, write_job};
 use crate::output;
 use crate::progress::TraceProgress;
 use crate::scene_arg::{is_builtin, load_scene};
 use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::{check_emission, new_trace};
-use opticks_io::dataset_job::{ASSUMED_BYTES_PER_PATH, NewPaths, write_dataset};
+use opticks_io::dataset_job::{ASSUMED_BYTES_PER_PATH, NewPaths};
 use opticks_io::dataset_lock::WriteIntent;
 use opticks_io::scene_ref::label_for;
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 /// Arguments of `opticks trace`.
 #[derive(clap::Args, Debug)]
@@ -32,10 +36,14 @@ pub struct Args {
     /// Random seed; the same seed gives the same dataset whatever the thread count.
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// Stop after this many seconds of tracing (at the next block boundary), saving the paths traced as
+    /// NAME.partial.opds for `opticks resume`; give a large --paths to trace for a fixed time.
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    time: Option<Duration>,
     #[command(flatten)]
     strategy: StrategyArgs,
     #[command(flatten)]
-    threads: ThreadArgs,
+    pub(crate) threads: ThreadArgs,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
 }
@@ -63,8 +71,11 @@ pub fn run(a: Args) -> Result<()> {
     check_before_trace(&a.output, &header.table, &pass, a.paths.saturating_mul(ASSUMED_BYTES_PER_PATH))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
-    let report =
-        write_dataset(&a.output, header, &[], Some(new), &TraceProgress::default()).map_err(job_error)?;
+    let progress = TraceProgress::with_time_limit(a.time);
+    let job = write_job((&a.scene, &a.defines), &a.output, header, &[], Some(new), &progress);
+    let Some(report) = unless_time_up(job, &progress)? else {
+        return Ok(());
+    };
     let paths = report.table.total_paths();
     output::result(&format!(
         "traced {paths} paths → {} samples in {:.2} s ({:.2} M paths/s) → {} ({})",

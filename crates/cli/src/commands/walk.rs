@@ -4,7 +4,9 @@
 //! With `ffmpeg` on the PATH the PNG frames of this run also become `walk.mp4`, written
 //! atomically. The camera path is validated whole before the output folder is created: the
 //! frame count (at least 1, at most 100000, computed without overflow) and every frame's camera
-//! (an interpolated field of view can be invalid where no keyframe's is).
+//! (an interpolated field of view can be invalid where no keyframe's is). Under `mpirun` (the
+//! cluster build) the frames are split over the ranks, each writing its own
+//! (`super::my_share`); they are the files a single process writes.
 
 use super::estimator::{Estimator, EstimatorArgs};
 use super::{DatasetArgs, ThreadArgs, warn_if_black, write_film};
@@ -81,9 +83,10 @@ pub fn run(a: Args) -> Result<()> {
     super::check_film_fits("a frame", (w, h), super::IMAGE_OUTPUT_BYTES)?;
     std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
     let _graceful = crate::interrupt::graceful();
-    let pb = progress::bar(frames as u64, "frames", "frames");
+    let (me, ranks) = super::my_share();
+    let pb = progress::bar(frames.div_ceil(ranks) as u64, "frames", "frames");
     let start = Instant::now();
-    for (f, camera) in cameras.into_iter().enumerate() {
+    for (f, camera) in cameras.into_iter().enumerate().filter(|(f, _)| f % ranks == me) {
         if crate::interrupt::requested() {
             bail!("interrupted after {f} of {frames} frames");
         }
@@ -101,6 +104,9 @@ pub fn run(a: Args) -> Result<()> {
         pb.inc(1);
     }
     pb.finish_and_clear();
+    if !super::shares_done()? {
+        return Ok(()); // a worker rank: its frames are written, the master reports
+    }
     let per_frame = start.elapsed().as_secs_f64() / frames as f64;
     let trace = reader.header().trace.seconds();
     output::result(&format!(

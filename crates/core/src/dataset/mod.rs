@@ -15,7 +15,8 @@
 //!   (`plan.rs`), carried out by `crate::trace`;
 //! * the passes a dataset gains — a first trace, a refinement, an added light (`extend.rs`),
 //!   the rest of an interrupted pass (`resume.rs`) — and their bookkeeping
-//!   ([`DatasetHeader::record_traced`]);
+//!   ([`DatasetHeader::record_traced`]); a pass traced by many hands, its chunks put back in
+//!   block order ([`PassDispatch`], `dispatch.rs`);
 //! * the laws of using one — relighting (`relight.rs`), merging (`merge.rs`), a preview from a
 //!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`);
 //! * whether its MIS records (one per sample, [`Chunk::records`]) serve the bidirectional
@@ -23,6 +24,7 @@
 //!   passes agree on heuristic, sampling signature and direction rule; a dataset without them
 //!   gains them by re-tracing its passes block for block ([`upgrade_plan`], `upgrade.rs`).
 
+mod dispatch;
 mod extend;
 mod header;
 mod merge;
@@ -38,6 +40,7 @@ mod table;
 mod testing;
 mod upgrade;
 
+pub use dispatch::{NumberedBlock, PassDispatch};
 pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
 pub use header::{DatasetHeader, NoPassRecord, PassMis, TraceInfo, TracePass};
 pub use merge::{MergeError, merge_header, merge_tables};

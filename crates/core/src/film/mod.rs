@@ -4,10 +4,12 @@
 //! Splatting is a random read-modify-write per stored sample, so the film's size in cache
 //! decides much of the render time. An [`Accumulator`] stages splats in an f32 copy (half the
 //! bytes: a 256×256 image fits a core's L2) and folds them into the f64 film every
-//! [`FLUSH_SPLATS`] splats, long before f32 could lose precision. Each worker thread of a render
-//! has its own accumulator while they fit in [`PRIVATE_FILMS_BUDGET`]; larger images are
-//! accumulated into one [`SharedFilm`] that every thread adds to atomically (`shared.rs`), so a
-//! render's memory never grows as threads × pixels ([`accumulation_bytes`]).
+//! [`FLUSH_SPLATS`] splats, long before f32 could lose precision. A render splats each run of
+//! batches into its own accumulator, a few runs at a time, while two of them and the summed film
+//! fit in [`PRIVATE_FILMS_BUDGET`] ([`private_films`], [`wave_width`]; `crate::sensor`'s
+//! `runs.rs`); larger images are accumulated into one [`SharedFilm`] that every thread adds to
+//! atomically (`shared.rs`), so a render's memory never grows as threads × pixels
+//! ([`accumulation_bytes`]).
 
 mod shared;
 
@@ -15,9 +17,10 @@ pub use shared::SharedFilm;
 
 use crate::math::Rgb;
 
-/// Bytes the per-thread [`Accumulator`]s of a render may take together; beyond it, one
-/// [`SharedFilm`] is used. 256 MiB: private accumulators up to about 1920×1920 on two threads
-/// (they are faster while they fit in cache), a shared film above.
+/// Bytes the [`Accumulator`]s of a render may take together with the film they are summed
+/// into; beyond it, one [`SharedFilm`] is used. 256 MiB: private accumulators up to about
+/// 1576×1576 (two of them and the sum; they are faster while they fit in cache), a shared film
+/// above.
 pub const PRIVATE_FILMS_BUDGET: u64 = 256 << 20;
 
 /// Bytes of one [`Accumulator`] per pixel: the f64 film and its f32 staging copy.
@@ -26,20 +29,37 @@ pub const ACCUMULATOR_BYTES_PER_PIXEL: u64 = 36;
 /// Bytes of a [`Film`] (and of a [`SharedFilm`]) per pixel.
 pub const FILM_BYTES_PER_PIXEL: u64 = 24;
 
-/// Whether a `width`×`height` render on `threads` threads accumulates into private per-thread
-/// accumulators (else into one [`SharedFilm`]).
-pub fn private_films(width: u32, height: u32, threads: usize) -> bool {
-    let pixels = width as u64 * height as u64;
-    (threads as u64 + 1).saturating_mul(pixels * ACCUMULATOR_BYTES_PER_PIXEL) <= PRIVATE_FILMS_BUDGET
+/// Bytes of one accumulator of a `width`×`height` film (the summed film is counted at the same
+/// rate, an upper bound).
+fn accumulator_bytes(width: u32, height: u32) -> u64 {
+    (width as u64 * height as u64).saturating_mul(ACCUMULATOR_BYTES_PER_PIXEL).max(1)
+}
+
+/// Whether a `width`×`height` render accumulates into private accumulators (one per run of
+/// batches, summed in order: bit for bit the same on any number of threads), else into one
+/// [`SharedFilm`]: whether two accumulators and the summed film fit in
+/// [`PRIVATE_FILMS_BUDGET`] — up to about 2.5 million pixels. The size alone decides.
+pub fn private_films(width: u32, height: u32) -> bool {
+    accumulator_bytes(width, height).saturating_mul(3) <= PRIVATE_FILMS_BUDGET
+}
+
+/// Private accumulators a render on `threads` threads holds at once: one per thread, as many as
+/// fit in [`PRIVATE_FILMS_BUDGET`] beside the summed film (at least one).
+pub fn wave_width(width: u32, height: u32, threads: usize) -> usize {
+    let fit = (PRIVATE_FILMS_BUDGET / accumulator_bytes(width, height)).saturating_sub(1);
+    threads.min(usize::try_from(fit).unwrap_or(usize::MAX)).max(1)
 }
 
 /// The most memory accumulating a `width`×`height` film on `threads` threads takes, in bytes:
-/// at most [`PRIVATE_FILMS_BUDGET`] plus the resulting film for small images, one shared film
-/// (24 bytes a pixel) for large ones — never threads × pixels. What a caller checks against
+/// at most [`PRIVATE_FILMS_BUDGET`] for images with [`private_films`], one shared film
+/// (24 bytes a pixel) for larger ones — never threads × pixels. What a caller checks against
 /// the memory it has before any work.
 pub fn accumulation_bytes(width: u32, height: u32, threads: usize) -> u64 {
     let film = width as u64 * height as u64 * FILM_BYTES_PER_PIXEL;
-    if private_films(width, height, threads) { PRIVATE_FILMS_BUDGET + film } else { film }
+    match private_films(width, height) {
+        true => (wave_width(width, height, threads) as u64 + 1) * accumulator_bytes(width, height),
+        false => film,
+    }
 }
 
 /// Anything splats can be added to.

@@ -35,15 +35,17 @@ pub mod bidirectional;
 mod equirect;
 pub mod meter;
 mod pinhole;
+mod runs;
 mod thin_lens;
 
 pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure, measure_both_sides};
 pub use pinhole::{CameraError, MAX_IMAGE_SIDE, Pinhole, check_fov, check_image_size};
+pub use runs::{RunFold, batches_per_run, render_runs, run_count};
 pub use thin_lens::{LensError, ThinLens};
 
 use crate::dataset::Sample;
-use crate::film::{Accumulator, Film, SharedFilm, SplatTarget, private_films};
+use crate::film::{Film, SharedFilm, SplatTarget, private_films};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::Scene;
@@ -274,19 +276,19 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
 }
 
 /// The per-batch work of a render or a measurement: adds a batch's contributions to any splat
-/// target (a thread's [`Accumulator`] or a [`SharedFilm`]). What [`accumulate`] runs on all cores.
+/// target (a run's [`crate::film::Accumulator`] or a [`SharedFilm`]). What [`accumulate`] runs on all cores.
 pub(crate) trait Splatter: Sync {
     /// Adds `batch` to `film`.
     fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T);
 }
 
 /// Accumulates `count` batches (fetched by index, from memory or read from a file) into a
-/// `width`×`height` film on all cores, with `splatter` doing the per-batch work. The batches are
-/// shared out over the threads. Small films: one [`Accumulator`] per thread, summed at the end in
-/// a fixed order, so an image is reproducible bit for bit at a given thread count. Films whose
-/// accumulators would exceed [`crate::film::PRIVATE_FILMS_BUDGET`]: one [`SharedFilm`] that all
-/// threads add to atomically (its last bits may vary from run to run), fed by a few contiguous
-/// runs of batches per thread. Memory is therefore bounded by
+/// `width`×`height` film on all cores, with `splatter` doing the per-batch work. Films with
+/// [`private_films`] (up to about 2.5 million pixels): in runs of consecutive batches, each
+/// with one [`crate::film::Accumulator`], summed in run order (`runs.rs`), so the image is the same bit for
+/// bit whatever the number of threads or processes. Larger films: one [`SharedFilm`] that all
+/// threads add to atomically (equal within float rounding, its last bits varying from run to
+/// run), fed by a few contiguous runs of batches per thread. Memory is therefore bounded by
 /// [`crate::film::accumulation_bytes`], never threads × pixels.
 pub(crate) fn accumulate<B: AsBatch, E: Send>(
     (width, height): (u32, u32),
@@ -295,58 +297,37 @@ pub(crate) fn accumulate<B: AsBatch, E: Send>(
     progress: impl Fn(usize) + Sync,
     splatter: &impl Splatter,
 ) -> Result<Film, E> {
-    let private = private_films(width, height, rayon::current_num_threads());
-    accumulate_in((width, height), count, batch, progress, splatter, private)
+    let in_runs = private_films(width, height);
+    accumulate_in((width, height), count, batch, progress, splatter, in_runs)
 }
 
-/// [`accumulate`] into private accumulators (`private`) or one shared film.
+/// [`accumulate`] in runs (`in_runs`) or into one shared film.
 fn accumulate_in<B: AsBatch, E: Send>(
     (width, height): (u32, u32),
     count: usize,
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
     splatter: &impl Splatter,
-    private: bool,
+    in_runs: bool,
 ) -> Result<Film, E> {
-    let threads = rayon::current_num_threads();
-    if !private {
-        // A few contiguous runs of batches per thread, all into the one shared film.
-        let runs = (threads * 4).clamp(1, count.max(1));
-        let run_len = count.div_ceil(runs).max(1);
-        let shared = SharedFilm::new(width, height);
-        (0..runs).into_par_iter().try_for_each(|r| {
-            let mut target = &shared;
-            for i in (r * run_len)..((r + 1) * run_len).min(count) {
-                let b = batch(i)?;
-                let b = b.as_batch();
-                splatter.splat_batch(b, &mut target);
-                progress(b.samples.len());
-            }
-            Ok(())
-        })?;
-        return Ok(shared.into_film());
+    if in_runs {
+        return runs::accumulate_runs((width, height), count, batch, progress, splatter);
     }
-    // One accumulator per thread, each taking every `groups`-th batch (interleaved, so each
-    // gets its share of every light's chunks), summed in a fixed order: the same image, bit for
-    // bit, on every run with the same thread count.
-    let groups = threads.clamp(1, count.max(1));
-    let films = (0..groups)
-        .into_par_iter()
-        .map(|g| {
-            let mut acc = Accumulator::new(width, height);
-            for i in (g..count).step_by(groups) {
-                let b = batch(i)?;
-                let b = b.as_batch();
-                splatter.splat_batch(b, &mut acc);
-                progress(b.samples.len());
-            }
-            Ok(acc.into_film())
-        })
-        .collect::<Result<Vec<Film>, E>>()?;
-    let mut films = films.into_iter();
-    let mut film = films.next().unwrap_or_else(|| Film::new(width, height));
-    films.for_each(|f| film.add(&f));
-    Ok(film)
+    // A few contiguous runs of batches per thread, all into the one shared film.
+    let runs = (rayon::current_num_threads() * 4).clamp(1, count.max(1));
+    let run_len = count.div_ceil(runs).max(1);
+    let shared = SharedFilm::new(width, height);
+    (0..runs).into_par_iter().try_for_each(|r| {
+        let mut target = &shared;
+        for i in (r * run_len)..((r + 1) * run_len).min(count) {
+            let b = batch(i)?;
+            let b = b.as_batch();
+            splatter.splat_batch(b, &mut target);
+            progress(b.samples.len());
+        }
+        Ok(())
+    })?;
+    Ok(shared.into_film())
 }
 
 /// The splat loop of an image-forming sensor, as [`accumulate`] runs it.
@@ -379,8 +360,8 @@ mod tests {
     use super::*;
 
     /// Issue 10, item 11: a 4096² render took 3.1 GB on two threads (one film per thread and
-    /// run). Accumulation now never takes threads × pixels: small films are private to each
-    /// thread within a fixed budget, large ones one shared film; both give the same image.
+    /// run). Accumulation now never takes threads × pixels: small films are accumulated in runs
+    /// within a fixed budget, large ones into one shared film; both give the same image.
     #[test]
     fn film_memory_is_bounded_and_both_accumulations_agree() {
         use crate::film::{FILM_BYTES_PER_PIXEL, PRIVATE_FILMS_BUDGET, accumulation_bytes};
@@ -391,7 +372,7 @@ mod tests {
                     <= PRIVATE_FILMS_BUDGET + 256 * 256 * FILM_BYTES_PER_PIXEL
             );
         }
-        assert!(private_films(256, 256, 2) && !private_films(4096, 4096, 2));
+        assert!(private_films(256, 256) && !private_films(4096, 4096));
         let desc = crate::scene::cornell_box();
         let sensor: Sensor = Pinhole::new(&desc.camera.unwrap()).unwrap().into();
         let scene = Scene::build(&desc).unwrap();
