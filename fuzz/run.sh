@@ -10,6 +10,9 @@
 # build about twice as fast and run several times as many executions in the same seconds, which
 # is what a short CI run needs. OPTICKS_FUZZ_SANITIZER=address adds it.
 #
+# OPTICKS_FUZZ_SEED fixes libFuzzer's seed (0, the default: a new one each run; `.ci/run` uses
+# 1, so CI explores the same inputs every time and a red run is a find, not chance).
+#
 # A crash stops the run with the input saved under fuzz/artifacts/TARGET/: fix the defect, then
 # commit the input under testdata/fuzz-regressions/TARGET/ (a stable test replays every file
 # there).
@@ -64,7 +67,7 @@ for t in "${targets[@]}"; do
     mkdir -p "artifacts/$t"
     # -rss_limit_mb: a reader must never need more for a small input; -timeout: nor hang.
     "target/$triple/release/$t" "corpus/$t" -artifact_prefix="artifacts/$t/" \
-        -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 2>&1 |
+        -max_total_time="$seconds" -seed="${OPTICKS_FUZZ_SEED:-0}" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 2>&1 |
         grep -E '^(==|stat::number_of_executed_units|Done|SUMMARY|ERROR|.*(panicked|deadly signal|Test unit written))' || true
     # grep swallowed the exit status: a crash leaves an artifact, which is what fails the run.
     if compgen -G "artifacts/$t/*" >/dev/null; then

@@ -605,3 +605,16 @@ fn normal_attribute_gives_shading_normals_in_world_space() {
     let e = common::error_of(&[("b.gltf", bad.as_bytes())]);
     assert!(e.contains("NORMAL has 3 entries for 4 positions"), "{e}");
 }
+
+/// A GLB whose header declares fewer bytes than the header itself: gltf 1.4.1 subtracted the
+/// header's size from it unchecked (an overflow panic with overflow checks on, found by the
+/// fuzz target in CI); it is a located error, and so is a length beyond the file.
+#[test]
+fn a_glb_length_shorter_than_its_header_or_longer_than_the_file_is_an_error() {
+    for (declared, expect) in [(0u32, "declares 0 bytes"), (1 << 20, "declares 1048576 bytes")] {
+        let mut data = glb(r#"{"asset":{"version":"2.0"}}"#, &[]);
+        data[8..12].copy_from_slice(&declared.to_le_bytes());
+        let e = common::error_of(&[("short.glb", &data)]);
+        assert!(e.contains("short.glb") && e.contains(expect), "{e}");
+    }
+}

@@ -62,6 +62,21 @@ fn bad_position_accessor(json: &::gltf::json::Root) -> Option<(usize, usize, usi
     })
 }
 
+/// What is wrong with the declared length of a GLB file (`data` starting with the `glTF`
+/// magic): it must cover the 12-byte header and not exceed the file.
+fn bad_glb_length(data: &[u8]) -> Option<String> {
+    if !data.starts_with(b"glTF") || data.len() < 12 {
+        return None;
+    }
+    let length = u32::from_le_bytes([data[8], data[9], data[10], data[11]]) as usize;
+    (length < 12 || length > data.len()).then(|| {
+        format!(
+            "malformed binary glTF: the header declares {length} bytes, the file has {} (at least 12)",
+            data.len()
+        )
+    })
+}
+
 /// Loads a `.gltf` or `.glb` file as a scene (see the module docs).
 pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let data = crate::input_file::read(path)
@@ -70,6 +85,11 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let invalid =
         |element: String, message: String| SceneFileError::Invalid { at: loc(0, 0), element, message };
 
+    // gltf 1.4.1 subtracts the 12-byte header from a GLB's declared length unchecked (an
+    // overflow panic on a length below 12, found by fuzzing): the header is checked here first.
+    if let Some(message) = bad_glb_length(&data) {
+        return Err(invalid("GLB container".into(), message));
+    }
     // Parsed without validation first: gltf-json 1.4.1's validation indexes the POSITION
     // accessor without a bounds check (a panic, found by fuzzing), so that index is checked
     // here before the crate's validation runs.
