@@ -39,7 +39,7 @@ mod runs;
 mod thin_lens;
 
 pub use equirect::Equirectangular;
-pub use meter::{IlluminanceMeter, MeterError, measure, measure_both_sides};
+pub use meter::{IlluminanceMeter, MeterError, measure};
 pub use pinhole::{CameraError, MAX_IMAGE_SIDE, Pinhole, check_fov, check_image_size};
 pub use runs::{RunFold, batches_per_run, render_runs, run_count};
 pub use thin_lens::{LensError, ThinLens};

@@ -234,8 +234,6 @@ pub fn read_samples<B: super::AsBatch, E: Send>(
 
 /// Irradiance per cell (W/m², RGB) from `count` batches, on all cores (the stored-samples
 /// estimator without errors).
-///
-/// See [`measure_both_sides`] for the light arriving from behind as well.
 pub fn measure<B: super::AsBatch, E: Send>(
     meter: &IlluminanceMeter,
     count: usize,
@@ -249,44 +247,6 @@ impl Splatter for IlluminanceMeter {
     #[inline]
     fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T) {
         self.splat(batch, film)
-    }
-}
-
-/// The meter's front irradiance per cell, as [`measure`] gives it, and per cell the irradiance
-/// of the light arriving from behind, in one pass: so a command can say that a plane faces away
-/// from its light instead of reading a silent near-zero.
-pub fn measure_both_sides<B: super::AsBatch, E: Send>(
-    meter: &IlluminanceMeter,
-    count: usize,
-    batch: impl Fn(usize) -> Result<B, E> + Sync,
-    progress: impl Fn(usize) + Sync,
-) -> Result<(Film, Film), E> {
-    let cells = meter.nx as usize * meter.ny as usize;
-    let both = accumulate((meter.nx, 2 * meter.ny), count, batch, progress, &BothSides(meter))?;
-    let mut front = Film::new(meter.nx, meter.ny);
-    let mut back = Film::new(meter.nx, meter.ny);
-    front.pixels.copy_from_slice(&both.pixels[..cells]);
-    back.pixels.copy_from_slice(&both.pixels[cells..]);
-    Ok((front, back))
-}
-
-/// [`measure_both_sides`]'s per-batch work: a film of 2·ny rows, the front cells first, then the
-/// same cells for the light arriving from behind.
-struct BothSides<'a>(&'a IlluminanceMeter);
-
-impl Splatter for BothSides<'_> {
-    fn splat_batch<T: SplatTarget>(&self, b: SampleBatch<'_>, film: &mut T) {
-        let meter = self.0;
-        let cells = meter.nx as usize * meter.ny as usize;
-        let scale = b.flux_per_path / meter.cell_area();
-        for s in b.samples {
-            if s.is_emission() {
-                continue;
-            }
-            let Some(cell) = meter.locate(s.position()) else { continue };
-            let back = s.from_dir().dot(meter.normal) <= 0.0;
-            film.splat(cell + if back { cells } else { 0 }, scale * s.beta());
-        }
     }
 }
 
@@ -363,19 +323,5 @@ mod tests {
         assert!(
             m.locate(Vec3::new(2.9, 0.5, 1.9)).is_some() && m.locate(Vec3::new(-0.9, 0.5, -1.9)).is_some()
         );
-    }
-
-    #[test]
-    fn both_sides_split_the_light_by_where_it_comes_from() {
-        use crate::dataset::Sample;
-        let m = IlluminanceMeter::new(Vec3::ZERO, Vec3::X, Vec3::Z, 1, 1).unwrap(); // normal -y
-        let p = Vec3::new(0.5, 0.0, 0.5);
-        let from_below = Sample::scattered(p, -Vec3::Y, 0, crate::math::Rgb::ONE);
-        let from_above = Sample::scattered(p, Vec3::Y, 0, crate::math::Rgb::splat(2.0));
-        let samples = [from_below, from_above, from_above];
-        let batch = |_| Ok::<_, ()>(SampleBatch { flux_per_path: crate::math::Rgb::ONE, samples: &samples });
-        let (front, back) = measure_both_sides(&m, 1, batch, |_| {}).unwrap();
-        assert_eq!((front.pixels[0][0], back.pixels[0][0]), (1.0, 4.0));
-        assert_eq!(front.pixels, measure(&m, 1, batch, |_| {}).unwrap().pixels, "the front is measure's");
     }
 }
