@@ -335,8 +335,12 @@ fn renders_as_when_written(name: &str, scene: &str, upgrade: bool) {
             .output()
             .unwrap();
         assert!(run.status.success(), "{name}: {}", String::from_utf8_lossy(&run.stderr));
+        let old = opticks_io::dataset_file::DatasetReader::open(&dataset).unwrap();
+        assert!(old.header().objects.is_empty(), "{name}: a format-2 dataset has no object hashes");
         let r = opticks_io::dataset_file::DatasetReader::open(&upgraded).unwrap();
         r.verify().unwrap();
+        // The scene matched: the upgrade records its object hashes (format 4).
+        assert_eq!(r.header().objects, build(scene).objects, "{name}");
         assert!(opticks_core::dataset::mis_compatibility(r.header()).is_ok());
         assert!(
             (0..r.chunk_count())

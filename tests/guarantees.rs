@@ -405,7 +405,16 @@ fn arguments_and_outputs_are_checked_first_and_written_all_or_none() {
         &["render", "c.opds", "--scene", scene_file("furnace", "scene.xml").to_str().unwrap(), "-o", "x.png"],
         d,
     );
-    assert!(e.contains("different scene") && e.contains("geometry or materials differ"), "{e}");
+    // The refusal names the objects that differ (the dataset records their hashes).
+    assert!(e.contains("different scene than") && e.contains("mesh 'white' is gone"), "{e}");
+    // A scene without lights is named as a different scene, not only as unusable.
+    std::fs::write(d.join("dark.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let e = fails(&["render", "c.opds", "--scene", "dark.obj", "-o", "x.png"], d);
+    assert!(
+        e.contains("c.opds was traced from a different scene than dark.obj: dark.obj has no light source"),
+        "{e}"
+    );
+    std::fs::remove_file(d.join("dark.obj")).unwrap();
     assert_eq!(files(d), ["c.opds", "folder.opds", "folder.xml"]);
 }
 

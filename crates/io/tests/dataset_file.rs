@@ -5,7 +5,7 @@ use opticks_core::dataset::{
     Chunk, DatasetHeader, LightRecord, LightTable, PassMis, Sample, TraceInfo, TracePass,
 };
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::Fingerprint;
+use opticks_core::scene::{Fingerprint, ObjectHash, ObjectKind};
 use opticks_core::sensor::bidirectional::{Emitter, Heuristic, LightVertexMis, MisRecord};
 use opticks_io::dataset_file::*;
 use rayon::prelude::*;
@@ -76,6 +76,15 @@ fn table(paths: &[u64]) -> LightTable {
 fn header(paths: &[u64]) -> DatasetHeader {
     DatasetHeader {
         fingerprint: Fingerprint { geometry: [0xa5; 16], lights: std::array::from_fn(|i| i as u8) },
+        objects: vec![
+            ObjectHash { kind: ObjectKind::Mesh, name: "flöor".into(), hash: [3; 16] },
+            ObjectHash { kind: ObjectKind::Mesh, name: String::new(), hash: [4; 16] },
+            ObjectHash {
+                kind: ObjectKind::Material,
+                name: "white".into(),
+                hash: std::array::from_fn(|i| i as u8),
+            },
+        ],
         label: "scenes/cornell/scene.xml — ünïcode".into(),
         trace: TraceInfo {
             passes: vec![TracePass {
@@ -114,6 +123,7 @@ fn tiny(path: &Path) -> (DatasetHeader, Vec<Chunk>) {
     ];
     let h = DatasetHeader {
         fingerprint: Fingerprint { geometry: [0x11; 16], lights: [0x22; 16] },
+        objects: vec![ObjectHash { kind: ObjectKind::Material, name: "m".into(), hash: [5; 16] }],
         label: "tiny".into(),
         trace: TraceInfo {
             passes: vec![TracePass {
@@ -538,6 +548,19 @@ fn huge_length_fields_are_errors_not_allocations() {
     b[name_len_at..name_len_at + 4].copy_from_slice(&0x7fff_ffffu32.to_le_bytes());
     fix_header_crc(&mut b);
     expect_err(&path, &b, "name of light 0 (2147483647 bytes) runs past the end");
+    // The object table (format 4): its count, a record's kind.
+    let mut record = vec![1u8, 1, 0, 0, 0, b'm'];
+    record.extend([5u8; 16]);
+    let kind_at = bytes.windows(record.len()).position(|w| w == record).expect("tiny's object record");
+    let object_count_at = kind_at - 4;
+    let mut b = bytes.clone();
+    b[object_count_at..kind_at].copy_from_slice(&u32::MAX.to_le_bytes());
+    fix_header_crc(&mut b);
+    expect_err(&path, &b, &format!("corrupt at byte {object_count_at}: object count 4294967295 cannot fit"));
+    let mut b = bytes.clone();
+    b[kind_at] = 7;
+    fix_header_crc(&mut b);
+    expect_err(&path, &b, &format!("corrupt at byte {kind_at}: object 0: unknown kind code 7"));
     // Sample counts that exceed the file (a u32 since format 3), with and without records.
     for (count, records) in [(u32::MAX, 1u32), (u32::MAX, 0), (1 << 27, 1), (1 << 27, 0)] {
         let mut b = bytes.clone();
@@ -719,6 +742,7 @@ fn write_tiny_example() {
     ];
     let h = DatasetHeader {
         fingerprint: Fingerprint { geometry: [0xaa; 16], lights: [0xbb; 16] },
+        objects: vec![ObjectHash { kind: ObjectKind::Material, name: "white".into(), hash: [0x0c; 16] }],
         label: "box.xml".into(),
         trace: TraceInfo {
             passes: vec![TracePass {
@@ -789,7 +813,7 @@ fn version_1_files_are_still_read() {
     let old = dir.path().join("v1.opds");
     std::fs::write(&old, &b).unwrap();
     let (read, read_chunks) = read_all(&old).unwrap();
-    let mut want = DatasetHeader { table: read.table.clone(), ..h };
+    let mut want = DatasetHeader { table: read.table.clone(), objects: Vec::new(), ..h };
     want.trace.passes[0].mis = None;
     assert_eq!(read, want);
     let mut want = chunks.clone();

@@ -90,6 +90,7 @@ fn readable(a: &Args, reader: &DatasetReader, checked: &str) -> Vec<String> {
     out.push(format!("checked   {checked}"));
     out.push(format!("geometry  {}", h.fingerprint.geometry_hex()));
     out.push(format!("lights    {}", h.fingerprint.lights_hex()));
+    out.push(format!("objects   {}", objects_summary(&h.objects)));
     for (i, p) in h.trace.passes.iter().enumerate() {
         let state = state(h, i).map(|s| format!(" — {s}")).unwrap_or_default();
         out.push(format!(
@@ -174,6 +175,7 @@ fn as_json(a: &Args, reader: &DatasetReader, checked: &str) -> serde_json::Value
         "scene_found": found,
         "geometry_fingerprint": h.fingerprint.geometry_hex(),
         "lights_fingerprint": h.fingerprint.lights_hex(),
+        "objects": h.objects.iter().map(|o| json!({ "kind": o.kind.word(), "name": o.name })).collect::<Vec<_>>(),
         "passes": passes,
         "bidirectional": opticks_core::dataset::mis_compatibility(h).is_ok(),
         "paths": h.table.total_paths(),
@@ -182,4 +184,21 @@ fn as_json(a: &Args, reader: &DatasetReader, checked: &str) -> serde_json::Value
         "bytes": reader.file_len(),
         "lights": lights,
     })
+}
+
+/// `12 meshes and 6 materials hashed (a refusal names which changed)`, or that an older
+/// dataset records none.
+fn objects_summary(objects: &[opticks_core::scene::ObjectHash]) -> String {
+    use opticks_core::scene::ObjectKind;
+    if objects.is_empty() {
+        return "not recorded (dataset format < 4: a refusal cannot name which mesh or material changed)"
+            .into();
+    }
+    let meshes = objects.iter().filter(|o| o.kind == ObjectKind::Mesh).count();
+    let count = |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    format!(
+        "{} and {} hashed (a refusal names which changed)",
+        count(meshes, "mesh", "meshes"),
+        count(objects.len() - meshes, "material", "materials")
+    )
 }

@@ -13,7 +13,7 @@ use super::{begin_dataset_write, check_finished, job_error};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
-use opticks_core::dataset::{MergeError, merge_header};
+use opticks_core::dataset::{ChangesText, MergeError, merge_header};
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::dataset_job::{Source, write_dataset};
 use opticks_io::dataset_lock::WriteIntent;
@@ -53,8 +53,9 @@ pub fn run(a: Args) -> Result<()> {
     for (r, path) in readers.iter().zip(&a.inputs).skip(1) {
         let (first, path) = (a.inputs[0].display(), path.display());
         let lights = merge_header(&mut header, r.header()).map_err(|e| match e {
-            MergeError::DifferentScenes { first: f, other } => anyhow!(
-                "{first} and {path} were traced from different scenes (geometry fingerprints {} and {})",
+            MergeError::DifferentScenes { first: f, other, changes } => anyhow!(
+                "{first} and {path} were traced from different scenes: {} (geometry fingerprints {} and {})",
+                ChangesText(changes.as_ref()),
                 f.geometry_hex(),
                 other.geometry_hex()
             ),

@@ -23,7 +23,7 @@ pub mod walk;
 use crate::progress;
 use crate::scene_arg::DefineArgs;
 use anyhow::{Context, Result, anyhow};
-use opticks_core::dataset::{Chunk, LightTable, LightingError, check_scene, lighting, subset};
+use opticks_core::dataset::{ChangesText, Chunk, LightTable, LightingError, check_scene, lighting, subset};
 use opticks_core::film::Film;
 use opticks_core::scene::{Scene, SceneDescription};
 use opticks_core::sensor::{AsBatch, OwnedBatch, SampleBatch, Sensor, render};
@@ -360,13 +360,27 @@ pub fn open_with_scene(dataset: &Path, scene: Option<&str>, defines: &DefineArgs
             format!("cannot load the scene {} records", dataset.display())
         }
     })?;
-    let scene = crate::scene_arg::build_scene(&spec, &description)?;
+    let scene = crate::scene_arg::build_scene(&spec, &description).map_err(|e| {
+        // A scene without lights cannot be the one a dataset was traced in (a trace needs a
+        // light): say so, rather than only that the scene is unusable.
+        if matches!(e.root_cause().downcast_ref(), Some(opticks_core::scene::SceneError::NoLight)) {
+            let names: Vec<&str> = reader.header().table.lights.iter().map(|l| l.name.as_str()).collect();
+            anyhow!(
+                "{} was traced from a different scene than {spec}: {spec} has no light source, the dataset's \
+                 lights are {}",
+                dataset.display(),
+                names.join(", ")
+            )
+        } else {
+            e
+        }
+    })?;
     check_scene(reader.header(), &scene).map_err(|e| {
         anyhow!(
-            "{} was traced from a different scene than {spec}: its geometry or materials differ (fingerprint \
-             {} ≠ {}; the dataset keeps only their hash, not which mesh or material changed; a scene traced with -D \
+            "{} was traced from a different scene than {spec}: {} (fingerprint {} ≠ {}; a scene traced with -D \
              parameters needs the same ones){}",
             dataset.display(),
+            ChangesText(e.changes.as_ref()),
             e.recorded.geometry_hex(),
             e.current.geometry_hex(),
             lights_changed(&reader.header().table, &scene)

@@ -24,6 +24,7 @@ pub fn new_trace(scene: &Scene, label: &str, settings: TraceSettings) -> (Datase
     let lights = plan_all(scene, settings.paths);
     let header = DatasetHeader {
         fingerprint: scene.fingerprint,
+        objects: scene.objects.clone(),
         label: label.to_string(),
         trace: TraceInfo { passes: vec![TracePass::new(&settings, &lights)] },
         table: LightTable { lights: (0..scene.lights.len()).map(|i| light_record(scene, i, 0)).collect() },
@@ -50,7 +51,7 @@ pub fn continued_settings(
 
 /// A refinement: `paths` more paths over all of the dataset's lights (split by their current
 /// power in `scene`), as a new pass continuing the dataset. The header records the scene's
-/// current geometry hash (it matched, perhaps as a version-1 hash).
+/// current geometry hash (it matched, perhaps as a version-1 hash) and object hashes.
 pub fn refine(
     header: &DatasetHeader,
     scene: &Scene,
@@ -61,6 +62,7 @@ pub fn refine(
     let mut header = header.clone();
     let scene_lights = scene_lights(&header.table, scene)?;
     header.fingerprint.geometry = scene.fingerprint.geometry;
+    header.objects = scene.objects.clone();
     let lights = plan_lights(scene, &scene_lights, paths);
     let settings = continued_settings(&header, paths, seed, strategy);
     header.trace.passes.push(TracePass::new(&settings, &lights));
@@ -129,6 +131,7 @@ pub fn add_light(
     let table_index = header.table.lights.len() as u32;
     header.table.lights.push(light_record(scene, scene_light, 0));
     header.fingerprint = scene.fingerprint;
+    header.objects = scene.objects.clone();
     let settings = continued_settings(&header, paths, seed, strategy);
     let lights = vec![LightPlan { scene_light, table_index, paths }];
     header.trace.passes.push(TracePass::new(&settings, &lights));

@@ -6,7 +6,7 @@
 
 use super::{Directions, Roulette, Selection};
 use super::{LightPlan, LightTable, TraceSettings};
-use crate::scene::Fingerprint;
+use crate::scene::{Fingerprint, ObjectHash};
 use crate::sensor::bidirectional::Heuristic;
 
 /// The MIS records a pass stored with its samples (dataset format 3, `docs/bidirectional.md`
@@ -124,6 +124,9 @@ impl TraceInfo {
 pub struct DatasetHeader {
     /// Content hashes of the scene the dataset was traced in.
     pub fingerprint: Fingerprint,
+    /// The hash of each of its meshes and materials ([`crate::scene::ObjectHash`]), so that a
+    /// refusal can name what changed; empty in datasets older than format 4.
+    pub objects: Vec<ObjectHash>,
     /// Free-form UTF-8 label, e.g. the scene file's path.
     pub label: String,
     /// Trace settings.

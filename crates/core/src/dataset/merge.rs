@@ -6,15 +6,16 @@
 //! differs, and inputs that share a random stream (their paths would be copies, not new
 //! samples).
 
-use super::{DatasetHeader, LightTable, MAX_PATHS, TooManyPaths};
-use crate::scene::Fingerprint;
+use super::{ChangesText, DatasetHeader, LightTable, MAX_PATHS, TooManyPaths, differing_objects};
+use crate::scene::{Fingerprint, ObjectChanges};
 
 /// Why two datasets cannot be merged.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum MergeError {
     /// The geometry/material fingerprints differ.
     #[error(
-        "the datasets were traced from different scenes (geometry fingerprints {} and {})",
+        "the datasets were traced from different scenes: {} (geometry fingerprints {} and {})",
+        ChangesText(changes.as_ref()),
         first.geometry_hex(),
         other.geometry_hex()
     )]
@@ -23,6 +24,8 @@ pub enum MergeError {
         first: Fingerprint,
         /// The fingerprint of the dataset merged in.
         other: Fingerprint,
+        /// The meshes and materials of the dataset merged in that differ, if both record them.
+        changes: Option<ObjectChanges>,
     },
     /// A light has the same name but another shape.
     #[error("light '{0}' differs in shape between the datasets: they were traced from different scenes")]
@@ -83,7 +86,8 @@ pub fn merge_tables(a: &LightTable, b: &LightTable) -> Result<(LightTable, Vec<u
 /// scene file) are `b`'s once `b` has every light of the union. On an error `merged` is left as it was.
 pub fn merge_header(merged: &mut DatasetHeader, b: &DatasetHeader) -> Result<Vec<u32>, MergeError> {
     if b.fingerprint.geometry != merged.fingerprint.geometry {
-        return Err(MergeError::DifferentScenes { first: merged.fingerprint, other: b.fingerprint });
+        let changes = differing_objects(&merged.objects, &b.objects);
+        return Err(MergeError::DifferentScenes { first: merged.fingerprint, other: b.fingerprint, changes });
     }
     let (table, lights) = merge_tables(&merged.table, &b.table)?;
     let mut out = merged.clone();
@@ -91,6 +95,10 @@ pub fn merge_header(merged: &mut DatasetHeader, b: &DatasetHeader) -> Result<Vec
         // This input has every light: its scene is the one the merged dataset belongs to.
         out.fingerprint.lights = b.fingerprint.lights;
         out.label = b.label.clone();
+    }
+    if out.objects.is_empty() {
+        // Same geometry: an input of format 4 on knows its objects for all of them.
+        out.objects = b.objects.clone();
     }
     out.table = table;
     for p in &b.trace.passes {
@@ -111,7 +119,7 @@ mod tests {
     use crate::dataset::testing::{Traced, cornell_with_bulb, trace_into};
     use crate::dataset::{LightRecord, TraceInfo, TracePass};
     use crate::math::Rgb;
-    use crate::scene::Scene;
+    use crate::scene::{Change, ObjectHash, ObjectKind, Scene};
 
     fn table(lights: &[(&str, u8, u64)]) -> LightTable {
         LightTable {
@@ -147,6 +155,7 @@ mod tests {
     fn header(geometry: u8, lights: &[(&str, u8, u64)], passes: &[Pass<'_>]) -> DatasetHeader {
         DatasetHeader {
             fingerprint: Fingerprint { geometry: [geometry; 16], lights: [lights.len() as u8; 16] },
+            objects: vec![ObjectHash { kind: ObjectKind::Mesh, name: "box".into(), hash: [geometry; 16] }],
             label: format!("scene {geometry}"),
             trace: TraceInfo {
                 passes: passes
@@ -208,10 +217,14 @@ mod tests {
             e
         };
         let other = header(2, &[("light", 1, 10)], &[(2, 0, &[(0, 10)])]);
+        let e = refused(&other);
+        let changes =
+            Some(ObjectChanges { changes: vec![(ObjectKind::Mesh, "box".into(), Change::Changed)] });
         assert_eq!(
-            refused(&other),
-            MergeError::DifferentScenes { first: a.fingerprint, other: other.fingerprint }
+            e,
+            MergeError::DifferentScenes { first: a.fingerprint, other: other.fingerprint, changes }
         );
+        assert!(e.to_string().contains("mesh 'box' changed"), "{e}");
         let moved = header(1, &[("light", 9, 10)], &[(2, 0, &[(0, 10)])]);
         assert_eq!(refused(&moved), MergeError::ShapeChanged("light".into()));
         // The second pass repeats the first input's stream: a copy of its paths.

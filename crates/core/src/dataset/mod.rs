@@ -52,7 +52,9 @@ pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quota
 pub use relight::{LightScale, Lighting, LightingError, lighting};
 pub use resume::{ResumeError, TargetChanged, Unfinished, check_finished, check_resume_target, resume_plan};
 pub use sample::{EMISSION_FLAG, Sample};
-pub use scene_check::{LightMismatch, SceneMismatch, check_scene, scene_lights};
+pub use scene_check::{
+    ChangesText, LightMismatch, SceneMismatch, check_scene, differing_objects, scene_lights,
+};
 pub use subset::{BadFraction, Subset, subset};
 pub use table::{Chunk, LightRecord, LightTable};
 pub use upgrade::{RetraceBlock, UpgradeError, reproduces, upgrade_plan};

@@ -3,15 +3,19 @@
 //! covered emission: [`Scene::geometry_v1`]); each light is matched by name and must emit from
 //! the same place in the same way (its shape hash), or its samples no longer apply.
 //! Rendering checks lights one by one as it lights them ([`super::lighting`]); extending a
-//! dataset needs every one of its lights ([`scene_lights`]).
+//! dataset needs every one of its lights ([`scene_lights`]). A refusal names the meshes and
+//! materials that changed when the dataset recorded their hashes (format 4 on:
+//! [`crate::scene::ObjectHash`]); they explain, the fingerprint decides.
 
 use super::{DatasetHeader, LightTable};
-use crate::scene::{Fingerprint, Scene};
+use crate::scene::{Fingerprint, ObjectChanges, ObjectHash, Scene, object_changes};
+use std::fmt;
 
 /// The scene's geometry or materials are not those the dataset was traced in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "traced from a different scene: geometry/material fingerprint {} ≠ {}",
+    "traced from a different scene: {} (geometry/material fingerprint {} ≠ {})",
+    ChangesText(changes.as_ref()),
     recorded.geometry_hex(),
     current.geometry_hex()
 )]
@@ -20,6 +24,9 @@ pub struct SceneMismatch {
     pub recorded: Fingerprint,
     /// The scene's.
     pub current: Fingerprint,
+    /// The meshes and materials that differ, `None` when the dataset records no object hashes
+    /// (written before format 4).
+    pub changes: Option<ObjectChanges>,
 }
 
 /// Checks that `scene` has the geometry and materials `header` was traced in (lights are
@@ -27,9 +34,31 @@ pub struct SceneMismatch {
 pub fn check_scene(header: &DatasetHeader, scene: &Scene) -> Result<(), SceneMismatch> {
     let recorded = header.fingerprint;
     if scene.fingerprint.geometry != recorded.geometry && scene.geometry_v1 != recorded.geometry {
-        return Err(SceneMismatch { recorded, current: scene.fingerprint });
+        let changes = differing_objects(&header.objects, &scene.objects);
+        return Err(SceneMismatch { recorded, current: scene.fingerprint, changes });
     }
     Ok(())
+}
+
+/// The objects that differ from `recorded` in `current`, `None` if either list is unknown
+/// (empty: a dataset older than format 4).
+pub fn differing_objects(recorded: &[ObjectHash], current: &[ObjectHash]) -> Option<ObjectChanges> {
+    (!recorded.is_empty() && !current.is_empty()).then(|| object_changes(recorded, current))
+}
+
+/// What differs, for a message: the objects, or that the dataset cannot say.
+pub struct ChangesText<'a>(pub Option<&'a ObjectChanges>);
+
+impl fmt::Display for ChangesText<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            Some(changes) => changes.fmt(f),
+            None => f.write_str(
+                "its geometry or materials differ (the dataset predates format 4, so it keeps one hash of the \
+                 whole scene, not which mesh or material changed)",
+            ),
+        }
+    }
 }
 
 /// A light of the dataset that the scene does not have as it was traced.
@@ -78,8 +107,45 @@ mod tests {
         repainted.materials[2] = repainted.materials[1].clone();
         let repainted = Scene::build(&repainted).unwrap();
         let e = check_scene(&header, &repainted).unwrap_err();
-        assert_eq!(e, SceneMismatch { recorded: header.fingerprint, current: repainted.fingerprint });
+        assert_eq!((e.recorded, e.current), (header.fingerprint, repainted.fingerprint));
         assert!(e.to_string().contains(&repainted.fingerprint.geometry_hex()), "{e}");
+    }
+
+    /// A refusal names what changed: the repainted material and every mesh painted with it,
+    /// a moved mesh, a new one; a dataset without object hashes says it cannot tell.
+    #[test]
+    fn a_refusal_names_the_meshes_and_materials_that_changed() {
+        let desc = cornell_box();
+        let scene = Scene::build(&desc).unwrap();
+        let (header, _) = new_trace(&scene, "box", Default::default());
+        let mut changed = desc.clone();
+        let painted = changed.meshes[0].material;
+        changed.materials[painted] = changed.materials[(painted + 1) % changed.materials.len()].clone();
+        changed.materials[painted].name = desc.materials[painted].name.clone();
+        let moved = changed.meshes.iter().position(|m| m.material != painted).unwrap();
+        changed.meshes[moved].positions[0].y += 0.01;
+        let mut extra = changed.meshes[moved].clone();
+        extra.name = "a new box".into();
+        changed.meshes.push(extra);
+        let e = check_scene(&header, &Scene::build(&changed).unwrap()).unwrap_err();
+        let text = e.to_string();
+        for part in [
+            format!("mesh '{}' changed", desc.meshes[0].name),
+            format!("material '{}' changed", desc.materials[painted].name),
+            format!("mesh '{}' changed", desc.meshes[moved].name),
+            "mesh 'a new box' is new".to_string(),
+        ] {
+            assert!(text.contains(&part), "{part:?} not in {text}");
+        }
+        let untouched =
+            desc.meshes.iter().find(|m| m.material != painted && m.name != desc.meshes[moved].name);
+        if let Some(m) = untouched {
+            assert!(!text.contains(&format!("mesh '{}'", m.name)), "{text}");
+        }
+        let old = DatasetHeader { objects: Vec::new(), ..header };
+        let e = check_scene(&old, &Scene::build(&changed).unwrap()).unwrap_err();
+        assert_eq!(e.changes, None);
+        assert!(e.to_string().contains("predates format 4"), "{e}");
     }
 
     #[test]

@@ -91,6 +91,8 @@ pub fn upgrade_plan(
         return Err(UpgradeError::ChunkCount { blocks: blocks.len(), chunks });
     }
     let mut upgraded = header.clone();
+    // The scene matched: its object hashes are the dataset's (older formats had none).
+    upgraded.objects = scene.objects.clone();
     for p in &mut upgraded.trace.passes {
         p.mis = Some(PassMis { heuristic, signature: SAMPLING_SIGNATURE });
     }

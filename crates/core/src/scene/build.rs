@@ -17,7 +17,7 @@
 //! first error in file order is the one reported.
 
 use super::meshes::{self, Flat, NO_LIGHT, NO_SHADING};
-use super::{CameraDesc, Fingerprint, SceneDescription, SceneError, hashes, lights};
+use super::{CameraDesc, Fingerprint, ObjectHash, SceneDescription, SceneError, hashes, lights};
 use crate::accel::Accel;
 use crate::bsdf::Material;
 use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
@@ -51,6 +51,9 @@ pub struct Scene {
     /// The geometry hash as format-version-1 datasets recorded it (which also covered which
     /// triangles emit): such a dataset matches this scene if its hash equals this one.
     pub geometry_v1: [u8; 16],
+    /// One hash per mesh, then per material a mesh uses ([`super::objects`]): what lets a
+    /// refused dataset name the objects that changed. The fingerprint alone decides.
+    pub objects: Vec<ObjectHash>,
     /// Zero-area triangles that were dropped.
     pub dropped_triangles: usize,
     accel: Accel,
@@ -62,10 +65,13 @@ impl Scene {
     pub fn build(desc: &SceneDescription) -> Result<Scene, SceneError> {
         let mut flat = Flat::default();
         let mut lights = Vec::new();
+        let mut ranges = Vec::with_capacity(desc.meshes.len());
         for mesh in &desc.meshes {
             let normals = meshes::validate(mesh, desc.materials.len())?;
             let light = if mesh.emission.is_some() { lights.len() as u32 } else { NO_LIGHT };
+            let first = flat.vertices.len();
             let emitter = flat.push_mesh(mesh, &normals, light);
+            ranges.push((mesh.name.as_str(), first..flat.vertices.len()));
             if let Some(emission) = &mesh.emission {
                 lights.push(lights::area_light(mesh, emission, emitter)?);
             }
@@ -80,7 +86,7 @@ impl Scene {
             return Err(SceneError::NoGeometry);
         }
         lights::check_light_table(&lights)?;
-        let hashes = hashes::fingerprints(&desc.materials, &flat, &lights);
+        let hashes = hashes::fingerprints(&desc.materials, &flat, &lights, &ranges);
         let accel = Accel::build(&flat.vertices);
         Ok(Scene {
             normals: flat.triangles.iter().map(Triangle::normal).collect(),
@@ -95,6 +101,7 @@ impl Scene {
             camera: desc.camera,
             fingerprint: hashes.fingerprint,
             geometry_v1: hashes.geometry_v1,
+            objects: hashes.objects,
             dropped_triangles: flat.dropped,
             accel,
         })

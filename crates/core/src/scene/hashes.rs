@@ -1,14 +1,17 @@
 //! The fingerprint stage of [`super::Scene::build`]: the content hashes of a built scene — the
 //! geometry (every triangle's corners, material and shading normals, not which emit), the one
-//! format-version-1 datasets recorded, each light's shape and the light table's — computed
-//! from the flattened triangles and the built lights. What the hashes mean and why is
+//! format-version-1 datasets recorded, each light's shape and the light table's, and one hash
+//! per mesh and per used material ([`super::objects`]) — computed from the flattened triangles
+//! and the built lights. What the hashes mean and why is
 //! documented with [`super::Fingerprint`].
 
 use super::Fingerprint;
 use super::fingerprint::{Hasher, light_shape, material_hash, material_v2};
 use super::meshes::{Flat, NO_SHADING};
+use super::objects::{ObjectHash, ObjectKind};
 use crate::bsdf::Material;
 use crate::light::Light;
+use std::ops::Range;
 
 /// A built scene's hashes.
 pub(super) struct Hashes {
@@ -18,10 +21,18 @@ pub(super) struct Hashes {
     pub geometry_v1: [u8; 16],
     /// Per light, the hash of where and how it emits.
     pub light_shapes: Vec<[u8; 16]>,
+    /// Per mesh, then per used material: its hash.
+    pub objects: Vec<ObjectHash>,
 }
 
-/// The hashes of a scene of `materials`, triangles `flat` and `lights`.
-pub(super) fn fingerprints(materials: &[Material], flat: &Flat, lights: &[Light]) -> Hashes {
+/// The hashes of a scene of `materials`, triangles `flat` and `lights`; `meshes` names each
+/// mesh and the range of `flat`'s triangles it became.
+pub(super) fn fingerprints(
+    materials: &[Material],
+    flat: &Flat,
+    lights: &[Light],
+    meshes: &[(&str, Range<usize>)],
+) -> Hashes {
     // The geometry fingerprint covers each triangle's corners and material, not whether it
     // emits: emission is the lights' business (each light has its own shape hash), so a
     // surface may become a light without invalidating the samples of the others.
@@ -29,20 +40,39 @@ pub(super) fn fingerprints(materials: &[Material], flat: &Flat, lights: &[Light]
     let material_hashes: Vec<[u8; 16]> = materials.iter().map(material_hash).collect();
     // The hash datasets of format version 1 recorded (it also covered emitter assignment).
     let mut geo_v1 = Hasher::new("opticks geometry v1");
-    for (i, [a, b, c]) in flat.vertices.iter().enumerate() {
-        let corners = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z];
-        geo.f32s(&corners);
-        geo.0.update(&material_hashes[flat.material_of[i] as usize]);
-        geo_v1.f32s(&corners);
-        geo_v1.u32s(&[flat.material_of[i], flat.light_of[i]]);
-        let shading = flat.shading_of[i];
-        if shading != NO_SHADING {
-            // Shading normals change what every stored vertex reflects; a version-1
-            // dataset (traced before they were honoured) must not match such a scene.
-            let normals = flat.shading_normals[shading as usize].map(|n| n.to_array()).concat();
-            geo.f32s(&normals);
-            geo_v1.f32s(&normals);
+    let mut objects = Vec::with_capacity(meshes.len() + materials.len());
+    // The meshes' ranges cover the triangles in order (every triangle comes from a mesh).
+    debug_assert_eq!(meshes.iter().map(|m| m.1.len()).sum::<usize>(), flat.vertices.len());
+    for (name, range) in meshes {
+        let mut mesh = Hasher::new("opticks mesh v1");
+        for i in range.clone() {
+            let [a, b, c] = flat.vertices[i];
+            let corners = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z];
+            let material = &material_hashes[flat.material_of[i] as usize];
+            for h in [&mut geo, &mut mesh] {
+                h.f32s(&corners);
+                h.0.update(material);
+            }
+            geo_v1.f32s(&corners);
+            geo_v1.u32s(&[flat.material_of[i], flat.light_of[i]]);
+            let shading = flat.shading_of[i];
+            if shading != NO_SHADING {
+                // Shading normals change what every stored vertex reflects; a version-1
+                // dataset (traced before they were honoured) must not match such a scene.
+                let normals = flat.shading_normals[shading as usize].map(|n| n.to_array()).concat();
+                for h in [&mut geo, &mut mesh, &mut geo_v1] {
+                    h.f32s(&normals);
+                }
+            }
         }
+        objects.push(ObjectHash { kind: ObjectKind::Mesh, name: name.to_string(), hash: mesh.finish() });
+    }
+    let mut used = vec![false; materials.len()];
+    for &m in &flat.material_of {
+        used[m as usize] = true;
+    }
+    for (m, hash) in materials.iter().zip(&material_hashes).zip(&used).filter(|p| *p.1).map(|p| p.0) {
+        objects.push(ObjectHash { kind: ObjectKind::Material, name: m.name.clone(), hash: *hash });
     }
     for m in materials {
         geo_v1.0.update(material_v2(m).as_bytes());
@@ -57,5 +87,6 @@ pub(super) fn fingerprints(materials: &[Material], flat: &Flat, lights: &[Light]
         fingerprint: Fingerprint { geometry: geo.finish(), lights: lit.finish() },
         geometry_v1: geo_v1.finish(),
         light_shapes,
+        objects,
     }
 }

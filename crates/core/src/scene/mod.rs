@@ -9,6 +9,7 @@
 //! | `lights.rs` | stage 3: the lights, through the light kinds' constructors |
 //! | `hashes.rs` | stage 4: the fingerprints of the built scene |
 //! | `fingerprint.rs` | [`Fingerprint`] and the hashing primitives |
+//! | `objects.rs` | per-mesh and per-material hashes ([`ObjectHash`]) and what differs between two lists of them |
 //! | `error.rs` | [`SceneError`] |
 //! | `camera_path.rs` | walkthrough camera paths |
 //! | `demo.rs` | the built-in Cornell box |
@@ -22,6 +23,7 @@ mod fingerprint;
 mod hashes;
 mod lights;
 mod meshes;
+mod objects;
 
 pub use build::Scene;
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};
@@ -31,3 +33,4 @@ pub use description::{
 };
 pub use error::SceneError;
 pub use fingerprint::Fingerprint;
+pub use objects::{Change, ObjectChanges, ObjectHash, ObjectKind, object_changes};

@@ -5,7 +5,7 @@ use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
 use opticks_core::dataset::{DatasetHeader, Directions, PassMis, Roulette, Selection, TraceInfo, TracePass};
 use opticks_core::dataset::{LightRecord, LightTable, MAX_PATHS, Sample};
 use opticks_core::math::Rgb;
-use opticks_core::scene::Fingerprint;
+use opticks_core::scene::{Fingerprint, ObjectHash, ObjectKind};
 use opticks_core::sensor::bidirectional::{Heuristic, LightVertexMis, MisRecord, VcmClass};
 use std::path::Path;
 
@@ -25,6 +25,8 @@ const PASS_RECORD_V3_LEN: usize = PASS_RECORD_LEN + 4;
 const PLAN_ENTRY_LEN: usize = 4 + 8;
 /// Bytes of a light record besides its name: name length, shape hash, power, paths.
 const LIGHT_RECORD_MIN: usize = 4 + 16 + 12 + 8;
+/// Bytes of an object record (format 4) besides its name: kind, name length, hash.
+const OBJECT_RECORD_MIN: usize = 1 + 4 + 16;
 
 pub(crate) const fn align_up(n: usize) -> usize {
     n.div_ceil(ALIGN) * ALIGN
@@ -83,6 +85,15 @@ pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
             b.extend_from_slice(&c.to_le_bytes());
         }
         b.extend_from_slice(&l.paths.to_le_bytes());
+    }
+    let n = u32::try_from(h.objects.len()).map_err(|_| "more than 2^32 scene objects".to_string())?;
+    b.extend_from_slice(&n.to_le_bytes());
+    for (i, o) in h.objects.iter().enumerate() {
+        let len = u32::try_from(o.name.len()).map_err(|_| format!("object {i}: name longer than 4 GiB"))?;
+        b.push(object_code(o.kind));
+        b.extend_from_slice(&len.to_le_bytes());
+        b.extend_from_slice(o.name.as_bytes());
+        b.extend_from_slice(&o.hash);
     }
     let total = align_up(b.len() + 4);
     let total32 = u32::try_from(total).map_err(|_| "header longer than 4 GiB".to_string())?;
@@ -296,6 +307,7 @@ pub(crate) fn decode_header(
         let paths = c.u64("light path count")?;
         lights.push(LightRecord { name, shape, power: Rgb::from_array(p), paths });
     }
+    let objects = if version >= 4 { decode_objects(&mut c, &corrupt)? } else { Vec::new() };
     for (i, p) in passes.iter().enumerate() {
         if let Some(&(light, _)) = p.planned.iter().find(|q| q.0 as usize >= n) {
             return Err(corrupt(
@@ -316,6 +328,7 @@ pub(crate) fn decode_header(
     Ok(DecodedHeader {
         header: DatasetHeader {
             fingerprint,
+            objects,
             label,
             trace: TraceInfo { passes },
             table: LightTable { lights },
@@ -324,6 +337,44 @@ pub(crate) fn decode_header(
         paths_offsets,
         version,
     })
+}
+
+/// The object table of a format-4 header: a count, then per object its kind, name and hash.
+fn decode_objects(
+    c: &mut Cursor<'_>,
+    corrupt: &dyn Fn(usize, String) -> DatasetError,
+) -> Result<Vec<ObjectHash>, DatasetError> {
+    let count_at = c.pos;
+    let n = c.u32("object count")? as usize;
+    // Never allocate from an unchecked count: each object needs OBJECT_RECORD_MIN bytes.
+    if n > (c.b.len() - c.pos) / OBJECT_RECORD_MIN {
+        return Err(corrupt(
+            count_at,
+            format!("object count {n} cannot fit in the {} bytes left in the header", c.b.len() - c.pos),
+        ));
+    }
+    let mut objects = Vec::with_capacity(n);
+    for i in 0..n {
+        let at = c.pos;
+        let code = c.take(1, "object kind")?[0];
+        let kind =
+            object_from(code).ok_or_else(|| corrupt(at, format!("object {i}: unknown kind code {code}")))?;
+        let name = c.string(&format!("name of object {i}"))?;
+        let mut hash = [0u8; 16];
+        hash.copy_from_slice(c.take(16, "object hash")?);
+        objects.push(ObjectHash { kind, name, hash });
+    }
+    Ok(objects)
+}
+
+fn object_code(k: ObjectKind) -> u8 {
+    match k {
+        ObjectKind::Mesh => 0,
+        ObjectKind::Material => 1,
+    }
+}
+fn object_from(c: u8) -> Option<ObjectKind> {
+    [ObjectKind::Mesh, ObjectKind::Material].into_iter().find(|&k| object_code(k) == c)
 }
 
 // Strategy codes of a pass record (a closed set each; unknown codes are corruption).

@@ -37,8 +37,9 @@ pub use writer::{DatasetSummary, DatasetWriter};
 /// LF — so 7-bit transfers and newline translation are detected as a foreign file).
 pub const MAGIC: [u8; 8] = *b"\x89OPK\r\n\x1a\n";
 /// The format version this build writes, and the newest it reads (3: MIS records after each
-/// chunk's samples, the passes' MIS heuristic and sampling signature).
-pub const FORMAT_VERSION: u32 = 3;
+/// chunk's samples, the passes' MIS heuristic and sampling signature; 4: the scene's object
+/// hashes after the light table, so a refusal can name the mesh or material that changed).
+pub const FORMAT_VERSION: u32 = 4;
 /// The oldest format version this build still reads (version 1 had no strategy or plan in its
 /// pass records: they read as the default strategy and a complete pass).
 pub const OLDEST_VERSION: u32 = 1;
