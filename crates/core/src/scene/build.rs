@@ -51,7 +51,7 @@ pub struct Scene {
     /// The geometry hash as format-version-1 datasets recorded it (which also covered which
     /// triangles emit): such a dataset matches this scene if its hash equals this one.
     pub geometry_v1: [u8; 16],
-    /// One hash per mesh, then per material a mesh uses ([`super::objects`]): what lets a
+    /// One hash per mesh, then per material a mesh uses ([`ObjectHash`]): what lets a
     /// refused dataset name the objects that changed. The fingerprint alone decides.
     pub objects: Vec<ObjectHash>,
     /// Zero-area triangles that were dropped.
