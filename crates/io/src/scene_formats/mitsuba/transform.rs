@@ -21,6 +21,17 @@ impl Transform {
     pub const IDENTITY: Transform = Transform { matrix: DMat4::IDENTITY, focus: None };
 }
 
+/// Mitsuba's `<rotate>` matrix: Rodrigues' formula c·I + (1 − c)·a·aᵀ + s·[a]× with the axis
+/// `a` **as given** — Mitsuba 3 does not normalise it (`Transform4f::rotate`), so an axis such
+/// as `y="1" z="1"` also scales and shears, and a scene written for Mitsuba means that matrix
+/// (its `scenes/hello.xml` does it; normalising the axis moved its teapot).
+fn rotation(a: DVec3, radians: f64) -> DMat4 {
+    let (s, c) = radians.sin_cos();
+    let outer = DMat3::from_cols(a * a.x, a * a.y, a * a.z);
+    let cross = DMat3::from_cols(DVec3::new(0.0, a.z, -a.y), DVec3::new(-a.z, 0.0, a.x), DVec3::new(a.y, -a.x, 0.0));
+    DMat4::from_mat3(DMat3::IDENTITY * c + outer * (1.0 - c) + cross * s)
+}
+
 /// The transform described by the children of the `<transform>` element `e`.
 pub fn read(e: &Element) -> Result<Transform> {
     let mut m = DMat4::IDENTITY;
@@ -38,7 +49,7 @@ pub fn read(e: &Element) -> Result<Transform> {
                 if axis.length_squared() == 0.0 {
                     return Err(c.err("the rotation axis is zero (give x, y, z or value=\"x, y, z\")"));
                 }
-                DMat4::from_axis_angle(axis.normalize(), angle.to_radians())
+                rotation(axis, angle.to_radians())
             }
             "lookat" => {
                 let (matrix, distance) = lookat(c)?;
@@ -102,4 +113,28 @@ fn coordinate_system(n: DVec3) -> (DVec3, DVec3) {
     let a = -1.0 / (sign + n.z);
     let b = n.x * n.y * a;
     (DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), DVec3::new(b, sign + n.y * n.y * a, -n.y))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_unit_axis_rotates_and_a_longer_one_is_taken_as_mitsuba_takes_it() {
+        let axis = DVec3::new(0.3, -0.5, 0.8).normalize();
+        let m = rotation(axis, 0.7);
+        assert!(m.abs_diff_eq(DMat4::from_axis_angle(axis, 0.7), 1e-12), "{m}");
+        // Mitsuba 3.9.1: `ScalarTransform4f().rotate([0, 1, 1], 15).matrix`, row by row.
+        let mitsuba = [
+            [0.965926, -0.258819, 0.258819],
+            [0.258819, 1.0, 0.0340742],
+            [-0.258819, 0.0340742, 1.0],
+        ];
+        let m = rotation(DVec3::new(0.0, 1.0, 1.0), 15f64.to_radians());
+        for (r, row) in mitsuba.iter().enumerate() {
+            for (c, want) in row.iter().enumerate() {
+                assert!((m.col(c)[r] - want).abs() < 1e-6, "({r}, {c}): {} ≠ {want}", m.col(c)[r]);
+            }
+        }
+    }
 }

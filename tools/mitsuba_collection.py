@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""Survey Mitsuba 3's own scene collection with Opticks (issue 12).
+
+Runs `opticks trace FILE --paths N` on every `.xml` of the `scenes/`, `docs/scenes/` and
+`tests/scenes/` folders of a checkout of Mitsuba's public `mitsuba-data` repository (from its
+root, as Mitsuba's own tests do), and prints the Markdown that `docs/scene-formats.md` shows
+under "Mitsuba's own scene collection": the files that load, trace and render, and a table of
+what stops the others (the first error of each, grouped by the element it names).
+
+With `--compare`, each file that loads is also rendered by Opticks (light estimator, the file's
+own camera) and by Mitsuba 3 (`mitsuba.load_file`, then `mitsuba.render` with Mitsuba's `path`
+integrator at `max_depth` -1: the full solution Opticks computes, whatever integrator the file
+names — a file's `direct` or depth-limited integrator computes something else, and Mitsuba's
+`direct` with `bsdf_samples` 0 is not even that: `scenes/hello.xml` comes out 4× brighter with
+it than with `path` or `ptracer`), and the table gives both images' mean RGB and their ratio,
+with the file's own integrator for reference. Mitsuba 3 must be importable (`pip install
+mitsuba`; its LLVM variant needs `DRJIT_LIBLLVM_PATH`).
+
+Usage:
+    tools/mitsuba_collection.py --data PATH/TO/mitsuba-data [--opticks target/release/opticks]
+        [--paths 4096] [--compare] [--compare-paths 1000000] [--spp 64] [--timeout 300]
+
+Nothing here is run by the test suite: the collection is not part of this repository.
+"""
+
+import argparse
+import os
+import re
+import subprocess
+import sys
+import tempfile
+from collections import defaultdict
+from pathlib import Path
+
+FOLDERS = ["scenes", "docs/scenes", "tests/scenes"]
+
+
+def first_error(stderr: str) -> str:
+    for line in stderr.splitlines():
+        if line.startswith("error:"):
+            return line[len("error:"):].strip()
+    lines = [l for l in stderr.splitlines() if l.strip()]
+    return lines[-1] if lines else "(no message)"
+
+
+def classify(rel: str, error: str) -> str:
+    """The row of the 'what stops the others' table an error belongs to."""
+    fragment = "/include/" in f"/{rel}" or "/fragments/" in f"/{rel}"
+    if "scene has no triangles" in error:
+        return "a fragment without geometry (meant to be included): \"the scene has no triangles\""
+    if fragment and "cannot read mesh file" in error:
+        return "a fragment loaded on its own: its mesh files are relative to the including scene"
+    if fragment and "included file" in error and "not found" in error:
+        return "a fragment loaded on its own: its includes are relative to the including scene"
+    if fragment and re.search(r"no (object|element) with id|undefined id|refers to", error):
+        return "a fragment loaded on its own: refers to ids of the including scene"
+    m = re.search(r'<(\w+) type="([\w.]+)"[^>]*>: unsupported', error)
+    if m:
+        elem, kind = m.groups()
+        if elem == "texture":
+            return "`<texture type=…>` (textures)"
+        return f'`<{elem} type="{kind}">`'
+    m = re.search(r"unsupported element <(\w+)>", error)
+    if m:
+        return "`<texture type=…>` (textures)" if m.group(1) == "texture" else f"`<{m.group(1)}>`"
+    if "medium" in error and "scatter" in error:
+        return "a scattering `<medium>` (only absorbing interiors)"
+    return f"`{error[:80]}`"
+
+
+def trace(opticks: str, data: Path, rel: str, paths: int, out: Path, timeout: int):
+    try:
+        run = subprocess.run(
+            [opticks, "trace", rel, "--paths", str(paths), "-o", str(out), "--overwrite", "--quiet"],
+            cwd=data, capture_output=True, text=True, timeout=timeout,
+        )
+    except subprocess.TimeoutExpired:
+        return False, f"(no answer within {timeout} s)"
+    return run.returncode == 0, first_error(run.stderr)
+
+
+def integrator_of(path: Path) -> str:
+    text = path.read_text(errors="replace")
+    m = re.search(r'<integrator\s+type=["\']([^"\']+)["\']', text)
+    depth = re.search(r'name=["\']max_depth["\']\s+value=["\']([^"\']+)["\']', text)
+    kind = m.group(1) if m else "(none in the file)"
+    return f"{kind}, max_depth {depth.group(1) if depth else '-1'}"
+
+
+def mean_rgb(image):
+    """Mean of the first three channels (a Mitsuba film may carry AOVs after them)."""
+    import numpy as np
+    a = np.array(image)
+    return a[:, :, :3].reshape(-1, 3).mean(axis=0)
+
+
+def compare(args, data: Path, rel: str, tmp: Path):
+    import mitsuba as mi
+    dataset, ours = tmp / "c.opds", tmp / "ours.exr"
+    ok, err = trace(args.opticks, data, rel, args.compare_paths, dataset, args.timeout)
+    if not ok:
+        return None, f"trace: {err}"
+    run = subprocess.run([args.opticks, "render", str(dataset), "-o", str(ours), "--quiet"],
+                         cwd=data, capture_output=True, text=True, timeout=args.timeout)
+    if run.returncode != 0:
+        return None, f"render: {first_error(run.stderr)}"
+    cwd = os.getcwd()
+    try:
+        os.chdir(data / Path(rel).parent)
+        scene = mi.load_file(Path(rel).name)
+        path = mi.load_dict({"type": "path", "max_depth": -1})
+        theirs = mean_rgb(mi.render(scene, integrator=path, spp=args.spp))
+    except Exception as e:  # a scene Mitsuba itself cannot render: say so
+        return None, f"Mitsuba: {str(e).splitlines()[0][:100]}"
+    finally:
+        os.chdir(cwd)
+    return (mean_rgb(mi.Bitmap(str(ours))), theirs), ""
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--data", required=True, type=Path, help="root of a mitsuba-data checkout")
+    p.add_argument("--opticks", default=str(Path(__file__).resolve().parent.parent / "target/release/opticks"))
+    p.add_argument("--paths", type=int, default=4096)
+    p.add_argument("--timeout", type=int, default=300)
+    p.add_argument("--compare", action="store_true")
+    p.add_argument("--compare-paths", type=int, default=1_000_000)
+    p.add_argument("--spp", type=int, default=64)
+    p.add_argument("--variant", default="llvm_ad_rgb")
+    args = p.parse_args()
+    args.opticks = str(Path(args.opticks).resolve())
+    data = args.data.resolve()
+    files = sorted(str(f.relative_to(data)) for d in FOLDERS for f in (data / d).rglob("*.xml"))
+    if not files:
+        sys.exit(f"no .xml files under {', '.join(FOLDERS)} of {data}")
+    loaded, stopped = [], defaultdict(list)
+    with tempfile.TemporaryDirectory() as t:
+        tmp = Path(t)
+        for rel in files:
+            ok, err = trace(args.opticks, data, rel, args.paths, tmp / "s.opds", args.timeout)
+            if ok:
+                loaded.append(rel)
+            else:
+                stopped[classify(rel, err)].append(rel)
+            print(f"{'ok ' if ok else '-- '} {rel}" + ("" if ok else f": {err[:120]}"), file=sys.stderr)
+        print(f"**{len(loaded)} of {len(files)} files load, trace and render** (`opticks trace FILE`): "
+              + ", ".join(f"`{f}`" for f in loaded) + ".\n")
+        print("| what stops the others (the first error each file gives) | files |\n|---|---|")
+        for why, fs in sorted(stopped.items(), key=lambda kv: (-len(kv[1]), kv[0])):
+            print(f"| {why} | {len(fs)}: " + ", ".join(f"`{f}`" for f in fs) + " |")
+        if args.compare:
+            import mitsuba as mi
+            mi.set_variant(args.variant)
+            print(f"\nOpticks (light estimator, {args.compare_paths} paths) against Mitsuba 3 "
+                  f"({args.variant}, `path` with max_depth -1, {args.spp} spp), mean RGB:\n")
+            print("| file | the file's own integrator | Opticks | Mitsuba `path` | ratio |\n|---|---|---|---|---|")
+            for rel in loaded:
+                means, note = compare(args, data, rel, tmp)
+                integ = integrator_of(data / rel)
+                if means is None:
+                    print(f"| `{rel}` | {integ} | — | — | {note} |")
+                    continue
+                o, m = means
+                fmt = lambda v: ", ".join(f"{x:.4g}" for x in v)
+                ratio = [a / b if b > 0 else float("nan") for a, b in zip(o, m)]
+                print(f"| `{rel}` | {integ} | {fmt(o)} | {fmt(m)} | {fmt(ratio)} |")
+
+
+if __name__ == "__main__":
+    main()
