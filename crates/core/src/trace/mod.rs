@@ -56,7 +56,9 @@ use rayon::prelude::*;
 mod mis;
 
 pub use crate::dataset::{BLOCK_PATHS, Directions, LightPlan, Roulette, Selection, TraceSettings};
-pub use mis::{SAMPLING_SIGNATURE, emitter_densities, light_direction_pdf, samples_uniformly};
+pub use mis::{
+    SAMPLING_SIGNATURE, emitter_densities, light_direction_pdf, light_direction_pdf_at, samples_uniformly,
+};
 
 /// Russian roulette survival probability is q = min(0.95, ROULETTE_SCALE · max β): a path still
 /// carrying half of its light's share is never culled more often than one time in twenty.
