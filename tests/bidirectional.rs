@@ -346,7 +346,7 @@ fn strategy_weights(
         let to_camera = dir_to(v.position, next);
         cam = cam.after_hit((next - v.position).length_squared(), scene.normal(v.prim).dot(to_camera).abs());
         let (m, n) = (scene.material(v.prim), scene.normals_at(v.prim, v.position));
-        let r = Receiver { position: v.position, normals: n, material: m, to_camera, medium: Rgb::ZERO };
+        let r = Receiver::new(v.position, m, n, to_camera, Rgb::ZERO);
         if !v.delta {
             if i >= 1 && !vertices[i - 1].delta {
                 // The light side ends at x_i's predecessor, a stored vertex with its record.

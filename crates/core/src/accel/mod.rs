@@ -80,6 +80,9 @@ const WIDTH: usize = 4;
 /// `MAX_DEPTH` deep.
 const STACK: usize = (WIDTH - 1) * MAX_DEPTH + 1;
 
+/// Entries of the traversal stack every query starts with ([`Accel::traverse`]).
+const SMALL_STACK: usize = 16;
+
 /// The far-distance factor of the robust slab test: more than Ize's 1 + 2γ₃ ≈ 1 + 3.6e-7.
 const SLACK: f32 = 1.0 + 1.0 / 1_048_576.0;
 
@@ -263,9 +266,9 @@ impl Accel {
     pub fn intersect(&self, ray: &Ray) -> Option<(f32, u32)> {
         let q = Query::new(ray);
         let hit = if q.has_infinite_inverse() {
-            self.closest::<true>(&q, ray.t_max)
+            self.closest::<true, SMALL_STACK>(&q, ray.t_max)
         } else {
-            self.closest::<false>(&q, ray.t_max)
+            self.closest::<false, SMALL_STACK>(&q, ray.t_max)
         };
         hit.map(|(t, slot)| (t, self.order[slot as usize]))
     }
@@ -275,16 +278,17 @@ impl Accel {
     pub fn occluded(&self, ray: &Ray) -> bool {
         let q = Query::new(ray);
         if q.has_infinite_inverse() {
-            self.any_hit::<true>(&q, ray.t_max)
+            self.any_hit::<true, SMALL_STACK>(&q, ray.t_max)
         } else {
-            self.any_hit::<false>(&q, ray.t_max)
+            self.any_hit::<false, SMALL_STACK>(&q, ray.t_max)
         }
     }
 
-    fn closest<const NAN_SAFE: bool>(&self, q: &Query, t_max: f32) -> Option<(f32, u32)> {
+    /// The closest hit (distance, leaf slot), the traversal starting with `SMALL` stack entries.
+    fn closest<const NAN_SAFE: bool, const SMALL: usize>(&self, q: &Query, t_max: f32) -> Option<(f32, u32)> {
         let mut best: Option<(f32, u32)> = None;
         let mut t_max = t_max;
-        self.traverse::<NAN_SAFE, true>(q, &mut t_max, |tris, first, count, t_max| {
+        self.traverse::<NAN_SAFE, true, SMALL>(q, &mut t_max, |tris, first, count, t_max| {
             for slot in first..first + count {
                 let t = tris[slot as usize].intersect(q.o, q.d, *t_max);
                 if t < *t_max {
@@ -297,9 +301,10 @@ impl Accel {
         best
     }
 
-    fn any_hit<const NAN_SAFE: bool>(&self, q: &Query, t_max: f32) -> bool {
+    /// Whether anything blocks the open segment, the traversal starting with `SMALL` entries.
+    fn any_hit<const NAN_SAFE: bool, const SMALL: usize>(&self, q: &Query, t_max: f32) -> bool {
         let mut t = t_max;
-        self.traverse::<NAN_SAFE, false>(q, &mut t, |tris, first, count, t_max| {
+        self.traverse::<NAN_SAFE, false, SMALL>(q, &mut t, |tris, first, count, t_max| {
             (first..first + count).any(|slot| {
                 // The segment is open at both ends: a surface through the origin (t = ±0, e.g.
                 // the other wall at a corner a sample lies in) does not block it.
@@ -315,36 +320,60 @@ impl Accel {
     /// `leaf(tris, first, count, t_max)` tests a leaf's triangles, may shorten `t_max`, and
     /// returns true to stop. Returns whether it stopped.
     ///
-    /// The stack lives on the frame, sized for the tree's depth: a node pushes at most
-    /// `WIDTH − 1` siblings, so `(WIDTH − 1)·depth + 1` entries suffice, and zeroing the
-    /// worst-case [`STACK`] entries on every query cost ~8 % of a Cornell-box trace (callgrind).
+    /// The stack lives on the frame: a node pushes at most `WIDTH − 1` siblings, so
+    /// `(WIDTH − 1)·depth + 1` entries always suffice, but zeroing them on every query costs
+    /// (the worst-case [`STACK`] entries: ~8 % of a Cornell-box trace; 64 entries, a `memset`
+    /// call per query: ~3 % of a bidirectional render, callgrind). So a query first runs with
+    /// `SMALL` entries ([`SMALL_STACK`], zeroed inline), enough for almost every ray; one that would
+    /// overflow them starts again from the root with a stack sized for the tree's depth,
+    /// keeping the `t_max` it reached. The answer is the same: every leaf holding a hit nearer
+    /// than `t_max` is still visited, in the same depth-first order (so ties between equal
+    /// distances resolve as before), and an occlusion query that had found a hit was done.
     #[inline(always)]
-    fn traverse<const NAN_SAFE: bool, const NEAR_FIRST: bool>(
+    fn traverse<const NAN_SAFE: bool, const NEAR_FIRST: bool, const SMALL: usize>(
         &self,
         q: &Query,
         t_max: &mut f32,
-        leaf: impl FnMut(&[Tri], u32, u32, &mut f32) -> bool,
+        mut leaf: impl FnMut(&[Tri], u32, u32, &mut f32) -> bool,
     ) -> bool {
         const fn fits(entries: usize) -> usize {
             (entries - 1) / (WIDTH - 1)
         }
-        if self.depth <= fits(16) {
-            self.traverse_with::<NAN_SAFE, NEAR_FIRST, 16>(q, t_max, leaf)
-        } else if self.depth <= fits(64) {
-            self.traverse_with::<NAN_SAFE, NEAR_FIRST, 64>(q, t_max, leaf)
+        if let Some(stopped) = self.traverse_with::<NAN_SAFE, NEAR_FIRST, SMALL>(q, t_max, &mut leaf) {
+            stopped
         } else {
-            self.traverse_with::<NAN_SAFE, NEAR_FIRST, STACK>(q, t_max, leaf)
+            self.traverse_deep::<NAN_SAFE, NEAR_FIRST>(q, t_max, leaf, self.depth <= fits(64))
         }
     }
 
-    /// [`Accel::traverse`] with a stack of `S ≥ (WIDTH − 1)·depth + 1` entries.
+    /// The traversal of a query that overflowed its small stack: from the root, with 64 entries
+    /// if `fits_64` (the tree is at most 21 nodes deep), else [`STACK`].
+    #[inline(never)]
+    #[cold]
+    fn traverse_deep<const NAN_SAFE: bool, const NEAR_FIRST: bool>(
+        &self,
+        q: &Query,
+        t_max: &mut f32,
+        mut leaf: impl FnMut(&[Tri], u32, u32, &mut f32) -> bool,
+        fits_64: bool,
+    ) -> bool {
+        let done = if fits_64 {
+            self.traverse_with::<NAN_SAFE, NEAR_FIRST, 64>(q, t_max, &mut leaf)
+        } else {
+            self.traverse_with::<NAN_SAFE, NEAR_FIRST, STACK>(q, t_max, &mut leaf)
+        };
+        done.expect("a stack sized for the tree's depth never overflows")
+    }
+
+    /// [`Accel::traverse`] with a stack of `S` entries: whether it stopped, or `None` if the
+    /// stack would have overflowed (never when `S ≥ (WIDTH − 1)·depth + 1`).
     #[inline(always)]
     fn traverse_with<const NAN_SAFE: bool, const NEAR_FIRST: bool, const S: usize>(
         &self,
         q: &Query,
         t_max: &mut f32,
         mut leaf: impl FnMut(&[Tri], u32, u32, &mut f32) -> bool,
-    ) -> bool {
+    ) -> Option<bool> {
         let mut stack = [(0u32, 0.0f32); S];
         let mut sp = 0;
         let mut node = 0usize;
@@ -359,7 +388,7 @@ impl Accel {
                 mask &= mask - 1;
                 if n.count[c] > 0 {
                     if leaf(&self.tris, n.first[c], n.count[c], t_max) {
-                        return true;
+                        return Some(true);
                     }
                 } else {
                     inner[k] = (n.first[c], t0[c]);
@@ -371,6 +400,9 @@ impl Accel {
                 if NEAR_FIRST {
                     sort_far_to_near(&mut inner[..k]);
                 }
+                if sp + k - 1 > S {
+                    return None;
+                }
                 for &e in &inner[..k - 1] {
                     stack[sp] = e;
                     sp += 1;
@@ -380,7 +412,7 @@ impl Accel {
             }
             loop {
                 if sp == 0 {
-                    return false;
+                    return Some(false);
                 }
                 sp -= 1;
                 let (next, t0) = stack[sp];

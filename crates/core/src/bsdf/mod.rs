@@ -55,7 +55,7 @@ pub use thin::ThinDielectric;
 use crate::geometry::SurfaceNormals;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::microfacet::Microfacet;
-pub use shading::LocalFrame;
+pub use shading::{Direction, LocalFrame, ShadingPoint};
 
 /// A direction sampled from a BSDF.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -238,45 +238,29 @@ pub struct Material {
 
 impl Material {
     /// The local frame for light arriving from world direction `wi` at a surface with normals
-    /// `n`; `None` if that side does not scatter. The side is decided by the geometric normal;
-    /// dielectrics always get the unflipped frame (their inside is behind it). A reflecting
-    /// surface whose shading normal faces away from `wi` does not scatter either (see
+    /// `n`; `None` if that side does not scatter ([`ShadingPoint::side`]: the side is decided by
+    /// the geometric normal, dielectrics always get the unflipped frame, and a reflecting
+    /// surface whose shading normal faces away from `wi` does not scatter either, see
     /// [`shading`]).
     #[inline]
     pub fn frame_for(&self, n: SurfaceNormals, wi: Vec3) -> Option<LocalFrame> {
-        let c = n.geometric.dot(wi);
-        let flip = if self.bsdf.transmits() {
-            if c == 0.0 {
-                return None;
-            }
-            false
-        } else if c > 0.0 {
-            false
-        } else if c < 0.0 && self.two_sided {
-            true
-        } else {
-            return None;
-        };
-        let f = LocalFrame::new(n, flip);
-        if !f.flat && !self.bsdf.transmits() && !(f.frame.n.dot(wi) > 0.0) {
-            return None;
-        }
-        Some(f)
+        let p = self.at(n);
+        p.side(&p.direction(wi)).map(|flip| LocalFrame::new(n, flip))
+    }
+
+    /// This material at a surface point of normals `n`: one shading frame for every query made
+    /// there ([`ShadingPoint`]; the methods below are its single queries).
+    #[inline]
+    pub fn at(&self, n: SurfaceNormals) -> ShadingPoint<'_> {
+        ShadingPoint::new(self, n)
     }
 
     /// f_r for world directions in light-flow order at a surface of normals `n`: the physical
     /// BSDF, or with shading normals the adjoint-consistent f_eff of [`shading`].
     #[inline]
     pub fn eval_world(&self, n: SurfaceNormals, wi: Vec3, wo: Vec3) -> Rgb {
-        let Some(f) = self.frame_for(n, wi) else { return Rgb::ZERO };
-        let (a, b) = (f.frame.to_local(wi), f.frame.to_local(wo));
-        if f.flat {
-            return self.bsdf.eval(a, b);
-        }
-        if !f.agrees(wi, wo, a, b) {
-            return Rgb::ZERO;
-        }
-        self.bsdf.eval(a, b) * f.incident_factor(wi, a)
+        let p = self.at(n);
+        p.eval(&p.direction(wi), &p.direction(wo))
     }
 
     /// The density with which [`Material::sample_world`] (either [`TransportMode`]) given `wi`
@@ -297,24 +281,16 @@ impl Material {
     /// ([`Bsdf::pdf`]). MIS takes the kind from the sampled event (`BsdfSample::delta`).
     #[inline]
     pub fn pdf_world_of(&self, n: SurfaceNormals, wi: Vec3, wo: Vec3, delta: bool) -> f32 {
-        let Some(f) = self.frame_for(n, wi) else { return 0.0 };
-        let (a, b) = (f.frame.to_local(wi), f.frame.to_local(wo));
-        if !f.flat && !f.agrees(wi, wo, a, b) {
-            return 0.0;
-        }
-        if delta { self.bsdf.lobe_probability(a, b) } else { self.bsdf.pdf(a, b) }
+        let p = self.at(n);
+        p.pdf_of(&p.direction(wi), &p.direction(wo), delta)
     }
 
     /// The density with which [`Material::sample_uniform_world`] given `wi` returns `wo`:
     /// 1/2π on the shading hemisphere, 0 where it never returns `wo`.
     #[inline]
     pub fn pdf_uniform_world(&self, n: SurfaceNormals, wi: Vec3, wo: Vec3) -> f32 {
-        let Some(f) = self.frame_for(n, wi) else { return 0.0 };
-        let (a, b) = (f.frame.to_local(wi), f.frame.to_local(wo));
-        if !(b.z > 0.0) || (!f.flat && !f.agrees(wi, wo, a, b)) {
-            return 0.0;
-        }
-        crate::sampling::warp::UNIFORM_HEMISPHERE_PDF
+        let p = self.at(n);
+        p.pdf_uniform(&p.direction(wi), &p.direction(wo))
     }
 
     /// Samples a world-space outgoing direction uniformly over the scattering hemisphere (the
@@ -322,12 +298,8 @@ impl Material {
     /// as [`Material::sample_world`] in importance mode.
     #[inline]
     pub fn sample_uniform_world(&self, n: SurfaceNormals, wi: Vec3, u: Vec2) -> Option<BsdfSample> {
-        let f = self.frame_for(n, wi)?;
-        let a = f.frame.to_local(wi);
-        let wo = crate::sampling::warp::square_to_uniform_hemisphere(u);
-        let pdf = crate::sampling::warp::UNIFORM_HEMISPHERE_PDF;
-        let weight = self.bsdf.eval(a, wo) * wo.z / pdf;
-        f.finish(wi, a, BsdfSample { wo, weight, pdf, delta: false }, TransportMode::Importance)
+        let p = self.at(n);
+        p.sample_uniform(&p.direction(wi), u)
     }
 
     /// Samples a world-space direction given `wi`; `weight` as [`Bsdf::sample`] in `mode`, with
@@ -341,10 +313,8 @@ impl Material {
         u: Vec2,
         mode: TransportMode,
     ) -> Option<BsdfSample> {
-        let f = self.frame_for(n, wi)?;
-        let a = f.frame.to_local(wi);
-        let s = self.bsdf.sample(a, u_lobe, u, mode)?;
-        f.finish(wi, a, s, mode)
+        let p = self.at(n);
+        p.sample(&p.direction(wi), u_lobe, u, mode)
     }
 }
 

@@ -40,11 +40,12 @@
 //! Where the shading normal equals the geometric one ([`SurfaceNormals::is_flat`]) none of this
 //! runs: results are bit-identical to a mesh without normals.
 
-use super::{BsdfSample, TransportMode};
+use super::{BsdfSample, Material, TransportMode};
 use crate::geometry::SurfaceNormals;
-use crate::math::{Frame, Vec3};
+use crate::math::{Frame, Rgb, Vec2, Vec3};
 
-/// The frame a BSDF is evaluated in at a surface point, oriented to the side light arrives on.
+/// The frame a BSDF is evaluated in at a surface point, oriented to the side light arrives on
+/// ([`Material::frame_for`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LocalFrame {
     /// The shading frame (z = the shading normal, flipped with the geometric one for the back of
@@ -64,39 +65,213 @@ impl LocalFrame {
         let (ns, ng) = if flip { (-n.shading, -n.geometric) } else { (n.shading, n.geometric) };
         LocalFrame { frame: Frame::from_normal(ns), geometric: ng, flat }
     }
+}
+
+/// A surface point as every BSDF query there sees it: the material, its normals and the one
+/// shading frame all queries share, built once ([`ShadingPoint::new`]) however many directions
+/// are evaluated, sampled or weighed at the point (a camera vertex asks ~10 times: NEE, each
+/// connection, their MIS densities, the next bounce). The `Material` methods (`eval_world`,
+/// `pdf_world`, `sample_world`, …) are this type for a single query.
+///
+/// Directions are prepared once per point ([`ShadingPoint::direction`]: their coordinates in
+/// the frame of the unflipped shading normal and their geometric cosine) and the side each
+/// query is seen from is applied to them: the back of a two-sided surface is the frame of −n,
+/// which [`Frame::from_normal`] builds as (s, −t, −n) *exactly* (every rounding of its
+/// construction is odd in n), so a flipped direction is (x, −y, −z) and every result equals
+/// that of a frame built for the query alone — bit for bit, but for the sign of an exactly zero
+/// coordinate (+0 where the flipped frame gave −0: equal as numbers, and no BSDF here reads the
+/// sign of a zero).
+#[derive(Clone, Copy, Debug)]
+pub struct ShadingPoint<'m> {
+    /// How the surface scatters.
+    pub material: &'m Material,
+    /// Its normals at the point.
+    pub normals: SurfaceNormals,
+    /// The frame of the unflipped shading normal.
+    frame: Frame,
+    /// Whether the shading normal is the geometric one.
+    flat: bool,
+}
+
+/// A unit world direction at a [`ShadingPoint`], prepared for its queries.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Direction {
+    /// The world direction.
+    pub world: Vec3,
+    /// Its coordinates in the point's unflipped shading frame.
+    local: Vec3,
+    /// n_g · world (signed; the unflipped geometric normal).
+    cos_g: f32,
+}
+
+impl Direction {
+    /// The local coordinates seen from the side `flip` says (the flipped frame is (s, −t, −n)).
+    #[inline]
+    fn oriented(&self, flip: bool) -> Vec3 {
+        let l = self.local;
+        if flip { Vec3::new(l.x, -l.y, -l.z) } else { l }
+    }
+
+    /// |n_g · world|: the geometric |cos θ| of the direction.
+    #[inline]
+    pub fn abs_cos(&self) -> f32 {
+        self.cos_g.abs()
+    }
+}
+
+impl<'m> ShadingPoint<'m> {
+    /// The point of `material` with normals `n` (its shading frame built here, once).
+    #[inline]
+    pub fn new(material: &'m Material, n: SurfaceNormals) -> Self {
+        ShadingPoint { material, normals: n, frame: Frame::from_normal(n.shading), flat: n.is_flat() }
+    }
+
+    /// The unit world direction `w`, prepared for this point's queries.
+    #[inline]
+    pub fn direction(&self, w: Vec3) -> Direction {
+        Direction { world: w, local: self.frame.to_local(w), cos_g: self.normals.geometric.dot(w) }
+    }
+
+    /// The side light arriving from `wi` is scattered on: `Some(flip)` (the frame turned over
+    /// for the back of a two-sided surface), `None` if that side does not scatter. The side is
+    /// decided by the geometric normal; dielectrics always get the unflipped frame (their
+    /// inside is behind it). A reflecting surface whose shading normal faces away from `wi`
+    /// does not scatter either (the module docs).
+    #[inline]
+    pub fn side(&self, wi: &Direction) -> Option<bool> {
+        let c = wi.cos_g;
+        let transmits = self.material.bsdf.transmits();
+        let flip = if transmits {
+            if c == 0.0 {
+                return None;
+            }
+            false
+        } else if c > 0.0 {
+            false
+        } else if c < 0.0 && self.material.two_sided {
+            true
+        } else {
+            return None;
+        };
+        if !self.flat && !transmits && !(wi.oriented(flip).z > 0.0) {
+            return None;
+        }
+        Some(flip)
+    }
+
+    /// Whether light arriving from `wi` is scattered at all ([`ShadingPoint::side`]).
+    #[inline]
+    pub fn scatters_from(&self, wi: &Direction) -> bool {
+        self.side(wi).is_some()
+    }
 
     /// The light-leak guard: whether the shading frame and the geometric surface agree that the
-    /// pair of world directions `wi`, `wo` (local `a`, `b`) is a reflection, or agree that it is
-    /// a transmission. Directions in either tangent plane never count.
+    /// pair `wi`, `wo` (shading-frame cosines `a_z`, `b_z` on either side: the product does not
+    /// depend on it) is a reflection, or agree that it is a transmission. Directions in either
+    /// tangent plane never count.
     #[inline]
-    pub fn agrees(&self, wi: Vec3, wo: Vec3, a: Vec3, b: Vec3) -> bool {
-        let (gi, go) = (wi.dot(self.geometric), wo.dot(self.geometric));
-        let shading = a.z * b.z;
+    fn agrees(gi: f32, go: f32, a_z: f32, b_z: f32) -> bool {
+        let shading = a_z * b_z;
         let geometric = gi * go;
         shading != 0.0 && geometric != 0.0 && (shading > 0.0) == (geometric > 0.0)
     }
 
-    /// f_eff / f_s = |ω_in·n_s| / |ω_in·n_g| for light arriving from world `wi` (local `a`).
+    /// f_eff / f_s = |ω_in·n_s| / |ω_in·n_g| for light arriving from `wi` (local `a`).
     #[inline]
-    pub fn incident_factor(&self, wi: Vec3, a: Vec3) -> f32 {
-        a.z.abs() / wi.dot(self.geometric).abs()
+    fn incident_factor(wi: &Direction, a: Vec3) -> f32 {
+        a.z.abs() / wi.cos_g.abs()
     }
 
-    /// A sample `s` drawn in the local frame (from world `wi`, local `a`) turned into world
-    /// space, with the importance-mode correction and the leak guard (`None`: weight 0).
+    /// f_r in light-flow order from `wi` to `wo`: the physical BSDF, or with shading normals
+    /// the adjoint-consistent f_eff of the module docs ([`Material::eval_world`]).
     #[inline]
-    pub fn finish(&self, wi: Vec3, a: Vec3, s: BsdfSample, mode: TransportMode) -> Option<BsdfSample> {
-        let wo = self.frame.to_world(s.wo);
+    pub fn eval(&self, wi: &Direction, wo: &Direction) -> Rgb {
+        let Some(flip) = self.side(wi) else { return Rgb::ZERO };
+        let (a, b) = (wi.oriented(flip), wo.oriented(flip));
+        if self.flat {
+            return self.material.bsdf.eval(a, b);
+        }
+        if !Self::agrees(wi.cos_g, wo.cos_g, a.z, b.z) {
+            return Rgb::ZERO;
+        }
+        self.material.bsdf.eval(a, b) * Self::incident_factor(wi, a)
+    }
+
+    /// The density of sampling `wo` given `wi` for one kind of event ([`Material::pdf_world_of`]):
+    /// with `delta` the probability of the delta lobe leading to `wo`, else the density of the
+    /// other lobes; 0 where sampling never returns `wo`.
+    #[inline]
+    pub fn pdf_of(&self, wi: &Direction, wo: &Direction, delta: bool) -> f32 {
+        let Some(flip) = self.side(wi) else { return 0.0 };
+        let (a, b) = (wi.oriented(flip), wo.oriented(flip));
+        if !self.flat && !Self::agrees(wi.cos_g, wo.cos_g, a.z, b.z) {
+            return 0.0;
+        }
+        let bsdf = &self.material.bsdf;
+        if delta { bsdf.lobe_probability(a, b) } else { bsdf.pdf(a, b) }
+    }
+
+    /// [`ShadingPoint::pdf_of`] for the material's own kind of event ([`Material::pdf_world`]).
+    #[inline]
+    pub fn pdf(&self, wi: &Direction, wo: &Direction) -> f32 {
+        self.pdf_of(wi, wo, self.material.bsdf.is_delta())
+    }
+
+    /// The density of [`ShadingPoint::sample_uniform`] given `wi` returning `wo`
+    /// ([`Material::pdf_uniform_world`]).
+    #[inline]
+    pub fn pdf_uniform(&self, wi: &Direction, wo: &Direction) -> f32 {
+        let Some(flip) = self.side(wi) else { return 0.0 };
+        let (a, b) = (wi.oriented(flip), wo.oriented(flip));
+        if !(b.z > 0.0) || (!self.flat && !Self::agrees(wi.cos_g, wo.cos_g, a.z, b.z)) {
+            return 0.0;
+        }
+        crate::sampling::warp::UNIFORM_HEMISPHERE_PDF
+    }
+
+    /// Samples a world direction given `wi` ([`Material::sample_world`]).
+    #[inline]
+    pub fn sample(&self, wi: &Direction, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        let flip = self.side(wi)?;
+        let a = wi.oriented(flip);
+        let s = self.material.bsdf.sample(a, u_lobe, u, mode)?;
+        self.finish(wi, flip, a, s, mode)
+    }
+
+    /// Samples a world direction uniformly over the scattering hemisphere
+    /// ([`Material::sample_uniform_world`]).
+    #[inline]
+    pub fn sample_uniform(&self, wi: &Direction, u: Vec2) -> Option<BsdfSample> {
+        let flip = self.side(wi)?;
+        let a = wi.oriented(flip);
+        let wo = crate::sampling::warp::square_to_uniform_hemisphere(u);
+        let pdf = crate::sampling::warp::UNIFORM_HEMISPHERE_PDF;
+        let weight = self.material.bsdf.eval(a, wo) * wo.z / pdf;
+        self.finish(wi, flip, a, BsdfSample { wo, weight, pdf, delta: false }, TransportMode::Importance)
+    }
+
+    /// A sample `s` drawn in the local frame of side `flip` (from `wi`, local `a`) turned into
+    /// world space, with the importance-mode correction and the leak guard (`None`: weight 0).
+    #[inline]
+    fn finish(
+        &self,
+        wi: &Direction,
+        flip: bool,
+        a: Vec3,
+        s: BsdfSample,
+        mode: TransportMode,
+    ) -> Option<BsdfSample> {
+        let l = s.wo;
+        let wo = self.frame.to_world(if flip { Vec3::new(l.x, -l.y, -l.z) } else { l });
         if self.flat {
             return Some(BsdfSample { wo, ..s });
         }
-        if !self.agrees(wi, wo, a, s.wo) {
+        let go = wo.dot(self.normals.geometric);
+        if !Self::agrees(wi.cos_g, go, a.z, s.wo.z) {
             return None;
         }
         let weight = match mode {
-            TransportMode::Importance => {
-                s.weight * (self.incident_factor(wi, a) * wo.dot(self.geometric).abs() / s.wo.z.abs())
-            }
+            TransportMode::Importance => s.weight * (Self::incident_factor(wi, a) * go.abs() / s.wo.z.abs()),
             TransportMode::Radiance => s.weight,
         };
         Some(BsdfSample { wo, weight, ..s })
@@ -157,6 +332,37 @@ mod tests {
                 (rad - ev).abs() > 10.0 * (rad_e * rad_e + ev_e * ev_e).sqrt(),
                 "radiance mode {rad} vs {ev}"
             );
+        }
+    }
+
+    /// What lets one [`ShadingPoint`] serve both faces: the frame of −n is exactly (s, −t, −n)
+    /// of the frame of n (every rounding of `Frame::from_normal` is odd in n; only an exact
+    /// zero may come out as −0 one way and +0 the other, e.g. t.y for n = ±y), so flipped local
+    /// coordinates are exactly (x, −y, −z) and a flipped local sample maps back to the same
+    /// world direction. `==` compares numbers: bit for bit except the sign of a zero.
+    #[test]
+    fn the_frame_of_the_back_face_is_the_front_frame_turned_over_exactly() {
+        let mut rng = RandomStream::new(11, &[3]);
+        let mut normals: Vec<Vec3> =
+            (0..20_000).map(|_| warp::square_to_uniform_sphere(rng.next_2d())).collect();
+        normals.extend([
+            Vec3::X,
+            Vec3::Y,
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::new(0.6, 0.8, 0.0),
+            Vec3::new(0.6, 0.0, -0.8),
+        ]);
+        let flip = |v: Vec3| Vec3::new(v.x, -v.y, -v.z);
+        for n in normals {
+            let (f, b) = (Frame::from_normal(n), Frame::from_normal(-n));
+            assert!(b.s == f.s && b.t == -f.t && b.n == -f.n, "n = {n}");
+            for _ in 0..4 {
+                let w = warp::square_to_uniform_sphere(rng.next_2d());
+                let (l, lb) = (f.to_local(w), b.to_local(w));
+                assert_eq!(lb, flip(l), "n = {n}, w = {w}");
+                assert_eq!(b.to_world(lb), f.to_world(flip(lb)), "n = {n}, w = {w}");
+            }
         }
     }
 

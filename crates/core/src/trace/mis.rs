@@ -16,7 +16,7 @@
 //! §2): the records hold the densities of the sampling procedures, not of the culling.
 
 use super::Directions;
-use crate::bsdf::{Bsdf, Material};
+use crate::bsdf::{Bsdf, Direction, Material, ShadingPoint};
 use crate::geometry::SurfaceNormals;
 use crate::light::{Emission, Light};
 use crate::math::Vec3;
@@ -60,12 +60,26 @@ pub fn light_direction_pdf(
     directions: Directions,
     delta: bool,
 ) -> f32 {
+    let p = material.at(n);
+    light_direction_pdf_at(&p, &p.direction(wi), &p.direction(wo), directions, delta)
+}
+
+/// [`light_direction_pdf`] at a [`ShadingPoint`] whose frame other queries share, for
+/// directions prepared there.
+#[inline]
+pub fn light_direction_pdf_at(
+    p: &ShadingPoint,
+    wi: &Direction,
+    wo: &Direction,
+    directions: Directions,
+    delta: bool,
+) -> f32 {
     if delta {
-        material.pdf_world_of(n, wi, wo, true)
-    } else if samples_uniformly(directions, &material.bsdf) {
-        material.pdf_uniform_world(n, wi, wo)
+        p.pdf_of(wi, wo, true)
+    } else if samples_uniformly(directions, &p.material.bsdf) {
+        p.pdf_uniform(wi, wo)
     } else {
-        material.pdf_world_of(n, wi, wo, material.bsdf.is_delta())
+        p.pdf(wi, wo)
     }
 }
 

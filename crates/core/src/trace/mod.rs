@@ -56,7 +56,9 @@ use rayon::prelude::*;
 mod mis;
 
 pub use crate::dataset::{BLOCK_PATHS, Directions, LightPlan, Roulette, Selection, TraceSettings};
-pub use mis::{SAMPLING_SIGNATURE, emitter_densities, light_direction_pdf, samples_uniformly};
+pub use mis::{
+    SAMPLING_SIGNATURE, emitter_densities, light_direction_pdf, light_direction_pdf_at, samples_uniformly,
+};
 
 /// Russian roulette survival probability is q = min(0.95, ROULETTE_SCALE · max β): a path still
 /// carrying half of its light's share is never culled more often than one time in twenty.
@@ -178,8 +180,11 @@ fn walk<M: PathMis>(
         let depth = b.depth + 1;
         let wi = -b.dir;
         let material = scene.material(hit.prim);
-        let normals = scene.normals_at(hit.prim, hit.position);
-        if material.frame_for(normals, wi).is_none() {
+        // One shading frame for the vertex's queries: the side, each child's sample, its MIS
+        // record's reverse density.
+        let point = material.at(scene.normals_at(hit.prim, hit.position));
+        let from = point.direction(wi);
+        if !point.scatters_from(&from) {
             continue; // the back of a one-sided surface: black, absorbs everything
         }
         if b.absorption != Rgb::ZERO {
@@ -202,9 +207,9 @@ fn walk<M: PathMis>(
             // Importance mode: `wi` is where the light came from (no 1/η² on refraction, DESIGN §2).
             // Uniform directions only make sense for reflecting surfaces without a delta lobe.
             let sampled = if samples_uniformly(settings.directions, &material.bsdf) {
-                material.sample_uniform_world(normals, wi, u)
+                point.sample_uniform(&from, u)
             } else {
-                material.sample_world(normals, wi, u_lobe, u, TransportMode::Importance)
+                point.sample(&from, u_lobe, u, TransportMode::Importance)
             };
             let Some(s) = sampled else { continue };
             let mut beta = b.beta * s.weight / c;
@@ -240,7 +245,7 @@ fn walk<M: PathMis>(
             };
             if beta.max_element() > 0.0 {
                 // The camera tracer, arriving from s.wo, would continue toward wi.
-                let rev = || material.pdf_world_of(normals, s.wo, wi, s.delta);
+                let rev = || point.pdf_of(&point.direction(s.wo), &from, s.delta);
                 let mis = mis.after_scatter(s.wo.dot(hit.normal).abs(), s.pdf, rev, s.delta);
                 stack.push(Branch {
                     origin: offset_ray_origin(hit.position, hit.normal, s.wo),

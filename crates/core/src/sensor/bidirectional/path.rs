@@ -9,8 +9,7 @@
 use super::camera::camera_ray;
 use super::vertex::{Context, DrawsAhead, Receiver, connect_ahead, nee, segment_medium, transmittance};
 use super::{CameraVertexMis, weight_emitter_hit};
-use crate::bsdf::Material;
-use crate::bsdf::TransportMode;
+use crate::bsdf::{Direction, Material, ShadingPoint, TransportMode};
 use crate::dataset::Directions;
 use crate::geometry::SurfaceNormals;
 use crate::geometry::{Ray, offset_ray_origin};
@@ -18,7 +17,7 @@ use crate::math::Rgb;
 use crate::math::Vec3;
 use crate::sampling::RandomStream;
 use crate::sensor::Sensor;
-use crate::trace::light_direction_pdf;
+use crate::trace::light_direction_pdf_at;
 
 /// Camera vertices from which Russian roulette may end a path (at non-delta vertices, survival
 /// q = min(0.95, 2·max T) with T the throughput, as the tracer's energy-driven rule).
@@ -60,18 +59,24 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
             radiance += throughput * emitted * w;
         }
         let material = scene.material(hit.prim);
-        let normals = scene.normals_at(hit.prim, hit.position);
-        if material.frame_for(normals, to_camera).is_none() {
+        // One shading frame for every BSDF query at this vertex (NEE, the connections, their
+        // weights, the next bounce and its MIS densities).
+        let r = Receiver::at(
+            hit.position,
+            material.at(scene.normals_at(hit.prim, hit.position)),
+            to_camera,
+            medium,
+        );
+        if !r.point.scatters_from(&r.to_camera) {
             break; // the back of a one-sided surface
         }
         let delta = material.bsdf.is_delta();
         if !delta {
-            let r = Receiver { position: hit.position, normals, material, to_camera, medium };
             let gathered = nee(ctx, &r, &mis, rng) + connect_ahead(ctx, &r, &mis, rng, &mut ahead);
             radiance += throughput * gathered;
         }
         let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
-        let Some(s) = material.sample_world(normals, to_camera, u_lobe, u, TransportMode::Radiance) else {
+        let Some(s) = r.point.sample(&r.to_camera, u_lobe, u, TransportMode::Radiance) else {
             break;
         };
         throughput *= s.weight;
@@ -96,7 +101,7 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
         if !(throughput.max_element() > 0.0) {
             break;
         }
-        mis = scatter_mis(mis, ctx.directions, material, normals, to_camera, s.wo, s.pdf, s.delta);
+        mis = scatter_mis_at(mis, ctx.directions, &r.point, &r.to_camera, s.wo, s.pdf, s.delta);
         medium = segment_medium(material, hit.normal, s.wo, medium);
         ray = Ray {
             origin: offset_ray_origin(hit.position, hit.normal, s.wo),
@@ -122,8 +127,25 @@ pub fn scatter_mis(
     pdf_fwd: f32,
     delta: bool,
 ) -> CameraVertexMis {
+    let p = material.at(normals);
+    scatter_mis_at(mis, directions, &p, &p.direction(to_camera), wo, pdf_fwd, delta)
+}
+
+/// [`scatter_mis`] at a camera vertex's shading point `p`, whose frame the vertex's other
+/// queries share (`to_camera` prepared there).
+#[inline]
+pub(super) fn scatter_mis_at(
+    mis: CameraVertexMis,
+    directions: Directions,
+    p: &ShadingPoint,
+    to_camera: &Direction,
+    wo: Vec3,
+    pdf_fwd: f32,
+    delta: bool,
+) -> CameraVertexMis {
+    let wo = p.direction(wo);
     // The light tracer arriving along `wo` and continuing to `to_camera` (for a delta event
     // the probability of that lobe, the same for both tracers; a plastic has both kinds).
-    let pdf_rev = light_direction_pdf(material, normals, wo, to_camera, directions, delta);
-    mis.after_scatter(normals.geometric.dot(wo).abs(), pdf_fwd, pdf_rev, delta)
+    let pdf_rev = light_direction_pdf_at(p, &wo, to_camera, directions, delta);
+    mis.after_scatter(wo.abs_cos(), pdf_fwd, pdf_rev, delta)
 }

@@ -2,9 +2,9 @@
 //! [`nee`]) and connections to vertices drawn from the light vertex cache (s ≥ 2,
 //! [`connect`]), each MIS-weighted with `mis.rs`.
 //!
-//! Both take a [`Receiver`] — a point, its normals, how it scatters and the direction back
-//! toward the camera side — and the camera subpath's MIS state there, not a pixel: a camera
-//! vertex is one receiver, and a point sensor of cosine importance (an illuminance meter in the
+//! Both take a [`Receiver`] — a point, how it scatters there (its [`ShadingPoint`]: one shading
+//! frame for every BSDF query of the vertex) and the direction back toward the camera side — and
+//! the camera subpath's MIS state there, not a pixel: a camera vertex is one receiver, and a point sensor of cosine importance (an illuminance meter in the
 //! air) is another that can reuse them once `Receiver` learns its scattering (today: a surface
 //! material). They return the radiance toward the camera side per unit throughput, already
 //! weighted; the caller multiplies by its throughput.
@@ -14,13 +14,13 @@ use super::lights::{LightPoint, RenderLights};
 use super::{
     CameraVertexMis, ConnectionEnd, Counts, Heuristic, LightVertexMis, weight_connection, weight_nee,
 };
-use crate::bsdf::Material;
+use crate::bsdf::{Direction, Material, ShadingPoint};
 use crate::dataset::Directions;
 use crate::geometry::{Ray, SurfaceNormals, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
-use crate::trace::light_direction_pdf;
+use crate::trace::light_direction_pdf_at;
 
 /// Everything a camera-side vertex needs to know about the render.
 #[derive(Clone, Copy, Debug)]
@@ -49,39 +49,57 @@ pub struct Context<'a> {
 pub struct Receiver<'a> {
     /// The point.
     pub position: Vec3,
-    /// Its normals (the geometric one decides cosines and ray offsets).
-    pub normals: SurfaceNormals,
-    /// How it scatters.
-    pub material: &'a Material,
-    /// Unit direction toward the previous camera-side vertex.
-    pub to_camera: Vec3,
+    /// How it scatters there: material, normals (the geometric one decides cosines and ray
+    /// offsets) and the shading frame every query of this receiver shares.
+    pub point: ShadingPoint<'a>,
+    /// Unit direction toward the previous camera-side vertex, prepared at `point`.
+    pub to_camera: Direction,
     /// The absorption coefficient of the medium the camera side arrived in.
     pub medium: Rgb,
 }
 
-impl Receiver<'_> {
+impl<'a> Receiver<'a> {
+    /// The receiver at `position` on a surface of `material` with normals `normals`, seen from
+    /// the unit direction `to_camera` (its shading frame built here, once).
+    #[inline]
+    pub fn new(
+        position: Vec3,
+        material: &'a Material,
+        normals: SurfaceNormals,
+        to_camera: Vec3,
+        medium: Rgb,
+    ) -> Self {
+        Self::at(position, material.at(normals), to_camera, medium)
+    }
+
+    /// The receiver at `position` of the shading point `point` (a camera vertex's, whose frame
+    /// it shares), seen from `to_camera`.
+    #[inline]
+    pub fn at(position: Vec3, point: ShadingPoint<'a>, to_camera: Vec3, medium: Rgb) -> Self {
+        Receiver { position, point, to_camera: point.direction(to_camera), medium }
+    }
+
+    /// The geometric normal.
+    #[inline]
+    fn geometric(&self) -> Vec3 {
+        self.point.normals.geometric
+    }
+
     /// f(to_light → to_camera) in light-flow order (the adjoint f_eff with shading normals).
     #[inline]
-    fn eval(&self, to_light: Vec3) -> Rgb {
-        self.material.eval_world(self.normals, to_light, self.to_camera)
+    fn eval(&self, to_light: &Direction) -> Rgb {
+        self.point.eval(to_light, &self.to_camera)
     }
 
     /// The connection end at this receiver for the direction `to_light`: |cos θ| (geometric),
     /// the camera tracer's density of `to_light`, the light tracer's of continuing to the camera
     /// side.
     #[inline]
-    pub fn end(&self, to_light: Vec3, directions: Directions) -> ConnectionEnd {
+    pub fn end(&self, to_light: &Direction, directions: Directions) -> ConnectionEnd {
         ConnectionEnd {
-            cos: self.normals.geometric.dot(to_light).abs(),
-            pdf_fwd_w: self.material.pdf_world(self.normals, self.to_camera, to_light),
-            pdf_rev_w: light_direction_pdf(
-                self.material,
-                self.normals,
-                to_light,
-                self.to_camera,
-                directions,
-                false,
-            ),
+            cos: to_light.abs_cos(),
+            pdf_fwd_w: self.point.pdf(&self.to_camera, to_light),
+            pdf_rev_w: light_direction_pdf_at(&self.point, to_light, &self.to_camera, directions, false),
         }
     }
 
@@ -89,7 +107,7 @@ impl Receiver<'_> {
     /// behind its normal; other surfaces keep the medium (the tracer's rule).
     #[inline]
     fn medium_toward(&self, dir: Vec3) -> Rgb {
-        segment_medium(self.material, self.normals.geometric, dir, self.medium)
+        segment_medium(self.point.material, self.geometric(), dir, self.medium)
     }
 }
 
@@ -138,13 +156,14 @@ pub(crate) fn visible(scene: &Scene, a: Vec3, na: Vec3, dir: Vec3, d: f32, b: Op
 pub fn nee(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, rng: &mut RandomStream) -> Rgb {
     let (u_pick, u_pos) = (rng.next_f32(), rng.next_2d());
     let Some(lp) = ctx.lights.sample(ctx.scene, r.position, u_pick, u_pos) else { return Rgb::ZERO };
-    let f = r.eval(lp.dir);
+    let to_light = r.point.direction(lp.dir);
+    let f = r.eval(&to_light);
     if f == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let end = r.end(lp.dir, ctx.directions);
+    let end = r.end(&to_light, ctx.directions);
     let target = lp.normal.map(|n| (r.position + lp.dir * lp.distance, n));
-    if !visible(ctx.scene, r.position, r.normals.geometric, lp.dir, lp.distance, target) {
+    if !visible(ctx.scene, r.position, r.geometric(), lp.dir, lp.distance, target) {
         return Rgb::ZERO;
     }
     let w = weight_of_nee(ctx, camera, end, &lp);
@@ -154,7 +173,7 @@ pub fn nee(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, rng: &mut Rand
 /// The MIS weight of NEE at `r` (camera state `camera`) to the light point `lp`.
 #[inline]
 pub fn nee_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, lp: &LightPoint) -> f32 {
-    weight_of_nee(ctx, camera, r.end(lp.dir, ctx.directions), lp)
+    weight_of_nee(ctx, camera, r.end(&r.point.direction(lp.dir), ctx.directions), lp)
 }
 
 /// [`nee_weight`] with the receiver's end of the segment already known (what [`nee`] reuses).
@@ -165,15 +184,17 @@ fn weight_of_nee(ctx: &Context, camera: &CameraVertexMis, end: ConnectionEnd, lp
 }
 
 /// The segment from a receiver to a cache vertex and the vertex's surface, found once for
-/// both the connection's contribution and its weight.
+/// both the connection's contribution and its weight: the vertex's shading point (one frame for
+/// its three BSDF queries) and the two directions they take there.
 struct Link<'s> {
-    /// Unit direction from the receiver to the vertex.
-    dir: Vec3,
     /// Squared length of the segment.
     d2: f32,
-    /// The vertex's normals and material.
-    normals: SurfaceNormals,
-    material: &'s Material,
+    /// The vertex's surface.
+    point: ShadingPoint<'s>,
+    /// The vertex's `from_dir`, where its light came from.
+    from: Direction,
+    /// From the vertex back toward the receiver (−dir).
+    back: Direction,
 }
 
 impl<'s> Link<'s> {
@@ -189,7 +210,8 @@ impl<'s> Link<'s> {
     #[inline]
     fn to(scene: &'s Scene, v: &CachedVertex, (dir, d2): (Vec3, f32)) -> Self {
         let (y, prim) = (v.sample.position(), v.sample.triangle());
-        Link { dir, d2, normals: scene.normals_at(prim, y), material: scene.material(prim) }
+        let point = scene.material(prim).at(scene.normals_at(prim, y));
+        Link { d2, point, from: point.direction(v.sample.from_dir()), back: point.direction(-dir) }
     }
 }
 
@@ -197,8 +219,9 @@ impl<'s> Link<'s> {
 /// light is off.
 #[inline]
 pub fn connection_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &CachedVertex) -> f32 {
-    let link = Link::to(ctx.scene, v, Link::segment(r, v.sample.position()));
-    weight_of_link(ctx, camera, r.end(link.dir, ctx.directions), v, &link)
+    let (dir, d2) = Link::segment(r, v.sample.position());
+    let link = Link::to(ctx.scene, v, (dir, d2));
+    weight_of_link(ctx, camera, r.end(&r.point.direction(dir), ctx.directions), v, &link)
 }
 
 /// [`connection_weight`] with the link and the receiver's end of it already known (what a
@@ -212,12 +235,11 @@ fn weight_of_link(
     link: &Link,
 ) -> f32 {
     let Some(light) = ctx.lights.of_table(v.light as usize) else { return 0.0 };
-    let (dir, n_y, m_y) = (link.dir, link.normals, link.material);
-    let from = v.sample.from_dir();
+    let (y, from, back) = (&link.point, &link.from, &link.back);
     let at_light = ConnectionEnd {
-        cos: n_y.geometric.dot(dir).abs(),
-        pdf_fwd_w: light_direction_pdf(m_y, n_y, from, -dir, ctx.directions, false),
-        pdf_rev_w: m_y.pdf_world(n_y, -dir, from),
+        cos: back.abs_cos(),
+        pdf_fwd_w: light_direction_pdf_at(y, from, back, ctx.directions, false),
+        pdf_rev_w: y.pdf(back, from),
     };
     let state = LightVertexMis::from_record(v.record, ctx.heuristic);
     weight_connection(camera, end, &state, at_light, link.d2, light.pick, ctx.counts)
@@ -302,21 +324,21 @@ fn connect_one(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &Cached
         return Rgb::ZERO;
     }
     let d = d2.sqrt();
-    let f_z = r.eval(dir);
+    let to_y = r.point.direction(dir);
+    let f_z = r.eval(&to_y);
     if f_z == Rgb::ZERO {
         return Rgb::ZERO;
     }
     let link = Link::to(ctx.scene, v, (dir, d2));
-    let n_y = link.normals;
-    let f_y = link.material.eval_world(n_y, v.sample.from_dir(), -dir);
+    let f_y = link.point.eval(&link.from, &link.back);
     if f_y == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    if !visible(ctx.scene, r.position, r.normals.geometric, dir, d, Some((y, n_y.geometric))) {
+    if !visible(ctx.scene, r.position, r.geometric(), dir, d, Some((y, link.point.normals.geometric))) {
         return Rgb::ZERO;
     }
-    let w = weight_of_link(ctx, camera, r.end(dir, ctx.directions), v, &link);
-    let g = r.normals.geometric.dot(dir).abs() * n_y.geometric.dot(dir).abs() / d2;
+    let w = weight_of_link(ctx, camera, r.end(&to_y, ctx.directions), v, &link);
+    let g = to_y.abs_cos() * link.back.abs_cos() / d2;
     f_z * f_y
         * ctx.flux_per_path[v.light as usize]
         * v.sample.beta()
