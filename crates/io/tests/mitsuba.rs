@@ -61,7 +61,9 @@ fn transforms_compose_in_mitsuba_order() {
     assert_close(v0(r#"<scale value="1 2 3"/>"#), Vec3::new(-1.0, -2.0, 0.0));
     // +90° about y maps (x, y, z) to (z, y, −x).
     assert_close(v0(r#"<rotate y="1" angle="90"/>"#), Vec3::new(0.0, -1.0, 1.0));
-    assert_close(v0(r#"<rotate value="0, 2, 0" angle="90"/><translate x="5"/>"#), Vec3::new(5.0, -1.0, 1.0));
+    // Mitsuba does not normalise the axis: (0, 2, 0) by 90° is a·aᵀ + [a]×, which maps
+    // (-1, -1, 0) to (0, -4, 2) (Mitsuba 3.9.1 gives (5, -4, 2) after the translation).
+    assert_close(v0(r#"<rotate value="0, 2, 0" angle="90"/><translate x="5"/>"#), Vec3::new(5.0, -4.0, 2.0));
     assert_close(v0(r#"<translate x="5"/><rotate y="1" angle="90"/>"#), Vec3::new(0.0, -1.0, -4.0));
     assert_close(
         v0(r#"<matrix value="1 0 0 10  0 1 0 20  0 0 1 30  0 0 0 1"/>"#),
