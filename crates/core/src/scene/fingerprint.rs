@@ -141,11 +141,6 @@ impl Hasher {
             self.0.update(&x.to_le_bytes());
         }
     }
-    pub(crate) fn u32s(&mut self, v: &[u32]) {
-        for x in v {
-            self.0.update(&x.to_le_bytes());
-        }
-    }
     pub(crate) fn finish(&self) -> [u8; 16] {
         let mut out = [0u8; 16];
         out.copy_from_slice(&self.0.finalize().as_bytes()[..16]);

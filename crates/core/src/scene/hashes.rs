@@ -43,30 +43,42 @@ pub(super) fn fingerprints(
     let mut objects = Vec::with_capacity(meshes.len() + materials.len());
     // The meshes' ranges cover the triangles in order (every triangle comes from a mesh).
     debug_assert_eq!(meshes.iter().map(|m| m.1.len()).sum::<usize>(), flat.vertices.len());
+    // The bytes are gathered in blocks and handed to the hashers whole: BLAKE3 digests a
+    // stream the same however it is cut, and a 36-byte update per corner triple cost more in
+    // per-call overhead than the hashing itself (callgrind, bunny-box: ~2/3 of the hashing).
+    let (mut bytes, mut bytes_v1) = (Vec::with_capacity(BLOCK + 128), Vec::with_capacity(BLOCK + 128));
     for (name, range) in meshes {
         let mut mesh = Hasher::new("opticks mesh v1");
         for i in range.clone() {
-            let [a, b, c] = flat.vertices[i];
-            let corners = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z];
-            let material = &material_hashes[flat.material_of[i] as usize];
-            for h in [&mut geo, &mut mesh] {
-                h.f32s(&corners);
-                h.0.update(material);
+            for p in flat.vertices[i] {
+                for x in p.to_array() {
+                    bytes.extend_from_slice(&x.to_le_bytes());
+                }
             }
-            geo_v1.f32s(&corners);
-            geo_v1.u32s(&[flat.material_of[i], flat.light_of[i]]);
+            bytes_v1.extend_from_slice(&bytes[bytes.len() - 36..]);
+            bytes.extend_from_slice(&material_hashes[flat.material_of[i] as usize]);
+            bytes_v1.extend_from_slice(&flat.material_of[i].to_le_bytes());
+            bytes_v1.extend_from_slice(&flat.light_of[i].to_le_bytes());
             let shading = flat.shading_of[i];
             if shading != NO_SHADING {
                 // Shading normals change what every stored vertex reflects; a version-1
                 // dataset (traced before they were honoured) must not match such a scene.
-                let normals = flat.shading_normals[shading as usize].map(|n| n.to_array()).concat();
-                for h in [&mut geo, &mut mesh, &mut geo_v1] {
-                    h.f32s(&normals);
+                for n in flat.shading_normals[shading as usize] {
+                    for x in n.to_array() {
+                        bytes.extend_from_slice(&x.to_le_bytes());
+                        bytes_v1.extend_from_slice(&x.to_le_bytes());
+                    }
                 }
             }
+            if bytes.len() >= BLOCK {
+                flush(&mut bytes, &mut [&mut geo, &mut mesh]);
+                flush(&mut bytes_v1, &mut [&mut geo_v1]);
+            }
         }
+        flush(&mut bytes, &mut [&mut geo, &mut mesh]);
         objects.push(ObjectHash { kind: ObjectKind::Mesh, name: name.to_string(), hash: mesh.finish() });
     }
+    flush(&mut bytes_v1, &mut [&mut geo_v1]);
     let mut used = vec![false; materials.len()];
     for &m in &flat.material_of {
         used[m as usize] = true;
@@ -89,4 +101,15 @@ pub(super) fn fingerprints(
         light_shapes,
         objects,
     }
+}
+
+/// Bytes gathered before they are hashed.
+const BLOCK: usize = 64 * 1024;
+
+/// Hands `bytes` to every hasher of `to` and empties it.
+fn flush(bytes: &mut Vec<u8>, to: &mut [&mut Hasher]) {
+    for h in to {
+        h.0.update(bytes);
+    }
+    bytes.clear();
 }

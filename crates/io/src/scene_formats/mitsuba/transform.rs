@@ -28,7 +28,8 @@ impl Transform {
 fn rotation(a: DVec3, radians: f64) -> DMat4 {
     let (s, c) = radians.sin_cos();
     let outer = DMat3::from_cols(a * a.x, a * a.y, a * a.z);
-    let cross = DMat3::from_cols(DVec3::new(0.0, a.z, -a.y), DVec3::new(-a.z, 0.0, a.x), DVec3::new(a.y, -a.x, 0.0));
+    let cross =
+        DMat3::from_cols(DVec3::new(0.0, a.z, -a.y), DVec3::new(-a.z, 0.0, a.x), DVec3::new(a.y, -a.x, 0.0));
     DMat4::from_mat3(DMat3::IDENTITY * c + outer * (1.0 - c) + cross * s)
 }
 
@@ -125,11 +126,8 @@ mod tests {
         let m = rotation(axis, 0.7);
         assert!(m.abs_diff_eq(DMat4::from_axis_angle(axis, 0.7), 1e-12), "{m}");
         // Mitsuba 3.9.1: `ScalarTransform4f().rotate([0, 1, 1], 15).matrix`, row by row.
-        let mitsuba = [
-            [0.965926, -0.258819, 0.258819],
-            [0.258819, 1.0, 0.0340742],
-            [-0.258819, 0.0340742, 1.0],
-        ];
+        let mitsuba =
+            [[0.965926, -0.258819, 0.258819], [0.258819, 1.0, 0.0340742], [-0.258819, 0.0340742, 1.0]];
         let m = rotation(DVec3::new(0.0, 1.0, 1.0), 15f64.to_radians());
         for (r, row) in mitsuba.iter().enumerate() {
             for (c, want) in row.iter().enumerate() {
