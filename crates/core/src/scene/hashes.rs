@@ -7,8 +7,11 @@
 use super::Fingerprint;
 use super::fingerprint::{Hasher, light_shape, material_hash, material_v2};
 use super::meshes::{Flat, NO_SHADING};
+use super::textures::MaterialTextures;
 use crate::bsdf::Material;
 use crate::light::Light;
+use crate::texture::{ColourSlot, Texture};
+use std::sync::Arc;
 
 /// A built scene's hashes.
 pub(super) struct Hashes {
@@ -20,13 +23,36 @@ pub(super) struct Hashes {
     pub light_shapes: Vec<[u8; 16]>,
 }
 
+/// The hash of `material` with its `textures`: [`material_hash`] for an untextured one (so
+/// untextured scenes keep their fingerprints), else that hash followed by every texture's slot
+/// and numbers.
+fn textured_material_hash(material: &Material, textures: &[(ColourSlot, Arc<Texture>)]) -> [u8; 16] {
+    let plain = material_hash(material);
+    if textures.is_empty() {
+        return plain;
+    }
+    let mut h = Hasher::new("opticks textured material");
+    h.0.update(&plain);
+    for (slot, t) in textures {
+        h.0.update(slot.name().as_bytes());
+        h.f32s(&t.fingerprint_words());
+    }
+    h.finish()
+}
+
 /// The hashes of a scene of `materials`, triangles `flat` and `lights`.
-pub(super) fn fingerprints(materials: &[Material], flat: &Flat, lights: &[Light]) -> Hashes {
+pub(super) fn fingerprints(
+    materials: &[Material],
+    textures: &MaterialTextures,
+    flat: &Flat,
+    lights: &[Light],
+) -> Hashes {
     // The geometry fingerprint covers each triangle's corners and material, not whether it
     // emits: emission is the lights' business (each light has its own shape hash), so a
     // surface may become a light without invalidating the samples of the others.
     let mut geo = Hasher::new("opticks geometry v2");
-    let material_hashes: Vec<[u8; 16]> = materials.iter().map(material_hash).collect();
+    let material_hashes: Vec<[u8; 16]> =
+        materials.iter().zip(textures).map(|(m, t)| textured_material_hash(m, t)).collect();
     // The hash datasets of format version 1 recorded (it also covered emitter assignment).
     let mut geo_v1 = Hasher::new("opticks geometry v1");
     for (i, [a, b, c]) in flat.vertices.iter().enumerate() {
@@ -42,6 +68,13 @@ pub(super) fn fingerprints(materials: &[Material], flat: &Flat, lights: &[Light]
             let normals = flat.shading_normals[shading as usize].map(|n| n.to_array()).concat();
             geo.f32s(&normals);
             geo_v1.f32s(&normals);
+        }
+        if !textures[flat.material_of[i] as usize].is_empty() {
+            // A textured material's colours depend on where on the triangle a point is.
+            let uv =
+                flat.uvs.get(flat.uv_of[i] as usize).map_or(Vec::new(), |t| t.map(|v| v.to_array()).concat());
+            geo.f32s(&uv);
+            geo_v1.f32s(&uv);
         }
     }
     for m in materials {

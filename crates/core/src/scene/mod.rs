@@ -7,7 +7,8 @@
 //! | `build.rs` | [`Scene`] and [`Scene::build`], which runs the stages below in order |
 //! | `meshes.rs` | stages 1–2: validate each mesh, flatten it into triangles with shading normals |
 //! | `lights.rs` | stage 3: the lights, through the light kinds' constructors |
-//! | `hashes.rs` | stage 4: the fingerprints of the built scene |
+//! | `textures.rs` | stage 4: texture bindings checked per material; materials resolved at a point |
+//! | `hashes.rs` | stage 5: the fingerprints of the built scene |
 //! | `fingerprint.rs` | [`Fingerprint`] and the hashing primitives |
 //! | `error.rs` | [`SceneError`] |
 //! | `camera_path.rs` | walkthrough camera paths |
@@ -22,6 +23,7 @@ mod fingerprint;
 mod hashes;
 mod lights;
 mod meshes;
+mod textures;
 
 pub use build::Scene;
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};

@@ -21,6 +21,7 @@ use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
 use crate::trace::light_direction_pdf;
+use std::borrow::Cow;
 
 /// Everything a camera-side vertex needs to know about the render.
 #[derive(Clone, Copy, Debug)]
@@ -173,7 +174,7 @@ struct Link<'s> {
     d2: f32,
     /// The vertex's normals and material.
     normals: SurfaceNormals,
-    material: &'s Material,
+    material: Cow<'s, Material>,
 }
 
 impl<'s> Link<'s> {
@@ -189,7 +190,7 @@ impl<'s> Link<'s> {
     #[inline]
     fn to(scene: &'s Scene, v: &CachedVertex, (dir, d2): (Vec3, f32)) -> Self {
         let (y, prim) = (v.sample.position(), v.sample.triangle());
-        Link { dir, d2, normals: scene.normals_at(prim, y), material: scene.material(prim) }
+        Link { dir, d2, normals: scene.normals_at(prim, y), material: scene.material_at(prim, y) }
     }
 }
 
@@ -212,7 +213,7 @@ fn weight_of_link(
     link: &Link,
 ) -> f32 {
     let Some(light) = ctx.lights.of_table(v.light as usize) else { return 0.0 };
-    let (dir, n_y, m_y) = (link.dir, link.normals, link.material);
+    let (dir, n_y, m_y) = (link.dir, link.normals, &*link.material);
     let from = v.sample.from_dir();
     let at_light = ConnectionEnd {
         cos: n_y.geometric.dot(dir).abs(),
