@@ -139,7 +139,9 @@ pub(super) fn parse_obj_file(data: &[u8], texcoords: bool) -> Result<ObjFile, Ob
         match keyword {
             b"v" => geometry.vertex(tokens, line_no)?,
             b"vn" => geometry.normal(tokens, line_no)?,
-            b"vt" => geometry.texcoord(tokens, line_no)?,
+            // Texture coordinates matter only to a caller that asks for them (Mitsuba's `obj`).
+            b"vt" if texcoords => geometry.texcoord(tokens, line_no)?,
+            b"vt" => geometry.texcoord_count = geometry.texcoord_count.saturating_add(1),
             b"f" => {
                 if new_run {
                     runs.push(FaceRun {
