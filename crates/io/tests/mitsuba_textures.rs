@@ -79,9 +79,11 @@ fn nested_and_referenced_textures_are_bound_to_their_colour() {
     assert_eq!(d.meshes[0].uvs, [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y]);
     // The scene builds, and evaluates the checkerboard at the hit's UV.
     let scene = Scene::build(d).expect("builds");
-    let m = scene.material_at(0, opticks_core::math::Vec3::new(-0.5, -0.5, 0.0)); // uv (0.25, 0.25)
+    let mut slot = None;
+    let m = scene.material_at(0, opticks_core::math::Vec3::new(-0.5, -0.5, 0.0), &mut slot); // uv (0.25, 0.25)
     assert_eq!(m.bsdf.max_albedo(), Rgb::new(0.8, 0.1, 0.1));
-    let m = scene.material_at(0, opticks_core::math::Vec3::new(0.5, -0.5, 0.0)); // uv (0.75, 0.25)
+    let mut slot = None;
+    let m = scene.material_at(0, opticks_core::math::Vec3::new(0.5, -0.5, 0.0), &mut slot); // uv (0.75, 0.25)
     assert_eq!(m.bsdf.max_albedo(), Rgb::new(0.2, 0.6, 0.3));
 }
 

@@ -25,7 +25,6 @@ use crate::bsdf::Material;
 use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
-use std::borrow::Cow;
 
 /// A validated, ray-traceable scene.
 #[derive(Debug)]
@@ -169,16 +168,18 @@ impl Scene {
     }
 
     /// The material of triangle `prim` at the point `p` on it: its textured colours evaluated at
-    /// p's texture coordinates ([`Scene::uv_at`]). An untextured material is borrowed as it is
-    /// (no lookup, no copy); a textured one is a copy without a name.
+    /// p's texture coordinates ([`Scene::uv_at`]). An untextured material is the scene's own (no
+    /// lookup, no copy); a textured one is a copy without a name, kept in `resolved` (the
+    /// caller's slot, `&mut None`: a plain reference out, so the hot loops pay nothing for
+    /// textures they do not have).
     #[inline]
-    pub fn material_at(&self, prim: u32, p: Vec3) -> Cow<'_, Material> {
+    pub fn material_at<'s>(&'s self, prim: u32, p: Vec3, resolved: &'s mut Option<Material>) -> &'s Material {
         let m = self.material_of[prim as usize] as usize;
         let textures = &self.textures[m];
         if textures.is_empty() {
-            return Cow::Borrowed(&self.materials[m]);
+            return &self.materials[m];
         }
-        Cow::Owned(textures::resolve(&self.materials[m], textures, self.uv_at(prim, p)))
+        resolved.insert(textures::resolve(&self.materials[m], textures, self.uv_at(prim, p)))
     }
 
     /// The texture coordinates of triangle `prim` at the point `p` on it: its vertex UVs at p's

@@ -81,7 +81,6 @@ mod tests {
     use crate::bsdf::{Lambert, Plastic};
     use crate::math::{Rgb, Vec2, Vec3};
     use crate::texture::{Checkerboard, TextureBinding, UvTransform};
-    use std::borrow::Cow;
 
     fn checker(a: f32, b: f32) -> Arc<Texture> {
         Arc::new(Texture::Checkerboard(
@@ -104,22 +103,31 @@ mod tests {
     fn untextured_materials_are_borrowed_and_textured_ones_evaluated_at_the_uv() {
         let plain = Scene::build(&cornell_box()).unwrap();
         assert!(!plain.has_textures());
-        assert!(matches!(plain.material_at(0, Vec3::new(0.1, -1.0, 0.2)), Cow::Borrowed(_)));
+        let mut slot = None;
+        let m = plain.material_at(0, Vec3::new(0.1, -1.0, 0.2), &mut slot);
+        assert!(std::ptr::eq(m, &plain.materials[0]));
+        assert!(slot.is_none(), "an untextured material is not copied");
         let scene = Scene::build(&textured_box(checker(0.8, 0.1))).unwrap();
         assert!(scene.has_textures());
         // Floor triangle 0: its UV is the interpolation of its vertices' (x, z) → [0, 1]².
         let p = Vec3::new(-0.5, -1.0, -0.5);
         let uv = scene.uv_at(0, p);
         assert!((uv - Vec2::new(0.25, 0.25)).length() < 1e-6, "{uv}");
-        assert_eq!(scene.material_at(0, p).bsdf, Bsdf::Lambert(Lambert::new(Rgb::splat(0.8)).unwrap()));
+        assert_eq!(
+            scene.material_at(0, p, &mut None).bsdf,
+            Bsdf::Lambert(Lambert::new(Rgb::splat(0.8)).unwrap())
+        );
         let q = Vec3::new(0.5, -1.0, -0.5); // uv (0.75, 0.25): the other colour
-        assert_eq!(scene.material_at(0, q).bsdf, Bsdf::Lambert(Lambert::new(Rgb::splat(0.1)).unwrap()));
+        assert_eq!(
+            scene.material_at(0, q, &mut None).bsdf,
+            Bsdf::Lambert(Lambert::new(Rgb::splat(0.1)).unwrap())
+        );
         // The red wall (no UVs, untextured material) is borrowed; its UV is the barycentrics.
         let red = (0..scene.triangles.len() as u32).find(|&t| scene.material(t).name == "red").unwrap();
         let tri = scene.triangles[red as usize];
         let c = tri.point(0.2, 0.3);
         assert!((scene.uv_at(red, c) - Vec2::new(0.2, 0.3)).length() < 1e-5);
-        assert!(matches!(scene.material_at(red, c), Cow::Borrowed(_)));
+        assert!(std::ptr::eq(scene.material_at(red, c, &mut None), &scene.materials[1]));
     }
 
     #[test]
@@ -133,9 +141,11 @@ mod tests {
             texture: checker(0.8, 0.2),
         });
         let scene = Scene::build(&d).unwrap();
-        let m = scene.material_at(0, scene.triangles[0].point(0.1, 0.1)); // barycentric uv (0.1, 0.1)
+        let mut slot = None;
+        let m = scene.material_at(0, scene.triangles[0].point(0.1, 0.1), &mut slot); // barycentric uv (0.1, 0.1)
         assert_eq!(m.bsdf, Bsdf::Plastic(Plastic::new(Rgb::splat(0.8), Rgb::ONE, 1.49, 1.0, false).unwrap()));
-        let m = scene.material_at(0, scene.triangles[0].point(0.6, 0.1));
+        let mut slot = None;
+        let m = scene.material_at(0, scene.triangles[0].point(0.6, 0.1), &mut slot);
         assert_eq!(m.bsdf, Bsdf::Plastic(Plastic::new(Rgb::splat(0.2), Rgb::ONE, 1.49, 1.0, false).unwrap()));
     }
 

@@ -177,7 +177,8 @@ fn walk<M: PathMis>(
         };
         let depth = b.depth + 1;
         let wi = -b.dir;
-        let material = scene.material_at(hit.prim, hit.position);
+        let mut resolved = None;
+        let material = scene.material_at(hit.prim, hit.position, &mut resolved);
         let normals = scene.normals_at(hit.prim, hit.position);
         if material.frame_for(normals, wi).is_none() {
             continue; // the back of a one-sided surface: black, absorbs everything

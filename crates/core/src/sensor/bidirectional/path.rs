@@ -59,7 +59,8 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
             let w = weight_emitter_hit(&mis, emitter, pick, ctx.counts);
             radiance += throughput * emitted * w;
         }
-        let material = &*scene.material_at(hit.prim, hit.position);
+        let mut resolved = None;
+        let material = scene.material_at(hit.prim, hit.position, &mut resolved);
         let normals = scene.normals_at(hit.prim, hit.position);
         if material.frame_for(normals, to_camera).is_none() {
             break; // the back of a one-sided surface

@@ -21,7 +21,6 @@ use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
 use crate::trace::light_direction_pdf;
-use std::borrow::Cow;
 
 /// Everything a camera-side vertex needs to know about the render.
 #[derive(Clone, Copy, Debug)]
@@ -174,7 +173,7 @@ struct Link<'s> {
     d2: f32,
     /// The vertex's normals and material.
     normals: SurfaceNormals,
-    material: Cow<'s, Material>,
+    material: &'s Material,
 }
 
 impl<'s> Link<'s> {
@@ -186,11 +185,17 @@ impl<'s> Link<'s> {
         (to_y / d2.sqrt(), d2)
     }
 
-    /// The link of the segment `dir`, `d2` to `v`'s surface.
+    /// The link of the segment `dir`, `d2` to `v`'s surface (its material at the vertex, a
+    /// textured one kept in `resolved`).
     #[inline]
-    fn to(scene: &'s Scene, v: &CachedVertex, (dir, d2): (Vec3, f32)) -> Self {
+    fn to(
+        scene: &'s Scene,
+        v: &CachedVertex,
+        (dir, d2): (Vec3, f32),
+        resolved: &'s mut Option<Material>,
+    ) -> Self {
         let (y, prim) = (v.sample.position(), v.sample.triangle());
-        Link { dir, d2, normals: scene.normals_at(prim, y), material: scene.material_at(prim, y) }
+        Link { dir, d2, normals: scene.normals_at(prim, y), material: scene.material_at(prim, y, resolved) }
     }
 }
 
@@ -198,7 +203,8 @@ impl<'s> Link<'s> {
 /// light is off.
 #[inline]
 pub fn connection_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &CachedVertex) -> f32 {
-    let link = Link::to(ctx.scene, v, Link::segment(r, v.sample.position()));
+    let mut resolved = None;
+    let link = Link::to(ctx.scene, v, Link::segment(r, v.sample.position()), &mut resolved);
     weight_of_link(ctx, camera, r.end(link.dir, ctx.directions), v, &link)
 }
 
@@ -213,7 +219,7 @@ fn weight_of_link(
     link: &Link,
 ) -> f32 {
     let Some(light) = ctx.lights.of_table(v.light as usize) else { return 0.0 };
-    let (dir, n_y, m_y) = (link.dir, link.normals, &*link.material);
+    let (dir, n_y, m_y) = (link.dir, link.normals, link.material);
     let from = v.sample.from_dir();
     let at_light = ConnectionEnd {
         cos: n_y.geometric.dot(dir).abs(),
@@ -307,7 +313,8 @@ fn connect_one(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &Cached
     if f_z == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let link = Link::to(ctx.scene, v, (dir, d2));
+    let mut resolved = None;
+    let link = Link::to(ctx.scene, v, (dir, d2), &mut resolved);
     let n_y = link.normals;
     let f_y = link.material.eval_world(n_y, v.sample.from_dir(), -dir);
     if f_y == Rgb::ZERO {
