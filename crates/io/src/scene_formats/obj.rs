@@ -436,43 +436,11 @@ impl ObjGeometry {
     /// The vertices, once every face is checked against the number of vertices and normals in
     /// the file.
     fn finish(self) -> Result<ObjVertices, ObjError> {
-        if let Some((m, line)) = self.max_normal
-            && m as usize >= self.normals.len()
-        {
-            return Err(ObjError {
-                line,
-                message: format!(
-                    "face refers to normal {}, but the file defines only {} normals",
-                    m as u64 + 1,
-                    self.normals.len()
-                ),
-            });
-        }
-        if let Some((m, line)) = self.max_index
-            && m as usize >= self.positions.len()
-        {
-            return Err(ObjError {
-                line,
-                message: format!(
-                    "face refers to vertex {}, but the file defines only {} vertices",
-                    m as u64 + 1,
-                    self.positions.len()
-                ),
-            });
-        }
+        past_end(self.max_normal, self.normals.len(), "normal", "normals")?;
+        past_end(self.max_index, self.positions.len(), "vertex", "vertices")?;
         // Texture-coordinate indices in a file without `vt` are ignored, like normal indices.
-        if let Some((m, line)) = self.max_texcoord
-            && !self.texcoords.is_empty()
-            && m as usize >= self.texcoords.len()
-        {
-            return Err(ObjError {
-                line,
-                message: format!(
-                    "face refers to texture coordinate {}, but the file defines only {}",
-                    m as u64 + 1,
-                    self.texcoords.len()
-                ),
-            });
+        if !self.texcoords.is_empty() {
+            past_end(self.max_texcoord, self.texcoords.len(), "texture coordinate", "texture coordinates")?;
         }
         Ok(ObjVertices {
             positions: self.positions,
@@ -480,6 +448,21 @@ impl ObjGeometry {
             pairs: self.pairs,
             texcoords: self.texcoords,
         })
+    }
+}
+
+/// The error of a face referring to (0-based) `max` (and the line of that face) when the file
+/// defines only `count` of them.
+fn past_end(max: Option<(u32, u32)>, count: usize, what: &str, plural: &str) -> Result<(), ObjError> {
+    match max {
+        Some((m, line)) if m as usize >= count => Err(ObjError {
+            line,
+            message: format!(
+                "face refers to {what} {}, but the file defines only {count} {plural}",
+                m as u64 + 1
+            ),
+        }),
+        _ => Ok(()),
     }
 }
 
