@@ -139,6 +139,9 @@ mod tests {
         png.extend([8, 2, 0, 0, 0]);
         let crc = crc32(&png[12..]);
         png.extend(crc.to_be_bytes());
+        // The start of an (empty) image data chunk, where a decoder learns the header is done.
+        png.extend(b"\0\0\0\0IDAT");
+        png.extend(crc32(b"IDAT").to_be_bytes());
         let e = read_texture(&temp("d.png", &png), false).unwrap_err();
         assert!(e.contains("100000 × 100000"), "{e}");
         assert!(read_texture(Path::new("/nonexistent/e.png"), false).is_err());
