@@ -116,6 +116,7 @@ fn weights_scene() -> SceneDescription {
             width: 40,
             height: 30,
         }),
+        textures: Vec::new(),
     }
 }
 

@@ -33,6 +33,13 @@
 //! transmittance) between a disk light, a floor and a wall: the light each pane transmits
 //! straight through and the light it reflects, with the internal reflections' R = 2r/(1 + r).
 //!
+//! `textures` (96 × 72, 884,736 paths): colour parameters as textures — a `checkerboard` floor
+//! (the rectangle's UVs, `to_uv`), an sRGB `bitmap` on a diffuse sphere (the sphere's UVs,
+//! bilinear, repeat), a `bitmap` on a cube (its UVs; nearest, mirror, a shifted and scaled
+//! `to_uv`), a plastic whose `diffuse_reflectance` is a top-level bitmap by `<ref>`, an OBJ
+//! quad with `vt` (flipped v, clamp): a wrong UV, wrap, filter or sRGB decoding moves the
+//! regions the shape covers (`testdata/mitsuba/textures/make_textures.py` made the images).
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 mod common;
@@ -97,4 +104,9 @@ fn mitsuba_plastic_matches_mitsuba() {
 #[test]
 fn mitsuba_thin_dielectric_matches_mitsuba() {
     check("thin", 1);
+}
+
+#[test]
+fn mitsuba_textures_match_mitsuba() {
+    check("textures", 1);
 }

@@ -34,4 +34,5 @@ pub mod math;
 pub mod sampling;
 pub mod scene;
 pub mod sensor;
+pub mod texture;
 pub mod trace;

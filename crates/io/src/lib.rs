@@ -12,6 +12,7 @@
 //!   input of the command), checked before any work;
 //! * [`scene_ref`]: the scene file a dataset records (relative to the dataset, and absolute);
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
+//! * [`texture_file`]: texture images (PNG, JPEG, HDR, EXR) as linear RGB, sizes checked first;
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
@@ -38,6 +39,7 @@ pub mod meter_points;
 pub mod output_paths;
 pub mod scene_formats;
 pub mod scene_ref;
+pub mod texture_file;
 
 pub use scene_formats::{
     FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,

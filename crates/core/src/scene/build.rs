@@ -10,19 +10,21 @@
 //!    counted in [`Scene::dropped_triangles`]), and build its area light if it emits,
 //! 3. **lights**: the point and directional lights, then the light table as a whole
 //!    (`super::lights`),
-//! 4. **fingerprints** of the geometry and the lights (`super::hashes`),
-//! 5. **BVH** over the triangles ([`Accel`]).
+//! 4. **textures**: each binding checked against its material (`super::textures`),
+//! 5. **fingerprints** of the geometry and the lights (`super::hashes`),
+//! 6. **BVH** over the triangles ([`Accel`]).
 //!
 //! A mesh is validated, flattened and made a light before the next mesh is looked at, so the
 //! first error in file order is the one reported.
 
-use super::meshes::{self, Flat, NO_LIGHT, NO_SHADING};
+use super::meshes::{self, Flat, NO_LIGHT, NO_SHADING, NO_UV};
+use super::textures::{self, MaterialTextures};
 use super::{CameraDesc, Fingerprint, ObjectHash, SceneDescription, SceneError, hashes, lights};
 use crate::accel::Accel;
 use crate::bsdf::Material;
 use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::Light;
-use crate::math::{Rgb, Vec3};
+use crate::math::{Rgb, Vec2, Vec3};
 
 /// A validated, ray-traceable scene.
 #[derive(Debug)]
@@ -36,6 +38,12 @@ pub struct Scene {
     shading_normals: Vec<[Vec3; 3]>,
     material_of: Vec<u32>,
     light_of: Vec<u32>,
+    /// Per triangle: index into `uvs`, or [`NO_UV`].
+    uv_of: Vec<u32>,
+    /// Vertex texture coordinates of the triangles that have them.
+    uvs: Vec<[Vec2; 3]>,
+    /// Per material: the textures in place of its colours (empty: untextured).
+    textures: MaterialTextures,
     /// Materials.
     pub materials: Vec<Material>,
     /// Lights, in scene order.
@@ -86,7 +94,8 @@ impl Scene {
             return Err(SceneError::NoGeometry);
         }
         lights::check_light_table(&lights)?;
-        let hashes = hashes::fingerprints(&desc.materials, &flat, &lights, &ranges);
+        let textures = textures::bind(desc)?;
+        let hashes = hashes::fingerprints(&desc.materials, &textures, &flat, &lights, &ranges);
         let accel = Accel::build(&flat.vertices);
         Ok(Scene {
             normals: flat.triangles.iter().map(Triangle::normal).collect(),
@@ -95,6 +104,9 @@ impl Scene {
             shading_normals: flat.shading_normals,
             material_of: flat.material_of,
             light_of: flat.light_of,
+            uv_of: flat.uv_of,
+            uvs: flat.uvs,
+            textures,
             materials: desc.materials.clone(),
             lights,
             light_shapes: hashes.light_shapes,
@@ -154,10 +166,46 @@ impl Scene {
         !self.shading_normals.is_empty()
     }
 
-    /// Material of triangle `prim`.
+    /// Material of triangle `prim`, with its colours as the scene file gives them: what decides
+    /// the kind of scattering (delta, transmitting, absorbing). Everything that evaluates or
+    /// samples the BSDF at a point uses [`Scene::material_at`].
     #[inline]
     pub fn material(&self, prim: u32) -> &Material {
         &self.materials[self.material_of[prim as usize] as usize]
+    }
+
+    /// The material of triangle `prim` at the point `p` on it: its textured colours evaluated at
+    /// p's texture coordinates ([`Scene::uv_at`]). An untextured material is the scene's own (no
+    /// lookup, no copy); a textured one is a copy without a name, kept in `resolved` (the
+    /// caller's slot, `&mut None`: a plain reference out, so the hot loops pay nothing for
+    /// textures they do not have).
+    #[inline]
+    pub fn material_at<'s>(&'s self, prim: u32, p: Vec3, resolved: &'s mut Option<Material>) -> &'s Material {
+        let m = self.material_of[prim as usize] as usize;
+        let textures = &self.textures[m];
+        if textures.is_empty() {
+            return &self.materials[m];
+        }
+        resolved.insert(textures::resolve(&self.materials[m], textures, self.uv_at(prim, p)))
+    }
+
+    /// The texture coordinates of triangle `prim` at the point `p` on it: its vertex UVs at p's
+    /// barycentrics (recomputed from p, as [`Scene::normals_at`] does), or those barycentrics
+    /// (b1, b2) for a mesh without UVs (Mitsuba's parameterisation).
+    #[inline]
+    pub fn uv_at(&self, prim: u32, p: Vec3) -> Vec2 {
+        let (b1, b2) = self.triangles[prim as usize].barycentrics(p);
+        let k = self.uv_of[prim as usize];
+        if k == NO_UV {
+            return Vec2::new(b1, b2);
+        }
+        let [a, b, c] = self.uvs[k as usize];
+        a + b1 * (b - a) + b2 * (c - a)
+    }
+
+    /// Whether any material is textured.
+    pub fn has_textures(&self) -> bool {
+        self.textures.iter().any(|t| !t.is_empty())
     }
 
     /// The light whose emitter triangle `prim` is, if any.

@@ -7,7 +7,8 @@
 use crate::bsdf::Material;
 use crate::light::check::{LightError, check_emission, unit_axis};
 use crate::light::{EmissionProfile, axis_frame};
-use crate::math::{Frame, Rgb, Vec3};
+use crate::math::{Frame, Rgb, Vec2, Vec3};
+use crate::texture::TextureBinding;
 use glam::DVec3;
 
 /// A perspective camera as a scene file states it.
@@ -62,6 +63,10 @@ pub struct MeshDesc {
     /// triangle by barycentrics and change only how the BSDF is oriented; the geometric normal
     /// still decides the sides, the emission and ray offsets (see [`crate::bsdf`]).
     pub normals: Vec<Vec3>,
+    /// Optional per-vertex texture coordinates, one per position, or empty. A triangle's UV at
+    /// a point is its vertices' interpolated by barycentrics; without them it is the
+    /// barycentrics (b1, b2) themselves, as in Mitsuba. Only textured materials read them.
+    pub uvs: Vec<Vec2>,
     /// Index into [`SceneDescription::materials`].
     pub material: usize,
     /// If set, the mesh is a one-sided area light (front faces only).
@@ -181,4 +186,6 @@ pub struct SceneDescription {
     pub directional_lights: Vec<DirectionalLightDesc>,
     /// The scene file's own camera, if it has one.
     pub camera: Option<CameraDesc>,
+    /// Textures in place of materials' colour parameters (none: every colour is constant).
+    pub textures: Vec<TextureBinding>,
 }

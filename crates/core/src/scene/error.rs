@@ -77,6 +77,17 @@ pub enum SceneError {
         /// Light name.
         light: String,
     },
+    /// A texture binding is impossible: no such material, a colour the material does not
+    /// have, or values the parameter cannot take.
+    #[error("material '{material}': texture on {slot}: {message}")]
+    BadTexture {
+        /// Material name (or index, if it does not exist).
+        material: String,
+        /// The parameter's name.
+        slot: &'static str,
+        /// What is wrong.
+        message: String,
+    },
     /// Nothing to render.
     #[error("the scene has no triangles: light paths would have nothing to hit")]
     NoGeometry,

@@ -9,9 +9,12 @@ use super::Fingerprint;
 use super::fingerprint::{Hasher, light_shape, material_hash, material_v2};
 use super::meshes::{Flat, NO_SHADING};
 use super::objects::{ObjectHash, ObjectKind};
+use super::textures::MaterialTextures;
 use crate::bsdf::Material;
 use crate::light::Light;
+use crate::texture::{ColourSlot, Texture};
 use std::ops::Range;
+use std::sync::Arc;
 
 /// A built scene's hashes.
 pub(super) struct Hashes {
@@ -25,10 +28,28 @@ pub(super) struct Hashes {
     pub objects: Vec<ObjectHash>,
 }
 
-/// The hashes of a scene of `materials`, triangles `flat` and `lights`; `meshes` names each
-/// mesh and the range of `flat`'s triangles it became.
+/// The hash of `material` with its `textures`: [`material_hash`] for an untextured one (so
+/// untextured scenes keep their fingerprints), else that hash followed by every texture's slot
+/// and numbers.
+fn textured_material_hash(material: &Material, textures: &[(ColourSlot, Arc<Texture>)]) -> [u8; 16] {
+    let plain = material_hash(material);
+    if textures.is_empty() {
+        return plain;
+    }
+    let mut h = Hasher::new("opticks textured material");
+    h.0.update(&plain);
+    for (slot, t) in textures {
+        h.0.update(slot.name().as_bytes());
+        h.f32s(&t.fingerprint_words());
+    }
+    h.finish()
+}
+
+/// The hashes of a scene of `materials` with their `textures`, triangles `flat` and `lights`;
+/// `meshes` names each mesh and the range of `flat`'s triangles it became.
 pub(super) fn fingerprints(
     materials: &[Material],
+    textures: &MaterialTextures,
     flat: &Flat,
     lights: &[Light],
     meshes: &[(&str, Range<usize>)],
@@ -37,7 +58,8 @@ pub(super) fn fingerprints(
     // emits: emission is the lights' business (each light has its own shape hash), so a
     // surface may become a light without invalidating the samples of the others.
     let mut geo = Hasher::new("opticks geometry v2");
-    let material_hashes: Vec<[u8; 16]> = materials.iter().map(material_hash).collect();
+    let material_hashes: Vec<[u8; 16]> =
+        materials.iter().zip(textures).map(|(m, t)| textured_material_hash(m, t)).collect();
     // The hash datasets of format version 1 recorded (it also covered emitter assignment).
     let mut geo_v1 = Hasher::new("opticks geometry v1");
     let mut objects = Vec::with_capacity(meshes.len() + materials.len());
@@ -65,6 +87,15 @@ pub(super) fn fingerprints(
                 // dataset (traced before they were honoured) must not match such a scene.
                 for n in flat.shading_normals[shading as usize] {
                     for x in n.to_array() {
+                        bytes.extend_from_slice(&x.to_le_bytes());
+                        bytes_v1.extend_from_slice(&x.to_le_bytes());
+                    }
+                }
+            }
+            if !textures[flat.material_of[i] as usize].is_empty() {
+                // A textured material's colours depend on where on the triangle a point is.
+                if let Some(uv) = flat.uvs.get(flat.uv_of[i] as usize) {
+                    for x in uv.map(|v| v.to_array()).as_flattened() {
                         bytes.extend_from_slice(&x.to_le_bytes());
                         bytes_v1.extend_from_slice(&x.to_le_bytes());
                     }

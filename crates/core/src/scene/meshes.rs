@@ -1,12 +1,12 @@
 //! The first stages of [`super::Scene::build`]: each mesh is validated ([`validate`]: material,
 //! vertices, vertex normals, emitted radiance, indices) and then flattened into the scene's
-//! triangle arrays ([`Flat::push_mesh`]), with its shading normals. Degenerate (zero-area)
+//! triangle arrays ([`Flat::push_mesh`]), with its shading normals and texture coordinates. Degenerate (zero-area)
 //! triangles are dropped there, since they can neither be hit nor emit.
 
 use super::{MeshDesc, SceneError};
 use crate::geometry::Triangle;
 use crate::light::check::check_emission;
-use crate::math::Vec3;
+use crate::math::{Vec2, Vec3};
 
 /// A triangle's vertex normals are ignored (the triangle is faceted) when each is within this
 /// distance of its geometric normal: they could only change results by rounding.
@@ -14,6 +14,9 @@ const FLAT_TOLERANCE: f32 = 1e-5;
 
 /// No shading normals on a triangle.
 pub(super) const NO_SHADING: u32 = u32::MAX;
+
+/// No texture coordinates on a triangle.
+pub(super) const NO_UV: u32 = u32::MAX;
 
 /// No light index.
 pub(super) const NO_LIGHT: u32 = u32::MAX;
@@ -39,6 +42,7 @@ pub(super) fn validate(mesh: &MeshDesc, materials: usize) -> Result<Vec<Vec3>, S
         });
     }
     let normals = unit_normals(mesh)?;
+    check_uvs(mesh)?;
     if let Some(e) = &mesh.emission {
         check_emission(e.radiance).map_err(|source| SceneError::Light {
             at: mesh.source.clone(),
@@ -58,6 +62,26 @@ pub(super) fn validate(mesh: &MeshDesc, materials: usize) -> Result<Vec<Vec3>, S
         }
     }
     Ok(normals)
+}
+
+/// The mesh's texture coordinates: none, or one finite pair per vertex.
+fn check_uvs(mesh: &MeshDesc) -> Result<(), SceneError> {
+    let bad = |message: String| SceneError::BadNormals {
+        at: mesh.source.clone(),
+        mesh: mesh.name.clone(),
+        message,
+    };
+    if !mesh.uvs.is_empty() && mesh.uvs.len() != mesh.positions.len() {
+        return Err(bad(format!(
+            "{} texture coordinates for {} vertices (there must be one per vertex)",
+            mesh.uvs.len(),
+            mesh.positions.len()
+        )));
+    }
+    match mesh.uvs.iter().position(|uv| !uv.is_finite()) {
+        Some(i) => Err(bad(format!("texture coordinate {i} {} is not finite", mesh.uvs[i]))),
+        None => Ok(()),
+    }
 }
 
 /// The mesh's vertex normals, normalised and checked (one per vertex, finite, non-zero); empty
@@ -108,6 +132,10 @@ pub(super) struct Flat {
     pub shading_of: Vec<u32>,
     /// Unit vertex normals of the triangles that have them.
     pub shading_normals: Vec<[Vec3; 3]>,
+    /// Per triangle: index into `uvs`, or [`NO_UV`] (then the UV is the barycentrics).
+    pub uv_of: Vec<u32>,
+    /// Vertex texture coordinates of the triangles that have them.
+    pub uvs: Vec<[Vec2; 3]>,
     /// Zero-area triangles dropped.
     pub dropped: usize,
 }
@@ -156,6 +184,12 @@ impl Flat {
             }
             let index = self.triangles.len() as u32;
             self.shading_of.push(shading);
+            if mesh.uvs.is_empty() {
+                self.uv_of.push(NO_UV);
+            } else {
+                self.uv_of.push(self.uvs.len() as u32);
+                self.uvs.push(t.map(|i| mesh.uvs[i as usize]));
+            }
             if light != NO_LIGHT {
                 emitter.triangles.push(index);
                 area_sum += area as f64;

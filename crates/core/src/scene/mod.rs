@@ -7,7 +7,8 @@
 //! | `build.rs` | [`Scene`] and [`Scene::build`], which runs the stages below in order |
 //! | `meshes.rs` | stages 1–2: validate each mesh, flatten it into triangles with shading normals |
 //! | `lights.rs` | stage 3: the lights, through the light kinds' constructors |
-//! | `hashes.rs` | stage 4: the fingerprints of the built scene |
+//! | `textures.rs` | stage 4: texture bindings checked per material; materials resolved at a point |
+//! | `hashes.rs` | stage 5: the fingerprints of the built scene |
 //! | `fingerprint.rs` | [`Fingerprint`] and the hashing primitives |
 //! | `objects.rs` | per-mesh and per-material hashes ([`ObjectHash`]) and what differs between two lists of them |
 //! | `error.rs` | [`SceneError`] |
@@ -24,6 +25,7 @@ mod hashes;
 mod lights;
 mod meshes;
 mod objects;
+mod textures;
 
 pub use build::Scene;
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};

@@ -245,7 +245,7 @@ pub(crate) fn connect_to(scene: &Scene, s: &Sample, conn: Connection) -> Option<
         }
         Rgb::splat(scene.light_of(prim).map_or(0.0, |k| scene.lights[k].emitted_fraction(n, wc)))
     } else {
-        let f = scene.material(prim).eval_world(scene.normals_at(prim, x), s.from_dir(), wc);
+        let f = scene.material_at(prim, x, &mut None).eval_world(scene.normals_at(prim, x), s.from_dir(), wc);
         if f == Rgb::ZERO {
             return None;
         }

@@ -179,7 +179,8 @@ fn walk<M: PathMis>(
         };
         let depth = b.depth + 1;
         let wi = -b.dir;
-        let material = scene.material(hit.prim);
+        let mut resolved = None;
+        let material = scene.material_at(hit.prim, hit.position, &mut resolved);
         // One shading frame for the vertex's queries: the side, each child's sample, its MIS
         // record's reverse density.
         let point = material.at(scene.normals_at(hit.prim, hit.position));

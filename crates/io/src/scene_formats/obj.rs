@@ -8,9 +8,9 @@
 //! |---|---|
 //! | `v x y z [w] [r g b]` | a position; `w` and vertex colours are ignored |
 //! | `vn x y z` | a vertex normal (a shading normal, normalised by the core) |
-//! | `f i j k …` | a polygon, triangulated as a fan `(i, j, k), (i, k, l), …`; each corner may be `v`, `v/vt`, `v//vn` or `v/vt/vn` (`vt` indices only split vertices for [`generated_vertex_normals`], below) |
+//! | `f i j k …` | a polygon, triangulated as a fan `(i, j, k), (i, k, l), …`; each corner may be `v`, `v/vt`, `v//vn` or `v/vt/vn` (for Mitsuba's `obj` shape, corners are split by `vt` as Mitsuba splits them, see below) |
 //! | indices | 1-based; negative indices count back from the last vertex (or normal) defined so far (`-1` = the latest) |
-//! | `vt` | counted (for relative `vt` indices); its coordinates are ignored |
+//! | `vt u [v [w]]` | a texture coordinate (`w` ignored; v = 0 if absent); Mitsuba's `obj` shape reads them, the OBJ/MTL loader ignores them |
 //! | `o name`, `g name …` | starts a group (the rest of the line is its name; empty = no group) |
 //! | `usemtl name` | later faces use that material (empty = none) |
 //! | `mtllib a.mtl …` | material libraries (the rest of the line, as written) |
@@ -22,12 +22,14 @@
 //! shaded flat: it gets a vertex of its own with its face's geometric normal. Normal indices
 //! on faces before the first `vn` are ignored. `s` (smoothing groups) does not generate normals. A file without `vn` gives exactly the mesh it gave before.
 //!
-//! Generated normals (for Mitsuba's `<shape type="obj">` without `vn`):
-//! [`generated_vertex_normals`] computes Mitsuba 3's angle-weighted smooth normals; for it a file
-//! without `vn` also reports each corner's `vt` index ([`ObjMesh::texcoords`]; `vt` values are
-//! not read, and a `vt` index that is 0, not a number or reaches before the first `vt` counts
-//! as none rather than an error, since texture coordinates are otherwise ignored).
-//!
+//! Texture coordinates and generated normals (for Mitsuba's `<shape type="obj">`): [`parse_obj`]
+//! makes one vertex per distinct (vertex, `vt`) pair of the face corners, as Mitsuba's reader
+//! does, each with its (u, v) ([`ObjMesh::uvs`]; a corner without `vt`, or whose `vt` index is 0
+//! or not a number, gets (0, 0); an index past the file's last `vt` is an error, and indices
+//! in a file without `vt` are ignored, like normal indices before the first `vn`);
+//! [`generated_vertex_normals`] computes Mitsuba 3's angle-weighted smooth normals over those
+//! vertices.
+
 //! Winding is kept as written: a triangle's front face is the one from which it is
 //! counter-clockwise (normal `(v1 − v0) × (v2 − v0)`). Degenerate (zero-area) triangles are kept;
 //! the core scene builder drops them.
@@ -47,7 +49,7 @@
 //! and every error names its line.
 
 use super::{FileLocation, SceneFileError};
-use opticks_core::math::Vec3;
+use opticks_core::math::{Vec2, Vec3};
 use std::path::Path;
 
 /// An OBJ file's triangles.
@@ -60,13 +62,12 @@ pub struct ObjMesh {
     /// One vertex normal per position (as written, not normalised), or empty if the file has
     /// no `v//vn` corners.
     pub normals: Vec<Vec3>,
-    /// For a file without normals whose faces use `v/vt` corners: each triangle's 0-based
-    /// texture-coordinate indices ([`NO_TEXCOORD`] for a corner without one). Empty otherwise.
-    /// Only [`generated_vertex_normals`] uses them (Mitsuba splits vertices by them).
-    pub texcoords: Vec<[u32; 3]>,
+    /// One texture coordinate per position, as written (`vt u v`), for a file whose faces use
+    /// `v/vt` corners (a corner without one gets (0, 0)); empty otherwise.
+    pub uvs: Vec<Vec2>,
 }
 
-/// A corner without a (readable) texture-coordinate index in [`ObjMesh::texcoords`].
+/// A corner without a (readable) texture-coordinate index.
 pub const NO_TEXCOORD: u32 = u32::MAX;
 
 /// What is wrong with an OBJ file's content, and on which line.
@@ -84,7 +85,8 @@ pub(super) struct ObjFile {
     pub(super) vertices: ObjVertices,
     /// Every face's triangles (corner ids, see [`ObjVertices`]), polygons fanned, in file order.
     pub(super) triangles: Vec<[u32; 3]>,
-    /// If asked for: each triangle's texture-coordinate indices (as [`ObjMesh::texcoords`]).
+    /// If asked for: each triangle's 0-based texture-coordinate indices ([`NO_TEXCOORD`] for a
+    /// corner without one).
     pub(super) texcoords: Vec<[u32; 3]>,
     /// The faces in runs that share the group and material statements in force (a new run starts
     /// at the first face after an `o`, `g` or `usemtl`), in file order; none before the first face.
@@ -137,7 +139,9 @@ pub(super) fn parse_obj_file(data: &[u8], texcoords: bool) -> Result<ObjFile, Ob
         match keyword {
             b"v" => geometry.vertex(tokens, line_no)?,
             b"vn" => geometry.normal(tokens, line_no)?,
-            b"vt" => geometry.texcoord_count += 1,
+            // Texture coordinates matter only to a caller that asks for them (Mitsuba's `obj`).
+            b"vt" if texcoords => geometry.texcoord(tokens, line_no)?,
+            b"vt" => geometry.texcoord_count = geometry.texcoord_count.saturating_add(1),
             b"f" => {
                 if new_run {
                     runs.push(FaceRun {
@@ -182,15 +186,39 @@ fn rest_of_line(raw: &[u8], keyword: &[u8]) -> String {
 /// file): the vertices as written if no corner has a normal (with the texture-coordinate
 /// indices, if any corner has one), else those the faces use, split by normal.
 pub fn parse_obj(data: &[u8]) -> Result<ObjMesh, ObjError> {
-    let ObjFile { vertices, triangles, mut texcoords, .. } = parse_obj_file(data, true)?;
-    if !vertices.has_normals() {
-        if texcoords.iter().all(|t| *t == [NO_TEXCOORD; 3]) {
-            texcoords = Vec::new();
-        }
-        return Ok(ObjMesh { positions: vertices.positions, triangles, normals: Vec::new(), texcoords });
+    let ObjFile { mut vertices, triangles, texcoords, .. } = parse_obj_file(data, true)?;
+    let values = std::mem::take(&mut vertices.texcoords);
+    let mesh = if vertices.has_normals() {
+        let mut remap = vertices.remap_table();
+        vertices.gather(&[&triangles], &mut remap)
+    } else {
+        ObjMesh { positions: vertices.positions, triangles, ..Default::default() }
+    };
+    if values.is_empty() || texcoords.iter().all(|t| *t == [NO_TEXCOORD; 3]) {
+        return Ok(mesh);
     }
-    let mut remap = vertices.remap_table();
-    Ok(vertices.gather(&[&triangles], &mut remap))
+    Ok(split_by_uv(mesh, &texcoords, &values))
+}
+
+/// `mesh` (without `uvs`) with one vertex per distinct (vertex, texture-coordinate index) pair
+/// of its triangles' corners, in order of first use, as Mitsuba's OBJ reader makes them, and
+/// their `uvs` (`values[index]`, checked in range; (0, 0) for a corner without one).
+fn split_by_uv(mesh: ObjMesh, texcoords: &[[u32; 3]], values: &[Vec2]) -> ObjMesh {
+    let mut vertex_of = std::collections::HashMap::new();
+    let mut out = ObjMesh { triangles: Vec::with_capacity(mesh.triangles.len()), ..Default::default() };
+    for (t, tc) in mesh.triangles.iter().zip(texcoords) {
+        out.triangles.push(std::array::from_fn(|j| {
+            *vertex_of.entry((t[j], tc[j])).or_insert_with(|| {
+                out.positions.push(mesh.positions[t[j] as usize]);
+                if !mesh.normals.is_empty() {
+                    out.normals.push(mesh.normals[t[j] as usize]);
+                }
+                out.uvs.push(values.get(tc[j] as usize).copied().unwrap_or(Vec2::ZERO));
+                out.positions.len() as u32 - 1
+            })
+        }));
+    }
+    out
 }
 
 /// Marks a face-corner id that names a (position, normal) pair of [`ObjGeometry`] rather than a
@@ -225,6 +253,11 @@ struct ObjGeometry {
     largest_index: u32,
     /// How many `vt` statements were read so far (for relative texture-coordinate indices).
     texcoord_count: u32,
+    /// The `vt` statements' (u, v), in file order.
+    texcoords: Vec<Vec2>,
+    /// Largest 0-based texture-coordinate index referred to and its line (checked like
+    /// `max_index`).
+    max_texcoord: Option<(u32, u32)>,
     /// The current face's texture-coordinate indices (kept to reuse its allocation).
     corner_texcoords: Vec<u32>,
 }
@@ -242,6 +275,8 @@ impl ObjGeometry {
             corners: Vec::with_capacity(16),
             largest_index: largest_index.min(NORMAL_CORNER - 1),
             texcoord_count: 0,
+            texcoords: Vec::new(),
+            max_texcoord: None,
             corner_texcoords: Vec::with_capacity(16),
         }
     }
@@ -250,6 +285,34 @@ impl ObjGeometry {
     fn vertex<'a>(&mut self, tokens: impl Iterator<Item = &'a [u8]>, line_no: u32) -> Result<(), ObjError> {
         let p = read_vec3(tokens, line_no, "vertex")?;
         self.positions.push(p);
+        Ok(())
+    }
+
+    /// Reads the arguments of a `vt` statement on line `line_no`: u and v (0 if absent); a
+    /// third coordinate is ignored.
+    fn texcoord<'a>(
+        &mut self,
+        mut tokens: impl Iterator<Item = &'a [u8]>,
+        line_no: u32,
+    ) -> Result<(), ObjError> {
+        let mut uv = [0.0f32; 2];
+        for (k, c) in uv.iter_mut().enumerate() {
+            let Some(tok) = tokens.next() else {
+                if k == 0 {
+                    return Err(ObjError {
+                        line: line_no,
+                        message: "texture coordinate has no values".into(),
+                    });
+                }
+                break;
+            };
+            *c = parse_f32(tok).filter(|x| x.is_finite()).ok_or_else(|| ObjError {
+                line: line_no,
+                message: format!("texture coordinate {:?} is not a finite number", lossy(tok)),
+            })?;
+        }
+        self.texcoords.push(Vec2::from_array(uv));
+        self.texcoord_count = self.texcoord_count.saturating_add(1);
         Ok(())
     }
 
@@ -280,7 +343,11 @@ impl ObjGeometry {
             let v = fields.next().unwrap_or(tok);
             let vt = fields.next();
             if texcoords.is_some() {
-                self.corner_texcoords.push(texcoord_index(vt, self.texcoord_count));
+                let k = texcoord_index(vt, self.texcoord_count);
+                if k != NO_TEXCOORD && self.max_texcoord.is_none_or(|(m, _)| k > m) {
+                    self.max_texcoord = Some((k, line_no));
+                }
+                self.corner_texcoords.push(k);
             }
             // Normal indices before any `vn` are ignored (as they always were).
             let vn = fields.next().filter(|f| !f.is_empty() && !self.normals.is_empty());
@@ -369,31 +436,33 @@ impl ObjGeometry {
     /// The vertices, once every face is checked against the number of vertices and normals in
     /// the file.
     fn finish(self) -> Result<ObjVertices, ObjError> {
-        if let Some((m, line)) = self.max_normal
-            && m as usize >= self.normals.len()
-        {
-            return Err(ObjError {
-                line,
-                message: format!(
-                    "face refers to normal {}, but the file defines only {} normals",
-                    m as u64 + 1,
-                    self.normals.len()
-                ),
-            });
+        past_end(self.max_normal, self.normals.len(), "normal", "normals")?;
+        past_end(self.max_index, self.positions.len(), "vertex", "vertices")?;
+        // Texture-coordinate indices in a file without `vt` are ignored, like normal indices.
+        if !self.texcoords.is_empty() {
+            past_end(self.max_texcoord, self.texcoords.len(), "texture coordinate", "texture coordinates")?;
         }
-        if let Some((m, line)) = self.max_index
-            && m as usize >= self.positions.len()
-        {
-            return Err(ObjError {
-                line,
-                message: format!(
-                    "face refers to vertex {}, but the file defines only {} vertices",
-                    m as u64 + 1,
-                    self.positions.len()
-                ),
-            });
-        }
-        Ok(ObjVertices { positions: self.positions, normals: self.normals, pairs: self.pairs })
+        Ok(ObjVertices {
+            positions: self.positions,
+            normals: self.normals,
+            pairs: self.pairs,
+            texcoords: self.texcoords,
+        })
+    }
+}
+
+/// The error of a face referring to (0-based) `max` (and the line of that face) when the file
+/// defines only `count` of them.
+fn past_end(max: Option<(u32, u32)>, count: usize, what: &str, plural: &str) -> Result<(), ObjError> {
+    match max {
+        Some((m, line)) if m as usize >= count => Err(ObjError {
+            line,
+            message: format!(
+                "face refers to {what} {}, but the file defines only {count} {plural}",
+                m as u64 + 1
+            ),
+        }),
+        _ => Ok(()),
     }
 }
 
@@ -404,6 +473,8 @@ pub(super) struct ObjVertices {
     pub(super) positions: Vec<Vec3>,
     normals: Vec<Vec3>,
     pairs: Vec<(u32, u32)>,
+    /// The `vt` values.
+    texcoords: Vec<Vec2>,
 }
 
 impl ObjVertices {
@@ -471,22 +542,12 @@ impl ObjVertices {
 /// triangles using it, each weighted by the triangle's angle at that vertex, normalised.
 /// Zero-area triangles add nothing; a vertex whose sum is zero gets Mitsuba's placeholder +x.
 ///
-/// The vertices are those of Mitsuba's OBJ reader, which shares a vertex between corners with
-/// the same (position, texture coordinate) indices: with `texcoords` (see
-/// [`ObjMesh::texcoords`]) a position used with several texture coordinates is split, and
-/// each copy is smoothed over its own triangles only, as in Mitsuba. Without them the mesh keeps
-/// its vertices. `positions` should already be in world space, as Mitsuba computes the normals
+/// The vertices are the mesh's: Mitsuba's OBJ reader shares a vertex between corners with the
+/// same (position, texture coordinate) indices, which [`parse_obj`] has already split them by,
+/// so each copy is smoothed over its own triangles only, as in Mitsuba. `positions` should
+/// already be in world space, as Mitsuba computes the normals
 /// after `to_world` (angles are not preserved by a non-uniform scale).
-pub fn generated_vertex_normals(
-    positions: Vec<Vec3>,
-    triangles: Vec<[u32; 3]>,
-    texcoords: &[[u32; 3]],
-) -> ObjMesh {
-    let (positions, triangles) = if texcoords.len() == triangles.len() {
-        split_by_texcoord(&positions, &triangles, texcoords)
-    } else {
-        (positions, triangles)
-    };
+pub fn generated_vertex_normals(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> ObjMesh {
     let mut normals = vec![Vec3::ZERO; positions.len()];
     for t in &triangles {
         let v = t.map(|i| positions[i as usize]);
@@ -502,31 +563,7 @@ pub fn generated_vertex_normals(
     for n in &mut normals {
         *n = n.try_normalize().unwrap_or(Vec3::X);
     }
-    ObjMesh { positions, triangles, normals, texcoords: Vec::new() }
-}
-
-/// The vertices of Mitsuba's OBJ reader: one per distinct (position, texture coordinate) pair,
-/// in order of first use.
-fn split_by_texcoord(
-    positions: &[Vec3],
-    triangles: &[[u32; 3]],
-    texcoords: &[[u32; 3]],
-) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let mut vertex_of = std::collections::HashMap::new();
-    let mut split = Vec::new();
-    let tris = triangles
-        .iter()
-        .zip(texcoords)
-        .map(|(t, tc)| {
-            std::array::from_fn(|j| {
-                *vertex_of.entry((t[j], tc[j])).or_insert_with(|| {
-                    split.push(positions[t[j] as usize]);
-                    split.len() as u32 - 1
-                })
-            })
-        })
-        .collect();
-    (split, tris)
+    ObjMesh { positions, triangles, normals, ..Default::default() }
 }
 
 /// The angle between unit vectors `a` and `b`, accurate also near 0 and π (as Mitsuba's
@@ -628,10 +665,13 @@ mod tests {
         let src = b"# comment\no quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\r\nv 0 1 0 1.0\nvt 0 0\nvn 0 0 1\ns off\nusemtl x\n\
                     f 1/1/1 2/1/1 3/1/1 4/1/1\nf -4//1 -2//1 -1//1 # tail comment\n\tf\t1 2 3\n";
         let m = parse_obj(src).unwrap();
-        // Four (position, normal) corners, then the three flat corners of `f 1 2 3`.
-        assert_eq!(m.positions.len(), 7);
+        // Four (position, normal, vt) corners, three (position, normal) corners without a `vt`
+        // (Mitsuba's vertices differ by texture coordinate too), then the three flat corners of
+        // `f 1 2 3`.
+        assert_eq!(m.positions.len(), 10);
         assert_eq!(m.positions[2], Vec3::new(1.0, 1.0, 0.0));
-        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [0, 2, 3], [4, 5, 6]]);
+        assert_eq!(m.positions[5], Vec3::new(1.0, 1.0, 0.0));
+        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [4, 5, 6], [7, 8, 9]]);
     }
 
     #[test]
@@ -762,14 +802,27 @@ mod tests {
     }
 
     #[test]
-    fn texcoord_indices_are_kept_only_for_files_without_normals() {
-        let src = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nf 1/1 2/2 3/-1 4\nf 1 2 3/x\n";
+    fn vertices_are_split_by_texture_coordinate_and_carry_their_uvs() {
+        let src = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0.5\nf 1/1 2/2 3/-1 4\nf 1 2 3/x\n";
         let m = parse_obj(src).unwrap();
-        let none = NO_TEXCOORD;
-        assert_eq!(m.texcoords, vec![[0, 1, 1], [0, 1, none], [none, none, none]]);
-        assert!(parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap().texcoords.is_empty());
-        let with_vn = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\n";
-        assert!(parse_obj(with_vn).unwrap().texcoords.is_empty());
+        // (vertex, vt) pairs in order of first use: (1,1) (2,2) (3,2) (1,-) (4,-) (2,-) (3,-).
+        assert_eq!(m.triangles, vec![[0, 1, 2], [0, 2, 3], [4, 5, 6]]);
+        let (z, h) = (Vec2::ZERO, Vec2::new(1.0, 0.5));
+        assert_eq!(m.uvs, vec![z, h, h, z, z, z, z]);
+        assert_eq!(m.positions[3], Vec3::new(1.0, 1.0, 0.0));
+        assert!(parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap().uvs.is_empty());
+        // With normals too: a vertex per (position, normal, texture coordinate).
+        let with_vn = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.25 0.75\nvt 1 1\nvn 0 0 1\nf 1/1/1 2/1/1 3/2/1\nf 1/2/1 2/1/1 3/2/1\n";
+        let m = parse_obj(with_vn).unwrap();
+        assert_eq!(m.triangles, vec![[0, 1, 2], [3, 1, 2]]);
+        assert_eq!(m.uvs, vec![Vec2::new(0.25, 0.75), Vec2::new(0.25, 0.75), Vec2::ONE, Vec2::ONE]);
+        assert_eq!(m.normals, vec![Vec3::Z; 4]);
+        // Bad texture coordinates are errors on their line.
+        let e = parse_obj(b"v 0 0 0\nvt 0 nan\n").unwrap_err();
+        assert_eq!(e.line, 2, "{}", e.message);
+        let e = parse_obj(b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n").unwrap_err();
+        assert_eq!(e.line, 5);
+        assert!(e.message.contains("texture coordinate 2"), "{}", e.message);
     }
 
     /// The three faces of a unit cube meeting at its corner at the origin, outward (−z, −x, −y),
@@ -799,7 +852,7 @@ mod tests {
         // normal is the diagonal; weighting by triangle count (3:2:2) would tilt it towards −z,
         // by area (¼:1:1) away from it.
         let (positions, triangles) = uneven_corner();
-        let m = generated_vertex_normals(positions, triangles, &[]);
+        let m = generated_vertex_normals(positions, triangles);
         let d = -Vec3::ONE.normalize();
         assert!((m.normals[0] - d).length() < 1e-6, "{} != {d}", m.normals[0]);
         // (0.5, 0.5, 0) is only on −z.
@@ -809,10 +862,17 @@ mod tests {
     #[test]
     fn generated_normals_split_vertices_by_texcoord() {
         let (positions, triangles) = uneven_corner();
-        // The −z triangles use texture coordinate 0 at the corner, the others 1: the corner
+        // The −z triangles use texture coordinate 1 at the corner, the others 2: the corner
         // becomes two vertices, each smoothed over its own triangles.
-        let tc: Vec<[u32; 3]> = (0..7).map(|i| if i < 3 { [0; 3] } else { [1; 3] }).collect();
-        let m = generated_vertex_normals(positions, triangles, &tc);
+        let mut src = String::new();
+        positions.iter().for_each(|p| src += &format!("v {} {} {}\n", p.x, p.y, p.z));
+        src += "vt 0 0\nvt 1 1\n";
+        for (i, t) in triangles.iter().enumerate() {
+            let k = if i < 3 { 1 } else { 2 };
+            src += &format!("f {}/{k} {}/{k} {}/{k}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+        }
+        let split = parse_obj(src.as_bytes()).unwrap();
+        let m = generated_vertex_normals(split.positions, split.triangles);
         let corners: Vec<u32> = m.triangles.iter().map(|t| t[0]).collect();
         let (z, xy) = (corners[0], corners[3]);
         assert_eq!(corners, [vec![z; 3], vec![xy; 4]].concat());
@@ -823,7 +883,7 @@ mod tests {
         let d = -Vec3::new(1.0, 1.0, 0.0).normalize();
         assert!((m.normals[xy] - d).length() < 1e-6, "{}", m.normals[xy]);
         // A vertex no triangle with area uses gets Mitsuba's placeholder.
-        let m = generated_vertex_normals(vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0], vec![[0, 1, 2]], &[]);
+        let m = generated_vertex_normals(vec![Vec3::ZERO, Vec3::X, Vec3::X * 2.0], vec![[0, 1, 2]]);
         assert_eq!(m.normals, vec![Vec3::X; 3]);
     }
 }

@@ -58,7 +58,8 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
             let w = weight_emitter_hit(&mis, emitter, pick, ctx.counts);
             radiance += throughput * emitted * w;
         }
-        let material = scene.material(hit.prim);
+        let mut resolved = None;
+        let material = scene.material_at(hit.prim, hit.position, &mut resolved);
         // One shading frame for every BSDF query at this vertex (NEE, the connections, their
         // weights, the next bounce and its MIS densities).
         let r = Receiver::at(

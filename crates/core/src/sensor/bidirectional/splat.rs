@@ -53,7 +53,8 @@ pub fn light_trace_weight(
     let pdf_rev_w = if s.is_emission() {
         0.0 // y₀ has no predecessor
     } else {
-        let (m, n) = (ctx.scene.material(prim), ctx.scene.normals_at(prim, x));
+        let mut resolved = None;
+        let (m, n) = (ctx.scene.material_at(prim, x, &mut resolved), ctx.scene.normals_at(prim, x));
         m.pdf_world(n, to_sensor, s.from_dir())
     };
     let cos = ctx.scene.normal(prim).dot(to_sensor).abs();

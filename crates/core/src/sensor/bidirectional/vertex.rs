@@ -206,11 +206,17 @@ impl<'s> Link<'s> {
         (to_y / d2.sqrt(), d2)
     }
 
-    /// The link of the segment `dir`, `d2` to `v`'s surface.
+    /// The link of the segment `dir`, `d2` to `v`'s surface (its material at the vertex, a
+    /// textured one kept in `resolved`).
     #[inline]
-    fn to(scene: &'s Scene, v: &CachedVertex, (dir, d2): (Vec3, f32)) -> Self {
+    fn to(
+        scene: &'s Scene,
+        v: &CachedVertex,
+        (dir, d2): (Vec3, f32),
+        resolved: &'s mut Option<Material>,
+    ) -> Self {
         let (y, prim) = (v.sample.position(), v.sample.triangle());
-        let point = scene.material(prim).at(scene.normals_at(prim, y));
+        let point = scene.material_at(prim, y, resolved).at(scene.normals_at(prim, y));
         Link { d2, point, from: point.direction(v.sample.from_dir()), back: point.direction(-dir) }
     }
 }
@@ -220,7 +226,8 @@ impl<'s> Link<'s> {
 #[inline]
 pub fn connection_weight(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &CachedVertex) -> f32 {
     let (dir, d2) = Link::segment(r, v.sample.position());
-    let link = Link::to(ctx.scene, v, (dir, d2));
+    let mut resolved = None;
+    let link = Link::to(ctx.scene, v, (dir, d2), &mut resolved);
     weight_of_link(ctx, camera, r.end(&r.point.direction(dir), ctx.directions), v, &link)
 }
 
@@ -329,7 +336,8 @@ fn connect_one(ctx: &Context, r: &Receiver, camera: &CameraVertexMis, v: &Cached
     if f_z == Rgb::ZERO {
         return Rgb::ZERO;
     }
-    let link = Link::to(ctx.scene, v, (dir, d2));
+    let mut resolved = None;
+    let link = Link::to(ctx.scene, v, (dir, d2), &mut resolved);
     let f_y = link.point.eval(&link.from, &link.back);
     if f_y == Rgb::ZERO {
         return Rgb::ZERO;

@@ -317,6 +317,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     normals,
                     material,
                     emission: emission.map(AreaEmission::lambertian),
+                    uvs: Vec::new(),
                 });
             }
         }

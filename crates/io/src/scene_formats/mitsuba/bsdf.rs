@@ -11,6 +11,7 @@
 use super::Result;
 use super::build::Builder;
 use super::properties::Props;
+use super::texture::{BsdfTextures, colour};
 use super::xml::Element;
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
@@ -19,6 +20,7 @@ use opticks_core::bsdf::{
 };
 use opticks_core::math::Rgb;
 use opticks_core::sampling::microfacet::{Distribution, Microfacet};
+use opticks_core::texture::{ColourSlot, TextureBinding};
 
 /// A BSDF as read: its material name, the core's BSDF and whether it scatters on both faces.
 #[derive(Clone, Debug)]
@@ -29,6 +31,8 @@ pub struct ParsedBsdf {
     pub bsdf: Bsdf,
     /// Whether the back face scatters like the front (`twosided`).
     pub two_sided: bool,
+    /// The colours given as textures ([`super::texture`]).
+    pub textures: BsdfTextures,
 }
 
 /// A BSDF builder: the `<bsdf>` element, its type and its properties; returns the BSDF and
@@ -80,8 +84,11 @@ pub fn bsdf<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<ParsedBsdf> {
             e.attr_err("type", format!("unsupported BSDF type \"{ty}\" (supported: {})", names.join(", ")))
         );
     };
-    let (bsdf, two_sided) = (t.build)(b, e, ty, &mut p)?;
-    let parsed = ParsedBsdf { name, bsdf, two_sided };
+    let outer = std::mem::take(&mut b.bsdf_textures);
+    let built = (t.build)(b, e, ty, &mut p);
+    let textures = std::mem::replace(&mut b.bsdf_textures, outer);
+    let (bsdf, two_sided) = built?;
+    let parsed = ParsedBsdf { name, bsdf, two_sided, textures };
     b.finish(&p);
     if let Some(id) = cached_id {
         b.in_progress.remove(id);
@@ -124,6 +131,9 @@ pub fn material_index(b: &mut Builder, parsed: &ParsedBsdf, key: Option<&str>) -
         two_sided: parsed.two_sided,
     });
     let i = materials.len() - 1;
+    for (slot, texture) in &parsed.textures {
+        b.desc.textures.push(TextureBinding { material: i, slot: *slot, texture: texture.clone() });
+    }
     if let Some(k) = key {
         b.material_of.insert(k.to_string(), i);
     }
@@ -143,6 +153,7 @@ pub fn default_material(b: &mut Builder, emitter: bool) -> usize {
         name: name.into(),
         bsdf: Bsdf::Lambert(Lambert::new(Rgb::splat(rho)).expect("valid albedo")),
         two_sided: false,
+        textures: Vec::new(),
     };
     material_index(b, &parsed, Some(key))
 }
@@ -167,14 +178,13 @@ pub fn material_error(
 }
 
 /// `diffuse`: Lambertian, one-sided.
-fn diffuse<'d>(_: &mut Builder<'d>, _: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+fn diffuse<'d>(b: &mut Builder<'d>, _: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    let (rho, node) = colour(b, p, "reflectance", Rgb::splat(0.5), ColourSlot::Reflectance)?;
     if let Some(c) = p.objects().first() {
         return Err(c.err(
-            "unsupported element inside <bsdf type=\"diffuse\"> (textures are not supported; \
-             use <rgb name=\"reflectance\">)",
+            "unsupported element inside <bsdf type=\"diffuse\"> (a texture needs name=\"reflectance\")",
         ));
     }
-    let (rho, node) = p.color_or("reflectance", Rgb::splat(0.5))?;
     let lambert = Lambert::new(rho).map_err(|source| material_error(source, &[], node))?;
     Ok((Bsdf::Lambert(lambert), false))
 }
@@ -182,15 +192,16 @@ fn diffuse<'d>(_: &mut Builder<'d>, _: &'d Element, _: &str, p: &mut Props<'d>) 
 /// `phong` (Opticks extension, Mitsuba 0.6's parameter names), validated by
 /// [`ModifiedPhong::new`]; an impossible value is reported at its element (kd + ks > 1 at the
 /// `<bsdf>`, which both parameters belong to).
-fn phong<'d>(_: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+fn phong<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    let (kd, kd_node) = colour(b, p, "diffuseReflectance", Rgb::splat(0.5), ColourSlot::DiffuseReflectance)?;
+    let (ks, ks_node) =
+        colour(b, p, "specularReflectance", Rgb::splat(0.2), ColourSlot::SpecularReflectance)?;
     if let Some(c) = p.objects().first() {
         return Err(c.err(
-            "unsupported element inside <bsdf type=\"phong\"> (textures are not supported; \
-             use <rgb> or <float> parameters)",
+            "unsupported element inside <bsdf type=\"phong\"> (textures need the name of a colour \
+             parameter: diffuseReflectance, specularReflectance)",
         ));
     }
-    let (kd, kd_node) = p.color_or("diffuseReflectance", Rgb::splat(0.5))?;
-    let (ks, ks_node) = p.color_or("specularReflectance", Rgb::splat(0.2))?;
     let (exponent, e_node) = p.float_or("exponent", 30.0)?;
     let phong = ModifiedPhong::new(kd, ks, exponent as f32).map_err(|source| {
         material_error(source, &[("kd", kd_node), ("ks", ks_node), ("exponent", e_node)], e)
@@ -229,21 +240,22 @@ fn twosided<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>)
              do not wrap it in a twosided BSDF",
         ));
     }
+    b.bsdf_textures.extend(nested.textures);
     Ok((nested.bsdf, true))
 }
 
 /// `conductor`, `roughconductor`, `dielectric`, `roughdielectric` (Mitsuba 3's parameters and
 /// defaults); an impossible value is reported at its element.
-fn specular<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
-    if let Some(c) = p.objects().first() {
-        return Err(c.err(format!(
-            "unsupported element inside <bsdf type=\"{ty}\"> (textures are not supported; \
-             use <rgb>, <float> or <string> parameters)"
-        )));
-    }
+fn specular<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
     let mut nodes: Vec<(&'static str, &'d Element)> = Vec::new();
     let rough = ty.starts_with("rough");
-    let (r, rnode) = p.color_or("specular_reflectance", Rgb::ONE)?;
+    let (r, rnode) = colour(b, p, "specular_reflectance", Rgb::ONE, ColourSlot::SpecularReflectance)?;
+    let t = if ty.ends_with("dielectric") {
+        Some(colour(b, p, "specular_transmittance", Rgb::ONE, ColourSlot::SpecularTransmittance)?)
+    } else {
+        None
+    };
+    no_other_objects(p, ty)?;
     nodes.push(("specular_reflectance", rnode));
     let microfacet = if rough {
         microfacet(p, &mut nodes)?
@@ -283,7 +295,7 @@ fn specular<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>
             SmoothConductor::new(r, ior).map(Bsdf::SmoothConductor)
         }
     } else {
-        let (t, tnode) = p.color_or("specular_transmittance", Rgb::ONE)?;
+        let (t, tnode) = t.unwrap_or((Rgb::ONE, e));
         nodes.push(("specular_transmittance", tnode));
         let (int_ior, inode) = ior(p, "int_ior", 1.5046)?;
         let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
@@ -303,20 +315,16 @@ fn specular<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>
 /// `thindielectric`: Mitsuba 3's thin sheet (`int_ior` BK7, `ext_ior` air,
 /// `specular_reflectance`, `specular_transmittance` 1).
 fn thindielectric<'d>(
-    _: &mut Builder<'d>,
+    b: &mut Builder<'d>,
     e: &'d Element,
     ty: &str,
     p: &mut Props<'d>,
 ) -> Result<(Bsdf, bool)> {
-    if let Some(c) = p.objects().first() {
-        return Err(
-            c.err(format!("unsupported element inside <bsdf type=\"{ty}\"> (textures are not supported)"))
-        );
-    }
+    let (r, rnode) = colour(b, p, "specular_reflectance", Rgb::ONE, ColourSlot::SpecularReflectance)?;
+    let (t, tnode) = colour(b, p, "specular_transmittance", Rgb::ONE, ColourSlot::SpecularTransmittance)?;
+    no_other_objects(p, ty)?;
     let (int_ior, inode) = ior(p, "int_ior", 1.5046)?;
     let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
-    let (r, rnode) = p.color_or("specular_reflectance", Rgb::ONE)?;
-    let (t, tnode) = p.color_or("specular_transmittance", Rgb::ONE)?;
     let nodes = [
         ("int_ior", inode),
         ("ext_ior", enode),
@@ -330,14 +338,10 @@ fn thindielectric<'d>(
 
 /// `plastic`: Mitsuba 3's smooth plastic (`diffuse_reflectance` 0.5, `specular_reflectance` 1,
 /// `int_ior` polypropylene = 1.49, `ext_ior` air, `nonlinear` false), one-sided.
-fn plastic<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
-    if let Some(c) = p.objects().first() {
-        return Err(c.err(format!(
-            "unsupported element inside <bsdf type=\"{ty}\"> (textures are not supported; use <rgb> parameters)"
-        )));
-    }
-    let (d, dnode) = p.color_or("diffuse_reflectance", Rgb::splat(0.5))?;
-    let (s, snode) = p.color_or("specular_reflectance", Rgb::ONE)?;
+fn plastic<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    let (d, dnode) = colour(b, p, "diffuse_reflectance", Rgb::splat(0.5), ColourSlot::DiffuseReflectance)?;
+    let (s, snode) = colour(b, p, "specular_reflectance", Rgb::ONE, ColourSlot::SpecularReflectance)?;
+    no_other_objects(p, ty)?;
     let (int_ior, inode) = ior(p, "int_ior", 1.49)?;
     let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
     let nonlinear = p.bool("nonlinear")?.unwrap_or(false);
@@ -350,6 +354,18 @@ fn plastic<'d>(_: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>)
     let b = Plastic::new(d, s, int_ior, ext_ior, nonlinear)
         .map_err(|source| material_error(source, &nodes, e))?;
     Ok((Bsdf::Plastic(b), false))
+}
+
+/// An error at the first nested object no colour parameter took (a texture without the name
+/// of one of the BSDF's colours, or another element).
+fn no_other_objects(p: &Props, ty: &str) -> Result<()> {
+    match p.objects().first() {
+        Some(c) => Err(c.err(format!(
+            "unsupported element inside <bsdf type=\"{ty}\"> (textures need the name of one of its \
+             colour parameters, e.g. name=\"specular_reflectance\")"
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// The microfacet distribution of a rough BSDF: `distribution` (Beckmann by default), `alpha`

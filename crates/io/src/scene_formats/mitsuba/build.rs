@@ -11,12 +11,15 @@
 use super::Result;
 use super::bsdf::{self, ParsedBsdf};
 use super::properties::Props;
+use super::texture::BsdfTextures;
 use super::xml::{Document, Element};
 use super::{emitter, sensor, shape};
 use crate::scene_formats::LoadedScene;
 use opticks_core::scene::{SceneDescription, Source};
+use opticks_core::texture::Texture;
 use std::collections::{HashMap, HashSet};
 use std::fmt::Display;
+use std::sync::Arc;
 
 /// What the builders share while the scene is built.
 pub struct Builder<'d> {
@@ -35,6 +38,11 @@ pub struct Builder<'d> {
     pub material_of: HashMap<String, usize>,
     /// Ids some `<ref>` pointed to.
     pub used: HashSet<String>,
+    /// Top-level textures already built, by id.
+    pub textures: HashMap<String, Arc<Texture>>,
+    /// The textures read for the BSDF being built ([`super::texture::colour`] adds to them,
+    /// [`super::bsdf::bsdf`] collects them).
+    pub bsdf_textures: BsdfTextures,
     /// How many shapes and top-level emitters have been read (their default names count them).
     shapes: usize,
     emitters: usize,
@@ -66,6 +74,7 @@ const TOP_LEVEL: &[(&str, TopLevel)] = &[
     ("integrator", integrator),
     ("sensor", top_sensor),
     ("bsdf", top_bsdf),
+    ("texture", |_, _| Ok(())), // built where a BSDF refers to it
     ("medium", |_, _| Ok(())),  // read where a shape refers to it
     ("sampler", |_, _| Ok(())), // a sensor may refer to it; sampling is Opticks's own
     ("shape", top_shape),
@@ -82,6 +91,8 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
         in_progress: HashSet::new(),
         material_of: HashMap::new(),
         used: HashSet::new(),
+        textures: HashMap::new(),
+        bsdf_textures: Vec::new(),
         shapes: 0,
         emitters: 0,
     };

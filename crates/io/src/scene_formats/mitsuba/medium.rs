@@ -69,7 +69,7 @@ pub fn absorbing_material(
     let bsdf = bsdf.map_err(|source| bsdf::material_error(source, &[], medium.node))?;
     let name = format!("{}+{}", parsed.name, medium.name);
     let key = ref_id.zip(medium.id).map(|(r, m)| format!("{r}\u{0}{m}"));
-    let parsed = ParsedBsdf { name, bsdf, two_sided: parsed.two_sided };
+    let parsed = ParsedBsdf { name, bsdf, two_sided: parsed.two_sided, textures: parsed.textures };
     Ok(bsdf::material_index(b, &parsed, key.as_deref()))
 }
 

@@ -12,7 +12,7 @@
 //! | `build.rs` | records → [`SceneDescription`](opticks_core::scene::SceneDescription): the walk over the top-level elements and the state the builders share |
 //! | `properties.rs`, `transform.rs` | the typed property getters every builder reads its parameters through, and `<transform>` (`spectrum.rs`, `cie.rs`: `<spectrum>` to RGB as Mitsuba's RGB variants convert it) |
 //! | `sensor.rs` | `<sensor>` and `<film>` → the camera |
-//! | `bsdf.rs` | `<bsdf>` → materials (`conductors.rs`: Mitsuba's named conductors in RGB, generated) |
+//! | `bsdf.rs` | `<bsdf>` → materials (`conductors.rs`: Mitsuba's named conductors in RGB, generated; `texture.rs`: `<texture>` colour parameters) |
 //! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior; `tessellate.rs`: the analytic sphere, disk and cylinder as meshes) |
 //! | `emitter.rs` | `<emitter>` → area, point, spot, IES and directional lights |
 //!
@@ -45,6 +45,7 @@ mod sensor;
 mod shape;
 mod spectrum;
 mod tessellate;
+mod texture;
 mod transform;
 mod xml;
 

@@ -126,6 +126,16 @@ impl<'d> Props<'d> {
         &self.objects
     }
 
+    /// The nested `<texture>` or `<ref>` named `name` (its `name` attribute), removed from
+    /// [`Self::objects`].
+    pub fn take_object(&mut self, name: &str) -> Option<&'d Element> {
+        let i = self
+            .objects
+            .iter()
+            .position(|o| matches!(o.tag.as_str(), "texture" | "ref") && o.raw("name") == Some(name))?;
+        Some(self.objects.remove(i))
+    }
+
     /// The property `name`, marked as read.
     pub fn take(&mut self, name: &str) -> Option<&'d Element> {
         self.entries.iter_mut().find(|(n, _, _)| *n == name).map(|e| {

@@ -23,7 +23,7 @@ use crate::scene_formats::mesh_bytes::{MeshData, read_mesh_file};
 use crate::scene_formats::obj::{generated_vertex_normals, read_obj};
 use crate::scene_formats::{ply::parse_ply, serialized::parse_serialized};
 use glam::{DMat3, DMat4};
-use opticks_core::math::Vec3;
+use opticks_core::math::{Vec2, Vec3};
 use opticks_core::scene::MeshDesc;
 
 /// A shape's geometry before `to_world`.
@@ -34,10 +34,12 @@ pub struct Geometry {
     pub triangles: Vec<[u32; 3]>,
     /// Shading normals, one per position, or empty.
     pub normals: Vec<Vec3>,
-    /// For a mesh file: its texture-coordinate indices per triangle corner, which Mitsuba's
-    /// generated normals are split by (a mesh file without normals gets them unless
-    /// `face_normals` is set). `None` for analytic shapes.
-    pub texcoords: Option<Vec<[u32; 3]>>,
+    /// Texture coordinates, one per position (Mitsuba's parameterisation of an analytic shape,
+    /// a mesh file's own), or empty (then the UV is the barycentrics, as in Mitsuba).
+    pub uvs: Vec<Vec2>,
+    /// A mesh file, which gets Mitsuba's generated smooth normals when it has none (unless
+    /// `face_normals` is set).
+    pub mesh_file: bool,
     /// An analytic shape, whose normals Mitsuba transforms as normals (a mirroring `to_world`
     /// reverses its winding to keep them).
     pub analytic: bool,
@@ -70,14 +72,14 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
             e.attr_err("type", format!("unsupported shape type \"{ty}\" (supported: {})", names.join(", ")))
         );
     };
-    let Geometry { mut positions, mut triangles, mut normals, texcoords, analytic } = geometry(b, e, &mut p)?;
+    let Geometry { mut positions, mut triangles, mut normals, uvs, mesh_file, analytic } =
+        geometry(b, e, &mut p)?;
     // Mitsuba's default (false) shades with the file's vertex normals when it has them, and
     // generates smooth ones (after `to_world`, below) when it has none.
     let face_normals = p.bool("face_normals")?.unwrap_or(false);
     if face_normals {
         normals.clear();
     }
-    p.ignore(&["flip_tex_coords"]);
     let flip = p.bool("flip_normals")?.unwrap_or(false);
     let mut mirrored = false;
     if let Some((t, tnode)) = p.transform("to_world")? {
@@ -98,8 +100,8 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
             normals.iter_mut().for_each(|v| *v = nm * *v);
         }
     }
-    if let Some(texcoords) = texcoords.filter(|_| !face_normals && normals.is_empty()) {
-        let smooth = generated_vertex_normals(positions, triangles, &texcoords);
+    if mesh_file && !face_normals && normals.is_empty() {
+        let smooth = generated_vertex_normals(positions, triangles);
         (positions, triangles, normals) = (smooth.positions, smooth.triangles, smooth.normals);
     }
     if flip ^ (analytic && mirrored) {
@@ -180,6 +182,7 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
         positions,
         triangles,
         normals,
+        uvs,
         material,
         ..Default::default()
     };
@@ -192,6 +195,8 @@ fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geo
     let (file, fnode) =
         p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))?;
     let path = b.doc.resolve(fnode, &file);
+    // Mitsuba's OBJ reader flips v by default (most OBJ files count it from the bottom).
+    let flip_v = p.bool("flip_tex_coords")?.unwrap_or(true);
     let mesh = read_obj(&path, Some((e.describe(), e.at.clone())))?;
     if mesh.triangles.is_empty() {
         b.warn(e, format!("{} has no faces", path.display()));
@@ -200,7 +205,8 @@ fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geo
         positions: mesh.positions,
         triangles: mesh.triangles,
         normals: mesh.normals,
-        texcoords: Some(mesh.texcoords),
+        uvs: flipped_v(mesh.uvs, flip_v),
+        mesh_file: true,
         analytic: false,
     })
 }
@@ -209,7 +215,10 @@ fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geo
 fn ply<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
     let (file, fnode) = mesh_filename(e, p)?;
     let path = b.doc.resolve(fnode, &file);
-    let mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), parse_ply)?;
+    // Mitsuba's PLY reader keeps v as written by default.
+    let flip_v = p.bool("flip_tex_coords")?.unwrap_or(false);
+    let mut mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), parse_ply)?;
+    mesh.uvs = flipped_v(std::mem::take(&mut mesh.uvs), flip_v);
     Ok(mesh_geometry(b, e, &path, mesh))
 }
 
@@ -231,8 +240,16 @@ fn mesh_filename<'d>(e: &'d Element, p: &mut Props<'d>) -> Result<(String, &'d E
     p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))
 }
 
-/// The geometry of a mesh file without texture-coordinate splits (its vertices are already
-/// Mitsuba's); warns when it has no faces.
+/// `uvs` with v replaced by 1 − v if `flip`.
+fn flipped_v(mut uvs: Vec<Vec2>, flip: bool) -> Vec<Vec2> {
+    if flip {
+        uvs.iter_mut().for_each(|t| t.y = 1.0 - t.y);
+    }
+    uvs
+}
+
+/// The geometry of a binary mesh file (its vertices are already Mitsuba's); warns when it has
+/// no faces.
 fn mesh_geometry(b: &mut Builder, e: &Element, path: &std::path::Path, mesh: MeshData) -> Geometry {
     if mesh.triangles.is_empty() {
         b.warn(e, format!("{} has no faces", path.display()));
@@ -241,7 +258,8 @@ fn mesh_geometry(b: &mut Builder, e: &Element, path: &std::path::Path, mesh: Mes
         positions: mesh.positions,
         triangles: mesh.triangles,
         normals: mesh.normals,
-        texcoords: Some(Vec::new()),
+        uvs: mesh.uvs,
+        mesh_file: true,
         analytic: false,
     }
 }
@@ -250,14 +268,14 @@ fn mesh_geometry(b: &mut Builder, e: &Element, path: &std::path::Path, mesh: Mes
 fn sphere<'d>(_: &mut Builder<'d>, _: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
     let center = p.point("center")?.map_or(Vec3::ZERO, |(c, _)| c.as_vec3());
     let radius = positive(p, "radius", 1.0)?;
-    let (positions, triangles, normals) = tessellate::sphere(center, radius as f32);
-    Ok(Geometry { positions, triangles, normals, texcoords: None, analytic: true })
+    let (positions, triangles, normals, uvs) = tessellate::sphere(center, radius as f32);
+    Ok(Geometry { positions, triangles, normals, uvs, mesh_file: false, analytic: true })
 }
 
 /// `disk`: the unit disk at z = 0, normal +z.
 fn disk<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Geometry> {
-    let (positions, triangles, _) = tessellate::disk();
-    Ok(analytic(positions, triangles))
+    let (positions, triangles, _, uvs) = tessellate::disk();
+    Ok(analytic(positions, triangles, uvs))
 }
 
 /// `cylinder`: `p0` (0, 0, 0) to `p1` (0, 0, 1), `radius` (1), open, smooth normals outward.
@@ -266,9 +284,9 @@ fn cylinder<'d>(_: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Resul
     let p1 = p.point("p1")?;
     let radius = positive(p, "radius", 1.0)?;
     let (a, b) = (p0.map_or(glam::DVec3::ZERO, |x| x.0), p1.map_or(glam::DVec3::Z, |x| x.0));
-    let (positions, triangles, normals) = tessellate::cylinder(a, b, radius)
+    let (positions, triangles, normals, uvs) = tessellate::cylinder(a, b, radius)
         .ok_or_else(|| p1.or(p0).map_or(e, |x| x.1).err("the cylinder's p0 and p1 are the same point"))?;
-    Ok(Geometry { positions, triangles, normals, texcoords: None, analytic: true })
+    Ok(Geometry { positions, triangles, normals, uvs, mesh_file: false, analytic: true })
 }
 
 /// A float parameter that must be > 0 (`default` if absent).
@@ -280,16 +298,48 @@ fn positive<'d>(p: &mut Props<'d>, name: &str, default: f64) -> Result<f64> {
     Ok(v)
 }
 
-/// `rectangle`: [-1, 1]² at z = 0, normal +z.
+/// `rectangle`: [-1, 1]² at z = 0, normal +z, (u, v) = ((x + 1)/2, (y + 1)/2) as in Mitsuba.
 fn rectangle<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Geometry> {
-    let positions = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)].map(|(x, y)| Vec3::new(x, y, 0.0));
-    Ok(analytic(positions.to_vec(), vec![[0, 1, 2], [2, 3, 0]]))
+    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let positions = corners.map(|(x, y)| Vec3::new(x, y, 0.0));
+    let uvs = corners.map(|(x, y)| Vec2::new((x + 1.0) / 2.0, (y + 1.0) / 2.0));
+    Ok(analytic(positions.to_vec(), vec![[0, 1, 2], [2, 3, 0]], uvs.to_vec()))
 }
+
+/// Mitsuba's `cube` texture coordinates: each face's corners (position, outward normal axis
+/// and sign) with their (u, v), from Mitsuba 3's `cube.cpp` (every face maps onto [0, 1]²).
+const CUBE_UVS: [([f32; 3], usize, f32, [f32; 2]); 24] = [
+    ([1.0, -1.0, -1.0], 1, -1.0, [0.0, 1.0]),
+    ([1.0, -1.0, 1.0], 1, -1.0, [1.0, 1.0]),
+    ([-1.0, -1.0, 1.0], 1, -1.0, [1.0, 0.0]),
+    ([-1.0, -1.0, -1.0], 1, -1.0, [0.0, 0.0]),
+    ([1.0, 1.0, -1.0], 1, 1.0, [0.0, 1.0]),
+    ([-1.0, 1.0, -1.0], 1, 1.0, [1.0, 1.0]),
+    ([-1.0, 1.0, 1.0], 1, 1.0, [1.0, 0.0]),
+    ([1.0, 1.0, 1.0], 1, 1.0, [0.0, 0.0]),
+    ([1.0, -1.0, -1.0], 0, 1.0, [0.0, 1.0]),
+    ([1.0, 1.0, -1.0], 0, 1.0, [1.0, 1.0]),
+    ([1.0, 1.0, 1.0], 0, 1.0, [1.0, 0.0]),
+    ([1.0, -1.0, 1.0], 0, 1.0, [0.0, 0.0]),
+    ([1.0, -1.0, 1.0], 2, 1.0, [0.0, 1.0]),
+    ([1.0, 1.0, 1.0], 2, 1.0, [1.0, 1.0]),
+    ([-1.0, 1.0, 1.0], 2, 1.0, [1.0, 0.0]),
+    ([-1.0, -1.0, 1.0], 2, 1.0, [0.0, 0.0]),
+    ([-1.0, -1.0, 1.0], 0, -1.0, [0.0, 1.0]),
+    ([-1.0, 1.0, 1.0], 0, -1.0, [1.0, 1.0]),
+    ([-1.0, 1.0, -1.0], 0, -1.0, [1.0, 0.0]),
+    ([-1.0, -1.0, -1.0], 0, -1.0, [0.0, 0.0]),
+    ([1.0, 1.0, -1.0], 2, -1.0, [0.0, 1.0]),
+    ([1.0, -1.0, -1.0], 2, -1.0, [1.0, 1.0]),
+    ([-1.0, -1.0, -1.0], 2, -1.0, [1.0, 0.0]),
+    ([-1.0, 1.0, -1.0], 2, -1.0, [0.0, 0.0]),
+];
 
 /// `cube`: Mitsuba's [-1, 1]³, four vertices per face, outward normals, counter-clockwise.
 fn cube<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Geometry> {
     let mut positions = Vec::with_capacity(24);
     let mut triangles = Vec::with_capacity(12);
+    let mut uvs = Vec::with_capacity(24);
     for axis in 0..3 {
         for sign in [-1.0f32, 1.0] {
             // Face at coordinate `axis` = sign; (u, v) span it with u × v = sign · e_axis.
@@ -298,16 +348,20 @@ fn cube<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Ge
             let v = n.cross(u);
             let base = positions.len() as u32;
             for (a, c) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                positions.push(n + a * u + c * v);
+                let q = n + a * u + c * v;
+                positions.push(q);
+                let uv =
+                    CUBE_UVS.iter().find(|(p, ax, s, _)| Vec3::from(*p) == q && *ax == axis && *s == sign);
+                uvs.push(uv.map_or(Vec2::ZERO, |t| Vec2::from(t.3)));
             }
             triangles.push([base, base + 1, base + 2]);
             triangles.push([base, base + 2, base + 3]);
         }
     }
-    Ok(analytic(positions, triangles))
+    Ok(analytic(positions, triangles, uvs))
 }
 
-/// A faceted analytic shape.
-fn analytic(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>) -> Geometry {
-    Geometry { positions, triangles, normals: Vec::new(), texcoords: None, analytic: true }
+/// A faceted analytic shape with its texture coordinates.
+fn analytic(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>, uvs: Vec<Vec2>) -> Geometry {
+    Geometry { positions, triangles, normals: Vec::new(), uvs, mesh_file: false, analytic: true }
 }

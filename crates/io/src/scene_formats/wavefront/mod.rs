@@ -227,6 +227,7 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             normals: mesh.normals,
             material,
             emission: emission.map(AreaEmission::lambertian),
+            uvs: Vec::new(),
         });
     }
     if desc.meshes.is_empty() {

@@ -1,0 +1,419 @@
+//! Textures: colours that vary over a surface, looked up by its (u, v) texture coordinates, as
+//! Mitsuba 3 defines them (`bitmap`, `checkerboard`; a constant is a plain [`Rgb`] in the BSDF).
+//!
+//! A texture is bound to one colour parameter of a material ([`TextureBinding`], a
+//! [`ColourSlot`] of [`crate::bsdf::Bsdf`]); the scene resolves the material at a hit
+//! ([`crate::scene::Scene::material_at`]), which evaluates the texture at the hit's UV — from
+//! the triangle's vertex UVs at the barycentrics recomputed from the point, so a stored
+//! sample (position and triangle) needs nothing more. Materials without textures are returned
+//! as they are, with no lookup.
+//!
+//! UV conventions (Mitsuba's): `to_uv` maps (u, v, 1) affinely before the lookup; texel (i, j)
+//! of a `width` × `height` bitmap has its centre at ((i + ½)/width, (j + ½)/height), row 0 being
+//! the image's first (top) row; bilinear filtering interpolates the four nearest centres,
+//! nearest takes the texel containing the point; the wrap mode maps texel indices outside the
+//! image back into it (repeat, mirror, clamp).
+
+use crate::bsdf::{Bsdf, Plastic};
+use crate::math::{Rgb, Vec2};
+use std::sync::Arc;
+
+/// An affine map of texture coordinates: (u, v) ↦ (m00·u + m01·v + m02, m10·u + m11·v + m12)
+/// (Mitsuba's `to_uv`, a 3×3 matrix whose last row is 0 0 1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform(pub [[f32; 3]; 2]);
+
+impl UvTransform {
+    /// The identity.
+    pub const IDENTITY: UvTransform = UvTransform([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+
+    /// The image of `uv`.
+    #[inline]
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        let [a, b] = self.0;
+        Vec2::new(a[0] * uv.x + a[1] * uv.y + a[2], b[0] * uv.x + b[1] * uv.y + b[2])
+    }
+}
+
+/// How texel indices outside the image are mapped back into it (Mitsuba's `wrap_mode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WrapMode {
+    /// Tiles the image (the default).
+    Repeat,
+    /// Tiles it mirrored every other time.
+    Mirror,
+    /// Repeats the edge texels.
+    Clamp,
+}
+
+impl WrapMode {
+    /// Index `i` mapped into `0..n` (`n` > 0).
+    #[inline]
+    pub fn wrap(self, i: i64, n: i64) -> usize {
+        let k = match self {
+            WrapMode::Repeat => i.rem_euclid(n),
+            WrapMode::Clamp => i.clamp(0, n - 1),
+            WrapMode::Mirror => {
+                let k = i.rem_euclid(2 * n);
+                if k >= n { 2 * n - 1 - k } else { k }
+            }
+        };
+        k as usize
+    }
+}
+
+/// How a bitmap is sampled between texel centres (Mitsuba's `filter_type`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FilterType {
+    /// Bilinear interpolation of the four nearest texel centres (the default).
+    Bilinear,
+    /// The texel containing the point.
+    Nearest,
+}
+
+/// A grid of linear RGB texels (row 0 first, the image's top row).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bitmap {
+    width: usize,
+    height: usize,
+    texels: Vec<Rgb>,
+    /// Interpolation between texel centres.
+    pub filter: FilterType,
+    /// Indices outside the image.
+    pub wrap: WrapMode,
+    /// Applied to the surface's UV before the lookup.
+    pub to_uv: UvTransform,
+}
+
+/// Why a texture cannot be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TextureError {
+    /// The texel grid does not match its size, or is empty.
+    #[error("a {width}×{height} bitmap needs {} texels, got {got}", width * height)]
+    Size {
+        /// Columns.
+        width: usize,
+        /// Rows.
+        height: usize,
+        /// Texels given.
+        got: usize,
+    },
+    /// A texel or colour is negative or not finite.
+    #[error("texel {index} = {value} is negative or not finite")]
+    BadTexel {
+        /// Row-major texel index.
+        index: usize,
+        /// Its value.
+        value: Rgb,
+    },
+    /// A `to_uv` entry is not finite.
+    #[error("the to_uv transform has a non-finite entry")]
+    BadTransform,
+}
+
+impl Bitmap {
+    /// A `width` × `height` bitmap of `texels` (row-major, row 0 first). Refuses an empty grid,
+    /// a grid of the wrong length, negative or non-finite texels and a non-finite transform.
+    pub fn new(
+        width: usize,
+        height: usize,
+        texels: Vec<Rgb>,
+        filter: FilterType,
+        wrap: WrapMode,
+        to_uv: UvTransform,
+    ) -> Result<Self, TextureError> {
+        if width == 0 || height == 0 || width.checked_mul(height) != Some(texels.len()) {
+            return Err(TextureError::Size { width, height, got: texels.len() });
+        }
+        if let Some((index, &value)) =
+            texels.iter().enumerate().find(|(_, t)| !t.is_finite() || t.min_element() < 0.0)
+        {
+            return Err(TextureError::BadTexel { index, value });
+        }
+        check_transform(&to_uv)?;
+        Ok(Bitmap { width, height, texels, filter, wrap, to_uv })
+    }
+
+    /// Columns and rows.
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
+    /// The texels, row-major, row 0 first.
+    pub fn texels(&self) -> &[Rgb] {
+        &self.texels
+    }
+
+    /// The texel at column `i`, row `j`, wrapped.
+    #[inline]
+    fn texel(&self, i: i64, j: i64) -> Rgb {
+        let (x, y) = (self.wrap.wrap(i, self.width as i64), self.wrap.wrap(j, self.height as i64));
+        self.texels[y * self.width + x]
+    }
+
+    /// The colour at surface coordinates `uv`.
+    #[inline]
+    pub fn eval(&self, uv: Vec2) -> Rgb {
+        let uv = self.to_uv.apply(uv);
+        if !uv.is_finite() {
+            return self.texels[0];
+        }
+        // Far outside [0, 1]² the indices saturate; the wrap keeps them in range.
+        let p = Vec2::new(uv.x * self.width as f32, uv.y * self.height as f32);
+        match self.filter {
+            FilterType::Nearest => self.texel(p.x.floor() as i64, p.y.floor() as i64),
+            FilterType::Bilinear => {
+                let p = p - Vec2::splat(0.5);
+                let (i, j) = (p.x.floor(), p.y.floor());
+                let (w1x, w1y) = (p.x - i, p.y - j);
+                let (i, j) = (i as i64, j as i64);
+                let row = |j: i64| self.texel(i, j) * (1.0 - w1x) + self.texel(i + 1, j) * w1x;
+                row(j) * (1.0 - w1y) + row(j + 1) * w1y
+            }
+        }
+    }
+
+    /// The largest value of each channel (a bound of [`Bitmap::eval`]: interpolation is convex).
+    pub fn max_value(&self) -> Rgb {
+        self.texels.iter().fold(Rgb::ZERO, |m, t| m.max(*t))
+    }
+}
+
+/// Mitsuba's `checkerboard`: `color0` where the fractional parts of u and v (after `to_uv`) are
+/// both above ½ or both at most ½, `color1` elsewhere.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Checkerboard {
+    /// The colour of the squares containing (0.25, 0.25) (Mitsuba's default 0.4).
+    pub color0: Rgb,
+    /// The other squares' colour (Mitsuba's default 0.2).
+    pub color1: Rgb,
+    /// Applied to the surface's UV before the lookup.
+    pub to_uv: UvTransform,
+}
+
+impl Checkerboard {
+    /// A checkerboard; refuses negative or non-finite colours and a non-finite transform.
+    pub fn new(color0: Rgb, color1: Rgb, to_uv: UvTransform) -> Result<Self, TextureError> {
+        for (index, value) in [color0, color1].into_iter().enumerate() {
+            if !value.is_finite() || value.min_element() < 0.0 {
+                return Err(TextureError::BadTexel { index, value });
+            }
+        }
+        check_transform(&to_uv)?;
+        Ok(Checkerboard { color0, color1, to_uv })
+    }
+
+    /// The colour at surface coordinates `uv`.
+    #[inline]
+    pub fn eval(&self, uv: Vec2) -> Rgb {
+        let uv = self.to_uv.apply(uv);
+        let high = |x: f32| x - x.floor() > 0.5;
+        if high(uv.x) == high(uv.y) { self.color0 } else { self.color1 }
+    }
+}
+
+fn check_transform(t: &UvTransform) -> Result<(), TextureError> {
+    if t.0.iter().flatten().all(|x| x.is_finite()) { Ok(()) } else { Err(TextureError::BadTransform) }
+}
+
+/// The closed set of textures.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Texture {
+    /// An image.
+    Bitmap(Bitmap),
+    /// Two colours in squares.
+    Checkerboard(Checkerboard),
+}
+
+impl Texture {
+    /// The colour at surface coordinates `uv`.
+    #[inline]
+    pub fn eval(&self, uv: Vec2) -> Rgb {
+        match self {
+            Texture::Bitmap(b) => b.eval(uv),
+            Texture::Checkerboard(c) => c.eval(uv),
+        }
+    }
+
+    /// The largest value of each channel over the surface.
+    pub fn max_value(&self) -> Rgb {
+        match self {
+            Texture::Bitmap(b) => b.max_value(),
+            Texture::Checkerboard(c) => c.color0.max(c.color1),
+        }
+    }
+
+    /// Every number that decides the texture's values, in a fixed order (for the scene's
+    /// fingerprint: a dataset traced with one texture does not render against another).
+    pub fn fingerprint_words(&self) -> Vec<f32> {
+        let t = |t: &UvTransform| t.0.concat();
+        match self {
+            Texture::Bitmap(b) => {
+                let mut w = vec![0.0, b.width as f32, b.height as f32];
+                w.push(match b.filter {
+                    FilterType::Bilinear => 0.0,
+                    FilterType::Nearest => 1.0,
+                });
+                w.push(match b.wrap {
+                    WrapMode::Repeat => 0.0,
+                    WrapMode::Mirror => 1.0,
+                    WrapMode::Clamp => 2.0,
+                });
+                w.extend(t(&b.to_uv));
+                w.extend(b.texels.iter().flat_map(|x| x.to_array()));
+                w
+            }
+            Texture::Checkerboard(c) => {
+                let mut w = vec![1.0];
+                w.extend(c.color0.to_array());
+                w.extend(c.color1.to_array());
+                w.extend(t(&c.to_uv));
+                w
+            }
+        }
+    }
+}
+
+/// A colour parameter of a BSDF that a texture can replace (Mitsuba's parameter names).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ColourSlot {
+    /// `reflectance` of `diffuse`.
+    Reflectance,
+    /// `diffuse_reflectance` of `plastic`, `kd` of Phong.
+    DiffuseReflectance,
+    /// `specular_reflectance` of conductors, dielectrics and plastic; `ks` of Phong.
+    SpecularReflectance,
+    /// `specular_transmittance` of dielectrics.
+    SpecularTransmittance,
+}
+
+impl ColourSlot {
+    /// Mitsuba's name of the parameter.
+    pub fn name(self) -> &'static str {
+        match self {
+            ColourSlot::Reflectance => "reflectance",
+            ColourSlot::DiffuseReflectance => "diffuse_reflectance",
+            ColourSlot::SpecularReflectance => "specular_reflectance",
+            ColourSlot::SpecularTransmittance => "specular_transmittance",
+        }
+    }
+}
+
+/// Sets the colour `slot` of `bsdf` to `c`; false (and `bsdf` unchanged) if the BSDF has no
+/// such colour, or if `c` is one its constructor refuses (a plastic's).
+pub fn set_colour(bsdf: &mut Bsdf, slot: ColourSlot, c: Rgb) -> bool {
+    use ColourSlot::*;
+    let field = match (bsdf, slot) {
+        (Bsdf::Lambert(b), Reflectance) => &mut b.reflectance,
+        (Bsdf::ModifiedPhong(b), DiffuseReflectance) => &mut b.kd,
+        (Bsdf::ModifiedPhong(b), SpecularReflectance) => &mut b.ks,
+        (Bsdf::SmoothConductor(b), SpecularReflectance) => &mut b.specular_reflectance,
+        (Bsdf::RoughConductor(b), SpecularReflectance) => &mut b.specular_reflectance,
+        (Bsdf::SmoothDielectric(b), SpecularReflectance) => &mut b.specular_reflectance,
+        (Bsdf::SmoothDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
+        (Bsdf::RoughDielectric(b), SpecularReflectance) => &mut b.specular_reflectance,
+        (Bsdf::RoughDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
+        (Bsdf::ThinDielectric(b), SpecularReflectance) => &mut b.specular_reflectance,
+        (Bsdf::ThinDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
+        // The plastic's sampling weights follow from its colours: rebuilt.
+        (Bsdf::Plastic(b), DiffuseReflectance | SpecularReflectance) => {
+            let (d, s) = match slot {
+                DiffuseReflectance => (c, b.specular_reflectance),
+                _ => (b.diffuse_reflectance, c),
+            };
+            return match Plastic::new(d, s, b.eta, 1.0, b.nonlinear) {
+                Ok(p) => {
+                    *b = p;
+                    true
+                }
+                Err(_) => false,
+            };
+        }
+        _ => return false,
+    };
+    *field = c;
+    true
+}
+
+/// A texture in place of one colour parameter of one material of a scene description.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TextureBinding {
+    /// Index into [`crate::scene::SceneDescription::materials`].
+    pub material: usize,
+    /// Which colour it replaces.
+    pub slot: ColourSlot,
+    /// The texture (shared: one image may colour many materials).
+    pub texture: Arc<Texture>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid(w: usize, h: usize) -> Vec<Rgb> {
+        (0..w * h).map(|k| Rgb::new((k % w) as f32, (k / w) as f32, 1.0)).collect()
+    }
+
+    #[test]
+    fn wrap_modes_fold_indices_as_mitsuba() {
+        let r: Vec<usize> = (-4..8).map(|i| WrapMode::Repeat.wrap(i, 3)).collect();
+        assert_eq!(r, [2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1]);
+        let m: Vec<usize> = (-4..8).map(|i| WrapMode::Mirror.wrap(i, 3)).collect();
+        assert_eq!(m, [2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0, 1]);
+        let c: Vec<usize> = (-4..8).map(|i| WrapMode::Clamp.wrap(i, 3)).collect();
+        assert_eq!(c, [0, 0, 0, 0, 0, 1, 2, 2, 2, 2, 2, 2]);
+    }
+
+    #[test]
+    fn bilinear_interpolates_between_texel_centres_and_nearest_picks_the_texel() {
+        let b = |filter, wrap| Bitmap::new(4, 2, grid(4, 2), filter, wrap, UvTransform::IDENTITY).unwrap();
+        let lin = b(FilterType::Bilinear, WrapMode::Clamp);
+        // Texel centres return the texel exactly.
+        assert_eq!(lin.eval(Vec2::new(0.125, 0.25)), Rgb::new(0.0, 0.0, 1.0));
+        assert_eq!(lin.eval(Vec2::new(0.625, 0.75)), Rgb::new(2.0, 1.0, 1.0));
+        // Halfway between centres: the mean; u is linear in between.
+        let m = lin.eval(Vec2::new(0.25, 0.5));
+        assert!((m - Rgb::new(0.5, 0.5, 1.0)).abs().max_element() < 1e-6, "{m}");
+        let q = lin.eval(Vec2::new(0.125 + 0.25 * 0.3, 0.25));
+        assert!((q.x - 0.3).abs() < 1e-5, "{q}");
+        // Clamp: beyond the last centre stays at the edge; repeat blends with the other side.
+        assert_eq!(lin.eval(Vec2::new(0.99, 0.25)).x, 3.0);
+        let rep = b(FilterType::Bilinear, WrapMode::Repeat);
+        assert!((rep.eval(Vec2::new(1.0, 0.25)).x - 1.5).abs() < 1e-5);
+        assert!((rep.eval(Vec2::new(2.0, 0.25)) - rep.eval(Vec2::new(0.0, 0.25))).length() < 1e-5);
+        let near = b(FilterType::Nearest, WrapMode::Repeat);
+        assert_eq!(near.eval(Vec2::new(0.26, 0.9)), Rgb::new(1.0, 1.0, 1.0));
+        assert_eq!(near.eval(Vec2::new(-0.01, 0.1)), Rgb::new(3.0, 0.0, 1.0));
+        let mirror = b(FilterType::Nearest, WrapMode::Mirror);
+        assert_eq!(mirror.eval(Vec2::new(-0.01, 0.1)), Rgb::new(0.0, 0.0, 1.0));
+        assert_eq!(mirror.eval(Vec2::new(1.3, 0.1)), Rgb::new(2.0, 0.0, 1.0));
+        assert_eq!(lin.max_value(), Rgb::new(3.0, 1.0, 1.0));
+    }
+
+    #[test]
+    fn to_uv_transforms_before_the_lookup_and_checkerboard_alternates() {
+        let t = UvTransform([[2.0, 0.0, 0.5], [0.0, 2.0, 0.0]]);
+        assert_eq!(t.apply(Vec2::new(0.25, 0.5)), Vec2::new(1.0, 1.0));
+        let (a, b) = (Rgb::splat(0.4), Rgb::splat(0.2));
+        let c = Checkerboard::new(a, b, UvTransform::IDENTITY).unwrap();
+        assert_eq!(c.eval(Vec2::new(0.25, 0.25)), a);
+        assert_eq!(c.eval(Vec2::new(0.75, 0.75)), a);
+        assert_eq!(c.eval(Vec2::new(0.75, 0.25)), b);
+        assert_eq!(c.eval(Vec2::new(-0.25, 0.25)), b);
+        let scaled = Checkerboard::new(a, b, UvTransform([[4.0, 0.0, 0.0], [0.0, 4.0, 0.0]])).unwrap();
+        assert_eq!(scaled.eval(Vec2::new(0.2, 0.05)), b);
+    }
+
+    #[test]
+    fn bad_bitmaps_are_refused() {
+        let ok = |t| Bitmap::new(2, 1, t, FilterType::Nearest, WrapMode::Repeat, UvTransform::IDENTITY);
+        assert!(matches!(ok(vec![Rgb::ONE]), Err(TextureError::Size { got: 1, .. })));
+        assert!(matches!(ok(vec![Rgb::ONE, -Rgb::ONE]), Err(TextureError::BadTexel { index: 1, .. })));
+        assert!(matches!(ok(vec![Rgb::ONE, Rgb::splat(f32::NAN)]), Err(TextureError::BadTexel { .. })));
+        let nan = UvTransform([[f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+        assert_eq!(Checkerboard::new(Rgb::ONE, Rgb::ONE, nan), Err(TextureError::BadTransform));
+        assert!(
+            Bitmap::new(0, 0, vec![], FilterType::Nearest, WrapMode::Clamp, UvTransform::IDENTITY).is_err()
+        );
+    }
+}

@@ -1,0 +1,161 @@
+//! Texture images: PNG, JPEG, Radiance HDR and OpenEXR files read into linear RGB texels for
+//! `opticks_core::texture::Bitmap` (Mitsuba's `<texture type="bitmap">`).
+//!
+//! The size in the file's header is checked before any pixel is decoded ([`MAX_TEXELS`], and
+//! the `image` crate's allocation limit for the formats it decodes), so a small file claiming a
+//! huge image is refused without allocating it. Like Mitsuba, 8- and 16-bit formats (PNG, JPEG)
+//! are sRGB-encoded and decoded to linear unless `raw` is set; HDR and EXR hold linear values.
+//! Alpha is dropped; grey images give three equal channels. Row 0 is the image's top row.
+
+use crate::image_file::read_exr_rgb;
+use crate::input_file;
+use opticks_core::math::Rgb;
+use std::path::Path;
+
+/// The most texels a texture may have (a 8192 × 8192 image; 805 MB as linear f32 RGB).
+pub const MAX_TEXELS: u64 = 1 << 26;
+
+/// A texture image as read: its size and its texels, linear RGB, row-major from the top row.
+#[derive(Debug)]
+pub struct TextureImage {
+    /// Columns.
+    pub width: usize,
+    /// Rows.
+    pub height: usize,
+    /// `width × height` linear RGB texels.
+    pub texels: Vec<Rgb>,
+}
+
+/// Reads `path` (format by extension: `.png`, `.jpg`/`.jpeg`, `.hdr`, `.exr`). With `raw`, 8-
+/// and 16-bit values are taken as they are (scaled to [0, 1]) instead of sRGB-decoded. The
+/// error message does not repeat the path (the caller names it).
+pub fn read_texture(path: &Path, raw: bool) -> Result<TextureImage, String> {
+    input_file::check_regular(path).map_err(|e| format!("cannot read: {e}"))?;
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+    match ext.as_str() {
+        "exr" => read_exr(path),
+        "png" | "jpg" | "jpeg" | "hdr" => read_with_image(path, raw, ext == "hdr"),
+        _ => Err(format!("unsupported texture format \".{ext}\" (supported: .png, .jpg, .jpeg, .hdr, .exr)")),
+    }
+}
+
+/// Checks a header's size against [`MAX_TEXELS`].
+fn check_size(width: u64, height: u64) -> Result<(), String> {
+    if width == 0 || height == 0 {
+        return Err(format!("the image is {width} × {height}: it has no texels"));
+    }
+    match width.checked_mul(height) {
+        Some(n) if n <= MAX_TEXELS => Ok(()),
+        _ => Err(format!(
+            "the image is {width} × {height}: more than the {MAX_TEXELS} texels a texture may have"
+        )),
+    }
+}
+
+fn read_with_image(path: &Path, raw: bool, linear: bool) -> Result<TextureImage, String> {
+    let open = || {
+        let file = input_file::open(path).map_err(|e| format!("cannot read: {e}"))?.0;
+        image::ImageReader::new(std::io::BufReader::new(file))
+            .with_guessed_format()
+            .map_err(|e| format!("cannot read: {e}"))
+    };
+    let (w, h) = open()?.into_dimensions().map_err(|e| format!("cannot read the image header: {e}"))?;
+    check_size(w as u64, h as u64)?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(w);
+    limits.max_image_height = Some(h);
+    // The decoded image in the widest form decoded here (f32 RGBA), and some slack.
+    limits.max_alloc = Some(w as u64 * h as u64 * 16 + (1 << 20));
+    let mut reader = open()?;
+    reader.limits(limits);
+    let image = reader.decode().map_err(|e| format!("cannot decode: {e}"))?;
+    let (width, height) = (image.width() as usize, image.height() as usize);
+    let decode = !(raw || linear);
+    let texels = image
+        .into_rgb32f()
+        .pixels()
+        .map(|p| {
+            let c = Rgb::new(p[0], p[1], p[2]);
+            if decode { c.map(srgb_to_linear) } else { c }
+        })
+        .collect();
+    Ok(TextureImage { width, height, texels })
+}
+
+fn read_exr(path: &Path) -> Result<TextureImage, String> {
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|e| format!("cannot read the EXR header: {e}"))?;
+    for header in &meta.headers {
+        let s = header.layer_size;
+        check_size(s.width() as u64, s.height() as u64)?;
+    }
+    let (w, h, rgb) = read_exr_rgb(path).map_err(|e| e.to_string())?;
+    let texels = rgb.chunks_exact(3).map(|c| Rgb::new(c[0], c[1], c[2])).collect();
+    Ok(TextureImage { width: w as usize, height: h as usize, texels })
+}
+
+/// The sRGB electro-optical transfer function: encoded value in [0, 1] → linear.
+pub fn srgb_to_linear(v: f32) -> f32 {
+    let v = v as f64;
+    (if v <= 0.040_45 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp(name: &str, bytes: &[u8]) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("opticks-texture-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p
+    }
+
+    #[test]
+    fn png_is_srgb_decoded_unless_raw_and_rows_start_at_the_top() {
+        let mut img = image::RgbImage::new(2, 2);
+        img.put_pixel(0, 0, image::Rgb([255, 0, 0]));
+        img.put_pixel(1, 1, image::Rgb([128, 128, 128]));
+        let mut bytes = Vec::new();
+        img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png).unwrap();
+        let p = temp("a.png", &bytes);
+        let t = read_texture(&p, false).unwrap();
+        assert_eq!((t.width, t.height), (2, 2));
+        assert_eq!(t.texels[0], Rgb::new(1.0, 0.0, 0.0));
+        assert!((t.texels[3].x - 0.2158605).abs() < 1e-5, "{}", t.texels[3]);
+        let raw = read_texture(&p, true).unwrap();
+        assert!((raw.texels[3].x - 128.0 / 255.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn bad_and_huge_files_are_errors_before_any_allocation() {
+        assert!(read_texture(&temp("b.png", b"not a png"), false).is_err());
+        assert!(read_texture(&temp("c.tga", b""), false).unwrap_err().contains("unsupported"));
+        // A PNG header claiming 100000 × 100000 pixels, with no data.
+        let mut png = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR".to_vec();
+        png.extend(100_000u32.to_be_bytes());
+        png.extend(100_000u32.to_be_bytes());
+        png.extend([8, 2, 0, 0, 0]);
+        let crc = crc32(&png[12..]);
+        png.extend(crc.to_be_bytes());
+        // The start of an (empty) image data chunk, where a decoder learns the header is done.
+        png.extend(b"\0\0\0\0IDAT");
+        png.extend(crc32(b"IDAT").to_be_bytes());
+        let e = read_texture(&temp("d.png", &png), false).unwrap_err();
+        assert!(e.contains("100000 × 100000"), "{e}");
+        assert!(read_texture(Path::new("/nonexistent/e.png"), false).is_err());
+    }
+
+    /// CRC-32 (PNG's) of `data`.
+    fn crc32(data: &[u8]) -> u32 {
+        let mut c = 0xffff_ffffu32;
+        for &b in data {
+            c ^= b as u32;
+            for _ in 0..8 {
+                c = if c & 1 != 0 { 0xedb8_8320 ^ (c >> 1) } else { c >> 1 };
+            }
+        }
+        !c
+    }
+}
