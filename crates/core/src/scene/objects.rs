@@ -21,6 +21,7 @@
 //! Objects are matched by kind and name; a name that occurs several times (two meshes both
 //! called `group`) is matched occurrence by occurrence, in scene order.
 
+use std::collections::{HashMap, HashSet};
 use std::fmt;
 
 /// What an [`ObjectHash`] covers.
@@ -105,28 +106,40 @@ impl fmt::Display for ObjectChanges {
     }
 }
 
+/// An object's key: kind, name and which occurrence of that kind and name it is (the k-th
+/// object of a kind and name in each list is the same object), with its hash.
+type Keyed<'a> = ((ObjectKind, &'a str, usize), [u8; 16]);
+
+/// The keys of `list`, counted through a map, so that a scene of many thousand meshes is
+/// compared in linear time.
+fn keyed(list: &[ObjectHash]) -> Vec<Keyed<'_>> {
+    let mut seen: HashMap<(ObjectKind, &str), usize> = HashMap::new();
+    list.iter()
+        .map(|o| {
+            let nth = seen.entry((o.kind, o.name.as_str())).or_default();
+            *nth += 1;
+            ((o.kind, o.name.as_str(), *nth - 1), o.hash)
+        })
+        .collect()
+}
+
 /// The objects of `current` that differ from those `recorded` (module docs: matched by kind,
 /// name and occurrence).
 pub fn object_changes(recorded: &[ObjectHash], current: &[ObjectHash]) -> ObjectChanges {
-    // The k-th object of a kind and name in each list is the same object.
-    let key = |list: &[ObjectHash], i: usize| {
-        let o = &list[i];
-        let nth = list[..i].iter().filter(|p| p.kind == o.kind && p.name == o.name).count();
-        (o.kind, o.name.clone(), nth)
-    };
-    let current_keys: Vec<_> = (0..current.len()).map(|i| key(current, i)).collect();
-    let recorded_keys: Vec<_> = (0..recorded.len()).map(|i| key(recorded, i)).collect();
+    let (recorded, current) = (keyed(recorded), keyed(current));
+    let current_hashes: HashMap<_, _> = current.iter().copied().collect();
+    let recorded_keys: HashSet<_> = recorded.iter().map(|r| r.0).collect();
     let mut changes = Vec::new();
-    for (i, k) in recorded_keys.iter().enumerate() {
-        let change = match current_keys.iter().position(|c| c == k) {
-            Some(j) if current[j].hash == recorded[i].hash => continue,
+    for &((kind, name, nth), hash) in &recorded {
+        let change = match current_hashes.get(&(kind, name, nth)) {
+            Some(&h) if h == hash => continue,
             Some(_) => Change::Changed,
             None => Change::Gone,
         };
-        changes.push((k.0, k.1.clone(), change));
+        changes.push((kind, name.to_string(), change));
     }
-    for k in current_keys.iter().filter(|k| !recorded_keys.contains(k)) {
-        changes.push((k.0, k.1.clone(), Change::New));
+    for &(k, _) in current.iter().filter(|c| !recorded_keys.contains(&c.0)) {
+        changes.push((k.0, k.1.to_string(), Change::New));
     }
     ObjectChanges { changes }
 }
