@@ -434,3 +434,26 @@ fn every_verb_that_loads_a_scene_takes_its_parameters() {
     let out = opticks(&["trace", "s.xml", "--paths", "10", "-o", "b.opds", "-D", "q=1"], d);
     assert!(String::from_utf8_lossy(&out.stderr).contains("never uses $q"));
 }
+
+#[test]
+fn a_gltf_scene_and_camera_are_chosen_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let gltf = repo().join("testdata/gltf/textured.gltf");
+    let gltf = gltf.to_str().unwrap();
+    stdout(&["trace", gltf, "--paths", "20000", "-o", "night.opds", "--gltf-scene", "Night"], d);
+    // Rendered against the default scene ("Day"), it is another scene; against its own, fine,
+    // from the scene's camera or from one chosen by name (768×512: aspect 1.5).
+    let e = fails(&["render", "night.opds", "-o", "a.exr"], d);
+    assert!(e.contains("different scene"), "{e}");
+    stdout(&["render", "night.opds", "-o", "a.exr", "--gltf-scene", "Night"], d);
+    stdout(&["render", "night.opds", "-o", "b.exr", "--gltf-scene", "Night", "--camera", "Detail.night"], d);
+    let (w, h, rgb) = read_exr_rgb(&d.join("b.exr")).unwrap();
+    assert_eq!((w, h), (768, 512));
+    assert!(mean(&rgb)[0] > 0.0, "the lit floor is seen");
+    let e =
+        fails(&["render", "night.opds", "-o", "c.exr", "--gltf-scene", "Night", "--camera", "Overview"], d);
+    assert!(e.contains("no camera of that name") && e.contains("\"Detail.night\""), "{e}");
+    let e = fails(&["trace", "builtin:cornell", "--paths", "10", "-o", "x.opds", "--camera", "a"], d);
+    assert!(e.contains("one camera and one scene"), "{e}");
+}

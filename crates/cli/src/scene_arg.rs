@@ -17,7 +17,8 @@ pub fn is_builtin(spec: &str) -> bool {
     spec.starts_with("builtin:")
 }
 
-/// The `-D` option of every verb that loads a scene.
+/// The options of every verb that loads a scene: `-D` parameters, and which camera and which
+/// scene of a file that holds several.
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct DefineArgs {
     /// Value of the Mitsuba scene parameter `$NAME` (overrides its `<default>`), as
@@ -25,6 +26,15 @@ pub struct DefineArgs {
     /// against the same ones (its scene fingerprint says so).
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
     define: Vec<(String, String)>,
+    /// The scene file's camera to use, by name, where it has several: a glTF camera (its
+    /// node's or its own name), a Mitsuba `<sensor>` (its `id`). Default: the format's first.
+    /// Cameras do not change a dataset: any of them renders it.
+    #[arg(long, value_name = "NAME")]
+    camera: Option<String>,
+    /// The scene of a glTF file holding several, by name or index (default: the file's
+    /// default scene). A dataset renders only against the scene it was traced from.
+    #[arg(long, value_name = "NAME|INDEX")]
+    gltf_scene: Option<String>,
 }
 
 impl DefineArgs {
@@ -34,14 +44,25 @@ impl DefineArgs {
         &self.define
     }
 
-    /// The parameters `pairs` (as [`DefineArgs::pairs`] gave them).
+    /// The glTF scene chosen, if any (what a cluster worker is sent with the parameters).
     #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-    pub fn from_pairs(pairs: Vec<(String, String)>) -> Self {
-        DefineArgs { define: pairs }
+    pub fn gltf_scene(&self) -> Option<&str> {
+        self.gltf_scene.as_deref()
+    }
+
+    /// What a cluster worker loads its scene with: the parameters `pairs` (as
+    /// [`DefineArgs::pairs`] gave them) and the glTF scene (a worker needs no camera).
+    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
+    pub fn for_worker(pairs: Vec<(String, String)>, gltf_scene: Option<String>) -> Self {
+        DefineArgs { define: pairs, camera: None, gltf_scene }
     }
 
     fn options(&self) -> LoadOptions {
-        LoadOptions { defines: self.define.clone() }
+        LoadOptions {
+            defines: self.define.clone(),
+            camera: self.camera.clone(),
+            gltf_scene: self.gltf_scene.clone(),
+        }
     }
 }
 
@@ -59,6 +80,11 @@ pub fn load_description(spec: &str, defines: &DefineArgs) -> Result<SceneDescrip
     if spec == BUILTIN_CORNELL {
         if !defines.define.is_empty() {
             bail!("-D gives parameters of a scene file; {BUILTIN_CORNELL} has none");
+        }
+        if defines.camera.is_some() || defines.gltf_scene.is_some() {
+            bail!(
+                "--camera and --gltf-scene choose within a scene file; {BUILTIN_CORNELL} has one camera and one scene"
+            );
         }
         return Ok(cornell_box());
     }

@@ -129,6 +129,8 @@ pub struct TraceJob {
     pub scene: String,
     /// The scene's parameters (`-D NAME=VALUE`), in the order given.
     pub defines: Vec<(String, String)>,
+    /// The scene of a glTF file holding several (`--gltf-scene`), if one was chosen.
+    pub gltf_scene: Option<String>,
     /// The master's scene fingerprint: a worker whose scene differs refuses the job.
     pub fingerprint: Fingerprint,
     /// Seed, stream and strategy.
@@ -143,6 +145,10 @@ pub fn encode_job(job: &TraceJob) -> Vec<u8> {
     for (name, value) in &job.defines {
         w.bytes(name.as_bytes()).bytes(value.as_bytes());
     }
+    match &job.gltf_scene {
+        None => w.u8(0),
+        Some(name) => w.u8(1).bytes(name.as_bytes()),
+    };
     w.bytes(&job.fingerprint.geometry).bytes(&job.fingerprint.lights);
     w.u64(s.paths).u64(s.seed).u64(s.stream).u32(s.rr_depth);
     w.u8(match s.roulette {
@@ -171,6 +177,11 @@ pub fn decode_job(data: &[u8]) -> Result<TraceJob, Malformed> {
         return Err(r.bad());
     }
     let defines = (0..n).map(|_| Ok((r.string()?, r.string()?))).collect::<Result<Vec<_>, Malformed>>()?;
+    let gltf_scene = match r.u8()? {
+        0 => None,
+        1 => Some(r.string()?),
+        _ => return Err(r.bad()),
+    };
     let hash = |r: &mut Reader<'_>| -> Result<[u8; 16], Malformed> {
         r.bytes()?.try_into().map_err(|_| Malformed { what: "job", at: r.at })
     };
@@ -197,7 +208,7 @@ pub fn decode_job(data: &[u8]) -> Result<TraceJob, Malformed> {
     };
     r.end()?;
     let settings = TraceSettings { paths, seed, stream, rr_depth, roulette, directions, selection, mis };
-    Ok(TraceJob { scene, defines, fingerprint, settings })
+    Ok(TraceJob { scene, defines, gltf_scene, fingerprint, settings })
 }
 
 use opticks_core::dataset::NumberedBlock as Numbered;
@@ -334,11 +345,17 @@ mod tests {
         let job = TraceJob {
             scene: "/data/scène.xml".into(),
             defines: vec![("spp".into(), "4".into()), ("name".into(), "wall é".into())],
+            gltf_scene: Some("Interior".into()),
             fingerprint: Fingerprint { geometry: [7; 16], lights: [3; 16] },
             settings,
         };
         assert_eq!(decode_job(&encode_job(&job)).unwrap(), job);
-        let plain = TraceJob { defines: vec![], settings: TraceSettings { mis: None, ..settings }, ..job };
+        let plain = TraceJob {
+            defines: vec![],
+            gltf_scene: None,
+            settings: TraceSettings { mis: None, ..settings },
+            ..job
+        };
         assert_eq!(decode_job(&encode_job(&plain)).unwrap(), plain);
         let light = LightPlan { scene_light: 4, table_index: 1, paths: 9000 };
         let blocks =

@@ -59,6 +59,32 @@ fn read_with_image(path: &Path, raw: bool, linear: bool) -> Result<TextureImage,
             .with_guessed_format()
             .map_err(|e| format!("cannot read: {e}"))
     };
+    decode_with_image(open, raw, linear)
+}
+
+/// Decodes a PNG or JPEG image held in memory (a glTF buffer view or `data:` URI), the format
+/// guessed from its first bytes; `raw` as for [`read_texture`]. The header's size is checked
+/// before the pixels are decoded, as for files.
+pub fn decode_texture(bytes: &[u8], raw: bool) -> Result<TextureImage, String> {
+    let open = || {
+        let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| format!("cannot read: {e}"))?;
+        match reader.format() {
+            Some(image::ImageFormat::Png | image::ImageFormat::Jpeg) => Ok(reader),
+            _ => Err("not a PNG or JPEG image".to_string()),
+        }
+    };
+    decode_with_image(open, raw, false)
+}
+
+/// Decodes what `open` gives (called twice: once for the header, once for the pixels) with the
+/// size checked in between; `linear`: the format holds linear values (HDR).
+fn decode_with_image<R: std::io::BufRead + std::io::Seek>(
+    open: impl Fn() -> Result<image::ImageReader<R>, String>,
+    raw: bool,
+    linear: bool,
+) -> Result<TextureImage, String> {
     let (w, h) = open()?.into_dimensions().map_err(|e| format!("cannot read the image header: {e}"))?;
     check_size(w as u64, h as u64)?;
     let mut limits = image::Limits::default();

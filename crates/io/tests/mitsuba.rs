@@ -202,7 +202,7 @@ fn parameters_are_substituted() {
         </scene>"#;
     let c = load_str(xml).unwrap().description.camera.unwrap();
     assert_eq!((c.width, c.height, c.fov_x_degrees), (32, 32, 32.5));
-    let opts = LoadOptions { defines: vec![("w".into(), "16".into())] };
+    let opts = LoadOptions { defines: vec![("w".into(), "16".into())], ..Default::default() };
     let c = parse(xml, Path::new("x.xml"), &opts).unwrap().description.camera.unwrap();
     assert_eq!((c.width, c.fov_x_degrees), (16, 16.5));
     let e = err(r#"<shape type="rectangle" id="$name"/>"#);

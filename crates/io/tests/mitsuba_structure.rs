@@ -153,8 +153,10 @@ fn parameters_reach_included_files_and_the_first_default_wins() {
     assert_eq!(s.description.meshes[0].name, "cube_0");
     let (dir, _) = load_files(files);
     let albedo = |defines: &[(&str, &str)]| {
-        let opts =
-            LoadOptions { defines: defines.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect() };
+        let opts = LoadOptions {
+            defines: defines.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect(),
+            ..Default::default()
+        };
         let s = load_scene_with(&dir.path().join("main.xml"), &opts).unwrap();
         match &s.description.materials[0].bsdf {
             Bsdf::Lambert(l) => (s.description.meshes[0].name.clone(), l.reflectance.x),
@@ -164,7 +166,7 @@ fn parameters_reach_included_files_and_the_first_default_wins() {
     assert_eq!(albedo(&[]), ("cube_0".into(), 0.5));
     assert_eq!(albedo(&[("r", "0.125")]), ("cube_0".into(), 0.125));
     assert_eq!(albedo(&[("part", "b")]).0, "rectangle_0");
-    let opts = LoadOptions { defines: vec![("nope".into(), "1".into())] };
+    let opts = LoadOptions { defines: vec![("nope".into(), "1".into())], ..Default::default() };
     let s = load_scene_with(&dir.path().join("main.xml"), &opts).unwrap();
     assert!(
         s.warnings.iter().any(|w| w.ends_with("parameter nope is defined but the scene never uses $nope")),

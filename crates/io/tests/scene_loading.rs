@@ -81,7 +81,7 @@ fn furnace_loads() {
 #[test]
 fn defines_override_defaults() {
     // The reference scenes use $spp and $max_depth; overriding max_depth is reported.
-    let opts = LoadOptions { defines: vec![("max_depth".into(), "8".into())] };
+    let opts = LoadOptions { defines: vec![("max_depth".into(), "8".into())], ..Default::default() };
     let s = load_scene_with(&testdata("cornell/scene.xml"), &opts).unwrap();
     assert_eq!(s.warnings.len(), 1, "{:?}", s.warnings);
     assert!(

@@ -45,6 +45,7 @@ fn blocks_wanted() -> usize {
 pub struct ClusterTracer {
     scene: String,
     defines: Vec<(String, String)>,
+    gltf_scene: Option<String>,
 }
 
 impl ClusterTracer {
@@ -54,6 +55,7 @@ impl ClusterTracer {
         ClusterTracer {
             scene: absolute.unwrap_or_else(|| scene.to_owned()),
             defines: defines.pairs().to_vec(),
+            gltf_scene: defines.gltf_scene().map(str::to_owned),
         }
     }
 }
@@ -83,6 +85,7 @@ impl PassTracer for ClusterTracer {
         let job = TraceJob {
             scene: self.scene.clone(),
             defines: self.defines.clone(),
+            gltf_scene: self.gltf_scene.clone(),
             fingerprint: scene.fingerprint,
             settings: pass.settings,
         };
@@ -250,8 +253,8 @@ fn trace(scene: &Scene, settings: &TraceSettings, b: &Block) -> Chunk {
     trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths)
 }
 
-/// What a worker's loaded scene was loaded from: the file and its `-D` parameters.
-type SceneKey = (String, Vec<(String, String)>);
+/// What a worker's loaded scene was loaded from: the file, its `-D` parameters, its glTF scene.
+type SceneKey = (String, Vec<(String, String)>, Option<String>);
 
 /// A worker's life: jobs until `QUIT`. Returns the exit code (success: a job this worker
 /// could not do was reported to the master, whose verb fails with the reason).
@@ -290,9 +293,10 @@ pub fn serve(threads: usize) -> ExitCode {
                 continue;
             }
         };
-        let wanted = (job.scene.clone(), job.defines.clone());
+        let wanted = (job.scene.clone(), job.defines.clone(), job.gltf_scene.clone());
         if loaded.as_ref().is_none_or(|(spec, _)| *spec != wanted) {
-            let defines = crate::scene_arg::DefineArgs::from_pairs(job.defines.clone());
+            let defines =
+                crate::scene_arg::DefineArgs::for_worker(job.defines.clone(), job.gltf_scene.clone());
             loaded = match crate::scene_arg::load_scene(&job.scene, &defines) {
                 Ok(scene) => Some((wanted, scene)),
                 Err(e) => {

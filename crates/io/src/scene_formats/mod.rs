@@ -59,6 +59,14 @@ pub struct LoadOptions {
     /// Values for `$name` parameters of a Mitsuba scene, overriding its `<default>`s (like
     /// `mitsuba -Dname=value`).
     pub defines: Vec<(String, String)>,
+    /// The camera to use, by name, when the file has several (the CLI's `--camera`): a glTF
+    /// camera's node or camera name, a Mitsuba `<sensor>`'s `id`, a VRML `Viewpoint`'s
+    /// `description`. `None`: the format's default camera. A name the file does not have is an
+    /// error listing the ones it has.
+    pub camera: Option<String>,
+    /// The scene to load from a file holding several (glTF's `scenes`, the CLI's
+    /// `--gltf-scene`): its name, or its index. `None`: the file's default scene.
+    pub gltf_scene: Option<String>,
 }
 
 /// A position in a scene file. Displays as `file:line:column` (line and column are 1-based; a
@@ -208,11 +216,36 @@ pub fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<LoadedScene
     let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
     match ext.as_deref() {
         Some("xml") => mitsuba::load(path, options),
-        Some("obj") => wavefront::load_obj_mtl_scene(path),
-        Some("gltf" | "glb") => gltf::load_gltf_scene(path),
-        _ if vrml::is_vrml_path(path) => vrml::load(path),
+        Some("obj") => {
+            refuse_selection(path, options, "an OBJ file has no cameras and one scene")?;
+            wavefront::load_obj_mtl_scene(path)
+        }
+        Some("gltf" | "glb") => gltf::load_gltf_scene_with(path, options),
+        _ if vrml::is_vrml_path(path) => {
+            refuse_selection(
+                path,
+                options,
+                "a VRML file has one scene (cameras are not chosen by name yet)",
+            )?;
+            vrml::load(path)
+        }
         _ => Err(SceneFileError::UnsupportedExtension { path: path.to_path_buf() }),
     }
+}
+
+/// An error when `options` choose a camera or a scene that a format without them cannot give
+/// (silently ignoring `--camera` would render the wrong view).
+fn refuse_selection(path: &Path, options: &LoadOptions, why: &str) -> Result<(), SceneFileError> {
+    let chosen = match (&options.camera, &options.gltf_scene) {
+        (Some(c), _) => format!("--camera {c:?}"),
+        (None, Some(s)) => format!("--gltf-scene {s:?}"),
+        (None, None) => return Ok(()),
+    };
+    Err(SceneFileError::Invalid {
+        at: FileLocation { file: path.to_path_buf(), line: 0, column: 0 },
+        element: chosen,
+        message: format!("cannot be used here: {why}"),
+    })
 }
 
 #[cfg(test)]

@@ -38,25 +38,7 @@ pub fn load_buffers(
             Source::Bin => blob.map(<[u8]>::to_vec).ok_or_else(|| {
                 (i, BufferError::Other("refers to the GLB binary chunk, but the file has none".into()))
             })?,
-            Source::Uri(uri) => {
-                if let Some(rest) = uri.strip_prefix("data:") {
-                    let Some((_, b64)) = rest.split_once(";base64,") else {
-                        return Err((i, BufferError::Other("data: URI is not base64-encoded".into())));
-                    };
-                    decode_base64(b64).map_err(|m| (i, BufferError::Other(format!("data: URI: {m}"))))?
-                } else if uri.contains(':') && !uri.starts_with("file:") {
-                    return Err((i, BufferError::Other(format!("unsupported URI scheme in {uri:?}"))));
-                } else {
-                    let rel =
-                        uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")).unwrap_or(uri);
-                    let rel = percent_decode(rel).ok_or_else(|| {
-                        (i, BufferError::Other(format!("malformed percent-escape in URI {uri:?}")))
-                    })?;
-                    let path = folder.join(rel);
-                    crate::input_file::read(&path)
-                        .map_err(|source| (i, BufferError::File { path, source }))?
-                }
-            }
+            Source::Uri(uri) => read_uri(uri, folder).map_err(|e| (i, e))?,
         };
         if data.len() < buffer.length() {
             return Err((
@@ -71,6 +53,40 @@ pub fn load_buffers(
         out.push(data);
     }
     Ok(out)
+}
+
+/// The data a buffer's or an image's `uri` refers to: a base64 `data:` URI, or a file relative
+/// to `folder` (percent-escapes decoded, `file:` allowed); other schemes are errors.
+pub fn read_uri(uri: &str, folder: &Path) -> Result<Vec<u8>, BufferError> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let Some((_, b64)) = rest.split_once(";base64,") else {
+            return Err(BufferError::Other("data: URI is not base64-encoded".into()));
+        };
+        decode_base64(b64).map_err(|m| BufferError::Other(format!("data: URI: {m}")))
+    } else if uri.contains(':') && !uri.starts_with("file:") {
+        Err(BufferError::Other(format!("unsupported URI scheme in {uri:?}")))
+    } else {
+        let rel = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")).unwrap_or(uri);
+        let rel = percent_decode(rel)
+            .ok_or_else(|| BufferError::Other(format!("malformed percent-escape in URI {uri:?}")))?;
+        let path = folder.join(rel);
+        crate::input_file::read(&path).map_err(|source| BufferError::File { path, source })
+    }
+}
+
+/// The bytes of buffer view `view`, bounds-checked (an image stored in a buffer).
+pub fn view_bytes<'a>(view: &::gltf::buffer::View<'_>, buffers: &'a [Vec<u8>]) -> Result<&'a [u8], String> {
+    let data = buffers.get(view.buffer().index()).ok_or("buffer view refers to a missing buffer")?;
+    let end = view.offset().checked_add(view.length()).ok_or("buffer view is too large")?;
+    data.get(view.offset()..end).ok_or_else(|| {
+        format!(
+            "buffer view {} (bytes {}..{end}) lies outside buffer {} ({} bytes)",
+            view.index(),
+            view.offset(),
+            view.buffer().index(),
+            data.len()
+        )
+    })
 }
 
 /// Standard base64 (RFC 4648, `+/`, optional `=` padding; whitespace is not allowed).
@@ -142,18 +158,7 @@ fn elements<'a>(
             Err(format!("accessor {} has no buffer view and {} elements", acc.index(), acc.count()))
         };
     };
-    let data = buffers.get(view.buffer().index()).ok_or("buffer view refers to a missing buffer")?;
-    let view_end = view.offset().checked_add(view.length()).ok_or("buffer view is too large")?;
-    let view_data = data.get(view.offset()..view_end).ok_or_else(|| {
-        format!(
-            "buffer view {} (bytes {}..{}) lies outside buffer {} ({} bytes)",
-            view.index(),
-            view.offset(),
-            view_end,
-            view.buffer().index(),
-            data.len()
-        )
-    })?;
+    let view_data = view_bytes(&view, buffers)?;
     let stride = view.stride().unwrap_or(elem_size);
     if stride < elem_size {
         return Err(format!("byteStride {stride} is smaller than the element size {elem_size}"));
@@ -193,6 +198,31 @@ pub fn read_vec3(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 3]
     let Some((bytes, stride)) = elements(acc, buffers, 12)? else { return Ok(vec![[0.0; 3]; count]) };
     let f = |b: &[u8], k: usize| f32::from_le_bytes([b[4 * k], b[4 * k + 1], b[4 * k + 2], b[4 * k + 3]]);
     Ok((0..count).map(|i| &bytes[i * stride..i * stride + 12]).map(|b| [f(b, 0), f(b, 1), f(b, 2)]).collect())
+}
+
+/// Reads a `VEC2` texture-coordinate accessor: `FLOAT`, or normalized `UNSIGNED_BYTE` /
+/// `UNSIGNED_SHORT` (divided by 255 or 65535, as glTF's `TEXCOORD_n` allows).
+pub fn read_vec2(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 2]>, String> {
+    let size = match (acc.dimensions(), acc.data_type(), acc.normalized()) {
+        (Dimensions::Vec2, DataType::F32, _) => 4,
+        (Dimensions::Vec2, DataType::U8, true) => 1,
+        (Dimensions::Vec2, DataType::U16, true) => 2,
+        (d, t, n) => {
+            return Err(format!(
+                "accessor {} is {d:?} of {t:?}{}; texture coordinates must be Vec2 of F32, or of normalized U8 or U16",
+                acc.index(),
+                if n { " (normalized)" } else { "" }
+            ));
+        }
+    };
+    let count = acc.count();
+    let Some((bytes, stride)) = elements(acc, buffers, 2 * size)? else { return Ok(vec![[0.0; 2]; count]) };
+    let c = |b: &[u8], k: usize| match size {
+        1 => b[k] as f32 / 255.0,
+        2 => u16::from_le_bytes([b[2 * k], b[2 * k + 1]]) as f32 / 65535.0,
+        _ => f32::from_le_bytes([b[4 * k], b[4 * k + 1], b[4 * k + 2], b[4 * k + 3]]),
+    };
+    Ok((0..count).map(|i| &bytes[i * stride..i * stride + 2 * size]).map(|b| [c(b, 0), c(b, 1)]).collect())
 }
 
 /// Reads a `SCALAR` index accessor of unsigned bytes, shorts or ints.

@@ -15,9 +15,30 @@
 //! the result always conserves energy. ks = 0 (a dielectric with `specularFactor` 0, as
 //! `KHR_materials_specular` allows) gives a pure [`Lambert`] of albedo (1 − m)·b; otherwise it is
 //! [`ModifiedPhong`]`(kd, ks, n)`. Phong has no Fresnel term, so grazing reflections are weaker
-//! than in a glTF viewer. `doubleSided` → [`Material::two_sided`]. Textures (base colour,
-//! metallic-roughness, normal, occlusion) are ignored with a warning (factors are used),
-//! `alphaMode` other than `OPAQUE` and transmission are ignored with a warning.
+//! than in a glTF viewer. `doubleSided` → [`Material::two_sided`]. `alphaMode` other than
+//! `OPAQUE`, normal and occlusion textures are ignored with a warning.
+//!
+//! **Textures** ([`super::textures`]). `baseColorTexture` (sRGB) times `baseColorFactor` gives b
+//! per texel, and `metallicRoughnessTexture` (linear; metallic in its blue channel) times
+//! `metallicFactor` gives m per texel; kd and ks are then computed per texel by the mapping
+//! above and become bitmap textures on Phong's `kd` and `ks` (or Lambert's reflectance), over
+//! the base colour's texels (the metallic texture resampled bilinearly onto them when the sizes
+//! differ). A colour that does not vary stays a constant. Two cases fall back to the mean over
+//! the texture (a warning says so): the metallic texture read through other texture
+//! coordinates or another transform than the base colour, and a metallic texture whose kd and
+//! ks maxima sum above 1 (the core checks Phong's energy bound at the textures' maxima, which a
+//! varying metallic breaks). Phong has one exponent per material: the roughness (green
+//! channel) is `roughnessFactor` × the texture's mean (warning).
+//!
+//! **Transmission** (`KHR_materials_transmission`, with `KHR_materials_ior` and
+//! `KHR_materials_volume`): a `transmissionFactor` of at least ½ makes the surface glass of
+//! index `ior` (1.5), its transmission tinted by the base colour: without
+//! `KHR_materials_volume` (or with `thicknessFactor` 0) the glTF surface is thin-walled —
+//! a thin dielectric sheet, no refraction (core `ThinDielectric`); with a thickness, a
+//! refracting dielectric (smooth for roughness 0, else GGX of α = r², both faces). Below ½
+//! the surface stays opaque. A factor strictly between 0 and 1 is a mix Opticks does not
+//! represent: the nearer of the two is used (warning); a `transmissionTexture`, and the
+//! volume's attenuation, are ignored (warning).
 //!
 //! Emission: `emissiveFactor × KHR_materials_emissive_strength` (strength 1 if absent) is taken as
 //! the radiance in **W/(m²·sr)**. glTF defines emission in relative, display-referred units
@@ -27,9 +48,14 @@
 //! loader with `map_Ke`. Emission is one-sided (front, counter-clockwise face), even for
 //! `doubleSided` materials.
 
-use opticks_core::bsdf::{Bsdf, Lambert, Material, MaterialError, ModifiedPhong};
+use super::textures::{Images, TextureUse};
+use opticks_core::bsdf::{
+    Bsdf, Lambert, Material, MaterialError, ModifiedPhong, RoughDielectric, SmoothDielectric, ThinDielectric,
+};
 use opticks_core::light::check::check_emission;
-use opticks_core::math::Rgb;
+use opticks_core::math::{Rgb, Vec2};
+use opticks_core::texture::{Bitmap, ColourSlot, FilterType, Texture, UvTransform};
+use std::sync::Arc;
 
 /// Largest Phong exponent produced (the core's limit).
 const MAX_EXPONENT: f32 = ModifiedPhong::MAX_EXPONENT;
@@ -43,6 +69,10 @@ pub struct Converted {
     pub emission: Option<Rgb>,
     /// Things ignored (messages without location; the caller adds it).
     pub notes: Vec<String>,
+    /// Textures in place of the material's colours.
+    pub textures: Vec<(ColourSlot, Arc<Texture>)>,
+    /// The `TEXCOORD_n` set the textures read (`None` without textures).
+    pub tex_coord: Option<u32>,
 }
 
 /// Phong exponent for a glTF roughness: α = r², n = 2/α² − 2, clamped to [0, 10⁶].
@@ -66,7 +96,13 @@ pub fn metallic_roughness_to_phong(base: Rgb, metallic: f32, roughness: f32, f0:
 /// one-sided.
 pub fn default_material() -> Converted {
     let (kd, ks, n) = metallic_roughness_to_phong(Rgb::ONE, 1.0, 1.0, Rgb::splat(0.04));
-    Converted { material: build("default", kd, ks, n, false), emission: None, notes: Vec::new() }
+    Converted {
+        material: build("default", kd, ks, n, false),
+        emission: None,
+        notes: Vec::new(),
+        textures: Vec::new(),
+        tex_coord: None,
+    }
 }
 
 fn build(name: &str, kd: Rgb, ks: Rgb, n: f32, two_sided: bool) -> Material {
@@ -86,9 +122,9 @@ fn make_bsdf(kd: Rgb, ks: Rgb, n: f32) -> Result<Bsdf, MaterialError> {
     }
 }
 
-/// Converts one glTF material (see the module docs). Errors are messages for non-finite or
-/// negative values.
-pub fn convert(mat: &::gltf::Material<'_>, name: &str) -> Result<Converted, String> {
+/// Converts one glTF material (see the module docs), its textures decoded from `images`.
+/// Errors are messages for non-finite or negative values and unreadable images.
+pub fn convert(mat: &::gltf::Material<'_>, name: &str, images: &mut Images<'_>) -> Result<Converted, String> {
     let mut notes = Vec::new();
     let pbr = mat.pbr_metallic_roughness();
     let [r, g, b, _] = pbr.base_color_factor();
@@ -125,20 +161,48 @@ pub fn convert(mat: &::gltf::Material<'_>, name: &str) -> Result<Converted, Stri
     if !f0.is_finite() {
         return Err("KHR_materials_specular factors must be finite".into());
     }
-    let (kd, ks, n) = metallic_roughness_to_phong(base, metallic, roughness, f0);
     if base.max_element() > 1.0 {
         notes.push("baseColorFactor above 1 clamped to 1".into());
     }
-    let textures = [
-        ("baseColorTexture", pbr.base_color_texture().is_some()),
-        ("metallicRoughnessTexture", pbr.metallic_roughness_texture().is_some()),
+    let ignored: Vec<&str> = [
         ("normalTexture", mat.normal_texture().is_some()),
         ("occlusionTexture", mat.occlusion_texture().is_some()),
-    ];
-    let ignored: Vec<&str> = textures.iter().filter(|t| t.1).map(|t| t.0).collect();
+    ]
+    .iter()
+    .filter(|t| t.1)
+    .map(|t| t.0)
+    .collect();
     if !ignored.is_empty() {
-        notes.push(format!("textures are not supported, the factors are used ({})", ignored.join(", ")));
+        notes.push(format!("not supported, ignored: {}", ignored.join(", ")));
     }
+    let textured = textured_colours(&pbr, base, metallic, roughness, f0, images, &mut notes)?;
+    let two_sided = mat.double_sided();
+    let (material, textures, tex_coord) = match transmission(mat, base, roughness, ior, &mut notes)? {
+        Some(glass) => (Material { name: name.to_string(), bsdf: glass, two_sided: true }, Vec::new(), None),
+        None => match textured {
+            Textured::Constant { kd, ks, exponent } => {
+                (build(name, kd, ks, exponent, two_sided), Vec::new(), None)
+            }
+            Textured::Maps { kd, ks, exponent, tex_coord } => {
+                let max = |c: &Colour| match c {
+                    Colour::Constant(v) => *v,
+                    Colour::Map(t) => t.max_value(),
+                };
+                let material = build(name, max(&kd), max(&ks), exponent, two_sided);
+                let lambert = matches!(material.bsdf, Bsdf::Lambert(_));
+                let mut textures = Vec::new();
+                if let Colour::Map(t) = kd {
+                    let slot = if lambert { ColourSlot::Reflectance } else { ColourSlot::DiffuseReflectance };
+                    textures.push((slot, t));
+                }
+                if let (Colour::Map(t), false) = (ks, lambert) {
+                    textures.push((ColourSlot::SpecularReflectance, t));
+                }
+                let tex_coord = (!textures.is_empty()).then_some(tex_coord);
+                (material, textures, tex_coord)
+            }
+        },
+    };
     if mat.alpha_mode() != ::gltf::material::AlphaMode::Opaque {
         notes.push(format!("alphaMode {:?} is not supported; the surface is opaque", mat.alpha_mode()));
     }
@@ -155,7 +219,184 @@ pub fn convert(mat: &::gltf::Material<'_>, name: &str) -> Result<Converted, Stri
     } else {
         Some(radiance)
     };
-    Ok(Converted { material: build(name, kd, ks, n, mat.double_sided()), emission, notes })
+    Ok(Converted { material, emission, notes, textures, tex_coord })
+}
+
+/// A colour of the material: one value, or a texture.
+enum Colour {
+    Constant(Rgb),
+    Map(Arc<Texture>),
+}
+
+/// The opaque material's parameters, with or without textures.
+enum Textured {
+    /// No texture: the mapping of the module docs on the factors.
+    Constant { kd: Rgb, ks: Rgb, exponent: f32 },
+    /// kd and ks per texel, read through `TEXCOORD_<tex_coord>`.
+    Maps { kd: Colour, ks: Colour, exponent: f32, tex_coord: u32 },
+}
+
+/// The opaque part's kd, ks and exponent, with the base-colour and metallic-roughness textures
+/// baked per texel (module docs).
+fn textured_colours(
+    pbr: &::gltf::material::PbrMetallicRoughness<'_>,
+    base: Rgb,
+    metallic: f32,
+    roughness: f32,
+    f0: Rgb,
+    images: &mut Images<'_>,
+    notes: &mut Vec<String>,
+) -> Result<Textured, String> {
+    let base_use = pbr.base_color_texture().map(|i| TextureUse::of(&i, notes, "baseColorTexture"));
+    let mr_use =
+        pbr.metallic_roughness_texture().map(|i| TextureUse::of(&i, notes, "metallicRoughnessTexture"));
+    if base_use.is_none() && mr_use.is_none() {
+        let (kd, ks, exponent) = metallic_roughness_to_phong(base, metallic, roughness, f0);
+        return Ok(Textured::Constant { kd, ks, exponent });
+    }
+    // The metallic (blue) and roughness (green) channels, as a bitmap of their own.
+    let mr = match &mr_use {
+        Some(u) => {
+            let image = images.get(u.image, true)?;
+            let bitmap = Bitmap::new(
+                image.width,
+                image.height,
+                image.texels.clone(),
+                u.filter,
+                u.wrap,
+                UvTransform::IDENTITY,
+            )
+            .map_err(|e| format!("metallicRoughnessTexture: {e}"))?;
+            Some((u.clone(), bitmap))
+        }
+        None => None,
+    };
+    let mean = |b: &Bitmap, channel: fn(Rgb) -> f32| {
+        let t = b.texels();
+        t.iter().map(|&c| channel(c) as f64).sum::<f64>() / t.len() as f64
+    };
+    let roughness = match &mr {
+        Some((_, b)) => {
+            notes.push("the roughness texture is averaged: Phong has one exponent per material".into());
+            roughness * mean(b, |c| c.y) as f32
+        }
+        None => roughness,
+    };
+    // The texel grid the colours are baked on, with its base colours.
+    let (carrier, grid_base): (TextureUse, Option<Arc<crate::texture_file::TextureImage>>) =
+        match (&base_use, &mr) {
+            (Some(u), _) => (u.clone(), Some(images.get(u.image, false)?)),
+            (None, Some((u, _))) => (u.clone(), None),
+            (None, None) => unreachable!("one texture at least"),
+        };
+    let (w, h) = match (&grid_base, &mr) {
+        (Some(img), _) => (img.width, img.height),
+        (None, Some((_, b))) => b.size(),
+        (None, None) => unreachable!("one texture at least"),
+    };
+    // Metallic per texel of the grid, or the texture's mean where it cannot be.
+    let mut per_texel_metallic = match &mr {
+        Some((u, _)) if u.tex_coord != carrier.tex_coord || u.to_uv != carrier.to_uv => {
+            notes.push("metallicRoughnessTexture reads other texture coordinates than baseColorTexture: its mean metallic is used".into());
+            false
+        }
+        Some(_) => true,
+        None => false,
+    };
+    let mean_metallic = mr.as_ref().map_or(1.0, |(_, b)| mean(b, |c| c.z) as f32) * metallic;
+    let metallic_at = |k: usize| -> f32 {
+        let (i, j) = (k % w, k / w);
+        match &mr {
+            Some((_, b)) if b.size() == (w, h) => b.texels()[k].z * metallic,
+            Some((_, b)) => {
+                b.eval(Vec2::new((i as f32 + 0.5) / w as f32, (j as f32 + 0.5) / h as f32)).z * metallic
+            }
+            None => metallic,
+        }
+    };
+    let base_at = |k: usize| grid_base.as_ref().map_or(base, |img| img.texels[k] * base);
+    let bake = |per_texel: bool| -> (Vec<Rgb>, Vec<Rgb>) {
+        (0..w * h)
+            .map(|k| {
+                let m = if per_texel { metallic_at(k) } else { mean_metallic };
+                let (kd, ks, _) = metallic_roughness_to_phong(base_at(k), m, roughness, f0);
+                (kd, ks)
+            })
+            .unzip()
+    };
+    let max_of = |t: &[Rgb]| t.iter().fold(Rgb::ZERO, |a, &c| a.max(c));
+    let (mut kd, mut ks) = bake(per_texel_metallic);
+    if per_texel_metallic && (max_of(&kd) + max_of(&ks)).max_element() > 1.0 + 1e-5 {
+        notes.push(
+            "the metallic texture's kd and ks maxima sum above 1 (Phong's energy bound is checked at the maxima): its mean metallic is used".into(),
+        );
+        per_texel_metallic = false;
+        (kd, ks) = bake(per_texel_metallic);
+    }
+    let _ = per_texel_metallic;
+    let colour = |texels: Vec<Rgb>| -> Result<Colour, String> {
+        if texels.iter().all(|&c| c == texels[0]) {
+            return Ok(Colour::Constant(texels[0]));
+        }
+        let filter =
+            if carrier.filter == FilterType::Nearest { FilterType::Nearest } else { FilterType::Bilinear };
+        let bitmap = Bitmap::new(w, h, texels, filter, carrier.wrap, carrier.to_uv)
+            .map_err(|e| format!("baseColorTexture: {e}"))?;
+        Ok(Colour::Map(Arc::new(Texture::Bitmap(bitmap))))
+    };
+    Ok(Textured::Maps {
+        kd: colour(kd)?,
+        ks: colour(ks)?,
+        exponent: phong_exponent(roughness),
+        tex_coord: carrier.tex_coord,
+    })
+}
+
+/// The glass of `KHR_materials_transmission`, if the material is one (module docs).
+fn transmission(
+    mat: &::gltf::Material<'_>,
+    base: Rgb,
+    roughness: f32,
+    ior: f32,
+    notes: &mut Vec<String>,
+) -> Result<Option<Bsdf>, String> {
+    let Some(t) = mat.transmission() else { return Ok(None) };
+    let factor = t.transmission_factor();
+    if !(factor.is_finite() && (0.0..=1.0).contains(&factor)) {
+        return Err(format!("KHR_materials_transmission: transmissionFactor {factor} is not in [0, 1]"));
+    }
+    if t.transmission_texture().is_some() {
+        notes.push("transmissionTexture is not supported; transmissionFactor is used".into());
+    }
+    if factor > 0.0 && factor < 1.0 {
+        let used = if factor >= 0.5 { "glass" } else { "opaque" };
+        notes.push(format!(
+            "transmissionFactor {factor}: a mix of glass and the opaque surface is not supported; the surface is {used}"
+        ));
+    }
+    if factor < 0.5 {
+        return Ok(None);
+    }
+    // ior 0 (Fresnel term 1) would be a mirror; glass needs a real index.
+    let ior = if ior >= 1.0 { ior } else { 1.5 };
+    let tint = base.clamp(Rgb::ZERO, Rgb::ONE);
+    let thickness = mat.volume().map_or(0.0, |v| v.thickness_factor());
+    if mat.volume().is_some_and(|v| v.attenuation_distance().is_finite() || v.attenuation_color() != [1.0; 3])
+    {
+        notes.push("KHR_materials_volume attenuation is not supported; the glass is clear".into());
+    }
+    let err = |e: MaterialError| format!("KHR_materials_transmission: {e}");
+    let r = roughness.clamp(0.0, 1.0);
+    Ok(Some(if thickness <= 0.0 {
+        if r > 0.0 {
+            notes.push("a thin-walled glass (no KHR_materials_volume thickness) is smooth in Opticks: roughness ignored".into());
+        }
+        Bsdf::ThinDielectric(ThinDielectric::new(ior, 1.0, Rgb::ONE, tint).map_err(err)?)
+    } else if r * r < 1e-4 || (ior - 1.0).abs() < 1e-3 {
+        Bsdf::SmoothDielectric(SmoothDielectric::new(ior, 1.0, Rgb::ONE, tint).map_err(err)?)
+    } else {
+        Bsdf::RoughDielectric(RoughDielectric::new(ior, 1.0, r * r, Rgb::ONE, tint).map_err(err)?)
+    }))
 }
 
 #[cfg(test)]

@@ -4,18 +4,20 @@
 //!
 //! | glTF | Opticks |
 //! |---|---|
-//! | scene | the default `scene`, else the first; with no scene at all, every root node (warning) |
+//! | scene | the one [`LoadOptions::gltf_scene`] names (by name or index; the CLI's `--gltf-scene`), else the default `scene`, else the first; with no scene at all, every root node (warning) |
 //! | node transforms | `matrix` or TRS (`T·R·S`), multiplied down the tree; vertices are baked to world space; a negative determinant flips the winding so front faces stay front faces |
 //! | mesh primitives, mode `TRIANGLES` | one [`MeshDesc`] per primitive instance, named after the node (else the mesh), `.k` appended for primitive k of several; indexed (`u8`/`u16`/`u32`) and non-indexed; positions must be `VEC3`/`FLOAT` |
 //! | `NORMAL` | per-vertex shading normals (`VEC3`/`FLOAT`, one per position), taken to world space by the inverse transpose of the node transform; without it the primitive is faceted (glTF's flat normals) |
 //! | other primitive modes (points, lines, strips, fans) | warning, skipped |
 //! | materials (metallic-roughness) | Lambert or Modified Phong, see [`materials`]; no material → glTF's default (white metal, roughness 1) |
+//! | `baseColorTexture`, `metallicRoughnessTexture`, samplers, `KHR_texture_transform` | bitmap textures on kd and ks, baked per texel ([`materials`], [`textures`]); the primitive's `TEXCOORD_n` (`FLOAT`, or normalized `UNSIGNED_BYTE`/`UNSIGNED_SHORT`) become the mesh's UVs |
+//! | `KHR_materials_transmission`, `KHR_materials_volume` | thin-walled or refracting glass ([`materials`]) |
 //! | `emissiveFactor` × `KHR_materials_emissive_strength` | area light of that radiance in W/(m²·sr) (see [`materials`]) |
 //! | `KHR_lights_punctual` point | [`PointLightDesc`] of intensity `color × intensity / 683` W/sr (glTF gives candela = lm/sr; 683 lm/W is the luminous efficacy at 555 nm, the convention glTF exporters such as Blender's use); `range` is ignored (physical inverse-square falloff) |
 //! | `KHR_lights_punctual` spot | a spot [`PointLightDesc`] on the node's −Z, `color × intensity / 683` W/sr on the axis, full within `innerConeAngle` (at least [`SPOT_MIN_BEAM`] × outer) and falling **linearly in angle** to zero at `outerConeAngle` (glTF leaves the fall-off curve to the renderer); `range` ignored |
 //! | `KHR_lights_punctual` directional | a [`DirectionalLightDesc`] along the node's −Z of irradiance `color × intensity / 683` W/m² (glTF gives lux), a sun covering the scene |
-//! | cameras | the perspective camera of the lowest-index node in the scene is the scene camera; it looks down its local −Z with +Y up; `yfov` is vertical: `fov_x = 2·atan(tan(yfov/2)·W/H)`; the image is 512 pixels high and `round(512·aspectRatio)` wide (512×512 without `aspectRatio`) |
-//! | orthographic cameras, skins, morph targets, animations, textures | ignored (warnings for the ones that change what is seen) |
+//! | cameras | the camera [`LoadOptions::camera`] names (its node's name or its own; the CLI's `--camera`), else the perspective camera of the lowest-index node in the scene; it looks down its local −Z with +Y up; `yfov` is vertical: `fov_x = 2·atan(tan(yfov/2)·W/H)`; the image is 512 pixels high and `round(512·aspectRatio)` wide (512×512 without `aspectRatio`) |
+//! | orthographic cameras, skins, morph targets, animations, normal, occlusion and emissive textures | ignored (warnings for the ones that change what is seen); an orthographic camera chosen by name is an error |
 //!
 //! glTF's units and axes (metres, right-handed, +Y up) are Opticks's, so nothing is converted.
 //!
@@ -28,18 +30,20 @@
 
 pub mod buffers;
 pub mod materials;
+pub mod textures;
 
-use super::{FileLocation, LoadedScene, SceneFileError};
+use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
 use ::gltf::camera::Projection;
 use ::gltf::khr_lights_punctual::Kind;
 use ::gltf::mesh::Mode;
 use opticks_core::light::check::check_emission;
 use opticks_core::light::{LUMENS_PER_WATT, LightError};
-use opticks_core::math::{Mat4, Rgb, Vec3};
+use opticks_core::math::{Mat4, Rgb, Vec2, Vec3};
 use opticks_core::scene::{
     AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
 };
 use opticks_core::sensor::Pinhole;
+use opticks_core::texture::TextureBinding;
 use std::path::Path;
 
 /// The narrowest full-intensity cone of a glTF spot, as a fraction of its outer cone (the core's
@@ -48,6 +52,10 @@ pub const SPOT_MIN_BEAM: f64 = 1e-3;
 
 /// Image height (and width without `aspectRatio`) of a glTF camera, pixels.
 pub const DEFAULT_IMAGE_HEIGHT: u32 = 512;
+
+/// A converted material as its primitives use it: its index in the description's materials,
+/// its emitted radiance, the `TEXCOORD_n` set its textures read.
+type MaterialUse = (usize, Option<Rgb>, Option<u32>);
 
 /// The first mesh primitive whose POSITION attribute names a missing accessor: (mesh,
 /// primitive, accessor index).
@@ -77,8 +85,14 @@ fn bad_glb_length(data: &[u8]) -> Option<String> {
     })
 }
 
-/// Loads a `.gltf` or `.glb` file as a scene (see the module docs).
+/// Loads a `.gltf` or `.glb` file as a scene (see the module docs): its default scene and camera.
 pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
+    load_gltf_scene_with(path, &LoadOptions::default())
+}
+
+/// Loads a `.gltf` or `.glb` file as a scene, the scene and camera chosen by `options`
+/// ([`LoadOptions::gltf_scene`], [`LoadOptions::camera`]; see the module docs).
+pub fn load_gltf_scene_with(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFileError> {
     let data = crate::input_file::read(path)
         .map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
     let loc = |line: u32, column: u32| FileLocation { file: path.to_path_buf(), line, column };
@@ -148,6 +162,9 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                 | "KHR_materials_emissive_strength"
                 | "KHR_materials_specular"
                 | "KHR_materials_ior"
+                | "KHR_materials_transmission"
+                | "KHR_materials_volume"
+                | "KHR_texture_transform"
         ) {
             warn(
                 &mut warnings,
@@ -158,7 +175,13 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     }
 
     // Roots of the scene to load.
-    let roots: Vec<::gltf::Node<'_>> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+    let chosen = match &options.gltf_scene {
+        None => doc.default_scene().or_else(|| doc.scenes().next()),
+        Some(wanted) => {
+            Some(choose_scene(doc, wanted).map_err(|m| invalid(format!("--gltf-scene {wanted:?}"), m))?)
+        }
+    };
+    let roots: Vec<::gltf::Node<'_>> = match chosen {
         Some(scene) => scene.nodes().collect(),
         None => {
             let mut is_child = vec![false; doc.nodes().len()];
@@ -203,9 +226,12 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
     order.sort_by_key(|n| n.index());
 
     let mut desc = SceneDescription::default();
-    // glTF material index (None = default) → (index in desc.materials, emission).
-    let mut material_of: Vec<Option<(usize, Option<Rgb>)>> = vec![None; doc.materials().len() + 1];
+    // glTF material index (None = default) → (index in desc.materials, emission, UV set read).
+    let mut material_of: Vec<Option<MaterialUse>> = vec![None; doc.materials().len() + 1];
+    let mut images = textures::Images::new(doc, &buffers, folder);
     let source = Source { file: file_name.clone(), line: 0 };
+    // The scene's cameras, in node order (one is chosen after the traversal).
+    let mut cameras: Vec<(::gltf::Node<'_>, ::gltf::Camera<'_>, Mat4)> = Vec::new();
 
     for node in &order {
         let m = world[node.index()].unwrap_or(Mat4::IDENTITY);
@@ -284,7 +310,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                 };
 
                 let key = prim.material().index().map_or(0, |i| i + 1);
-                let (material, emission) = match material_of.get(key).copied().flatten() {
+                let (material, emission, tex_coord) = match material_of.get(key).copied().flatten() {
                     Some(r) => r,
                     None => {
                         let gm = prim.material();
@@ -292,7 +318,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                             None => ("default".to_string(), materials::default_material()),
                             Some(i) => {
                                 let name = gm.name().map_or_else(|| format!("material {i}"), str::to_string);
-                                let c = materials::convert(&gm, &name)
+                                let c = materials::convert(&gm, &name, &mut images)
                                     .map_err(|e| invalid(format!("material {i} ({name})"), e))?;
                                 (name, c)
                             }
@@ -301,11 +327,40 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                             warn(&mut warnings, &format!("material {name:?}"), note.clone());
                         }
                         desc.materials.push(c.material);
-                        let r = (desc.materials.len() - 1, c.emission);
+                        let index = desc.materials.len() - 1;
+                        for (slot, texture) in c.textures {
+                            desc.textures.push(TextureBinding { material: index, slot, texture });
+                        }
+                        let r = (index, c.emission, c.tex_coord);
                         if let Some(s) = material_of.get_mut(key) {
                             *s = Some(r);
                         }
                         r
+                    }
+                };
+                // The texture coordinates the material's textures read.
+                let uvs = match tex_coord {
+                    None => Vec::new(),
+                    Some(set) => {
+                        let Some(acc) = prim.get(&::gltf::Semantic::TexCoords(set)) else {
+                            return Err(invalid(
+                                pel,
+                                format!(
+                                    "its material is textured through TEXCOORD_{set}, which the primitive does not have"
+                                ),
+                            ));
+                        };
+                        let uv = buffers::read_vec2(&acc, &buffers).map_err(|e| invalid(pel.clone(), e))?;
+                        if uv.len() != n {
+                            return Err(invalid(
+                                pel,
+                                format!("TEXCOORD_{set} has {} entries for {n} positions", uv.len()),
+                            ));
+                        }
+                        if uv.iter().flatten().any(|c| !c.is_finite()) {
+                            return Err(invalid(pel, format!("TEXCOORD_{set} has a non-finite value")));
+                        }
+                        uv.into_iter().map(Vec2::from_array).collect()
                     }
                 };
                 let name = if prims.len() > 1 { format!("{base}.{k}") } else { base.clone() };
@@ -317,7 +372,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     normals,
                     material,
                     emission: emission.map(AreaEmission::lambertian),
-                    uvs: Vec::new(),
+                    uvs,
                 });
             }
         }
@@ -365,39 +420,70 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             }
         }
         if let Some(cam) = node.camera() {
-            let cel = format!("{element}: camera {}", cam.index());
-            match cam.projection() {
-                Projection::Perspective(p) if desc.camera.is_none() => {
-                    let aspect = p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0);
-                    let height = DEFAULT_IMAGE_HEIGHT;
-                    let width = aspect.map_or(height, |a| ((height as f32 * a).round() as u32).max(1));
-                    let yfov = p.yfov();
-                    let fov_x = 2.0 * ((yfov * 0.5).tan() * width as f32 / height as f32).atan();
-                    let eye = m.transform_point3(Vec3::ZERO);
-                    let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
-                    let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
-                    let camera = CameraDesc {
-                        eye,
-                        target: eye + forward,
-                        up,
-                        fov_x_degrees: fov_x.to_degrees(),
-                        width,
-                        height,
-                    };
-                    // The core's camera checks (field of view, axes), reported at the camera.
-                    Pinhole::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
-                    desc.camera = Some(camera);
-                }
-                Projection::Perspective(_) => {
-                    warn(
-                        &mut warnings,
-                        &cel,
-                        "another camera comes first (lowest node index); ignored".into(),
-                    );
-                }
-                Projection::Orthographic(_) => {
-                    warn(&mut warnings, &cel, "orthographic cameras are not supported; ignored".into());
-                }
+            cameras.push((node.clone(), cam, m));
+        }
+    }
+    // The camera: the one named by the options, else the lowest-index node's perspective camera.
+    let pick = match &options.camera {
+        Some(wanted) => {
+            let named = |(n, c, _): &&(::gltf::Node<'_>, ::gltf::Camera<'_>, Mat4)| {
+                n.name() == Some(wanted.as_str()) || c.name() == Some(wanted.as_str())
+            };
+            let Some(found) = cameras.iter().find(named) else {
+                let names: Vec<String> = cameras.iter().map(|(n, c, _)| camera_names(n, c)).collect();
+                let has = if names.is_empty() {
+                    "the scene has no camera".to_string()
+                } else {
+                    format!("the scene's cameras: {}", names.join(", "))
+                };
+                return Err(invalid(
+                    format!("--camera {wanted:?}"),
+                    format!("no camera of that name ({has})"),
+                ));
+            };
+            Some(found)
+        }
+        None => cameras.iter().find(|(_, c, _)| matches!(c.projection(), Projection::Perspective(_))),
+    };
+    for entry in &cameras {
+        let (node, cam, m) = entry;
+        let cel = format!("{}: camera {}", node_element(node), cam.index());
+        let is_pick = pick.is_some_and(|p| std::ptr::eq(p, entry));
+        match cam.projection() {
+            Projection::Perspective(p) if is_pick => {
+                let aspect = p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0);
+                let height = DEFAULT_IMAGE_HEIGHT;
+                let width = aspect.map_or(height, |a| ((height as f32 * a).round() as u32).max(1));
+                let yfov = p.yfov();
+                let fov_x = 2.0 * ((yfov * 0.5).tan() * width as f32 / height as f32).atan();
+                let eye = m.transform_point3(Vec3::ZERO);
+                let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
+                let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
+                let camera = CameraDesc {
+                    eye,
+                    target: eye + forward,
+                    up,
+                    fov_x_degrees: fov_x.to_degrees(),
+                    width,
+                    height,
+                };
+                // The core's camera checks (field of view, axes), reported at the camera.
+                Pinhole::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
+                desc.camera = Some(camera);
+            }
+            Projection::Orthographic(_) if is_pick => {
+                return Err(invalid(cel, "orthographic cameras are not supported".into()));
+            }
+            Projection::Perspective(_) => {
+                let why = if options.camera.is_some() {
+                    "not the one --camera names"
+                } else {
+                    "another camera comes first (lowest node index; --camera NAME chooses another)"
+                };
+                warn(&mut warnings, &cel, format!("{why}; ignored"));
+            }
+            Projection::Orthographic(_) => {
+                warn(&mut warnings, &cel, "orthographic cameras are not supported; ignored".into());
             }
         }
     }
@@ -408,6 +494,38 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
         warn(&mut warnings, "scene", "no triangle mesh was loaded".into());
     }
     Ok(LoadedScene { description: desc, warnings })
+}
+
+/// The scene `wanted` names: a scene's `name`, else its index. The error lists the scenes.
+fn choose_scene<'a>(doc: &'a ::gltf::Document, wanted: &str) -> Result<::gltf::Scene<'a>, String> {
+    if let Some(s) = doc.scenes().find(|s| s.name() == Some(wanted)) {
+        return Ok(s);
+    }
+    if let Some(s) = wanted.parse::<usize>().ok().and_then(|i| doc.scenes().nth(i)) {
+        return Ok(s);
+    }
+    let list: Vec<String> = doc
+        .scenes()
+        .map(|s| match s.name() {
+            Some(n) => format!("{} ({n:?})", s.index()),
+            None => s.index().to_string(),
+        })
+        .collect();
+    Err(if list.is_empty() {
+        "no scene of that name or index: the file has no scenes".to_string()
+    } else {
+        format!("no scene of that name or index (the file's scenes: {})", list.join(", "))
+    })
+}
+
+/// How a camera can be named: its node's name and the camera's own name, quoted.
+fn camera_names(node: &::gltf::Node<'_>, cam: &::gltf::Camera<'_>) -> String {
+    match (node.name(), cam.name()) {
+        (Some(n), Some(c)) if n != c => format!("{n:?} (camera {c:?})"),
+        (Some(n), _) => format!("{n:?}"),
+        (None, Some(c)) => format!("{c:?}"),
+        (None, None) => format!("node {} (unnamed)", node.index()),
+    }
 }
 
 fn node_element(node: &::gltf::Node<'_>) -> String {

@@ -107,6 +107,11 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
         };
         handle(&mut b, e)?;
     }
+    if let Some(wanted) = doc.camera.as_deref()
+        && b.desc.camera.is_none()
+    {
+        return Err(no_such_sensor(doc, wanted));
+    }
     // Unused named BSDFs and media: Mitsuba would not mind either, but it is usually a typo.
     for e in &doc.root.children {
         let area = e.tag == "emitter" && e.raw("type") == Some("area");
@@ -138,13 +143,35 @@ fn integrator<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
     Ok(())
 }
 
+/// A `<sensor>`: the camera if it is the first one (or the one [`Document::camera`] names),
+/// else a warning.
 fn top_sensor<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
-    if b.desc.camera.is_none() {
-        b.desc.camera = Some(sensor::sensor(b, e)?);
-    } else {
-        b.warn(e, "only the first <sensor> is used; this one is ignored");
+    match b.doc.camera.as_deref() {
+        Some(wanted) if e.raw("id") == Some(wanted) => b.desc.camera = Some(sensor::sensor(b, e)?),
+        Some(_) => b.warn(e, "not the <sensor> --camera names; ignored"),
+        None if b.desc.camera.is_none() => b.desc.camera = Some(sensor::sensor(b, e)?),
+        None => {
+            b.warn(e, "only the first <sensor> is used (--camera ID chooses another); this one is ignored")
+        }
     }
     Ok(())
+}
+
+/// The error for a [`Document::camera`] that no `<sensor>` has as its `id`, listing the ids.
+fn no_such_sensor(doc: &Document, wanted: &str) -> crate::scene_formats::SceneFileError {
+    let ids: Vec<String> = doc
+        .root
+        .children
+        .iter()
+        .filter(|c| c.tag == "sensor")
+        .map(|c| c.raw("id").map_or_else(|| "(one without an id)".to_string(), |id| format!("{id:?}")))
+        .collect();
+    let has = if ids.is_empty() {
+        "the scene has no <sensor>".to_string()
+    } else {
+        format!("the scene's sensors: {}", ids.join(", "))
+    };
+    doc.root.err(format!("--camera {wanted:?}: no <sensor> has that id ({has})"))
 }
 
 fn top_bsdf<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {

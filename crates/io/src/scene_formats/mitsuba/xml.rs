@@ -32,6 +32,8 @@ pub struct Document {
     pub main: PathBuf,
     /// What the document stage had to say (a define the scene never uses).
     pub warnings: Vec<String>,
+    /// The `id` of the `<sensor>` to use ([`LoadOptions::camera`]); `None`: the first one.
+    pub camera: Option<String>,
 }
 
 impl Document {
@@ -115,7 +117,14 @@ pub fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Document> 
         }
     }
     root.children.iter_mut().for_each(|c| resolve_refs(c, &ids));
-    Ok(Document { root, ids, search_paths, main: path.to_path_buf(), warnings })
+    Ok(Document {
+        root,
+        ids,
+        search_paths,
+        main: path.to_path_buf(),
+        warnings,
+        camera: options.camera.clone(),
+    })
 }
 
 /// Whether some attribute at or below `e` mentions `var` (`$name`).
@@ -409,8 +418,10 @@ mod tests {
     use super::*;
 
     fn doc(xml: &str, defines: &[(&str, &str)]) -> Result<Document> {
-        let options =
-            LoadOptions { defines: defines.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect() };
+        let options = LoadOptions {
+            defines: defines.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect(),
+            ..Default::default()
+        };
         read(xml, Path::new("d/s.xml"), &options)
     }
 
