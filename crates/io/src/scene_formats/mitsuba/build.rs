@@ -43,6 +43,8 @@ pub struct Builder<'d> {
     /// The textures read for the BSDF being built ([`super::texture::colour`] adds to them,
     /// [`super::bsdf::bsdf`] collects them).
     pub bsdf_textures: BsdfTextures,
+    /// Shapegroups already built (where first instanced), by id.
+    pub groups: HashMap<String, super::instance::Group>,
     /// How many shapes and top-level emitters have been read (their default names count them).
     shapes: usize,
     emitters: usize,
@@ -93,6 +95,7 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
         used: HashSet::new(),
         textures: HashMap::new(),
         bsdf_textures: Vec::new(),
+        groups: HashMap::new(),
         shapes: 0,
         emitters: 0,
     };
@@ -115,11 +118,13 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
     // Unused named BSDFs and media: Mitsuba would not mind either, but it is usually a typo.
     for e in &doc.root.children {
         let area = e.tag == "emitter" && e.raw("type") == Some("area");
-        if (area || matches!(e.tag.as_str(), "bsdf" | "medium" | "sampler"))
+        let group = e.tag == "shape" && e.raw("type") == Some("shapegroup");
+        if (area || group || matches!(e.tag.as_str(), "bsdf" | "medium" | "sampler"))
             && e.raw("id").is_some_and(|id| !b.used.contains(id))
         {
             let what = match e.tag.as_str() {
                 "bsdf" => "BSDF",
+                "shape" => "shapegroup",
                 other => other,
             };
             b.warn(e, format!("this {what} is never used"));
@@ -183,8 +188,20 @@ fn top_bsdf<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
 }
 
 fn top_shape<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<()> {
-    let mesh = shape::shape(b, e, b.shapes)?;
-    b.desc.meshes.push(mesh);
+    match e.raw("type") {
+        // Built where an instance first uses it.
+        Some("shapegroup") => {
+            e.required("id")?;
+        }
+        Some("instance") => {
+            let meshes = super::instance::instance(b, e, b.shapes)?;
+            b.desc.meshes.extend(meshes);
+        }
+        _ => {
+            let mesh = shape::shape(b, e, b.shapes)?;
+            b.desc.meshes.push(mesh);
+        }
+    }
     b.shapes += 1;
     Ok(())
 }

@@ -14,6 +14,7 @@
 //! | `sensor.rs` | `<sensor>` and `<film>` → the camera |
 //! | `bsdf.rs` | `<bsdf>` → materials (`conductors.rs`: Mitsuba's named conductors in RGB, generated; `texture.rs`: `<texture>` colour parameters) |
 //! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior; `tessellate.rs`: the analytic sphere, disk and cylinder as meshes) |
+//! | `instance.rs` | `shapegroup` and `instance` shapes → world-space copies of the group's meshes |
 //! | `emitter.rs` | `<emitter>` → area, point, spot, IES and directional lights |
 //!
 //! # Adding a plugin type
@@ -39,6 +40,7 @@ mod cie;
 mod conductors;
 mod emitter;
 mod include;
+mod instance;
 mod medium;
 mod properties;
 mod sensor;

@@ -63,6 +63,12 @@ const SHAPE_TYPES: &[(&str, BuildGeometry)] = &[
 /// The mesh of a `<shape>`; `index` counts the scene's shapes (for the default name
 /// `<type>_<index>`). Materials it introduces are added to the scene.
 pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<MeshDesc> {
+    Ok(shape_and_kind(b, e, index)?.0)
+}
+
+/// [`shape`], and whether the shape is analytic (a sphere, disk…: its winding follows its
+/// outward normal through a mirroring transform, as an instance's must too).
+pub fn shape_and_kind<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<(MeshDesc, bool)> {
     let ty = e.required("type")?;
     let name = e.attr("id")?.map_or_else(|| format!("{ty}_{index}"), str::to_string);
     let mut p = Props::of(e)?;
@@ -187,7 +193,7 @@ pub fn shape<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result<Me
         ..Default::default()
     };
     emitter::set_area_emission(&mut mesh, emission);
-    Ok(mesh)
+    Ok((mesh, analytic))
 }
 
 /// `obj`: the triangles of a Wavefront OBJ file (`filename`, relative to the scene's folder).
