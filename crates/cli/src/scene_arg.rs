@@ -27,7 +27,8 @@ pub struct DefineArgs {
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
     define: Vec<(String, String)>,
     /// The scene file's camera to use, by name, where it has several: a glTF camera (its
-    /// node's or its own name), a Mitsuba `<sensor>` (its `id`). Default: the format's first.
+    /// node's or its own name), a Mitsuba `<sensor>` (its `id`), a VRML `Viewpoint` (its
+    /// `description` or DEF name). Default: the format's first.
     /// Cameras do not change a dataset: any of them renders it.
     #[arg(long, value_name = "NAME")]
     camera: Option<String>,

@@ -891,3 +891,22 @@ fn mitsuba_ies_emitters_convert_to_vrml_by_their_file() {
     let (fa, fb) = (la.orientation.unwrap(), lb.orientation.unwrap());
     assert!((fa.n - fb.n).length() < 1e-6 && (fa.s - fb.s).length() < 1e-6, "{fa:?} vs {fb:?}");
 }
+
+#[test]
+fn a_viewpoint_is_chosen_by_description_or_def_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("views.wrl");
+    std::fs::write(
+        &path,
+        "#VRML V2.0 utf8\nViewpoint { position 0 0 5 description \"Front\" }\nDEF SIDE Viewpoint { position 5 0 0 orientation 0 1 0 1.5708 }\n\
+         Shape { geometry IndexedFaceSet { coord Coordinate { point [0 0 0, 1 0 0, 0 1 0] } coordIndex [0 1 2 -1] } }",
+    )
+    .unwrap();
+    let eye =
+        |camera: Option<&str>| vrml::load_with_camera(&path, camera).unwrap().description.camera.unwrap().eye;
+    assert_eq!(eye(None), Vec3::new(0.0, 0.0, 5.0));
+    assert_eq!(eye(Some("Front")), Vec3::new(0.0, 0.0, 5.0));
+    assert_eq!(eye(Some("SIDE")), Vec3::new(5.0, 0.0, 0.0));
+    let e = vrml::load_with_camera(&path, Some("Top")).unwrap_err().to_string();
+    assert!(e.contains("--camera \"Top\"") && e.contains("\"Front\", \"SIDE\""), "{e}");
+}

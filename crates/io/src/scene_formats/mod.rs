@@ -61,7 +61,7 @@ pub struct LoadOptions {
     pub defines: Vec<(String, String)>,
     /// The camera to use, by name, when the file has several (the CLI's `--camera`): a glTF
     /// camera's node or camera name, a Mitsuba `<sensor>`'s `id`, a VRML `Viewpoint`'s
-    /// `description`. `None`: the format's default camera. A name the file does not have is an
+    /// `description` or DEF name. `None`: the format's default camera. A name the file does not have is an
     /// error listing the ones it has.
     pub camera: Option<String>,
     /// The scene to load from a file holding several (glTF's `scenes`, the CLI's

@@ -79,7 +79,7 @@ fn parse_area_profile(s: &str) -> Option<AreaProfile> {
 
 /// Converts the parsed top-level `nodes` of `file` (whose parser warnings are `warnings`).
 pub fn convert(nodes: &[NodeRef], file: &Path, warnings: Vec<String>) -> Result<LoadedScene> {
-    convert_sized(nodes, file, warnings, 0)
+    convert_sized(nodes, file, warnings, 0, None)
 }
 
 /// [`convert`] for a source text of `source_bytes` bytes (which sets the mesh budget).
@@ -88,6 +88,7 @@ pub fn convert_sized(
     file: &Path,
     warnings: Vec<String>,
     source_bytes: usize,
+    camera: Option<&str>,
 ) -> Result<LoadedScene> {
     let mut c = Converter {
         source_bytes,
@@ -103,6 +104,8 @@ pub fn convert_sized(
         triangles: 0,
         extra_viewpoints: 0,
         counting: true,
+        wanted_viewpoint: camera.map(str::to_owned),
+        viewpoint_names: Vec::new(),
     };
     // First count (every budget checked, nothing copied), then convert.
     for n in nodes {
@@ -112,7 +115,21 @@ pub fn convert_sized(
     for n in nodes {
         c.walk(n, &DMat4::IDENTITY, 0)?;
     }
-    if c.extra_viewpoints > 0 {
+    if let Some(wanted) = camera
+        && c.out.camera.is_none()
+    {
+        let has = if c.viewpoint_names.is_empty() {
+            "the file has no Viewpoint with a description or DEF name".to_string()
+        } else {
+            format!("the file's Viewpoints: {}", c.viewpoint_names.join(", "))
+        };
+        return Err(SceneFileError::Invalid {
+            at: FileLocation { file: file.to_path_buf(), line: 0, column: 0 },
+            element: format!("--camera {wanted:?}"),
+            message: format!("no Viewpoint has that description or DEF name ({has})"),
+        });
+    }
+    if c.extra_viewpoints > 0 && camera.is_none() {
         let first = c.out.camera.is_some();
         if first {
             c.warnings.push(format!(
@@ -126,6 +143,10 @@ pub fn convert_sized(
 }
 
 pub(super) struct Converter {
+    /// The Viewpoint `--camera` names (by `description` or DEF name), if one is chosen.
+    wanted_viewpoint: Option<String>,
+    /// The names of the Viewpoints passed over (for the error when none is the wanted one).
+    viewpoint_names: Vec<String>,
     pub(super) out: SceneDescription,
     pub(super) warnings: Vec<String>,
     /// (material node, two-sided) → (material index, emission).
@@ -545,7 +566,21 @@ impl Converter {
 
     #[inline(never)] // keeps the recursive walk's stack frame small
     fn viewpoint(&mut self, n: &Node, m: &DMat4) -> Result<()> {
-        if self.out.camera.is_some() {
+        if let Some(wanted) = &self.wanted_viewpoint {
+            // Chosen by `--camera`: its `description`, or its DEF name.
+            let description = match n.get("description") {
+                Some(FieldValue::Str(d)) => Some(d.as_str()),
+                _ => None,
+            };
+            let names: Vec<&str> = description.into_iter().chain(n.def_name.as_deref()).collect();
+            let picked = names.contains(&wanted.as_str()) && self.out.camera.is_none();
+            if !picked {
+                if let Some(name) = names.first() {
+                    self.viewpoint_names.push(format!("{name:?}"));
+                }
+                return Ok(());
+            }
+        } else if self.out.camera.is_some() {
             self.extra_viewpoints += 1;
             return Ok(());
         }

@@ -64,14 +64,21 @@ pub fn local_url<'u>(dir: &Path, url: &'u str) -> Option<(std::path::PathBuf, &'
 
 /// Loads a VRML97 file (gzip-compressed or not).
 pub fn load(path: &Path) -> Result<LoadedScene, SceneFileError> {
+    load_with_camera(path, None)
+}
+
+/// [`load`], the camera being the `Viewpoint` whose `description` or DEF name is `camera`
+/// (an error listing the Viewpoints' names if none is), or the first one for `None`.
+pub fn load_with_camera(path: &Path, camera: Option<&str>) -> Result<LoadedScene, SceneFileError> {
     let text = read_source(path)?;
-    load_str(&text, path)
+    let (nodes, warnings) = parse_text(&text, path)?;
+    convert::convert_sized(&nodes, path, warnings, text.len(), camera)
 }
 
 /// Loads VRML97 text; `path` names it in messages and resolves `Inline` URLs.
 pub fn load_str(text: &str, path: &Path) -> Result<LoadedScene, SceneFileError> {
     let (nodes, warnings) = parse_text(text, path)?;
-    convert::convert_sized(&nodes, path, warnings, text.len())
+    convert::convert_sized(&nodes, path, warnings, text.len(), None)
 }
 
 /// Most bytes a gzip-compressed VRML file (or Inline) may inflate to: 1 GiB, ten times the text
