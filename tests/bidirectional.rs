@@ -18,7 +18,7 @@ use opticks_core::geometry::{Ray, offset_ray_origin};
 use opticks_core::light::Light;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
-use opticks_core::scene::{CameraDesc, DirectionalLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, CameraKind, DirectionalLightDesc, Scene, SceneDescription};
 use opticks_core::sensor::bidirectional::{
     CacheChunk, CachedVertex, CameraVertexMis, Context, Emitter, Heuristic, LightVertexMis, MisRecord,
     Receiver, Renderer, Settings, connection_weight, image_pdf, light_trace_weight, nee_weight, scatter_mis,
@@ -115,6 +115,7 @@ fn weights_scene() -> SceneDescription {
             fov_x_degrees: 60.0,
             width: 40,
             height: 30,
+            kind: CameraKind::Perspective,
         }),
         textures: Vec::new(),
     }

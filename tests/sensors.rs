@@ -15,7 +15,9 @@ use common::*;
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription, cornell_box};
+use opticks_core::scene::{
+    CameraDesc, CameraKind, MeshDesc, PointLightDesc, Scene, SceneDescription, cornell_box,
+};
 use opticks_core::sensor::{
     Equirectangular, IlluminanceMeter, Pinhole, SampleBatch, Sensor, ThinLens, measure,
 };
@@ -164,6 +166,7 @@ fn meter_agrees_with_the_camera_on_a_lambertian_floor() {
         fov_x_degrees: 2.0 * 0.5f32.atan().to_degrees(),
         width: 64,
         height: 64,
+        kind: CameraKind::Perspective,
     };
     let desc = SceneDescription {
         materials: vec![lambert("grey", rho, false)],
@@ -270,6 +273,7 @@ fn thin_lens_focus_is_sharp_and_defocus_blurs() {
         fov_x_degrees: 40.0,
         width: 32,
         height: 32,
+        kind: CameraKind::Perspective,
     })
     .unwrap();
     let (table, chunks) = trace_chunks(&scene, 2_000_000, 34);

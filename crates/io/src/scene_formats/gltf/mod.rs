@@ -37,7 +37,8 @@ use opticks_core::light::check::check_emission;
 use opticks_core::light::{LUMENS_PER_WATT, LightError};
 use opticks_core::math::{Mat4, Rgb, Vec3};
 use opticks_core::scene::{
-    AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
+    AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription,
+    Source,
 };
 use opticks_core::sensor::Pinhole;
 use std::path::Path;
@@ -383,6 +384,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                         fov_x_degrees: fov_x.to_degrees(),
                         width,
                         height,
+                        kind: CameraKind::Perspective,
                     };
                     // The core's camera checks (field of view, axes), reported at the camera.
                     Pinhole::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
