@@ -24,7 +24,7 @@ use opticks_core::sensor::bidirectional::{
     Receiver, Renderer, Settings, connection_weight, image_pdf, light_trace_weight, nee_weight, scatter_mis,
     weight_emitter_hit,
 };
-use opticks_core::sensor::{Equirectangular, Sensor, ThinLens};
+use opticks_core::sensor::{Equirectangular, Orthographic, Sensor, ThinLens};
 
 /// The emissive furnace (every wall emits L_e, albedo ρ): radiance L_e/(1 − ρ) everywhere, with
 /// the camera half alone (emitter hits and NEE, every bounce order, roulette).
@@ -157,6 +157,7 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
             Equirectangular::new(&CameraDesc { eye: Vec3::new(0.0, 0.0, 0.3), ..desc.camera.unwrap() })
                 .unwrap(),
         ),
+        Sensor::Orthographic(Orthographic::new(&desc.camera.unwrap(), 0.6, 0.45).unwrap()),
     ];
     let mut rng = RandomStream::new(99, &[]);
     let (mut checked, mut errors, mut strategies_seen) = (0, Vec::new(), [0usize; 4]);

@@ -19,7 +19,7 @@ use opticks_core::scene::{
     CameraDesc, CameraKind, MeshDesc, PointLightDesc, Scene, SceneDescription, cornell_box,
 };
 use opticks_core::sensor::{
-    Equirectangular, IlluminanceMeter, Pinhole, SampleBatch, Sensor, ThinLens, measure,
+    Equirectangular, IlluminanceMeter, Orthographic, Pinhole, SampleBatch, Sensor, ThinLens, measure,
 };
 use std::f64::consts::PI;
 
@@ -304,6 +304,28 @@ fn thin_lens_focus_is_sharp_and_defocus_blurs() {
     assert!(blurred_off > 40, "defocus must spread light past the panel's edge ({blurred_off} pixels)");
     let (a, b) = (sharp.mean()[0], blurred.mean()[0]);
     assert!((a / b - 1.0).abs() < 0.01, "total light {a} (sharp) vs {b} (blurred)");
+}
+
+/// The orthographic camera inside the emissive furnace reads L_e/(1−ρ) in every block, through
+/// its light-tracing connection (W = 1/a, no 1/d²), through its camera rays (the bidirectional
+/// estimator's camera half alone, a dataset without records) and with every strategy combined
+/// (the MIS weights of its camera vertex, a direction).
+#[test]
+fn orthographic_reads_the_emissive_furnace_with_both_estimators() {
+    let (le, rho) = (1.0f32, 0.8f32);
+    let cam_desc = furnace_view(45.0, 32, 24);
+    let desc = emissive_furnace(le, rho, Some(cam_desc));
+    let scene = Scene::build(&desc).unwrap();
+    let ortho = Orthographic::new(&cam_desc, 0.4, 0.3).unwrap();
+    let (table, chunks) = trace_chunks(&scene, 1_500_000, 36);
+    let expected = (le / (1.0 - rho)) as f64;
+    let film = render_chunks(&scene, &ortho.into(), &table, &chunks);
+    assert_uniform("orthographic, light estimator", &film, expected);
+    let (table, chunks) = trace_chunks(&scene, 100_000, 37);
+    let film = render_bidirectional(&scene, ortho.into(), &table, &chunks, false, 256, 0, 1);
+    assert_uniform("orthographic, camera half", &film, expected);
+    let film = render_bidirectional(&scene, ortho.into(), &table, &chunks, true, 64, 1, 2);
+    assert_uniform("orthographic, bidirectional", &film, expected);
 }
 
 /// The equirectangular camera inside the emissive furnace: every region of the panorama, poles
