@@ -422,6 +422,10 @@ fn measure_and_sensor_options_on_the_command_line() {
         &["render", "c.opds", "-o", "dof.exr", "--lens-radius", "0.05", "--focus-distance", "3.9"],
         d,
     ));
+    ok(opticks(&["render", "c.opds", "-o", "ortho.exr", "--ortho-width", "1.5", "--size", "48x32"], d));
+    assert!(d.join("ortho.exr").exists());
+    let o = opticks(&["render", "c.opds", "-o", "x.exr", "--projection", "orthographic"], d);
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("--ortho-width"));
     let o = opticks(&["render", "c.opds", "-o", "x.exr", "--lens-radius", "-1"], d);
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("lens radius"));
 }
