@@ -10,7 +10,7 @@ use common::*;
 use opticks_core::bsdf::{Bsdf, Material, ModifiedPhong};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
-use opticks_core::scene::{CameraDesc, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, CameraKind, Scene, SceneDescription};
 use opticks_core::sensor::Pinhole;
 use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
 use std::f64::consts::PI;
@@ -144,6 +144,7 @@ fn point_light_over_plane(material: Material, brdf: &dyn Fn([f64; 3], [f64; 3]) 
         fov_x_degrees: 70.0,
         width: 48,
         height: 40,
+        kind: CameraKind::Perspective,
     };
     let desc = SceneDescription {
         materials: vec![material],
@@ -328,8 +329,15 @@ fn lambertian_emitter_reads_its_radiance_bidirectional() {
 
 /// A 32×32 camera at `eye` looking at the emitting panel.
 fn panel_view(eye: Vec3) -> Pinhole {
-    let desc =
-        CameraDesc { eye, target: Vec3::ZERO, up: Vec3::Y, fov_x_degrees: 40.0, width: 32, height: 32 };
+    let desc = CameraDesc {
+        eye,
+        target: Vec3::ZERO,
+        up: Vec3::Y,
+        fov_x_degrees: 40.0,
+        width: 32,
+        height: 32,
+        kind: CameraKind::Perspective,
+    };
     Pinhole::new(&desc).unwrap()
 }
 

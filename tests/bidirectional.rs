@@ -18,13 +18,13 @@ use opticks_core::geometry::{Ray, offset_ray_origin};
 use opticks_core::light::Light;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
-use opticks_core::scene::{CameraDesc, DirectionalLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, CameraKind, DirectionalLightDesc, Scene, SceneDescription};
 use opticks_core::sensor::bidirectional::{
     CacheChunk, CachedVertex, CameraVertexMis, Context, Emitter, Heuristic, LightVertexMis, MisRecord,
     Receiver, Renderer, Settings, connection_weight, image_pdf, light_trace_weight, nee_weight, scatter_mis,
     weight_emitter_hit,
 };
-use opticks_core::sensor::{Equirectangular, Sensor, ThinLens};
+use opticks_core::sensor::{Equirectangular, Orthographic, Sensor, ThinLens};
 
 /// The emissive furnace (every wall emits L_e, albedo ρ): radiance L_e/(1 − ρ) everywhere, with
 /// the camera half alone (emitter hits and NEE, every bounce order, roulette).
@@ -115,6 +115,7 @@ fn weights_scene() -> SceneDescription {
             fov_x_degrees: 60.0,
             width: 40,
             height: 30,
+            kind: CameraKind::Perspective,
         }),
         textures: Vec::new(),
     }
@@ -156,6 +157,7 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
             Equirectangular::new(&CameraDesc { eye: Vec3::new(0.0, 0.0, 0.3), ..desc.camera.unwrap() })
                 .unwrap(),
         ),
+        Sensor::Orthographic(Orthographic::new(&desc.camera.unwrap(), 0.6, 0.45).unwrap()),
     ];
     let mut rng = RandomStream::new(99, &[]);
     let (mut checked, mut errors, mut strategies_seen) = (0, Vec::new(), [0usize; 4]);

@@ -14,7 +14,8 @@ use opticks_core::light::{EmissionProfile, LUMENS_PER_WATT, Light};
 use opticks_core::math::{Frame, Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{
-    AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
+    AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene,
+    SceneDescription,
 };
 use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
 use opticks_io::ies::load_ies;
@@ -636,6 +637,7 @@ fn camera_sees_profiled_emitter_radiance() {
                 fov_x_degrees: 2.0,
                 width: 8,
                 height: 8,
+                kind: CameraKind::Perspective,
             }),
             ..Default::default()
         };

@@ -23,7 +23,7 @@ use opticks_core::bsdf::{Bsdf, Material, RoughDielectric, SmoothConductor, Smoot
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{
-    CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
+    CameraDesc, CameraKind, DirectionalLightDesc, MeshDesc, PointLightDesc, Scene, SceneDescription,
 };
 use opticks_core::sensor::Pinhole;
 use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
@@ -160,6 +160,7 @@ fn mirror_floored_box_renders_finite_positive_images() {
         fov_x_degrees: 90.0,
         width: 32,
         height: 32,
+        kind: CameraKind::Perspective,
     };
     let rough = Bsdf::RoughDielectric(RoughDielectric::new(1.5, 1.0, 0.2, Rgb::ONE, Rgb::ONE).unwrap());
     let build = |floor: Bsdf| {

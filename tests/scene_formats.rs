@@ -104,7 +104,7 @@ fn vtk_exported_scene_loads_and_renders() {
 #[test]
 fn ctmconv_icosphere_renders_lit_from_above() {
     use opticks_core::math::{Rgb, Vec3};
-    use opticks_core::scene::{CameraDesc, PointLightDesc};
+    use opticks_core::scene::{CameraDesc, CameraKind, PointLightDesc};
     let loaded =
         opticks_io::scene_formats::load_scene(&repo().join("testdata/vrml/icosphere-ctmconv.wrl")).unwrap();
     let mut d = loaded.description;
@@ -122,6 +122,7 @@ fn ctmconv_icosphere_renders_lit_from_above() {
         fov_x_degrees: 40.0,
         width: 40,
         height: 40,
+        kind: CameraKind::Perspective,
     });
     let scene = Scene::build(&d).unwrap();
     let img = trace_and_render(&scene, &camera(&scene), 200_000, 6).to_rgb_f32();

@@ -15,9 +15,11 @@ use common::*;
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription, cornell_box};
+use opticks_core::scene::{
+    CameraDesc, CameraKind, MeshDesc, PointLightDesc, Scene, SceneDescription, cornell_box,
+};
 use opticks_core::sensor::{
-    Equirectangular, IlluminanceMeter, Pinhole, SampleBatch, Sensor, ThinLens, measure,
+    Equirectangular, IlluminanceMeter, Orthographic, Pinhole, SampleBatch, Sensor, ThinLens, measure,
 };
 use std::f64::consts::PI;
 
@@ -164,6 +166,7 @@ fn meter_agrees_with_the_camera_on_a_lambertian_floor() {
         fov_x_degrees: 2.0 * 0.5f32.atan().to_degrees(),
         width: 64,
         height: 64,
+        kind: CameraKind::Perspective,
     };
     let desc = SceneDescription {
         materials: vec![lambert("grey", rho, false)],
@@ -270,6 +273,7 @@ fn thin_lens_focus_is_sharp_and_defocus_blurs() {
         fov_x_degrees: 40.0,
         width: 32,
         height: 32,
+        kind: CameraKind::Perspective,
     })
     .unwrap();
     let (table, chunks) = trace_chunks(&scene, 2_000_000, 34);
@@ -300,6 +304,28 @@ fn thin_lens_focus_is_sharp_and_defocus_blurs() {
     assert!(blurred_off > 40, "defocus must spread light past the panel's edge ({blurred_off} pixels)");
     let (a, b) = (sharp.mean()[0], blurred.mean()[0]);
     assert!((a / b - 1.0).abs() < 0.01, "total light {a} (sharp) vs {b} (blurred)");
+}
+
+/// The orthographic camera inside the emissive furnace reads L_e/(1−ρ) in every block, through
+/// its light-tracing connection (W = 1/a, no 1/d²), through its camera rays (the bidirectional
+/// estimator's camera half alone, a dataset without records) and with every strategy combined
+/// (the MIS weights of its camera vertex, a direction).
+#[test]
+fn orthographic_reads_the_emissive_furnace_with_both_estimators() {
+    let (le, rho) = (1.0f32, 0.8f32);
+    let cam_desc = furnace_view(45.0, 32, 24);
+    let desc = emissive_furnace(le, rho, Some(cam_desc));
+    let scene = Scene::build(&desc).unwrap();
+    let ortho = Orthographic::new(&cam_desc, 0.4, 0.3).unwrap();
+    let (table, chunks) = trace_chunks(&scene, 1_500_000, 36);
+    let expected = (le / (1.0 - rho)) as f64;
+    let film = render_chunks(&scene, &ortho.into(), &table, &chunks);
+    assert_uniform("orthographic, light estimator", &film, expected);
+    let (table, chunks) = trace_chunks(&scene, 100_000, 37);
+    let film = render_bidirectional(&scene, ortho.into(), &table, &chunks, false, 256, 0, 1);
+    assert_uniform("orthographic, camera half", &film, expected);
+    let film = render_bidirectional(&scene, ortho.into(), &table, &chunks, true, 64, 1, 2);
+    assert_uniform("orthographic, bidirectional", &film, expected);
 }
 
 /// The equirectangular camera inside the emissive furnace: every region of the panorama, poles
@@ -396,6 +422,10 @@ fn measure_and_sensor_options_on_the_command_line() {
         &["render", "c.opds", "-o", "dof.exr", "--lens-radius", "0.05", "--focus-distance", "3.9"],
         d,
     ));
+    ok(opticks(&["render", "c.opds", "-o", "ortho.exr", "--ortho-width", "1.5", "--size", "48x32"], d));
+    assert!(d.join("ortho.exr").exists());
+    let o = opticks(&["render", "c.opds", "-o", "x.exr", "--projection", "orthographic"], d);
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("--ortho-width"));
     let o = opticks(&["render", "c.opds", "-o", "x.exr", "--lens-radius", "-1"], d);
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("lens radius"));
 }

@@ -8,7 +8,7 @@ mod common;
 
 use common::*;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{CameraDesc, CameraKind, MeshDesc, PointLightDesc, Scene, SceneDescription};
 use opticks_core::sensor::Pinhole;
 use std::f64::consts::PI;
 
@@ -61,6 +61,7 @@ fn bent_normals_match_the_camera_side_radiance() {
         fov_x_degrees: 70.0,
         width: 48,
         height: 40,
+        kind: CameraKind::Perspective,
     };
     let scene_ = Scene::build(&scene(bent_plane(true), light, cam_desc)).unwrap();
     assert!(scene_.has_shading_normals());

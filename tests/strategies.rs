@@ -33,7 +33,7 @@ const GRID: usize = 8;
 const Z: f64 = 5.0;
 
 fn estimate(scene: &Scene, cam: &Pinhole, settings: &TraceSettings) -> Estimate {
-    regions::estimate(scene, cam, settings, K, GRID)
+    regions::estimate(scene, *cam, settings, K, GRID)
 }
 
 fn assert_same_expectation(name: &str, v: &Estimate, base: &Estimate) {

@@ -9,7 +9,9 @@ use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::dataset::{Chunk, Directions, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{AreaEmission, CameraDesc, MeshDesc, PointLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{
+    AreaEmission, CameraDesc, CameraKind, MeshDesc, PointLightDesc, Scene, SceneDescription,
+};
 use opticks_core::sensor::bidirectional::{CacheChunk, Heuristic, Renderer, Settings, combine};
 use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
 use opticks_core::trace::{TraceSettings, trace};
@@ -154,6 +156,7 @@ pub fn furnace_view(fov_x_degrees: f32, width: u32, height: u32) -> CameraDesc {
         fov_x_degrees,
         width,
         height,
+        kind: CameraKind::Perspective,
     }
 }
 

@@ -7,7 +7,7 @@
 use super::physics::{batch, trace_chunks_with};
 use opticks_core::dataset::{Chunk, LightTable};
 use opticks_core::scene::Scene;
-use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
+use opticks_core::sensor::{SampleBatch, Sensor, render};
 use opticks_core::trace::TraceSettings;
 
 /// Per-channel means of the whole image (entry 0) and of the GRID × GRID regions (entries
@@ -26,9 +26,15 @@ pub struct Estimate {
 /// Traces with `settings`, renders `k` disjoint batches of chunks and measures the estimate of
 /// the image and of every region of a `grid` × `grid` grid, with standard errors from their
 /// spread.
-pub fn estimate(scene: &Scene, cam: &Pinhole, settings: &TraceSettings, k: usize, grid: usize) -> Estimate {
+pub fn estimate(
+    scene: &Scene,
+    sensor: impl Into<Sensor>,
+    settings: &TraceSettings,
+    k: usize,
+    grid: usize,
+) -> Estimate {
     let (table, chunks) = trace_chunks_with(scene, settings);
-    let sensor = Sensor::from(*cam);
+    let sensor: Sensor = sensor.into();
     let regions = 1 + grid * grid;
     let mut sums = vec![[0.0f64; 3]; regions];
     let mut squares = vec![[0.0f64; 3]; regions];

@@ -311,7 +311,7 @@ fn cameras_convert_vertical_fov_and_look_down_minus_z() {
     assert!(close(c.eye, Vec3::new(0.0, 0.0, 9.0), 1e-6) && close(c.target, Vec3::new(0.0, 0.0, 8.0), 1e-6));
     let w = s.warnings.join("\n");
     assert!(w.contains("node 1: camera 0: another camera comes first"), "{w}");
-    assert!(w.contains("node 2: camera 2: orthographic cameras are not supported"), "{w}");
+    assert!(w.contains("node 2: camera 2: another camera comes first"), "{w}");
 
     // Alone, node 1's camera: aspect 2 → 1024×512, fov_x = 2·atan(tan(yfov/2)·2); rotated 90°
     // about +y, its −z axis points along −x.
@@ -948,5 +948,23 @@ fn transmission_makes_thin_or_refracting_glass() {
     );
     for s in [thin, solid, mostly_opaque] {
         build_lit(&s.description);
+    }
+}
+
+#[test]
+fn an_orthographic_camera_keeps_its_magnification() {
+    use opticks_core::scene::CameraKind;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("o.gltf");
+    let body = r#""cameras": [{"name": "plan", "type": "orthographic", "orthographic": {"xmag": 2, "ymag": 1, "znear": 0.1, "zfar": 10}}],
+  "scenes": [{"nodes": [0]}], "nodes": [{"camera": 0, "translation": [0, 0, 5]}]"#;
+    std::fs::write(&path, doc(body)).unwrap();
+    for camera in [None, Some("plan".to_string())] {
+        let s = opticks_io::load_scene_with(&path, &opticks_io::LoadOptions { camera, ..Default::default() })
+            .unwrap();
+        let c = s.description.camera.unwrap();
+        assert_eq!((c.width, c.height), (1024, 512));
+        assert_eq!(c.kind, CameraKind::Orthographic { half_width: 2.0, half_height: 1.0 });
+        assert!(close(c.eye, Vec3::new(0.0, 0.0, 5.0), 1e-6) && close(c.target - c.eye, -Vec3::Z, 1e-6));
     }
 }

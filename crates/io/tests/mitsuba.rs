@@ -7,7 +7,7 @@
 use opticks_core::bsdf::{Bsdf, RoughConductor, RoughDielectric, SmoothConductor, SmoothDielectric};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::microfacet::{Distribution, Microfacet};
-use opticks_core::scene::{MeshDesc, Source};
+use opticks_core::scene::{CameraKind, MeshDesc, Source};
 use opticks_io::scene_formats::mitsuba::{fov_to_x, parse};
 use opticks_io::{LoadOptions, LoadedScene, SceneFileError};
 use std::path::Path;
@@ -175,6 +175,87 @@ fn sensor_frames_match_mitsuba() {
                <transform name="to_world"><scale value="2"/></transform></sensor>"#,
     );
     assert!(s.warnings.iter().any(|w| w.contains("scale or shear")), "{:?}", s.warnings);
+}
+
+#[test]
+fn thinlens_reads_aperture_focus_and_the_perspective_parameters() {
+    let cam = |params: &str| {
+        scene(&format!(
+            r#"<sensor type="thinlens">{params}
+                   <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+                   <film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/>
+                   <rfilter type="box"/></film></sensor>"#
+        ))
+        .description
+        .camera
+        .unwrap()
+    };
+    let c = cam(r#"<float name="aperture_radius" value="0.2"/><float name="focus_distance" value="4.5"/>
+                   <float name="fov" value="30"/><string name="fov_axis" value="y"/>"#);
+    assert_eq!(c.kind, CameraKind::ThinLens { aperture_radius: 0.2, focus_distance: 4.5 });
+    assert!((c.fov_x_degrees as f64 - fov_to_x(30.0, "y", 200, 100).unwrap()).abs() < 1e-4);
+    assert_close(c.eye, Vec3::new(0.0, 0.0, 5.0));
+    assert_close(c.target, Vec3::ZERO);
+    // focus_distance defaults to far_clip (Mitsuba's), the field of view to 50 mm.
+    let c = cam(r#"<float name="aperture_radius" value="0.1"/><float name="far_clip" value="300"/>"#);
+    assert_eq!(c.kind, CameraKind::ThinLens { aperture_radius: 0.1, focus_distance: 300.0 });
+    let diag = 2.0 * (43.2666f64 / 100.0).atan().to_degrees();
+    assert!((c.fov_x_degrees as f64 - fov_to_x(diag, "diagonal", 200, 100).unwrap()).abs() < 1e-3);
+    let c = cam(r#"<float name="aperture_radius" value="0.1"/>"#);
+    assert_eq!(c.kind, CameraKind::ThinLens { aperture_radius: 0.1, focus_distance: 1e4 });
+    for (params, message) in [
+        ("", "needs `aperture_radius`"),
+        (r#"<float name="aperture_radius" value="-0.1"/>"#, "aperture_radius: lens radius -0.1"),
+        (
+            r#"<float name="aperture_radius" value="0.1"/><float name="focus_distance" value="0"/>"#,
+            "focus_distance: focus distance 0",
+        ),
+    ] {
+        let e = err(&format!(r#"<sensor type="thinlens">{params}</sensor>"#));
+        assert!(e.contains(message) && e.starts_with("dir/test.xml:"), "{e}");
+    }
+}
+
+#[test]
+fn orthographic_film_is_to_worlds_image_of_the_unit_square() {
+    let cam = |t: &str, extra: &str| {
+        scene(&format!(
+            r#"<sensor type="orthographic">{extra}<transform name="to_world">{t}</transform>
+                   <film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/>
+                   <rfilter type="box"/></film></sensor>"#
+        ))
+        .description
+        .camera
+        .unwrap()
+    };
+    // Mitsuba's example: a lookat after a scale of the film to 20 × 20 world units (local x
+    // ∈ [-1, 1] → 20 units wide; local y ∈ [-1/aspect, 1/aspect] → 10 units high at 2:1).
+    let c = cam(r#"<scale x="10" y="10"/><lookat origin="1, 1, 1" target="1, 2, 1" up="0, 0, 1"/>"#, "");
+    assert_eq!(c.kind, CameraKind::Orthographic { half_width: 10.0, half_height: 5.0 });
+    // The film starts at the near plane (0.01 along the view), as Mitsuba's rays do.
+    assert_close(c.eye, Vec3::new(1.0, 1.01, 1.0));
+    assert_close((c.target - c.eye).normalize(), Vec3::Y);
+    assert_close(c.up, Vec3::Z);
+    // Image right = forward × up = +x: Mitsuba's (local +x is the image left).
+    assert_close((c.target - c.eye).cross(c.up).normalize(), Vec3::X);
+    let c = cam(
+        r#"<lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/>"#,
+        r#"<float name="near_clip" value="0.5"/>"#,
+    );
+    assert_eq!(c.kind, CameraKind::Orthographic { half_width: 1.0, half_height: 0.5 });
+    assert_close(c.eye, Vec3::new(0.0, 0.0, 4.5));
+    for (t, message) in [
+        (r#"<scale x="-1"/>"#, "mirrors space"),
+        (r#"<matrix value="1 0.5 0 0  0 1 0 0  0 0 1 0  0 0 0 1"/>"#, "perpendicular"),
+        (r#"<scale z="0"/>"#, "singular"),
+    ] {
+        let e = err(&format!(
+            r#"<sensor type="orthographic"><transform name="to_world">{t}</transform></sensor>"#
+        ));
+        assert!(e.contains(message) && e.contains("<transform name=\"to_world\">"), "{e}");
+    }
+    let e = err(r#"<sensor type="orthographic"><float name="near_clip" value="0"/></sensor>"#);
+    assert!(e.contains("near_clip 0 must be"), "{e}");
 }
 
 #[test]
@@ -662,7 +743,10 @@ fn bad_scenes_name_file_line_and_element() {
             "<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/></bsdf>",
             "different front and back",
         ),
-        ("<sensor type=\"thinlens\"/>", "unsupported sensor type \"thinlens\" (supported: perspective)"),
+        (
+            "<sensor type=\"fisheye\"/>",
+            "unsupported sensor type \"fisheye\" (supported: perspective, thinlens, orthographic)",
+        ),
         ("<sensor type=\"perspective\"><float name=\"fov\" value=\"180\"/></sensor>", "outside (0°, 180°)"),
         (
             "<sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/><string name=\"fov_axis\" value=\"z\"/></sensor>",

@@ -193,6 +193,16 @@ fn point_lights_and_phong_round_trip() {
     assert_eq!(red.bsdf, desc.materials[1].bsdf);
     let (a, b) = (Scene::build(&desc).unwrap(), Scene::build(&loaded.description).unwrap());
     assert_same_camera(&a, &b);
+    // A camera VRML has no node for is refused, not written as a pinhole.
+    let camera = desc.camera.unwrap();
+    for kind in [
+        opticks_core::scene::CameraKind::ThinLens { aperture_radius: 0.1, focus_distance: 2.0 },
+        opticks_core::scene::CameraKind::Orthographic { half_width: 1.0, half_height: 0.5 },
+    ] {
+        desc.camera = Some(opticks_core::scene::CameraDesc { kind, ..camera });
+        let e = vrml::write_vrml(&desc, &mut Vec::new()).unwrap_err();
+        assert!(e.to_string().contains("the camera is"), "{e}");
+    }
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! smoothly — Catmull–Rom splines through the eye and target positions (C¹, passing through
 //! every keyframe), linear up vector and field of view.
 
-use super::CameraDesc;
+use super::{CameraDesc, CameraKind};
 use crate::math::Vec3;
 
 /// One keyframe.
@@ -82,6 +82,7 @@ impl CameraPath {
                 fov_x_degrees: a.fov_x_degrees,
                 width,
                 height,
+                kind: CameraKind::Perspective,
             };
         }
         let (a, b) = (k[i], k[i + 1]);
@@ -95,6 +96,7 @@ impl CameraPath {
             fov_x_degrees: a.fov_x_degrees + (b.fov_x_degrees - a.fov_x_degrees) * s,
             width,
             height,
+            kind: CameraKind::Perspective,
         }
     }
 }

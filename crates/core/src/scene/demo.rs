@@ -2,7 +2,7 @@
 //! `mi.cornell_box()` builds it (the same geometry, materials, light and camera as
 //! `testdata/scenes/cornell`), so the demo can be checked against Mitsuba's reference image.
 
-use super::{AreaEmission, CameraDesc, MeshDesc, SceneDescription, Source};
+use super::{AreaEmission, CameraDesc, CameraKind, MeshDesc, SceneDescription, Source};
 use crate::bsdf::{Bsdf, Lambert, Material};
 use crate::math::{Rgb, Vec3};
 
@@ -91,6 +91,7 @@ pub fn cornell_box() -> SceneDescription {
             fov_x_degrees: 39.3077,
             width: 256,
             height: 256,
+            kind: CameraKind::Perspective,
         }),
         ..Default::default()
     }

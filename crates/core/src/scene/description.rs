@@ -11,7 +11,8 @@ use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::texture::TextureBinding;
 use glam::DVec3;
 
-/// A perspective camera as a scene file states it.
+/// A camera as a scene file states it: where it is, how it is oriented, its image size and its
+/// kind ([`CameraKind`]: perspective, thin lens or orthographic).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CameraDesc {
     /// Centre of projection.
@@ -20,12 +21,37 @@ pub struct CameraDesc {
     pub target: Vec3,
     /// Up hint (need not be orthogonal to the view direction).
     pub up: Vec3,
-    /// Full horizontal field of view, degrees.
+    /// Full horizontal field of view, degrees (perspective and thin lens).
     pub fov_x_degrees: f32,
     /// Image width, pixels.
     pub width: u32,
     /// Image height, pixels.
     pub height: u32,
+    /// The kind of camera.
+    pub kind: CameraKind,
+}
+
+/// How a scene file's camera forms its image ([`crate::sensor::Sensor::new`] builds the sensor).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum CameraKind {
+    /// A pinhole at the eye (perspective projection).
+    #[default]
+    Perspective,
+    /// A thin lens centred on the eye: depth of field.
+    ThinLens {
+        /// Radius of the aperture, metres (0: a pinhole).
+        aperture_radius: f32,
+        /// Distance from the lens to the plane in focus, along the view direction, metres.
+        focus_distance: f32,
+    },
+    /// An orthographic projection: parallel rays along the view direction from a film
+    /// rectangle centred on the eye (`fov_x_degrees` is not used).
+    Orthographic {
+        /// Half the film's width, metres.
+        half_width: f32,
+        /// Half the film's height, metres.
+        half_height: f32,
+    },
 }
 
 /// Where a scene element came from, for error messages ("scene.xml:42").

@@ -82,6 +82,7 @@ impl Equirectangular {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::CameraKind;
 
     #[test]
     fn pixels_tile_the_sphere_and_directions_invert() {
@@ -92,6 +93,7 @@ mod tests {
             fov_x_degrees: 1.0,
             width: 40,
             height: 20,
+            kind: CameraKind::Perspective,
         })
         .unwrap();
         let total: f32 = (0..20).map(|j| e.pixel_solid_angle(j) * 40.0).sum();

@@ -3,9 +3,10 @@
 //!
 //! A [`Sensor`] is an image-forming device: a [`Pinhole`] camera (`pinhole.rs`, which also
 //! builds one from a scene file's [`crate::scene::CameraDesc`] and says why it cannot,
-//! [`CameraError`]), a [`ThinLens`] camera with depth of field (`thin_lens.rs`), or an
-//! [`Equirectangular`] 360° camera (`equirect.rs`). Each owns its image size (the sensor reads
-//! it from the camera, [`Sensor::width`]). All of them are rendered by one splat loop
+//! [`CameraError`]), a [`ThinLens`] camera with depth of field (`thin_lens.rs`), an
+//! [`Orthographic`] camera of parallel rays (`orthographic.rs`), or an [`Equirectangular`] 360°
+//! camera (`equirect.rs`). Each owns its image size (the sensor reads it from the camera,
+//! [`Sensor::width`]); [`Sensor::new`] builds the one a scene file's [`CameraDesc`] states. All of them are rendered by one splat loop
 //! ([`splat`]); the only per-sensor part is [`Sensor::connect`], which links a surface
 //! point x to the device and returns the pixel, the point c on the device's aperture, and the
 //! factor W that holds the importance and every geometric term on the sensor's side. Each stored
@@ -34,21 +35,23 @@
 pub mod bidirectional;
 mod equirect;
 pub mod meter;
+mod orthographic;
 mod pinhole;
 mod runs;
 mod thin_lens;
 
 pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure};
+pub use orthographic::Orthographic;
 pub use pinhole::{CameraError, MAX_IMAGE_SIDE, Pinhole, check_fov, check_image_size};
 pub use runs::{RunFold, batches_per_run, render_runs, run_count};
-pub use thin_lens::{LensError, ThinLens};
+pub use thin_lens::{LensError, ThinLens, check_lens};
 
 use crate::dataset::Sample;
 use crate::film::{Film, SharedFilm, SplatTarget, private_films};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
-use crate::scene::Scene;
+use crate::scene::{CameraDesc, CameraKind, Scene};
 use rayon::prelude::*;
 
 /// A run of samples from one light and the flux each unit of β stands for (Φ_k/N_k, after any
@@ -99,6 +102,8 @@ pub enum Sensor {
     Pinhole(Pinhole),
     /// Thin-lens perspective camera (depth of field).
     ThinLens(ThinLens),
+    /// Orthographic camera (parallel rays).
+    Orthographic(Orthographic),
     /// Equirectangular (longitude/latitude) 360° camera.
     Equirectangular(Equirectangular),
 }
@@ -111,7 +116,7 @@ pub struct Connection {
     /// The point on the sensor's aperture the point is connected to (the shadow ray's end).
     pub point: Vec3,
     /// Importance times the sensor-side geometry (everything in Δ except Φβ/N · f_r · |cos θ_x|
-    /// · V), including the 1/d² of the connection.
+    /// · V), including the 1/d² of the connection (none for the orthographic camera).
     pub weight: f32,
 }
 
@@ -127,6 +132,12 @@ impl From<ThinLens> for Sensor {
     }
 }
 
+impl From<Orthographic> for Sensor {
+    fn from(o: Orthographic) -> Self {
+        Sensor::Orthographic(o)
+    }
+}
+
 impl From<Equirectangular> for Sensor {
     fn from(e: Equirectangular) -> Self {
         Sensor::Equirectangular(e)
@@ -134,11 +145,25 @@ impl From<Equirectangular> for Sensor {
 }
 
 impl Sensor {
+    /// The sensor a camera description states: its [`CameraKind`]'s camera.
+    pub fn new(d: &CameraDesc) -> Result<Self, CameraError> {
+        Ok(match d.kind {
+            CameraKind::Perspective => Pinhole::new(d)?.into(),
+            CameraKind::ThinLens { aperture_radius, focus_distance } => {
+                ThinLens::new(Pinhole::new(d)?, aperture_radius, focus_distance)?.into()
+            }
+            CameraKind::Orthographic { half_width, half_height } => {
+                Orthographic::new(d, half_width, half_height)?.into()
+            }
+        })
+    }
+
     /// Image width in pixels (the camera's).
     pub fn width(&self) -> u32 {
         match self {
             Sensor::Pinhole(p) => p.width,
             Sensor::ThinLens(t) => t.pinhole.width,
+            Sensor::Orthographic(o) => o.width,
             Sensor::Equirectangular(e) => e.width,
         }
     }
@@ -148,6 +173,7 @@ impl Sensor {
         match self {
             Sensor::Pinhole(p) => p.height,
             Sensor::ThinLens(t) => t.pinhole.height,
+            Sensor::Orthographic(o) => o.height,
             Sensor::Equirectangular(e) => e.height,
         }
     }
@@ -159,6 +185,7 @@ impl Sensor {
         match self {
             Sensor::Pinhole(p) => p.connect(x),
             Sensor::ThinLens(t) => t.connect(x, u),
+            Sensor::Orthographic(o) => o.connect(x),
             Sensor::Equirectangular(e) => e.connect(x),
         }
     }

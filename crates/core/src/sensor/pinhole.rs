@@ -47,6 +47,12 @@ pub enum CameraError {
     /// An image side of zero or beyond [`MAX_IMAGE_SIDE`].
     #[error("image size {0}x{1} must be between 1x1 and 32768x32768")]
     Size(u32, u32),
+    /// An orthographic film whose width or height (metres) is not a finite number > 0.
+    #[error("orthographic film of {0} × {1} m: each side must be a finite number > 0")]
+    FilmExtent(f32, f32),
+    /// A thin lens's aperture or focus distance.
+    #[error(transparent)]
+    Lens(#[from] super::LensError),
 }
 
 /// A full field-of-view angle (degrees) a perspective camera can have: in (0°, 180°). Public so
@@ -134,6 +140,7 @@ impl Pinhole {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::CameraKind;
 
     fn cam() -> Pinhole {
         Pinhole::new(&CameraDesc {
@@ -143,6 +150,7 @@ mod tests {
             fov_x_degrees: 39.3077,
             width: 256,
             height: 128,
+            kind: CameraKind::Perspective,
         })
         .unwrap()
     }
@@ -171,6 +179,7 @@ mod tests {
             fov_x_degrees: 45.0,
             width: 4,
             height: 4,
+            kind: CameraKind::Perspective,
         };
         assert!(Pinhole::new(&good).is_ok());
         assert!(Pinhole::new(&CameraDesc { up: Vec3::Z, ..good }).is_err());

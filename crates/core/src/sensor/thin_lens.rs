@@ -44,15 +44,22 @@ pub enum LensError {
     FocusDistance(f32),
 }
 
+/// The one rule for a thin lens's parameters: a radius finite and ≥ 0, a focus distance finite
+/// and > 0. Public so that scene readers apply it where the file gives the values.
+pub fn check_lens(radius: f32, focus_distance: f32) -> Result<(), LensError> {
+    if !(radius.is_finite() && radius >= 0.0) {
+        return Err(LensError::Radius(radius));
+    }
+    if !(focus_distance.is_finite() && focus_distance > 0.0) {
+        return Err(LensError::FocusDistance(focus_distance));
+    }
+    Ok(())
+}
+
 impl ThinLens {
     /// A thin lens on the pinhole's eye and axis.
     pub fn new(pinhole: Pinhole, radius: f32, focus_distance: f32) -> Result<Self, LensError> {
-        if !(radius.is_finite() && radius >= 0.0) {
-            return Err(LensError::Radius(radius));
-        }
-        if !(focus_distance.is_finite() && focus_distance > 0.0) {
-            return Err(LensError::FocusDistance(focus_distance));
-        }
+        check_lens(radius, focus_distance)?;
         Ok(ThinLens { pinhole, radius, focus_distance })
     }
 
@@ -88,7 +95,7 @@ impl ThinLens {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::CameraDesc;
+    use crate::scene::{CameraDesc, CameraKind};
 
     fn lens(radius: f32) -> ThinLens {
         let p = Pinhole::new(&CameraDesc {
@@ -98,6 +105,7 @@ mod tests {
             fov_x_degrees: 40.0,
             width: 64,
             height: 48,
+            kind: CameraKind::Perspective,
         })
         .unwrap();
         ThinLens::new(p, radius, 3.0).unwrap()

@@ -16,8 +16,12 @@
 //!   2π × π, so 1/(2π²·sin θ) with θ the polar angle from `up`; the pixel reads the radiance
 //!   averaged over its solid angle Ω_j (`equirect.rs`), so the throughput is
 //!   W_e·cos/p = (2π²/(W·H))·sin θ/Ω_j, which averages to 1 over the pixel.
+//! * orthographic: the ray's origin is uniform over the film, area density 1/(4h_x·h_y), its
+//!   direction fixed ([`CameraPdf::Area`]); a pixel reads the radiance averaged over its film
+//!   rectangle, so the throughput is 1.
 
 use super::super::Sensor;
+use super::CameraPdf;
 use crate::math::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -28,8 +32,8 @@ pub struct CameraRay {
     pub origin: Vec3,
     /// Unit direction into the scene.
     pub dir: Vec3,
-    /// The image-wide solid-angle density of `dir` ([`image_pdf`]).
-    pub pdf_w: f32,
+    /// The image-wide density of the ray ([`image_pdf`]).
+    pub pdf: CameraPdf,
     /// W_e·cos/p: the factor on the radiance arriving along the ray.
     pub throughput: f32,
 }
@@ -43,7 +47,7 @@ pub fn camera_ray(sensor: &Sensor, i: u32, j: u32, u_film: Vec2, u_lens: Vec2) -
     match sensor {
         Sensor::Pinhole(p) => {
             let dir = p.direction(sx, sy);
-            CameraRay { origin: p.eye, dir, pdf_w: image_pdf(sensor, dir), throughput: 1.0 }
+            CameraRay { origin: p.eye, dir, pdf: image_pdf(sensor, dir), throughput: 1.0 }
         }
         Sensor::ThinLens(t) => {
             let p = &t.pinhole;
@@ -52,42 +56,50 @@ pub fn camera_ray(sensor: &Sensor, i: u32, j: u32, u_film: Vec2, u_lens: Vec2) -
                 return CameraRay {
                     origin: p.eye,
                     dir: towards,
-                    pdf_w: image_pdf(sensor, towards),
+                    pdf: image_pdf(sensor, towards),
                     throughput: 1.0,
                 };
             }
             let focus = p.eye + towards * (t.focus_distance / towards.dot(p.forward));
             let origin = t.lens_point(u_lens);
             let dir = (focus - origin).normalize();
-            CameraRay { origin, dir, pdf_w: image_pdf(sensor, dir), throughput: 1.0 }
+            CameraRay { origin, dir, pdf: image_pdf(sensor, dir), throughput: 1.0 }
+        }
+        Sensor::Orthographic(o) => {
+            let dir = o.forward;
+            CameraRay { origin: o.film_point(sx, sy), dir, pdf: image_pdf(sensor, dir), throughput: 1.0 }
         }
         Sensor::Equirectangular(e) => {
             let dir = e.direction(sx, sy);
-            let pdf_w = image_pdf(sensor, dir);
+            let pdf = image_pdf(sensor, dir);
             let omega = e.pixel_solid_angle(j);
+            let CameraPdf::Solid(pdf_w) = pdf else { unreachable!("a point camera") };
             let throughput = 1.0 / (pdf_w * w * h * omega);
-            CameraRay { origin: e.eye, dir, pdf_w, throughput }
+            CameraRay { origin: e.eye, dir, pdf, throughput }
         }
     }
 }
 
-/// The image-wide solid-angle density with which the camera's rays take the unit direction
-/// `dir` (from the eye or, for the thin lens, from whichever lens point the ray leaves): the
-/// camera-side density of light tracing's t = 1 strategy. 0 outside the field of view is not
-/// checked (callers only ask for directions that project into the image).
+/// The image-wide density with which the camera's rays take the unit direction `dir`: a
+/// solid-angle density from the eye or, for the thin lens, from whichever lens point the ray
+/// leaves; for the orthographic camera (whose rays all take its one direction) the area
+/// density of the ray's origin on the film. The camera-side density of light tracing's t = 1
+/// strategy. 0 outside the field of view is not checked (callers only ask for directions that
+/// project into the image).
 #[inline]
-pub fn image_pdf(sensor: &Sensor, dir: Vec3) -> f32 {
+pub fn image_pdf(sensor: &Sensor, dir: Vec3) -> CameraPdf {
     let perspective = |p: &super::super::Pinhole| {
         let cos = dir.dot(p.forward);
-        1.0 / (4.0 * p.tan_x * p.tan_y * cos * cos * cos)
+        CameraPdf::Solid(1.0 / (4.0 * p.tan_x * p.tan_y * cos * cos * cos))
     };
     match sensor {
         Sensor::Pinhole(p) => perspective(p),
         Sensor::ThinLens(t) => perspective(&t.pinhole),
+        Sensor::Orthographic(o) => CameraPdf::Area(1.0 / (4.0 * o.half_width * o.half_height)),
         Sensor::Equirectangular(e) => {
             // sin θ as |dir × up|: accurate near the poles, where 1 − cos² is not.
             let sin = dir.cross(e.up).length();
-            1.0 / (2.0 * PI * PI * sin)
+            CameraPdf::Solid(1.0 / (2.0 * PI * PI * sin))
         }
     }
 }
@@ -96,8 +108,8 @@ pub fn image_pdf(sensor: &Sensor, dir: Vec3) -> f32 {
 mod tests {
     use super::*;
     use crate::sampling::RandomStream;
-    use crate::scene::CameraDesc;
-    use crate::sensor::{Equirectangular, Pinhole, ThinLens};
+    use crate::scene::{CameraDesc, CameraKind};
+    use crate::sensor::{Equirectangular, Orthographic, Pinhole, ThinLens};
 
     fn desc() -> CameraDesc {
         CameraDesc {
@@ -107,6 +119,7 @@ mod tests {
             fov_x_degrees: 50.0,
             width: 24,
             height: 16,
+            kind: CameraKind::Perspective,
         }
     }
 
@@ -120,6 +133,7 @@ mod tests {
             Sensor::Pinhole(p),
             Sensor::ThinLens(ThinLens::new(p, 0.1, 2.5).unwrap()),
             Sensor::Equirectangular(Equirectangular::new(&desc()).unwrap()),
+            Sensor::Orthographic(Orthographic::new(&desc(), 1.2, 0.8).unwrap()),
         ];
         let mut rng = RandomStream::new(5, &[]);
         for s in sensors {
@@ -142,8 +156,9 @@ mod tests {
                     let c = s.connect(x, u).unwrap();
                     assert_eq!(c.pixel, (j * w + i) as usize, "{s:?}");
                 }
-                assert!((image_pdf(&s, r.dir) - r.pdf_w).abs() <= 1e-5 * r.pdf_w, "{s:?}");
-                total_solid_angle += 1.0 / r.pdf_w as f64;
+                let (CameraPdf::Solid(p) | CameraPdf::Area(p)) = r.pdf;
+                assert_eq!(image_pdf(&s, r.dir), r.pdf, "{s:?}");
+                total_solid_angle += 1.0 / p as f64;
                 throughput += r.throughput as f64;
             }
             let mean_throughput = throughput / n as f64;
@@ -151,6 +166,8 @@ mod tests {
             let omega = total_solid_angle / n as f64;
             let expected = match s {
                 Sensor::Equirectangular(_) => 4.0 * std::f64::consts::PI,
+                // The film's area (the density is one of area).
+                Sensor::Orthographic(o) => 4.0 * (o.half_width * o.half_height) as f64,
                 // The image rectangle [−t_x, t_x] × [−t_y, t_y] at unit distance subtends
                 // 4·atan(t_x·t_y/√(1 + t_x² + t_y²)) (the thin lens nearly the same from r ≪ F).
                 Sensor::Pinhole(p) | Sensor::ThinLens(ThinLens { pinhole: p, .. }) => {

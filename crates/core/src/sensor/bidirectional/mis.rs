@@ -455,6 +455,31 @@ impl MisRecord {
     }
 }
 
+/// How a camera draws its rays, image-wide: the camera-side density every strategy that takes
+/// the first camera hit from the camera needs (`docs/bidirectional.md` §3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CameraPdf {
+    /// Rays leave a point (the pinhole, a lens point, the 360° camera's centre) in a direction of
+    /// this solid-angle density (pinhole 1/(A·cos³θ), A the image area at unit distance;
+    /// equirectangular 1/(2π² sin θ)): the first hit x₁ has area density p·|cos θ₁|/d².
+    Solid(f32),
+    /// Rays leave the film plane in one direction from a point of this area density
+    /// (orthographic: 1 over the film's area): x₁ has area density p·|cos θ₁|, no 1/d² — the
+    /// camera vertex is a direction, as a directional light's x₀ is.
+    Area(f32),
+}
+
+impl CameraPdf {
+    /// The area density of a point at |cos θ| = `cos`, `dist2` from the camera point.
+    #[inline]
+    fn of_point(self, cos: f32, dist2: f32) -> f64 {
+        match self {
+            CameraPdf::Solid(p) => p as f64 * cos as f64 / dist2 as f64,
+            CameraPdf::Area(p) => p as f64 * cos as f64,
+        }
+    }
+}
+
 /// The camera subpath's MIS state at a vertex z_m (after [`CameraVertexMis::after_hit`]) or on
 /// the segment leaving it. Values are raised to the power β; they hold no counts, so one
 /// camera path serves any [`Counts`]. Its `vcm` is 1/p←(z_m)^β, the strategy that takes z_m
@@ -468,14 +493,17 @@ pub struct CameraVertexMis(Subpath<2>);
 const LIGHT_TRACE: usize = 0;
 
 impl CameraVertexMis {
-    /// The state of the segment leaving the camera: the ray's direction was drawn with the
-    /// camera's image-wide solid-angle density `pdf_dir_w` (for a pinhole 1/(A·cos³θ), A the
-    /// image area at unit distance; equirectangular 1/(2π² sin θ)). The lens position's own
-    /// density (thin lens) is the same for every strategy and cancels.
+    /// The state of the segment leaving the camera, whose rays are drawn with the image-wide
+    /// density `pdf` ([`CameraPdf`]). The lens position's own density (thin lens) is the same
+    /// for every strategy and cancels.
     #[inline]
-    pub fn at_camera(pdf_dir_w: f32, heuristic: Heuristic) -> Self {
-        let vcm = heuristic.mis(1.0 / pdf_dir_w as f64);
-        CameraVertexMis(Subpath { vcm, vc: [0.0; 2], class: LIGHT_TRACE, heuristic, infinite_segment: false })
+    pub fn at_camera(pdf: CameraPdf, heuristic: Heuristic) -> Self {
+        let (p, infinite_segment) = match pdf {
+            CameraPdf::Solid(p) => (p, false),
+            CameraPdf::Area(p) => (p, true),
+        };
+        let vcm = heuristic.mis(1.0 / p as f64);
+        CameraVertexMis(Subpath { vcm, vc: [0.0; 2], class: LIGHT_TRACE, heuristic, infinite_segment })
     }
 
     /// The state at the vertex the current segment hits (as [`LightVertexMis::after_hit`]).
@@ -633,22 +661,22 @@ pub fn weight_connection(
 }
 
 /// The weight of light tracing (t = 1): the stored vertex y (state `light`; y₀ of an area light
-/// included) splatted to the camera, whose image-wide solid-angle density of the direction
-/// lens → y is `camera_pdf_w` ([`CameraVertexMis::at_camera`]); `at_light.cos` is |cos θ| at y
+/// included) splatted to the camera, whose image-wide density of the ray camera → y is
+/// `camera_pdf` ([`CameraVertexMis::at_camera`]), `dist2` away; `at_light.cos` is |cos θ| at y
 /// of that direction, `at_light.pdf_rev_w` the camera tracer's density of continuing from y
-/// (arriving from the lens) to y's predecessor; `at_light.pdf_fwd_w` is not used (the light
+/// (arriving from the camera) to y's predecessor; `at_light.pdf_fwd_w` is not used (the light
 /// path hitting the lens is not a strategy).
 #[inline]
 pub fn weight_light_trace(
     light: &LightVertexMis,
     at_light: ConnectionEnd,
-    camera_pdf_w: f32,
+    camera_pdf: CameraPdf,
     dist2: f32,
     pick: f32,
     counts: Counts,
 ) -> f32 {
     let f = Factors::new(Target::LightTrace, counts, pick, light.heuristic());
-    let p_camera = camera_pdf_w as f64 * at_light.cos as f64 / dist2 as f64;
+    let p_camera = camera_pdf.of_point(at_light.cos, dist2);
     weight(light.sum(p_camera, at_light.pdf_rev_w, &f))
 }
 

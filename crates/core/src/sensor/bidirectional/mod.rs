@@ -33,8 +33,8 @@ pub use cache::{CANDIDATES, CacheChunk, CachedVertex, LightCache, PendingDraw, R
 pub use camera::{CameraRay, camera_ray, image_pdf};
 pub use lights::{LightPoint, RenderLight, RenderLights};
 pub use mis::{
-    CameraVertexMis, ConnectionEnd, Counts, Emitter, Heuristic, LightKind, LightVertexMis, MisRecord,
-    VcmClass, weight_connection, weight_emitter_hit, weight_light_trace, weight_nee,
+    CameraPdf, CameraVertexMis, ConnectionEnd, Counts, Emitter, Heuristic, LightKind, LightVertexMis,
+    MisRecord, VcmClass, weight_connection, weight_emitter_hit, weight_light_trace, weight_nee,
 };
 pub use path::{camera_path, scatter_mis};
 pub use progressive::Progressive;

@@ -37,7 +37,7 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
     let (u_film, u_lens) = (rng.next_2d(), rng.next_2d());
     let start = camera_ray(sensor, i, j, u_film, u_lens);
     let scene = ctx.scene;
-    let mut mis = CameraVertexMis::at_camera(start.pdf_w, ctx.heuristic);
+    let mut mis = CameraVertexMis::at_camera(start.pdf, ctx.heuristic);
     let mut throughput = Rgb::splat(start.throughput);
     let mut ray = Ray { origin: start.origin, dir: start.dir, t_max: f32::INFINITY };
     let mut medium = Rgb::ZERO;

@@ -16,8 +16,8 @@
 //! | `KHR_lights_punctual` point | [`PointLightDesc`] of intensity `color × intensity / 683` W/sr (glTF gives candela = lm/sr; 683 lm/W is the luminous efficacy at 555 nm, the convention glTF exporters such as Blender's use); `range` is ignored (physical inverse-square falloff) |
 //! | `KHR_lights_punctual` spot | a spot [`PointLightDesc`] on the node's −Z, `color × intensity / 683` W/sr on the axis, full within `innerConeAngle` (at least [`SPOT_MIN_BEAM`] × outer) and falling **linearly in angle** to zero at `outerConeAngle` (glTF leaves the fall-off curve to the renderer); `range` ignored |
 //! | `KHR_lights_punctual` directional | a [`DirectionalLightDesc`] along the node's −Z of irradiance `color × intensity / 683` W/m² (glTF gives lux), a sun covering the scene |
-//! | cameras | the camera [`LoadOptions::camera`] names (its node's name or its own; the CLI's `--camera`), else the perspective camera of the lowest-index node in the scene; it looks down its local −Z with +Y up; `yfov` is vertical: `fov_x = 2·atan(tan(yfov/2)·W/H)`; the image is 512 pixels high and `round(512·aspectRatio)` wide (512×512 without `aspectRatio`) |
-//! | orthographic cameras, skins, morph targets, animations, normal, occlusion and emissive textures | ignored (warnings for the ones that change what is seen); an orthographic camera chosen by name is an error |
+//! | cameras | the camera [`LoadOptions::camera`] names (its node's name or its own; the CLI's `--camera`), else the camera of the lowest-index node in the scene (orthographic ones with the film's half extents `xmag` × `ymag`, 512 pixels high); it looks down its local −Z with +Y up; `yfov` is vertical: `fov_x = 2·atan(tan(yfov/2)·W/H)`; the image is 512 pixels high and `round(512·aspectRatio)` wide (512×512 without `aspectRatio`) |
+//! | skins, morph targets, animations, normal, occlusion and emissive textures | ignored (warnings for the ones that change what is seen) |
 //!
 //! glTF's units and axes (metres, right-handed, +Y up) are Opticks's, so nothing is converted.
 //!
@@ -40,7 +40,8 @@ use opticks_core::light::check::check_emission;
 use opticks_core::light::{LUMENS_PER_WATT, LightError};
 use opticks_core::math::{Mat4, Rgb, Vec2, Vec3};
 use opticks_core::scene::{
-    AreaEmission, CameraDesc, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription, Source,
+    AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription,
+    Source,
 };
 use opticks_core::sensor::Pinhole;
 use opticks_core::texture::TextureBinding;
@@ -423,7 +424,7 @@ pub fn load_gltf_scene_with(path: &Path, options: &LoadOptions) -> Result<Loaded
             cameras.push((node.clone(), cam, m));
         }
     }
-    // The camera: the one named by the options, else the lowest-index node's perspective camera.
+    // The camera: the one named by the options, else the lowest-index node's.
     let pick = match &options.camera {
         Some(wanted) => {
             let named = |(n, c, _): &&(::gltf::Node<'_>, ::gltf::Camera<'_>, Mat4)| {
@@ -443,7 +444,7 @@ pub fn load_gltf_scene_with(path: &Path, options: &LoadOptions) -> Result<Loaded
             };
             Some(found)
         }
-        None => cameras.iter().find(|(_, c, _)| matches!(c.projection(), Projection::Perspective(_))),
+        None => cameras.first(),
     };
     for entry in &cameras {
         let (node, cam, m) = entry;
@@ -466,24 +467,45 @@ pub fn load_gltf_scene_with(path: &Path, options: &LoadOptions) -> Result<Loaded
                     fov_x_degrees: fov_x.to_degrees(),
                     width,
                     height,
+                    kind: CameraKind::Perspective,
                 };
                 // The core's camera checks (field of view, axes), reported at the camera.
                 Pinhole::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
                 desc.camera = Some(camera);
             }
-            Projection::Orthographic(_) if is_pick => {
-                return Err(invalid(cel, "orthographic cameras are not supported".into()));
+            Projection::Orthographic(o) if is_pick => {
+                // xmag, ymag: half the view's width and height; the image 512 pixels high.
+                let (xmag, ymag) = (o.xmag().abs(), o.ymag().abs());
+                if !(xmag.is_finite() && ymag.is_finite() && xmag > 0.0 && ymag > 0.0) {
+                    return Err(invalid(
+                        cel,
+                        format!("orthographic xmag {xmag} and ymag {ymag} must be positive"),
+                    ));
+                }
+                let height = DEFAULT_IMAGE_HEIGHT;
+                let width = ((height as f32 * xmag / ymag).round() as u32).max(1);
+                let eye = m.transform_point3(Vec3::ZERO);
+                let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
+                let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
+                let camera = CameraDesc {
+                    eye,
+                    target: eye + forward,
+                    up,
+                    fov_x_degrees: 45.0,
+                    width,
+                    height,
+                    kind: CameraKind::Orthographic { half_width: xmag, half_height: ymag },
+                };
+                opticks_core::sensor::Sensor::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
+                desc.camera = Some(camera);
             }
-            Projection::Perspective(_) => {
+            _ => {
                 let why = if options.camera.is_some() {
                     "not the one --camera names"
                 } else {
                     "another camera comes first (lowest node index; --camera NAME chooses another)"
                 };
                 warn(&mut warnings, &cel, format!("{why}; ignored"));
-            }
-            Projection::Orthographic(_) => {
-                warn(&mut warnings, &cel, "orthographic cameras are not supported; ignored".into());
             }
         }
     }

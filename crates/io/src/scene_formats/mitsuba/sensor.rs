@@ -2,10 +2,13 @@
 //! sensor type to its builder; adding one is an entry there and its function.
 //!
 //! Mitsuba's camera looks along local +z with +y up and local +x to the image left; a
-//! [`CameraDesc`] has an eye, a target and an up vector, so `to_world` must be a rotation (a
-//! mirror is refused, scale or shear warned about) and the target is taken at the last
-//! `<lookat>`'s distance. The field of view is converted to the horizontal angle the core wants
-//! with Mitsuba's own `fov_axis` rules ([`fov_to_x`]).
+//! [`CameraDesc`] has an eye, a target and an up vector. For the perspective cameras
+//! (`perspective`, `thinlens`) `to_world` must be a rotation (a mirror is refused, scale or
+//! shear warned about) and the target is taken at the last `<lookat>`'s distance; the field of
+//! view is converted to the horizontal angle the core wants with Mitsuba's own `fov_axis` rules
+//! ([`fov_to_x`]). The `orthographic` camera's film is [-1, 1] × [-1/aspect, 1/aspect] of local
+//! x and y at its near plane (aspect = width/height), mapped by `to_world`, whose scale
+//! therefore sizes the film ([`orthographic_film`]).
 
 use super::Result;
 use super::build::Builder;
@@ -13,17 +16,21 @@ use super::properties::Props;
 use super::transform::Transform;
 use super::xml::Element;
 use glam::{DMat3, DVec3};
-use opticks_core::scene::CameraDesc;
-use opticks_core::sensor::{MAX_IMAGE_SIDE, check_fov, check_image_size};
+use opticks_core::scene::{CameraDesc, CameraKind};
+use opticks_core::sensor::{MAX_IMAGE_SIDE, check_fov, check_image_size, check_lens};
 
 /// A sensor builder: the `<sensor>` element and its properties.
 type BuildSensor = for<'d> fn(&mut Builder<'d>, &'d Element, Props<'d>) -> Result<CameraDesc>;
 
 /// The supported sensor types.
-const SENSOR_TYPES: &[(&str, BuildSensor)] = &[("perspective", perspective)];
+const SENSOR_TYPES: &[(&str, BuildSensor)] =
+    &[("perspective", perspective), ("thinlens", thinlens), ("orthographic", orthographic)];
 
 /// Mitsuba's default film size.
 const DEFAULT_FILM: (u32, u32) = (768, 576);
+
+/// Mitsuba's default clip planes (`near_clip`, `far_clip`), in camera-space units.
+const DEFAULT_CLIP: (f64, f64) = (1e-2, 1e4);
 
 /// The camera of a `<sensor>`.
 pub fn sensor<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<CameraDesc> {
@@ -35,7 +42,9 @@ pub fn sensor<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<CameraDesc> {
     build(b, e, Props::of(e)?)
 }
 
-fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Result<CameraDesc> {
+/// The sensor's nested objects: its `<film>` (the image size) and samplers, inline or by
+/// `<ref>`.
+fn film_of<'d>(b: &mut Builder<'d>, p: &Props<'d>) -> Result<(u32, u32)> {
     let (mut width, mut height) = DEFAULT_FILM;
     for &c in p.objects() {
         match c.tag.as_str() {
@@ -66,6 +75,24 @@ fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Res
             }
         }
     }
+    Ok((width, height))
+}
+
+fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, p: Props<'d>) -> Result<CameraDesc> {
+    projective(b, e, p, false)
+}
+
+/// `thinlens`: a perspective camera with `aperture_radius` (required, as in Mitsuba; 0 is a
+/// pinhole, where Mitsuba takes a radius of machine epsilon) and `focus_distance` (default
+/// `far_clip`, Mitsuba's), the distance from the lens to the plane in focus along the axis.
+fn thinlens<'d>(b: &mut Builder<'d>, e: &'d Element, p: Props<'d>) -> Result<CameraDesc> {
+    projective(b, e, p, true)
+}
+
+/// The perspective cameras: the field of view (`fov` with `fov_axis`, or `focal_length`),
+/// `to_world`, and for the thin lens its aperture and focus.
+fn projective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>, lens: bool) -> Result<CameraDesc> {
+    let (width, height) = film_of(b, &p)?;
     let fov = p.float("fov")?;
     let focal = p.string("focal_length")?;
     let axis = p.string("fov_axis")?;
@@ -93,6 +120,18 @@ fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Res
         let node = axis.as_ref().map_or(e, |(_, node)| *node);
         node.err(format!("unsupported fov_axis \"{axis_name}\" (supported: x, y, smaller, larger, diagonal)"))
     })?;
+    let kind = if lens {
+        let (radius, rnode) = p.float("aperture_radius")?.ok_or_else(|| {
+            e.err("a thinlens sensor needs `aperture_radius` (Mitsuba has no default for it)")
+        })?;
+        let far = p.float("far_clip")?.map_or(DEFAULT_CLIP.1, |(f, _)| f);
+        let (focus, fnode) = p.float_or("focus_distance", far)?;
+        check_lens(radius as f32, 1.0).map_err(|err| rnode.err(format!("aperture_radius: {err}")))?;
+        check_lens(0.0, focus as f32).map_err(|err| fnode.err(format!("focus_distance: {err}")))?;
+        CameraKind::ThinLens { aperture_radius: radius as f32, focus_distance: focus as f32 }
+    } else {
+        CameraKind::Perspective
+    };
     p.ignore(&["near_clip", "far_clip", "shutter_open", "shutter_close"]);
     let (t, tnode) = p.transform("to_world")?.unwrap_or((Transform::IDENTITY, e));
     check_camera_frame(b, &t, tnode)?;
@@ -108,7 +147,74 @@ fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Res
         fov_x_degrees: fov_x as f32,
         width,
         height,
+        kind,
     })
+}
+
+/// `orthographic`: parallel rays along `to_world`'s local +z from its film
+/// ([`orthographic_film`]), which starts at the near plane as Mitsuba's rays do.
+fn orthographic<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Result<CameraDesc> {
+    let (width, height) = film_of(b, &p)?;
+    let (near, nnode) = p.float_or("near_clip", DEFAULT_CLIP.0)?;
+    if !(near.is_finite() && near > 0.0) {
+        return Err(nnode.err(format!("near_clip {near} must be a finite number > 0 (as in Mitsuba)")));
+    }
+    p.ignore(&["far_clip", "shutter_open", "shutter_close"]);
+    let (t, tnode) = p.transform("to_world")?.unwrap_or((Transform::IDENTITY, e));
+    let (eye, forward, up, half_width, half_height) = orthographic_film(&t, near, width, height, tnode)?;
+    b.finish(&p);
+    Ok(CameraDesc {
+        eye: eye.as_vec3(),
+        target: (eye + forward * t.focus.unwrap_or(1.0)).as_vec3(),
+        up: up.as_vec3(),
+        // Not used by the orthographic camera; a perspective view of it (`--projection
+        // perspective`) starts from the default of a camera given on the command line.
+        fov_x_degrees: 45.0,
+        width,
+        height,
+        kind: CameraKind::Orthographic { half_width: half_width as f32, half_height: half_height as f32 },
+    })
+}
+
+/// The orthographic camera's film in the world for a `width`×`height` image: its centre (on
+/// the near plane, local z = `near`), the unit view direction, the unit up direction and the
+/// half width and height. Local x ∈ [-1, 1] and y ∈ [-1/aspect, 1/aspect] (Mitsuba's
+/// `orthographic_projection`) are mapped by `to_world`, which must be affine, not a mirror, and
+/// keep the three axes perpendicular (a rotation with scale; a shear would make the film a
+/// parallelogram or slant the rays to it, which Opticks's camera cannot do).
+pub fn orthographic_film(
+    t: &Transform,
+    near: f64,
+    width: u32,
+    height: u32,
+    tnode: &Element,
+) -> Result<(DVec3, DVec3, DVec3, f64, f64)> {
+    let m = t.matrix;
+    if m.row(3) != glam::DVec4::W {
+        return Err(tnode.err("a camera's to_world must be affine (last matrix row 0, 0, 0, 1)"));
+    }
+    let lin = DMat3::from_mat4(m);
+    let det = lin.determinant();
+    if !(det.is_finite() && det != 0.0) {
+        return Err(tnode.err("the camera's to_world is singular"));
+    }
+    if det < 0.0 {
+        return Err(tnode.err(
+            "the camera's to_world mirrors space (negative determinant): the image would be flipped, \
+             which Opticks cameras cannot do",
+        ));
+    }
+    let (x, y, z) = (lin.x_axis, lin.y_axis, lin.z_axis);
+    let cos = |a: DVec3, b: DVec3| a.dot(b) / (a.length() * b.length());
+    if [cos(x, y), cos(x, z), cos(y, z)].iter().any(|c| c.abs() > 1e-4) {
+        return Err(tnode.err(
+            "an orthographic camera's to_world must keep its axes perpendicular (a rotation with \
+             scale): this one shears, which Opticks's orthographic camera cannot do",
+        ));
+    }
+    let aspect = width as f64 / height as f64;
+    let eye = m.transform_point3(DVec3::new(0.0, 0.0, near));
+    Ok((eye, z.normalize(), y.normalize(), x.length(), y.length() / aspect))
 }
 
 /// Physical check of a camera's `to_world` (at `tnode`): affine, not singular, not a mirror

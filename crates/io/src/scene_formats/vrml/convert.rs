@@ -25,7 +25,7 @@ use glam::{DMat4, DQuat, DVec3};
 use opticks_core::bsdf::{Bsdf, Lambert, Material, ModifiedPhong};
 use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{AreaEmission, CameraDesc, MeshDesc, SceneDescription, Source};
+use opticks_core::scene::{AreaEmission, CameraDesc, CameraKind, MeshDesc, SceneDescription, Source};
 use opticks_core::sensor::Pinhole;
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -635,6 +635,7 @@ impl Converter {
             fov_x_degrees: fov_x.to_degrees() as f32,
             width,
             height,
+            kind: CameraKind::Perspective,
         };
         // The core's camera checks (image size, field of view, axes), reported at the node.
         Pinhole::new(&camera).map_err(|e| self.invalid(n, e.to_string()))?;

@@ -10,8 +10,8 @@
 //! light with an IES profile is written as a `PhysicalPointLight` whose `iesUrl` is the file it
 //! was read from ([`PointLightDesc::ies_file`](opticks_core::scene::PointLightDesc), absolute as
 //! the loaders keep it). Lights the extension cannot express (an IES table whose file is not
-//! known, an IES or spot profile on an area light) are an `InvalidInput` error rather than
-//! silently dropped.
+//! known, an IES or spot profile on an area light) and cameras it has no node for (a thin lens,
+//! an orthographic camera) are an `InvalidInput` error rather than silently dropped.
 
 use super::extension::DECLARATIONS;
 use super::parser::is_keyword;
@@ -19,7 +19,7 @@ use glam::{DMat3, DQuat, DVec3};
 use opticks_core::bsdf::{Bsdf, Material};
 use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Frame, Rgb, Vec3};
-use opticks_core::scene::{CameraDesc, SceneDescription};
+use opticks_core::scene::{CameraDesc, CameraKind, SceneDescription};
 use std::collections::HashSet;
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
@@ -64,6 +64,11 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
                 .iter()
                 .find(|m| m.emission.as_ref().is_some_and(|e| area_emission(e.profile.as_ref()).is_none()))
                 .map(|m| format!("area light {} has a tabulated (IES) emission profile", m.name))
+        })
+        .or_else(|| match desc.camera.map(|c| c.kind) {
+            Some(CameraKind::ThinLens { .. }) => Some("the camera is a thin lens".to_string()),
+            Some(CameraKind::Orthographic { .. }) => Some("the camera is orthographic".to_string()),
+            Some(CameraKind::Perspective) | None => None,
         });
     if let Some(what) = unsupported {
         return Err(io::Error::new(

@@ -2,7 +2,7 @@
 //!
 //! Random paths of 1–10 segments, with random per-vertex light-tracer and camera-tracer pdfs,
 //! random delta vertices, random light kinds (area, point, directional) and camera kinds
-//! (pinhole, thin lens, equirectangular), random counts and light-pick probabilities and both
+//! (pinhole, thin lens, equirectangular, orthographic), random counts and light-pick probabilities and both
 //! heuristics. For each path the light side is walked from the light as the tracer will (and
 //! stored through a [`MisRecord`]), the camera side from the camera as the renderer will, and
 //! every strategy the renderer evaluates is weighted through the public API. A brute force, in
@@ -58,7 +58,13 @@ enum CameraKind {
     Pinhole,
     ThinLens,
     Equirect,
+    /// A delta direction whose rays start on the film with an area density (`cam_pdf_w` is
+    /// then that area density).
+    Orthographic,
 }
+
+const CAMERAS: [CameraKind; 4] =
+    [CameraKind::Pinhole, CameraKind::ThinLens, CameraKind::Equirect, CameraKind::Orthographic];
 
 /// Segment i joins x_i and x_{i+1}: squared length, |cos| at x_i and at x_{i+1}.
 #[derive(Clone, Copy, Debug)]
@@ -84,7 +90,8 @@ struct Path {
     l_fwd: Vec<f32>,
     /// Per surface vertex x_i: the camera tracer's density of x_i → x_{i−1} (arriving from x_{i+1}).
     c_fwd: Vec<f32>,
-    /// The camera's image-wide density of the direction x_k → x_{k−1}.
+    /// The camera's image-wide density of the direction x_k → x_{k−1} (orthographic: of the
+    /// ray's origin on the film, per unit area).
     cam_pdf_w: f32,
     /// The thin lens's area density of x_k.
     lens_pdf: f32,
@@ -93,6 +100,13 @@ struct Path {
 impl Path {
     fn k(&self) -> usize {
         self.seg.len()
+    }
+
+    fn camera_pdf(&self) -> CameraPdf {
+        match self.camera {
+            CameraKind::Orthographic => CameraPdf::Area(self.cam_pdf_w),
+            _ => CameraPdf::Solid(self.cam_pdf_w),
+        }
     }
 
     fn emitter(&self) -> Emitter {
@@ -119,7 +133,7 @@ const EXTREME: Ranges = Ranges { pdf: (1e-5, 1e5), dist2: (1e-5, 1e5), cos: (1e-
 fn random_path(rng: &mut Rng, r: Ranges) -> Path {
     let k = 1 + rng.below(10);
     let light = [LightKind::Area, LightKind::Point, LightKind::Directional][rng.below(3)];
-    let camera = [CameraKind::Pinhole, CameraKind::ThinLens, CameraKind::Equirect][rng.below(3)];
+    let camera = CAMERAS[rng.below(CAMERAS.len())];
     let delta_rate = [0.0, 0.3, 0.7][rng.below(3)];
     let mut p = Path {
         light,
@@ -226,12 +240,16 @@ fn brute_force(path: &Path, render: Render) -> Vec<Truth> {
             return match path.camera {
                 CameraKind::ThinLens => dens(path.lens_pdf as f64, false),
                 CameraKind::Pinhole | CameraKind::Equirect => dens(1.0, true), // δ position
+                CameraKind::Orthographic => dens(1.0, true),                   // δ direction
             };
         }
         if i == 0 && light != LightKind::Area {
             return dens(0.0, false); // a direction or a point a camera ray never finds
         }
         let (d2, cos, _) = seg(i);
+        if i == k - 1 && path.camera == CameraKind::Orthographic {
+            return dens(path.cam_pdf_w as f64 * cos, false); // the film's area density, projected
+        }
         let (pdf, delta) = if i == k - 1 {
             (path.cam_pdf_w as f64, false)
         } else {
@@ -280,6 +298,9 @@ enum Mutant {
     NoClassBit,
     /// SmallVCM's single dVC: the three sums stored as one (weighted as connections).
     SingleVc,
+    /// The orthographic camera's film density taken as a pinhole's solid-angle one (a 1/d²
+    /// too many at the first camera hit).
+    OrthographicAsPoint,
 }
 
 /// The trace-time record of a light vertex, as it comes back from the dataset.
@@ -297,7 +318,7 @@ fn stored(state: LightVertexMis, heuristic: Heuristic, mutant: Mutant) -> LightV
             r.vc_conn = h.root(sum) as f32;
             (r.vc_hit, r.vc_nee) = (keep_sign(r.vc_hit), 0.0);
         }
-        Mutant::None | Mutant::SmallVcmCounts | Mutant::IgnorePick => {}
+        Mutant::None | Mutant::SmallVcmCounts | Mutant::IgnorePick | Mutant::OrthographicAsPoint => {}
     }
     LightVertexMis::from_record(r, heuristic)
 }
@@ -307,6 +328,10 @@ fn stored(state: LightVertexMis, heuristic: Heuristic, mutant: Mutant) -> LightV
 /// evaluates nothing (no stored vertex, a delta camera vertex, no y₀).
 fn recursive(path: &Path, render: Render, mutant: Mutant) -> Vec<Option<f32>> {
     let (k, h, e, seg) = (path.k(), render.heuristic, path.emitter(), &path.seg);
+    let camera_pdf = match mutant {
+        Mutant::OrthographicAsPoint => CameraPdf::Solid(path.cam_pdf_w),
+        _ => path.camera_pdf(),
+    };
     let (counts, pick) = match mutant {
         Mutant::SmallVcmCounts => (Counts { conn: 1.0, light_trace: 1.0 }, render.pick),
         Mutant::IgnorePick => (render.counts, 1.0),
@@ -326,8 +351,8 @@ fn recursive(path: &Path, render: Render, mutant: Mutant) -> Vec<Option<f32>> {
         l = l.after_scatter(seg[i].cos_a, path.l_fwd[i], path.c_fwd[i], path.delta[i]);
     }
     // The camera path, x_{k−1} down to x₀.
-    let mut camera = vec![CameraVertexMis::at_camera(1.0, h); k];
-    let mut c = CameraVertexMis::at_camera(path.cam_pdf_w, h);
+    let mut camera = vec![CameraVertexMis::at_camera(CameraPdf::Solid(1.0), h); k];
+    let mut c = CameraVertexMis::at_camera(camera_pdf, h);
     for i in (0..k).rev() {
         c = c.after_hit(seg[i].dist2, seg[i].cos_a);
         camera[i] = c;
@@ -339,7 +364,7 @@ fn recursive(path: &Path, render: Render, mutant: Mutant) -> Vec<Option<f32>> {
     w[0] = Some(weight_emitter_hit(&camera[0], e, pick, counts)); // 0 for delta lights
     let splat = |y: &LightVertexMis, i: usize, rev: f32| {
         let end = ConnectionEnd { cos: seg[i].cos_a, pdf_fwd_w: 0.0, pdf_rev_w: rev };
-        weight_light_trace(y, end, path.cam_pdf_w, seg[i].dist2, pick, counts)
+        weight_light_trace(y, end, camera_pdf, seg[i].dist2, pick, counts)
     };
     if k == 1 {
         w[1] = light[0].map(|y0| splat(&y0, 0, 0.0));
@@ -418,7 +443,7 @@ fn run(seed: u64, paths: usize, ranges: Ranges, mutant: Mutant) -> Report {
         for heuristic in [Heuristic::Balance, Heuristic::Power] {
             // One trace-time record set, three renders (counts, light pick, camera kind).
             for _ in 0..3 {
-                path.camera = [CameraKind::Pinhole, CameraKind::ThinLens, CameraKind::Equirect][rng.below(3)];
+                path.camera = CAMERAS[rng.below(CAMERAS.len())];
                 check(&path, random_render(&mut rng, heuristic), mutant, &mut report);
             }
         }
@@ -459,13 +484,16 @@ fn the_check_fails_on_wrong_recursions() {
         Mutant::DropHitTerm,
         Mutant::NoClassBit,
         Mutant::SingleVc,
+        Mutant::OrthographicAsPoint,
     ] {
         let r = run(3, 2_000, ORDINARY, mutant);
         eprintln!("{mutant:?}: {r:?}");
         assert!(r.weight_error > 1e-2, "{mutant:?} not detected: {r:?}");
         // Wrong counts still give a partition of unity (any consistent constants do): only the
         // comparison with the formula sees them. A wrong record breaks the sum too.
-        let sums_break = !matches!(mutant, Mutant::SmallVcmCounts | Mutant::IgnorePick);
+        // So does a consistent wrong camera density.
+        let sums_break =
+            !matches!(mutant, Mutant::SmallVcmCounts | Mutant::IgnorePick | Mutant::OrthographicAsPoint);
         assert_eq!(r.sum_error > 1e-2, sums_break, "{mutant:?}: {r:?}");
     }
 }
@@ -524,13 +552,21 @@ fn a_light_seen_directly_splits_between_hit_and_splat() {
     let h = Heuristic::Balance;
     let hit_density = (cam_pdf_w * cos / d2) as f64;
     let splat_density = counts.light_trace * (pick * pos_pdf) as f64;
-    let camera = CameraVertexMis::at_camera(cam_pdf_w, h).after_hit(d2, cos);
+    let camera = CameraVertexMis::at_camera(CameraPdf::Solid(cam_pdf_w), h).after_hit(d2, cos);
     let w_hit = weight_emitter_hit(&camera, Emitter::area(pos_pdf, dir_pdf), pick, counts) as f64;
     let y0 = LightVertexMis::emission_vertex(Emitter::area(pos_pdf, dir_pdf), h);
     let end = ConnectionEnd { cos, pdf_fwd_w: 0.0, pdf_rev_w: 0.0 };
-    let w_splat = weight_light_trace(&y0, end, cam_pdf_w, d2, pick, counts) as f64;
+    let w_splat = weight_light_trace(&y0, end, CameraPdf::Solid(cam_pdf_w), d2, pick, counts) as f64;
     assert!((w_hit - hit_density / (hit_density + splat_density)).abs() < 1e-6);
     assert!((w_splat - splat_density / (hit_density + splat_density)).abs() < 1e-6);
     // A point light is never hit.
     assert_eq!(weight_emitter_hit(&camera, Emitter::point(dir_pdf), pick, counts), 0.0);
+    // An orthographic camera (film area density p_A) finds x₀ with density p_A·cos: no 1/d².
+    let p_film = 0.7f32;
+    let hit_density = (p_film * cos) as f64;
+    let camera = CameraVertexMis::at_camera(CameraPdf::Area(p_film), h).after_hit(d2, cos);
+    let w_hit = weight_emitter_hit(&camera, Emitter::area(pos_pdf, dir_pdf), pick, counts) as f64;
+    let w_splat = weight_light_trace(&y0, end, CameraPdf::Area(p_film), d2, pick, counts) as f64;
+    assert!((w_hit - hit_density / (hit_density + splat_density)).abs() < 1e-6);
+    assert!((w_splat - splat_density / (hit_density + splat_density)).abs() < 1e-6);
 }
