@@ -42,6 +42,7 @@ pub mod fresnel;
 mod lambert;
 mod phong;
 mod plastic;
+mod roughplastic;
 pub mod shading;
 mod thin;
 
@@ -50,6 +51,7 @@ pub use dielectric::{RoughDielectric, SmoothDielectric, check_absorption};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 pub use plastic::Plastic;
+pub use roughplastic::RoughPlastic;
 pub use thin::ThinDielectric;
 
 use crate::geometry::SurfaceNormals;
@@ -100,6 +102,8 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     /// Smooth plastic: a diffuse base under a dielectric coating (a delta lobe and a diffuse one).
     Plastic(Plastic),
+    /// Rough plastic (Mitsuba's `roughplastic`): a diffuse base under a microfacet coating.
+    RoughPlastic(RoughPlastic),
     /// Thin dielectric sheet: delta reflection and straight delta transmission (oriented by
     /// nothing: the same on both faces).
     ThinDielectric(ThinDielectric),
@@ -117,6 +121,7 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.eval(wi, wo),
             Bsdf::RoughDielectric(b) => b.eval(wi, wo),
             Bsdf::Plastic(b) => b.eval(wi, wo),
+            Bsdf::RoughPlastic(b) => b.eval(wi, wo),
         }
     }
 
@@ -131,6 +136,7 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.pdf(wi, wo),
             Bsdf::RoughDielectric(b) => b.pdf(wi, wo),
             Bsdf::Plastic(b) => b.pdf(wi, wo),
+            Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
         }
     }
 
@@ -151,7 +157,8 @@ impl Bsdf {
             | Bsdf::Lambert(_)
             | Bsdf::ModifiedPhong(_)
             | Bsdf::RoughConductor(_)
-            | Bsdf::RoughDielectric(_) => 0.0,
+            | Bsdf::RoughDielectric(_)
+            | Bsdf::RoughPlastic(_) => 0.0,
         }
     }
 
@@ -168,6 +175,7 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.sample(wi, u),
             Bsdf::RoughDielectric(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::Plastic(b) => b.sample(wi, u_lobe, u),
+            Bsdf::RoughPlastic(b) => b.sample(wi, u_lobe, u),
             Bsdf::ThinDielectric(b) => b.sample(wi, u_lobe),
         }
     }
@@ -218,6 +226,7 @@ impl Bsdf {
             Bsdf::SmoothDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::RoughDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::Plastic(b) => b.max_albedo(),
+            Bsdf::RoughPlastic(b) => b.max_albedo(),
             Bsdf::ThinDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
         }
     }

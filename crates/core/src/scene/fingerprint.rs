@@ -89,7 +89,7 @@
 //! field, so adding a field to a BSDF does not compile until its encoding is decided here.
 
 use crate::bsdf::{
-    Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
+    Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, RoughPlastic, SmoothConductor,
     SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
@@ -201,6 +201,24 @@ pub(crate) fn material_v2(material: &Material) -> String {
                 .rgb("diffuse_reflectance", *diffuse_reflectance)
                 .rgb("specular_reflectance", *specular_reflectance)
                 .num("eta", *eta)
+                .num("nonlinear", if *nonlinear { 1.0 } else { 0.0 });
+        }
+        // The private fields are functions of these.
+        Bsdf::RoughPlastic(RoughPlastic {
+            diffuse_reflectance,
+            specular_reflectance,
+            eta,
+            microfacet,
+            sample_visible,
+            nonlinear,
+            ..
+        }) => {
+            t.variant("RoughPlastic")
+                .rgb("diffuse_reflectance", *diffuse_reflectance)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .num("eta", *eta)
+                .microfacet("microfacet", microfacet)
+                .num("sample_visible", if *sample_visible { 1.0 } else { 0.0 })
                 .num("nonlinear", if *nonlinear { 1.0 } else { 0.0 });
         }
         Bsdf::ThinDielectric(ThinDielectric { eta, specular_reflectance, specular_transmittance }) => {

@@ -211,6 +211,7 @@ fn bsdf_kind(b: &Bsdf) -> &'static str {
         Bsdf::RoughConductor(_) => "rough conductor",
         Bsdf::RoughDielectric(_) => "rough dielectric",
         Bsdf::Plastic(_) => "plastic",
+        Bsdf::RoughPlastic(_) => "rough plastic",
         Bsdf::ThinDielectric(_) => "thin dielectric",
     }
 }
