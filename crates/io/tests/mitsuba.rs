@@ -442,6 +442,62 @@ fn plastic_takes_mitsubas_parameters() {
 }
 
 #[test]
+fn roughplastic_takes_mitsubas_parameters() {
+    let s = scene(
+        r#"<shape type="cube"><bsdf type="roughplastic"/></shape>
+           <shape type="cube"><bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.2, 0.4, 0.6"/>
+             <string name="int_ior" value="bk7"/><float name="ext_ior" value="1.2"/>
+             <string name="distribution" value="ggx"/><float name="alpha" value="0.3"/>
+             <boolean name="sample_visible" value="false"/>
+             <boolean name="nonlinear" value="true"/><rgb name="specular_reflectance" value="0.5"/></bsdf></shape>"#,
+    );
+    let p = |i: usize| match &s.description.materials[i].bsdf {
+        Bsdf::RoughPlastic(p) => p.clone(),
+        b => panic!("{b:?}"),
+    };
+    let (a, b) = (p(0), p(1));
+    assert!(!s.description.materials[0].two_sided);
+    assert_eq!(
+        (a.diffuse_reflectance, a.specular_reflectance, a.microfacet, a.sample_visible, a.nonlinear),
+        (Rgb::splat(0.5), Rgb::ONE, Microfacet::beckmann(0.1), true, false)
+    );
+    assert!((a.eta - 1.49 / 1.000277).abs() < 1e-6);
+    assert_eq!(
+        (b.diffuse_reflectance, b.specular_reflectance, b.microfacet, b.sample_visible, b.nonlinear),
+        (Rgb::new(0.2, 0.4, 0.6), Rgb::splat(0.5), Microfacet::ggx(0.3), false, true)
+    );
+    assert!((b.eta - 1.5046 / 1.2).abs() < 1e-6);
+    for (xml, want) in [
+        (
+            r#"<rgb name="diffuse_reflectance" value="1.5"/>"#,
+            "dir/test.xml:2:46: <rgb name=\"diffuse_reflectance\">: invalid material: diffuse_reflectance exceeds 1",
+        ),
+        (r#"<float name="alpha" value="0"/>"#, "dir/test.xml:2:46: <float name=\"alpha\">: invalid material: alpha must be positive"),
+        (
+            r#"<float name="int_ior" value="1.2"/><float name="ext_ior" value="1.2"/>"#,
+            "dir/test.xml:2:20: <bsdf type=\"roughplastic\">: invalid material: int_ior = ext_ior = 1.2",
+        ),
+        (
+            r#"<float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.2"/>"#,
+            "dir/test.xml:2:46: <float name=\"alpha_u\">: roughplastic is isotropic in Mitsuba 3",
+        ),
+        (
+            r#"<string name="distribution" value="phong"/>"#,
+            "dir/test.xml:2:46: <string name=\"distribution\">: unknown microfacet distribution \"phong\"",
+        ),
+    ] {
+        let e = err(&format!(r#"<shape type="cube"><bsdf type="roughplastic">{xml}</bsdf></shape>"#));
+        assert!(e.contains(want), "{e}\nwanted: {want}");
+    }
+    // Equal alphas are isotropic.
+    let s = scene(
+        r#"<shape type="cube"><bsdf type="roughplastic"><float name="alpha_u" value="0.2"/>
+           <float name="alpha_v" value="0.2"/></bsdf></shape>"#,
+    );
+    assert!(matches!(&s.description.materials[0].bsdf, Bsdf::RoughPlastic(p) if p.microfacet == Microfacet::beckmann(0.2)));
+}
+
+#[test]
 fn interior_media_make_absorbing_glass() {
     let s = scene(
         r#"<medium type="homogeneous" id="ink"><float name="albedo" value="0"/>
@@ -611,7 +667,7 @@ fn bad_scenes_name_file_line_and_element() {
     let cases: &[(&str, &str)] = &[
         (
             r#"<bsdf type="hair" id="p"/>"#,
-            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic)",
+            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic, roughplastic)",
         ),
         (
             r#"<shape type="teapot"/>"#,

@@ -16,7 +16,7 @@ use super::xml::Element;
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
     Bsdf, Lambert, Material, MaterialError, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
-    SmoothConductor, SmoothDielectric, ThinDielectric, fresnel,
+    RoughPlastic, SmoothConductor, SmoothDielectric, ThinDielectric, fresnel,
 };
 use opticks_core::math::Rgb;
 use opticks_core::sampling::microfacet::{Distribution, Microfacet};
@@ -58,6 +58,7 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "roughdielectric", extension: false, build: specular },
     BsdfType { name: "thindielectric", extension: false, build: thindielectric },
     BsdfType { name: "plastic", extension: false, build: plastic },
+    BsdfType { name: "roughplastic", extension: false, build: roughplastic },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
@@ -356,6 +357,37 @@ fn plastic<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>)
     Ok((Bsdf::Plastic(b), false))
 }
 
+/// `roughplastic`: Mitsuba 3's rough plastic (the defaults of `plastic`, and `distribution`
+/// Beckmann, `alpha` 0.1 — isotropic only, as Mitsuba's —, `sample_visible` true), one-sided.
+fn roughplastic<'d>(
+    b: &mut Builder<'d>,
+    e: &'d Element,
+    ty: &str,
+    p: &mut Props<'d>,
+) -> Result<(Bsdf, bool)> {
+    let (d, dnode) = colour(b, p, "diffuse_reflectance", Rgb::splat(0.5), ColourSlot::DiffuseReflectance)?;
+    let (s, snode) = colour(b, p, "specular_reflectance", Rgb::ONE, ColourSlot::SpecularReflectance)?;
+    no_other_objects(p, ty)?;
+    let (int_ior, inode) = ior(p, "int_ior", 1.49)?;
+    let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
+    let nonlinear = p.bool("nonlinear")?.unwrap_or(false);
+    let sample_visible = p.bool("sample_visible")?.unwrap_or(true);
+    let mut nodes = vec![
+        ("diffuse_reflectance", dnode),
+        ("specular_reflectance", snode),
+        ("int_ior", inode),
+        ("ext_ior", enode),
+    ];
+    let mf = microfacet(p, &mut nodes)?;
+    if mf.alpha_u != mf.alpha_v {
+        let at = nodes.iter().find(|(n, _)| *n == "alpha_u").map_or(e, |n| n.1);
+        return Err(at.err("roughplastic is isotropic in Mitsuba 3: give one alpha (alpha_u = alpha_v)"));
+    }
+    let b = RoughPlastic::new(d, s, int_ior, ext_ior, mf.distribution, mf.alpha_u, sample_visible, nonlinear)
+        .map_err(|source| material_error(source, &nodes, e))?;
+    Ok((Bsdf::RoughPlastic(b), false))
+}
+
 /// An error at the first nested object no colour parameter took (a texture without the name
 /// of one of the BSDF's colours, or another element).
 fn no_other_objects(p: &Props, ty: &str) -> Result<()> {
@@ -381,7 +413,8 @@ fn microfacet<'d>(p: &mut Props<'d>, nodes: &mut Vec<(&'static str, &'d Element)
             );
         }
     };
-    let _ = p.bool("sample_visible")?; // a sampling strategy: same expectation
+    let _ = p.bool("sample_visible")?; // a sampling strategy: same expectation (taken before by
+                                        // roughplastic, whose pdf Mitsuba defines by it)
     let a = p.float("alpha")?;
     let au = p.float("alpha_u")?;
     let av = p.float("alpha_v")?;
