@@ -498,6 +498,62 @@ fn roughplastic_takes_mitsubas_parameters() {
 }
 
 #[test]
+fn blendbsdf_blends_two_nested_bsdfs() {
+    let s = scene(
+        r#"<bsdf type="conductor" id="metal"/>
+           <shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="0.25"/>
+             <bsdf type="diffuse"><rgb name="reflectance" value="0.2"/></bsdf><ref id="metal"/></bsdf></shape>
+           <shape type="cube"><bsdf type="twosided"><bsdf type="blendbsdf"><float name="weight" value="1"/>
+             <bsdf type="diffuse"/><bsdf type="roughplastic"/></bsdf></bsdf></shape>"#,
+    );
+    let m = &s.description.materials;
+    let Bsdf::Blend(b) = &m[0].bsdf else { panic!("{:?}", m[0].bsdf) };
+    assert_eq!(b.weight, 0.25);
+    assert!(matches!(b.bsdfs[0], Bsdf::Lambert(ref l) if l.reflectance == Rgb::splat(0.2)));
+    assert!(matches!(b.bsdfs[1], Bsdf::SmoothConductor(_)));
+    assert!(!m[0].two_sided && m[1].two_sided);
+    assert!(matches!(&m[1].bsdf, Bsdf::Blend(b) if matches!(b.bsdfs[1], Bsdf::RoughPlastic(_))));
+    for (xml, want) in [
+        (r#"<bsdf type="diffuse"/><bsdf type="diffuse"/>"#, "dir/test.xml:2:20: <bsdf type=\"blendbsdf\">: a blendbsdf needs its weight"),
+        (
+            r#"<float name="weight" value="1.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:43: <float name=\"weight\">: invalid material: weight exceeds 1",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:20: <bsdf type=\"blendbsdf\">: a blendbsdf blends exactly two nested BSDFs (given 1)",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:121: <bsdf type=\"diffuse\">: a blendbsdf blends exactly two nested BSDFs (given 3)",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="dielectric"/>"#,
+            "dir/test.xml:2:20: <bsdf type=\"blendbsdf\">: invalid material: a blend of a dielectric",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="conductor"/><bsdf type="plastic"/>"#,
+            "invalid material: a blend of two BSDFs that both have delta lobes is not supported",
+        ),
+        (
+            r#"<texture type="checkerboard" name="weight"/><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:43: <texture type=\"checkerboard\" name=\"weight\">: a texture as the weight",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:77: <bsdf type=\"diffuse\">: textures inside a blendbsdf are not supported yet",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="twosided"><bsdf type="diffuse"/></bsdf>"#,
+            "a blendbsdf of a twosided and a one-sided BSDF is not supported",
+        ),
+    ] {
+        let e = err(&format!(r#"<shape type="cube"><bsdf type="blendbsdf">{xml}</bsdf></shape>"#));
+        assert!(e.contains(want), "{e}\nwanted: {want}");
+    }
+}
+
+#[test]
 fn interior_media_make_absorbing_glass() {
     let s = scene(
         r#"<medium type="homogeneous" id="ink"><float name="albedo" value="0"/>
@@ -667,7 +723,7 @@ fn bad_scenes_name_file_line_and_element() {
     let cases: &[(&str, &str)] = &[
         (
             r#"<bsdf type="hair" id="p"/>"#,
-            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic, roughplastic)",
+            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic, roughplastic, blendbsdf)",
         ),
         (
             r#"<shape type="teapot"/>"#,

@@ -34,6 +34,7 @@
 //!   f(sampled → given)·|cos|/p, which for refraction is the importance weight times
 //!   (η_given/η_sampled)², the familiar radiance scaling of pbrt's `TransportMode::Radiance`.
 //!   Reflection weights are the same in both modes.
+mod blend;
 #[cfg(test)]
 pub(crate) mod chi2;
 mod conductor;
@@ -46,6 +47,7 @@ mod roughplastic;
 pub mod shading;
 mod thin;
 
+pub use blend::Blend;
 pub use conductor::{RoughConductor, SmoothConductor};
 pub use dielectric::{RoughDielectric, SmoothDielectric, check_absorption};
 pub use lambert::Lambert;
@@ -104,6 +106,8 @@ pub enum Bsdf {
     Plastic(Plastic),
     /// Rough plastic (Mitsuba's `roughplastic`): a diffuse base under a microfacet coating.
     RoughPlastic(RoughPlastic),
+    /// A blend of two BSDFs (Mitsuba's `blendbsdf`), boxed: the enum stays small.
+    Blend(Blend),
     /// Thin dielectric sheet: delta reflection and straight delta transmission (oriented by
     /// nothing: the same on both faces).
     ThinDielectric(ThinDielectric),
@@ -122,6 +126,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(b) => b.eval(wi, wo),
             Bsdf::Plastic(b) => b.eval(wi, wo),
             Bsdf::RoughPlastic(b) => b.eval(wi, wo),
+            Bsdf::Blend(b) => b.eval(wi, wo),
         }
     }
 
@@ -137,6 +142,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(b) => b.pdf(wi, wo),
             Bsdf::Plastic(b) => b.pdf(wi, wo),
             Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
+            Bsdf::Blend(b) => b.pdf(wi, wo),
         }
     }
 
@@ -153,6 +159,7 @@ impl Bsdf {
             Bsdf::SmoothDielectric(b) => b.lobe_probability(wi, wo),
             Bsdf::ThinDielectric(b) => b.lobe_probability(wi, wo),
             Bsdf::Plastic(b) => b.coating_probability(wi, wo),
+            Bsdf::Blend(b) => b.lobe_probability(wi, wo),
             Bsdf::SmoothConductor(_)
             | Bsdf::Lambert(_)
             | Bsdf::ModifiedPhong(_)
@@ -176,6 +183,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::Plastic(b) => b.sample(wi, u_lobe, u),
             Bsdf::RoughPlastic(b) => b.sample(wi, u_lobe, u),
+            Bsdf::Blend(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::ThinDielectric(b) => b.sample(wi, u_lobe),
         }
     }
@@ -193,7 +201,11 @@ impl Bsdf {
     /// [`Bsdf::sample`], never from another density weighted by `eval`.
     #[inline]
     pub fn has_delta_lobe(&self) -> bool {
-        self.is_delta() || matches!(self, Bsdf::Plastic(_))
+        match self {
+            Bsdf::Plastic(_) => true,
+            Bsdf::Blend(b) => b.bsdfs.iter().any(Bsdf::has_delta_lobe),
+            _ => self.is_delta(),
+        }
     }
 
     /// Whether light crosses the surface (dielectrics): such BSDFs are oriented and accept light
@@ -227,6 +239,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::Plastic(b) => b.max_albedo(),
             Bsdf::RoughPlastic(b) => b.max_albedo(),
+            Bsdf::Blend(b) => b.max_albedo(),
             Bsdf::ThinDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
         }
     }
@@ -348,6 +361,9 @@ pub enum MaterialError {
     /// The BSDF would reflect more energy than it receives.
     #[error("kd + ks = {0} exceeds 1 in some channel: the surface would create energy")]
     CreatesEnergy(Rgb),
+    /// A combination of BSDFs Opticks does not handle.
+    #[error("{0} is not supported")]
+    Unsupported(&'static str),
     /// A parameter exceeds the largest value the BSDF handles accurately.
     #[error("{name} = {value} exceeds the supported maximum {max}")]
     TooLarge {

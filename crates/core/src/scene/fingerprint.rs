@@ -89,7 +89,8 @@
 //! field, so adding a field to a BSDF does not compile until its encoding is decided here.
 
 use crate::bsdf::{
-    Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, RoughPlastic, SmoothConductor,
+    Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+    SmoothConductor,
     SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
@@ -153,6 +154,14 @@ impl Hasher {
 pub(crate) fn material_v2(material: &Material) -> String {
     let Material { name: _, bsdf, two_sided } = material;
     let mut t = Text(String::new());
+    bsdf_v2(&mut t, bsdf);
+    t.0.push_str("|");
+    t.0.push_str(if *two_sided { "true" } else { "false" });
+    t.0
+}
+
+/// The BSDF's record of [`material_v2`], closed (` })`); a blend's children are records within.
+fn bsdf_v2(t: &mut Text, bsdf: &Bsdf) {
     match bsdf {
         Bsdf::Lambert(Lambert { reflectance }) => {
             t.variant("Lambert").rgb("reflectance", *reflectance);
@@ -221,6 +230,13 @@ pub(crate) fn material_v2(material: &Material) -> String {
                 .num("sample_visible", if *sample_visible { 1.0 } else { 0.0 })
                 .num("nonlinear", if *nonlinear { 1.0 } else { 0.0 });
         }
+        Bsdf::Blend(Blend { weight, bsdfs }) => {
+            t.variant("Blend").num("weight", *weight);
+            for (field, child) in ["bsdf0", "bsdf1"].into_iter().zip(bsdfs.iter()) {
+                t.key(field);
+                bsdf_v2(t, child);
+            }
+        }
         Bsdf::ThinDielectric(ThinDielectric { eta, specular_reflectance, specular_transmittance }) => {
             t.variant("ThinDielectric")
                 .num("eta", *eta)
@@ -228,9 +244,7 @@ pub(crate) fn material_v2(material: &Material) -> String {
                 .rgb("specular_transmittance", *specular_transmittance);
         }
     }
-    t.0.push_str(" })|");
-    t.0.push_str(if *two_sided { "true" } else { "false" });
-    t.0
+    t.0.push_str(" })");
 }
 
 /// The material hash of encoding version 2: what the geometry hash records per triangle.

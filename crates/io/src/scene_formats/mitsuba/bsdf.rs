@@ -15,7 +15,7 @@ use super::texture::{BsdfTextures, colour};
 use super::xml::Element;
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
-    Bsdf, Lambert, Material, MaterialError, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
+    Blend, Bsdf, Lambert, Material, MaterialError, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
     RoughPlastic, SmoothConductor, SmoothDielectric, ThinDielectric, fresnel,
 };
 use opticks_core::math::Rgb;
@@ -59,6 +59,7 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "thindielectric", extension: false, build: thindielectric },
     BsdfType { name: "plastic", extension: false, build: plastic },
     BsdfType { name: "roughplastic", extension: false, build: roughplastic },
+    BsdfType { name: "blendbsdf", extension: false, build: blendbsdf },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
@@ -386,6 +387,49 @@ fn roughplastic<'d>(
     let b = RoughPlastic::new(d, s, int_ior, ext_ior, mf.distribution, mf.alpha_u, sample_visible, nonlinear)
         .map_err(|source| material_error(source, &nodes, e))?;
     Ok((Bsdf::RoughPlastic(b), false))
+}
+
+/// `blendbsdf`: (1 − weight)·first + weight·second (Mitsuba 3's), `weight` a number in [0, 1]
+/// (required, as Mitsuba's; a texture is not supported yet), two nested BSDFs (`<bsdf>` or
+/// `<ref>`) without textures, both one-sided or both `twosided`.
+fn blendbsdf<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    if let Some(t) = p.take_object("weight") {
+        return Err(t.err("a texture as the weight of a blendbsdf is not supported yet (give a <float>)"));
+    }
+    let Some((weight, wnode)) = p.float("weight")? else {
+        return Err(e.err("a blendbsdf needs its weight (<float name=\"weight\">, in [0, 1])"));
+    };
+    let inner = p.objects().to_vec();
+    if inner.len() != 2 {
+        let at = inner.get(2).copied().unwrap_or(e);
+        return Err(at.err(format!("a blendbsdf blends exactly two nested BSDFs (given {})", inner.len())));
+    }
+    let mut children = Vec::with_capacity(2);
+    for c in &inner {
+        let nested = match c.tag.as_str() {
+            "bsdf" => bsdf(b, c)?,
+            "ref" => bsdf_ref(b, c)?,
+            other => {
+                return Err(c.err(format!(
+                    "unsupported element <{other}> inside a blendbsdf (supported: bsdf, ref)"
+                )));
+            }
+        };
+        if !nested.textures.is_empty() {
+            return Err(c.err("textures inside a blendbsdf are not supported yet"));
+        }
+        children.push((nested, *c));
+    }
+    let [(first, _), (second, second_node)] = <[_; 2]>::try_from(children).expect("two children");
+    if first.two_sided != second.two_sided {
+        return Err(second_node.err(
+            "a blendbsdf of a twosided and a one-sided BSDF is not supported (wrap the blend in twosided)",
+        ));
+    }
+    let two_sided = first.two_sided;
+    let blend = Blend::new(weight as f32, first.bsdf, second.bsdf)
+        .map_err(|source| material_error(source, &[("weight", wnode)], e))?;
+    Ok((Bsdf::Blend(blend), two_sided))
 }
 
 /// An error at the first nested object no colour parameter took (a texture without the name

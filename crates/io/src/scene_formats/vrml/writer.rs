@@ -212,6 +212,7 @@ fn bsdf_kind(b: &Bsdf) -> &'static str {
         Bsdf::RoughDielectric(_) => "rough dielectric",
         Bsdf::Plastic(_) => "plastic",
         Bsdf::RoughPlastic(_) => "rough plastic",
+        Bsdf::Blend(_) => "blend",
         Bsdf::ThinDielectric(_) => "thin dielectric",
     }
 }
