@@ -394,7 +394,8 @@ fn profile(h: &mut Hasher, profile: &BuiltProfile) {
 mod tests {
     use super::{material_hash, material_v2};
     use crate::bsdf::{
-        Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
+        Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+        SmoothConductor,
         SmoothDielectric, ThinDielectric,
     };
     use crate::light::EmissionProfile;
@@ -444,6 +445,16 @@ mod tests {
             specular_transmittance: Rgb::ONE,
             absorption: Rgb::new(0.0, 0.5, 12.0),
         }
+    }
+
+    fn rough_plastic(d: Rgb, s: Rgb, dist: Distribution, alpha: f32, visible: bool, nonlinear: bool) -> Bsdf {
+        Bsdf::RoughPlastic(RoughPlastic::new(d, s, 1.49, 1.0, dist, alpha, visible, nonlinear).unwrap())
+    }
+
+    /// A blend of a diffuse of reflectance `rho` and a mirror.
+    fn blend(weight: f32, rho: Rgb) -> Bsdf {
+        let mirror = Bsdf::SmoothConductor(SmoothConductor::new(Rgb::ONE, None).unwrap());
+        Bsdf::Blend(Blend::new(weight, Bsdf::Lambert(Lambert::new(rho).unwrap()), mirror).unwrap())
     }
 
     fn plastic(d: Rgb, s: Rgb, eta: f32, nonlinear: bool) -> Plastic {
@@ -584,6 +595,16 @@ mod tests {
             Bsdf::ThinDielectric(ThinDielectric { eta: 1.33, ..thin() }),
             Bsdf::ThinDielectric(ThinDielectric { specular_reflectance: Rgb::ONE, ..thin() }),
             Bsdf::ThinDielectric(ThinDielectric { specular_transmittance: rgb(1.0, 1.0, 0.9), ..thin() }),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Beckmann, 0.1, true, false),
+            rough_plastic(Rgb::splat(0.4), Rgb::ONE, Distribution::Beckmann, 0.1, true, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::splat(0.9), Distribution::Beckmann, 0.1, true, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Ggx, 0.1, true, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Beckmann, 0.2, true, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Beckmann, 0.1, false, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Beckmann, 0.1, true, true),
+            blend(0.5, Rgb::splat(0.5)),
+            blend(0.25, Rgb::splat(0.5)),
+            blend(0.5, Rgb::splat(0.6)),
         ];
         let mut all = base.clone();
         all.extend(base.iter().map(|m| Material { two_sided: !m.two_sided, ..m.clone() }));
