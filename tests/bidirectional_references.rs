@@ -173,7 +173,10 @@ fn roughplastic_matches_mitsuba_path() {
     let c = compare(&film, &reference);
     let (gf, gr) = (grid_of(4, &film, 64, 48), grid_of(4, &reference, 64, 48));
     let worst = gf.iter().zip(&gr).map(|(a, b)| (a / b - 1.0).abs()).fold(0.0, f64::max);
-    eprintln!("{name}: relMSE {:.4e}, mean ratio {:?}, worst of 4×4 regions {worst:.4}", c.relmse, c.mean_ratio);
+    eprintln!(
+        "{name}: relMSE {:.4e}, mean ratio {:?}, worst of 4×4 regions {worst:.4}",
+        c.relmse, c.mean_ratio
+    );
     let (mean_tol, region_tol) = ROUGH_PLASTIC_TOL;
     for (ch, r) in c.mean_ratio.iter().enumerate() {
         assert!((r - 1.0).abs() < mean_tol, "{name}: channel {ch} mean ratio {r}");
@@ -183,8 +186,8 @@ fn roughplastic_matches_mitsuba_path() {
 
 /// (mean, region) bounds of [`roughplastic_matches_mitsuba_path`]. Measured over seeds 1–5:
 /// mean ratios within 0.43% (σ ≈ 0.2%), worst 4×4 region 1.9–3.8%, relMSE 8.4–8.7e-3 (Mitsuba
-/// `path` at 16 spp: 7.3e-3). Bounds: mean 1.2% (6σ), regions 10%. Without R_int (the internal
-/// scattering) the bases would be ~2.5× darker, a wrong t(μ) moves the coatings' highlights.
+/// `path` at 16 spp: 7.3e-3). Bounds: mean 1.2% (6σ), regions 10%; without the internal scattering
+/// (ρ/(1 − R_int)) the bases would be far darker, a wrong t(μ) moves the coatings' rims.
 const ROUGH_PLASTIC_TOL: (f64, f64) = (0.012, 0.10);
 
 /// Bounds of [`plastic_and_thin_dielectric_match_mitsuba_path`]. Measured over seeds 1–5:

@@ -472,7 +472,10 @@ fn roughplastic_takes_mitsubas_parameters() {
             r#"<rgb name="diffuse_reflectance" value="1.5"/>"#,
             "dir/test.xml:2:46: <rgb name=\"diffuse_reflectance\">: invalid material: diffuse_reflectance exceeds 1",
         ),
-        (r#"<float name="alpha" value="0"/>"#, "dir/test.xml:2:46: <float name=\"alpha\">: invalid material: alpha must be positive"),
+        (
+            r#"<float name="alpha" value="0"/>"#,
+            "dir/test.xml:2:46: <float name=\"alpha\">: invalid material: alpha must be positive",
+        ),
         (
             r#"<float name="int_ior" value="1.2"/><float name="ext_ior" value="1.2"/>"#,
             "dir/test.xml:2:20: <bsdf type=\"roughplastic\">: invalid material: int_ior = ext_ior = 1.2",
@@ -494,7 +497,9 @@ fn roughplastic_takes_mitsubas_parameters() {
         r#"<shape type="cube"><bsdf type="roughplastic"><float name="alpha_u" value="0.2"/>
            <float name="alpha_v" value="0.2"/></bsdf></shape>"#,
     );
-    assert!(matches!(&s.description.materials[0].bsdf, Bsdf::RoughPlastic(p) if p.microfacet == Microfacet::beckmann(0.2)));
+    assert!(
+        matches!(&s.description.materials[0].bsdf, Bsdf::RoughPlastic(p) if p.microfacet == Microfacet::beckmann(0.2))
+    );
 }
 
 #[test]
@@ -514,7 +519,10 @@ fn blendbsdf_blends_two_nested_bsdfs() {
     assert!(!m[0].two_sided && m[1].two_sided);
     assert!(matches!(&m[1].bsdf, Bsdf::Blend(b) if matches!(b.bsdfs[1], Bsdf::RoughPlastic(_))));
     for (xml, want) in [
-        (r#"<bsdf type="diffuse"/><bsdf type="diffuse"/>"#, "dir/test.xml:2:20: <bsdf type=\"blendbsdf\">: a blendbsdf needs its weight"),
+        (
+            r#"<bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:20: <bsdf type=\"blendbsdf\">: a blendbsdf needs its weight",
+        ),
         (
             r#"<float name="weight" value="1.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
             "dir/test.xml:2:43: <float name=\"weight\">: invalid material: weight exceeds 1",

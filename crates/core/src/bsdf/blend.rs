@@ -74,11 +74,8 @@ impl Blend {
     #[inline]
     pub fn sample(&self, wi: Vec3, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         let w = self.weight;
-        let (k, share, u_child) = if u_lobe <= w && w > 0.0 {
-            (1, w, u_lobe / w)
-        } else {
-            (0, 1.0 - w, (u_lobe - w) / (1.0 - w))
-        };
+        let (k, share, u_child) =
+            if u_lobe <= w && w > 0.0 { (1, w, u_lobe / w) } else { (0, 1.0 - w, (u_lobe - w) / (1.0 - w)) };
         let s = self.bsdfs[k].sample(wi, u_child.clamp(0.0, 1.0 - f32::EPSILON / 2.0), u, mode)?;
         if s.delta {
             return Some(BsdfSample { pdf: share * s.pdf, ..s });
@@ -110,10 +107,12 @@ mod tests {
     fn blends() -> Vec<Blend> {
         let lambert = || Bsdf::Lambert(Lambert::new(Rgb::new(0.8, 0.5, 0.2)).unwrap());
         let metal = || Bsdf::RoughConductor(RoughConductor::new(0.2, Rgb::new(0.9, 0.8, 0.7), None).unwrap());
-        let phong = || Bsdf::ModifiedPhong(ModifiedPhong::new(Rgb::splat(0.3), Rgb::splat(0.5), 40.0).unwrap());
+        let phong =
+            || Bsdf::ModifiedPhong(ModifiedPhong::new(Rgb::splat(0.3), Rgb::splat(0.5), 40.0).unwrap());
         let rough_plastic = || {
             Bsdf::RoughPlastic(
-                RoughPlastic::new(Rgb::splat(0.4), Rgb::ONE, 1.5, 1.0, Distribution::Ggx, 0.3, true, false).unwrap(),
+                RoughPlastic::new(Rgb::splat(0.4), Rgb::ONE, 1.5, 1.0, Distribution::Ggx, 0.3, true, false)
+                    .unwrap(),
             )
         };
         let inner = Blend::new(0.5, phong(), rough_plastic()).unwrap();
@@ -139,14 +138,19 @@ mod tests {
     #[test]
     fn chi2_sampling_matches_pdf() {
         let all: Vec<Blend> = blends().into_iter().chain(delta_blends()).collect();
-        let items: Vec<(usize, f32)> = (0..all.len()).flat_map(|b| [0.0, 60.0, 85.0].map(move |d| (b, d))).collect();
+        let items: Vec<(usize, f32)> =
+            (0..all.len()).flat_map(|b| [0.0, 60.0, 85.0].map(move |d| (b, d))).collect();
         items.into_par_iter().enumerate().for_each(|(i, (k, deg))| {
             let all: Vec<Blend> = blends().into_iter().chain(delta_blends()).collect();
             let b = &all[k];
             let wi = incident(deg);
             Chi2Test::new(Vec3::Z, 2900 + i as u64)
                 .run(
-                    |ul, u| b.sample(wi, ul, u, TransportMode::Importance).filter(|s| !s.delta).map(|s| (s.wo, s.pdf)),
+                    |ul, u| {
+                        b.sample(wi, ul, u, TransportMode::Importance)
+                            .filter(|s| !s.delta)
+                            .map(|s| (s.wo, s.pdf))
+                    },
                     |wo| b.pdf(wi, wo),
                 )
                 .assert_ok(&format!("blend {k} θi={deg}°"));
@@ -173,7 +177,10 @@ mod tests {
                     assert!((s.pdf - p).abs() <= 1e-6 * p, "{s:?} {p}");
                 } else {
                     let w = b.eval(wi, s.wo) * s.wo.z / s.pdf;
-                    assert!((s.weight - w).abs().max_element() <= 1e-5 * w.max_element() + 1e-30, "{s:?} {w}");
+                    assert!(
+                        (s.weight - w).abs().max_element() <= 1e-5 * w.max_element() + 1e-30,
+                        "{s:?} {w}"
+                    );
                     assert_eq!(b.pdf(wi, s.wo), s.pdf);
                 }
             }
@@ -192,20 +199,28 @@ mod tests {
                 let mut want = glam::DVec3::ZERO;
                 for (child, share) in b.bsdfs.iter().zip([1.0 - b.weight, b.weight]) {
                     let dirs = pilot(
-                        |ul, u| child.sample(wi, ul, u, TransportMode::Importance).filter(|s| !s.delta).map(|s| (s.wo, s.pdf)),
+                        |ul, u| {
+                            child
+                                .sample(wi, ul, u, TransportMode::Importance)
+                                .filter(|s| !s.delta)
+                                .map(|s| (s.wo, s.pdf))
+                        },
                         20_000,
                         3,
                     );
                     let mut a = if dirs.is_empty() {
                         glam::DVec3::ZERO
                     } else {
-                        directional_albedo(&SphereGrid::adapted(Vec3::Z, &dirs, 16, 16), |wo| child.eval(wi, wo))
+                        directional_albedo(&SphereGrid::adapted(Vec3::Z, &dirs, 16, 16), |wo| {
+                            child.eval(wi, wo)
+                        })
                     };
                     // The delta part: the mean of the child's delta weights.
                     let n = 100_000;
                     let mut d = glam::DVec3::ZERO;
                     for _ in 0..n {
-                        if let Some(s) = child.sample(wi, rng.next_f32(), rng.next_2d(), TransportMode::Importance)
+                        if let Some(s) =
+                            child.sample(wi, rng.next_f32(), rng.next_2d(), TransportMode::Importance)
                             && s.delta
                         {
                             d += s.weight.as_dvec3();
@@ -245,7 +260,8 @@ mod tests {
         assert_eq!(Blend::new(1.5, l(), l()), Err(AboveOne("weight")));
         assert_eq!(Blend::new(-0.1, l(), l()), Err(Negative("weight")));
         assert_eq!(Blend::new(f32::NAN, l(), l()), Err(NotFinite("weight")));
-        let glass = Bsdf::SmoothDielectric(crate::bsdf::SmoothDielectric::new(1.5, 1.0, Rgb::ONE, Rgb::ONE).unwrap());
+        let glass =
+            Bsdf::SmoothDielectric(crate::bsdf::SmoothDielectric::new(1.5, 1.0, Rgb::ONE, Rgb::ONE).unwrap());
         assert!(matches!(Blend::new(0.5, l(), glass), Err(Unsupported(_))));
         let mirror = || Bsdf::SmoothConductor(SmoothConductor::new(Rgb::ONE, None).unwrap());
         assert!(matches!(Blend::new(0.5, mirror(), mirror()), Err(Unsupported(_))));

@@ -39,6 +39,7 @@ use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::microfacet::{Distribution, Microfacet};
 use crate::sampling::warp;
 use std::f32::consts::FRAC_1_PI;
+use std::sync::Arc;
 
 /// Points of the transmittance table (Mitsuba's `MI_ROUGH_TRANSMITTANCE_RES`).
 const TABLE: usize = 64;
@@ -60,10 +61,9 @@ pub struct RoughPlastic {
     pub nonlinear: bool,
     /// Mitsuba's specular sampling weight s̄/(ρ̄ + s̄), fixed at construction.
     specular_weight: f32,
-    /// R_int, the coating's diffuse reflectance from inside.
-    internal_reflectance: f32,
-    /// t(μ) at μ = i/63.
-    transmittance: [f32; TABLE],
+    /// t(μ) at μ = i/63, and R_int, the coating's diffuse reflectance from inside: shared (a
+    /// texel's copy of the BSDF clones a pointer; the enum stays small).
+    tables: Arc<Tables>,
     inv_eta2: f32,
 }
 
@@ -95,7 +95,7 @@ impl RoughPlastic {
         let (d_mean, s_mean) =
             (diffuse_reflectance.element_sum() / 3.0, specular_reflectance.element_sum() / 3.0);
         let specular_weight = if d_mean + s_mean > 0.0 { s_mean / (d_mean + s_mean) } else { 0.5 };
-        let (transmittance, internal_reflectance) = tables(&microfacet, eta);
+        let tables = tables(&microfacet, eta);
         Ok(RoughPlastic {
             diffuse_reflectance,
             specular_reflectance,
@@ -104,15 +104,14 @@ impl RoughPlastic {
             sample_visible,
             nonlinear,
             specular_weight,
-            internal_reflectance,
-            transmittance,
+            tables,
             inv_eta2: 1.0 / (eta * eta),
         })
     }
 
     /// R_int (module docs).
     pub fn internal_reflectance(&self) -> f32 {
-        self.internal_reflectance
+        self.tables.1
     }
 
     /// The coating's rough transmittance t(μ) for light arriving at cos θ = `mu` ∈ [0, 1],
@@ -121,14 +120,15 @@ impl RoughPlastic {
     pub fn transmittance(&self, mu: f32) -> f32 {
         let x = mu.clamp(0.0, 1.0) * (TABLE - 1) as f32;
         let i = (x as usize).min(TABLE - 2);
-        let (a, b) = (self.transmittance[i], self.transmittance[i + 1]);
+        let t = &self.tables.0;
+        let (a, b) = (t[i], t[i + 1]);
         a + (b - a) * (x - i as f32)
     }
 
     /// ρ' (module docs).
     fn base(&self) -> Rgb {
         let d = self.diffuse_reflectance;
-        let r = self.internal_reflectance;
+        let r = self.tables.1;
         if self.nonlinear { d / (Rgb::ONE - d * r) } else { d / (1.0 - r) }
     }
 
@@ -213,24 +213,24 @@ type Tables = ([f32; TABLE], f32);
 /// [`compute_tables`], remembered for the last few (distribution, α, η): a scene's materials
 /// (and the loader's copies of them) share a few coatings, and the quadratures take a fraction
 /// of a second.
-fn tables(mf: &Microfacet, eta: f32) -> Tables {
+fn tables(mf: &Microfacet, eta: f32) -> Arc<Tables> {
     use std::sync::Mutex;
     type Key = (Distribution, u32, u32);
-    static MEMO: Mutex<Vec<(Key, Tables)>> = Mutex::new(Vec::new());
+    static MEMO: Mutex<Vec<(Key, Arc<Tables>)>> = Mutex::new(Vec::new());
     const KEEP: usize = 16;
     let key = (mf.distribution, mf.alpha_u.to_bits(), eta.to_bits());
-    let hit = |memo: &Vec<(Key, Tables)>| memo.iter().find(|(k, _)| *k == key).map(|(_, t)| *t);
+    let hit = |memo: &Vec<(Key, Arc<Tables>)>| memo.iter().find(|(k, _)| *k == key).map(|(_, t)| t.clone());
     if let Some(t) = MEMO.lock().ok().and_then(|m| hit(&m)) {
         return t;
     }
-    let t = compute_tables(mf, eta);
-    if let Ok(mut memo) = MEMO.lock() {
-        if hit(&memo).is_none() {
-            if memo.len() == KEEP {
-                memo.remove(0);
-            }
-            memo.push((key, t));
+    let t = Arc::new(compute_tables(mf, eta));
+    if let Ok(mut memo) = MEMO.lock()
+        && hit(&memo).is_none()
+    {
+        if memo.len() == KEEP {
+            memo.remove(0);
         }
+        memo.push((key, t.clone()));
     }
     t
 }
@@ -259,7 +259,11 @@ fn compute_tables(mf: &Microfacet, eta: f32) -> Tables {
                 let m = mf.sample_visible(wi, u);
                 let wm = wi.dot(m);
                 let wr = 2.0 * wm * m - wi;
-                if wr.z <= 0.0 { 0.0 } else { mf.g1_mitsuba(wr, m) * fresnel::dielectric(wm.max(0.0), 1.0 / eta).0 }
+                if wr.z <= 0.0 {
+                    0.0
+                } else {
+                    mf.g1_mitsuba(wr, m) * fresnel::dielectric(wm.max(0.0), 1.0 / eta).0
+                }
             });
             (t as f32, r * mu as f64)
         })
@@ -325,7 +329,8 @@ mod tests {
         vec![
             RoughPlastic::new(Rgb::splat(0.5), Rgb::ONE, 1.49, air, Beckmann, 0.1, true, false).unwrap(),
             RoughPlastic::new(Rgb::new(0.8, 0.4, 0.1), Rgb::ONE, 1.49, air, Ggx, 0.3, true, true).unwrap(),
-            RoughPlastic::new(Rgb::new(0.2, 0.5, 0.9), Rgb::ONE, 1.7, 1.1, Beckmann, 0.5, false, false).unwrap(),
+            RoughPlastic::new(Rgb::new(0.2, 0.5, 0.9), Rgb::ONE, 1.7, 1.1, Beckmann, 0.5, false, false)
+                .unwrap(),
             RoughPlastic::new(Rgb::splat(0.3), Rgb::new(0.7, 0.6, 0.5), 1.9, air, Ggx, 0.08, true, false)
                 .unwrap(),
         ]
@@ -368,7 +373,10 @@ mod tests {
                 );
                 // One-sided: nothing from behind, nothing below.
                 let below = Vec3::new(wo.x, wo.y, -wo.z);
-                assert_eq!((b.eval(below, wi), b.eval(wi, below), b.pdf(wi, below)), (Rgb::ZERO, Rgb::ZERO, 0.0));
+                assert_eq!(
+                    (b.eval(below, wi), b.eval(wi, below), b.pdf(wi, below)),
+                    (Rgb::ZERO, Rgb::ZERO, 0.0)
+                );
             }
         }
     }
@@ -378,7 +386,8 @@ mod tests {
     fn cases() -> Vec<RoughPlastic> {
         let mut v = mitsuba_cases();
         v.push(
-            RoughPlastic::new(Rgb::splat(0.6), Rgb::ONE, 1.5, 1.0, Distribution::Ggx, 0.7, false, false).unwrap(),
+            RoughPlastic::new(Rgb::splat(0.6), Rgb::ONE, 1.5, 1.0, Distribution::Ggx, 0.7, false, false)
+                .unwrap(),
         );
         v.push(
             RoughPlastic::new(Rgb::splat(0.4), Rgb::ONE, 1.0, 1.33, Distribution::Beckmann, 0.2, true, true)
@@ -427,12 +436,14 @@ mod tests {
     /// single-scattering coating loses energy, the fitted R_int may add a little: within 1 %).
     #[test]
     fn furnace() {
-        let white: Vec<RoughPlastic> = [(Distribution::Beckmann, 0.1), (Distribution::Ggx, 0.3), (Distribution::Ggx, 1.0)]
-            .into_iter()
-            .flat_map(|(d, a)| {
-                [false, true].map(|nl| RoughPlastic::new(Rgb::ONE, Rgb::ONE, 1.5, 1.0, d, a, true, nl).unwrap())
-            })
-            .collect();
+        let white: Vec<RoughPlastic> =
+            [(Distribution::Beckmann, 0.1), (Distribution::Ggx, 0.3), (Distribution::Ggx, 1.0)]
+                .into_iter()
+                .flat_map(|(d, a)| {
+                    [false, true]
+                        .map(|nl| RoughPlastic::new(Rgb::ONE, Rgb::ONE, 1.5, 1.0, d, a, true, nl).unwrap())
+                })
+                .collect();
         let all: Vec<(usize, RoughPlastic)> = cases().into_iter().chain(white).enumerate().collect();
         all.into_par_iter().for_each(|(k, b)| {
             let mut rng = RandomStream::new(1902, &[k as u64]);

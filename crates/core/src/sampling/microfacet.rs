@@ -321,7 +321,11 @@ fn beckmann_visible_slope(cos_i: f32, u: Vec2) -> Vec2 {
             x = 0.5 * (lo + hi);
         }
         let (v, s) = cdf(x);
-        if v < 0.0 { lo = x } else { hi = x }
+        if v < 0.0 {
+            lo = x
+        } else {
+            hi = x
+        }
         let d = 1.0 - s * tan;
         let step = if d > 1e-12 { v / d } else { f64::INFINITY };
         if step.abs() < 1e-8 || hi - lo < 1e-8 {
@@ -394,20 +398,25 @@ mod tests {
     fn visible_and_d_cos_sampling_match_their_densities() {
         use crate::bsdf::chi2::{Chi2Test, incident};
         use rayon::prelude::*;
-        let cases: Vec<(Microfacet, f32)> = [Microfacet::ggx(0.3), Microfacet::beckmann(0.3), Microfacet::beckmann(0.8)]
-            .into_iter()
-            .flat_map(|mf| [0.0, 60.0, 88.0].map(move |d| (mf, d)))
-            .collect();
+        let cases: Vec<(Microfacet, f32)> =
+            [Microfacet::ggx(0.3), Microfacet::beckmann(0.3), Microfacet::beckmann(0.8)]
+                .into_iter()
+                .flat_map(|mf| [0.0, 60.0, 88.0].map(move |d| (mf, d)))
+                .collect();
         cases.into_par_iter().enumerate().for_each(|(i, (mf, deg))| {
             let wi = incident(deg);
             Chi2Test::new(Vec3::Z, 70 + i as u64)
-                .run(|_, u| Some((mf.sample_visible(wi, u), mf.visible_pdf(wi, mf.sample_visible(wi, u)))), |m| {
-                    mf.visible_pdf(wi, m)
-                })
+                .run(
+                    |_, u| Some((mf.sample_visible(wi, u), mf.visible_pdf(wi, mf.sample_visible(wi, u)))),
+                    |m| mf.visible_pdf(wi, m),
+                )
                 .assert_ok(&format!("visible {mf:?} θi={deg}°"));
             if deg == 0.0 {
                 Chi2Test::new(Vec3::Z, 90 + i as u64)
-                    .run(|_, u| Some((mf.sample_d_cos(u), mf.d_cos_pdf(mf.sample_d_cos(u)))), |m| mf.d_cos_pdf(m))
+                    .run(
+                        |_, u| Some((mf.sample_d_cos(u), mf.d_cos_pdf(mf.sample_d_cos(u)))),
+                        |m| mf.d_cos_pdf(m),
+                    )
                     .assert_ok(&format!("D·cos {mf:?}"));
             }
         });

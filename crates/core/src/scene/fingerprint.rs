@@ -90,8 +90,7 @@
 
 use crate::bsdf::{
     Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
-    SmoothConductor,
-    SmoothDielectric, ThinDielectric,
+    SmoothConductor, SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
 use crate::light::{BuiltProfile, Light};
@@ -155,7 +154,7 @@ pub(crate) fn material_v2(material: &Material) -> String {
     let Material { name: _, bsdf, two_sided } = material;
     let mut t = Text(String::new());
     bsdf_v2(&mut t, bsdf);
-    t.0.push_str("|");
+    t.0.push('|');
     t.0.push_str(if *two_sided { "true" } else { "false" });
     t.0
 }
@@ -394,9 +393,8 @@ fn profile(h: &mut Hasher, profile: &BuiltProfile) {
 mod tests {
     use super::{material_hash, material_v2};
     use crate::bsdf::{
-        Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
-        SmoothConductor,
-        SmoothDielectric, ThinDielectric,
+        Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
+        RoughPlastic, SmoothConductor, SmoothDielectric, ThinDielectric,
     };
     use crate::light::EmissionProfile;
     use crate::math::{Frame, Rgb, Vec3};

@@ -458,7 +458,7 @@ fn microfacet<'d>(p: &mut Props<'d>, nodes: &mut Vec<(&'static str, &'d Element)
         }
     };
     let _ = p.bool("sample_visible")?; // a sampling strategy: same expectation (taken before by
-                                        // roughplastic, whose pdf Mitsuba defines by it)
+    // roughplastic, whose pdf Mitsuba defines by it)
     let a = p.float("alpha")?;
     let au = p.float("alpha_u")?;
     let av = p.float("alpha_v")?;
