@@ -44,6 +44,8 @@ mod lambert;
 mod phong;
 mod plastic;
 mod roughplastic;
+#[cfg(test)]
+mod roughplastic_mitsuba;
 pub mod shading;
 mod thin;
 

@@ -320,7 +320,7 @@ mod tests {
     use crate::sampling::RandomStream;
     use rayon::prelude::*;
 
-    include!("roughplastic_mitsuba.rs");
+    use crate::bsdf::roughplastic_mitsuba::MITSUBA;
 
     /// The cases of tests/mitsuba/roughplastic_values.py, in its order.
     fn mitsuba_cases() -> Vec<RoughPlastic> {
