@@ -523,6 +523,126 @@ fn plastic_takes_mitsubas_parameters() {
 }
 
 #[test]
+fn roughplastic_takes_mitsubas_parameters() {
+    let s = scene(
+        r#"<shape type="cube"><bsdf type="roughplastic"/></shape>
+           <shape type="cube"><bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.2, 0.4, 0.6"/>
+             <string name="int_ior" value="bk7"/><float name="ext_ior" value="1.2"/>
+             <string name="distribution" value="ggx"/><float name="alpha" value="0.3"/>
+             <boolean name="sample_visible" value="false"/>
+             <boolean name="nonlinear" value="true"/><rgb name="specular_reflectance" value="0.5"/></bsdf></shape>"#,
+    );
+    let p = |i: usize| match &s.description.materials[i].bsdf {
+        Bsdf::RoughPlastic(p) => p.clone(),
+        b => panic!("{b:?}"),
+    };
+    let (a, b) = (p(0), p(1));
+    assert!(!s.description.materials[0].two_sided);
+    assert_eq!(
+        (a.diffuse_reflectance, a.specular_reflectance, a.microfacet, a.sample_visible, a.nonlinear),
+        (Rgb::splat(0.5), Rgb::ONE, Microfacet::beckmann(0.1), true, false)
+    );
+    assert!((a.eta - 1.49 / 1.000277).abs() < 1e-6);
+    assert_eq!(
+        (b.diffuse_reflectance, b.specular_reflectance, b.microfacet, b.sample_visible, b.nonlinear),
+        (Rgb::new(0.2, 0.4, 0.6), Rgb::splat(0.5), Microfacet::ggx(0.3), false, true)
+    );
+    assert!((b.eta - 1.5046 / 1.2).abs() < 1e-6);
+    for (xml, want) in [
+        (
+            r#"<rgb name="diffuse_reflectance" value="1.5"/>"#,
+            "dir/test.xml:2:46: <rgb name=\"diffuse_reflectance\">: invalid material: diffuse_reflectance exceeds 1",
+        ),
+        (
+            r#"<float name="alpha" value="0"/>"#,
+            "dir/test.xml:2:46: <float name=\"alpha\">: invalid material: alpha must be positive",
+        ),
+        (
+            r#"<float name="int_ior" value="1.2"/><float name="ext_ior" value="1.2"/>"#,
+            "dir/test.xml:2:20: <bsdf type=\"roughplastic\">: invalid material: int_ior = ext_ior = 1.2",
+        ),
+        (
+            r#"<float name="alpha_u" value="0.1"/><float name="alpha_v" value="0.2"/>"#,
+            "dir/test.xml:2:46: <float name=\"alpha_u\">: roughplastic is isotropic in Mitsuba 3",
+        ),
+        (
+            r#"<string name="distribution" value="phong"/>"#,
+            "dir/test.xml:2:46: <string name=\"distribution\">: unknown microfacet distribution \"phong\"",
+        ),
+    ] {
+        let e = err(&format!(r#"<shape type="cube"><bsdf type="roughplastic">{xml}</bsdf></shape>"#));
+        assert!(e.contains(want), "{e}\nwanted: {want}");
+    }
+    // Equal alphas are isotropic.
+    let s = scene(
+        r#"<shape type="cube"><bsdf type="roughplastic"><float name="alpha_u" value="0.2"/>
+           <float name="alpha_v" value="0.2"/></bsdf></shape>"#,
+    );
+    assert!(
+        matches!(&s.description.materials[0].bsdf, Bsdf::RoughPlastic(p) if p.microfacet == Microfacet::beckmann(0.2))
+    );
+}
+
+#[test]
+fn blendbsdf_blends_two_nested_bsdfs() {
+    let s = scene(
+        r#"<bsdf type="conductor" id="metal"/>
+           <shape type="cube"><bsdf type="blendbsdf"><float name="weight" value="0.25"/>
+             <bsdf type="diffuse"><rgb name="reflectance" value="0.2"/></bsdf><ref id="metal"/></bsdf></shape>
+           <shape type="cube"><bsdf type="twosided"><bsdf type="blendbsdf"><float name="weight" value="1"/>
+             <bsdf type="diffuse"/><bsdf type="roughplastic"/></bsdf></bsdf></shape>"#,
+    );
+    let m = &s.description.materials;
+    let Bsdf::Blend(b) = &m[0].bsdf else { panic!("{:?}", m[0].bsdf) };
+    assert_eq!(b.weight, 0.25);
+    assert!(matches!(b.bsdfs[0], Bsdf::Lambert(ref l) if l.reflectance == Rgb::splat(0.2)));
+    assert!(matches!(b.bsdfs[1], Bsdf::SmoothConductor(_)));
+    assert!(!m[0].two_sided && m[1].two_sided);
+    assert!(matches!(&m[1].bsdf, Bsdf::Blend(b) if matches!(b.bsdfs[1], Bsdf::RoughPlastic(_))));
+    for (xml, want) in [
+        (
+            r#"<bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:20: <bsdf type=\"blendbsdf\">: a blendbsdf needs its weight",
+        ),
+        (
+            r#"<float name="weight" value="1.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:43: <float name=\"weight\">: invalid material: weight exceeds 1",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:20: <bsdf type=\"blendbsdf\">: a blendbsdf blends exactly two nested BSDFs (given 1)",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:121: <bsdf type=\"diffuse\">: a blendbsdf blends exactly two nested BSDFs (given 3)",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="dielectric"/>"#,
+            "dir/test.xml:2:20: <bsdf type=\"blendbsdf\">: invalid material: a blend of a dielectric",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="conductor"/><bsdf type="plastic"/>"#,
+            "invalid material: a blend of two BSDFs that both have delta lobes is not supported",
+        ),
+        (
+            r#"<texture type="checkerboard" name="weight"/><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:43: <texture type=\"checkerboard\" name=\"weight\">: a texture as the weight",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:77: <bsdf type=\"diffuse\">: textures inside a blendbsdf are not supported yet",
+        ),
+        (
+            r#"<float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="twosided"><bsdf type="diffuse"/></bsdf>"#,
+            "a blendbsdf of a twosided and a one-sided BSDF is not supported",
+        ),
+    ] {
+        let e = err(&format!(r#"<shape type="cube"><bsdf type="blendbsdf">{xml}</bsdf></shape>"#));
+        assert!(e.contains(want), "{e}\nwanted: {want}");
+    }
+}
+
+#[test]
 fn interior_media_make_absorbing_glass() {
     let s = scene(
         r#"<medium type="homogeneous" id="ink"><float name="albedo" value="0"/>
@@ -692,7 +812,7 @@ fn bad_scenes_name_file_line_and_element() {
     let cases: &[(&str, &str)] = &[
         (
             r#"<bsdf type="hair" id="p"/>"#,
-            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic)",
+            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic, roughplastic, blendbsdf)",
         ),
         (
             r#"<shape type="teapot"/>"#,

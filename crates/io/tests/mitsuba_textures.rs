@@ -178,3 +178,29 @@ fn bad_and_huge_image_files_are_errors_naming_the_file() {
     assert!(e.contains("huge.jpg"), "{e}");
     assert!(e.contains("60000 × 60000") || e.contains("header"), "{e}");
 }
+
+/// A rough plastic's colours take textures: the texel's colour at the hit, the coating's tables
+/// and sampling weight those of the material as loaded (Mitsuba's weight is its texture's mean).
+#[test]
+fn roughplastic_colours_take_textures() {
+    let s = scene(
+        r#"<shape type="rectangle"><bsdf type="roughplastic">
+             <texture type="checkerboard" name="diffuse_reflectance"><rgb name="color0" value="0.8, 0.1, 0.1"/>
+               <rgb name="color1" value="0.2, 0.6, 0.3"/></texture></bsdf></shape>
+           <emitter type="point"><point name="position" x="0" y="0" z="1"/></emitter>"#,
+    );
+    let scene = Scene::build(&s.description).expect("builds");
+    let at = |x: f32| {
+        let mut slot = None;
+        match &scene.material_at(0, opticks_core::math::Vec3::new(x, -0.5, 0.0), &mut slot).bsdf {
+            Bsdf::RoughPlastic(p) => p.clone(),
+            other => panic!("{other:?}"),
+        }
+    };
+    let (a, b) = (at(-0.5), at(0.5));
+    assert_eq!(
+        (a.diffuse_reflectance, b.diffuse_reflectance),
+        (Rgb::new(0.8, 0.1, 0.1), Rgb::new(0.2, 0.6, 0.3))
+    );
+    assert_eq!(a.internal_reflectance(), b.internal_reflectance());
+}

@@ -34,6 +34,7 @@
 //!   f(sampled → given)·|cos|/p, which for refraction is the importance weight times
 //!   (η_given/η_sampled)², the familiar radiance scaling of pbrt's `TransportMode::Radiance`.
 //!   Reflection weights are the same in both modes.
+mod blend;
 #[cfg(test)]
 pub(crate) mod chi2;
 mod conductor;
@@ -42,14 +43,19 @@ pub mod fresnel;
 mod lambert;
 mod phong;
 mod plastic;
+mod roughplastic;
+#[cfg(test)]
+mod roughplastic_mitsuba;
 pub mod shading;
 mod thin;
 
+pub use blend::Blend;
 pub use conductor::{RoughConductor, SmoothConductor};
 pub use dielectric::{RoughDielectric, SmoothDielectric, check_absorption};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 pub use plastic::Plastic;
+pub use roughplastic::RoughPlastic;
 pub use thin::ThinDielectric;
 
 use crate::geometry::SurfaceNormals;
@@ -100,6 +106,10 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     /// Smooth plastic: a diffuse base under a dielectric coating (a delta lobe and a diffuse one).
     Plastic(Plastic),
+    /// Rough plastic (Mitsuba's `roughplastic`): a diffuse base under a microfacet coating.
+    RoughPlastic(RoughPlastic),
+    /// A blend of two BSDFs (Mitsuba's `blendbsdf`), boxed: the enum stays small.
+    Blend(Blend),
     /// Thin dielectric sheet: delta reflection and straight delta transmission (oriented by
     /// nothing: the same on both faces).
     ThinDielectric(ThinDielectric),
@@ -117,6 +127,8 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.eval(wi, wo),
             Bsdf::RoughDielectric(b) => b.eval(wi, wo),
             Bsdf::Plastic(b) => b.eval(wi, wo),
+            Bsdf::RoughPlastic(b) => b.eval(wi, wo),
+            Bsdf::Blend(b) => b.eval(wi, wo),
         }
     }
 
@@ -131,6 +143,8 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.pdf(wi, wo),
             Bsdf::RoughDielectric(b) => b.pdf(wi, wo),
             Bsdf::Plastic(b) => b.pdf(wi, wo),
+            Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
+            Bsdf::Blend(b) => b.pdf(wi, wo),
         }
     }
 
@@ -147,11 +161,13 @@ impl Bsdf {
             Bsdf::SmoothDielectric(b) => b.lobe_probability(wi, wo),
             Bsdf::ThinDielectric(b) => b.lobe_probability(wi, wo),
             Bsdf::Plastic(b) => b.coating_probability(wi, wo),
+            Bsdf::Blend(b) => b.lobe_probability(wi, wo),
             Bsdf::SmoothConductor(_)
             | Bsdf::Lambert(_)
             | Bsdf::ModifiedPhong(_)
             | Bsdf::RoughConductor(_)
-            | Bsdf::RoughDielectric(_) => 0.0,
+            | Bsdf::RoughDielectric(_)
+            | Bsdf::RoughPlastic(_) => 0.0,
         }
     }
 
@@ -168,6 +184,8 @@ impl Bsdf {
             Bsdf::RoughConductor(b) => b.sample(wi, u),
             Bsdf::RoughDielectric(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::Plastic(b) => b.sample(wi, u_lobe, u),
+            Bsdf::RoughPlastic(b) => b.sample(wi, u_lobe, u),
+            Bsdf::Blend(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::ThinDielectric(b) => b.sample(wi, u_lobe),
         }
     }
@@ -185,7 +203,11 @@ impl Bsdf {
     /// [`Bsdf::sample`], never from another density weighted by `eval`.
     #[inline]
     pub fn has_delta_lobe(&self) -> bool {
-        self.is_delta() || matches!(self, Bsdf::Plastic(_))
+        match self {
+            Bsdf::Plastic(_) => true,
+            Bsdf::Blend(b) => b.bsdfs.iter().any(Bsdf::has_delta_lobe),
+            _ => self.is_delta(),
+        }
     }
 
     /// Whether light crosses the surface (dielectrics): such BSDFs are oriented and accept light
@@ -218,6 +240,8 @@ impl Bsdf {
             Bsdf::SmoothDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::RoughDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::Plastic(b) => b.max_albedo(),
+            Bsdf::RoughPlastic(b) => b.max_albedo(),
+            Bsdf::Blend(b) => b.max_albedo(),
             Bsdf::ThinDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
         }
     }
@@ -339,6 +363,9 @@ pub enum MaterialError {
     /// The BSDF would reflect more energy than it receives.
     #[error("kd + ks = {0} exceeds 1 in some channel: the surface would create energy")]
     CreatesEnergy(Rgb),
+    /// A combination of BSDFs Opticks does not handle.
+    #[error("{0} is not supported")]
+    Unsupported(&'static str),
     /// A parameter exceeds the largest value the BSDF handles accurately.
     #[error("{name} = {value} exceeds the supported maximum {max}")]
     TooLarge {

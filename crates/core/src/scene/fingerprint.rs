@@ -89,8 +89,8 @@
 //! field, so adding a field to a BSDF does not compile until its encoding is decided here.
 
 use crate::bsdf::{
-    Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
-    SmoothDielectric, ThinDielectric,
+    Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+    SmoothConductor, SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
 use crate::light::{BuiltProfile, Light};
@@ -153,6 +153,14 @@ impl Hasher {
 pub(crate) fn material_v2(material: &Material) -> String {
     let Material { name: _, bsdf, two_sided } = material;
     let mut t = Text(String::new());
+    bsdf_v2(&mut t, bsdf);
+    t.0.push('|');
+    t.0.push_str(if *two_sided { "true" } else { "false" });
+    t.0
+}
+
+/// The BSDF's record of [`material_v2`], closed (` })`); a blend's children are records within.
+fn bsdf_v2(t: &mut Text, bsdf: &Bsdf) {
     match bsdf {
         Bsdf::Lambert(Lambert { reflectance }) => {
             t.variant("Lambert").rgb("reflectance", *reflectance);
@@ -203,6 +211,31 @@ pub(crate) fn material_v2(material: &Material) -> String {
                 .num("eta", *eta)
                 .num("nonlinear", if *nonlinear { 1.0 } else { 0.0 });
         }
+        // The private fields are functions of these.
+        Bsdf::RoughPlastic(RoughPlastic {
+            diffuse_reflectance,
+            specular_reflectance,
+            eta,
+            microfacet,
+            sample_visible,
+            nonlinear,
+            ..
+        }) => {
+            t.variant("RoughPlastic")
+                .rgb("diffuse_reflectance", *diffuse_reflectance)
+                .rgb("specular_reflectance", *specular_reflectance)
+                .num("eta", *eta)
+                .microfacet("microfacet", microfacet)
+                .num("sample_visible", if *sample_visible { 1.0 } else { 0.0 })
+                .num("nonlinear", if *nonlinear { 1.0 } else { 0.0 });
+        }
+        Bsdf::Blend(Blend { weight, bsdfs }) => {
+            t.variant("Blend").num("weight", *weight);
+            for (field, child) in ["bsdf0", "bsdf1"].into_iter().zip(bsdfs.iter()) {
+                t.key(field);
+                bsdf_v2(t, child);
+            }
+        }
         Bsdf::ThinDielectric(ThinDielectric { eta, specular_reflectance, specular_transmittance }) => {
             t.variant("ThinDielectric")
                 .num("eta", *eta)
@@ -210,9 +243,7 @@ pub(crate) fn material_v2(material: &Material) -> String {
                 .rgb("specular_transmittance", *specular_transmittance);
         }
     }
-    t.0.push_str(" })|");
-    t.0.push_str(if *two_sided { "true" } else { "false" });
-    t.0
+    t.0.push_str(" })");
 }
 
 /// The material hash of encoding version 2: what the geometry hash records per triangle.
@@ -362,8 +393,8 @@ fn profile(h: &mut Hasher, profile: &BuiltProfile) {
 mod tests {
     use super::{material_hash, material_v2};
     use crate::bsdf::{
-        Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, SmoothConductor,
-        SmoothDielectric, ThinDielectric,
+        Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
+        RoughPlastic, SmoothConductor, SmoothDielectric, ThinDielectric,
     };
     use crate::light::EmissionProfile;
     use crate::math::{Frame, Rgb, Vec3};
@@ -412,6 +443,16 @@ mod tests {
             specular_transmittance: Rgb::ONE,
             absorption: Rgb::new(0.0, 0.5, 12.0),
         }
+    }
+
+    fn rough_plastic(d: Rgb, s: Rgb, dist: Distribution, alpha: f32, visible: bool, nonlinear: bool) -> Bsdf {
+        Bsdf::RoughPlastic(RoughPlastic::new(d, s, 1.49, 1.0, dist, alpha, visible, nonlinear).unwrap())
+    }
+
+    /// A blend of a diffuse of reflectance `rho` and a mirror.
+    fn blend(weight: f32, rho: Rgb) -> Bsdf {
+        let mirror = Bsdf::SmoothConductor(SmoothConductor::new(Rgb::ONE, None).unwrap());
+        Bsdf::Blend(Blend::new(weight, Bsdf::Lambert(Lambert::new(rho).unwrap()), mirror).unwrap())
     }
 
     fn plastic(d: Rgb, s: Rgb, eta: f32, nonlinear: bool) -> Plastic {
@@ -552,6 +593,16 @@ mod tests {
             Bsdf::ThinDielectric(ThinDielectric { eta: 1.33, ..thin() }),
             Bsdf::ThinDielectric(ThinDielectric { specular_reflectance: Rgb::ONE, ..thin() }),
             Bsdf::ThinDielectric(ThinDielectric { specular_transmittance: rgb(1.0, 1.0, 0.9), ..thin() }),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Beckmann, 0.1, true, false),
+            rough_plastic(Rgb::splat(0.4), Rgb::ONE, Distribution::Beckmann, 0.1, true, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::splat(0.9), Distribution::Beckmann, 0.1, true, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Ggx, 0.1, true, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Beckmann, 0.2, true, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Beckmann, 0.1, false, false),
+            rough_plastic(Rgb::splat(0.5), Rgb::ONE, Distribution::Beckmann, 0.1, true, true),
+            blend(0.5, Rgb::splat(0.5)),
+            blend(0.25, Rgb::splat(0.5)),
+            blend(0.5, Rgb::splat(0.6)),
         ];
         let mut all = base.clone();
         all.extend(base.iter().map(|m| Material { two_sided: !m.two_sided, ..m.clone() }));

@@ -315,6 +315,9 @@ pub fn set_colour(bsdf: &mut Bsdf, slot: ColourSlot, c: Rgb) -> bool {
         (Bsdf::RoughDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
         (Bsdf::ThinDielectric(b), SpecularReflectance) => &mut b.specular_reflectance,
         (Bsdf::ThinDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
+        // Mitsuba's rough plastic keeps the sampling weight of the colours it was built with.
+        (Bsdf::RoughPlastic(b), DiffuseReflectance) => &mut b.diffuse_reflectance,
+        (Bsdf::RoughPlastic(b), SpecularReflectance) => &mut b.specular_reflectance,
         // The plastic's sampling weights follow from its colours: rebuilt.
         (Bsdf::Plastic(b), DiffuseReflectance | SpecularReflectance) => {
             let (d, s) = match slot {

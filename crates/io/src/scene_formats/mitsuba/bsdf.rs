@@ -15,8 +15,8 @@ use super::texture::{BsdfTextures, colour};
 use super::xml::Element;
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
-    Bsdf, Lambert, Material, MaterialError, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
-    SmoothConductor, SmoothDielectric, ThinDielectric, fresnel,
+    Blend, Bsdf, Lambert, Material, MaterialError, ModifiedPhong, Plastic, RoughConductor, RoughDielectric,
+    RoughPlastic, SmoothConductor, SmoothDielectric, ThinDielectric, fresnel,
 };
 use opticks_core::math::Rgb;
 use opticks_core::sampling::microfacet::{Distribution, Microfacet};
@@ -58,6 +58,8 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "roughdielectric", extension: false, build: specular },
     BsdfType { name: "thindielectric", extension: false, build: thindielectric },
     BsdfType { name: "plastic", extension: false, build: plastic },
+    BsdfType { name: "roughplastic", extension: false, build: roughplastic },
+    BsdfType { name: "blendbsdf", extension: false, build: blendbsdf },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
@@ -356,6 +358,80 @@ fn plastic<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>)
     Ok((Bsdf::Plastic(b), false))
 }
 
+/// `roughplastic`: Mitsuba 3's rough plastic (the defaults of `plastic`, and `distribution`
+/// Beckmann, `alpha` 0.1 — isotropic only, as Mitsuba's —, `sample_visible` true), one-sided.
+fn roughplastic<'d>(
+    b: &mut Builder<'d>,
+    e: &'d Element,
+    ty: &str,
+    p: &mut Props<'d>,
+) -> Result<(Bsdf, bool)> {
+    let (d, dnode) = colour(b, p, "diffuse_reflectance", Rgb::splat(0.5), ColourSlot::DiffuseReflectance)?;
+    let (s, snode) = colour(b, p, "specular_reflectance", Rgb::ONE, ColourSlot::SpecularReflectance)?;
+    no_other_objects(p, ty)?;
+    let (int_ior, inode) = ior(p, "int_ior", 1.49)?;
+    let (ext_ior, enode) = ior(p, "ext_ior", 1.000277)?;
+    let nonlinear = p.bool("nonlinear")?.unwrap_or(false);
+    let sample_visible = p.bool("sample_visible")?.unwrap_or(true);
+    let mut nodes = vec![
+        ("diffuse_reflectance", dnode),
+        ("specular_reflectance", snode),
+        ("int_ior", inode),
+        ("ext_ior", enode),
+    ];
+    let mf = microfacet(p, &mut nodes)?;
+    if mf.alpha_u != mf.alpha_v {
+        let at = nodes.iter().find(|(n, _)| *n == "alpha_u").map_or(e, |n| n.1);
+        return Err(at.err("roughplastic is isotropic in Mitsuba 3: give one alpha (alpha_u = alpha_v)"));
+    }
+    let b = RoughPlastic::new(d, s, int_ior, ext_ior, mf.distribution, mf.alpha_u, sample_visible, nonlinear)
+        .map_err(|source| material_error(source, &nodes, e))?;
+    Ok((Bsdf::RoughPlastic(b), false))
+}
+
+/// `blendbsdf`: (1 − weight)·first + weight·second (Mitsuba 3's), `weight` a number in [0, 1]
+/// (required, as Mitsuba's; a texture is not supported yet), two nested BSDFs (`<bsdf>` or
+/// `<ref>`) without textures, both one-sided or both `twosided`.
+fn blendbsdf<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    if let Some(t) = p.take_object("weight") {
+        return Err(t.err("a texture as the weight of a blendbsdf is not supported yet (give a <float>)"));
+    }
+    let Some((weight, wnode)) = p.float("weight")? else {
+        return Err(e.err("a blendbsdf needs its weight (<float name=\"weight\">, in [0, 1])"));
+    };
+    let inner = p.objects().to_vec();
+    if inner.len() != 2 {
+        let at = inner.get(2).copied().unwrap_or(e);
+        return Err(at.err(format!("a blendbsdf blends exactly two nested BSDFs (given {})", inner.len())));
+    }
+    let mut children = Vec::with_capacity(2);
+    for c in &inner {
+        let nested = match c.tag.as_str() {
+            "bsdf" => bsdf(b, c)?,
+            "ref" => bsdf_ref(b, c)?,
+            other => {
+                return Err(c.err(format!(
+                    "unsupported element <{other}> inside a blendbsdf (supported: bsdf, ref)"
+                )));
+            }
+        };
+        if !nested.textures.is_empty() {
+            return Err(c.err("textures inside a blendbsdf are not supported yet"));
+        }
+        children.push((nested, *c));
+    }
+    let [(first, _), (second, second_node)] = <[_; 2]>::try_from(children).expect("two children");
+    if first.two_sided != second.two_sided {
+        return Err(second_node.err(
+            "a blendbsdf of a twosided and a one-sided BSDF is not supported (wrap the blend in twosided)",
+        ));
+    }
+    let two_sided = first.two_sided;
+    let blend = Blend::new(weight as f32, first.bsdf, second.bsdf)
+        .map_err(|source| material_error(source, &[("weight", wnode)], e))?;
+    Ok((Bsdf::Blend(blend), two_sided))
+}
+
 /// An error at the first nested object no colour parameter took (a texture without the name
 /// of one of the BSDF's colours, or another element).
 fn no_other_objects(p: &Props, ty: &str) -> Result<()> {
@@ -381,7 +457,8 @@ fn microfacet<'d>(p: &mut Props<'d>, nodes: &mut Vec<(&'static str, &'d Element)
             );
         }
     };
-    let _ = p.bool("sample_visible")?; // a sampling strategy: same expectation
+    let _ = p.bool("sample_visible")?; // a sampling strategy: same expectation (taken before by
+    // roughplastic, whose pdf Mitsuba defines by it)
     let a = p.float("alpha")?;
     let au = p.float("alpha_u")?;
     let av = p.float("alpha_v")?;

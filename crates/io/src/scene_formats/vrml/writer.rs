@@ -216,6 +216,8 @@ fn bsdf_kind(b: &Bsdf) -> &'static str {
         Bsdf::RoughConductor(_) => "rough conductor",
         Bsdf::RoughDielectric(_) => "rough dielectric",
         Bsdf::Plastic(_) => "plastic",
+        Bsdf::RoughPlastic(_) => "rough plastic",
+        Bsdf::Blend(_) => "blend",
         Bsdf::ThinDielectric(_) => "thin dielectric",
     }
 }
