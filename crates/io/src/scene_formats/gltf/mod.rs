@@ -318,6 +318,7 @@ pub fn load_gltf_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
                     material,
                     emission: emission.map(AreaEmission::lambertian),
                     uvs: Vec::new(),
+                    attributes: Vec::new(),
                 });
             }
         }

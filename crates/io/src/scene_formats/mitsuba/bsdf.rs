@@ -11,7 +11,7 @@
 use super::Result;
 use super::build::Builder;
 use super::properties::Props;
-use super::texture::{BsdfTextures, colour};
+use super::texture::{BsdfTextures, colour, roughness};
 use super::xml::Element;
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
@@ -255,13 +255,13 @@ fn specular<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>
     } else {
         None
     };
-    no_other_objects(p, ty)?;
     nodes.push(("specular_reflectance", rnode));
     let microfacet = if rough {
-        microfacet(p, &mut nodes)?
+        microfacet(b, p, &mut nodes)?
     } else {
         Microfacet::ggx(0.1) // unused
     };
+    no_other_objects(p, ty)?;
     let result = if ty.ends_with("conductor") {
         let (material, mnode) = p.string_or("material", "none")?;
         let eta = p.color("eta")?;
@@ -356,21 +356,26 @@ fn plastic<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>)
     Ok((Bsdf::Plastic(b), false))
 }
 
-/// An error at the first nested object no colour parameter took (a texture without the name
-/// of one of the BSDF's colours, or another element).
+/// An error at the first nested object no parameter took (a texture without the name of one of
+/// the BSDF's colours or roughnesses, or another element).
 fn no_other_objects(p: &Props, ty: &str) -> Result<()> {
     match p.objects().first() {
         Some(c) => Err(c.err(format!(
             "unsupported element inside <bsdf type=\"{ty}\"> (textures need the name of one of its \
-             colour parameters, e.g. name=\"specular_reflectance\")"
+             colour or roughness parameters, e.g. name=\"specular_reflectance\" or name=\"alpha\")"
         ))),
         None => Ok(()),
     }
 }
 
 /// The microfacet distribution of a rough BSDF: `distribution` (Beckmann by default), `alpha`
-/// (0.1) or both `alpha_u` and `alpha_v`; records the roughness parameters' elements in `nodes`.
-fn microfacet<'d>(p: &mut Props<'d>, nodes: &mut Vec<(&'static str, &'d Element)>) -> Result<Microfacet> {
+/// (0.1) or both `alpha_u` and `alpha_v`, each a number or a texture ([`roughness`]); records the
+/// roughness parameters' elements in `nodes`.
+fn microfacet<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Props<'d>,
+    nodes: &mut Vec<(&'static str, &'d Element)>,
+) -> Result<Microfacet> {
     let (dist, dnode) = p.string_or("distribution", "beckmann")?;
     let distribution = match dist.trim().to_ascii_lowercase().as_str() {
         "beckmann" => Distribution::Beckmann,
@@ -382,9 +387,9 @@ fn microfacet<'d>(p: &mut Props<'d>, nodes: &mut Vec<(&'static str, &'d Element)
         }
     };
     let _ = p.bool("sample_visible")?; // a sampling strategy: same expectation
-    let a = p.float("alpha")?;
-    let au = p.float("alpha_u")?;
-    let av = p.float("alpha_v")?;
+    let a = roughness(b, p, "alpha", ColourSlot::Alpha)?;
+    let au = roughness(b, p, "alpha_u", ColourSlot::AlphaU)?;
+    let av = roughness(b, p, "alpha_v", ColourSlot::AlphaV)?;
     // Mitsuba's rules: `alpha`, or both `alpha_u` and `alpha_v`, never a mixture.
     let (u, v) = match (a, au, av) {
         (Some((a, an)), None, None) => {
