@@ -40,6 +40,15 @@
 //! quad with `vt` (flipped v, clamp): a wrong UV, wrap, filter or sRGB decoding moves the
 //! regions the shape covers (`testdata/mitsuba/textures/make_textures.py` made the images).
 //!
+//! `textures2` (64 × 48, 393,216 paths): roughness and mesh attributes as textures — a rough
+//! conductor sphere whose `alpha` is a raw grey `bitmap` (eval_1: its luminance), a rough
+//! conductor floor whose `alpha` is a `checkerboard` (eval_1: a colour's mean, the squares of
+//! Mitsuba's eval_1 swapped against its eval), a PLY wall coloured by its float vertex colours
+//! (`mesh_attribute` `vertex_color`, blended by the barycentrics), a PLY octahedron whose
+//! `specular_reflectance` and `alpha` are its face attributes (`face_color`, `face_rough`, by
+//! `<ref>`): a wrong eval_1, attribute grouping, blend or face order moves the regions the shape
+//! covers or reflects into (`testdata/mitsuba/textures2/make_textures2.py` made the files).
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 mod common;
@@ -109,4 +118,9 @@ fn mitsuba_thin_dielectric_matches_mitsuba() {
 #[test]
 fn mitsuba_textures_match_mitsuba() {
     check("textures", 1);
+}
+
+#[test]
+fn mitsuba_roughness_and_mesh_attribute_textures_match_mitsuba() {
+    check("textures2", 1);
 }

@@ -207,7 +207,13 @@ fn roughness_textures_are_bound_and_checked_at_their_element() {
     }
     let scene = Scene::build(d).expect("builds");
     let mut slot = None;
-    let m = scene.material_at(0, opticks_core::math::Vec3::new(0.5, -0.5, 0.0), &mut slot); // uv (¾, ¼)
+    // uv (¾, ¼): color0 (Mitsuba's eval_1 swaps the squares of eval).
+    let m = scene.material_at(0, opticks_core::math::Vec3::new(0.5, -0.5, 0.0), &mut slot);
+    let Bsdf::RoughConductor(c) = &m.bsdf else { panic!() };
+    assert_eq!(c.microfacet.alpha_u, 0.05);
+    assert!((c.microfacet.alpha_v - 0.3).abs() < 1e-6, "{}", c.microfacet.alpha_v);
+    let mut slot = None;
+    let m = scene.material_at(0, opticks_core::math::Vec3::new(-0.5, -0.5, 0.0), &mut slot); // uv (¼, ¼)
     let Bsdf::RoughConductor(c) = &m.bsdf else { panic!() };
     assert_eq!(c.microfacet.alpha_u, 0.3);
     assert!((c.microfacet.alpha_v - 0.2).abs() < 1e-6, "{}", c.microfacet.alpha_v); // Mitsuba's default color1 0.2

@@ -314,20 +314,21 @@ mod tests {
 
     #[test]
     fn a_roughness_texture_sets_alpha_at_the_point_as_mitsubas_eval_1() {
-        // A checkerboard's eval_1 is the mean of its colour's channels.
+        // A checkerboard's eval_1 is the mean of its colour's channels, its squares swapped
+        // (Mitsuba's): color1 at uv (¼, ¼), color0 at (¾, ¼).
         let cb = Arc::new(Texture::Checkerboard(
             Checkerboard::new(Rgb::new(0.1, 0.2, 0.3), Rgb::splat(0.05), UvTransform::IDENTITY).unwrap(),
         ));
         let (a, b) = (Vec3::new(-0.5, -1.0, -0.5), Vec3::new(0.5, -1.0, -0.5)); // uv (¼, ¼), (¾, ¼)
         let scene = Scene::build(&rough_box(cb.clone(), ColourSlot::Alpha)).unwrap();
-        let (u, v) = alphas(&scene, 0, a);
+        let (u, v) = alphas(&scene, 0, b);
         assert!((u - 0.2).abs() < 1e-6 && u == v, "{u} {v}");
-        assert_eq!(alphas(&scene, 0, b), (0.05, 0.05));
+        assert_eq!(alphas(&scene, 0, a), (0.05, 0.05));
         let scene = Scene::build(&rough_box(cb.clone(), ColourSlot::AlphaV)).unwrap();
-        assert_eq!(alphas(&scene, 0, b), (0.3, 0.05));
+        assert_eq!(alphas(&scene, 0, a), (0.3, 0.05));
         // Zero is raised to Mitsuba's 1e-4; above 1 or negative is refused.
         let zero = Scene::build(&rough_box(checker(0.0, 0.5), ColourSlot::Alpha)).unwrap();
-        assert_eq!(alphas(&zero, 0, a).0, MIN_TEXTURED_ALPHA);
+        assert_eq!(alphas(&zero, 0, b).0, MIN_TEXTURED_ALPHA);
         let refused = |t, slot| match Scene::build(&rough_box(t, slot)) {
             Err(SceneError::BadTexture { message, .. }) => message,
             other => panic!("{other:?}"),

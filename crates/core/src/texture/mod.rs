@@ -235,6 +235,18 @@ impl Checkerboard {
         let high = |x: f32| x - x.floor() > 0.5;
         if high(uv.x) == high(uv.y) { self.color0 } else { self.color1 }
     }
+
+    /// The single value at `uv` (Mitsuba's `eval_1`): the mean of `color0`'s channels where the
+    /// fractional parts of u and v are on *different* sides of ½, of `color1`'s elsewhere —
+    /// the squares of [`Checkerboard::eval`] swapped, as Mitsuba 3's `eval_1` has them (a quirk
+    /// of its code, followed so that a textured roughness renders as there).
+    #[inline]
+    pub fn eval_1(&self, uv: Vec2) -> f32 {
+        let uv = self.to_uv.apply(uv);
+        let high = |x: f32| x - x.floor() > 0.5;
+        let c = if high(uv.x) != high(uv.y) { self.color0 } else { self.color1 };
+        c.element_sum() / 3.0
+    }
 }
 
 /// Mitsuba's `mesh_attribute`: the hit mesh's attribute `name` (`vertex_…`: one value per
@@ -297,13 +309,14 @@ impl Texture {
     }
 
     /// The single value a float parameter (a roughness) takes, as Mitsuba's `eval_1`: a
-    /// bitmap's luminance, the mean of a checkerboard square's colour, a one-channel mesh
-    /// attribute's value (`attribute.x`; the scene admits only one-channel attributes here).
+    /// bitmap's luminance, the mean of a checkerboard square's colour ([`Checkerboard::eval_1`]:
+    /// its squares swapped, as Mitsuba's), a one-channel mesh attribute's value (`attribute.x`;
+    /// the scene admits only one-channel attributes here).
     #[inline]
     pub fn eval_1(&self, uv: Vec2, attribute: Rgb) -> f32 {
         match self {
             Texture::Bitmap(b) => luminance(b.eval(uv)),
-            Texture::Checkerboard(c) => c.eval(uv).element_sum() / 3.0,
+            Texture::Checkerboard(c) => c.eval_1(uv),
             Texture::MeshAttribute(m) => attribute.x * m.scale,
         }
     }
