@@ -559,4 +559,54 @@ mod tests {
             Bitmap::new(0, 0, vec![], FilterType::Nearest, WrapMode::Clamp, UvTransform::IDENTITY).is_err()
         );
     }
+
+    #[test]
+    fn eval_1_is_mitsubas_single_value_and_range_1_bounds_it() {
+        let texels = vec![Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0), Rgb::splat(0.25), Rgb::ZERO];
+        let b = Texture::Bitmap(
+            Bitmap::new(4, 1, texels, FilterType::Nearest, WrapMode::Repeat, UvTransform::IDENTITY).unwrap(),
+        );
+        // Luminance: Y of linear sRGB; a grey is its own value.
+        assert_eq!(b.eval_1(Vec2::new(0.1, 0.5), Rgb::ZERO), 0.212_671);
+        assert_eq!(b.eval_1(Vec2::new(0.3, 0.5), Rgb::ZERO), 0.715_16);
+        assert!((b.eval_1(Vec2::new(0.6, 0.5), Rgb::ZERO) - 0.25).abs() < 1e-7);
+        assert_eq!(b.range_1(), (0.0, 0.715_16));
+        // Checkerboard: the mean of the colour, color0 where eval gives color1 (Mitsuba's eval_1).
+        let c = Texture::Checkerboard(
+            Checkerboard::new(Rgb::new(0.1, 0.2, 0.6), Rgb::splat(0.5), UvTransform::IDENTITY).unwrap(),
+        );
+        assert_eq!(c.eval(Vec2::splat(0.25), Rgb::ZERO), Rgb::new(0.1, 0.2, 0.6));
+        assert_eq!(c.eval_1(Vec2::splat(0.25), Rgb::ZERO), 0.5);
+        assert!((c.eval_1(Vec2::new(0.75, 0.25), Rgb::ZERO) - 0.3).abs() < 1e-7);
+        assert_eq!(c.range_1().1, 0.5);
+        // A mesh attribute: the scene's blend times the scale.
+        let m = Texture::MeshAttribute(MeshAttributeTexture::new("face_w".into(), 2.0).unwrap());
+        assert_eq!(m.eval(Vec2::ZERO, Rgb::new(0.1, 0.2, 0.3)), Rgb::new(0.2, 0.4, 0.6));
+        assert_eq!(m.eval_1(Vec2::ZERO, Rgb::splat(0.2)), 0.4);
+        assert!(!MeshAttributeTexture::new("face_w".into(), 1.0).unwrap().per_vertex());
+        assert_eq!(MeshAttributeTexture::new("w".into(), 1.0), Err(TextureError::AttributeName("w".into())));
+        assert!(MeshAttributeTexture::new("vertex_w".into(), f32::NAN).is_err());
+        assert_ne!(
+            m.fingerprint_words(),
+            Texture::MeshAttribute(MeshAttributeTexture::new("face_v".into(), 2.0).unwrap())
+                .fingerprint_words()
+        );
+    }
+
+    #[test]
+    fn set_roughness_sets_the_rough_bsdfs_alphas_only() {
+        use crate::bsdf::{Lambert, RoughConductor};
+        let mut b = Bsdf::RoughConductor(RoughConductor::new(0.3, Rgb::ONE, None).unwrap());
+        assert!(set_roughness(&mut b, ColourSlot::AlphaV, 0.1));
+        let Bsdf::RoughConductor(c) = &b else { panic!() };
+        assert_eq!((c.microfacet.alpha_u, c.microfacet.alpha_v), (0.3, 0.1));
+        assert!(set_roughness(&mut b, ColourSlot::Alpha, 0.2));
+        let Bsdf::RoughConductor(c) = &b else { panic!() };
+        assert_eq!((c.microfacet.alpha_u, c.microfacet.alpha_v), (0.2, 0.2));
+        assert!(!set_roughness(&mut b, ColourSlot::Reflectance, 0.2));
+        let mut l = Bsdf::Lambert(Lambert::new(Rgb::ONE).unwrap());
+        assert!(!set_roughness(&mut l, ColourSlot::Alpha, 0.2));
+        assert!(ColourSlot::Reflectance.is_colour() && !ColourSlot::AlphaU.is_colour());
+        assert!(!set_colour(&mut b, ColourSlot::Alpha, Rgb::ONE));
+    }
 }
