@@ -2,8 +2,9 @@
 //! (nested in a BSDF under a colour's name, or by `<ref>` to a top-level one, shared), what the
 //! scene description records (the bindings, the constant given to the core as the texture's
 //! largest value, the shapes' UVs, OBJ `vt` with Mitsuba's flipped v), and the located errors
-//! of bad textures and bad or huge image files. The rendered result against Mitsuba is
-//! `tests/mitsuba_scenes.rs` (`textures`).
+//! of bad textures and bad or huge image files; textured roughness; `mesh_attribute` textures
+//! and the PLY attributes they keep. The rendered results against Mitsuba are
+//! `tests/mitsuba_scenes.rs` (`textures`, `textures2`).
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec2};
@@ -127,7 +128,10 @@ fn bad_textures_are_located_errors() {
     let e = err(
         r#"<shape type="rectangle"><bsdf type="diffuse"><texture type="noise" name="reflectance"/></bsdf></shape>"#,
     );
-    assert!(e.contains("unsupported texture type \"noise\" (supported: bitmap, checkerboard)"), "{e}");
+    assert!(
+        e.contains("unsupported texture type \"noise\" (supported: bitmap, checkerboard, mesh_attribute)"),
+        "{e}"
+    );
     assert!(e.contains("test.xml:2:"), "{e}");
     let e = err(
         r#"<shape type="rectangle"><bsdf type="diffuse"><texture type="checkerboard" name="albedo"/></bsdf></shape>"#,
@@ -203,4 +207,150 @@ fn roughplastic_colours_take_textures() {
         (Rgb::new(0.8, 0.1, 0.1), Rgb::new(0.2, 0.6, 0.3))
     );
     assert_eq!(a.internal_reflectance(), b.internal_reflectance());
+}
+
+#[test]
+fn roughness_textures_are_bound_and_checked_at_their_element() {
+    let s = scene(
+        r#"<shape type="rectangle"><bsdf type="roughconductor">
+            <texture type="checkerboard" name="alpha_u"><float name="color0" value="0.05"/><float name="color1" value="0.3"/></texture>
+            <texture type="checkerboard" name="alpha_v"><rgb name="color0" value="0.1, 0.2, 0.6"/></texture>
+        </bsdf></shape>
+        <shape type="rectangle"><bsdf type="roughdielectric"><texture type="checkerboard" name="alpha"/></bsdf></shape>
+        <emitter type="point"><point name="position" x="0" y="0" z="1"/></emitter>"#,
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let d = &s.description;
+    let slots: Vec<(usize, ColourSlot)> = d.textures.iter().map(|b| (b.material, b.slot)).collect();
+    assert_eq!(slots, [(0, ColourSlot::AlphaU), (0, ColourSlot::AlphaV), (1, ColourSlot::Alpha)]);
+    // The constructor saw the textures' largest eval_1 (a colour's mean: 0.3 for rgb 0.1, 0.2, 0.6).
+    match &d.materials[0].bsdf {
+        Bsdf::RoughConductor(c) => {
+            assert_eq!(c.microfacet.alpha_u, 0.3);
+            assert!((c.microfacet.alpha_v - 0.3).abs() < 1e-6, "{}", c.microfacet.alpha_v);
+        }
+        other => panic!("{other:?}"),
+    }
+    let scene = Scene::build(d).expect("builds");
+    let mut slot = None;
+    // uv (¾, ¼): color0 (Mitsuba's eval_1 swaps the squares of eval).
+    let m = scene.material_at(0, opticks_core::math::Vec3::new(0.5, -0.5, 0.0), &mut slot);
+    let Bsdf::RoughConductor(c) = &m.bsdf else { panic!() };
+    assert_eq!(c.microfacet.alpha_u, 0.05);
+    assert!((c.microfacet.alpha_v - 0.3).abs() < 1e-6, "{}", c.microfacet.alpha_v);
+    let mut slot = None;
+    let m = scene.material_at(0, opticks_core::math::Vec3::new(-0.5, -0.5, 0.0), &mut slot); // uv (¼, ¼)
+    let Bsdf::RoughConductor(c) = &m.bsdf else { panic!() };
+    assert_eq!(c.microfacet.alpha_u, 0.3);
+    assert!((c.microfacet.alpha_v - 0.2).abs() < 1e-6, "{}", c.microfacet.alpha_v); // Mitsuba's default color1 0.2
+    let e = err(r#"<shape type="rectangle"><bsdf type="roughconductor">
+        <texture type="checkerboard" name="alpha"><float name="color0" value="1.5"/></texture></bsdf></shape>"#);
+    assert!(e.contains("test.xml:3:9") && e.contains("not a roughness in [0, 1]"), "{e}");
+    let e = err(r#"<shape type="rectangle"><bsdf type="roughconductor"><float name="alpha" value="0.1"/>
+        <texture type="checkerboard" name="alpha"/></bsdf></shape>"#);
+    assert!(e.contains("given twice"), "{e}");
+    let e = err(
+        r#"<shape type="rectangle"><bsdf type="conductor"><texture type="checkerboard" name="alpha"/></bsdf></shape>"#,
+    );
+    assert!(e.contains("name=\"alpha\""), "{e}");
+    // A texture on an area emitter's radiance is refused at the texture.
+    let e = err(r#"<shape type="rectangle"><emitter type="area">
+        <texture type="checkerboard" name="radiance"/></emitter></shape>"#);
+    assert!(e.contains("test.xml:3:9") && e.contains("texture on an area emitter's `radiance`"), "{e}");
+}
+
+/// A PLY quad (two triangles) with a float vertex colour `color_0..2`, a uchar `red green blue`
+/// face colour... as Mitsuba groups them, and a one-channel face attribute `rough_0`.
+fn attributed_ply(dir: &Path) {
+    std::fs::write(
+        dir.join("q.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+         property float color_0\nproperty float color_1\nproperty float color_2\nelement face 2\n\
+         property list uchar int vertex_indices\nproperty float rough_0\nproperty uchar r\nproperty uchar g\n\
+         property uchar b\nend_header\n\
+         -1 -1 0 0.1 0.2 0.3\n1 -1 0 0.4 0.5 0.6\n1 1 0 0.7 0.8 0.9\n-1 1 0 0 0 0\n\
+         3 0 1 2 0.25 1 0 0\n3 0 2 3 0.5 0 1 0\n",
+    )
+    .unwrap();
+}
+
+#[test]
+fn mesh_attribute_textures_read_the_plys_attributes_they_name() {
+    let dir = folder("attributes");
+    attributed_ply(&dir);
+    let body = |bsdf: &str| {
+        format!(
+            r#"<texture type="mesh_attribute" id="rough"><string name="name" value="face_rough"/></texture>
+            <bsdf type="twosided" id="b">{bsdf}</bsdf>
+            <shape type="ply"><string name="filename" value="q.ply"/><ref id="b"/></shape>
+            <emitter type="point"><point name="position" x="0" y="0" z="1"/></emitter>"#
+        )
+    };
+    let s = load_in(
+        &dir,
+        &body(
+            r#"<bsdf type="diffuse"><texture type="mesh_attribute" name="reflectance">
+            <string name="name" value="vertex_color"/><float name="scale" value="0.5"/></texture></bsdf>"#,
+        ),
+    )
+    .unwrap();
+    let mesh = &s.description.meshes[0];
+    // Only the attribute a texture reads is kept.
+    let names: Vec<&str> = mesh.attributes.iter().map(|a| a.name.as_str()).collect();
+    assert_eq!(names, ["vertex_color"]);
+    assert_eq!(mesh.attributes[0].channels, 3);
+    assert_eq!(mesh.attributes[0].values[1], Rgb::new(0.4, 0.5, 0.6));
+    let scene = Scene::build(&s.description).unwrap();
+    // Vertex 1 (1, -1, 0) of triangle 0: its colour × 0.5.
+    let mut slot = None;
+    let m = scene.material_at(0, opticks_core::math::Vec3::new(1.0, -1.0, 0.0), &mut slot);
+    assert!(
+        (m.bsdf.max_albedo() - Rgb::new(0.2, 0.25, 0.3)).abs().max_element() < 1e-6,
+        "{}",
+        m.bsdf.max_albedo()
+    );
+    // A face attribute on a roughness, through a <ref> to a top-level texture.
+    let s =
+        load_in(&dir, &body(r#"<bsdf type="roughconductor"><ref name="alpha" id="rough"/></bsdf>"#)).unwrap();
+    let names: Vec<&str> = s.description.meshes[0].attributes.iter().map(|a| a.name.as_str()).collect();
+    assert_eq!(names, ["face_rough"]);
+    let scene = Scene::build(&s.description).unwrap();
+    let mut slot = None;
+    let m = scene.material_at(1, opticks_core::math::Vec3::new(-0.5, 0.5, 0.0), &mut slot);
+    let Bsdf::RoughConductor(c) = &m.bsdf else { panic!() };
+    assert_eq!((c.microfacet.alpha_u, c.microfacet.alpha_v), (0.5, 0.5));
+    // Mitsuba keeps integer colours as written (255, not 1): as a reflectance that exceeds 1.
+    let s = load_in(
+        &dir,
+        &body(
+            r#"<bsdf type="diffuse"><texture type="mesh_attribute" name="reflectance">
+            <string name="name" value="face_color"/></texture></bsdf>"#,
+        ),
+    )
+    .unwrap();
+    assert_eq!(s.description.meshes[0].attributes[0].values, [Rgb::X, Rgb::Y]);
+    // An attribute the mesh does not have, a bad name: errors naming them.
+    let s = load_in(
+        &dir,
+        &body(
+            r#"<bsdf type="diffuse"><texture type="mesh_attribute" name="reflectance">
+            <string name="name" value="vertex_missing"/></texture></bsdf>"#,
+        ),
+    )
+    .unwrap();
+    let e = Scene::build(&s.description).unwrap_err().to_string();
+    assert!(e.contains("has no attribute \"vertex_missing\""), "{e}");
+    let e = err_in(
+        &dir,
+        &body(
+            r#"<bsdf type="diffuse"><texture type="mesh_attribute" name="reflectance">
+            <string name="name" value="color"/></texture></bsdf>"#,
+        ),
+    );
+    assert!(e.contains("must start with \"vertex_\" or \"face_\""), "{e}");
+    let e = err_in(
+        &dir,
+        &body(r#"<bsdf type="diffuse"><texture type="mesh_attribute" name="reflectance"/></bsdf>"#),
+    );
+    assert!(e.contains("missing <string name=\"name\""), "{e}");
 }

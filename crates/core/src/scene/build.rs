@@ -17,6 +17,7 @@
 //! A mesh is validated, flattened and made a light before the next mesh is looked at, so the
 //! first error in file order is the one reported.
 
+use super::attributes::AttributeTable;
 use super::meshes::{self, Flat, NO_LIGHT, NO_SHADING, NO_UV};
 use super::textures::{self, MaterialTextures};
 use super::{CameraDesc, Fingerprint, ObjectHash, SceneDescription, SceneError, hashes, lights};
@@ -42,8 +43,10 @@ pub struct Scene {
     uv_of: Vec<u32>,
     /// Vertex texture coordinates of the triangles that have them.
     uvs: Vec<[Vec2; 3]>,
-    /// Per material: the textures in place of its colours (empty: untextured).
+    /// Per material: the textures in place of its parameters (empty: untextured).
     textures: MaterialTextures,
+    /// The meshes' attributes that `mesh_attribute` textures read, one table per name.
+    attributes: Vec<AttributeTable>,
     /// Materials.
     pub materials: Vec<Material>,
     /// Lights, in scene order.
@@ -94,7 +97,7 @@ impl Scene {
             return Err(SceneError::NoGeometry);
         }
         lights::check_light_table(&lights)?;
-        let textures = textures::bind(desc)?;
+        let textures = textures::bind(desc, &flat.attributes)?;
         let hashes = hashes::fingerprints(&desc.materials, &textures, &flat, &lights, &ranges);
         let accel = Accel::build(&flat.vertices);
         Ok(Scene {
@@ -107,6 +110,7 @@ impl Scene {
             uv_of: flat.uv_of,
             uvs: flat.uvs,
             textures,
+            attributes: flat.attributes,
             materials: desc.materials.clone(),
             lights,
             light_shapes: hashes.light_shapes,
@@ -174,8 +178,9 @@ impl Scene {
         &self.materials[self.material_of[prim as usize] as usize]
     }
 
-    /// The material of triangle `prim` at the point `p` on it: its textured colours evaluated at
-    /// p's texture coordinates ([`Scene::uv_at`]). An untextured material is the scene's own (no
+    /// The material of triangle `prim` at the point `p` on it: its textured parameters evaluated
+    /// at p's texture coordinates ([`Scene::uv_at`]) and, for mesh attributes, the triangle's
+    /// values at p's barycentrics. An untextured material is the scene's own (no
     /// lookup, no copy); a textured one is a copy without a name, kept in `resolved` (the
     /// caller's slot, `&mut None`: a plain reference out, so the hot loops pay nothing for
     /// textures they do not have).
@@ -186,7 +191,9 @@ impl Scene {
         if textures.is_empty() {
             return &self.materials[m];
         }
-        resolved.insert(textures::resolve(&self.materials[m], textures, self.uv_at(prim, p)))
+        let b = self.triangles[prim as usize].barycentrics(p);
+        let uv = self.uv_of_barycentrics(prim, b);
+        resolved.insert(textures::resolve(&self.materials[m], textures, &self.attributes, prim, b, uv))
     }
 
     /// The texture coordinates of triangle `prim` at the point `p` on it: its vertex UVs at p's
@@ -194,7 +201,12 @@ impl Scene {
     /// (b1, b2) for a mesh without UVs (Mitsuba's parameterisation).
     #[inline]
     pub fn uv_at(&self, prim: u32, p: Vec3) -> Vec2 {
-        let (b1, b2) = self.triangles[prim as usize].barycentrics(p);
+        self.uv_of_barycentrics(prim, self.triangles[prim as usize].barycentrics(p))
+    }
+
+    /// The texture coordinates of triangle `prim` at barycentrics (b1, b2).
+    #[inline]
+    fn uv_of_barycentrics(&self, prim: u32, (b1, b2): (f32, f32)) -> Vec2 {
         let k = self.uv_of[prim as usize];
         if k == NO_UV {
             return Vec2::new(b1, b2);

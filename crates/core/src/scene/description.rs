@@ -93,10 +93,33 @@ pub struct MeshDesc {
     /// a point is its vertices' interpolated by barycentrics; without them it is the
     /// barycentrics (b1, b2) themselves, as in Mitsuba. Only textured materials read them.
     pub uvs: Vec<Vec2>,
+    /// Named per-vertex or per-face values that `mesh_attribute` textures read (only the ones a
+    /// texture uses: a loader drops the others).
+    pub attributes: Vec<MeshAttribute>,
     /// Index into [`SceneDescription::materials`].
     pub material: usize,
     /// If set, the mesh is a one-sided area light (front faces only).
     pub emission: Option<AreaEmission>,
+}
+
+/// A mesh's named attribute (Mitsuba's mesh attributes): one value per vertex if the name starts
+/// with `vertex_` (blended across a triangle by the barycentrics), one per triangle if it starts
+/// with `face_`; one channel or three.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshAttribute {
+    /// `vertex_…` or `face_…` (Mitsuba's names, e.g. `vertex_color`).
+    pub name: String,
+    /// 1 or 3.
+    pub channels: u8,
+    /// One per vertex or per triangle (a one-channel value in every component), finite.
+    pub values: Vec<Rgb>,
+}
+
+impl MeshAttribute {
+    /// Whether the attribute has one value per vertex (else one per triangle).
+    pub fn per_vertex(&self) -> bool {
+        self.name.starts_with("vertex_")
+    }
 }
 
 /// How an emissive mesh emits: the one place an area light is described.

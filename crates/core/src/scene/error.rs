@@ -45,6 +45,18 @@ pub enum SceneError {
         /// What is wrong.
         message: String,
     },
+    /// A mesh attribute is malformed (its name, channels, count or values).
+    #[error("{at}: mesh '{mesh}': attribute \"{attribute}\": {message}")]
+    BadAttribute {
+        /// Where the mesh was declared.
+        at: Source,
+        /// Mesh name.
+        mesh: String,
+        /// The attribute's name.
+        attribute: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A mesh refers to a material that does not exist.
     #[error("{at}: mesh '{mesh}' refers to material {material}, but the scene has {count}")]
     MissingMaterial {

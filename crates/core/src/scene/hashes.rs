@@ -9,12 +9,10 @@ use super::Fingerprint;
 use super::fingerprint::{Hasher, light_shape, material_hash, material_v2};
 use super::meshes::{Flat, NO_SHADING};
 use super::objects::{ObjectHash, ObjectKind};
-use super::textures::MaterialTextures;
+use super::textures::{Bound, MaterialTextures};
 use crate::bsdf::Material;
 use crate::light::Light;
-use crate::texture::{ColourSlot, Texture};
 use std::ops::Range;
-use std::sync::Arc;
 
 /// A built scene's hashes.
 pub(super) struct Hashes {
@@ -31,16 +29,16 @@ pub(super) struct Hashes {
 /// The hash of `material` with its `textures`: [`material_hash`] for an untextured one (so
 /// untextured scenes keep their fingerprints), else that hash followed by every texture's slot
 /// and numbers.
-fn textured_material_hash(material: &Material, textures: &[(ColourSlot, Arc<Texture>)]) -> [u8; 16] {
+fn textured_material_hash(material: &Material, textures: &[Bound]) -> [u8; 16] {
     let plain = material_hash(material);
     if textures.is_empty() {
         return plain;
     }
     let mut h = Hasher::new("opticks textured material");
     h.0.update(&plain);
-    for (slot, t) in textures {
-        h.0.update(slot.name().as_bytes());
-        h.f32s(&t.fingerprint_words());
+    for b in textures {
+        h.0.update(b.slot.name().as_bytes());
+        h.f32s(&b.texture.fingerprint_words());
     }
     h.finish()
 }
@@ -92,12 +90,22 @@ pub(super) fn fingerprints(
                     }
                 }
             }
-            if !textures[flat.material_of[i] as usize].is_empty() {
+            let bound = &textures[flat.material_of[i] as usize];
+            if !bound.is_empty() {
                 // A textured material's colours depend on where on the triangle a point is.
                 if let Some(uv) = flat.uvs.get(flat.uv_of[i] as usize) {
                     for x in uv.map(|v| v.to_array()).as_flattened() {
                         bytes.extend_from_slice(&x.to_le_bytes());
                         bytes_v1.extend_from_slice(&x.to_le_bytes());
+                    }
+                }
+                // ... and on the values of the mesh attributes its textures read.
+                for k in bound.iter().filter_map(|b| b.attribute) {
+                    if let Some(c) = flat.attributes[k].corners(i as u32) {
+                        for x in c.map(|v| v.to_array()).as_flattened() {
+                            bytes.extend_from_slice(&x.to_le_bytes());
+                            bytes_v1.extend_from_slice(&x.to_le_bytes());
+                        }
                     }
                 }
             }

@@ -1,8 +1,10 @@
 //! The first stages of [`super::Scene::build`]: each mesh is validated ([`validate`]: material,
 //! vertices, vertex normals, emitted radiance, indices) and then flattened into the scene's
-//! triangle arrays ([`Flat::push_mesh`]), with its shading normals and texture coordinates. Degenerate (zero-area)
+//! triangle arrays ([`Flat::push_mesh`]), with its shading normals, texture coordinates and
+//! attributes. Degenerate (zero-area)
 //! triangles are dropped there, since they can neither be hit nor emit.
 
+use super::attributes::{self, AttributeTable};
 use super::{MeshDesc, SceneError};
 use crate::geometry::Triangle;
 use crate::light::check::check_emission;
@@ -43,6 +45,7 @@ pub(super) fn validate(mesh: &MeshDesc, materials: usize) -> Result<Vec<Vec3>, S
     }
     let normals = unit_normals(mesh)?;
     check_uvs(mesh)?;
+    attributes::check(mesh)?;
     if let Some(e) = &mesh.emission {
         check_emission(e.radiance).map_err(|source| SceneError::Light {
             at: mesh.source.clone(),
@@ -136,6 +139,8 @@ pub(super) struct Flat {
     pub uv_of: Vec<u32>,
     /// Vertex texture coordinates of the triangles that have them.
     pub uvs: Vec<[Vec2; 3]>,
+    /// The meshes' attributes, one table per name.
+    pub attributes: Vec<AttributeTable>,
     /// Zero-area triangles dropped.
     pub dropped: usize,
 }
@@ -160,7 +165,7 @@ impl Flat {
     pub fn push_mesh(&mut self, mesh: &MeshDesc, normals: &[Vec3], light: u32) -> Emitter {
         let mut emitter = Emitter::default();
         let mut area_sum = 0.0f64;
-        for t in &mesh.triangles {
+        for (face, t) in mesh.triangles.iter().enumerate() {
             let mut t = *t;
             let mut tri = Triangle::from_indices(&mesh.positions, t);
             let area = tri.area();
@@ -189,6 +194,13 @@ impl Flat {
             } else {
                 self.uv_of.push(self.uvs.len() as u32);
                 self.uvs.push(t.map(|i| mesh.uvs[i as usize]));
+            }
+            for a in &mesh.attributes {
+                let k = self.attributes.iter().position(|x| x.name == a.name).unwrap_or_else(|| {
+                    self.attributes.push(AttributeTable::new(a.name.clone()));
+                    self.attributes.len() - 1
+                });
+                self.attributes[k].push(index as usize, attributes::corner_values(a, face, t));
             }
             if light != NO_LIGHT {
                 emitter.triangles.push(index);

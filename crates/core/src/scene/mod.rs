@@ -6,6 +6,7 @@
 //! | `description.rs` | [`SceneDescription`] and its parts: meshes ([`AreaEmission`] on an emissive one), point and directional lights, the file's [`CameraDesc`] |
 //! | `build.rs` | [`Scene`] and [`Scene::build`], which runs the stages below in order |
 //! | `meshes.rs` | stages 1–2: validate each mesh, flatten it into triangles with shading normals |
+//! | `attributes.rs` | mesh attributes: their checks, and their values at the triangles' corners for `mesh_attribute` textures |
 //! | `lights.rs` | stage 3: the lights, through the light kinds' constructors |
 //! | `textures.rs` | stage 4: texture bindings checked per material; materials resolved at a point |
 //! | `hashes.rs` | stage 5: the fingerprints of the built scene |
@@ -15,6 +16,7 @@
 //! | `camera_path.rs` | walkthrough camera paths |
 //! | `demo.rs` | the built-in Cornell box |
 
+mod attributes;
 mod build;
 mod camera_path;
 mod demo;
@@ -31,8 +33,8 @@ pub use build::Scene;
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};
 pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
 pub use description::{
-    AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription,
-    Source,
+    AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, MeshAttribute, MeshDesc, PointLightDesc,
+    SceneDescription, Source,
 };
 pub use error::SceneError;
 pub use fingerprint::Fingerprint;

@@ -1,20 +1,70 @@
 //! The texture stage of [`super::Scene::build`]: each [`TextureBinding`] of the description is
-//! checked against its material (the material exists, has that colour, and every value the
-//! texture takes is one the parameter accepts — a reflectance in [0, 1], Phong's kd + ks ≤ 1 at
-//! the textures' maxima) and gathered per material, for [`super::Scene::material_at`].
+//! checked against its material (the material exists, has that parameter, and every value the
+//! texture takes is one the parameter accepts — a reflectance in [0, 1], a roughness in
+//! [0, 1] (raised to [`MIN_TEXTURED_ALPHA`] as Mitsuba does), Phong's kd + ks ≤ 1 at the
+//! textures' maxima; a mesh attribute's values are those of every mesh of the material, which
+//! must all have it) and gathered per material, for [`super::Scene::material_at`].
 
+use super::attributes::AttributeTable;
 use super::{SceneDescription, SceneError};
-use crate::bsdf::{Bsdf, Material, ModifiedPhong, check_unit_colour};
-use crate::texture::{ColourSlot, Texture, set_colour};
+use crate::bsdf::{Bsdf, MAX_ALPHA, Material, ModifiedPhong, check_unit_colour};
+use crate::math::{Rgb, Vec2};
+use crate::texture::{ColourSlot, MIN_TEXTURED_ALPHA, Texture, set_colour, set_roughness};
 use std::sync::Arc;
 
-/// Per material, the textures in place of its colours (empty for an untextured material).
-pub(super) type MaterialTextures = Vec<Vec<(ColourSlot, Arc<Texture>)>>;
+/// A texture bound to a parameter of a material, ready to evaluate.
+#[derive(Clone, Debug)]
+pub(super) struct Bound {
+    /// The parameter it replaces.
+    pub slot: ColourSlot,
+    /// The texture.
+    pub texture: Arc<Texture>,
+    /// For a mesh attribute texture: its table in the scene's attributes (`None` if no
+    /// triangle of the material has one: every such mesh was empty).
+    pub attribute: Option<usize>,
+}
 
-/// The description's textures, checked and gathered per material.
-pub(super) fn bind(desc: &SceneDescription) -> Result<MaterialTextures, SceneError> {
+/// Per material, the textures in place of its parameters (empty for an untextured material).
+pub(super) type MaterialTextures = Vec<Vec<Bound>>;
+
+/// The smallest and largest value (per channel) of mesh attribute `name` times `scale` over the
+/// meshes of material `material`, each of which must have it (with one channel if `single`).
+fn attribute_range(
+    desc: &SceneDescription,
+    material: usize,
+    name: &str,
+    scale: f32,
+    single: bool,
+) -> Result<(Rgb, Rgb), String> {
+    let (mut lo, mut hi) = (Rgb::splat(f32::INFINITY), Rgb::splat(f32::NEG_INFINITY));
+    for mesh in desc.meshes.iter().filter(|m| m.material == material) {
+        let Some(a) = mesh.attributes.iter().find(|a| a.name == name) else {
+            return Err(format!("mesh '{}' ({}) has no attribute \"{name}\"", mesh.name, mesh.source));
+        };
+        if single && a.channels != 1 {
+            return Err(format!(
+                "attribute \"{name}\" of mesh '{}' has {} channels; a roughness needs one",
+                mesh.name, a.channels
+            ));
+        }
+        for v in &a.values {
+            lo = lo.min(*v * scale);
+            hi = hi.max(*v * scale);
+        }
+    }
+    Ok((lo.min(hi), hi.max(lo)))
+}
+
+/// The description's textures, checked and gathered per material (`tables`: the flattened
+/// meshes' attributes).
+pub(super) fn bind(
+    desc: &SceneDescription,
+    tables: &[AttributeTable],
+) -> Result<MaterialTextures, SceneError> {
     let mut out: MaterialTextures = vec![Vec::new(); desc.materials.len()];
-    for b in &desc.textures {
+    // Per binding, the largest value of each channel (for Phong's joint bound below).
+    let mut maxima = vec![Rgb::ZERO; desc.textures.len()];
+    for (k, b) in desc.textures.iter().enumerate() {
         let bad = |material: String, message: String| SceneError::BadTexture {
             material,
             slot: b.slot.name(),
@@ -26,31 +76,70 @@ pub(super) fn bind(desc: &SceneDescription) -> Result<MaterialTextures, SceneErr
                 format!("no such material (the scene has {})", desc.materials.len()),
             ));
         };
-        let max = b.texture.max_value();
-        check_unit_colour(b.slot.name(), max)
-            .map_err(|e| bad(m.name.clone(), format!("the texture's largest value {max}: {e}")))?;
-        if !set_colour(&mut m.bsdf.clone(), b.slot, max) {
-            return Err(bad(m.name.clone(), "this material has no such colour parameter".into()));
+        let range = match &*b.texture {
+            Texture::MeshAttribute(a) => {
+                let (lo, hi) = attribute_range(desc, b.material, &a.name, a.scale, !b.slot.is_colour())
+                    .map_err(|e| bad(m.name.clone(), e))?;
+                (lo, hi)
+            }
+            t if b.slot.is_colour() => (Rgb::ZERO, t.max_value()),
+            t => {
+                let (lo, hi) = t.range_1();
+                (Rgb::splat(lo), Rgb::splat(hi))
+            }
+        };
+        let (lo, hi) = range;
+        if b.slot.is_colour() {
+            if lo.min_element() < 0.0 {
+                return Err(bad(m.name.clone(), format!("the texture's smallest value {lo} is negative")));
+            }
+            check_unit_colour(b.slot.name(), hi)
+                .map_err(|e| bad(m.name.clone(), format!("the texture's largest value {hi}: {e}")))?;
+            if !set_colour(&mut m.bsdf.clone(), b.slot, hi) {
+                return Err(bad(m.name.clone(), "this material has no such colour parameter".into()));
+            }
+        } else {
+            if !(lo.x >= 0.0 && hi.x <= MAX_ALPHA) {
+                return Err(bad(
+                    m.name.clone(),
+                    format!(
+                        "the texture's values {}..{} are not a roughness in [0, {MAX_ALPHA}]",
+                        lo.x, hi.x
+                    ),
+                ));
+            }
+            if !set_roughness(&mut m.bsdf.clone(), b.slot, hi.x) {
+                return Err(bad(m.name.clone(), "this material has no such roughness".into()));
+            }
         }
+        maxima[k] = hi;
         let list = &mut out[b.material];
-        if list.iter().any(|(s, _)| *s == b.slot) {
+        if list.iter().any(|x| x.slot == b.slot) {
             return Err(bad(m.name.clone(), "the parameter has two textures".into()));
         }
-        list.push((b.slot, b.texture.clone()));
+        let isotropic = |s: ColourSlot| s == ColourSlot::Alpha;
+        if list.iter().any(|x| !x.slot.is_colour() && isotropic(x.slot) != isotropic(b.slot)) {
+            return Err(bad(m.name.clone(), "alpha and alpha_u/alpha_v cannot both be textured".into()));
+        }
+        let attribute = match &*b.texture {
+            Texture::MeshAttribute(a) => tables.iter().position(|t| t.name == a.name),
+            _ => None,
+        };
+        list.push(Bound { slot: b.slot, texture: b.texture.clone(), attribute });
     }
     // Phong's energy bound holds at every point if it holds for the channels' maxima.
-    for (m, list) in desc.materials.iter().zip(&out) {
+    for (i, (m, list)) in desc.materials.iter().zip(&out).enumerate() {
         if let Bsdf::ModifiedPhong(p) = &m.bsdf
             && !list.is_empty()
         {
             let mut at_max = Bsdf::ModifiedPhong(p.clone());
-            for (slot, t) in list {
-                set_colour(&mut at_max, *slot, t.max_value());
+            for (b, max) in desc.textures.iter().zip(&maxima).filter(|(b, _)| b.material == i) {
+                set_colour(&mut at_max, b.slot, *max);
             }
             if let Bsdf::ModifiedPhong(q) = at_max {
                 ModifiedPhong::new(q.kd, q.ks, q.exponent).map_err(|e| SceneError::BadTexture {
                     material: m.name.clone(),
-                    slot: list[0].0.name(),
+                    slot: list[0].slot.name(),
                     message: format!("at the textures' largest values: {e}"),
                 })?;
             }
@@ -59,17 +148,26 @@ pub(super) fn bind(desc: &SceneDescription) -> Result<MaterialTextures, SceneErr
     Ok(out)
 }
 
-/// `material` with its textured colours evaluated at `uv` (a copy without a name: nothing
-/// allocated).
+/// `material` with its textured parameters evaluated at triangle `prim`'s point of barycentrics
+/// (b1, b2) and texture coordinates `uv` (a copy without a name: nothing allocated).
 #[inline]
 pub(super) fn resolve(
     material: &Material,
-    textures: &[(ColourSlot, Arc<Texture>)],
-    uv: glam::Vec2,
+    textures: &[Bound],
+    tables: &[AttributeTable],
+    prim: u32,
+    (b1, b2): (f32, f32),
+    uv: Vec2,
 ) -> Material {
     let mut bsdf = material.bsdf.clone();
-    for (slot, t) in textures {
-        set_colour(&mut bsdf, *slot, t.eval(uv));
+    for b in textures {
+        let attribute = b.attribute.map_or(Rgb::ZERO, |k| tables[k].at(prim, b1, b2));
+        if b.slot.is_colour() {
+            set_colour(&mut bsdf, b.slot, b.texture.eval(uv, attribute));
+        } else {
+            let alpha = b.texture.eval_1(uv, attribute).clamp(MIN_TEXTURED_ALPHA, MAX_ALPHA);
+            set_roughness(&mut bsdf, b.slot, alpha);
+        }
     }
     Material { name: String::new(), bsdf, two_sided: material.two_sided }
 }
@@ -78,9 +176,11 @@ pub(super) fn resolve(
 mod tests {
     use super::super::{Scene, cornell_box};
     use super::*;
-    use crate::bsdf::{Lambert, Plastic};
+    use crate::bsdf::{Lambert, Plastic, RoughConductor};
     use crate::math::{Rgb, Vec2, Vec3};
-    use crate::texture::{Checkerboard, TextureBinding, UvTransform};
+    use crate::sampling::microfacet::{Distribution, Microfacet};
+    use crate::scene::MeshAttribute;
+    use crate::texture::{Checkerboard, MeshAttributeTexture, TextureBinding, UvTransform};
 
     fn checker(a: f32, b: f32) -> Arc<Texture> {
         Arc::new(Texture::Checkerboard(
@@ -188,5 +288,150 @@ mod tests {
         moved.meshes[0].uvs[0].x += 0.25;
         assert_ne!(Scene::build(&moved).unwrap().fingerprint.geometry, a.geometry);
         assert_eq!(a.lights, plain.lights);
+    }
+
+    /// The Cornell box with its white material a rough conductor.
+    fn rough_box(texture: Arc<Texture>, slot: ColourSlot) -> crate::scene::SceneDescription {
+        let mut d = textured_box(texture);
+        d.materials[0].bsdf = Bsdf::RoughConductor(
+            RoughConductor::with_microfacet(
+                Microfacet::anisotropic(Distribution::Beckmann, 0.3, 0.2),
+                Rgb::ONE,
+                None,
+            )
+            .unwrap(),
+        );
+        d.textures[0].slot = slot;
+        d
+    }
+
+    fn alphas(scene: &Scene, prim: u32, p: Vec3) -> (f32, f32) {
+        match &scene.material_at(prim, p, &mut None).bsdf {
+            Bsdf::RoughConductor(c) => (c.microfacet.alpha_u, c.microfacet.alpha_v),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_roughness_texture_sets_alpha_at_the_point_as_mitsubas_eval_1() {
+        // A checkerboard's eval_1 is the mean of its colour's channels, its squares swapped
+        // (Mitsuba's): color1 at uv (¼, ¼), color0 at (¾, ¼).
+        let cb = Arc::new(Texture::Checkerboard(
+            Checkerboard::new(Rgb::new(0.1, 0.2, 0.3), Rgb::splat(0.05), UvTransform::IDENTITY).unwrap(),
+        ));
+        let (a, b) = (Vec3::new(-0.5, -1.0, -0.5), Vec3::new(0.5, -1.0, -0.5)); // uv (¼, ¼), (¾, ¼)
+        let scene = Scene::build(&rough_box(cb.clone(), ColourSlot::Alpha)).unwrap();
+        let (u, v) = alphas(&scene, 0, b);
+        assert!((u - 0.2).abs() < 1e-6 && u == v, "{u} {v}");
+        assert_eq!(alphas(&scene, 0, a), (0.05, 0.05));
+        let scene = Scene::build(&rough_box(cb.clone(), ColourSlot::AlphaV)).unwrap();
+        assert_eq!(alphas(&scene, 0, a), (0.3, 0.05));
+        // Zero is raised to Mitsuba's 1e-4; above 1 or negative is refused.
+        let zero = Scene::build(&rough_box(checker(0.0, 0.5), ColourSlot::Alpha)).unwrap();
+        assert_eq!(alphas(&zero, 0, b).0, MIN_TEXTURED_ALPHA);
+        let refused = |t, slot| match Scene::build(&rough_box(t, slot)) {
+            Err(SceneError::BadTexture { message, .. }) => message,
+            other => panic!("{other:?}"),
+        };
+        assert!(refused(checker(1.5, 0.5), ColourSlot::Alpha).contains("not a roughness"));
+        // A material without roughness, and alpha with alpha_u.
+        let mut d = textured_box(checker(0.2, 0.5));
+        d.textures[0].slot = ColourSlot::Alpha;
+        assert!(Scene::build(&d).is_err());
+        let mut d = rough_box(cb.clone(), ColourSlot::Alpha);
+        d.textures.push(TextureBinding { material: 0, slot: ColourSlot::AlphaU, texture: cb });
+        assert!(Scene::build(&d).unwrap_err().to_string().contains("cannot both"));
+    }
+
+    /// The Cornell box's white mesh with attribute `name`: vertex i's value (i, 2i, 3i)/200 if
+    /// per vertex, triangle j's (j/200) if per face (the light, white too, gets its own copy).
+    fn attributed_box(name: &str, channels: u8, slot: ColourSlot) -> crate::scene::SceneDescription {
+        let mut d = cornell_box();
+        d.materials.push(d.materials[0].clone());
+        let light = d.meshes.iter_mut().find(|m| m.name == "light").unwrap();
+        assert_eq!(light.material, 0);
+        light.material = d.materials.len() - 1;
+        let white = &mut d.meshes[0];
+        let n = if name.starts_with("vertex_") { white.positions.len() } else { white.triangles.len() };
+        let values = (0..n)
+            .map(|i| {
+                let i = i as f32 / 200.0;
+                if channels == 1 { Rgb::splat(i) } else { Rgb::new(i, 2.0 * i, 3.0 * i) }
+            })
+            .collect();
+        white.attributes.push(MeshAttribute { name: name.into(), channels, values });
+        let texture = Arc::new(Texture::MeshAttribute(MeshAttributeTexture::new(name.into(), 1.0).unwrap()));
+        d.textures.push(TextureBinding { material: 0, slot, texture });
+        d
+    }
+
+    #[test]
+    fn mesh_attributes_blend_vertex_values_and_keep_face_values() {
+        let d = attributed_box("vertex_color", 3, ColourSlot::Reflectance);
+        let scene = Scene::build(&d).unwrap();
+        let white = &d.meshes[0];
+        for prim in [0u32, 1, 3] {
+            let t = white.triangles[prim as usize];
+            let corners = t.map(|i| white.attributes[0].values[i as usize]);
+            let p = scene.triangles[prim as usize].point(0.2, 0.3);
+            let want = 0.5 * corners[0] + 0.2 * corners[1] + 0.3 * corners[2];
+            let Bsdf::Lambert(l) = scene.material_at(prim, p, &mut None).bsdf.clone() else { panic!() };
+            assert!((l.reflectance - want).abs().max_element() < 1e-6, "{} {want}", l.reflectance);
+        }
+        let d = attributed_box("face_color", 1, ColourSlot::Reflectance);
+        let scene = Scene::build(&d).unwrap();
+        let p = scene.triangles[5].point(0.7, 0.1);
+        let Bsdf::Lambert(l) = scene.material_at(5, p, &mut None).bsdf.clone() else { panic!() };
+        assert_eq!(l.reflectance, Rgb::splat(0.025));
+        // A roughness from a one-channel attribute; three channels are refused there.
+        let mut d = attributed_box("face_rough", 1, ColourSlot::Alpha);
+        d.materials[0].bsdf = Bsdf::RoughConductor(RoughConductor::new(0.3, Rgb::ONE, None).unwrap());
+        let scene = Scene::build(&d).unwrap();
+        assert_eq!(alphas(&scene, 2, scene.triangles[2].point(0.1, 0.1)), (0.01, 0.01));
+        d.meshes[0].attributes[0].channels = 3;
+        assert!(Scene::build(&d).unwrap_err().to_string().contains("needs one"));
+    }
+
+    #[test]
+    fn impossible_attributes_are_refused_naming_mesh_and_attribute() {
+        let err = |d: &crate::scene::SceneDescription| Scene::build(d).unwrap_err().to_string();
+        // A mesh of the material without the attribute.
+        let mut d = attributed_box("vertex_color", 3, ColourSlot::Reflectance);
+        d.meshes[0].attributes[0].name = "vertex_other".into();
+        assert!(err(&d).contains("has no attribute \"vertex_color\""), "{}", err(&d));
+        let mut d = attributed_box("vertex_color", 3, ColourSlot::Reflectance);
+        d.meshes[0].attributes[0].values.pop();
+        assert!(err(&d).contains("59 values for 60 vertices"), "{}", err(&d));
+        let mut d = attributed_box("vertex_color", 3, ColourSlot::Reflectance);
+        d.meshes[0].attributes[0].values[1].y = f32::NAN;
+        assert!(err(&d).contains("not finite"));
+        let mut d = attributed_box("vertex_color", 3, ColourSlot::Reflectance);
+        d.meshes[0].attributes[0].name = "color".into();
+        assert!(err(&d).contains("must start with"));
+        let mut d = attributed_box("vertex_color", 3, ColourSlot::Reflectance);
+        d.meshes[0].attributes[0].values[2] = Rgb::new(0.2, 1.5, 0.0);
+        assert!(err(&d).contains("largest value"), "{}", err(&d));
+        d.meshes[0].attributes[0].values[2] = Rgb::new(0.2, -0.5, 0.0);
+        assert!(err(&d).contains("negative"), "{}", err(&d));
+    }
+
+    #[test]
+    fn attribute_values_enter_the_fingerprint_only_where_textured() {
+        let plain = Scene::build(&cornell_box()).unwrap().fingerprint;
+        let mut d = cornell_box();
+        let values = vec![Rgb::splat(0.5); d.meshes[1].positions.len()];
+        d.meshes[1].attributes.push(MeshAttribute { name: "vertex_color".into(), channels: 1, values });
+        assert_eq!(Scene::build(&d).unwrap().fingerprint, plain);
+        let d = attributed_box("vertex_color", 3, ColourSlot::Reflectance);
+        let a = Scene::build(&d).unwrap().fingerprint;
+        assert_ne!(a.geometry, plain.geometry);
+        let mut e = d.clone();
+        e.meshes[0].attributes[0].values[3].z += 0.01;
+        assert_ne!(Scene::build(&e).unwrap().fingerprint.geometry, a.geometry);
+        let mut e = d.clone();
+        e.textures[0].texture =
+            Arc::new(Texture::MeshAttribute(MeshAttributeTexture::new("vertex_color".into(), 0.5).unwrap()));
+        assert_ne!(Scene::build(&e).unwrap().fingerprint.geometry, a.geometry);
+        assert!(MeshAttributeTexture::new("color".into(), 1.0).is_err());
     }
 }

@@ -1,12 +1,16 @@
-//! Textures: colours that vary over a surface, looked up by its (u, v) texture coordinates, as
-//! Mitsuba 3 defines them (`bitmap`, `checkerboard`; a constant is a plain [`Rgb`] in the BSDF).
+//! Textures: values that vary over a surface, as Mitsuba 3 defines them — looked up by the
+//! (u, v) texture coordinates (`bitmap`, `checkerboard`) or read from the hit mesh's own
+//! per-vertex or per-face data (`mesh_attribute`, [`MeshAttributeTexture`]); a constant is a
+//! plain number in the BSDF.
 //!
-//! A texture is bound to one colour parameter of a material ([`TextureBinding`], a
-//! [`ColourSlot`] of [`crate::bsdf::Bsdf`]); the scene resolves the material at a hit
+//! A texture is bound to one parameter of a material ([`TextureBinding`], a [`ColourSlot`] of
+//! [`crate::bsdf::Bsdf`]: a colour, or a roughness, which takes the texture's single value
+//! [`Texture::eval_1`] as Mitsuba's `eval_1`); the scene resolves the material at a hit
 //! ([`crate::scene::Scene::material_at`]), which evaluates the texture at the hit's UV — from
 //! the triangle's vertex UVs at the barycentrics recomputed from the point, so a stored
-//! sample (position and triangle) needs nothing more. Materials without textures are returned
-//! as they are, with no lookup.
+//! sample (position and triangle) needs nothing more — and, for a mesh attribute, at the
+//! triangle's attribute values blended by the same barycentrics. Materials without textures
+//! are returned as they are, with no lookup.
 //!
 //! UV conventions (Mitsuba's): `to_uv` maps (u, v, 1) affinely before the lookup; texel (i, j)
 //! of a `width` × `height` bitmap has its centre at ((i + ½)/width, (j + ½)/height), row 0 being
@@ -15,7 +19,7 @@
 //! image back into it (repeat, mirror, clamp).
 
 use crate::bsdf::{Bsdf, Plastic};
-use crate::math::{Rgb, Vec2};
+use crate::math::{Rgb, Vec2, Vec3};
 use std::sync::Arc;
 
 /// An affine map of texture coordinates: (u, v) ↦ (m00·u + m01·v + m02, m10·u + m11·v + m12)
@@ -109,6 +113,12 @@ pub enum TextureError {
     /// A `to_uv` entry is not finite.
     #[error("the to_uv transform has a non-finite entry")]
     BadTransform,
+    /// A mesh attribute's name starts with neither `vertex_` nor `face_`.
+    #[error("mesh attribute \"{0}\": the name must start with \"vertex_\" or \"face_\"")]
+    AttributeName(String),
+    /// A mesh attribute's scale is not finite.
+    #[error("the scale {0} is not finite")]
+    BadScale(f32),
 }
 
 impl Bitmap {
@@ -177,6 +187,21 @@ impl Bitmap {
     pub fn max_value(&self) -> Rgb {
         self.texels.iter().fold(Rgb::ZERO, |m, t| m.max(*t))
     }
+
+    /// The smallest and largest luminance of a texel (bounds of [`Texture::eval_1`]: the
+    /// luminance of a convex blend is the blend of the luminances).
+    fn luminance_range(&self) -> (f32, f32) {
+        self.texels
+            .iter()
+            .map(|t| luminance(*t))
+            .fold((f32::INFINITY, 0.0), |(lo, hi), y| (lo.min(y), hi.max(y)))
+    }
+}
+
+/// The luminance of a linear sRGB colour (Mitsuba's `luminance`: the Y row of sRGB → XYZ).
+#[inline]
+pub fn luminance(c: Rgb) -> f32 {
+    c.dot(Vec3::new(0.212_671, 0.715_160, 0.072_169))
 }
 
 /// Mitsuba's `checkerboard`: `color0` where the fractional parts of u and v (after `to_uv`) are
@@ -210,6 +235,49 @@ impl Checkerboard {
         let high = |x: f32| x - x.floor() > 0.5;
         if high(uv.x) == high(uv.y) { self.color0 } else { self.color1 }
     }
+
+    /// The single value at `uv` (Mitsuba's `eval_1`): the mean of `color0`'s channels where the
+    /// fractional parts of u and v are on *different* sides of ½, of `color1`'s elsewhere —
+    /// the squares of [`Checkerboard::eval`] swapped, as Mitsuba 3's `eval_1` has them (a quirk
+    /// of its code, followed so that a textured roughness renders as there).
+    #[inline]
+    pub fn eval_1(&self, uv: Vec2) -> f32 {
+        let uv = self.to_uv.apply(uv);
+        let high = |x: f32| x - x.floor() > 0.5;
+        let c = if high(uv.x) != high(uv.y) { self.color0 } else { self.color1 };
+        c.element_sum() / 3.0
+    }
+}
+
+/// Mitsuba's `mesh_attribute`: the hit mesh's attribute `name` (`vertex_…`: one value per
+/// vertex, blended by the barycentrics; `face_…`: one per triangle), times `scale`. The values
+/// belong to the meshes ([`crate::scene::MeshDesc::attributes`]), not to the texture: one
+/// texture reads each mesh it is on at that mesh's data.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshAttributeTexture {
+    /// The attribute's name, starting with `vertex_` or `face_`.
+    pub name: String,
+    /// Multiplies the attribute (Mitsuba's `scale`, 1 by default).
+    pub scale: f32,
+}
+
+impl MeshAttributeTexture {
+    /// The texture of attribute `name` times `scale`; refuses a name starting with neither
+    /// `vertex_` nor `face_` (Mitsuba's rule) and a non-finite scale.
+    pub fn new(name: String, scale: f32) -> Result<Self, TextureError> {
+        if !name.starts_with("vertex_") && !name.starts_with("face_") {
+            return Err(TextureError::AttributeName(name));
+        }
+        if !scale.is_finite() {
+            return Err(TextureError::BadScale(scale));
+        }
+        Ok(MeshAttributeTexture { name, scale })
+    }
+
+    /// Whether the attribute has one value per vertex (else one per face).
+    pub fn per_vertex(&self) -> bool {
+        self.name.starts_with("vertex_")
+    }
 }
 
 fn check_transform(t: &UvTransform) -> Result<(), TextureError> {
@@ -223,23 +291,56 @@ pub enum Texture {
     Bitmap(Bitmap),
     /// Two colours in squares.
     Checkerboard(Checkerboard),
+    /// A mesh's own per-vertex or per-face values.
+    MeshAttribute(MeshAttributeTexture),
 }
 
 impl Texture {
-    /// The colour at surface coordinates `uv`.
+    /// The colour at surface coordinates `uv`, where the mesh attribute the texture reads (if
+    /// it is a [`Texture::MeshAttribute`]) is `attribute` (the scene's blend of the triangle's
+    /// values; ignored by the other textures).
     #[inline]
-    pub fn eval(&self, uv: Vec2) -> Rgb {
+    pub fn eval(&self, uv: Vec2, attribute: Rgb) -> Rgb {
         match self {
             Texture::Bitmap(b) => b.eval(uv),
             Texture::Checkerboard(c) => c.eval(uv),
+            Texture::MeshAttribute(m) => attribute * m.scale,
         }
     }
 
-    /// The largest value of each channel over the surface.
+    /// The single value a float parameter (a roughness) takes, as Mitsuba's `eval_1`: a
+    /// bitmap's luminance, the mean of a checkerboard square's colour ([`Checkerboard::eval_1`]:
+    /// its squares swapped, as Mitsuba's), a one-channel mesh attribute's value (`attribute.x`;
+    /// the scene admits only one-channel attributes here).
+    #[inline]
+    pub fn eval_1(&self, uv: Vec2, attribute: Rgb) -> f32 {
+        match self {
+            Texture::Bitmap(b) => luminance(b.eval(uv)),
+            Texture::Checkerboard(c) => c.eval_1(uv),
+            Texture::MeshAttribute(m) => attribute.x * m.scale,
+        }
+    }
+
+    /// The largest value of each channel over the surface; for a mesh attribute, whose values
+    /// the meshes hold, the scale (the scene bounds the values).
     pub fn max_value(&self) -> Rgb {
         match self {
             Texture::Bitmap(b) => b.max_value(),
             Texture::Checkerboard(c) => c.color0.max(c.color1),
+            Texture::MeshAttribute(m) => Rgb::splat(m.scale),
+        }
+    }
+
+    /// The smallest and largest value of [`Texture::eval_1`] over the surface (for a mesh
+    /// attribute, whose values the meshes hold: the scale, twice).
+    pub fn range_1(&self) -> (f32, f32) {
+        match self {
+            Texture::Bitmap(b) => b.luminance_range(),
+            Texture::Checkerboard(c) => {
+                let (a, b) = (c.color0.element_sum() / 3.0, c.color1.element_sum() / 3.0);
+                (a.min(b), a.max(b))
+            }
+            Texture::MeshAttribute(m) => (m.scale, m.scale),
         }
     }
 
@@ -270,11 +371,18 @@ impl Texture {
                 w.extend(t(&c.to_uv));
                 w
             }
+            // The values are the meshes' (hashed with their triangles).
+            Texture::MeshAttribute(m) => {
+                let mut w = vec![2.0, m.scale, m.name.len() as f32];
+                w.extend(m.name.bytes().map(f32::from));
+                w
+            }
         }
     }
 }
 
-/// A colour parameter of a BSDF that a texture can replace (Mitsuba's parameter names).
+/// A parameter of a BSDF that a texture can replace (Mitsuba's parameter names): a colour, or a
+/// roughness ([`ColourSlot::is_colour`] tells which; the name is its first members').
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ColourSlot {
     /// `reflectance` of `diffuse`.
@@ -285,6 +393,12 @@ pub enum ColourSlot {
     SpecularReflectance,
     /// `specular_transmittance` of dielectrics.
     SpecularTransmittance,
+    /// `alpha` of rough conductors and dielectrics: both roughnesses.
+    Alpha,
+    /// `alpha_u`: the roughness along the tangent.
+    AlphaU,
+    /// `alpha_v`: the roughness along the bitangent.
+    AlphaV,
 }
 
 impl ColourSlot {
@@ -295,8 +409,37 @@ impl ColourSlot {
             ColourSlot::DiffuseReflectance => "diffuse_reflectance",
             ColourSlot::SpecularReflectance => "specular_reflectance",
             ColourSlot::SpecularTransmittance => "specular_transmittance",
+            ColourSlot::Alpha => "alpha",
+            ColourSlot::AlphaU => "alpha_u",
+            ColourSlot::AlphaV => "alpha_v",
         }
     }
+
+    /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`]).
+    pub fn is_colour(self) -> bool {
+        !matches!(self, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV)
+    }
+}
+
+/// The least roughness a texture gives: Mitsuba clamps every α at 10⁻⁴ (`MicrofacetDistribution`),
+/// so a black texel of a roughness texture is a near-mirror, not an error.
+pub const MIN_TEXTURED_ALPHA: f32 = 1e-4;
+
+/// Sets the roughness `slot` of `bsdf` to `alpha` (both α for [`ColourSlot::Alpha`]); false
+/// (and `bsdf` unchanged) if the BSDF has no such roughness. The caller keeps α in range.
+pub fn set_roughness(bsdf: &mut Bsdf, slot: ColourSlot, alpha: f32) -> bool {
+    let m = match bsdf {
+        Bsdf::RoughConductor(b) => &mut b.microfacet,
+        Bsdf::RoughDielectric(b) => &mut b.microfacet,
+        _ => return false,
+    };
+    match slot {
+        ColourSlot::Alpha => (m.alpha_u, m.alpha_v) = (alpha, alpha),
+        ColourSlot::AlphaU => m.alpha_u = alpha,
+        ColourSlot::AlphaV => m.alpha_v = alpha,
+        _ => return false,
+    }
+    true
 }
 
 /// Sets the colour `slot` of `bsdf` to `c`; false (and `bsdf` unchanged) if the BSDF has no
@@ -418,5 +561,55 @@ mod tests {
         assert!(
             Bitmap::new(0, 0, vec![], FilterType::Nearest, WrapMode::Clamp, UvTransform::IDENTITY).is_err()
         );
+    }
+
+    #[test]
+    fn eval_1_is_mitsubas_single_value_and_range_1_bounds_it() {
+        let texels = vec![Rgb::new(1.0, 0.0, 0.0), Rgb::new(0.0, 1.0, 0.0), Rgb::splat(0.25), Rgb::ZERO];
+        let b = Texture::Bitmap(
+            Bitmap::new(4, 1, texels, FilterType::Nearest, WrapMode::Repeat, UvTransform::IDENTITY).unwrap(),
+        );
+        // Luminance: Y of linear sRGB; a grey is its own value.
+        assert_eq!(b.eval_1(Vec2::new(0.1, 0.5), Rgb::ZERO), 0.212_671);
+        assert_eq!(b.eval_1(Vec2::new(0.3, 0.5), Rgb::ZERO), 0.715_16);
+        assert!((b.eval_1(Vec2::new(0.6, 0.5), Rgb::ZERO) - 0.25).abs() < 1e-7);
+        assert_eq!(b.range_1(), (0.0, 0.715_16));
+        // Checkerboard: the mean of the colour, color0 where eval gives color1 (Mitsuba's eval_1).
+        let c = Texture::Checkerboard(
+            Checkerboard::new(Rgb::new(0.1, 0.2, 0.6), Rgb::splat(0.5), UvTransform::IDENTITY).unwrap(),
+        );
+        assert_eq!(c.eval(Vec2::splat(0.25), Rgb::ZERO), Rgb::new(0.1, 0.2, 0.6));
+        assert_eq!(c.eval_1(Vec2::splat(0.25), Rgb::ZERO), 0.5);
+        assert!((c.eval_1(Vec2::new(0.75, 0.25), Rgb::ZERO) - 0.3).abs() < 1e-7);
+        assert_eq!(c.range_1().1, 0.5);
+        // A mesh attribute: the scene's blend times the scale.
+        let m = Texture::MeshAttribute(MeshAttributeTexture::new("face_w".into(), 2.0).unwrap());
+        assert_eq!(m.eval(Vec2::ZERO, Rgb::new(0.1, 0.2, 0.3)), Rgb::new(0.2, 0.4, 0.6));
+        assert_eq!(m.eval_1(Vec2::ZERO, Rgb::splat(0.2)), 0.4);
+        assert!(!MeshAttributeTexture::new("face_w".into(), 1.0).unwrap().per_vertex());
+        assert_eq!(MeshAttributeTexture::new("w".into(), 1.0), Err(TextureError::AttributeName("w".into())));
+        assert!(MeshAttributeTexture::new("vertex_w".into(), f32::NAN).is_err());
+        assert_ne!(
+            m.fingerprint_words(),
+            Texture::MeshAttribute(MeshAttributeTexture::new("face_v".into(), 2.0).unwrap())
+                .fingerprint_words()
+        );
+    }
+
+    #[test]
+    fn set_roughness_sets_the_rough_bsdfs_alphas_only() {
+        use crate::bsdf::{Lambert, RoughConductor};
+        let mut b = Bsdf::RoughConductor(RoughConductor::new(0.3, Rgb::ONE, None).unwrap());
+        assert!(set_roughness(&mut b, ColourSlot::AlphaV, 0.1));
+        let Bsdf::RoughConductor(c) = &b else { panic!() };
+        assert_eq!((c.microfacet.alpha_u, c.microfacet.alpha_v), (0.3, 0.1));
+        assert!(set_roughness(&mut b, ColourSlot::Alpha, 0.2));
+        let Bsdf::RoughConductor(c) = &b else { panic!() };
+        assert_eq!((c.microfacet.alpha_u, c.microfacet.alpha_v), (0.2, 0.2));
+        assert!(!set_roughness(&mut b, ColourSlot::Reflectance, 0.2));
+        let mut l = Bsdf::Lambert(Lambert::new(Rgb::ONE).unwrap());
+        assert!(!set_roughness(&mut l, ColourSlot::Alpha, 0.2));
+        assert!(ColourSlot::Reflectance.is_colour() && !ColourSlot::AlphaU.is_colour());
+        assert!(!set_colour(&mut b, ColourSlot::Alpha, Rgb::ONE));
     }
 }

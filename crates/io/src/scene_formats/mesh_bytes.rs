@@ -9,6 +9,7 @@
 
 use super::{FileLocation, SceneFileError};
 use opticks_core::math::{Vec2, Vec3};
+use opticks_core::scene::MeshAttribute;
 use std::path::Path;
 
 /// A triangle mesh as a mesh file stores it, before any transform.
@@ -23,6 +24,9 @@ pub struct MeshData {
     /// One texture coordinate per position, or empty (read, kept for textures; not used by the
     /// renderer yet).
     pub uvs: Vec<Vec2>,
+    /// The attributes asked for that the file has (Mitsuba's PLY attributes), one value per
+    /// vertex or per triangle (a polygon's value on each of its triangles).
+    pub attributes: Vec<MeshAttribute>,
 }
 
 /// What is wrong with a mesh file, and where.

@@ -2,7 +2,9 @@
 //! little-endian and binary big-endian; the `vertex` element's `x`, `y`, `z`, normals `nx`,
 //! `ny`, `nz` and texture coordinates (`u`/`v`, `s`/`t` or `texture_u`/`texture_v`), any
 //! numeric type each; the `face` element's `vertex_indices` (or `vertex_index`) list, polygons
-//! fanned into triangles; every other element and property is skipped.
+//! fanned into triangles; the vertex and face attributes a caller asks for, grouped and named
+//! as Mitsuba's reader does ([`attribute_groups`]); every other element and property is
+//! skipped.
 //!
 //! # Robustness
 //!
@@ -21,7 +23,8 @@
 //! size. This reader is a single pass over the file's bytes into the mesh arrays.
 
 use super::mesh_bytes::{Bytes, MeshData, MeshFileError};
-use opticks_core::math::{Vec2, Vec3};
+use opticks_core::math::{Rgb, Vec2, Vec3};
+use opticks_core::scene::MeshAttribute;
 
 /// A PLY scalar type.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,8 +91,14 @@ enum Format {
 /// The header's longest accepted length: real headers are a few hundred bytes.
 const MAX_HEADER: usize = 1 << 20;
 
-/// Parses a PLY file's bytes.
+/// Parses a PLY file's bytes (no attributes).
 pub fn parse_ply(data: &[u8]) -> Result<MeshData, MeshFileError> {
+    parse_ply_with(data, &[])
+}
+
+/// Parses a PLY file's bytes, keeping the attributes named in `wanted` (Mitsuba's names,
+/// `vertex_color`, `face_weight`, …) that the file has.
+pub fn parse_ply_with(data: &[u8], wanted: &[String]) -> Result<MeshData, MeshFileError> {
     let (format, elements, body) = header(data)?;
     let mut mesh = MeshData::default();
     let vertex_count = elements.iter().find(|e| e.name == "vertex").map_or(0, |e| e.count);
@@ -108,8 +117,8 @@ pub fn parse_ply(data: &[u8]) -> Result<MeshData, MeshFileError> {
     for e in &elements {
         input.check_count(e)?;
         match e.name.as_str() {
-            "vertex" => vertices(&mut input, e, &mut mesh)?,
-            "face" => faces(&mut input, e, vertex_count, &mut mesh)?,
+            "vertex" => vertices(&mut input, e, wanted, &mut mesh)?,
+            "face" => faces(&mut input, e, vertex_count, wanted, &mut mesh)?,
             _ => {
                 for _ in 0..e.count {
                     for p in &e.properties {
@@ -204,7 +213,109 @@ fn header_lines(data: &[u8], body: usize) -> u32 {
     data[..body].iter().filter(|&&b| b == b'\n').count() as u32 + 1
 }
 
-fn vertices(input: &mut Input, e: &ElementDef, mesh: &mut MeshData) -> Result<(), MeshFileError> {
+/// Mitsuba's grouping of an element's scalar properties into attributes (`ply.h`'s
+/// `find_other_fields`), named `kind` (`vertex_` or `face_`) + the group's name: `r g b [a]`
+/// (or `red green blue [alpha]`) anywhere is `color`; otherwise consecutive properties
+/// `PREFIX_c` whose one-letter suffixes run through one of `x y z w`, `r g b a`, `0 1 2 3`,
+/// `1 2 3 4` from its start, with 1 or 3 members (other counts are ignored, as Mitsuba does),
+/// are `PREFIX` (`PREFIX_color` for the `r g b a` suffixes). `reserved` properties (positions,
+/// normals, texture coordinates) take part in none. Returns (name, property indices).
+fn attribute_groups(kind: &str, props: &[Property], reserved: &[usize]) -> Vec<(String, Vec<usize>)> {
+    const SUFFIXES: [&str; 4] = ["xr01", "yg12", "zb23", "wa34"];
+    let scalar = |n: &str| props.iter().position(|p| p.name == n && p.list.is_none());
+    let mut groups = Vec::new();
+    let mut taken: Vec<usize> = reserved.to_vec();
+    for names in [["r", "g", "b", "a"], ["red", "green", "blue", "alpha"]] {
+        if let (Some(r), Some(g), Some(b)) = (scalar(names[0]), scalar(names[1]), scalar(names[2])) {
+            let mut members = vec![r, g, b];
+            members.extend(scalar(names[3]));
+            taken.extend(&members);
+            groups.push((format!("{kind}color"), members));
+            break;
+        }
+    }
+    taken.extend(["r", "g", "b", "a"].iter().filter_map(|n| scalar(n)));
+    let mut seen: Vec<String> = Vec::new();
+    // The group being read: prefix, suffix column, members.
+    let mut current: Option<(String, usize, Vec<usize>)> = None;
+    let mut flush = |current: &mut Option<(String, usize, Vec<usize>)>, seen: &mut Vec<String>| {
+        if let Some((prefix, column, members)) = current.take()
+            && matches!(members.len(), 1 | 3)
+        {
+            let colour = if column == 1 { "_color" } else { "" };
+            groups.push((format!("{kind}{prefix}{colour}"), members));
+            seen.push(prefix);
+        }
+    };
+    for (i, p) in props.iter().enumerate() {
+        if taken.contains(&i) || p.list.is_some() {
+            continue;
+        }
+        let Some((prefix, suffix)) = p.name.rsplit_once('_').filter(|(_, s)| s.len() == 1) else {
+            flush(&mut current, &mut seen);
+            continue;
+        };
+        let c = suffix.as_bytes()[0];
+        if current.as_ref().is_some_and(|(cp, _, _)| cp != prefix) {
+            flush(&mut current, &mut seen);
+        }
+        match &mut current {
+            None => {
+                if seen.iter().any(|s| s == prefix) {
+                    continue;
+                }
+                if let Some(column) = SUFFIXES[0].bytes().position(|x| x == c) {
+                    current = Some((prefix.to_string(), column, vec![i]));
+                }
+            }
+            Some((_, column, members)) => {
+                match SUFFIXES.get(members.len()) {
+                    Some(row) if row.as_bytes()[*column] == c => members.push(i),
+                    _ => current = None, // a broken sequence: the attribute is ignored
+                }
+            }
+        }
+    }
+    flush(&mut current, &mut seen);
+    groups
+}
+
+/// The wanted attributes among `groups`: (index in `groups`, the attribute with room for `n`
+/// values).
+fn wanted_groups(
+    groups: &[(String, Vec<usize>)],
+    wanted: &[String],
+    n: usize,
+) -> Vec<(usize, MeshAttribute)> {
+    groups
+        .iter()
+        .enumerate()
+        .filter(|(_, (name, _))| wanted.contains(name))
+        .map(|(k, (name, members))| {
+            let attribute = MeshAttribute {
+                name: name.clone(),
+                channels: members.len() as u8,
+                values: Vec::with_capacity(n),
+            };
+            (k, attribute)
+        })
+        .collect()
+}
+
+/// The value of a group of properties `members` in the element's `values` (a one-channel value
+/// in every component; a fourth channel is dropped, the core refuses such attributes by their
+/// channel count).
+fn group_value(members: &[usize], values: &[f64]) -> Rgb {
+    let v = |k: usize| values[members[k.min(members.len() - 1)]] as f32;
+    Rgb::new(v(0), v(1), v(2))
+}
+
+fn vertices(
+    input: &mut Input,
+    e: &ElementDef,
+    wanted: &[String],
+    mesh: &mut MeshData,
+) -> Result<(), MeshFileError> {
     let find = |n: &str| e.properties.iter().position(|p| p.name == n && p.list.is_none());
     let (Some(x), Some(y), Some(z)) = (find("x"), find("y"), find("z")) else {
         return Err(MeshFileError {
@@ -221,6 +332,12 @@ fn vertices(input: &mut Input, e: &ElementDef, mesh: &mut MeshData) -> Result<()
         .iter()
         .find_map(|(u, v)| Some([find(u)?, find(v)?]));
     let n = e.count as usize; // checked against the file's size
+    let mut reserved: Vec<usize> = [x, y, z].into();
+    reserved.extend(["nx", "ny", "nz"].iter().filter_map(|n| find(n)));
+    reserved.extend(uv.into_iter().flatten());
+    reserved.extend(["u", "v"].iter().filter_map(|n| find(n)));
+    let groups = attribute_groups("vertex_", &e.properties, &reserved);
+    let mut attributes = wanted_groups(&groups, wanted, n);
     mesh.positions = Vec::with_capacity(n);
     if normal.is_some() {
         mesh.normals = Vec::with_capacity(n);
@@ -260,7 +377,15 @@ fn vertices(input: &mut Input, e: &ElementDef, mesh: &mut MeshData) -> Result<()
             }
             mesh.uvs.push(t);
         }
+        for (k, a) in &mut attributes {
+            let v = group_value(&groups[*k].1, &values);
+            if !v.is_finite() {
+                return Err(at.error(format!("vertex {i} has a non-finite {} {v}", a.name)));
+            }
+            a.values.push(v);
+        }
     }
+    mesh.attributes.extend(attributes.into_iter().map(|(_, a)| a));
     Ok(())
 }
 
@@ -268,6 +393,7 @@ fn faces(
     input: &mut Input,
     e: &ElementDef,
     vertex_count: u64,
+    wanted: &[String],
     mesh: &mut MeshData,
 ) -> Result<(), MeshFileError> {
     let index = e
@@ -280,11 +406,18 @@ fn faces(
             message: "the face element has no vertex_indices (or vertex_index) list".into(),
         })?;
     mesh.triangles = Vec::with_capacity(e.count as usize); // checked against the file's size
+    let groups = attribute_groups("face_", &e.properties, &[index]);
+    let mut attributes = wanted_groups(&groups, wanted, e.count as usize);
+    let mut values = vec![0.0f64; e.properties.len()];
     let mut corners: Vec<u32> = Vec::new();
     for f in 0..e.count {
+        let at = input.place();
         for (k, p) in e.properties.iter().enumerate() {
             if k != index {
-                input.skip(p)?;
+                match p.list {
+                    None if !attributes.is_empty() => values[k] = input.scalar(p.scalar)?,
+                    _ => input.skip(p)?,
+                }
                 continue;
             }
             let at = input.place();
@@ -307,7 +440,17 @@ fn faces(
                 mesh.triangles.push([corners[0], corners[j], corners[j + 1]]);
             }
         }
+        // A polygon's value on each of its triangles.
+        let triangles = corners.len() - 2;
+        for (k, a) in &mut attributes {
+            let v = group_value(&groups[*k].1, &values);
+            if !v.is_finite() {
+                return Err(at.error(format!("face {f} has a non-finite {} {v}", a.name)));
+            }
+            a.values.extend(std::iter::repeat_n(v, triangles));
+        }
     }
+    mesh.attributes.extend(attributes.into_iter().map(|(_, a)| a));
     Ok(())
 }
 
@@ -533,5 +676,41 @@ mod tests {
             let e = parse_ply(bad).unwrap_err();
             assert!(e.message.contains(msg), "{msg}: {e:?}");
         }
+    }
+
+    #[test]
+    fn attributes_are_grouped_and_named_as_mitsubas_reader() {
+        // What Mitsuba 3.9.1 makes of this header (checked with its `ply` plugin): red green
+        // blue → vertex_color (integers kept as written), foo_x → vertex_foo, face_q_0..2 →
+        // face_face_q; bar_x bar_y (two members) is ignored.
+        let d = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                  property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n\
+                  property float foo_x\nproperty float bar_x\nproperty float bar_y\nelement face 1\n\
+                  property list uchar int vertex_indices\nproperty float face_q_0\nproperty float face_q_1\n\
+                  property float face_q_2\nend_header\n0 0 0 255 128 0 0.5 1 1\n1 0 0 64 10 200 0.25 1 1\n\
+                  0 1 0 0 0 0 1 1 1\n4 0 1 2 0 0.1 0.2 0.3\n";
+        let names = ["vertex_color", "vertex_foo", "face_face_q", "vertex_bar"].map(String::from);
+        let m = parse_ply_with(d, &names).unwrap();
+        let got: Vec<(&str, u8)> = m.attributes.iter().map(|a| (a.name.as_str(), a.channels)).collect();
+        assert_eq!(got, [("vertex_color", 3), ("vertex_foo", 1), ("face_face_q", 3)]);
+        assert_eq!(m.attributes[0].values[0], Rgb::new(255.0, 128.0, 0.0));
+        assert_eq!(m.attributes[1].values[1], Rgb::splat(0.25));
+        // The quad's two triangles share its value.
+        assert_eq!(m.attributes[2].values, [Rgb::new(0.1, 0.2, 0.3); 2]);
+        // Nothing asked, nothing kept.
+        assert!(parse_ply(d).unwrap().attributes.is_empty());
+        let groups = |names: &[&str]| {
+            let props: Vec<Property> = names
+                .iter()
+                .map(|n| Property { name: n.to_string(), scalar: Scalar::F32, list: None })
+                .collect();
+            attribute_groups("vertex_", &props, &[]).into_iter().map(|g| g.0).collect::<Vec<_>>()
+        };
+        assert_eq!(
+            groups(&["c_r", "c_g", "c_b", "w_1", "w_2", "w_3", "k_1"]),
+            ["vertex_c_color", "vertex_w", "vertex_k"]
+        );
+        assert_eq!(groups(&["a_x", "a_z", "b_0"]), ["vertex_b"]);
+        assert_eq!(groups(&["r", "g", "b", "alpha"]), ["vertex_color"]);
     }
 }

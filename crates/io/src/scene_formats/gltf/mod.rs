@@ -374,6 +374,7 @@ pub fn load_gltf_scene_with(path: &Path, options: &LoadOptions) -> Result<Loaded
                     material,
                     emission: emission.map(AreaEmission::lambertian),
                     uvs,
+                    attributes: Vec::new(),
                 });
             }
         }

@@ -11,7 +11,7 @@
 use super::Result;
 use super::build::Builder;
 use super::properties::Props;
-use super::texture::{BsdfTextures, colour};
+use super::texture::{BsdfTextures, colour, roughness};
 use super::xml::Element;
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
@@ -257,13 +257,13 @@ fn specular<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, p: &mut Props<'d>
     } else {
         None
     };
-    no_other_objects(p, ty)?;
     nodes.push(("specular_reflectance", rnode));
     let microfacet = if rough {
-        microfacet(p, &mut nodes)?
+        microfacet(b, p, &mut nodes)?
     } else {
         Microfacet::ggx(0.1) // unused
     };
+    no_other_objects(p, ty)?;
     let result = if ty.ends_with("conductor") {
         let (material, mnode) = p.string_or("material", "none")?;
         let eta = p.color("eta")?;
@@ -379,7 +379,7 @@ fn roughplastic<'d>(
         ("int_ior", inode),
         ("ext_ior", enode),
     ];
-    let mf = microfacet(p, &mut nodes)?;
+    let mf = microfacet(b, p, &mut nodes)?;
     if mf.alpha_u != mf.alpha_v {
         let at = nodes.iter().find(|(n, _)| *n == "alpha_u").map_or(e, |n| n.1);
         return Err(at.err("roughplastic is isotropic in Mitsuba 3: give one alpha (alpha_u = alpha_v)"));
@@ -432,21 +432,26 @@ fn blendbsdf<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>
     Ok((Bsdf::Blend(blend), two_sided))
 }
 
-/// An error at the first nested object no colour parameter took (a texture without the name
-/// of one of the BSDF's colours, or another element).
+/// An error at the first nested object no parameter took (a texture without the name of one of
+/// the BSDF's colours or roughnesses, or another element).
 fn no_other_objects(p: &Props, ty: &str) -> Result<()> {
     match p.objects().first() {
         Some(c) => Err(c.err(format!(
             "unsupported element inside <bsdf type=\"{ty}\"> (textures need the name of one of its \
-             colour parameters, e.g. name=\"specular_reflectance\")"
+             colour or roughness parameters, e.g. name=\"specular_reflectance\" or name=\"alpha\")"
         ))),
         None => Ok(()),
     }
 }
 
 /// The microfacet distribution of a rough BSDF: `distribution` (Beckmann by default), `alpha`
-/// (0.1) or both `alpha_u` and `alpha_v`; records the roughness parameters' elements in `nodes`.
-fn microfacet<'d>(p: &mut Props<'d>, nodes: &mut Vec<(&'static str, &'d Element)>) -> Result<Microfacet> {
+/// (0.1) or both `alpha_u` and `alpha_v`, each a number or a texture ([`roughness`]); records the
+/// roughness parameters' elements in `nodes`.
+fn microfacet<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Props<'d>,
+    nodes: &mut Vec<(&'static str, &'d Element)>,
+) -> Result<Microfacet> {
     let (dist, dnode) = p.string_or("distribution", "beckmann")?;
     let distribution = match dist.trim().to_ascii_lowercase().as_str() {
         "beckmann" => Distribution::Beckmann,
@@ -459,9 +464,9 @@ fn microfacet<'d>(p: &mut Props<'d>, nodes: &mut Vec<(&'static str, &'d Element)
     };
     let _ = p.bool("sample_visible")?; // a sampling strategy: same expectation (taken before by
     // roughplastic, whose pdf Mitsuba defines by it)
-    let a = p.float("alpha")?;
-    let au = p.float("alpha_u")?;
-    let av = p.float("alpha_v")?;
+    let a = roughness(b, p, "alpha", ColourSlot::Alpha)?;
+    let au = roughness(b, p, "alpha_u", ColourSlot::AlphaU)?;
+    let av = roughness(b, p, "alpha_v", ColourSlot::AlphaV)?;
     // Mitsuba's rules: `alpha`, or both `alpha_u` and `alpha_v`, never a mixture.
     let (u, v) = match (a, au, av) {
         (Some((a, an)), None, None) => {

@@ -86,7 +86,15 @@ pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmiss
     }
     let mut p = Props::of(e)?;
     if let Some(c) = p.objects().first() {
-        return Err(c.err("unsupported element inside an area emitter (textures are not supported)"));
+        let message = if c.raw("name") == Some("radiance") {
+            // Emission sampling, Φ_k and the bidirectional estimator's emitter densities would all
+            // have to follow the texture: not done yet.
+            "a texture on an area emitter's `radiance` is not supported: give a constant <rgb> \
+             (textures may be on BSDF colours and roughnesses)"
+        } else {
+            "unsupported element inside an area emitter (its `radiance` is a constant <rgb>)"
+        };
+        return Err(c.err(message));
     }
     let (radiance, node) = p.color_or("radiance", Rgb::ONE)?;
     check_emission(radiance).map_err(|e| node.err(e.to_string()))?;

@@ -17,14 +17,15 @@ use super::bsdf;
 use super::build::Builder;
 use super::properties::Props;
 use super::tessellate;
+use super::texture;
 use super::xml::Element;
 use super::{emitter, medium};
 use crate::scene_formats::mesh_bytes::{MeshData, read_mesh_file};
 use crate::scene_formats::obj::{generated_vertex_normals, read_obj};
-use crate::scene_formats::{ply::parse_ply, serialized::parse_serialized};
+use crate::scene_formats::{ply::parse_ply_with, serialized::parse_serialized};
 use glam::{DMat3, DMat4};
 use opticks_core::math::{Vec2, Vec3};
-use opticks_core::scene::MeshDesc;
+use opticks_core::scene::{MeshAttribute, MeshDesc};
 
 /// A shape's geometry before `to_world`.
 pub struct Geometry {
@@ -37,6 +38,8 @@ pub struct Geometry {
     /// Texture coordinates, one per position (Mitsuba's parameterisation of an analytic shape,
     /// a mesh file's own), or empty (then the UV is the barycentrics, as in Mitsuba).
     pub uvs: Vec<Vec2>,
+    /// The mesh file's attributes that the shape's textures read (PLY only).
+    pub attributes: Vec<MeshAttribute>,
     /// A mesh file, which gets Mitsuba's generated smooth normals when it has none (unless
     /// `face_normals` is set).
     pub mesh_file: bool,
@@ -78,7 +81,7 @@ pub fn shape_and_kind<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> 
             e.attr_err("type", format!("unsupported shape type \"{ty}\" (supported: {})", names.join(", ")))
         );
     };
-    let Geometry { mut positions, mut triangles, mut normals, uvs, mesh_file, analytic } =
+    let Geometry { mut positions, mut triangles, mut normals, uvs, attributes, mesh_file, analytic } =
         geometry(b, e, &mut p)?;
     // Mitsuba's default (false) shades with the file's vertex normals when it has them, and
     // generates smooth ones (after `to_world`, below) when it has none.
@@ -189,6 +192,7 @@ pub fn shape_and_kind<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> 
         triangles,
         normals,
         uvs,
+        attributes,
         material,
         ..Default::default()
     };
@@ -212,18 +216,21 @@ fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geo
         triangles: mesh.triangles,
         normals: mesh.normals,
         uvs: flipped_v(mesh.uvs, flip_v),
+        attributes: Vec::new(),
         mesh_file: true,
         analytic: false,
     })
 }
 
-/// `ply`: a PLY file's triangles, normals and texture coordinates (`filename`).
+/// `ply`: a PLY file's triangles, normals, texture coordinates and the attributes the shape's
+/// `mesh_attribute` textures read (`filename`).
 fn ply<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
     let (file, fnode) = mesh_filename(e, p)?;
     let path = b.doc.resolve(fnode, &file);
     // Mitsuba's PLY reader keeps v as written by default.
     let flip_v = p.bool("flip_tex_coords")?.unwrap_or(false);
-    let mut mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), parse_ply)?;
+    let wanted = texture::attribute_names(b.doc, e);
+    let mut mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), |d| parse_ply_with(d, &wanted))?;
     mesh.uvs = flipped_v(std::mem::take(&mut mesh.uvs), flip_v);
     Ok(mesh_geometry(b, e, &path, mesh))
 }
@@ -265,6 +272,7 @@ fn mesh_geometry(b: &mut Builder, e: &Element, path: &std::path::Path, mesh: Mes
         triangles: mesh.triangles,
         normals: mesh.normals,
         uvs: mesh.uvs,
+        attributes: mesh.attributes,
         mesh_file: true,
         analytic: false,
     }
@@ -275,7 +283,15 @@ fn sphere<'d>(_: &mut Builder<'d>, _: &'d Element, p: &mut Props<'d>) -> Result<
     let center = p.point("center")?.map_or(Vec3::ZERO, |(c, _)| c.as_vec3());
     let radius = positive(p, "radius", 1.0)?;
     let (positions, triangles, normals, uvs) = tessellate::sphere(center, radius as f32);
-    Ok(Geometry { positions, triangles, normals, uvs, mesh_file: false, analytic: true })
+    Ok(Geometry {
+        positions,
+        triangles,
+        normals,
+        uvs,
+        attributes: Vec::new(),
+        mesh_file: false,
+        analytic: true,
+    })
 }
 
 /// `disk`: the unit disk at z = 0, normal +z.
@@ -292,7 +308,15 @@ fn cylinder<'d>(_: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Resul
     let (a, b) = (p0.map_or(glam::DVec3::ZERO, |x| x.0), p1.map_or(glam::DVec3::Z, |x| x.0));
     let (positions, triangles, normals, uvs) = tessellate::cylinder(a, b, radius)
         .ok_or_else(|| p1.or(p0).map_or(e, |x| x.1).err("the cylinder's p0 and p1 are the same point"))?;
-    Ok(Geometry { positions, triangles, normals, uvs, mesh_file: false, analytic: true })
+    Ok(Geometry {
+        positions,
+        triangles,
+        normals,
+        uvs,
+        attributes: Vec::new(),
+        mesh_file: false,
+        analytic: true,
+    })
 }
 
 /// A float parameter that must be > 0 (`default` if absent).
@@ -369,5 +393,13 @@ fn cube<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Ge
 
 /// A faceted analytic shape with its texture coordinates.
 fn analytic(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>, uvs: Vec<Vec2>) -> Geometry {
-    Geometry { positions, triangles, normals: Vec::new(), uvs, mesh_file: false, analytic: true }
+    Geometry {
+        positions,
+        triangles,
+        normals: Vec::new(),
+        uvs,
+        attributes: Vec::new(),
+        mesh_file: false,
+        analytic: true,
+    }
 }

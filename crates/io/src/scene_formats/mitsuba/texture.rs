@@ -1,22 +1,29 @@
-//! `<texture>` elements: the colour parameters of BSDFs given as textures, nested in the BSDF
-//! (`<texture type="…" name="reflectance">`) or by `<ref name="reflectance" id="…"/>` to a
-//! top-level `<texture id="…">` (built once, where first used, and shared). [`TEXTURE_TYPES`]
-//! maps each supported Mitsuba type to its builder: `bitmap` (an image file read by
-//! [`crate::texture_file`]) and `checkerboard`, with Mitsuba's parameters and defaults.
+//! `<texture>` elements: the colour and roughness parameters of BSDFs given as textures, nested
+//! in the BSDF (`<texture type="…" name="reflectance">`) or by `<ref name="reflectance" id="…"/>`
+//! to a top-level `<texture id="…">` (built once, where first used, and shared).
+//! [`TEXTURE_TYPES`] maps each supported Mitsuba type to its builder: `bitmap` (an image file
+//! read by [`crate::texture_file`]), `checkerboard` and `mesh_attribute` (the hit mesh's own
+//! values, [`attribute_names`] tells a shape which of its file's attributes to keep), with
+//! Mitsuba's parameters and defaults.
 //!
-//! A BSDF builder reads a colour through [`colour`]: a constant as before, or a texture, which
-//! is recorded on the [`super::bsdf::ParsedBsdf`] and given to the core's constructor as its
-//! largest value (so the constructor's range checks hold at every point, and report at the
-//! texture's element); the scene evaluates the texture at each hit
+//! A BSDF builder reads a colour through [`colour`] and a roughness through [`roughness`]: a
+//! constant as before, or a texture, which is recorded on the [`super::bsdf::ParsedBsdf`] and
+//! given to the core's constructor as its largest value (so the constructor's range checks hold
+//! at every point, and report at the texture's element; a mesh attribute's values are the
+//! meshes', checked by the core); the scene evaluates the texture at each hit
 //! (`opticks_core::scene::Scene::material_at`).
 
 use super::Result;
 use super::build::Builder;
 use super::properties::Props;
-use super::xml::Element;
+use super::xml::{Document, Element};
 use crate::texture_file::read_texture;
+use opticks_core::bsdf::MAX_ALPHA;
 use opticks_core::math::Rgb;
-use opticks_core::texture::{Bitmap, Checkerboard, ColourSlot, FilterType, Texture, UvTransform, WrapMode};
+use opticks_core::texture::{
+    Bitmap, Checkerboard, ColourSlot, FilterType, MIN_TEXTURED_ALPHA, MeshAttributeTexture, Texture,
+    UvTransform, WrapMode,
+};
 use std::sync::Arc;
 
 /// The textures of one BSDF: which colour each replaces.
@@ -26,7 +33,8 @@ pub type BsdfTextures = Vec<(ColourSlot, Arc<Texture>)>;
 type BuildTexture = for<'d> fn(&mut Builder<'d>, &'d Element, &mut Props<'d>) -> Result<Texture>;
 
 /// The supported texture types, in the order the error message lists them.
-const TEXTURE_TYPES: &[(&str, BuildTexture)] = &[("bitmap", bitmap), ("checkerboard", checkerboard)];
+const TEXTURE_TYPES: &[(&str, BuildTexture)] =
+    &[("bitmap", bitmap), ("checkerboard", checkerboard), ("mesh_attribute", mesh_attribute)];
 
 /// The colour parameter `name` of the BSDF whose properties are `p`: a texture nested in it or
 /// referred to under that name (recorded as `slot` in the builder's textures of the BSDF being
@@ -40,6 +48,44 @@ pub fn colour<'d>(
     slot: ColourSlot,
 ) -> Result<(Rgb, &'d Element)> {
     let Some(e) = p.take_object(name) else { return p.color_or(name, default) };
+    let texture = parameter_texture(b, p, name, e)?;
+    let max = texture.max_value();
+    b.bsdf_textures.push((slot, texture));
+    Ok((max, e))
+}
+
+/// The roughness parameter `name` (`alpha`, `alpha_u`, `alpha_v`) of the BSDF whose properties
+/// are `p`, if given: a `<float>`, or a texture nested in it or referred to under that name
+/// (recorded as `slot`; returned as its largest value, raised to [`MIN_TEXTURED_ALPHA`] as
+/// Mitsuba raises every α, so that the constructor's check holds; a bitmap or checkerboard
+/// whose values leave [0, 1] is an error at its element).
+pub fn roughness<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Props<'d>,
+    name: &str,
+    slot: ColourSlot,
+) -> Result<Option<(f64, &'d Element)>> {
+    let Some(e) = p.take_object(name) else { return p.float(name) };
+    let texture = parameter_texture(b, p, name, e)?;
+    let (lo, hi) = texture.range_1();
+    if !(lo >= 0.0 && hi <= MAX_ALPHA) {
+        return Err(e.err(format!(
+            "the texture's values {lo}..{hi} (Mitsuba's eval_1: a bitmap's luminance, a colour's mean) \
+             are not a roughness in [0, {MAX_ALPHA}]"
+        )));
+    }
+    b.bsdf_textures.push((slot, texture));
+    Ok(Some((hi.clamp(MIN_TEXTURED_ALPHA, MAX_ALPHA) as f64, e)))
+}
+
+/// The texture `e` (a `<texture>` or a `<ref>` to one) given as parameter `name`, which must not
+/// also be given as a value.
+fn parameter_texture<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Props<'d>,
+    name: &str,
+    e: &'d Element,
+) -> Result<Arc<Texture>> {
     if let Some(given) = p.take(name) {
         return Err(given.err(format!("`{name}` is given twice (also as a texture at {})", e.at)));
     }
@@ -54,12 +100,41 @@ pub fn colour<'d>(
             texture(b, target)?
         }
         other => {
-            return Err(e.err(format!("a <{other}> cannot be the colour `{name}` (use <texture> or <rgb>)")));
+            return Err(
+                e.err(format!("a <{other}> cannot be the parameter `{name}` (use <texture> or a value)"))
+            );
         }
     };
-    let max = texture.max_value();
-    b.bsdf_textures.push((slot, texture));
-    Ok((max, e))
+    Ok(texture)
+}
+
+/// The mesh attributes that the `mesh_attribute` textures reachable from `e` (nested, or through
+/// `<ref>`s to top-level elements) read: what a shape must keep of its mesh file's attributes.
+pub fn attribute_names(doc: &Document, e: &Element) -> Vec<String> {
+    fn walk(doc: &Document, e: &Element, depth: usize, out: &mut Vec<String>) {
+        // References nest no deeper than a scene's BSDFs do; a cycle is reported elsewhere.
+        if depth > 32 {
+            return;
+        }
+        if e.tag == "texture" && e.raw("type") == Some("mesh_attribute") {
+            let name = e.children.iter().find(|c| c.tag == "string" && c.raw("name") == Some("name"));
+            if let Some(Ok(v)) =
+                name.and_then(|c| c.attributes.iter().find(|a| a.name == "value")).map(|a| &a.value)
+                && !out.contains(v)
+            {
+                out.push(v.clone());
+            }
+        }
+        if let Some(t) = e.target.filter(|_| e.tag == "ref") {
+            walk(doc, doc.top(t), depth + 1, out);
+        }
+        for c in &e.children {
+            walk(doc, c, depth + 1, out);
+        }
+    }
+    let mut out = Vec::new();
+    walk(doc, e, 0, &mut out);
+    out
 }
 
 /// A `<texture>` element; top-level ones (with an id) are built once.
@@ -125,6 +200,19 @@ fn bitmap<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<
     let bitmap = Bitmap::new(image.width, image.height, image.texels, filter, wrap, to_uv)
         .map_err(|m| fnode.attr_err("value", format!("{}: {m}", path.display())))?;
     Ok(Texture::Bitmap(bitmap))
+}
+
+/// `mesh_attribute`: `name` (`vertex_…` or `face_…`, required), `scale` (1). The values are the
+/// hit mesh's ([`attribute_names`]).
+fn mesh_attribute<'d>(_: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Texture> {
+    let (name, node) =
+        p.string("name")?.ok_or_else(|| e.err("missing <string name=\"name\" value=\"vertex_…\"/>"))?;
+    let (scale, snode) = p.float_or("scale", 1.0)?;
+    let t = MeshAttributeTexture::new(name, scale as f32).map_err(|m| match m {
+        opticks_core::texture::TextureError::BadScale(_) => snode.attr_err("value", m.to_string()),
+        _ => node.attr_err("value", m.to_string()),
+    })?;
+    Ok(Texture::MeshAttribute(t))
 }
 
 /// `checkerboard`: `color0` (0.4), `color1` (0.2), `to_uv`.

@@ -228,6 +228,7 @@ pub fn load_obj_mtl_scene(path: &Path) -> Result<LoadedScene, SceneFileError> {
             material,
             emission: emission.map(AreaEmission::lambertian),
             uvs: Vec::new(),
+            attributes: Vec::new(),
         });
     }
     if desc.meshes.is_empty() {
