@@ -291,7 +291,7 @@ pub struct EnvironmentLight {
     pub name: String,
     /// What it emits.
     pub radiance: EnvRadiance,
-    /// The map's frame in the world (a rotation; world = R·map).
+    /// The map's frame in the world (a rotation, possibly mirrored; world = R·map).
     pub to_world: Mat3,
     /// Centre of the scene's bounding sphere.
     pub centre: Vec3,
@@ -388,11 +388,10 @@ impl EnvironmentLight {
     }
 }
 
-/// A frame matrix that is a rotation (orthonormal columns, determinant +1, within 10⁻⁴).
+/// A frame matrix that is a rotation, possibly mirrored (orthonormal columns within 10⁻⁴).
 fn check_rotation(m: Mat3) -> Result<(), LightError> {
     let ok = m.is_finite()
-        && (m.transpose() * m - Mat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4)
-        && m.determinant() > 0.0;
+        && (m.transpose() * m - Mat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
     if ok { Ok(()) } else { Err(LightError::EnvironmentFrame(m.to_cols_array())) }
 }
 

@@ -173,13 +173,20 @@ fn bad_maps_and_frames_are_refused() {
         (Vec3::ZERO, 1.0),
     );
     assert!(matches!(scaled, Err(LightError::EnvironmentFrame(_))));
-    let mirrored = EnvironmentLight::new(
+    let sheared = EnvironmentLight::new(
         "e".into(),
         EnvRadiance::Constant(Rgb::ONE),
-        Mat3::from_diagonal(Vec3::new(1.0, 1.0, -1.0)),
+        Mat3::from_cols(Vec3::X, Vec3::new(0.1, 1.0, 0.0), Vec3::Z),
         (Vec3::ZERO, 1.0),
     );
-    assert!(matches!(mirrored, Err(LightError::EnvironmentFrame(_))));
+    assert!(matches!(sheared, Err(LightError::EnvironmentFrame(_))));
+    // A mirrored frame maps directions as well as a rotation (Mitsuba's `<scale x="-1"/>`).
+    let mirrored = Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
+    let map = LatLong::new(5, 4, &test_map(), 1.0).unwrap();
+    let m = light(EnvRadiance::Map(map.clone()), mirrored);
+    let plain = light(EnvRadiance::Map(map), Mat3::IDENTITY);
+    let d = Vec3::new(0.3, 0.5, -0.8).normalize();
+    assert_eq!(m.radiance(d), plain.radiance(Vec3::new(-d.x, d.y, d.z)));
     let black = LatLong::new(2, 2, &[Rgb::ZERO; 4], 1.0).unwrap();
     let env = light(EnvRadiance::Map(black), Mat3::IDENTITY);
     assert_eq!(env.power(), Rgb::ZERO);
