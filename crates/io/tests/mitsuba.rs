@@ -651,7 +651,10 @@ fn bad_environment_emitters_are_located() {
         }
     };
     let cases: [(&str, &str); 9] = [
-        (r#"<emitter type="envmap"/>"#, "scene.xml:2:1: <emitter type=\"envmap\">: an envmap emitter needs a `filename`"),
+        (
+            r#"<emitter type="envmap"/>"#,
+            "scene.xml:2:1: <emitter type=\"envmap\">: an envmap emitter needs a `filename`",
+        ),
         (
             r#"<emitter type="envmap"><string name="filename" value="missing.exr"/></emitter>"#,
             "missing.exr: cannot read",

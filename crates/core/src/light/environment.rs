@@ -198,8 +198,7 @@ impl LatLong {
             }
         }
         *self.row_cdf.last_mut().expect("a map has a row of cells") = 1.0;
-        self.integral =
-            Rgb::new(integral[0] as f32, integral[1] as f32, integral[2] as f32) * self.scale;
+        self.integral = Rgb::new(integral[0] as f32, integral[1] as f32, integral[2] as f32) * self.scale;
     }
 
     /// ∫ L(ω) dω per channel.
@@ -266,11 +265,7 @@ impl LatLong {
         let cos_theta = t0.cos() - (t0.cos() - t1.cos()) * ry;
         let phi = 2.0 * PI64 * ((i as f64 + 0.5 + rx) / w as f64);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-        let d = Vec3::new(
-            (phi.sin() * sin_theta) as f32,
-            cos_theta as f32,
-            (-phi.cos() * sin_theta) as f32,
-        );
+        let d = Vec3::new((phi.sin() * sin_theta) as f32, cos_theta as f32, (-phi.cos() * sin_theta) as f32);
         // The density of the cell drawn (not re-derived from d, which rounding may move across
         // a cell border).
         (d, (self.cell_prob[j * w + i] / self.cell_solid_angle(j)) as f32)
@@ -390,8 +385,8 @@ impl EnvironmentLight {
 
 /// A frame matrix that is a rotation, possibly mirrored (orthonormal columns within 10⁻⁴).
 fn check_rotation(m: Mat3) -> Result<(), LightError> {
-    let ok = m.is_finite()
-        && (m.transpose() * m - Mat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
+    let ok =
+        m.is_finite() && (m.transpose() * m - Mat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
     if ok { Ok(()) } else { Err(LightError::EnvironmentFrame(m.to_cols_array())) }
 }
 

@@ -6,8 +6,8 @@
 
 use super::meshes::Emitter;
 use super::{
-    AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc,
-    PointLightDesc, SceneError, Source,
+    AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, PointLightDesc,
+    SceneError, Source,
 };
 use crate::light::{
     AreaLight, DirectionalLight, EnvRadiance, EnvironmentLight, LatLong, Light, LightError, PointLight,

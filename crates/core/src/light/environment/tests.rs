@@ -61,7 +61,10 @@ fn lookup_matches_mitsuba() {
     for (d, want) in reference {
         let got = env.radiance(Vec3::from_array(d));
         let want = Rgb::from_array(want);
-        assert!((got - want).abs().max_element() <= 2e-4 * want.max_element(), "{d:?}: {got} vs Mitsuba {want}");
+        assert!(
+            (got - want).abs().max_element() <= 2e-4 * want.max_element(),
+            "{d:?}: {got} vs Mitsuba {want}"
+        );
     }
     // The identity frame: (1, 0, 0) is u = ¼, v = ½ (by hand: 16.75, 4.25, 2); +y is the top
     // row at u = atan2(0, −0)/2π = ½, column 2.
@@ -75,10 +78,9 @@ fn lookup_matches_mitsuba() {
 /// (φ, θ); and Φ = π r² ∫L dω. A 1 × 1 map (padded as Mitsuba pads it) is a constant.
 #[test]
 fn integral_and_power_are_exact() {
-    for (map, to_world) in [
-        (LatLong::new(5, 4, &test_map(), 1.0).unwrap(), mitsuba_rotation()),
-        (sun_map(), Mat3::IDENTITY),
-    ] {
+    for (map, to_world) in
+        [(LatLong::new(5, 4, &test_map(), 1.0).unwrap(), mitsuba_rotation()), (sun_map(), Mat3::IDENTITY)]
+    {
         let env = light(EnvRadiance::Map(map.clone()), to_world);
         let (nphi, ntheta) = (2048, 1024);
         let mut sum = glam::DVec3::ZERO;
@@ -102,7 +104,9 @@ fn integral_and_power_are_exact() {
     let want = Rgb::new(1.0, 2.0, 3.0) * (4.0 * std::f32::consts::PI);
     assert!((one.integral() - want).abs().max_element() < 1e-5 * want.max_element());
     let constant = light(EnvRadiance::Constant(Rgb::new(1.0, 2.0, 3.0)), Mat3::IDENTITY);
-    assert!((constant.power() - light(EnvRadiance::Map(one), Mat3::IDENTITY).power()).abs().max_element() < 1e-3);
+    assert!(
+        (constant.power() - light(EnvRadiance::Map(one), Mat3::IDENTITY).power()).abs().max_element() < 1e-3
+    );
 }
 
 /// χ² of the map's direction sampling against its pdf (which the harness also integrates to

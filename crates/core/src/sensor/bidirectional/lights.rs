@@ -176,7 +176,11 @@ impl RenderLights {
     /// A camera ray leaving the scene along the unit direction `dir`: per environment that is
     /// on, its relit radiance L'(dir), its densities of that direction, and P_k.
     #[inline]
-    pub fn escaped<'a>(&'a self, scene: &'a Scene, dir: Vec3) -> impl Iterator<Item = (Rgb, Emitter, f32)> + 'a {
+    pub fn escaped<'a>(
+        &'a self,
+        scene: &'a Scene,
+        dir: Vec3,
+    ) -> impl Iterator<Item = (Rgb, Emitter, f32)> + 'a {
         self.environments.iter().filter_map(move |&i| {
             let rl = &self.lights[i as usize];
             let light = &scene.lights[rl.scene_index];

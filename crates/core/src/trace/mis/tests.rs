@@ -13,7 +13,8 @@ use crate::dataset::{Sample, Selection, TraceSettings};
 use crate::math::{Rgb, Vec2};
 use crate::sampling::RandomStream;
 use crate::scene::{
-    DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, PointLightDesc, Scene, Source, cornell_box,
+    DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, PointLightDesc, Scene, Source,
+    cornell_box,
 };
 use crate::sensor::bidirectional::{Heuristic, LightVertexMis, MisRecord, VcmClass};
 use crate::trace::{PathScratch, trace_block, trace_path};

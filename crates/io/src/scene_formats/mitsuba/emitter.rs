@@ -267,9 +267,8 @@ fn envmap<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Re
     no_objects(&p, ty)?;
     let (file, fnode) = p.string("filename")?.ok_or_else(|| e.err("an envmap emitter needs a `filename`"))?;
     let (scale, snode) = p.float_or("scale", 1.0)?;
-    check_emission(Rgb::splat(scale as f32)).map_err(|_| {
-        snode.err(format!("`scale` {scale} must be finite and non-negative"))
-    })?;
+    check_emission(Rgb::splat(scale as f32))
+        .map_err(|_| snode.err(format!("`scale` {scale} must be finite and non-negative")))?;
     let to_world = match p.transform("to_world")? {
         Some((t, tnode)) => environment_frame(&t, tnode)?,
         None => Mat3::IDENTITY,
