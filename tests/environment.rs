@@ -82,10 +82,9 @@ fn block_mean(film: &Film, (x0, x1): (usize, usize), (y0, y1): (usize, usize)) -
 
 /// White furnace: a white (ρ = 1) convex ball under a grey sky L reads L everywhere (its
 /// pixels by NEE, escapes and connections, MIS-weighted; the sky seen directly by escapes
-/// alone). 100 k light paths, 32 camera paths per pixel. Measured, seeds 7 (camera) with
-/// light seeds 1–3: channel means within 0.2%, 8×8 blocks within 1.2%; the helper's bounds are
-/// 0.5% and 3%. A lost escape weight (a hit weighted 1 as well as NEE) is +50% or more on the
-/// ball, a lost environment NEE −50%.
+/// alone). 100 k light paths, 32 camera paths per pixel. Measured over six seed pairs: channel
+/// means within 0.17%; the helper's bounds are 0.5% and 3% per 8×8 block. Escapes weighted 1
+/// (counted as well as NEE) read 1.666: +11%.
 #[test]
 fn white_ball_under_a_constant_sky_reads_the_sky() {
     let scene = Scene::build(&furnace(1.0, Rgb::splat(1.5))).unwrap();
@@ -97,7 +96,8 @@ fn white_ball_under_a_constant_sky_reads_the_sky() {
 /// A grey ball (ρ = 0.6) under a coloured sky L = (0.5, 1, 2): the ball's pixels read ρ·L
 /// per channel, the sky's L exactly (an escape straight from the camera is the only strategy
 /// for it, weight 1, no noise). The central 12 × 12 pixels lie on the ball (it spans about
-/// 36 × 36). Measured over light seeds 1–3: within 0.6% per channel; bound 2%.
+/// 36 × 36). Measured over six seed pairs: within 0.56% per channel; bound 1.5%. Escapes
+/// weighted 1 read +20%.
 #[test]
 fn grey_ball_under_a_coloured_sky_reads_rho_times_the_sky() {
     let sky = Rgb::new(0.5, 1.0, 2.0);
@@ -109,7 +109,7 @@ fn grey_ball_under_a_coloured_sky_reads_rho_times_the_sky() {
     eprintln!("ball {ball:?} (expected {:?}), sky corner {corner:?}", (sky * 0.6).to_array());
     for c in 0..3 {
         let want = 0.6 * sky[c] as f64;
-        assert!((ball[c] / want - 1.0).abs() < 0.02, "ball channel {c}: {} vs {want}", ball[c]);
+        assert!((ball[c] / want - 1.0).abs() < 0.015, "ball channel {c}: {} vs {want}", ball[c]);
         assert!(
             (corner[c] / sky[c] as f64 - 1.0).abs() < 1e-5,
             "sky channel {c}: {} vs {}",
@@ -198,10 +198,13 @@ fn envmap_and_constant_scenes_match_mitsuba_path() {
     }
 }
 
-/// Bounds of [`envmap_and_constant_scenes_match_mitsuba_path`]. Measured: see the test's
-/// printout and the numbers below.
-const MEAN_TOL: f64 = 0.02;
-const REGION_TOL: f64 = 0.10;
+/// Bounds of [`envmap_and_constant_scenes_match_mitsuba_path`]. Measured over six seed pairs
+/// (the references' own noise: relMSE 3.6e-6 and 1.1e-6): `envmap` mean ratios within 0.30%,
+/// worst 4×4 region 1.6–3.3%, relMSE 1.42–1.71e-2 (Mitsuba `path` at the same 16 spp:
+/// 1.56–1.69e-2); `constant` within 0.17%, regions 1.2–2.0%, relMSE 5.6–6.4e-3 (Mitsuba
+/// 4.2–4.7e-3). Bounds: mean 1%, regions 7%. Escapes weighted 1 are +44–66% in the mean.
+const MEAN_TOL: f64 = 0.01;
+const REGION_TOL: f64 = 0.07;
 
 /// The 4×4 grid of regions' sums of channels of a `w`×`h` image.
 fn grid(image: &[f32], w: usize, h: usize) -> Vec<f64> {
