@@ -218,3 +218,32 @@ fn grid(image: &[f32], w: usize, h: usize) -> Vec<f64> {
     }
     g
 }
+
+/// A changed map is a changed light: one texel, the scale or the frame changes the sky's shape
+/// hash (so a dataset traced under the old sky is refused for it), never the geometry's; a
+/// constant sky's colour is only its power (relighting), not its shape.
+#[test]
+fn the_map_and_its_frame_are_part_of_the_light_shape() {
+    let map = |texel: f32, scale: f32, angle: f32| {
+        let mut desc = furnace(1.0, Rgb::ONE);
+        let mut texels = vec![Rgb::splat(0.5); 8 * 4];
+        texels[9] = Rgb::splat(texel);
+        desc.environment_lights[0].radiance =
+            EnvironmentRadiance::Map { width: 8, height: 4, texels, scale, file: None };
+        desc.environment_lights[0].to_world = Mat3::from_rotation_y(angle);
+        Scene::build(&desc).unwrap()
+    };
+    let base = map(5.0, 1.0, 0.3);
+    for (what, other) in
+        [("texel", map(5.5, 1.0, 0.3)), ("scale", map(5.0, 2.0, 0.3)), ("frame", map(5.0, 1.0, 0.4))]
+    {
+        assert_ne!(base.light_shapes[0], other.light_shapes[0], "{what}");
+        assert_eq!(base.fingerprint.geometry, other.fingerprint.geometry, "{what}");
+    }
+    assert_eq!(base.light_shapes[0], map(5.0, 1.0, 0.3).light_shapes[0]);
+    let (a, b) = (
+        Scene::build(&furnace(1.0, Rgb::ONE)).unwrap(),
+        Scene::build(&furnace(1.0, Rgb::new(2.0, 1.0, 1.0))).unwrap(),
+    );
+    assert_eq!(a.light_shapes[0], b.light_shapes[0]);
+}
