@@ -72,8 +72,8 @@ fn block_mean(film: &Film, (x0, x1): (usize, usize), (y0, y1): (usize, usize)) -
     let mut s = [0.0f64; 3];
     for y in y0..y1 {
         for x in x0..x1 {
-            for c in 0..3 {
-                s[c] += film.pixels[y * w + x][c];
+            for (sum, v) in s.iter_mut().zip(film.pixels[y * w + x]) {
+                *sum += v;
             }
         }
     }

@@ -1,3 +1,5 @@
+#![allow(clippy::excessive_precision)] // the reference numbers as Mitsuba's script printed them
+
 use super::*;
 use crate::bsdf::chi2::Chi2Test;
 use crate::sampling::RandomStream;

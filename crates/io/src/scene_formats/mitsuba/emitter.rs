@@ -301,8 +301,8 @@ fn envmap<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Re
 /// that is not unit length is one, since Mitsuba does not normalise it).
 fn environment_frame(t: &Transform, tnode: &Element) -> Result<Mat3> {
     let m = DMat3::from_mat4(t.matrix);
-    let off = (m.transpose() * m - DMat3::IDENTITY).to_cols_array().iter().fold(0f64, |a, x| a.max(x.abs()));
-    if !(off < 1e-4) {
+    let orthonormal = (m.transpose() * m - DMat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
+    if !orthonormal {
         return Err(tnode.err(
             "the to_world of an environment must be a rotation (no scale or shear; \
              a <rotate> axis must have unit length)",
