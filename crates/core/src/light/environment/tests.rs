@@ -1,3 +1,7 @@
+//! Tests of environment lights: the lookup against Mitsuba 3.9's `envmap` (numbers printed by
+//! `testdata/mitsuba/envmap/eval_points.py`), the exact ∫L dω and power against quadrature,
+//! χ² of the direction sampling against its pdf, the emission weights' mean, and what a map
+//! or a frame cannot be.
 #![allow(clippy::excessive_precision)] // the reference numbers as Mitsuba's script printed them
 
 use super::*;
