@@ -18,7 +18,10 @@ use opticks_core::geometry::{Ray, offset_ray_origin};
 use opticks_core::light::Light;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::RandomStream;
-use opticks_core::scene::{CameraDesc, CameraKind, DirectionalLightDesc, Scene, SceneDescription};
+use opticks_core::scene::{
+    CameraDesc, CameraKind, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, Scene,
+    SceneDescription,
+};
 use opticks_core::sensor::bidirectional::{
     CacheChunk, CachedVertex, CameraVertexMis, Context, Emitter, Heuristic, LightVertexMis, MisRecord,
     Receiver, Renderer, Settings, connection_weight, image_pdf, light_trace_weight, nee_weight, scatter_mis,
@@ -108,6 +111,20 @@ fn weights_scene() -> SceneDescription {
         meshes,
         point_lights: vec![point_light("bulb", Vec3::new(0.5, 0.5, 0.4), Rgb::splat(2.0))],
         directional_lights: vec![sun],
+        environment_lights: vec![EnvironmentLightDesc {
+            name: "sky".into(),
+            source: Default::default(),
+            radiance: EnvironmentRadiance::Map {
+                width: 8,
+                height: 4,
+                texels: (0..32)
+                    .map(|i| if i == 10 { Rgb::splat(30.0) } else { Rgb::new(0.3, 0.4, 0.6) })
+                    .collect(),
+                scale: 1.0,
+                file: None,
+            },
+            to_world: opticks_core::math::Mat3::from_rotation_x(0.4),
+        }],
         camera: Some(CameraDesc {
             eye: Vec3::new(0.1, 0.2, 3.2),
             target: Vec3::new(0.0, -0.3, 0.0),
@@ -135,7 +152,9 @@ struct PathVertex {
 /// renderer's own functions (`light_trace_weight` of the splat, `connection_weight` with a
 /// stored record, `nee_weight` with the light's point as NEE sees it, the emitter hit with
 /// `RenderLights::hit`, the camera side walked with `scatter_mis`), with the renderer's counts
-/// and picks, for the three cameras, both heuristics and both direction strategies. This is
+/// and picks, for the three cameras, both heuristics and both direction strategies, over an
+/// area light, a point light, a sun and an environment map (whose hit is the camera side leaving
+/// the scene, `RenderLights::escaped`, and whose NEE draws its direction). This is
 /// what catches a density the camera side evaluates differently from the light side (a wrong
 /// frame, transport mode, cosine or reverse pdf): `mis.rs`'s own test only checks the
 /// recursion against its brute force given consistent inputs. The light side is walked with
@@ -161,6 +180,7 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
     ];
     let mut rng = RandomStream::new(99, &[]);
     let (mut checked, mut errors, mut strategies_seen) = (0, Vec::new(), [0usize; 4]);
+    let (sky, mut sky_paths, mut sky_errors) = (scene.light_index("sky").unwrap(), 0, 0f64);
     for (case, heuristic, directions) in [
         (0, Heuristic::Power, Directions::Importance),
         (1, Heuristic::Balance, Directions::Importance),
@@ -211,6 +231,10 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
                 );
                 errors.push((sum - 1.0).abs());
                 checked += 1;
+                if k == sky {
+                    sky_paths += 1;
+                    sky_errors = sky_errors.max((sum - 1.0).abs());
+                }
             }
         }
     }
@@ -220,6 +244,8 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
         "{checked} paths: |Σw − 1| 99th percentile {p99:.1e}, max {worst:.1e}; strategies evaluated (hit, NEE, conn, LT) {strategies_seen:?}"
     );
     assert!(checked > 3000 && strategies_seen.iter().all(|&n| n > 300), "{checked} {strategies_seen:?}");
+    eprintln!("of which {sky_paths} from the environment: max |Σw − 1| {sky_errors:.1e}");
+    assert!(sky_paths > 300, "{sky_paths} environment paths");
     // Measured: 99th percentile 4e-5, max 5e-3. The rare larger deviations are the stored
     // from-direction's octahedral rounding (≈ 3e-5 rad) at grazing angles, where a density
     // ∝ cos θ changes relatively by δ/cos θ; the renderer has it too, and there the path's
@@ -228,9 +254,11 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
 }
 
 /// Where a light path starts: an area light's point (its triangle, normal) or a point light's
-/// position; `None` for a sun (its x₀ is a direction).
+/// position; `None` for a sun and an environment (their x₀ is a direction: an environment's,
+/// toward where the light comes from, in `sky`).
 struct Start {
     light_point: Option<(Vec3, Option<(Vec3, u32)>)>,
+    sky: Option<Vec3>,
 }
 
 /// A light path from scene light `k` with the tracer's sampling (`directions`), its vertices
@@ -251,18 +279,23 @@ fn light_path(
             (
                 Emitter::area(1.0 / a.area(), p_dir),
                 n.dot(e.dir).abs(),
-                Start { light_point: Some((e.origin, e.surface)) },
+                Start { light_point: Some((e.origin, e.surface)), sky: None },
             )
         }
         Light::Point(p) => (
             Emitter::point(p.profile.sampling_pdf(p.frame.to_local(e.dir))),
             1.0,
-            Start { light_point: Some((e.origin, None)) },
+            Start { light_point: Some((e.origin, None)), sky: None },
         ),
         Light::Directional(d) => (
             Emitter::directional(1.0 / (std::f32::consts::PI * d.radius * d.radius)),
             1.0,
-            Start { light_point: None },
+            Start { light_point: None, sky: None },
+        ),
+        Light::Environment(env) => (
+            Emitter::environment(env.direction_pdf(-e.dir), env.disk_pdf()),
+            1.0,
+            Start { light_point: None, sky: Some(-e.dir) },
         ),
     };
     // Cosines are taken from the vertices' positions, as the renderer sees them (stored f32
@@ -295,7 +328,8 @@ fn light_path(
             (Some(st), None) => st,
         };
         let wi = -actual;
-        let wi = if matches!(light, Light::Directional(_)) && vertices.is_empty() { -dir } else { wi };
+        let infinite = matches!(light, Light::Directional(_) | Light::Environment(_));
+        let wi = if infinite && vertices.is_empty() { -dir } else { wi };
         m.frame_for(n, wi)?;
         let dist2 = (hit.position - prev).length_squared();
         st = st.after_hit(dist2, hit.normal.dot(wi).abs());
@@ -365,6 +399,14 @@ fn strategy_weights(
                         ctx.lights.lights().iter().position(|l| l.table_index == light as usize).unwrap();
                     let lp = ctx.lights.toward(scene, li, at, surface.map(|s| s.0), v.position).unwrap();
                     sum += nee_weight(ctx, &r, &cam, &lp) as f64;
+                } else if let Some(omega) = start.sky {
+                    let li =
+                        ctx.lights.lights().iter().position(|l| l.table_index == light as usize).unwrap();
+                    let Light::Environment(env) = &scene.lights[ctx.lights.lights()[li].scene_index] else {
+                        unreachable!()
+                    };
+                    let lp = ctx.lights.from_environment(scene, li, omega, env.direction_pdf(omega)).unwrap();
+                    sum += nee_weight(ctx, &r, &cam, &lp) as f64;
                 } else {
                     let li =
                         ctx.lights.lights().iter().position(|l| l.table_index == light as usize).unwrap();
@@ -375,8 +417,9 @@ fn strategy_weights(
             }
         }
         let wo = if i == 0 {
-            match start.light_point {
-                Some((at, Some(_))) => dir_to(v.position, at),
+            match (start.light_point, start.sky) {
+                (Some((at, Some(_))), _) => dir_to(v.position, at),
+                (None, Some(omega)) => omega,
                 _ => break, // point and sun: the camera side never reaches x₀
             }
         } else {
@@ -385,7 +428,12 @@ fn strategy_weights(
         let fwd = m.pdf_world(n, to_camera, wo);
         cam = scatter_mis(cam, ctx.directions, m, n, to_camera, wo, fwd, v.delta);
         next = v.position;
-        if i == 0 {
+        if let (0, Some(omega)) = (i, start.sky) {
+            // The camera side leaves the scene toward the environment: its hit on the segment.
+            let (_, emitter, pick) = ctx.lights.escaped(scene, omega).next().unwrap();
+            sum += weight_emitter_hit(&cam, emitter, pick, ctx.counts) as f64;
+            seen[0] += 1;
+        } else if i == 0 {
             let Some((at, Some((normal, prim)))) = start.light_point else { unreachable!() };
             let to_camera = dir_to(at, next);
             cam = cam.after_hit((next - at).length_squared(), normal.dot(to_camera).abs());

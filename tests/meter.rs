@@ -115,6 +115,35 @@ fn plane_in_the_air_under_a_point_light() {
     assert!(down.value.iter().all(|v| v[0] == 0.0), "light from behind the measured side");
 }
 
+/// A plane in the air 0.3 m over a black floor under a constant sky L (and nothing else): each
+/// cell reads E = π·L (the upper hemisphere, cosine-weighted) within its stated error — the
+/// environment's direct light, drawn at the meter with its own sampling; facing down, toward
+/// the black floor, about 0 (below).
+#[test]
+fn plane_in_the_air_under_a_constant_sky() {
+    let l = 0.8f32;
+    let desc = SceneDescription {
+        materials: vec![lambert("black", 0.0, false)],
+        meshes: vec![black_floor()],
+        environment_lights: vec![opticks_core::scene::EnvironmentLightDesc {
+            name: "sky".into(),
+            source: Default::default(),
+            radiance: opticks_core::scene::EnvironmentRadiance::Constant(Rgb::splat(l)),
+            to_world: opticks_core::math::Mat3::IDENTITY,
+        }],
+        ..Default::default()
+    };
+    let scene = Scene::build(&desc).unwrap();
+    let (table, chunks) = trace_chunks(&scene, 20_000, 5);
+    let up = read(&scene, &table, &chunks, &MeterLayout::Grid(plane(0.3, 10, true)));
+    let e = std::f64::consts::PI * l as f64;
+    check("constant sky", &up, &[e; 100], &[0.0; 100]);
+    // Facing down only the sky beyond the floor's edge (50 m away, 0.3 m below: elevations
+    // down to −0.34°) reaches the meter: E ≈ π·L·α² ≈ 9·10⁻⁵.
+    let down = read(&scene, &table, &chunks, &MeterLayout::Grid(plane(0.3, 6, false)));
+    assert!(down.value.iter().all(|v| v[0] < 5e-4), "{:?}", down.value);
+}
+
 /// A plane in the air 0.4 m under a Lambertian square emitter (no point light, a black floor):
 /// the light reaches it only through the connected emission vertices; each cell reads the
 /// closed form (`panel_irradiance`) within its stated error.

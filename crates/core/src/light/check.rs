@@ -54,6 +54,13 @@ pub enum LightError {
         "power {0:?} W cannot be reached: the emission profile carries no flux into the front hemisphere"
     )]
     PowerUnreachable([f32; 3]),
+    /// An environment map that cannot emit: no texels, a texel negative or not finite, a bad
+    /// scale (the message says which).
+    #[error("environment map: {0}")]
+    Map(String),
+    /// An environment's frame is not a rotation.
+    #[error("the environment's frame {0:?} (columns) is not a rotation")]
+    EnvironmentFrame([f32; 9]),
 }
 
 fn finite_non_negative(c: Rgb) -> bool {

@@ -1,5 +1,6 @@
 //! Light sources: a closed set ([`Light`]) of one-sided area lights (emissive triangle meshes,
-//! [`area`]), point lights ([`point`]) and directional (sun) lights ([`directional`]), one file
+//! [`area`]), point lights ([`point`]), directional (sun) lights ([`directional`]) and
+//! environments at infinity (a constant colour or a lat-long map, [`environment`]), one file
 //! per kind as [`crate::bsdf`] has one per BSDF. A light's defining quantity is its power Φ;
 //! what the tracer needs from it is an *emission sample*: a start point and direction drawn
 //! from the light's own emission density, with the weight that keeps the estimator exact.
@@ -21,6 +22,7 @@
 pub mod area;
 pub mod check;
 pub mod directional;
+pub mod environment;
 pub mod ies;
 pub mod point;
 pub mod profile;
@@ -28,6 +30,7 @@ pub mod profile;
 pub use area::AreaLight;
 pub use check::{LUMENS_PER_WATT, LightError, lumens_to_watts};
 pub use directional::DirectionalLight;
+pub use environment::{EnvRadiance, EnvironmentLight, LatLong};
 pub use ies::{IesProfile, IesTableError};
 pub use point::{PointLight, axis_frame};
 pub use profile::{BuiltProfile, EmissionProfile, ProfileError};
@@ -44,6 +47,8 @@ pub enum Light {
     Point(PointLight),
     /// Directional light.
     Directional(DirectionalLight),
+    /// Environment at infinity (seen by camera rays that leave the scene).
+    Environment(EnvironmentLight),
 }
 
 /// Where and in which direction a light path starts.
@@ -69,16 +74,19 @@ impl Light {
             Light::Area(l) => &l.name,
             Light::Point(l) => &l.name,
             Light::Directional(l) => &l.name,
+            Light::Environment(l) => &l.name,
         }
     }
 
     /// Power Φ in watts per channel: π·L·A for a Lambertian area light (L·A·∫s dω in general),
-    /// 4π·I for an isotropic point light, E·π·r² for a directional light.
+    /// 4π·I for an isotropic point light, E·π·r² for a directional light, π·r²·∫L dω for an
+    /// environment.
     pub fn power(&self) -> Rgb {
         match self {
             Light::Area(l) => l.power(),
             Light::Point(l) => l.power,
             Light::Directional(l) => l.power(),
+            Light::Environment(l) => l.power(),
         }
     }
 
@@ -98,7 +106,8 @@ impl Light {
     /// direction `dir`: (position, second) = (1/A, the profile's *sampling* pdf of `dir`) for
     /// area lights, (1, the profile's sampling pdf) for point lights (a delta position), and
     /// (1, 1/(π r²)) for directional lights (a delta direction, the start point uniform on the
-    /// disk). What the bidirectional estimator's MIS needs of a light
+    /// disk), (p(−dir), 1/(π r²)) for environments (the solid-angle density of the direction the
+    /// light comes from, then the disk). What the bidirectional estimator's MIS needs of a light
     /// (`crate::trace::emitter_densities`); the tracer's weights do not use it.
     #[inline]
     pub fn emission_pdfs(&self, normal: Vec3, dir: Vec3) -> (f32, f32) {
@@ -106,6 +115,7 @@ impl Light {
             Light::Area(l) => (1.0 / l.area(), l.direction_pdf(normal, dir)),
             Light::Point(l) => (1.0, l.direction_pdf(dir)),
             Light::Directional(l) => (1.0, l.disk_pdf()),
+            Light::Environment(l) => (l.direction_pdf(-dir), l.disk_pdf()),
         }
     }
 
@@ -113,13 +123,14 @@ impl Light {
     /// the light's area (p_A = 1/A; its x coordinate first picks a triangle ∝ area and is then
     /// reused, rescaled, so stratified inputs stay stratified), `u_dir` a direction from the
     /// emission density (the light's profile; a directional light uses `u_pos` for a point
-    /// uniform on its disk).
+    /// uniform on its disk; an environment `u_dir` for the direction, `u_pos` for the disk).
     #[inline]
     pub fn sample_emission(&self, triangles: &[Triangle], u_pos: Vec2, u_dir: Vec2) -> Emission {
         match self {
             Light::Area(l) => l.sample_emission(triangles, u_pos, u_dir),
             Light::Point(l) => l.sample_emission(u_dir),
             Light::Directional(l) => l.sample_emission(u_pos),
+            Light::Environment(l) => l.sample_emission(u_pos, u_dir),
         }
     }
 }

@@ -8,7 +8,7 @@
 //! 2. **flatten** it into the scene's triangles with its shading normals (`Flat::push_mesh`;
 //!    degenerate, zero-area triangles are dropped, since they can neither be hit nor emit, and
 //!    counted in [`Scene::dropped_triangles`]), and build its area light if it emits,
-//! 3. **lights**: the point and directional lights, then the light table as a whole
+//! 3. **lights**: the point, directional and environment lights, then the light table as a whole
 //!    (`super::lights`),
 //! 4. **textures**: each binding checked against its material (`super::textures`),
 //! 5. **fingerprints** of the geometry and the lights (`super::hashes`),
@@ -92,6 +92,9 @@ impl Scene {
         }
         if !desc.directional_lights.is_empty() && !flat.vertices.is_empty() {
             lights.extend(lights::directional_lights(&desc.directional_lights, &flat.vertices)?);
+        }
+        if !desc.environment_lights.is_empty() && !flat.vertices.is_empty() {
+            lights.extend(lights::environment_lights(&desc.environment_lights, &flat.vertices)?);
         }
         if flat.triangles.is_empty() {
             return Err(SceneError::NoGeometry);

@@ -222,6 +222,40 @@ impl DirectionalLightDesc {
     }
 }
 
+/// What an environment light emits, as a loader reads it (the core builds its sampling
+/// distribution, [`crate::light::LatLong`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvironmentRadiance {
+    /// The same radiance from every direction, W/(m²·sr).
+    Constant(Rgb),
+    /// A latitude-longitude map in Mitsuba's convention (`crate::light::environment`).
+    Map {
+        /// Columns.
+        width: usize,
+        /// Rows.
+        height: usize,
+        /// `width × height` linear RGB texels, row-major from the top row.
+        texels: Vec<Rgb>,
+        /// Factor on every texel.
+        scale: f32,
+        /// The file the map was read from, if any (for messages and writers).
+        file: Option<std::path::PathBuf>,
+    },
+}
+
+/// An environment light at infinity (Mitsuba's `constant` and `envmap`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentLightDesc {
+    /// Name for messages and relighting.
+    pub name: String,
+    /// Where it was declared.
+    pub source: Source,
+    /// What it emits.
+    pub radiance: EnvironmentRadiance,
+    /// The map's frame in the world: a rotation (world = R·map).
+    pub to_world: glam::Mat3,
+}
+
 /// Everything a loader produces.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SceneDescription {
@@ -233,6 +267,8 @@ pub struct SceneDescription {
     pub point_lights: Vec<PointLightDesc>,
     /// Directional lights.
     pub directional_lights: Vec<DirectionalLightDesc>,
+    /// Environment lights.
+    pub environment_lights: Vec<EnvironmentLightDesc>,
     /// The scene file's own camera, if it has one.
     pub camera: Option<CameraDesc>,
     /// Textures in place of materials' colour parameters (none: every colour is constant).

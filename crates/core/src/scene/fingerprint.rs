@@ -63,13 +63,18 @@
 //!     over the sphere, the profile bytes and the frame's x then z axis (6 × f32);
 //!   * a directional light: `directional`, its unit direction, the centre of the disc it is
 //!     emitted from (3 × f32 each) and the disc's radius (f32);
+//!   * an environment: `environment`, its frame (the rotation's 3 columns, 9 × f32), the
+//!     centre of the scene's bounding sphere (3 × f32) and its radius (f32), then `constant`,
+//!     or `lat-long map`, the map's width and height after padding (u64 each), its scale (f32)
+//!     and its texels (row-major from the top row, RGB, 3 × f32 each) — a changed map is a
+//!     changed light even where only its colour changed;
 //!
 //!   where the profile bytes are `uniform sphere....` or `uniform hemisphere` (18 bytes each),
 //!   `cosine`, `cosine power` + n (f32), `spot` + cutoff γ + beam β (radians, f32 each), or
 //!   `table` + the refined grid's θ nodes (radians), φ nodes (radians) and candela values
 //!   (θ-major), all f32. Power and colour are not part of a shape.
 //! * **Lights hash**: domain `opticks lights v1`, then for each light in scene order (area lights
-//!   in mesh order, point lights, directional lights) its name (UTF-8) and its shape hash.
+//!   in mesh order, point lights, directional lights, environments) its name (UTF-8) and its shape hash.
 //! * **Version-1 geometry hash** (`Scene::geometry_v1`, what format-1 datasets recorded): domain
 //!   `opticks geometry v1`, then per kept triangle its corners (9 × f32), its material index and
 //!   its light index (u32 each, `u32::MAX` if it does not emit) and, if it has shading normals,
@@ -93,7 +98,7 @@ use crate::bsdf::{
     SmoothConductor, SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
-use crate::light::{BuiltProfile, Light};
+use crate::light::{BuiltProfile, EnvRadiance, Light};
 use crate::math::Rgb;
 use crate::sampling::microfacet::{Distribution, Microfacet};
 use std::fmt::Write;
@@ -354,6 +359,28 @@ pub(crate) fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
             h.f32s(&d.direction.to_array());
             h.f32s(&d.centre.to_array());
             h.f32s(&[d.radius]);
+        }
+        Light::Environment(e) => {
+            h.0.update(b"environment");
+            h.f32s(&e.to_world.to_cols_array());
+            h.f32s(&e.centre.to_array());
+            h.f32s(&[e.radius]);
+            match &e.radiance {
+                EnvRadiance::Constant(_) => {
+                    h.0.update(b"constant");
+                }
+                EnvRadiance::Map(m) => {
+                    h.0.update(b"lat-long map");
+                    let (w, ht) = m.size();
+                    h.0.update(&(w as u64).to_le_bytes());
+                    h.0.update(&(ht as u64).to_le_bytes());
+                    let (texels, scale) = m.texels();
+                    h.f32s(&[scale]);
+                    let bytes: Vec<u8> =
+                        texels.iter().flat_map(|t| t.to_array()).flat_map(f32::to_le_bytes).collect();
+                    h.0.update(&bytes);
+                }
+            };
         }
     }
     h.finish()

@@ -5,8 +5,13 @@
 //! scene's light table as a whole: at least one light, unique names, a finite total power.
 
 use super::meshes::Emitter;
-use super::{AreaEmission, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneError, Source};
-use crate::light::{AreaLight, DirectionalLight, Light, LightError, PointLight};
+use super::{
+    AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, PointLightDesc,
+    SceneError, Source,
+};
+use crate::light::{
+    AreaLight, DirectionalLight, EnvRadiance, EnvironmentLight, LatLong, Light, LightError, PointLight,
+};
 use crate::math::Vec3;
 
 /// `source` of a light's constructor, located at the light `name` declared at `at`.
@@ -58,23 +63,55 @@ pub(super) fn point_light(p: &PointLightDesc) -> Result<Light, SceneError> {
         .map_err(located(&p.source, &p.name))
 }
 
-/// The directional lights `lights` over a scene of triangle corners `vertices` (not empty):
-/// each covers the scene's bounding sphere (centre of the bounding box, half its diagonal).
-pub(super) fn directional_lights(
-    lights: &[DirectionalLightDesc],
-    vertices: &[[Vec3; 3]],
-) -> Result<Vec<Light>, SceneError> {
+/// The scene's bounding sphere from its triangle corners `vertices` (not empty): the centre
+/// of the bounding box and half its diagonal.
+fn bounding_sphere(vertices: &[[Vec3; 3]]) -> (Vec3, f32) {
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for v in vertices.iter().flatten() {
         lo = lo.min(*v);
         hi = hi.max(*v);
     }
-    let bounds = (0.5 * (lo + hi), 0.5 * (hi - lo).length());
+    (0.5 * (lo + hi), 0.5 * (hi - lo).length())
+}
+
+/// The directional lights `lights` over a scene of triangle corners `vertices` (not empty):
+/// each covers the scene's bounding sphere.
+pub(super) fn directional_lights(
+    lights: &[DirectionalLightDesc],
+    vertices: &[[Vec3; 3]],
+) -> Result<Vec<Light>, SceneError> {
+    let bounds = bounding_sphere(vertices);
     lights
         .iter()
         .map(|d| {
             DirectionalLight::new(d.name.clone(), d.direction, d.irradiance, bounds)
                 .map(Light::Directional)
+                .and_then(finite_power)
+                .map_err(located(&d.source, &d.name))
+        })
+        .collect()
+}
+
+/// The environment lights `lights` around a scene of triangle corners `vertices` (not empty):
+/// each emits from disks of the scene's bounding radius, and a map's sampling distribution is
+/// built here.
+pub(super) fn environment_lights(
+    lights: &[EnvironmentLightDesc],
+    vertices: &[[Vec3; 3]],
+) -> Result<Vec<Light>, SceneError> {
+    let bounds = bounding_sphere(vertices);
+    lights
+        .iter()
+        .map(|d| {
+            let radiance = match &d.radiance {
+                EnvironmentRadiance::Constant(c) => Ok(EnvRadiance::Constant(*c)),
+                EnvironmentRadiance::Map { width, height, texels, scale, .. } => {
+                    LatLong::new(*width, *height, texels, *scale).map(EnvRadiance::Map)
+                }
+            };
+            radiance
+                .and_then(|r| EnvironmentLight::new(d.name.clone(), r, d.to_world, bounds))
+                .map(Light::Environment)
                 .and_then(finite_power)
                 .map_err(located(&d.source, &d.name))
         })

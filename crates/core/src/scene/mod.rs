@@ -33,8 +33,8 @@ pub use build::Scene;
 pub use camera_path::{CameraKey, CameraPath, CameraPathError};
 pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
 pub use description::{
-    AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, MeshAttribute, MeshDesc, PointLightDesc,
-    SceneDescription, Source,
+    AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance,
+    MeshAttribute, MeshDesc, PointLightDesc, SceneDescription, Source,
 };
 pub use error::SceneError;
 pub use fingerprint::Fingerprint;

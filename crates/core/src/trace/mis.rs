@@ -94,6 +94,7 @@ pub fn emitter_densities(light: &Light, normal: Vec3, dir: Vec3) -> Emitter {
         Light::Area(_) => Emitter::area(first, second),
         Light::Point(_) => Emitter::point(second),
         Light::Directional(_) => Emitter::directional(second),
+        Light::Environment(_) => Emitter::environment(first, second),
     }
 }
 

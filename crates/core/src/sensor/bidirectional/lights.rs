@@ -3,7 +3,8 @@
 //! with NEE's pick probability P_k = N_k/N (N = Σ N_k over the lights on, whatever their relit
 //! powers), and the two things camera paths ask of a light: a point drawn with its own emission
 //! position sampling, with what it emits toward a receiver (NEE, [`RenderLights::sample`]), and
-//! what an area light emits at a point a camera ray found ([`RenderLights::hit`]). Both come with
+//! what an area light emits at a point a camera ray found ([`RenderLights::hit`]) or an
+//! environment in the direction a camera ray left the scene ([`RenderLights::escaped`]). All come with
 //! the light's own [`Emitter`] densities for the MIS weights.
 //!
 //! Lights are matched to the dataset's light table by name, as `crate::dataset::lighting` does,
@@ -43,6 +44,8 @@ pub struct RenderLights {
     by_table: Vec<Option<u32>>,
     /// N = Σ N_k over the lights on.
     total_paths: u64,
+    /// The environments among the lights on (indices into `lights`).
+    environments: Vec<u32>,
 }
 
 /// A light point drawn for NEE, seen from a receiver.
@@ -63,6 +66,7 @@ pub struct LightPoint {
     /// P_k.
     pub pick: f32,
     /// The light's geometric normal (area lights), for the shadow ray's offset.
+    /// (An environment's point is a direction: `distance` ∞, no normal.)
     pub normal: Option<Vec3>,
 }
 
@@ -97,7 +101,10 @@ impl RenderLights {
             l.pick = (l.paths as f64 / total_paths as f64) as f32;
             cumulative.push(acc as f64 / total_paths as f64);
         }
-        RenderLights { lights, cumulative, by_scene, by_table, total_paths }
+        let environments = (0..lights.len() as u32)
+            .filter(|&i| matches!(scene.lights[lights[i as usize].scene_index], Light::Environment(_)))
+            .collect();
+        RenderLights { lights, cumulative, by_scene, by_table, total_paths, environments }
     }
 
     /// The lights that are on.
@@ -135,9 +142,57 @@ impl RenderLights {
                 let e = a.sample_emission(&scene.triangles, u_pos, Vec2::ZERO);
                 (e.origin, Some(e.surface?.0))
             }
+            Light::Environment(env) => {
+                let (omega, pdf) = env.sample_direction(u_pos);
+                return self.from_environment(scene, i, omega, pdf);
+            }
             _ => (Vec3::ZERO, None),
         };
         self.toward(scene, i, at, normal, x)
+    }
+
+    /// What the environment `i` (of [`RenderLights::lights`]) sends from the unit direction
+    /// `omega` drawn with solid-angle density `pdf` (its own direction sampling), as NEE sees it:
+    /// L'(ω)/(pdf·P_k), relit. `None` if `i` is no environment or `pdf` is 0.
+    #[inline]
+    pub fn from_environment(&self, scene: &Scene, i: usize, omega: Vec3, pdf: f32) -> Option<LightPoint> {
+        let rl = &self.lights[i];
+        let light = &scene.lights[rl.scene_index];
+        let Light::Environment(env) = light else { return None };
+        if !(pdf > 0.0) {
+            return None;
+        }
+        Some(LightPoint {
+            dir: omega,
+            distance: f32::INFINITY,
+            radiance: relit_environment(env, rl.power, omega) / (pdf * rl.pick),
+            emitter: emitter_densities(light, Vec3::ZERO, -omega),
+            cos_light: 1.0,
+            pick: rl.pick,
+            normal: None,
+        })
+    }
+
+    /// A camera ray leaving the scene along the unit direction `dir`: per environment that is
+    /// on, its relit radiance L'(dir), its densities of that direction, and P_k.
+    #[inline]
+    pub fn escaped<'a>(
+        &'a self,
+        scene: &'a Scene,
+        dir: Vec3,
+    ) -> impl Iterator<Item = (Rgb, Emitter, f32)> + 'a {
+        self.environments.iter().filter_map(move |&i| {
+            let rl = &self.lights[i as usize];
+            let light = &scene.lights[rl.scene_index];
+            let Light::Environment(env) = light else { return None };
+            Some((relit_environment(env, rl.power, dir), emitter_densities(light, Vec3::ZERO, -dir), rl.pick))
+        })
+    }
+
+    /// Whether an environment is on.
+    #[inline]
+    pub fn has_environment(&self) -> bool {
+        !self.environments.is_empty()
     }
 
     /// What light `i` (of [`RenderLights::lights`]) sends from its point `at` (normal
@@ -195,6 +250,8 @@ impl RenderLights {
                     normal: None,
                 })
             }
+            // An environment's point is a direction: [`RenderLights::from_environment`].
+            Light::Environment(_) => None,
             Light::Directional(s) => {
                 let disk = PI * s.radius * s.radius;
                 let radiance = rl.power / (disk * rl.pick);
@@ -234,6 +291,15 @@ impl RenderLights {
         let emitter = emitter_densities(&scene.lights[rl.scene_index], normal, to_camera);
         Some((radiance, emitter, rl.pick))
     }
+}
+
+/// The environment `env`'s radiance L(ω) scaled to the relit power `power`: L·Φ'/Φ per
+/// channel (0 in a channel that emits nothing).
+#[inline]
+fn relit_environment(env: &crate::light::EnvironmentLight, power: Rgb, omega: Vec3) -> Rgb {
+    let (l, own) = (env.radiance(omega), env.power());
+    let per = |l: f32, relit: f32, own: f32| if own > 0.0 { l * (relit / own) } else { 0.0 };
+    Rgb::new(per(l.x, power.x, own.x), per(l.y, power.y, own.y), per(l.z, power.z, own.z))
 }
 
 #[cfg(test)]

@@ -136,7 +136,7 @@ impl Counts {
     }
 }
 
-/// The three kinds of light, as MIS sees them.
+/// The four kinds of light, as MIS sees them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum LightKind {
     /// A one-sided emitting surface: x₀ has an area density, its direction a solid-angle one;
@@ -147,6 +147,11 @@ pub enum LightKind {
     /// A delta direction, emitted from a disk of area density outside the scene (an infinite
     /// light: its first segment has no 1/d², camera paths never hit it).
     Directional,
+    /// An environment at infinity: x₀ is a direction of solid-angle density, emitted from a disk
+    /// of area density outside the scene (an infinite light, as [`LightKind::Directional`]); a
+    /// camera ray that leaves the scene hits it (its camera-side density of x₀ is the camera
+    /// tracer's solid-angle density, no cosine and no 1/d²).
+    Environment,
 }
 
 /// A light's own emission densities for one start point and direction, **without** the
@@ -157,10 +162,12 @@ pub enum LightKind {
 pub struct Emitter {
     kind: LightKind,
     /// Density of x₀ in its own measure: area (area light), 1 (the delta position of a point
-    /// light, the delta direction of a directional light).
+    /// light, the delta direction of a directional light), solid angle (an environment's
+    /// direction).
     first: f64,
     /// The density that turns the first segment into an area density at x₁ (× |cos θ₁|, and
-    /// ÷ d² for finite lights): the direction pdf (area, point), the disk pdf (directional).
+    /// ÷ d² for finite lights): the direction pdf (area, point), the disk pdf (directional,
+    /// environment).
     second: f64,
 }
 
@@ -184,6 +191,13 @@ impl Emitter {
         Emitter { kind: LightKind::Directional, first: 1.0, second: disk_pdf as f64 }
     }
 
+    /// An environment whose direction toward x₀'s side (where the light comes from) has
+    /// solid-angle density `dir_pdf`, its rays starting with area density `disk_pdf` on a disk.
+    #[inline]
+    pub fn environment(dir_pdf: f32, disk_pdf: f32) -> Self {
+        Emitter { kind: LightKind::Environment, first: dir_pdf as f64, second: disk_pdf as f64 }
+    }
+
     /// Which kind of light.
     #[inline]
     pub fn kind(&self) -> LightKind {
@@ -195,7 +209,7 @@ impl Emitter {
     #[inline]
     fn segment(&self, dist2: f64) -> f64 {
         match self.kind {
-            LightKind::Directional => self.second,
+            LightKind::Directional | LightKind::Environment => self.second,
             _ => self.second / dist2,
         }
     }
@@ -335,6 +349,9 @@ impl LightVertexMis {
             // The emitter hit's camera-side density of x₀ is r·cos θ₀/d²: cos θ₀ now, the d²
             // cancels against the light's own 1/d², r comes at the connection.
             LightKind::Area => h.mis(div(cos_light as f64, emitter.first * emitter.second)),
+            // The camera side's density of an environment's x₀ is r itself (solid angle), the
+            // disk's cosine is 1.
+            LightKind::Environment => h.mis(div(1.0, emitter.first * emitter.second)),
             LightKind::Point | LightKind::Directional => 0.0, // never hit by a camera path
         };
         LightVertexMis(Subpath {
@@ -342,7 +359,7 @@ impl LightVertexMis {
             vc: [vc_hit, 0.0, 0.0],
             class: NEE,
             heuristic,
-            infinite_segment: emitter.kind == LightKind::Directional,
+            infinite_segment: matches!(emitter.kind, LightKind::Directional | LightKind::Environment),
         })
     }
 
@@ -592,20 +609,27 @@ impl Factors {
 }
 
 /// The weight of an emitter hit (s = 0): the camera path, in state `camera` after its hit on
-/// an area light, found the emitter there; `emitter` holds that light's densities of the hit
-/// point and of the direction back to the previous camera vertex. `pick` = N_k/N of the
-/// light. Zero for lights camera paths cannot hit.
+/// an area light (or, for an environment, on the segment that left the scene: no hit
+/// conversion, the environment's x₀ has a solid-angle measure), found the emitter there;
+/// `emitter` holds that light's densities of the hit point (an environment: of the direction
+/// the segment left in) and of the direction back to the previous camera vertex. `pick` =
+/// N_k/N of the light. Zero for lights camera paths cannot hit.
 #[inline]
 pub fn weight_emitter_hit(camera: &CameraVertexMis, emitter: Emitter, pick: f32, counts: Counts) -> f32 {
-    if emitter.kind != LightKind::Area {
+    if !matches!(emitter.kind, LightKind::Area | LightKind::Environment) {
         return 0.0;
     }
     let (c, h) = (&camera.0, camera.0.heuristic);
     let f = Factors::new(Target::Hit, counts, pick, h);
     // x₀ taken from the light side: NEE (deeper) or the splat of y₀ (seen directly), both
     // drawing x₀ with the light's own position density. Not `Subpath::sum`: here the class of
-    // `vcm` is not that of the sum it joins deeper.
-    let own = if camera.first() { f.lt } else { f.nee };
+    // `vcm` is not that of the sum it joins deeper. An environment's y₀ is not stored (no
+    // surface to splat from): seen directly, the hit is its only strategy.
+    let own = match (camera.first(), emitter.kind) {
+        (true, LightKind::Area) => f.lt,
+        (true, _) => 0.0,
+        (false, _) => f.nee,
+    };
     let older = mul(f.lt, c.vc[LIGHT_TRACE]) + mul(f.conn, c.vc[Subpath::<2>::CONN]);
     weight(mul(h.mis(emitter.first), mul(own, c.vcm) + mul(h.mis(emitter.second), older)))
 }
@@ -634,6 +658,9 @@ pub fn weight_nee(
             let p_hit = at_camera.pdf_fwd_w as f64 * cos_light as f64 / dist2 as f64;
             mul(f.hit, h.mis(p_hit / emitter.first))
         }
+        // A camera ray leaving along the shadow ray's direction hits the environment: the
+        // camera tracer's solid-angle density against NEE's.
+        LightKind::Environment => mul(f.hit, h.mis(div(at_camera.pdf_fwd_w as f64, emitter.first))),
         LightKind::Point | LightKind::Directional => 0.0,
     };
     let p_light = emitter.segment(dist2 as f64) * at_camera.cos as f64;

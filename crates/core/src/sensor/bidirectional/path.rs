@@ -1,7 +1,7 @@
 //! Camera subpaths: from a pixel of the sensor through the scene, importance-sampling each BSDF
 //! in radiance mode (through mirrors and glass, absorbing glass as the tracer does it), and at
 //! every vertex the camera strategies of `docs/bidirectional.md` §1: the emitter hit (s = 0)
-//! where the path finds an area light, and at non-delta vertices NEE and cache connections
+//! where the path finds an area light or leaves the scene toward an environment, and at non-delta vertices NEE and cache connections
 //! (`vertex.rs`). The MIS state ([`CameraVertexMis`]) is carried along with the densities both
 //! tracers would use (`Material::pdf_world`, `crate::trace::light_direction_pdf`); Russian roulette and the delta-run survival divide the
 //! throughput and stay out of the weights (§2).
@@ -45,7 +45,15 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
     let mut radiance = Rgb::ZERO;
     // The first connections' cache reads start now, each later vertex's at the one before.
     let mut ahead = DrawsAhead::begin(ctx, rng);
-    while let Some(hit) = scene.intersect(&ray) {
+    loop {
+        let Some(hit) = scene.intersect(&ray) else {
+            // Left the scene: the environments' emitter hit (s = 0), weighted on the segment's
+            // state (an environment's x₀ is a direction: no hit conversion).
+            if ctx.lights.has_environment() {
+                radiance += throughput * escaped(medium) * environment_hit(ctx, &mis, ray.dir);
+            }
+            break;
+        };
         depth += 1;
         throughput *= transmittance(medium, hit.t);
         let to_camera = -ray.dir;
@@ -111,6 +119,22 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
         };
     }
     radiance
+}
+
+/// What the environments that are on send back along a camera ray leaving the scene along
+/// `dir` (the camera subpath in state `mis` on that segment), MIS-weighted.
+#[inline]
+pub(super) fn environment_hit(ctx: &Context, mis: &CameraVertexMis, dir: Vec3) -> Rgb {
+    ctx.lights.escaped(ctx.scene, dir).fold(Rgb::ZERO, |sum, (emitted, emitter, pick)| {
+        sum + emitted * weight_emitter_hit(mis, emitter, pick, ctx.counts)
+    })
+}
+
+/// The transmittance of an infinite segment through a medium absorbing `sigma`: 1 in the
+/// channels it does not absorb, 0 in the others.
+#[inline]
+fn escaped(sigma: Rgb) -> Rgb {
+    sigma.map(|s| if s > 0.0 { 0.0 } else { 1.0 })
 }
 
 /// The camera subpath's MIS state after scattering at a surface of `material` (`normals`) from

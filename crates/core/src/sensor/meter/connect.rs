@@ -22,11 +22,13 @@
 //! samples) contributes exactly 0 (both cosines vanish) and is skipped, which also keeps
 //! rounding from producing fireflies there.
 //!
-//! **Direct light of point and directional lights.** They store no emission vertex (a delta
-//! position or direction), so it is estimated at the meter: per target, `direct_samples`
-//! uniform points of the cell (one for a point: it is exact), each gathering from every such
-//! light that is on I(ω)·cos θ_p/d²·V (point) or E·cos θ_p·V (directional), relit. Their
-//! standard error is the points' spread. Area lights need no such term: their emission
+//! **Direct light of point, directional and environment lights.** They store no emission
+//! vertex (a delta position or direction, or a direction at infinity), so it is estimated at
+//! the meter: per target, `direct_samples` uniform points of the cell (one for a point when
+//! no environment is on: it is exact), each gathering from every such light that is on
+//! I(ω)·cos θ_p/d²·V (point), E·cos θ_p·V (directional) or L(ω)·cos θ_p·V/p(ω) for one
+//! direction ω drawn with the environment's own sampling (unbiased for ∫L cos θ_p V dω), relit.
+//! Their standard error is the points' spread. Area lights need no such term: their emission
 //! vertices above carry their direct light, with the emission distribution — the same
 //! density per connection as sampling the light from the meter (both draw the pair (p, y₀)
 //! uniformly over meter × light).
@@ -140,7 +142,7 @@ fn connect_one(
     Some(s.beta() * c.f * (c.cos_x.abs() * cos_p / c.dist2))
 }
 
-/// The direct light of the point and directional lights that are on, per target.
+/// The direct light of the point, directional and environment lights that are on, per target.
 fn direct_light(
     scene: &Scene,
     lights: &RenderLights,
@@ -153,7 +155,9 @@ fn direct_light(
     if delta.is_empty() {
         return Reading::zero(layout.len());
     }
-    let m = if layout.is_point() { 1 } else { settings.direct_samples.max(2) };
+    let environment =
+        delta.iter().any(|&i| matches!(scene.lights[lights.lights()[i].scene_index], Light::Environment(_)));
+    let m = if layout.is_point() && !environment { 1 } else { settings.direct_samples.max(2) };
     let per_target: Vec<([f64; 4], [f64; 4])> = (0..layout.len())
         .into_par_iter()
         .map(|t| {
@@ -161,7 +165,7 @@ fn direct_light(
             let (mut sum, mut sq) = ([0.0f64; 4], [0.0f64; 4]);
             for _ in 0..m {
                 let d = layout.draw_in(t, rng.next_2d());
-                let e = delta.iter().fold(Rgb::ZERO, |e, &i| e + direct_from(scene, lights, i, &d));
+                let e = delta.iter().fold(Rgb::ZERO, |e, &i| e + direct_from(scene, lights, i, &d, &mut rng));
                 let e = [e.x as f64, e.y as f64, e.z as f64];
                 let x = [e[0], e[1], e[2], lux(e)];
                 for c in 0..4 {
@@ -184,11 +188,19 @@ fn direct_light(
     Reading { value, std_error }
 }
 
-/// The irradiance at `d` from light `i` of `lights` (a point or directional light): what it
-/// sends (relit) times cos θ_p, if unblocked.
+/// The irradiance at `d` from light `i` of `lights` (a point, directional or environment
+/// light; an environment's direction drawn from `rng`): what it sends (relit) times cos θ_p,
+/// if unblocked.
 #[inline]
-fn direct_from(scene: &Scene, lights: &RenderLights, i: usize, d: &MeterDraw) -> Rgb {
-    let Some(lp) = lights.toward(scene, i, Vec3::ZERO, None, d.position) else { return Rgb::ZERO };
+fn direct_from(scene: &Scene, lights: &RenderLights, i: usize, d: &MeterDraw, rng: &mut RandomStream) -> Rgb {
+    let lp = match &scene.lights[lights.lights()[i].scene_index] {
+        Light::Environment(env) => {
+            let (omega, pdf) = env.sample_direction(rng.next_2d());
+            lights.from_environment(scene, i, omega, pdf)
+        }
+        _ => lights.toward(scene, i, Vec3::ZERO, None, d.position),
+    };
+    let Some(lp) = lp else { return Rgb::ZERO };
     let cos = d.normal.dot(lp.dir);
     if !(cos > 0.0) || !visible(scene, d.position, d.normal, lp.dir, lp.distance, None) {
         return Rgb::ZERO;

@@ -1,5 +1,5 @@
 //! The tracer's MIS records against a brute force: for random paths of a glossy Cornell box lit
-//! by an area, a point and a directional light, every record `trace_path` stores equals the
+//! by an area, a point and a directional light and an environment map, every record `trace_path` stores equals the
 //! light-side sums of `docs/bidirectional.md` §4 computed from scratch from the path's vertices
 //! (area densities of every strategy, multiplied out); records never change the samples; and
 //! the densities of delta lobes are the ones the sampler draws with.
@@ -12,13 +12,16 @@ use crate::bsdf::{
 use crate::dataset::{Sample, Selection, TraceSettings};
 use crate::math::{Rgb, Vec2};
 use crate::sampling::RandomStream;
-use crate::scene::{DirectionalLightDesc, PointLightDesc, Scene, Source, cornell_box};
+use crate::scene::{
+    DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, PointLightDesc, Scene, Source,
+    cornell_box,
+};
 use crate::sensor::bidirectional::{Heuristic, LightVertexMis, MisRecord, VcmClass};
 use crate::trace::{PathScratch, trace_block, trace_path};
 use glam::DVec3;
 
-/// The Cornell box with a Phong white, a GGX red wall, a point light and a sun shining in
-/// through the open front.
+/// The Cornell box with a Phong white, a GGX red wall, a point light, and a sun and an
+/// environment map (a bright patch on a dim sky, rotated) shining in through the open front.
 fn glossy_box() -> Scene {
     let mut d = cornell_box();
     d.materials[0].bsdf =
@@ -35,6 +38,15 @@ fn glossy_box() -> Scene {
     let sun = DVec3::new(0.3, -0.4, -1.0);
     d.directional_lights
         .push(DirectionalLightDesc::new("sun".into(), Source::default(), sun, Rgb::ONE).unwrap());
+    let (width, height) = (8, 4);
+    let mut texels = vec![Rgb::new(0.2, 0.3, 0.5); width * height];
+    texels[width + 2] = Rgb::splat(20.0);
+    d.environment_lights.push(EnvironmentLightDesc {
+        name: "sky".into(),
+        source: Source::default(),
+        radiance: EnvironmentRadiance::Map { width, height, texels, scale: 1.0, file: None },
+        to_world: glam::Mat3::from_axis_angle(Vec3::new(1.0, 0.5, 0.2).normalize(), 1.1),
+    });
     Scene::build(&d).unwrap()
 }
 
@@ -64,15 +76,18 @@ fn brute_force(scene: &Scene, k: usize, x: &[Vec3], prim: &[u32], s: &TraceSetti
         Light::Directional(l) if m == 1 => -l.direction,
         _ => dir(m, m - 1),
     };
+    let infinite = matches!(light, Light::Directional(_) | Light::Environment(_));
+    let environment = matches!(light, Light::Environment(_));
     let normal = |m: usize| if m == 0 { light_normal } else { scene.triangles[prim[m] as usize].normal() };
     let cos = |m: usize, w: Vec3| w.dot(normal(m)).abs() as f64;
-    let (p0, _) = light.emission_pdfs(light_normal, Vec3::Z);
+    // An environment's x₀ is its direction (x[0] a point far along it).
+    let (p0, _) = light.emission_pdfs(light_normal, if environment { -incoming(1) } else { Vec3::Z });
     let fwd = |m: usize| -> f64 {
         match m {
             0 => p0 as f64,
             1 => {
                 let (_, second) = light.emission_pdfs(light_normal, -incoming(1));
-                let g = if matches!(light, Light::Directional(_)) { 1.0 } else { 1.0 / d2(0, 1) };
+                let g = if infinite { 1.0 } else { 1.0 / d2(0, 1) };
                 second as f64 * cos(1, incoming(1)) * g
             }
             _ => {
@@ -91,7 +106,8 @@ fn brute_force(scene: &Scene, k: usize, x: &[Vec3], prim: &[u32], s: &TraceSetti
         if m == i {
             return 1.0;
         }
-        let g = cos(m, dir(m, m + 1)) / d2(m, m + 1);
+        // The camera side finds an environment's x₀ in solid angle: no conversion.
+        let g = if m == 0 && environment { 1.0 } else { cos(m, dir(m, m + 1)) / d2(m, m + 1) };
         if m == i - 1 {
             return g;
         }
@@ -105,7 +121,7 @@ fn brute_force(scene: &Scene, k: usize, x: &[Vec3], prim: &[u32], s: &TraceSetti
         1 => VcmClass::Nee,
         _ => VcmClass::Conn,
     };
-    let first = if matches!(light, Light::Area(_)) { 0 } else { 1 };
+    let first = if matches!(light, Light::Area(_) | Light::Environment(_)) { 0 } else { 1 };
     let mut vc = [0.0; 3];
     for j in first..i {
         vc[class(j) as usize] += term(j);
@@ -118,6 +134,7 @@ fn brute_force(scene: &Scene, k: usize, x: &[Vec3], prim: &[u32], s: &TraceSetti
 fn records_equal_the_brute_force_light_side_sums_of_every_stored_vertex() {
     let scene = glossy_box();
     let mut checked = [0usize; 3];
+    let mut environment_records = 0;
     let mut worst = 0f64;
     let mut tight = 0;
     for (directions, heuristic) in [
@@ -139,6 +156,11 @@ fn records_equal_the_brute_force_light_side_sums_of_every_stored_vertex() {
                     Light::Area(_) => (vec![], vec![]),
                     Light::Point(l) => (vec![l.position], vec![0]),
                     Light::Directional(l) => (vec![l.centre], vec![0]),
+                    // Far along the direction the first hit's light came from.
+                    Light::Environment(_) => match out.first() {
+                        Some(y1) => (vec![y1.position() + y1.from_dir() * 1e4], vec![0]),
+                        None => continue,
+                    },
                 };
                 for (sample, record) in out.iter().zip(&records) {
                     x.push(sample.position());
@@ -179,6 +201,7 @@ fn records_equal_the_brute_force_light_side_sums_of_every_stored_vertex() {
                         );
                     }
                     checked[class as usize] += 1;
+                    environment_records += usize::from(matches!(scene.lights[k], Light::Environment(_)));
                 }
             }
         }
@@ -189,6 +212,7 @@ fn records_equal_the_brute_force_light_side_sums_of_every_stored_vertex() {
     let total: usize = checked.iter().sum();
     eprintln!("{tight} of {total} within 2e-3");
     assert!(checked.iter().all(|&n| n > 100), "{checked:?}");
+    assert!(environment_records > 100, "{environment_records} records of the environment's paths");
     assert!(tight * 4 > total * 3, "most vertices are compared within 2e-3: {tight} of {total}");
 }
 

@@ -1,5 +1,5 @@
-//! `<emitter>` elements: the area emitter of a shape, and the top-level point, spot, IES and
-//! directional lights. [`TOP_EMITTERS`] maps each supported top-level type to its builder (which
+//! `<emitter>` elements: the area emitter of a shape, and the top-level point, spot, IES,
+//! directional and environment (`constant`, `envmap`) lights. [`TOP_EMITTERS`] maps each supported top-level type to its builder (which
 //! adds the light to the scene) and [`SHAPE_EMITTERS`] names the ones a shape holds; adding an
 //! emitter type is an entry there and its function.
 //!
@@ -17,13 +17,16 @@ use super::properties::Props;
 use super::transform::Transform;
 use super::xml::Element;
 use crate::scene_formats::lights;
-use glam::DVec3;
+use crate::texture_file::read_texture;
+use glam::{DMat3, DVec3};
 use opticks_core::light::check::{check_emission, check_power, unit_tangent};
 use opticks_core::light::{
-    EmissionProfile, IesProfile, LightError, ProfileError, axis_frame, lumens_to_watts,
+    EmissionProfile, IesProfile, LatLong, LightError, ProfileError, axis_frame, lumens_to_watts,
 };
-use opticks_core::math::{Frame, Rgb, Vec3};
-use opticks_core::scene::{AreaEmission, DirectionalLightDesc, MeshDesc, PointLightDesc};
+use opticks_core::math::{Frame, Mat3, Rgb, Vec3};
+use opticks_core::scene::{
+    AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, PointLightDesc,
+};
 use std::path::PathBuf;
 
 /// A top-level emitter builder: the element, its type and its name (its `id`, else
@@ -31,8 +34,18 @@ use std::path::PathBuf;
 type BuildEmitter = for<'d> fn(&mut Builder<'d>, &'d Element, &str, String) -> Result<()>;
 
 /// The emitter types supported at the top level, in the order the error message lists them.
-const TOP_EMITTERS: &[(&str, BuildEmitter)] =
-    &[("point", point), ("spot", spot), ("directional", directional), ("ies", ies)];
+const TOP_EMITTERS: &[(&str, BuildEmitter)] = &[
+    ("point", point),
+    ("spot", spot),
+    ("directional", directional),
+    ("ies", ies),
+    ("constant", constant),
+    ("envmap", envmap),
+];
+
+/// The top-level emitters that light the scene from infinity (named in the error of one
+/// nested in a shape).
+const INFINITE_EMITTERS: &[&str] = &["constant", "envmap", "directional"];
 
 /// The emitter types supported inside a `<shape>`.
 const SHAPE_EMITTERS: &[&str] = &["area"];
@@ -75,6 +88,15 @@ pub fn top_emitter<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Res
 /// scale), `tangent` (the profile's horizontal 0°) and `power`/`lumens`.
 pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmission> {
     let ty = e.required("type")?;
+    if INFINITE_EMITTERS.contains(&ty) {
+        return Err(e.attr_err(
+            "type",
+            format!(
+                "a {ty} emitter lights the scene from infinity and cannot be nested inside a shape: \
+                 declare it at the top level"
+            ),
+        ));
+    }
     if !SHAPE_EMITTERS.contains(&ty) {
         return Err(e.attr_err(
             "type",
@@ -226,6 +248,75 @@ fn directional<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) 
         })?;
     b.desc.directional_lights.push(light);
     Ok(())
+}
+
+/// `constant`: `radiance` (a colour or spectrum, default 1) from every direction.
+fn constant<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    let mut p = Props::of(e)?;
+    no_objects(&p, ty)?;
+    let (radiance, node) = p.color_or("radiance", Rgb::ONE)?;
+    check_emission(radiance).map_err(|e| node.err(e.to_string()))?;
+    b.finish(&p);
+    b.desc.environment_lights.push(EnvironmentLightDesc {
+        name,
+        source: Builder::source(e),
+        radiance: EnvironmentRadiance::Constant(radiance),
+        to_world: Mat3::IDENTITY,
+    });
+    Ok(())
+}
+
+/// `envmap`: the lat-long image `filename` (EXR, HDR, PNG, JPEG; relative to the XML file's
+/// folder; 8-bit formats sRGB-decoded as Mitsuba does), times `scale`, in the frame of
+/// `to_world` (a rotation, possibly mirrored; its translation is irrelevant). Mitsuba's
+/// `mis_compensation` changes only its sampling and is accepted and ignored.
+fn envmap<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    let mut p = Props::of(e)?;
+    no_objects(&p, ty)?;
+    let (file, fnode) = p.string("filename")?.ok_or_else(|| e.err("an envmap emitter needs a `filename`"))?;
+    let (scale, snode) = p.float_or("scale", 1.0)?;
+    check_emission(Rgb::splat(scale as f32))
+        .map_err(|_| snode.err(format!("`scale` {scale} must be finite and non-negative")))?;
+    let to_world = match p.transform("to_world")? {
+        Some((t, tnode)) => environment_frame(&t, tnode)?,
+        None => Mat3::IDENTITY,
+    };
+    p.bool("mis_compensation")?;
+    let path = b.doc.resolve(fnode, &file);
+    let image = read_texture(&path, false)
+        .map_err(|m| fnode.attr_err("value", format!("{}: {m}", path.display())))?;
+    // The core's check of the texels, reported at the file (e.g. a negative EXR value).
+    LatLong::new(image.width, image.height, &image.texels, scale as f32)
+        .map_err(|m| fnode.attr_err("value", format!("{}: {m}", path.display())))?;
+    b.finish(&p);
+    b.desc.environment_lights.push(EnvironmentLightDesc {
+        name,
+        source: Builder::source(e),
+        radiance: EnvironmentRadiance::Map {
+            width: image.width,
+            height: image.height,
+            texels: image.texels,
+            scale: scale as f32,
+            file: Some(path.canonicalize().unwrap_or(path)),
+        },
+        to_world,
+    });
+    Ok(())
+}
+
+/// The rotation of an environment's `to_world` (its 3 × 3 part must be orthonormal: Mitsuba's
+/// lookup of a scaled or sheared frame is not a map of directions; a `<rotate>` with an axis
+/// that is not unit length is one, since Mitsuba does not normalise it).
+fn environment_frame(t: &Transform, tnode: &Element) -> Result<Mat3> {
+    let m = DMat3::from_mat4(t.matrix);
+    let orthonormal = (m.transpose() * m - DMat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
+    if !orthonormal {
+        return Err(tnode.err(
+            "the to_world of an environment must be a rotation (no scale or shear; \
+             a <rotate> axis must have unit length)",
+        ));
+    }
+    Ok(m.as_mat3())
 }
 
 /// Where a point or directional light is: given by a point/vector property, by `to_world`, or

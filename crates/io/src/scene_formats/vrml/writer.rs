@@ -10,8 +10,9 @@
 //! light with an IES profile is written as a `PhysicalPointLight` whose `iesUrl` is the file it
 //! was read from ([`PointLightDesc::ies_file`](opticks_core::scene::PointLightDesc), absolute as
 //! the loaders keep it). Lights the extension cannot express (an IES table whose file is not
-//! known, an IES or spot profile on an area light) and cameras it has no node for (a thin lens,
-//! an orthographic camera) are an `InvalidInput` error rather than silently dropped.
+//! known, an IES or spot profile on an area light, an environment) and cameras it has no node
+//! for (a thin lens, an orthographic camera) are an `InvalidInput` error rather than silently
+//! dropped.
 
 use super::extension::DECLARATIONS;
 use super::parser::is_keyword;
@@ -64,6 +65,9 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
                 .iter()
                 .find(|m| m.emission.as_ref().is_some_and(|e| area_emission(e.profile.as_ref()).is_none()))
                 .map(|m| format!("area light {} has a tabulated (IES) emission profile", m.name))
+        })
+        .or_else(|| {
+            desc.environment_lights.first().map(|l| format!("environment light {} (at infinity)", l.name))
         })
         .or_else(|| match desc.camera.map(|c| c.kind) {
             Some(CameraKind::ThinLens { .. }) => Some("the camera is a thin lens".to_string()),

@@ -1,7 +1,7 @@
 //! Tests of the MIS weights against the explicit formula.
 //!
 //! Random paths of 1–10 segments, with random per-vertex light-tracer and camera-tracer pdfs,
-//! random delta vertices, random light kinds (area, point, directional) and camera kinds
+//! random delta vertices, random light kinds (area, point, directional, environment) and camera kinds
 //! (pinhole, thin lens, equirectangular, orthographic), random counts and light-pick probabilities and both
 //! heuristics. For each path the light side is walked from the light as the tracer will (and
 //! stored through a [`MisRecord`]), the camera side from the camera as the renderer will, and
@@ -79,9 +79,10 @@ struct Segment {
 struct Path {
     light: LightKind,
     camera: CameraKind,
-    /// Area light: area density of x₀; directional: disk density; point: unused.
+    /// Area light: area density of x₀; directional and environment: disk density; point: unused.
     pos_pdf: f32,
-    /// Area and point lights: the emission direction's density toward x₁.
+    /// Area and point lights: the emission direction's density toward x₁; environment: the
+    /// solid-angle density of its direction x₀ (segment 0's length and cosine at x₀ unused).
     dir_pdf: f32,
     seg: Vec<Segment>,
     /// Per vertex (x₀ … x_k): a delta surface (only x₁ … x_{k−1} can be).
@@ -114,6 +115,7 @@ impl Path {
             LightKind::Area => Emitter::area(self.pos_pdf, self.dir_pdf),
             LightKind::Point => Emitter::point(self.dir_pdf),
             LightKind::Directional => Emitter::directional(self.pos_pdf),
+            LightKind::Environment => Emitter::environment(self.dir_pdf, self.pos_pdf),
         }
     }
 }
@@ -132,7 +134,8 @@ const EXTREME: Ranges = Ranges { pdf: (1e-5, 1e5), dist2: (1e-5, 1e5), cos: (1e-
 
 fn random_path(rng: &mut Rng, r: Ranges) -> Path {
     let k = 1 + rng.below(10);
-    let light = [LightKind::Area, LightKind::Point, LightKind::Directional][rng.below(3)];
+    let light =
+        [LightKind::Area, LightKind::Point, LightKind::Directional, LightKind::Environment][rng.below(4)];
     let camera = CAMERAS[rng.below(CAMERAS.len())];
     let delta_rate = [0.0, 0.3, 0.7][rng.below(3)];
     let mut p = Path {
@@ -221,11 +224,12 @@ fn brute_force(path: &Path, render: Render) -> Vec<Truth> {
         0 => match light {
             LightKind::Area => dens(p * path.pos_pdf as f64, false),
             LightKind::Point | LightKind::Directional => dens(p, true), // δ position or direction
+            LightKind::Environment => dens(p * path.dir_pdf as f64, false), // solid angle
         },
         1 => {
             let (d2, _, cos1) = seg(0);
             match light {
-                LightKind::Directional => dens(path.pos_pdf as f64 * cos1, false),
+                LightKind::Directional | LightKind::Environment => dens(path.pos_pdf as f64 * cos1, false),
                 _ => dens(path.dir_pdf as f64 * cos1 / d2, false),
             }
         }
@@ -241,6 +245,14 @@ fn brute_force(path: &Path, render: Render) -> Vec<Truth> {
                 CameraKind::ThinLens => dens(path.lens_pdf as f64, false),
                 CameraKind::Pinhole | CameraKind::Equirect => dens(1.0, true), // δ position
                 CameraKind::Orthographic => dens(1.0, true),                   // δ direction
+            };
+        }
+        if i == 0 && light == LightKind::Environment {
+            // A camera ray leaving the scene: its solid-angle density, no conversion.
+            return if k == 1 {
+                dens(path.cam_pdf_w as f64, false)
+            } else {
+                dens(path.c_fwd[1] as f64, path.delta[1])
             };
         }
         if i == 0 && light != LightKind::Area {
@@ -270,7 +282,7 @@ fn brute_force(path: &Path, render: Render) -> Vec<Truth> {
         })
         .collect();
     let deltas = path.delta.iter().filter(|d| **d).count() as u32
-        + u32::from(light != LightKind::Area)
+        + u32::from(matches!(light, LightKind::Point | LightKind::Directional))
         + u32::from(path.camera != CameraKind::ThinLens);
     let beta = render.heuristic.exponent() as i32;
     let term = |c: f64, d: Density| (d.deltas == deltas && d.value > 0.0).then(|| (c * d.value).powi(beta));
@@ -354,7 +366,10 @@ fn recursive(path: &Path, render: Render, mutant: Mutant) -> Vec<Option<f32>> {
     let mut camera = vec![CameraVertexMis::at_camera(CameraPdf::Solid(1.0), h); k];
     let mut c = CameraVertexMis::at_camera(camera_pdf, h);
     for i in (0..k).rev() {
-        c = c.after_hit(seg[i].dist2, seg[i].cos_a);
+        // An environment's x₀ is found by leaving the scene: the segment's state, unconverted.
+        if i > 0 || path.light != LightKind::Environment {
+            c = c.after_hit(seg[i].dist2, seg[i].cos_a);
+        }
         camera[i] = c;
         if i > 0 {
             c = c.after_scatter(seg[i - 1].cos_b, path.c_fwd[i], path.l_fwd[i], path.delta[i]);
