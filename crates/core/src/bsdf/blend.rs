@@ -98,7 +98,7 @@ impl Blend {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, pilot};
+    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, mean_sample_weight, pilot};
     use crate::bsdf::{Lambert, ModifiedPhong, Plastic, RoughConductor, RoughPlastic, SmoothConductor};
     use crate::sampling::microfacet::Distribution;
     use crate::sampling::{RandomStream, warp};
@@ -229,17 +229,9 @@ mod tests {
                     a += d / n as f64;
                     want += a * share as f64;
                 }
-                let m = 200_000;
-                let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
-                for _ in 0..m {
-                    if let Some(s) = b.sample(wi, rng.next_f32(), rng.next_2d(), TransportMode::Importance) {
-                        let w = s.weight.as_dvec3();
-                        sum += w;
-                        sum2 += w * w;
-                    }
-                }
-                let mean = sum / m as f64;
-                let se = ((sum2 / m as f64 - mean * mean).max(glam::DVec3::ZERO) / m as f64).powf(0.5);
+                let (mean, se) = mean_sample_weight(200_000, || {
+                    b.sample(wi, rng.next_f32(), rng.next_2d(), TransportMode::Importance).map(|s| s.weight)
+                });
                 for c in 0..3 {
                     assert!(
                         (mean[c] - want[c]).abs() <= 6.0 * se[c] + 2e-3,

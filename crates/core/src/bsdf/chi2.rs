@@ -278,6 +278,23 @@ pub(crate) fn pilot(
 
 /// Directional albedo ∫ f(wo)·max(0, cos θ_o) dω_o per channel, by adaptive quadrature on `grid`
 /// (local frame, z = normal).
+/// The mean of `m` sample weights (a failed sample weighs 0) with its standard error per
+/// channel: the Monte Carlo estimate of a BSDF's directional albedo that its sampling gives, to
+/// compare with [`directional_albedo`] of its evaluation.
+pub(crate) fn mean_sample_weight(m: usize, mut weight: impl FnMut() -> Option<Rgb>) -> (DVec3, DVec3) {
+    let (mut sum, mut sum2) = (DVec3::ZERO, DVec3::ZERO);
+    for _ in 0..m {
+        if let Some(w) = weight() {
+            let w = w.as_dvec3();
+            sum += w;
+            sum2 += w * w;
+        }
+    }
+    let mean = sum / m as f64;
+    let se = ((sum2 / m as f64 - mean * mean).max(DVec3::ZERO) / m as f64).powf(0.5);
+    (mean, se)
+}
+
 pub(crate) fn directional_albedo(grid: &SphereGrid, f: impl Fn(Vec3) -> Rgb + Sync) -> DVec3 {
     grid.integrate(|wo| f(wo).as_dvec3() * wo.z.max(0.0) as f64)
 }

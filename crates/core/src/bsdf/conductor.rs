@@ -163,7 +163,9 @@ impl RoughConductor {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, pilot, reflect};
+    use crate::bsdf::chi2::{
+        Chi2Test, SphereGrid, directional_albedo, incident, mean_sample_weight, pilot, reflect,
+    };
     use crate::sampling::microfacet::Distribution;
     use crate::sampling::{RandomStream, warp};
     use rayon::prelude::*;
@@ -275,18 +277,13 @@ mod tests {
                 let dirs = pilot(|_, u| b.sample(wi, u).map(|s| (s.wo, s.pdf)), 20_000, 3);
                 let grid = SphereGrid::adapted(reflect(wi), &dirs, 16, 16);
                 let want = directional_albedo(&grid, |wo| b.eval(wi, wo)).x;
-                let m = 100_000;
-                let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-                for _ in 0..m {
-                    if let Some(s) = b.sample(wi, rng.next_2d()) {
-                        let w = s.weight.x as f64;
-                        assert!(mf.distribution == Distribution::Beckmann || w <= 1.0 + 1e-5);
-                        sum += w;
-                        sum2 += w * w;
-                    }
-                }
-                let mean = sum / m as f64;
-                let se = ((sum2 / m as f64 - mean * mean).max(0.0) / m as f64).sqrt();
+                let (mean, se) = mean_sample_weight(100_000, || {
+                    b.sample(wi, rng.next_2d()).map(|s| {
+                        assert!(mf.distribution == Distribution::Beckmann || s.weight.x <= 1.0 + 1e-5);
+                        s.weight
+                    })
+                });
+                let (mean, se) = (mean.x, se.x);
                 let ctx = format!("{mf:?} θ={deg}");
                 assert!(want <= 1.0 + 1e-4 && mean <= 1.0 + 5.0 * se, "{ctx}: {want} {mean}");
                 assert!((mean - want).abs() <= 5.0 * se + 1e-4, "{ctx}: {mean} vs {want} ± {se}");

@@ -158,7 +158,9 @@ impl ModifiedPhong {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, pilot, reflect};
+    use crate::bsdf::chi2::{
+        Chi2Test, SphereGrid, directional_albedo, incident, mean_sample_weight, pilot, reflect,
+    };
     use crate::sampling::RandomStream;
     use glam::DVec3;
     use rayon::prelude::*;
@@ -277,17 +279,9 @@ mod tests {
             for deg in [0.0, 50.0, 85.0] {
                 let wi = incident(deg);
                 let want = albedo(&b, wi);
-                let m = 200_000;
-                let (mut sum, mut sum2) = (DVec3::ZERO, DVec3::ZERO);
-                for _ in 0..m {
-                    if let Some(s) = b.sample(wi, rng.next_f32(), rng.next_2d()) {
-                        let w = s.weight.as_dvec3();
-                        sum += w;
-                        sum2 += w * w;
-                    }
-                }
-                let mean = sum / m as f64;
-                let se = ((sum2 / m as f64 - mean * mean).max(DVec3::ZERO) / m as f64).sqrt();
+                let (mean, se) = mean_sample_weight(200_000, || {
+                    b.sample(wi, rng.next_f32(), rng.next_2d()).map(|s| s.weight)
+                });
                 let err = (mean - want).abs();
                 assert!(
                     err.cmple(5.0 * se + 1e-4).all(),

@@ -152,7 +152,7 @@ impl Plastic {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, pilot};
+    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, mean_sample_weight, pilot};
     use crate::sampling::RandomStream;
     use rayon::prelude::*;
 
@@ -222,17 +222,9 @@ mod tests {
                 let f_i = fresnel::dielectric(wi.z, b.eta).0 as f64;
                 let want =
                     directional_albedo(&grid, |wo| b.eval(wi, wo)) + b.specular_reflectance.as_dvec3() * f_i;
-                let m = 200_000;
-                let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
-                for _ in 0..m {
-                    if let Some(s) = b.sample(wi, rng.next_f32(), rng.next_2d()) {
-                        let w = s.weight.as_dvec3();
-                        sum += w;
-                        sum2 += w * w;
-                    }
-                }
-                let mean = sum / m as f64;
-                let se = ((sum2 / m as f64 - mean * mean).max(glam::DVec3::ZERO) / m as f64).powf(0.5);
+                let (mean, se) = mean_sample_weight(200_000, || {
+                    b.sample(wi, rng.next_f32(), rng.next_2d()).map(|s| s.weight)
+                });
                 for c in 0..3 {
                     assert!(
                         (mean[c] - want[c]).abs() <= 5.0 * se[c] + 1e-4,
