@@ -3,7 +3,7 @@
 //! `ny`, `nz` and texture coordinates (`u`/`v`, `s`/`t` or `texture_u`/`texture_v`), any
 //! numeric type each; the `face` element's `vertex_indices` (or `vertex_index`) list, polygons
 //! fanned into triangles; the vertex and face attributes a caller asks for, grouped and named
-//! as Mitsuba's reader does ([`attribute_groups`]); every other element and property is
+//! as Mitsuba's reader does (`attribute_groups`); every other element and property is
 //! skipped.
 //!
 //! # Robustness
