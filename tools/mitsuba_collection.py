@@ -18,7 +18,7 @@ mitsuba`; its LLVM variant needs `DRJIT_LIBLLVM_PATH`).
 
 Usage:
     tools/mitsuba_collection.py --data PATH/TO/mitsuba-data [--opticks target/release/opticks]
-        [--paths 4096] [--compare] [--compare-paths 1000000] [--spp 64] [--timeout 300]
+        [--paths 4096] [--compare] [--compare-paths 1000000] [--spp 64] [--estimator bidirectional] [--camera-spp 4] [--timeout 300]
 
 Nothing here is run by the test suite: the collection is not part of this repository.
 """
@@ -100,7 +100,10 @@ def compare(args, data: Path, rel: str, tmp: Path):
     ok, err = trace(args.opticks, data, rel, args.compare_paths, dataset, args.timeout)
     if not ok:
         return None, f"trace: {err}"
-    run = subprocess.run([args.opticks, "render", str(dataset), "-o", str(ours), "--quiet"],
+    estimator = ["--estimator", args.estimator]
+    if args.estimator == "bidirectional":
+        estimator += ["--spp", str(args.camera_spp)]
+    run = subprocess.run([args.opticks, "render", str(dataset), "-o", str(ours), "--quiet", *estimator],
                          cwd=data, capture_output=True, text=True, timeout=args.timeout)
     if run.returncode != 0:
         return None, f"render: {first_error(run.stderr)}"
@@ -126,6 +129,9 @@ def main():
     p.add_argument("--compare", action="store_true")
     p.add_argument("--compare-paths", type=int, default=1_000_000)
     p.add_argument("--spp", type=int, default=64)
+    p.add_argument("--estimator", default="bidirectional", choices=["bidirectional", "light"],
+                   help="Opticks's estimator for --compare (the light estimator cannot see an environment directly)")
+    p.add_argument("--camera-spp", type=int, default=4, help="camera paths per pixel of the bidirectional render")
     p.add_argument("--variant", default="llvm_ad_rgb")
     args = p.parse_args()
     args.opticks = str(Path(args.opticks).resolve())
