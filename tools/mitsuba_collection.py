@@ -157,7 +157,10 @@ def main():
         if args.compare:
             import mitsuba as mi
             mi.set_variant(args.variant)
-            print(f"\nOpticks (light estimator, {args.compare_paths} paths) against Mitsuba 3 "
+            how = f"{args.estimator} estimator, {args.compare_paths} light paths"
+            if args.estimator == "bidirectional":
+                how += f", {args.camera_spp} camera paths per pixel"
+            print(f"\nOpticks ({how}) against Mitsuba 3 "
                   f"({args.variant}, `path` with max_depth -1, {args.spp} spp), mean RGB:\n")
             print("| file | the file's own integrator | Opticks | Mitsuba `path` | ratio |\n|---|---|---|---|---|")
             for rel in loaded:
