@@ -43,7 +43,7 @@ use opticks_core::scene::{
     AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, MeshDesc, PointLightDesc, SceneDescription,
     Source,
 };
-use opticks_core::sensor::Pinhole;
+use opticks_core::sensor::Sensor;
 use opticks_core::texture::TextureBinding;
 use std::path::Path;
 
@@ -450,32 +450,26 @@ pub fn load_gltf_scene_with(path: &Path, options: &LoadOptions) -> Result<Loaded
     for entry in &cameras {
         let (node, cam, m) = entry;
         let cel = format!("{}: camera {}", node_element(node), cam.index());
-        let is_pick = pick.is_some_and(|p| std::ptr::eq(p, entry));
-        match cam.projection() {
-            Projection::Perspective(p) if is_pick => {
+        if !pick.is_some_and(|p| std::ptr::eq(p, entry)) {
+            let why = if options.camera.is_some() {
+                "not the one --camera names"
+            } else {
+                "another camera comes first (lowest node index; --camera NAME chooses another)"
+            };
+            warn(&mut warnings, &cel, format!("{why}; ignored"));
+            continue;
+        }
+        // The image is DEFAULT_IMAGE_HEIGHT pixels high; the projection gives its width.
+        let height = DEFAULT_IMAGE_HEIGHT;
+        let (width, fov_x_degrees, kind) = match cam.projection() {
+            Projection::Perspective(p) => {
                 let aspect = p.aspect_ratio().filter(|a| a.is_finite() && *a > 0.0);
-                let height = DEFAULT_IMAGE_HEIGHT;
                 let width = aspect.map_or(height, |a| ((height as f32 * a).round() as u32).max(1));
-                let yfov = p.yfov();
-                let fov_x = 2.0 * ((yfov * 0.5).tan() * width as f32 / height as f32).atan();
-                let eye = m.transform_point3(Vec3::ZERO);
-                let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
-                let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
-                let camera = CameraDesc {
-                    eye,
-                    target: eye + forward,
-                    up,
-                    fov_x_degrees: fov_x.to_degrees(),
-                    width,
-                    height,
-                    kind: CameraKind::Perspective,
-                };
-                // The core's camera checks (field of view, axes), reported at the camera.
-                Pinhole::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
-                desc.camera = Some(camera);
+                let fov_x = 2.0 * ((p.yfov() * 0.5).tan() * width as f32 / height as f32).atan();
+                (width, fov_x.to_degrees(), CameraKind::Perspective)
             }
-            Projection::Orthographic(o) if is_pick => {
-                // xmag, ymag: half the view's width and height; the image 512 pixels high.
+            Projection::Orthographic(o) => {
+                // xmag, ymag: half the view's width and height.
                 let (xmag, ymag) = (o.xmag().abs(), o.ymag().abs());
                 if !(xmag.is_finite() && ymag.is_finite() && xmag > 0.0 && ymag > 0.0) {
                     return Err(invalid(
@@ -483,32 +477,17 @@ pub fn load_gltf_scene_with(path: &Path, options: &LoadOptions) -> Result<Loaded
                         format!("orthographic xmag {xmag} and ymag {ymag} must be positive"),
                     ));
                 }
-                let height = DEFAULT_IMAGE_HEIGHT;
                 let width = ((height as f32 * xmag / ymag).round() as u32).max(1);
-                let eye = m.transform_point3(Vec3::ZERO);
-                let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
-                let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
-                let camera = CameraDesc {
-                    eye,
-                    target: eye + forward,
-                    up,
-                    fov_x_degrees: 45.0,
-                    width,
-                    height,
-                    kind: CameraKind::Orthographic { half_width: xmag, half_height: ymag },
-                };
-                opticks_core::sensor::Sensor::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
-                desc.camera = Some(camera);
+                (width, 45.0, CameraKind::Orthographic { half_width: xmag, half_height: ymag })
             }
-            _ => {
-                let why = if options.camera.is_some() {
-                    "not the one --camera names"
-                } else {
-                    "another camera comes first (lowest node index; --camera NAME chooses another)"
-                };
-                warn(&mut warnings, &cel, format!("{why}; ignored"));
-            }
-        }
+        };
+        let eye = m.transform_point3(Vec3::ZERO);
+        let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
+        let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
+        let camera = CameraDesc { eye, target: eye + forward, up, fov_x_degrees, width, height, kind };
+        // The core's camera checks (field of view, axes, extent), reported at the camera.
+        Sensor::new(&camera).map_err(|e| invalid(cel, e.to_string()))?;
+        desc.camera = Some(camera);
     }
     if doc.animations().len() > 0 {
         warn(&mut warnings, "animations", "animations are ignored; the static pose is loaded".into());
