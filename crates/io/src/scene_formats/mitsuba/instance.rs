@@ -16,7 +16,7 @@
 use super::Result;
 use super::build::Builder;
 use super::properties::Props;
-use super::shape::shape_and_kind;
+use super::shape::{shape_and_kind, transform_mesh};
 use super::xml::Element;
 use glam::{DMat3, DMat4};
 use opticks_core::scene::MeshDesc;
@@ -83,24 +83,18 @@ pub fn instance<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result
         b.groups.insert(id.clone(), built);
     }
     let mirrored = DMat3::from_mat4(m).determinant() < 0.0;
-    let (mf, projective) = (m.as_mat4(), m.row(3) != glam::DVec4::W);
-    let nm = glam::Mat3::from_mat4(mf).inverse().transpose();
     let mut out = Vec::new();
     for (member, analytic) in &b.groups[&id] {
         let mut mesh = member.clone();
         mesh.name = format!("{name}/{}", member.name);
         mesh.source = Builder::source(e);
-        for q in &mut mesh.positions {
-            *q = if projective { mf.project_point3(*q) } else { mf.transform_point3(*q) };
-        }
-        if let Some(i) = mesh.positions.iter().position(|q| !q.is_finite()) {
+        if let Some(i) = transform_mesh(&m, &mut mesh.positions, &mut mesh.normals) {
             return Err(e.err(format!(
                 "to_world maps vertex {} of {} to a non-finite point",
                 i + 1,
                 member.name
             )));
         }
-        mesh.normals.iter_mut().for_each(|v| *v = nm * *v);
         if *analytic && mirrored {
             mesh.triangles.iter_mut().for_each(|t| t.swap(1, 2));
         }

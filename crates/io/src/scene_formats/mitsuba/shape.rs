@@ -94,19 +94,10 @@ pub fn shape_and_kind<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> 
     if let Some((t, tnode)) = p.transform("to_world")? {
         let m = t.matrix;
         mirrored = DMat3::from_mat4(m).determinant() < 0.0;
-        if m != DMat4::IDENTITY {
-            let mf = m.as_mat4();
-            if m.row(3) == glam::DVec4::W {
-                positions.iter_mut().for_each(|q| *q = mf.transform_point3(*q));
-            } else {
-                positions.iter_mut().for_each(|q| *q = mf.project_point3(*q));
-            }
-            if let Some(i) = positions.iter().position(|q| !q.is_finite()) {
-                return Err(tnode.err(format!("to_world maps vertex {} to a non-finite point", i + 1)));
-            }
-            // Normals transform by the inverse transpose (the core normalises them).
-            let nm = glam::Mat3::from_mat4(mf).inverse().transpose();
-            normals.iter_mut().for_each(|v| *v = nm * *v);
+        if m != DMat4::IDENTITY
+            && let Some(i) = transform_mesh(&m, &mut positions, &mut normals)
+        {
+            return Err(tnode.err(format!("to_world maps vertex {} to a non-finite point", i + 1)));
         }
     }
     if mesh_file && !face_normals && normals.is_empty() {
@@ -200,6 +191,21 @@ pub fn shape_and_kind<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> 
     Ok((mesh, analytic))
 }
 
+/// Carries a mesh's `positions` (projectively, if `m` is) and shading `normals` (by the inverse
+/// transpose; the core normalises them) through `m`. `Some(i)`: vertex i became non-finite.
+pub fn transform_mesh(m: &DMat4, positions: &mut [Vec3], normals: &mut [Vec3]) -> Option<usize> {
+    let mf = m.as_mat4();
+    if m.row(3) == glam::DVec4::W {
+        positions.iter_mut().for_each(|q| *q = mf.transform_point3(*q));
+    } else {
+        positions.iter_mut().for_each(|q| *q = mf.project_point3(*q));
+    }
+    let bad = positions.iter().position(|q| !q.is_finite());
+    let nm = glam::Mat3::from_mat4(mf).inverse().transpose();
+    normals.iter_mut().for_each(|v| *v = nm * *v);
+    bad
+}
+
 /// `obj`: the triangles of a Wavefront OBJ file (`filename`, relative to the scene's folder).
 fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geometry> {
     let (file, fnode) =
@@ -283,21 +289,13 @@ fn sphere<'d>(_: &mut Builder<'d>, _: &'d Element, p: &mut Props<'d>) -> Result<
     let center = p.point("center")?.map_or(Vec3::ZERO, |(c, _)| c.as_vec3());
     let radius = positive(p, "radius", 1.0)?;
     let (positions, triangles, normals, uvs) = tessellate::sphere(center, radius as f32);
-    Ok(Geometry {
-        positions,
-        triangles,
-        normals,
-        uvs,
-        attributes: Vec::new(),
-        mesh_file: false,
-        analytic: true,
-    })
+    Ok(analytic(positions, triangles, normals, uvs))
 }
 
 /// `disk`: the unit disk at z = 0, normal +z.
 fn disk<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Geometry> {
     let (positions, triangles, _, uvs) = tessellate::disk();
-    Ok(analytic(positions, triangles, uvs))
+    Ok(analytic(positions, triangles, Vec::new(), uvs))
 }
 
 /// `cylinder`: `p0` (0, 0, 0) to `p1` (0, 0, 1), `radius` (1), open, smooth normals outward.
@@ -308,15 +306,7 @@ fn cylinder<'d>(_: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Resul
     let (a, b) = (p0.map_or(glam::DVec3::ZERO, |x| x.0), p1.map_or(glam::DVec3::Z, |x| x.0));
     let (positions, triangles, normals, uvs) = tessellate::cylinder(a, b, radius)
         .ok_or_else(|| p1.or(p0).map_or(e, |x| x.1).err("the cylinder's p0 and p1 are the same point"))?;
-    Ok(Geometry {
-        positions,
-        triangles,
-        normals,
-        uvs,
-        attributes: Vec::new(),
-        mesh_file: false,
-        analytic: true,
-    })
+    Ok(analytic(positions, triangles, normals, uvs))
 }
 
 /// A float parameter that must be > 0 (`default` if absent).
@@ -333,7 +323,7 @@ fn rectangle<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Resu
     let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
     let positions = corners.map(|(x, y)| Vec3::new(x, y, 0.0));
     let uvs = corners.map(|(x, y)| Vec2::new((x + 1.0) / 2.0, (y + 1.0) / 2.0));
-    Ok(analytic(positions.to_vec(), vec![[0, 1, 2], [2, 3, 0]], uvs.to_vec()))
+    Ok(analytic(positions.to_vec(), vec![[0, 1, 2], [2, 3, 0]], Vec::new(), uvs.to_vec()))
 }
 
 /// Mitsuba's `cube` texture coordinates: each face's corners (position, outward normal axis
@@ -388,18 +378,11 @@ fn cube<'d>(_: &mut Builder<'d>, _: &'d Element, _: &mut Props<'d>) -> Result<Ge
             triangles.push([base, base + 2, base + 3]);
         }
     }
-    Ok(analytic(positions, triangles, uvs))
+    Ok(analytic(positions, triangles, Vec::new(), uvs))
 }
 
-/// A faceted analytic shape with its texture coordinates.
-fn analytic(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>, uvs: Vec<Vec2>) -> Geometry {
-    Geometry {
-        positions,
-        triangles,
-        normals: Vec::new(),
-        uvs,
-        attributes: Vec::new(),
-        mesh_file: false,
-        analytic: true,
-    }
+/// An analytic shape, tessellated: its triangles, its exact normals (none: faceted) and its
+/// texture coordinates.
+fn analytic(positions: Vec<Vec3>, triangles: Vec<[u32; 3]>, normals: Vec<Vec3>, uvs: Vec<Vec2>) -> Geometry {
+    Geometry { positions, triangles, normals, uvs, attributes: Vec::new(), mesh_file: false, analytic: true }
 }
