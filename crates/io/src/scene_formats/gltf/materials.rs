@@ -54,7 +54,7 @@ use opticks_core::bsdf::{
 };
 use opticks_core::light::check::check_emission;
 use opticks_core::math::{Rgb, Vec2};
-use opticks_core::texture::{Bitmap, ColourSlot, FilterType, Texture, UvTransform};
+use opticks_core::texture::{Bitmap, ColourSlot, Texture, UvTransform};
 use std::sync::Arc;
 
 /// Largest Phong exponent produced (the core's limit).
@@ -282,20 +282,19 @@ fn textured_colours(
         }
         None => roughness,
     };
-    // The texel grid the colours are baked on, with its base colours.
-    let (carrier, grid_base): (TextureUse, Option<Arc<crate::texture_file::TextureImage>>) =
-        match (&base_use, &mr) {
-            (Some(u), _) => (u.clone(), Some(images.get(u.image, false)?)),
-            (None, Some((u, _))) => (u.clone(), None),
-            (None, None) => unreachable!("one texture at least"),
-        };
-    let (w, h) = match (&grid_base, &mr) {
-        (Some(img), _) => (img.width, img.height),
-        (None, Some((_, b))) => b.size(),
+    // The texel grid the colours are baked on (the base colour's, else the metallic texture's),
+    // with its base colours.
+    let (carrier, grid_base, (w, h)) = match (&base_use, &mr) {
+        (Some(u), _) => {
+            let image = images.get(u.image, false)?;
+            let size = (image.width, image.height);
+            (u.clone(), Some(image), size)
+        }
+        (None, Some((u, b))) => (u.clone(), None, b.size()),
         (None, None) => unreachable!("one texture at least"),
     };
     // Metallic per texel of the grid, or the texture's mean where it cannot be.
-    let mut per_texel_metallic = match &mr {
+    let per_texel_metallic = match &mr {
         Some((u, _)) if u.tex_coord != carrier.tex_coord || u.to_uv != carrier.to_uv => {
             notes.push("metallicRoughnessTexture reads other texture coordinates than baseColorTexture: its mean metallic is used".into());
             false
@@ -330,17 +329,13 @@ fn textured_colours(
         notes.push(
             "the metallic texture's kd and ks maxima sum above 1 (Phong's energy bound is checked at the maxima): its mean metallic is used".into(),
         );
-        per_texel_metallic = false;
-        (kd, ks) = bake(per_texel_metallic);
+        (kd, ks) = bake(false);
     }
-    let _ = per_texel_metallic;
     let colour = |texels: Vec<Rgb>| -> Result<Colour, String> {
         if texels.iter().all(|&c| c == texels[0]) {
             return Ok(Colour::Constant(texels[0]));
         }
-        let filter =
-            if carrier.filter == FilterType::Nearest { FilterType::Nearest } else { FilterType::Bilinear };
-        let bitmap = Bitmap::new(w, h, texels, filter, carrier.wrap, carrier.to_uv)
+        let bitmap = Bitmap::new(w, h, texels, carrier.filter, carrier.wrap, carrier.to_uv)
             .map_err(|e| format!("baseColorTexture: {e}"))?;
         Ok(Colour::Map(Arc::new(Texture::Bitmap(bitmap))))
     };
