@@ -1,6 +1,6 @@
 //! The entry points of the fuzz targets, one per reader, shared by the cargo-fuzz binaries
 //! (`fuzz/fuzz_targets/`, nightly) and the stable regression test that replays every input that
-//! ever crashed (`crates/io/tests/fuzz_regressions.rs`, which includes this file by path).
+//! ever crashed (`crates/io/tests/it/fuzz_regressions.rs`, which includes this file by path).
 //!
 //! Each entry point feeds the bytes to a reader through its public API, exactly as a user's file
 //! reaches it (written to a file in a private temporary folder when the reader takes a path), and

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes textured.gltf + textured.bin + checker.png, and the same room as Mitsuba XML
 (textured.xml + textured-floor.obj + textured-lamp.obj), for the glTF loader's texture,
-transmission, scene and camera tests (crates/io/tests/gltf.rs, tests/gltf_textures.rs).
+transmission, scene and camera tests (crates/io/tests/it/gltf.rs, tests/gltf_textures.rs).
 
 Python 3 standard library only. Run from anywhere:  python3 testdata/gltf/make_textured.py
 

@@ -1,4 +1,4 @@
-"""Writes sky.exr, the 32 x 16 lat-long map of the `envmap` test scene (tests/environment.rs):
+"""Writes sky.exr, the 32 x 16 lat-long map of the `envmap` test scene (crates/cli/tests/it/environment.rs):
 a dim blue sky brightening toward the horizon, a darker ground half and a bright 2 x 2 texel
 "sun" at rows 3-4 (about 45 degrees above the horizon), columns 6-7.
 

@@ -1,4 +1,4 @@
-"""Mitsuba 3 reference for the illuminance meter in the air (tests/meter.rs).
+"""Mitsuba 3 reference for the illuminance meter in the air (crates/cli/tests/it/meter.rs).
 
 The furnace room of testdata/scenes/furnace (closed unit cube, twosided grey diffuse of
 albedo 0.5 everywhere, a 0.2 x 0.2 m area light of radiance 10 flush with the ceiling),

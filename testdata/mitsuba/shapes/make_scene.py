@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the mesh files of the `shapes` scene (tests/mitsuba_scenes.rs), by hand so that each
+"""Writes the mesh files of the `shapes` scene (crates/cli/tests/it/mitsuba_scenes.rs), by hand so that each
 encoding is exercised exactly as specified:
 
   meshes/octa.ply          binary big-endian PLY: an octahedron of radius 0.3 with vertex

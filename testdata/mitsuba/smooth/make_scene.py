@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes meshes/sphere.obj for the smooth-normals scene (tests/caustics.rs): a low-poly
+"""Writes meshes/sphere.obj for the smooth-normals scene (crates/cli/tests/it/caustics.rs): a low-poly
 latitude-longitude sphere (8 rings x 16 segments = 224 triangles, one vertex per pole), radius
 0.5 about the origin, faces outward (counter-clockwise seen from outside), with no `vn` and no
 `vt`, so Mitsuba 3 (and Opticks) generate angle-weighted smooth vertex normals for it.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""make_textures.py - the texture images and the OBJ of testdata/mitsuba/textures (tests/mitsuba_scenes.rs).
+"""make_textures.py - the texture images and the OBJ of testdata/mitsuba/textures (crates/cli/tests/it/mitsuba_scenes.rs).
 
 Writes, deterministically and with the standard library only (run from anywhere):
   * stripes.png: 16 x 8 8-bit sRGB RGB, a colour per column (hue ramp) darkened on the lower
@@ -9,7 +9,7 @@ Writes, deterministically and with the standard library only (run from anywhere)
   * quad.obj: a unit quad with `vt` coordinates (Mitsuba flips v by default: flip_tex_coords).
 Then render the reference from the repository root:
     export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
-    /work/venv-mitsuba/bin/python tests/mitsuba/render_reference.py textures --passes 16 \
+    /work/venv-mitsuba/bin/python tools/mitsuba/render_reference.py textures --passes 16 \
         --spp 4096 --competitor-spp 128 --threads 2
 """
 import os

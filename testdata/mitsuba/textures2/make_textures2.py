@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""make_textures2.py - the image and PLY meshes of testdata/mitsuba/textures2 (tests/mitsuba_scenes.rs).
+"""make_textures2.py - the image and PLY meshes of testdata/mitsuba/textures2 (crates/cli/tests/it/mitsuba_scenes.rs).
 
 Writes, deterministically and with the standard library only (run from anywhere):
   * rough.png: 8 x 1 8-bit grey, read `raw`: the sphere's roughness (alpha = texel / 255, from
@@ -11,7 +11,7 @@ Writes, deterministically and with the standard library only (run from anywhere)
     specular_reflectance and alpha are both mesh attributes, constant per triangle.
 Then render the reference from the repository root:
     export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so
-    /work/venv-mitsuba/bin/python tests/mitsuba/render_reference.py textures2 --passes 16 \
+    /work/venv-mitsuba/bin/python tools/mitsuba/render_reference.py textures2 --passes 16 \
         --spp 1024 --competitor-spp 256 --threads 2
 """
 import math

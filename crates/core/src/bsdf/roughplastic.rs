@@ -322,7 +322,7 @@ mod tests {
 
     use crate::bsdf::roughplastic_mitsuba::MITSUBA;
 
-    /// The cases of tests/mitsuba/roughplastic_values.py, in its order.
+    /// The cases of tools/mitsuba/roughplastic_values.py, in its order.
     fn mitsuba_cases() -> Vec<RoughPlastic> {
         use Distribution::*;
         let air = 1.000277;
@@ -343,7 +343,7 @@ mod tests {
     }
 
     /// Mitsuba's own eval (÷ cos θ_o) and pdf at fixed directions (the table of
-    /// tests/mitsuba/roughplastic_values.py): eval within 10⁻⁵ (the tables are Mitsuba's
+    /// tools/mitsuba/roughplastic_values.py): eval within 10⁻⁵ (the tables are Mitsuba's
     /// quadratures; f32 rounding), pdf within 10⁻⁵ but for Beckmann's visible normals, whose
     /// density here uses the exact Λ rather than Mitsuba's fit (module docs): within 0.35 %.
     #[test]

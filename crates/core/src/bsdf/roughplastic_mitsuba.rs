@@ -1,5 +1,5 @@
 //! Mitsuba 3's own `roughplastic` values, pinned by `super::roughplastic`'s tests: generated
-//! by tests/mitsuba/roughplastic_values.py (Mitsuba 3.9.1). Per case, (wi θ, φ), (wo θ, φ) in
+//! by tools/mitsuba/roughplastic_values.py (Mitsuba 3.9.1). Per case, (wi θ, φ), (wo θ, φ) in
 //! degrees, f = eval/cos θ_o per channel, pdf.
 
 #[allow(clippy::excessive_precision, clippy::type_complexity)]

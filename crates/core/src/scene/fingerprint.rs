@@ -19,7 +19,7 @@
 //! as the dataset format itself: a change to any of them refuses every dataset ever traced. They
 //! are therefore spelled out here, byte by byte, and depend on no `Debug` impl, no field or type
 //! name of the Rust code and no library's formatting (renaming a field or upgrading glam changes
-//! nothing). `tests/fingerprints.rs` pins the hashes of the reference scenes and renders datasets
+//! nothing). `crates/cli/tests/it/fingerprints.rs` pins the hashes of the reference scenes and renders datasets
 //! written before this encoding was written out.
 //!
 //! ## Version 2 (the current one, [`Fingerprint::VERSION`])

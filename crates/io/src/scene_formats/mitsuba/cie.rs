@@ -1,6 +1,6 @@
 //! The CIE tables of Mitsuba 3's spectrum-to-RGB conversion, at its 95 nodes (360–830 nm,
 //! every 5 nm): the CIE 1931 2° colour matching functions x̄, ȳ, z̄ and the D65 illuminant
-//! normalised to luminance 1. Written by `tests/mitsuba/cie_tables.py` from Mitsuba itself; do
+//! normalised to luminance 1. Written by `tools/mitsuba/cie_tables.py` from Mitsuba itself; do
 //! not edit by hand. Used by [`super::spectrum`].
 
 /// (x̄, ȳ, z̄, D65) at 360 + 5·i nm.

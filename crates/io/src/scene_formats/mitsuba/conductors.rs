@@ -1,7 +1,7 @@
 //! Mitsuba's named conductors (`<string name="material" value="Au"/>` in a `conductor` or
 //! `roughconductor`) as RGB complex indices of refraction η + iκ, derived from Mitsuba's
 //! spectral tables exactly as its RGB variants derive them (the rule is in
-//! `tests/mitsuba/conductor_presets.py`, which wrote this file; do not edit by hand).
+//! `tools/mitsuba/conductor_presets.py`, which wrote this file; do not edit by hand).
 
 use opticks_core::math::Rgb;
 

@@ -24,7 +24,7 @@
 //! and `build::TOP_LEVEL` for the elements of `<scene>`), and its "unsupported type" error lists
 //! that table. A new type is one entry and one function in that file, reading its parameters
 //! with `properties::Props` (which warns about the ones nobody reads), plus its test in
-//! `crates/io/tests/mitsuba.rs` and its row in the manual.
+//! `crates/io/tests/it/mitsuba.rs` and its row in the manual.
 //!
 //! # Errors
 //!

@@ -16,7 +16,7 @@
 //!   that they match its spectral variants;
 //! * `<rgb>` is taken as linear sRGB as it is.
 //!
-//! The tables are Mitsuba's ([`super::cie`], written from Mitsuba by `tests/mitsuba/cie_tables.py`).
+//! The tables are Mitsuba's ([`super::cie`], written from Mitsuba by `tools/mitsuba/cie_tables.py`).
 
 use super::cie::NODES;
 use glam::{DMat3, DVec3};
@@ -126,7 +126,7 @@ mod tests {
     use super::*;
 
     /// The values Mitsuba 3.9's `spectrum_list_to_srgb` gives for the same spectra
-    /// (`tests/mitsuba/cie_tables.py` prints them).
+    /// (`tools/mitsuba/cie_tables.py` prints them).
     #[test]
     fn conversion_is_mitsubas() {
         let (w, v) = ([400.0, 500.0, 600.0, 700.0], [0.1, 0.9, 0.3, 0.5]);

@@ -1,0 +1,68 @@
+//! House rules that a compiler does not check (rust-analyzer's "tidy" tests): every Rust source
+//! file opens with `//!` module docs saying what lives there and why, and each crate has one
+//! integration-test binary (`tests/it/`) besides the few that need a process of their own.
+
+use std::path::{Path, PathBuf};
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
+        }
+    }
+}
+
+#[test]
+fn every_source_file_has_module_docs() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = Vec::new();
+    for dir in ["crates", "fuzz/src", "fuzz/fuzz_targets"] {
+        rust_files(&root.join(dir), &mut files);
+    }
+    assert!(files.len() > 20, "found only {} files", files.len());
+    let missing: Vec<_> = files
+        .iter()
+        .filter(|f| !std::fs::read_to_string(f).unwrap().trim_start().starts_with("//!"))
+        .map(|f| f.strip_prefix(&root).unwrap_or(f).display().to_string())
+        .collect();
+    assert!(missing.is_empty(), "files without `//!` module docs: {missing:#?}");
+}
+
+/// Every test executable links the whole workspace again: one per crate (`tests/it/main.rs`
+/// with a module per subject, helpers in `opticks-testkit`), plus only those that need a process
+/// of their own (a process-wide allocator peak, MPI).
+#[test]
+fn one_integration_test_binary_per_crate() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let own_process = ["crates/io/tests/vrml_bomb_memory.rs", "crates/cli/tests/cluster.rs"];
+    let mut binaries = Vec::new();
+    for krate in std::fs::read_dir(root.join("crates")).unwrap() {
+        let tests = krate.unwrap().path().join("tests");
+        let Ok(entries) = std::fs::read_dir(&tests) else { continue };
+        for entry in entries {
+            let path = entry.unwrap().path();
+            let rel = path.strip_prefix(&root).unwrap().display().to_string();
+            if path.is_dir() {
+                assert!(
+                    path.ends_with("it") && path.join("main.rs").is_file(),
+                    "{rel}: tests go in tests/it/"
+                );
+                binaries.push(rel);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                assert!(
+                    own_process.contains(&rel.as_str()),
+                    "{rel}: a test binary of its own; make it a module of tests/it/"
+                );
+                binaries.push(rel);
+            }
+        }
+    }
+    assert!(binaries.len() <= 6, "{} integration-test binaries: {binaries:#?}", binaries.len());
+    assert!(
+        !root.join("tests").exists(),
+        "tests/ at the root: integration tests live in their crate's tests/it/"
+    );
+}

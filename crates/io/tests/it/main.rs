@@ -1,0 +1,17 @@
+//! The file formats' integration tests, one binary: every reader and writer through the public
+//! API of `opticks-io` (scene formats, the dataset file, images, hostile input, fuzz regressions).
+//! The VRML module installs a thread-local counting allocator for the whole binary (its budgets
+//! are checked as bytes); the one test that needs a process-wide peak has a binary of its own
+//! (`vrml_bomb_memory.rs`).
+
+mod dataset_file;
+mod fuzz_regressions;
+mod gltf;
+mod hostile_readers;
+mod image_file;
+mod mitsuba;
+mod mitsuba_structure;
+mod mitsuba_textures;
+mod obj_mtl;
+mod scene_loading;
+mod vrml;
