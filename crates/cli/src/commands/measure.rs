@@ -16,7 +16,7 @@
 //! `--connections` uniform points of the meter, plus the direct light of point and directional
 //! lights gathered at `--direct-samples` points per cell; `samples` counts the samples that
 //! landed on the meter and so only reads meters on scene geometry, where it is several times
-//! cheaper and less noisy (measured in README's "Sensors"). `--surface` uses `samples`,
+//! cheaper and less noisy (measured in docs/guide.md, "Sensors"). `--surface` uses `samples`,
 //! `--plane` and `--points` `connections`, unless `--estimator` says otherwise
 //! (`opticks_core::sensor::meter`).
 //!

@@ -1,4 +1,4 @@
-//! What Opticks guarantees (the README section of that name; issue 10's data-loss and
+//! What Opticks guarantees (the section of that name in docs/guide.md; issue 10's data-loss and
 //! silently-wrong items): nothing on disk is lost and nothing is silently wrong, whatever a
 //! careless user, a signal, a full disk or a second process does to the command line, end to
 //! end. Each test reproduces a way the command line used to destroy data or print a wrong answer
@@ -449,7 +449,7 @@ fn the_first_ten_minutes_read_well() {
     assert!(e.contains("the dataset's lights are light (give"), "no Debug lists: {e}");
 }
 
-/// The README's examples run on the files committed for them (`examples/`).
+/// The guide's examples run on the files committed for them (`examples/`).
 #[test]
 fn the_readme_examples_run() {
     let dir = tempfile::tempdir().unwrap();

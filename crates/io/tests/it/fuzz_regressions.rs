@@ -2,7 +2,7 @@
 //! entry points (`fuzz/src/entry.rs`, included here by path): `testdata/fuzz-regressions/TARGET/`
 //! holds the inputs of target TARGET, each named after the defect it found. A replay must return
 //! (an error is fine) without panicking, aborting or hanging. The fuzz targets themselves run in
-//! `.ci/run` for a short bounded time each (nightly, `fuzz/run.sh`); README's reliability section
+//! `.ci/run` for a short bounded time each (nightly, `fuzz/run.sh`); docs/guide.md's reliability section
 //! says how many executions each has survived.
 
 #[path = "../../../../fuzz/src/entry.rs"]

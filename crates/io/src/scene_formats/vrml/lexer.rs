@@ -10,7 +10,7 @@
 //!
 //! The lexer never allocates except for strings with escapes, and numbers are handed to the
 //! parser as sub-slices that it converts with the standard library's allocation-free parsers:
-//! that is what lets a 40 MB `IndexedFaceSet` parse at ~300 MB/s (the README has the measurement).
+//! that is what lets a 40 MB `IndexedFaceSet` parse at ~300 MB/s (docs/performance.md has the measurement).
 
 use std::fmt;
 
