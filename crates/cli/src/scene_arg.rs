@@ -1,20 +1,15 @@
-//! Scene loading for the commands: a path to a scene file, or the name of a built-in scene,
-//! with the `-D NAME=VALUE` parameters of a Mitsuba scene ([`DefineArgs`]).
+//! The scene arguments of the commands: `SCENE` parsed into the library's typed reference
+//! (`opticks_io::scene_source::SceneRef`), the `-D NAME=VALUE` parameters, `--camera` and
+//! `--gltf-scene` ([`DefineArgs`]); loading prints the library's warnings.
 
-use anyhow::{Context, Result, bail};
-use opticks_core::scene::{Scene, SceneDescription, cornell_box};
+use anyhow::{Result, bail};
+use opticks_core::scene::{Scene, SceneDescription};
 use opticks_io::scene_formats::LoadOptions;
-use std::path::Path;
+use opticks_io::scene_source::{self, SceneRef};
 
-/// Dataset label of the built-in Cornell box.
-pub const BUILTIN_CORNELL: &str = "builtin:cornell";
-
-/// Every built-in scene, by the name a command takes.
-pub const BUILTINS: &[&str] = &[BUILTIN_CORNELL];
-
-/// Whether `spec` names a built-in scene (`builtin:…`), known or not.
-pub fn is_builtin(spec: &str) -> bool {
-    spec.starts_with("builtin:")
+/// `SCENE` on the command line: a scene file, or `builtin:NAME` ([`SceneRef::parse`]).
+pub fn parse_scene(spec: &str) -> Result<SceneRef> {
+    Ok(SceneRef::parse(spec)?)
 }
 
 /// The options of every verb that loads a scene: `-D` parameters, and which camera and which
@@ -58,7 +53,8 @@ impl DefineArgs {
         DefineArgs { define: pairs, camera: None, gltf_scene }
     }
 
-    fn options(&self) -> LoadOptions {
+    /// The loader's options.
+    pub fn options(&self) -> LoadOptions {
         LoadOptions {
             defines: self.define.clone(),
             camera: self.camera.clone(),
@@ -76,45 +72,27 @@ fn parse_define(s: &str) -> Result<(String, String)> {
     Ok((name.to_string(), value.to_string()))
 }
 
-/// Loads a scene description from a file, or a built-in scene by its label.
-pub fn load_description(spec: &str, defines: &DefineArgs) -> Result<SceneDescription> {
-    if spec == BUILTIN_CORNELL {
-        if !defines.define.is_empty() {
-            bail!("-D gives parameters of a scene file; {BUILTIN_CORNELL} has none");
-        }
-        if defines.camera.is_some() || defines.gltf_scene.is_some() {
-            bail!(
-                "--camera and --gltf-scene choose within a scene file; {BUILTIN_CORNELL} has one camera and one scene"
-            );
-        }
-        return Ok(cornell_box());
-    }
-    if is_builtin(spec) {
-        bail!("there is no built-in scene '{spec}' (built-in scenes: {})", BUILTINS.join(", "));
-    }
-    opticks_io::output_paths::check_input_file(Path::new(spec), "a scene file")?;
-    let loaded = opticks_io::scene_formats::load_scene_with(Path::new(spec), &defines.options())?;
+/// Loads a scene description (`opticks_io::scene_source::load`), printing its warnings.
+pub fn load_description(scene: &SceneRef, defines: &DefineArgs) -> Result<SceneDescription> {
+    let loaded = scene_source::load(scene, &defines.options())?;
     for w in &loaded.warnings {
-        crate::output::warning(&w.to_string());
+        crate::output::warning(w);
     }
     Ok(loaded.description)
 }
 
 /// Loads and validates a scene (builds its BVH).
-pub fn load_scene(spec: &str, defines: &DefineArgs) -> Result<Scene> {
-    build_scene(spec, &load_description(spec, defines)?)
+pub fn load_scene(scene: &SceneRef, defines: &DefineArgs) -> Result<Scene> {
+    build_scene(scene, &load_description(scene, defines)?)
 }
 
-/// Validates a loaded description into a scene, reporting dropped triangles.
-pub fn build_scene(spec: &str, desc: &SceneDescription) -> Result<Scene> {
-    let scene = Scene::build(desc).with_context(|| format!("invalid scene {spec}"))?;
-    if scene.dropped_triangles > 0 {
-        crate::output::warning(&format!(
-            "{spec}: dropped {} degenerate (zero-area) triangles",
-            scene.dropped_triangles
-        ));
+/// Validates a loaded description into a scene, printing what it dropped.
+pub fn build_scene(scene: &SceneRef, desc: &SceneDescription) -> Result<Scene> {
+    let built = scene_source::build(scene, desc)?;
+    if let Some(w) = &built.warning {
+        crate::output::warning(w);
     }
-    Ok(scene)
+    Ok(built.scene)
 }
 
 #[cfg(test)]

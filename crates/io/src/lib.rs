@@ -10,12 +10,16 @@
 //!   stale temporary files of killed runs, a pending partial run, an existing target;
 //! * [`output_paths`]: the rules every output path obeys (its extension, its directory, never an
 //!   input of the command), checked before any work;
+//! * [`scene_source`]: the scene a front end works on (built-in or a file), loaded and built;
+//! * [`opened`]: a dataset opened against its scene, checked and relit — what every use of a
+//!   dataset starts with, whatever the front end;
 //! * [`scene_ref`]: the scene file a dataset records (relative to the dataset, and absolute);
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
 //! * [`texture_file`]: texture images (PNG, JPEG, HDR, EXR) as linear RGB, sizes checked first;
 //! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
+//! * [`meter_table`]: a meter's reading as the CSV table `measure` writes;
 //! * [`meter_points`]: the points an illuminance meter reads at (`x,y,z,nx,ny,nz` lines);
 //! * [`light_cache`]: the bidirectional estimator's light vertex cache over a dataset file;
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios);
@@ -36,9 +40,12 @@ pub mod input_file;
 pub mod light_cache;
 pub mod memory;
 pub mod meter_points;
+pub mod meter_table;
+pub mod opened;
 pub mod output_paths;
 pub mod scene_formats;
 pub mod scene_ref;
+pub mod scene_source;
 pub mod texture_file;
 
 pub use scene_formats::{

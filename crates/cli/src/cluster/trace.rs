@@ -49,11 +49,15 @@ pub struct ClusterTracer {
 }
 
 impl ClusterTracer {
-    /// A tracer whose workers load `scene` (a path, or `builtin:…`) with `defines`.
-    pub fn new(scene: &str, defines: &crate::scene_arg::DefineArgs) -> Self {
-        let absolute = std::fs::canonicalize(scene).ok().and_then(|p| p.to_str().map(str::to_owned));
+    /// A tracer whose workers load `scene` (a file, sent as its absolute path, or a built-in
+    /// scene, sent by its label) with `defines`.
+    pub fn new(scene: &opticks_io::scene_source::SceneRef, defines: &crate::scene_arg::DefineArgs) -> Self {
+        let absolute = scene
+            .file()
+            .and_then(|f| std::fs::canonicalize(f).ok())
+            .and_then(|p| p.to_str().map(str::to_owned));
         ClusterTracer {
-            scene: absolute.unwrap_or_else(|| scene.to_owned()),
+            scene: absolute.unwrap_or_else(|| scene.label()),
             defines: defines.pairs().to_vec(),
             gltf_scene: defines.gltf_scene().map(str::to_owned),
         }
@@ -297,7 +301,8 @@ pub fn serve(threads: usize) -> ExitCode {
         if loaded.as_ref().is_none_or(|(spec, _)| *spec != wanted) {
             let defines =
                 crate::scene_arg::DefineArgs::for_worker(job.defines.clone(), job.gltf_scene.clone());
-            loaded = match crate::scene_arg::load_scene(&job.scene, &defines) {
+            let scene = crate::scene_arg::parse_scene(&job.scene);
+            loaded = match scene.and_then(|scene| crate::scene_arg::load_scene(&scene, &defines)) {
                 Ok(scene) => Some((wanted, scene)),
                 Err(e) => {
                     let why = crate::error_chain(&e);

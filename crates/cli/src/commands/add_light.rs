@@ -23,8 +23,8 @@ pub struct Args {
     light: String,
     /// Scene file with the new light (default: the one recorded in the dataset); the result
     /// records it.
-    #[arg(long)]
-    scene: Option<String>,
+    #[arg(long, value_parser = crate::scene_arg::parse_scene)]
+    scene: Option<opticks_io::scene_source::SceneRef>,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     /// Paths for the new light (default: its fair share, N·Φ_new/ΣΦ of the lights already traced).
@@ -37,8 +37,8 @@ pub struct Args {
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
     let Extending { output, lock: _lock, opened } =
-        a.extend.begin(&a.dataset, a.scene.as_deref(), &a.defines)?;
-    let Opened { reader, scene, scene_spec, .. } = opened;
+        a.extend.begin(&a.dataset, a.scene.as_ref(), &a.defines)?;
+    let Opened { reader, scene, scene_ref, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) =
         opticks_core::dataset::add_light(reader.header(), &scene, &a.light, a.paths, seed, &strategy)
@@ -54,13 +54,13 @@ pub fn run(a: Args) -> Result<()> {
                 e @ AddLightError::NoSuchLight { .. } => e.into(),
             })?;
     let paths = pass.settings.paths;
-    header.label = label_for(&scene_spec, &output);
+    header.label = label_for(&scene_ref.label(), &output);
     let sources = [Source::as_is(&reader)];
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, paths))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let progress = TraceProgress::with_time_limit(a.extend.time);
-    let job = write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &progress);
+    let job = write_job((&scene_ref, &a.defines), &output, header, &sources, Some(new), &progress);
     let Some(report) = unless_time_up(job, &progress)? else {
         return Ok(());
     };

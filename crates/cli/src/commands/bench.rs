@@ -5,7 +5,7 @@
 use super::ThreadArgs;
 use crate::camera_args::CameraArgs;
 use crate::output;
-use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
+use crate::scene_arg::load_scene;
 use crate::strategy_args::StrategyArgs;
 use anyhow::Result;
 use opticks_core::dataset::Chunk;
@@ -18,8 +18,8 @@ use std::time::Instant;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Scene file or `builtin:cornell`.
-    #[arg(default_value = BUILTIN_CORNELL)]
-    scene: String,
+    #[arg(default_value = "builtin:cornell", value_parser = crate::scene_arg::parse_scene)]
+    scene: opticks_io::scene_source::SceneRef,
     /// Light paths per run; e.g. 4194304, 4M, 4e6.
     #[arg(long, value_parser = crate::count_arg::parse_count, default_value_t = 4_194_304)]
     paths: u64,
@@ -147,7 +147,7 @@ pub fn run(a: Args) -> Result<()> {
     let mean = m.map(|x| json_number(x, 6, false)).join(",");
     output::data(&format!(
         "{{\"scene\":{},\"paths\":{},\"threads\":{threads},\"trace_s\":{},\"render_s\":{},\"samples\":{samples},\"mean_rgb\":[{mean}]{quality}}}",
-        json_string(&a.scene),
+        json_string(&a.scene.label()),
         a.paths,
         json_number(best_trace, 4, false),
         json_number(best_render, 4, false)

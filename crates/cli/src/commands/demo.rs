@@ -6,11 +6,12 @@ use super::{ThreadArgs, render_chunks, warn_if_black};
 use crate::camera_args::CameraArgs;
 use crate::output;
 use crate::progress::TraceProgress;
-use crate::scene_arg::{BUILTIN_CORNELL, load_scene};
+use crate::scene_arg::load_scene;
 use anyhow::{Context, Result};
 use opticks_core::dataset::{TraceSettings, new_trace};
 use opticks_io::dataset_job::trace_observed;
 use opticks_io::output_paths::{OutputKind, check_output, check_outputs};
+use opticks_io::scene_source::SceneRef;
 use std::path::{Path, PathBuf};
 
 /// Where the demo writes by default: a folder of its own.
@@ -63,12 +64,12 @@ pub fn run(a: Args) -> Result<()> {
     let other =
         a.output.with_extension(if a.output.extension().is_some_and(|e| e == "exr") { "png" } else { "exr" });
     check_outputs(&[(&a.output, OutputKind::Image), (&other, OutputKind::Image)], &[])?;
-    let scene = load_scene(BUILTIN_CORNELL, &Default::default())?;
+    let scene = load_scene(&SceneRef::cornell(), &Default::default())?;
     let camera = a.camera.resolve(scene.camera)?;
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
     let t0 = Instant::now();
     let mut chunks = Vec::new();
-    let (mut header, pass) = new_trace(&scene, BUILTIN_CORNELL, settings);
+    let (mut header, pass) = new_trace(&scene, &SceneRef::cornell().label(), settings);
     let sink = |c| {
         chunks.push(c);
         Ok::<(), std::convert::Infallible>(())

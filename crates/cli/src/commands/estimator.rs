@@ -4,14 +4,14 @@
 //! number of camera paths per pixel (`--spp`), or passes until `--time` is up with a progress
 //! bar and the running error estimate of `opticks_core::sensor::bidirectional::Progressive`.
 
-use super::LitDataset;
 use crate::progress;
 use anyhow::{Result, anyhow, bail};
 use clap::ValueEnum;
 use opticks_core::dataset::{Directions, MisUnavailable, mis_compatibility};
-use opticks_core::film::Film;
 use opticks_core::sensor::Sensor;
-use opticks_core::sensor::bidirectional::{Heuristic, Progressive, Renderer, Settings};
+use opticks_core::sensor::bidirectional::run::{self, Run, RunEvent, RunPlan};
+use opticks_core::sensor::bidirectional::{Heuristic, Settings};
+use opticks_io::opened::LitDataset;
 use std::time::Instant;
 
 /// Which estimator renders the image.
@@ -43,18 +43,6 @@ pub struct EstimatorArgs {
     pub seed: u64,
 }
 
-/// What a bidirectional render did.
-pub struct BidirectionalRun {
-    /// The image.
-    pub film: Film,
-    /// Camera passes and camera paths per pixel.
-    pub passes: u64,
-    /// Camera paths per pixel in all.
-    pub spp: u64,
-    /// The running estimate of the relative error (after two passes).
-    pub error: Option<f64>,
-}
-
 impl EstimatorArgs {
     /// Checks the options that do not depend on the dataset.
     pub fn check(&self) -> Result<()> {
@@ -64,9 +52,10 @@ impl EstimatorArgs {
         Ok(())
     }
 
-    /// Renders `data` through `camera` bidirectionally: `self.spp` camera paths per pixel in one
-    /// pass, or, with `time`, passes of that many until `time` seconds have passed since the
-    /// start. `pass` names the first pass's random streams (a walkthrough's frame number).
+    /// Renders `data` through `camera` bidirectionally (`opticks_core::sensor::bidirectional::run`):
+    /// `self.spp` camera paths per pixel in one pass, or, with `time`, passes of that many until
+    /// `time` seconds have passed since the start. `pass` names the first pass's random streams
+    /// (a walkthrough's frame number).
     pub fn render(
         &self,
         data: &LitDataset,
@@ -74,96 +63,56 @@ impl EstimatorArgs {
         time: Option<f64>,
         pass: u64,
         bars: bool,
-    ) -> Result<BidirectionalRun> {
+    ) -> Result<Run> {
         let start = Instant::now();
         let (heuristic, directions) = mis_settings(data)?;
         let chunks = data.cache_chunks()?;
         if !chunks.iter().all(|c| c.records.len() == c.samples.len()) {
-            bail!("{}: a chunk of a pass with MIS records has none", data.reader.path().display());
+            bail!("{}: a chunk of a pass with MIS records has none", data.reader().path().display());
         }
-        let names = data.light_names();
         let settings = Settings { connections: self.connections, seed: self.seed, heuristic, directions };
-        let (w, h) = (camera.width(), camera.height());
-        let per_pass = w as u64 * h as u64 * self.spp as u64;
+        let deadline = time.map(|t| start + std::time::Duration::from_secs_f64(t));
+        let plan = RunPlan { spp: self.spp, deadline, first_pass: pass };
+        let bar = std::sync::Mutex::new(indicatif::ProgressBar::hidden());
+        let show = |new: indicatif::ProgressBar| {
+            let mut b = bar.lock().unwrap_or_else(|e| e.into_inner());
+            b.finish_and_clear();
+            *b = new;
+        };
+        let event = |e: RunEvent| match e {
+            RunEvent::SplatStart(samples) if bars => show(progress::bar(samples, "splatting", "samples")),
+            RunEvent::CameraStart(pixels) if bars => show(match time {
+                None => progress::bar(pixels, "camera", "pixels"),
+                Some(t) => progress::seconds_bar(t),
+            }),
+            RunEvent::Splatted(n) | RunEvent::Pixels(n) => {
+                bar.lock().unwrap_or_else(|e| e.into_inner()).inc(n as u64)
+            }
+            RunEvent::Pass { passes, spp, error } => {
+                let b = bar.lock().unwrap_or_else(|e| e.into_inner());
+                b.set_position(start.elapsed().as_secs_f64().min(time.unwrap_or(0.0)) as u64);
+                b.set_message(match error {
+                    Some(e) => format!("{passes} passes, {spp} spp, rel. error ≈ {:.2}%", 100.0 * e),
+                    None => format!("{passes} passes, {spp} spp"),
+                });
+            }
+            _ => {}
+        };
+        let names = data.light_names();
         let stop = crate::interrupt::requested;
-        let interrupted = || anyhow!("interrupted: stopped, nothing written");
-        // M, the camera paths the render will take: known for --spp; for --time planned from a
-        // one-path-per-pixel pilot (any constant is unbiased, docs/bidirectional.md §10.2).
-        let planned = match time {
-            None => per_pass,
-            Some(t) => {
-                let pilot = Renderer::new(
-                    &data.scene,
-                    *camera,
-                    chunks.clone(),
-                    &names,
-                    data.flux_per_path(),
-                    settings,
-                    per_pass,
-                );
-                let t0 = Instant::now();
-                pilot.camera_pass(u64::MAX, 1, |_| {}, stop).ok_or_else(interrupted)?;
-                let per_spp = t0.elapsed().as_secs_f64().max(1e-6);
-                let left = (t - start.elapsed().as_secs_f64()).max(0.0);
-                let passes = (left / (per_spp * self.spp as f64)).floor().max(1.0);
-                per_pass * passes as u64
-            }
-        };
-        let renderer =
-            Renderer::new(&data.scene, *camera, chunks, &names, data.flux_per_path(), settings, planned);
-        let samples: u64 = renderer.cache().chunks().iter().map(|c| c.samples.len() as u64).sum();
-        let pb = if bars {
-            progress::bar(samples, "splatting", "samples")
-        } else {
-            indicatif::ProgressBar::hidden()
-        };
-        let splat = renderer.splat_pass(|n| pb.inc(n as u64), stop).ok_or_else(interrupted)?;
-        pb.finish_and_clear();
-        let mut acc = Progressive::new(w, h);
-        match time {
-            None => {
-                let pb = if bars {
-                    progress::bar(w as u64 * h as u64, "camera", "pixels")
-                } else {
-                    indicatif::ProgressBar::hidden()
-                };
-                let film = renderer
-                    .camera_pass(pass, self.spp, |n| pb.inc(n as u64), stop)
-                    .ok_or_else(interrupted)?;
-                pb.finish_and_clear();
-                acc.add(&film, self.spp);
-            }
-            Some(t) => {
-                let pb = if bars { progress::seconds_bar(t) } else { indicatif::ProgressBar::hidden() };
-                let mut p = pass;
-                loop {
-                    let film = renderer.camera_pass(p, self.spp, |_| {}, stop).ok_or_else(interrupted)?;
-                    acc.add(&film, self.spp);
-                    p += 1;
-                    let elapsed = start.elapsed().as_secs_f64();
-                    pb.set_position(elapsed.min(t) as u64);
-                    pb.set_message(match acc.relative_error() {
-                        Some(e) => format!(
-                            "{} passes, {} spp, rel. error ≈ {:.2}%",
-                            acc.passes(),
-                            acc.spp(),
-                            100.0 * e
-                        ),
-                        None => format!("{} passes, {} spp", acc.passes(), acc.spp()),
-                    });
-                    if elapsed >= t {
-                        break;
-                    }
-                }
-                pb.finish_and_clear();
-            }
-        }
-        Ok(BidirectionalRun {
-            film: acc.image(&splat),
-            passes: acc.passes(),
-            spp: acc.spp(),
-            error: acc.relative_error(),
-        })
+        let run = run::render(
+            data.scene(),
+            *camera,
+            chunks,
+            &names,
+            data.flux_per_path(),
+            settings,
+            plan,
+            event,
+            stop,
+        );
+        show(indicatif::ProgressBar::hidden());
+        run.ok_or_else(|| anyhow!("interrupted: stopped, nothing written"))
     }
 }
 
@@ -171,8 +120,8 @@ impl EstimatorArgs {
 /// (`opticks_core::dataset::mis_compatibility`, which words why a dataset cannot be rendered
 /// with MIS); the command line adds the other way out.
 fn mis_settings(data: &LitDataset) -> Result<(Heuristic, Directions)> {
-    let s = mis_compatibility(data.reader.header()).map_err(|e| {
-        let path = data.reader.path().display();
+    let s = mis_compatibility(data.reader().header()).map_err(|e| {
+        let path = data.reader().path().display();
         match e {
             MisUnavailable::NoRecords { .. } | MisUnavailable::Signature { .. } => anyhow!(
                 "{path}: {e} (`opticks upgrade {path}` does that; or render it with --estimator light)"

@@ -56,7 +56,12 @@ impl ExtendArgs {
     /// What `refine` and `add-light` do first: apply `--threads`, lock the output (refusing to
     /// write onto an input or an existing dataset without `--overwrite`), open `dataset` with
     /// `scene` (or the one it records) and refuse an unfinished dataset.
-    pub fn begin(&self, dataset: &Path, scene: Option<&str>, defines: &DefineArgs) -> Result<Extending> {
+    pub fn begin(
+        &self,
+        dataset: &Path,
+        scene: Option<&opticks_io::scene_source::SceneRef>,
+        defines: &DefineArgs,
+    ) -> Result<Extending> {
         self.threads.apply()?;
         let output = self.output.clone().unwrap_or_else(|| dataset.to_path_buf());
         let inputs = [dataset];

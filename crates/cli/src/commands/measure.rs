@@ -37,9 +37,8 @@ use opticks_core::film::Film;
 use opticks_core::math::Vec3;
 use opticks_core::sensor::IlluminanceMeter;
 use opticks_core::sensor::bidirectional::RenderLights;
-use opticks_core::sensor::meter::{ConnectedSettings, MeterLayout, Reading, read_connected, read_samples};
+use opticks_core::sensor::meter::{ConnectedSettings, MeterLayout, read_connected, read_samples};
 use opticks_io::output_paths::{OutputKind, check_outputs};
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -154,7 +153,7 @@ pub fn run(a: Args) -> Result<()> {
         None => None,
     };
     let data = a.input.open()?;
-    let desc = &data.description;
+    let desc = data.description();
     let (nx, ny) = a.cells.unwrap_or((10, 10));
     let layout = match (&a.surface, &a.plane, points) {
         (_, _, Some(points)) => points,
@@ -177,7 +176,7 @@ pub fn run(a: Args) -> Result<()> {
     let done = AtomicU64::new(0);
     let batch = |i| {
         super::unless_interrupted()?;
-        data.batch(i)
+        Ok::<_, anyhow::Error>(data.batch(i)?)
     };
     let progress = |n: usize| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64);
     let reading = match (&layout, estimator) {
@@ -187,13 +186,13 @@ pub fn run(a: Args) -> Result<()> {
             for g in &groups {
                 paths[g.light as usize] += g.paths;
             }
-            let lights = RenderLights::new(&data.scene, &data.light_names(), data.flux_per_path(), &paths);
+            let lights = RenderLights::new(data.scene(), &data.light_names(), data.flux_per_path(), &paths);
             let settings = ConnectedSettings {
                 connections: a.connections,
                 direct_samples: a.direct_samples,
                 seed: a.seed,
             };
-            read_connected(&data.scene, &lights, &layout, settings, &groups, batch, progress)?
+            read_connected(data.scene(), &lights, &layout, settings, &groups, batch, progress)?
         }
     };
     super::unless_interrupted()?;
@@ -211,7 +210,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     super::warn_if_black(&film, data.samples(), &format!("meter's front ({side})"));
 
-    let csv = table(&layout, &reading);
+    let csv = opticks_io::meter_table::csv(&layout, &reading);
     let lux: Vec<f64> = reading.value.iter().map(|v| v[3]).collect();
     let heatmap = match (&a.png, &layout) {
         (Some(png), MeterLayout::Grid(m)) => Some(opticks_io::heatmap::encode_heatmap(
@@ -272,35 +271,6 @@ pub fn run(a: Args) -> Result<()> {
         );
     }
     Ok(())
-}
-
-/// The CSV table of a reading.
-fn table(layout: &MeterLayout, r: &Reading) -> String {
-    let values = |k: usize| {
-        let (v, e) = (r.value[k], r.std_error[k]);
-        format!("{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}", v[0], v[1], v[2], v[3], e[0], e[1], e[2], e[3])
-    };
-    let mut csv = String::new();
-    match layout {
-        MeterLayout::Grid(m) => {
-            csv += "i,j,x,y,z,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux\n";
-            for j in 0..m.ny {
-                for i in 0..m.nx {
-                    let c = m.cell_centre(i, j);
-                    let _ =
-                        writeln!(csv, "{i},{j},{},{},{},{}", c.x, c.y, c.z, values((j * m.nx + i) as usize));
-                }
-            }
-        }
-        MeterLayout::Points(points) => {
-            csv += "point,x,y,z,nx,ny,nz,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux\n";
-            for (k, p) in points.iter().enumerate() {
-                let (c, n) = (p.position, p.normal);
-                let _ = writeln!(csv, "{k},{},{},{},{},{},{},{}", c.x, c.y, c.z, n.x, n.y, n.z, values(k));
-            }
-        }
-    }
-    csv
 }
 
 #[cfg(test)]

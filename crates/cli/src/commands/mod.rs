@@ -23,15 +23,15 @@ pub mod walk;
 use crate::progress;
 use crate::scene_arg::DefineArgs;
 use anyhow::{Context, Result, anyhow};
-use opticks_core::dataset::{ChangesText, Chunk, LightTable, LightingError, check_scene, lighting, subset};
+use opticks_core::dataset::{Chunk, LightTable, LightingError};
 use opticks_core::film::Film;
-use opticks_core::scene::{Scene, SceneDescription};
-use opticks_core::sensor::{AsBatch, OwnedBatch, SampleBatch, Sensor, render};
-use opticks_io::dataset_file::DatasetReader;
+use opticks_core::scene::Scene;
+use opticks_core::sensor::{AsBatch, SampleBatch, Sensor, render};
 use opticks_io::dataset_job::{JobError, JobReport};
 use opticks_io::dataset_lock::{WriteIntent, WriteLock, WriteRefused, begin_write, same_file};
-use opticks_io::output_paths::{OutputKind, check_input_file, check_output};
-use opticks_io::scene_ref;
+use opticks_io::opened::{LitDataset, OpenError, OpenedDataset};
+use opticks_io::output_paths::{OutputKind, check_output};
+use opticks_io::scene_source::SceneRef;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -66,7 +66,7 @@ impl ThreadArgs {
 /// which load `scene` (the file the verb loaded its scene from, with its `-D` parameters)
 /// themselves.
 pub fn write_job(
-    scene: (&str, &crate::scene_arg::DefineArgs),
+    scene: (&SceneRef, &crate::scene_arg::DefineArgs),
     output: &Path,
     header: opticks_core::dataset::DatasetHeader,
     sources: &[opticks_io::dataset_job::Source<'_>],
@@ -333,89 +333,30 @@ pub fn single_process_only(what: &str) -> Result<()> {
     Ok(())
 }
 
-/// Opens a dataset and the scene it is to be used with — `scene` if given, else the scene file
-/// recorded in the dataset (`opticks_io::scene_ref`: relative to the dataset, then absolute) —
-/// and checks that the geometry and materials are those it was traced in
-/// (`opticks_core::dataset::check_scene`; lights are checked one by one where they are used:
-/// see `opticks_core::dataset::lighting`).
-pub fn open_with_scene(dataset: &Path, scene: Option<&str>, defines: &DefineArgs) -> Result<Opened> {
-    check_input_file(dataset, "a dataset")?;
-    let mut reader = DatasetReader::open(dataset)?;
-    let label = reader.header().label.clone();
-    let spec = match scene {
-        Some(s) => s.to_string(),
-        None => scene_ref::resolve(&label, dataset).map_err(|tried| {
-            let tried: Vec<String> = tried.iter().map(|p| p.display().to_string()).collect();
-            anyhow!(
-                "{}: cannot find the scene it was traced from (looked for {}): pass --scene to name it",
-                dataset.display(),
-                tried.join(" and ")
-            )
-        })?,
-    };
-    let description = crate::scene_arg::load_description(&spec, defines).with_context(|| {
-        if scene.is_some() {
-            "cannot load the scene given with --scene".to_string()
-        } else {
-            format!("cannot load the scene {} records", dataset.display())
-        }
-    })?;
-    let scene = crate::scene_arg::build_scene(&spec, &description).map_err(|e| {
-        // A scene without lights cannot be the one a dataset was traced in (a trace needs a
-        // light): say so, rather than only that the scene is unusable.
-        if matches!(e.root_cause().downcast_ref(), Some(opticks_core::scene::SceneError::NoLight)) {
-            let names: Vec<&str> = reader.header().table.lights.iter().map(|l| l.name.as_str()).collect();
-            anyhow!(
-                "{} was traced from a different scene than {spec}: {spec} has no light source, the dataset's \
-                 lights are {}",
-                dataset.display(),
-                names.join(", ")
-            )
-        } else {
-            e
-        }
-    })?;
-    check_scene(reader.header(), &scene).map_err(|e| {
-        anyhow!(
-            "{} was traced from a different scene than {spec}: {} (fingerprint {} ≠ {}; a scene traced with -D \
-             parameters needs the same ones){}",
-            dataset.display(),
-            ChangesText(e.changes.as_ref()),
-            e.recorded.geometry_hex(),
-            e.current.geometry_hex(),
-            lights_changed(&reader.header().table, &scene)
-        )
-    })?;
-    reader.check_triangles(scene.triangles.len());
-    Ok(Opened { reader, description, scene, scene_spec: spec })
-}
-
-/// "; lights …" naming the dataset's lights the scene lacks and the scene's the dataset lacks.
-fn lights_changed(table: &LightTable, scene: &Scene) -> String {
-    let traced: Vec<&str> = table.lights.iter().map(|l| l.name.as_str()).collect();
-    let current: Vec<&str> = scene.lights.iter().map(|l| l.name()).collect();
-    let gone: Vec<&str> = traced.iter().copied().filter(|n| !current.contains(n)).collect();
-    let new: Vec<&str> = current.iter().copied().filter(|n| !traced.contains(n)).collect();
-    let mut out = String::new();
-    if !gone.is_empty() {
-        out += &format!("; lights of the dataset missing from the scene: {}", gone.join(", "));
+/// Opens a dataset against its scene (`opticks_io::opened`): `scene` if given, else the scene
+/// file the dataset records; prints the loader's warnings and words the library's refusals
+/// with the command line's way out.
+pub fn open_with_scene(dataset: &Path, scene: Option<&SceneRef>, defines: &DefineArgs) -> Result<Opened> {
+    let opened = OpenedDataset::open(dataset, scene, &defines.options()).map_err(open_error)?;
+    for w in &opened.warnings {
+        crate::output::warning(w);
     }
-    if !new.is_empty() {
-        out += &format!("; lights of the scene not in the dataset: {}", new.join(", "));
-    }
-    out
+    Ok(opened)
 }
 
 /// A dataset opened against its scene.
-pub struct Opened {
-    /// The dataset, its samples checked against the scene's triangles as they are read.
-    pub reader: DatasetReader,
-    /// The scene as loaded.
-    pub description: SceneDescription,
-    /// The validated scene.
-    pub scene: Scene,
-    /// The scene file (or built-in name) used: what a dataset written from this one records.
-    pub scene_spec: String,
+pub type Opened = OpenedDataset;
+
+/// A refusal of `opticks_io::opened` with the flag or verb that gets past it.
+fn open_error(e: OpenError) -> anyhow::Error {
+    match &e {
+        OpenError::SceneNotFound { .. } => anyhow!("{e}: pass --scene to name it"),
+        OpenError::Lighting(LightingError::NotTraced(name)) => {
+            anyhow!("{e}: add it with `opticks add-light`, or switch it off with --light '{name}=0'")
+        }
+        OpenError::Lighting(LightingError::ShapeChanged(_)) => anyhow!("{e} (re-trace the scene)"),
+        _ => e.into(),
+    }
 }
 
 /// The dataset a view is rendered from, with its scene and relighting (`render`, `walk`,
@@ -425,8 +366,8 @@ pub struct DatasetArgs {
     /// Dataset file written by `opticks trace`.
     dataset: std::path::PathBuf,
     /// Scene file the dataset was traced from (default: the path recorded in the dataset).
-    #[arg(long)]
-    scene: Option<String>,
+    #[arg(long, value_parser = crate::scene_arg::parse_scene)]
+    scene: Option<SceneRef>,
     /// Relight: NAME_OR_INDEX=SCALE or NAME_OR_INDEX=R,G,B multiplies that light's power
     /// (0 switches it off); repeatable. No re-tracing: exact.
     #[arg(long = "light", value_parser = light_args::parse_light_scale, allow_hyphen_values = true)]
@@ -435,121 +376,27 @@ pub struct DatasetArgs {
     defines: DefineArgs,
 }
 
-/// An opened dataset, its scene, and the flux each light's samples stand for — over all its
-/// chunks, or over a subset ([`LitDataset::keep_fraction`]).
-pub struct LitDataset {
-    /// The dataset, read chunk by chunk.
-    pub reader: DatasetReader,
-    /// The scene as loaded (meters find surfaces by name in it).
-    pub description: SceneDescription,
-    /// The validated scene.
-    pub scene: Scene,
-    lighting: opticks_core::dataset::Lighting,
-    chunks: Vec<usize>,
-    /// The kept chunks in memory, once the bidirectional estimator has asked for them.
-    cache: std::sync::OnceLock<Vec<opticks_core::dataset::Chunk>>,
-}
-
 impl DatasetArgs {
     /// The command's input files (the dataset, the scene if given), which no output may replace.
     pub fn inputs(&self) -> Vec<&Path> {
         let mut inputs = vec![self.dataset.as_path()];
-        inputs.extend(self.scene.as_deref().filter(|s| !crate::scene_arg::is_builtin(s)).map(Path::new));
+        inputs.extend(self.scene.as_ref().and_then(SceneRef::file));
         inputs
     }
 
     /// The scene given with `--scene`, if any.
-    pub fn scene(&self) -> Option<&str> {
-        self.scene.as_deref()
+    pub fn scene(&self) -> Option<&SceneRef> {
+        self.scene.as_ref()
     }
 
     /// Opens the dataset against its scene and works out the lighting; prints the notes.
     pub fn open(&self) -> Result<LitDataset> {
-        let Opened { reader, description, scene, .. } =
-            open_with_scene(&self.dataset, self.scene.as_deref(), &self.defines)?;
-        let lighting = lighting(&reader.header().table, &scene, &self.light).map_err(|e| match &e {
-            LightingError::NotTraced(name) => {
-                anyhow!("{e}: add it with `opticks add-light`, or switch it off with --light '{name}=0'")
-            }
-            LightingError::ShapeChanged(_) => anyhow!("{e} (re-trace the scene)"),
-            _ => e.into(),
-        })?;
-        for note in &lighting.notes {
+        let opened = open_with_scene(&self.dataset, self.scene.as_ref(), &self.defines)?;
+        let data = opened.lit(&self.light).map_err(open_error)?;
+        for note in data.notes() {
             crate::output::note(note);
         }
-        let chunks = (0..reader.chunk_count()).collect();
-        Ok(LitDataset { reader, description, scene, lighting, chunks, cache: std::sync::OnceLock::new() })
-    }
-}
-
-impl LitDataset {
-    /// Number of batches.
-    pub fn count(&self) -> usize {
-        self.chunks.len()
-    }
-
-    /// Samples in the batches.
-    pub fn samples(&self) -> u64 {
-        self.chunks.iter().filter_map(|&i| self.reader.chunk_summary(i)).map(|(_, _, n)| n as u64).sum()
-    }
-
-    /// Batch `i`: a chunk's samples, read from the file (each checked to name one of the
-    /// scene's triangles), with their light's (relit) flux per path.
-    pub fn batch(&self, i: usize) -> Result<OwnedBatch> {
-        let c = self.reader.chunk(self.chunks[i])?;
-        Ok(OwnedBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
-    }
-
-    /// The kept chunks as independent groups of paths (light, paths), in batch order: what a
-    /// meter's standard error is estimated from.
-    pub fn groups(&self) -> Vec<opticks_core::sensor::meter::Group> {
-        self.chunks
-            .iter()
-            .map(|&i| {
-                let (light, paths, _) = self.reader.chunk_summary(i).unwrap_or_default();
-                opticks_core::sensor::meter::Group { light, paths }
-            })
-            .collect()
-    }
-
-    /// The dataset's light names, in table order.
-    pub fn light_names(&self) -> Vec<&str> {
-        self.reader.header().table.lights.iter().map(|l| l.name.as_str()).collect()
-    }
-
-    /// Per table light, the flux Φ'_k/N_k its samples stand for (relit; over the kept chunks).
-    pub fn flux_per_path(&self) -> &[opticks_core::math::Rgb] {
-        &self.lighting.flux_per_path
-    }
-
-    /// The kept chunks as the bidirectional estimator's light vertex cache (each verified),
-    /// read into memory on the first call and kept for the next ones (a walkthrough's frames).
-    pub fn cache_chunks(&self) -> Result<Vec<opticks_core::sensor::bidirectional::CacheChunk<'_>>> {
-        let chunks = match self.cache.get() {
-            Some(c) => c,
-            None => {
-                let read = opticks_io::light_cache::read_cache(&self.reader, &self.chunks)?;
-                self.cache.get_or_init(|| read)
-            }
-        };
-        Ok(opticks_io::light_cache::cache_views(&self.reader, chunks)?)
-    }
-
-    /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises, by the
-    /// preview-subset law (`opticks_core::dataset::subset`): the kept chunks' samples stand for
-    /// Φ_k/N'_k each — an unbiased estimate from fewer paths, a cheaper, noisier preview.
-    pub fn keep_fraction(&mut self, fraction: f64) -> Result<()> {
-        let chunks: Vec<(u32, u64)> = (0..self.reader.chunk_count())
-            .filter_map(|i| self.reader.chunk_summary(i))
-            .map(|(light, paths, _)| (light, paths))
-            .collect();
-        let kept = subset(&chunks, self.lighting.flux_per_path.len(), fraction)?;
-        self.cache = std::sync::OnceLock::new();
-        for (flux, scale) in self.lighting.flux_per_path.iter_mut().zip(kept.flux_scale) {
-            *flux *= scale;
-        }
-        self.chunks = kept.chunks;
-        Ok(())
+        Ok(data)
     }
 }
 

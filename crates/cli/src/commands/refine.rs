@@ -25,8 +25,8 @@ pub struct Args {
     #[arg(long, value_parser = crate::count_arg::parse_count)]
     paths: u64,
     /// Scene file (default: the one recorded in the dataset); the result records it.
-    #[arg(long)]
-    scene: Option<String>,
+    #[arg(long, value_parser = crate::scene_arg::parse_scene)]
+    scene: Option<opticks_io::scene_source::SceneRef>,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
@@ -36,13 +36,13 @@ pub struct Args {
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
     let Extending { output, lock: _lock, opened } =
-        a.extend.begin(&a.dataset, a.scene.as_deref(), &a.defines)?;
-    let Opened { reader, scene, scene_spec, .. } = opened;
+        a.extend.begin(&a.dataset, a.scene.as_ref(), &a.defines)?;
+    let Opened { reader, scene, scene_ref, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)
         .map_err(|e| anyhow!("{e}: refine needs the same scene"))?;
-    check_emission(&pass.lights).map_err(|e| anyhow!("{scene_spec}: {e}"))?;
-    header.label = label_for(&scene_spec, &output);
+    check_emission(&pass.lights).map_err(|e| anyhow!("{scene_ref}: {e}"))?;
+    header.label = label_for(&scene_ref.label(), &output);
     output::detail(&format!("plan: {}", super::describe_plan(&header.table, &pass)));
     let before = reader.header().table.total_paths();
     let sources = [Source::as_is(&reader)];
@@ -50,7 +50,7 @@ pub fn run(a: Args) -> Result<()> {
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let progress = TraceProgress::with_time_limit(a.extend.time);
-    let job = write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &progress);
+    let job = write_job((&scene_ref, &a.defines), &output, header, &sources, Some(new), &progress);
     let Some(report) = unless_time_up(job, &progress)? else {
         return Ok(());
     };

@@ -44,7 +44,7 @@ pub fn run(a: Args) -> Result<()> {
     let exposure = exposure_for(&a.output, a.exposure)?;
     a.camera.check()?;
     let data = a.input.open()?;
-    let scene = &data.scene;
+    let scene = data.scene();
     let camera = a.camera.resolve(scene.camera).with_context(|| match a.input.scene() {
         Some(spec) => format!("the scene given with --scene ({spec})"),
         None => "the dataset's scene".to_string(),
@@ -90,7 +90,8 @@ pub fn run(a: Args) -> Result<()> {
             sky.name()
         ));
     }
-    let Some(film) = render_film(scene, &camera, data.count(), data.samples(), |i| data.batch(i))? else {
+    let Some(film) = render_film(scene, &camera, data.count(), data.samples(), |i| Ok(data.batch(i)?))?
+    else {
         return Ok(()); // a worker rank of a cluster job: its part went to the master
     };
     let secs = t0.elapsed().as_secs_f64();

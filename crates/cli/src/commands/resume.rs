@@ -35,8 +35,8 @@ pub struct Args {
     #[arg(long)]
     overwrite: bool,
     /// Scene file (default: the one recorded in the dataset).
-    #[arg(long)]
-    scene: Option<String>,
+    #[arg(long, value_parser = crate::scene_arg::parse_scene)]
+    scene: Option<opticks_io::scene_source::SceneRef>,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
@@ -53,8 +53,7 @@ pub fn run(a: Args) -> Result<()> {
     let output = a.output.clone().unwrap_or_else(|| finished_path(&a.partial));
     let intent = WriteIntent { inputs: &[], resuming: Some(&a.partial), overwrite: a.overwrite };
     let _lock = begin_dataset_write(&output, intent)?;
-    let Opened { reader, scene, scene_spec, .. } =
-        open_with_scene(&a.partial, a.scene.as_deref(), &a.defines)?;
+    let Opened { reader, scene, scene_ref, .. } = open_with_scene(&a.partial, a.scene.as_ref(), &a.defines)?;
     let mut header = reader.header().clone();
     let partial = a.partial.display();
     let pass = resume_plan(&header, &scene).map_err(|e| match e {
@@ -77,13 +76,13 @@ pub fn run(a: Args) -> Result<()> {
         })?;
     }
     let (done, planned) = (header.trace.passes.last().map_or(0, |p| p.paths), pass.settings.paths);
-    header.label = label_for(&scene_spec, &output);
+    header.label = label_for(&scene_ref.label(), &output);
     let sources = [Source::as_is(&reader)];
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, planned - done))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let progress = TraceProgress::with_time_limit(a.time);
-    let job = write_job((&scene_spec, &a.defines), &output, header, &sources, Some(new), &progress);
+    let job = write_job((&scene_ref, &a.defines), &output, header, &sources, Some(new), &progress);
     let Some(report) = unless_time_up(job, &progress)? else {
         return Ok(());
     };

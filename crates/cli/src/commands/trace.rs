@@ -8,7 +8,7 @@
 use super::{ThreadArgs, begin_dataset_write, check_before_trace, parse_seconds, unless_time_up, write_job};
 use crate::output;
 use crate::progress::TraceProgress;
-use crate::scene_arg::{is_builtin, load_scene};
+use crate::scene_arg::load_scene;
 use crate::strategy_args::StrategyArgs;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::{check_emission, new_trace};
@@ -22,7 +22,8 @@ use std::time::Duration;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Scene file (Mitsuba 3 XML, VRML97 .wrl/.wrz, OBJ/MTL, glTF .gltf/.glb), or `builtin:cornell`.
-    scene: String,
+    #[arg(value_parser = crate::scene_arg::parse_scene)]
+    scene: opticks_io::scene_source::SceneRef,
     /// Light paths to trace, over all lights (split in proportion to their power); e.g.
     /// 4000000, 4_000_000, 4M, 4e6.
     #[arg(long, value_parser = crate::count_arg::parse_count, default_value = "4M")]
@@ -51,15 +52,14 @@ pub struct Args {
 /// Runs the trace.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let scene_path = Path::new(&a.scene);
-    let inputs: Vec<&Path> = if is_builtin(&a.scene) { vec![] } else { vec![scene_path] };
+    let inputs: Vec<&Path> = a.scene.file().into_iter().collect();
     let _lock = begin_dataset_write(
         &a.output,
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
     )?;
     let scene = load_scene(&a.scene, &a.defines)?;
     let (header, pass) =
-        new_trace(&scene, &label_for(&a.scene, &a.output), a.strategy.settings(a.paths, a.seed));
+        new_trace(&scene, &label_for(&a.scene.label(), &a.output), a.strategy.settings(a.paths, a.seed));
     check_emission(&pass.lights).map_err(|e| anyhow!("{}: {e}", a.scene))?;
     output::detail(&format!(
         "scene {}: {} triangles, {}; plan: {}",

@@ -33,8 +33,8 @@ pub struct Args {
     /// Dataset to upgrade.
     dataset: PathBuf,
     /// Scene file (default: the one recorded in the dataset).
-    #[arg(long)]
-    scene: Option<String>,
+    #[arg(long, value_parser = crate::scene_arg::parse_scene)]
+    scene: Option<opticks_io::scene_source::SceneRef>,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     /// Where to write the result (default: replace the dataset).
@@ -59,7 +59,7 @@ pub fn run(a: Args) -> Result<()> {
         &output,
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
     )?;
-    let super::Opened { reader, scene, .. } = open_with_scene(&a.dataset, a.scene.as_deref(), &a.defines)?;
+    let super::Opened { reader, scene, .. } = open_with_scene(&a.dataset, a.scene.as_ref(), &a.defines)?;
     let heuristic = match a.mis_records {
         HeuristicArg::Power => Heuristic::Power,
         HeuristicArg::Balance => Heuristic::Balance,

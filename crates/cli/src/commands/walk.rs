@@ -57,7 +57,7 @@ pub fn run(a: Args) -> Result<()> {
     a.estimator.check()?;
     let mut data = a.input.open()?;
     data.keep_fraction(a.fraction)?;
-    let (reader, scene) = (&data.reader, &data.scene);
+    let (reader, scene) = (data.reader(), data.scene());
     let walk = read_camera_path(&a.path, scene.camera.map_or(45.0, |c| c.fov_x_degrees))?;
     let (w, h) = walk.size.or(scene.camera.map(|c| (c.width, c.height))).unwrap_or((512, 512));
     let (t0, t1) = walk.path.span();

@@ -18,6 +18,7 @@
 //! | `splat.rs` | the MIS-weighted light-tracing splat |
 //! | `render.rs` | the [`Renderer`]: passes, counts, determinism |
 //! | `progressive.rs` | camera passes accumulated into one image, with a running error estimate |
+//! | `run.rs` | a whole render: the splat pass, then one camera pass or passes until a deadline, with progress callbacks |
 
 mod cache;
 mod camera;
@@ -26,6 +27,7 @@ pub mod mis;
 mod path;
 mod progressive;
 mod render;
+pub mod run;
 mod splat;
 mod vertex;
 

@@ -1,0 +1,296 @@
+//! A dataset opened against its scene: the step every use of a dataset starts with — render,
+//! walk, measure, refine, add a light, resume, upgrade — whatever the front end (the command
+//! line, a binding, a server).
+//!
+//! [`OpenedDataset::open`] reads the dataset's header, finds the scene it records
+//! ([`crate::scene_ref`]: relative to the dataset, then absolute) unless one is given, loads and
+//! builds it, and checks that its geometry and materials are those the dataset was traced in
+//! (`opticks_core::dataset::check_scene`); lights are checked one by one where they are used.
+//! [`OpenedDataset::lit`] then works out the flux each light's samples stand for, relit by the
+//! caller's scales ([`LitDataset`]), which a renderer reads batch by batch. Errors are typed
+//! ([`OpenError`]) so a front end can add its own way out (a flag to name the scene, a verb that
+//! fixes it); what the user should know but is no error comes back as warnings and notes.
+
+use crate::dataset_file::{DatasetError, DatasetReader};
+use crate::scene_formats::LoadOptions;
+use crate::scene_source::{self, SceneRef, SceneSourceError};
+use opticks_core::dataset::{
+    ChangesText, LightScale, LightTable, Lighting, LightingError, check_scene, subset,
+};
+use opticks_core::math::Rgb;
+use opticks_core::scene::{Scene, SceneDescription, SceneError};
+use opticks_core::sensor::OwnedBatch;
+use opticks_core::sensor::bidirectional::CacheChunk;
+use opticks_core::sensor::meter::Group;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// Why a dataset cannot be opened against a scene.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// The dataset file cannot be opened as one (missing, a directory, unreadable).
+    #[error(transparent)]
+    Unreadable(std::io::Error),
+    /// The dataset file is damaged or not a dataset.
+    #[error(transparent)]
+    Dataset(#[from] DatasetError),
+    /// No scene was given and the one the dataset records is in none of the places tried.
+    #[error("{}: cannot find the scene it was traced from (looked for {})", dataset.display(), list(tried))]
+    SceneNotFound {
+        /// The dataset.
+        dataset: PathBuf,
+        /// Where the scene was looked for.
+        tried: Vec<PathBuf>,
+    },
+    /// The scene (given, or the one the dataset records) cannot be loaded.
+    #[error("{}", if *given { "cannot load the scene given with --scene".to_string() } else { format!("cannot load the scene {} records", dataset.display()) })]
+    Scene {
+        /// The dataset.
+        dataset: PathBuf,
+        /// Whether the caller named the scene (else the dataset's record was used).
+        given: bool,
+        /// Why.
+        #[source]
+        source: Box<SceneSourceError>,
+    },
+    /// The scene has no light, so it cannot be the one a dataset (which needs one) was traced in.
+    #[error(
+        "{} was traced from a different scene than {scene}: {scene} has no light source, the dataset's lights are {}",
+        dataset.display(), lights.join(", ")
+    )]
+    NoLight {
+        /// The dataset.
+        dataset: PathBuf,
+        /// The scene.
+        scene: SceneRef,
+        /// The dataset's light names.
+        lights: Vec<String>,
+    },
+    /// The scene's geometry or materials are not those the dataset was traced in.
+    #[error(
+        "{} was traced from a different scene than {scene}: {changes} (fingerprint {recorded} ≠ {current}; a scene \
+         traced with -D parameters needs the same ones){lights}",
+        dataset.display()
+    )]
+    DifferentScene {
+        /// The dataset.
+        dataset: PathBuf,
+        /// The scene.
+        scene: SceneRef,
+        /// What changed, in words.
+        changes: String,
+        /// The dataset's geometry fingerprint (hex).
+        recorded: String,
+        /// The scene's (hex).
+        current: String,
+        /// "; lights …" naming lights only one of them has (empty if none).
+        lights: String,
+    },
+    /// The lighting asked for is impossible (an unknown light, one not traced, one moved).
+    #[error(transparent)]
+    Lighting(#[from] LightingError),
+}
+
+fn list(paths: &[PathBuf]) -> String {
+    let paths: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    paths.join(" and ")
+}
+
+/// A dataset opened against its scene.
+pub struct OpenedDataset {
+    /// The dataset, its samples checked against the scene's triangles as they are read.
+    pub reader: DatasetReader,
+    /// The scene as loaded.
+    pub description: SceneDescription,
+    /// The validated scene.
+    pub scene: Scene,
+    /// The scene used: what a dataset written from this one records.
+    pub scene_ref: SceneRef,
+    /// What loading the scene did not reproduce exactly (`file:line:column: …`, one a line).
+    pub warnings: Vec<String>,
+}
+
+impl OpenedDataset {
+    /// Opens `dataset` against `scene` — given, or else the scene file the dataset records —
+    /// loaded with `options`, and checks that it is the scene the dataset was traced in.
+    #[allow(clippy::result_large_err)] // once per run, and the error carries what the user needs
+    pub fn open(dataset: &Path, scene: Option<&SceneRef>, options: &LoadOptions) -> Result<Self, OpenError> {
+        crate::output_paths::check_input_file(dataset, "a dataset").map_err(OpenError::Unreadable)?;
+        let mut reader = DatasetReader::open(dataset)?;
+        let scene_ref = match scene {
+            Some(s) => s.clone(),
+            None => {
+                let label = &reader.header().label;
+                let spec = crate::scene_ref::resolve(label, dataset)
+                    .map_err(|tried| OpenError::SceneNotFound { dataset: dataset.to_path_buf(), tried })?;
+                SceneRef::parse(&spec).map_err(|source| OpenError::Scene {
+                    dataset: dataset.to_path_buf(),
+                    given: false,
+                    source: Box::new(source),
+                })?
+            }
+        };
+        let scene_error = |source| OpenError::Scene {
+            dataset: dataset.to_path_buf(),
+            given: scene.is_some(),
+            source: Box::new(source),
+        };
+        let loaded = scene_source::load(&scene_ref, options).map_err(scene_error)?;
+        let mut warnings = loaded.warnings;
+        let built = scene_source::build(&scene_ref, &loaded.description).map_err(|e| match e {
+            // A scene without lights cannot be the one a dataset was traced in (a trace needs a
+            // light): say so, rather than only that the scene is unusable.
+            SceneSourceError::Invalid { source, .. } if matches!(*source, SceneError::NoLight) => {
+                OpenError::NoLight {
+                    dataset: dataset.to_path_buf(),
+                    scene: scene_ref.clone(),
+                    lights: reader.header().table.lights.iter().map(|l| l.name.clone()).collect(),
+                }
+            }
+            e => scene_error(e),
+        })?;
+        warnings.extend(built.warning);
+        let scene = built.scene;
+        check_scene(reader.header(), &scene).map_err(|e| OpenError::DifferentScene {
+            dataset: dataset.to_path_buf(),
+            scene: scene_ref.clone(),
+            changes: ChangesText(e.changes.as_ref()).to_string(),
+            recorded: e.recorded.geometry_hex(),
+            current: e.current.geometry_hex(),
+            lights: lights_changed(&reader.header().table, &scene),
+        })?;
+        reader.check_triangles(scene.triangles.len());
+        Ok(OpenedDataset { reader, description: loaded.description, scene, scene_ref, warnings })
+    }
+
+    /// The flux each light's samples stand for, relit by `scales` (each multiplies one light's
+    /// power, by name or index; 0 switches it off): the dataset ready to render or measure.
+    #[allow(clippy::result_large_err)] // once per run
+    pub fn lit(self, scales: &[LightScale]) -> Result<LitDataset, OpenError> {
+        let lighting = opticks_core::dataset::lighting(&self.reader.header().table, &self.scene, scales)?;
+        let chunks = (0..self.reader.chunk_count()).collect();
+        Ok(LitDataset { opened: self, lighting, chunks, cache: OnceLock::new() })
+    }
+}
+
+/// "; lights …" naming the dataset's lights the scene lacks and the scene's the dataset lacks.
+fn lights_changed(table: &LightTable, scene: &Scene) -> String {
+    let traced: Vec<&str> = table.lights.iter().map(|l| l.name.as_str()).collect();
+    let current: Vec<&str> = scene.lights.iter().map(|l| l.name()).collect();
+    let gone: Vec<&str> = traced.iter().copied().filter(|n| !current.contains(n)).collect();
+    let new: Vec<&str> = current.iter().copied().filter(|n| !traced.contains(n)).collect();
+    let mut out = String::new();
+    if !gone.is_empty() {
+        out += &format!("; lights of the dataset missing from the scene: {}", gone.join(", "));
+    }
+    if !new.is_empty() {
+        out += &format!("; lights of the scene not in the dataset: {}", new.join(", "));
+    }
+    out
+}
+
+/// An opened dataset, its scene, and the flux each light's samples stand for — over all its
+/// chunks, or over a subset ([`LitDataset::keep_fraction`]).
+pub struct LitDataset {
+    opened: OpenedDataset,
+    lighting: Lighting,
+    chunks: Vec<usize>,
+    /// The kept chunks in memory, once the bidirectional estimator has asked for them.
+    cache: OnceLock<Vec<opticks_core::dataset::Chunk>>,
+}
+
+impl LitDataset {
+    /// The dataset file.
+    pub fn reader(&self) -> &DatasetReader {
+        &self.opened.reader
+    }
+
+    /// The validated scene.
+    pub fn scene(&self) -> &Scene {
+        &self.opened.scene
+    }
+
+    /// The scene as loaded (meters find surfaces by name in it).
+    pub fn description(&self) -> &SceneDescription {
+        &self.opened.description
+    }
+
+    /// What loading the scene did not reproduce exactly.
+    pub fn warnings(&self) -> &[String] {
+        &self.opened.warnings
+    }
+
+    /// What relighting the user should know (a light relit by the scene file, one gone).
+    pub fn notes(&self) -> &[String] {
+        &self.lighting.notes
+    }
+
+    /// Number of batches.
+    pub fn count(&self) -> usize {
+        self.chunks.len()
+    }
+
+    /// Samples in the batches.
+    pub fn samples(&self) -> u64 {
+        self.chunks.iter().filter_map(|&i| self.reader().chunk_summary(i)).map(|(_, _, n)| n as u64).sum()
+    }
+
+    /// Batch `i`: a chunk's samples, read from the file (each checked to name one of the
+    /// scene's triangles), with their light's (relit) flux per path.
+    pub fn batch(&self, i: usize) -> Result<OwnedBatch, DatasetError> {
+        let c = self.reader().chunk(self.chunks[i])?;
+        Ok(OwnedBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
+    }
+
+    /// The kept chunks as independent groups of paths (light, paths), in batch order: what a
+    /// meter's standard error is estimated from.
+    pub fn groups(&self) -> Vec<Group> {
+        self.chunks
+            .iter()
+            .map(|&i| {
+                let (light, paths, _) = self.reader().chunk_summary(i).unwrap_or_default();
+                Group { light, paths }
+            })
+            .collect()
+    }
+
+    /// The dataset's light names, in table order.
+    pub fn light_names(&self) -> Vec<&str> {
+        self.reader().header().table.lights.iter().map(|l| l.name.as_str()).collect()
+    }
+
+    /// Per table light, the flux Φ'_k/N_k its samples stand for (relit; over the kept chunks).
+    pub fn flux_per_path(&self) -> &[Rgb] {
+        &self.lighting.flux_per_path
+    }
+
+    /// The kept chunks as the bidirectional estimator's light vertex cache (each verified),
+    /// read into memory on the first call and kept for the next ones (a walkthrough's frames).
+    pub fn cache_chunks(&self) -> Result<Vec<CacheChunk<'_>>, DatasetError> {
+        let chunks = match self.cache.get() {
+            Some(c) => c,
+            None => {
+                let read = crate::light_cache::read_cache(self.reader(), &self.chunks)?;
+                self.cache.get_or_init(|| read)
+            }
+        };
+        crate::light_cache::cache_views(self.reader(), chunks)
+    }
+
+    /// Keeps about `fraction` of each light's chunks (evenly spread) and renormalises, by the
+    /// preview-subset law (`opticks_core::dataset::subset`): the kept chunks' samples stand for
+    /// Φ_k/N'_k each — an unbiased estimate from fewer paths, a cheaper, noisier preview.
+    pub fn keep_fraction(&mut self, fraction: f64) -> Result<(), opticks_core::dataset::BadFraction> {
+        let chunks: Vec<(u32, u64)> = (0..self.reader().chunk_count())
+            .filter_map(|i| self.reader().chunk_summary(i))
+            .map(|(light, paths, _)| (light, paths))
+            .collect();
+        let kept = subset(&chunks, self.lighting.flux_per_path.len(), fraction)?;
+        self.cache = OnceLock::new();
+        for (flux, scale) in self.lighting.flux_per_path.iter_mut().zip(kept.flux_scale) {
+            *flux *= scale;
+        }
+        self.chunks = kept.chunks;
+        Ok(())
+    }
+}

@@ -1,0 +1,204 @@
+//! The scene a front end works on — a built-in scene or a scene file — as a typed reference
+//! ([`SceneRef`]), loaded into a description and built into a validated scene, with typed
+//! errors and the loader's warnings as values for the front end to print.
+//!
+//! Dataset labels keep the `builtin:NAME` spelling on disk (older datasets record it so), but
+//! only [`SceneRef::parse`] and [`SceneRef::label`] read or write it: no other code builds or
+//! parses that string.
+
+use crate::scene_formats::{LoadOptions, LoadedScene, SceneFileError};
+use opticks_core::scene::{Scene, SceneDescription, SceneError, cornell_box};
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// The prefix of a built-in scene's name on the command line and in dataset labels.
+const BUILTIN_PREFIX: &str = "builtin:";
+
+/// A scene compiled into Opticks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Builtin {
+    /// The Cornell box of Mitsuba's `cornell_box()` ([`opticks_core::scene::cornell_box`]).
+    Cornell,
+}
+
+impl Builtin {
+    /// Every built-in scene.
+    pub const ALL: &'static [Builtin] = &[Builtin::Cornell];
+
+    /// Its name, as `builtin:NAME` gives it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Builtin::Cornell => "cornell",
+        }
+    }
+
+    /// The scene.
+    pub fn description(self) -> SceneDescription {
+        match self {
+            Builtin::Cornell => cornell_box(),
+        }
+    }
+}
+
+/// The scene a command, a binding or a dataset refers to.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub enum SceneRef {
+    /// A built-in scene.
+    Builtin(Builtin),
+    /// A scene file (Mitsuba 3 XML, VRML97, OBJ/MTL, glTF): its format from its extension.
+    File(PathBuf),
+}
+
+impl SceneRef {
+    /// The reference written `spec`: `builtin:NAME`, or a file path.
+    pub fn parse(spec: &str) -> Result<SceneRef, SceneSourceError> {
+        match spec.strip_prefix(BUILTIN_PREFIX) {
+            Some(name) => Builtin::ALL
+                .iter()
+                .find(|b| b.name() == name)
+                .map(|&b| SceneRef::Builtin(b))
+                .ok_or_else(|| SceneSourceError::UnknownBuiltin { given: spec.to_string() }),
+            None => Ok(SceneRef::File(PathBuf::from(spec))),
+        }
+    }
+
+    /// The built-in Cornell box.
+    pub fn cornell() -> SceneRef {
+        SceneRef::Builtin(Builtin::Cornell)
+    }
+
+    /// How a dataset's label and the command line write it (`builtin:cornell`, or the path).
+    pub fn label(&self) -> String {
+        self.to_string()
+    }
+
+    /// The scene file, if it is one (which no output may replace).
+    pub fn file(&self) -> Option<&Path> {
+        match self {
+            SceneRef::File(p) => Some(p),
+            SceneRef::Builtin(_) => None,
+        }
+    }
+}
+
+impl fmt::Display for SceneRef {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneRef::Builtin(b) => write!(f, "{BUILTIN_PREFIX}{}", b.name()),
+            SceneRef::File(p) => write!(f, "{}", p.display()),
+        }
+    }
+}
+
+/// Why a scene could not be loaded or built.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneSourceError {
+    /// `builtin:NAME` names no built-in scene.
+    #[error("there is no built-in scene '{given}' (built-in scenes: {})", builtin_names())]
+    UnknownBuiltin {
+        /// What was given.
+        given: String,
+    },
+    /// Load options that choose within a scene file, given for a built-in scene.
+    #[error("{what} {scene} has {has}")]
+    BuiltinOptions {
+        /// The built-in scene.
+        scene: SceneRef,
+        /// What was given ("-D gives parameters of a scene file;" …).
+        what: &'static str,
+        /// What the built-in scene has instead.
+        has: &'static str,
+    },
+    /// The scene file cannot be opened as one (missing, a directory, unreadable).
+    #[error(transparent)]
+    Unreadable(std::io::Error),
+    /// The scene file is malformed or uses what Opticks does not read.
+    #[error(transparent)]
+    Load(#[from] SceneFileError),
+    /// The scene loaded but cannot be rendered (no light, bad values).
+    #[error("invalid scene {scene}")]
+    Invalid {
+        /// The scene.
+        scene: SceneRef,
+        /// Why.
+        #[source]
+        source: Box<SceneError>,
+    },
+}
+
+fn builtin_names() -> String {
+    let names: Vec<String> = Builtin::ALL.iter().map(|&b| SceneRef::Builtin(b).label()).collect();
+    names.join(", ")
+}
+
+/// Loads the description of `scene` with `options` (scene parameters, camera, glTF scene),
+/// with the loader's warnings.
+pub fn load(scene: &SceneRef, options: &LoadOptions) -> Result<LoadedScene, SceneSourceError> {
+    match scene {
+        SceneRef::Builtin(b) => {
+            if !options.defines.is_empty() {
+                return Err(SceneSourceError::BuiltinOptions {
+                    scene: scene.clone(),
+                    what: "-D gives parameters of a scene file;",
+                    has: "none",
+                });
+            }
+            if options.camera.is_some() || options.gltf_scene.is_some() {
+                return Err(SceneSourceError::BuiltinOptions {
+                    scene: scene.clone(),
+                    what: "--camera and --gltf-scene choose within a scene file;",
+                    has: "one camera and one scene",
+                });
+            }
+            Ok(LoadedScene { description: b.description(), warnings: Vec::new() })
+        }
+        SceneRef::File(path) => {
+            crate::output_paths::check_input_file(path, "a scene file")
+                .map_err(SceneSourceError::Unreadable)?;
+            Ok(crate::scene_formats::load_scene_with(path, options)?)
+        }
+    }
+}
+
+/// A validated scene (its BVH built) and what building it dropped.
+pub struct Built {
+    /// The scene.
+    pub scene: Scene,
+    /// "FILE: dropped N degenerate (zero-area) triangles", when some were.
+    pub warning: Option<String>,
+}
+
+/// Validates the loaded `description` of `scene` into a scene.
+pub fn build(scene: &SceneRef, description: &SceneDescription) -> Result<Built, SceneSourceError> {
+    let built = Scene::build(description)
+        .map_err(|source| SceneSourceError::Invalid { scene: scene.clone(), source: Box::new(source) })?;
+    let warning = (built.dropped_triangles > 0)
+        .then(|| format!("{scene}: dropped {} degenerate (zero-area) triangles", built.dropped_triangles));
+    Ok(Built { scene: built, warning })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn references_parse_and_print_as_labels() {
+        assert_eq!(SceneRef::parse("builtin:cornell").unwrap(), SceneRef::cornell());
+        assert_eq!(SceneRef::cornell().label(), "builtin:cornell");
+        assert_eq!(SceneRef::parse("a/b.xml").unwrap(), SceneRef::File("a/b.xml".into()));
+        assert_eq!(SceneRef::parse("a/b.xml").unwrap().file(), Some(Path::new("a/b.xml")));
+        let e = SceneRef::parse("builtin:teapot").unwrap_err().to_string();
+        assert_eq!(e, "there is no built-in scene 'builtin:teapot' (built-in scenes: builtin:cornell)");
+    }
+
+    #[test]
+    fn builtins_refuse_options_of_scene_files() {
+        let defines = LoadOptions { defines: vec![("a".into(), "1".into())], ..LoadOptions::default() };
+        let e = load(&SceneRef::cornell(), &defines).map(|_| ()).unwrap_err().to_string();
+        assert!(e.contains("-D") && e.contains("has none"), "{e}");
+        let camera = LoadOptions { camera: Some("x".into()), ..LoadOptions::default() };
+        assert!(load(&SceneRef::cornell(), &camera).is_err());
+        let ok = load(&SceneRef::cornell(), &LoadOptions::default()).unwrap();
+        assert!(build(&SceneRef::cornell(), &ok.description).unwrap().warning.is_none());
+    }
+}
