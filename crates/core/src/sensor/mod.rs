@@ -31,6 +31,9 @@
 //! The [`meter`] module holds the illuminance meter: on scene geometry it needs no connection
 //! (a stored sample already *is* flux arriving at a surface); anywhere else it connects the
 //! samples to itself through the same `connect_to` as the cameras.
+//!
+//! [`view`] turns the scene camera and a front end's overrides into the sensor a view is
+//! rendered through.
 
 pub mod bidirectional;
 mod equirect;
@@ -39,6 +42,7 @@ mod orthographic;
 mod pinhole;
 mod runs;
 mod thin_lens;
+pub mod view;
 
 pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure};
