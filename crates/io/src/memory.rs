@@ -37,6 +37,52 @@ pub fn human_bytes(bytes: u64) -> String {
     }
 }
 
+/// A film too large for the memory available.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{what} of {width}x{height} needs about {} of memory ({} bytes a pixel to accumulate, {output_bytes} to \
+     write), but {} are available: choose a smaller size",
+    human_bytes(*need), opticks_core::film::FILM_BYTES_PER_PIXEL, human_bytes(*available)
+)]
+pub struct FilmTooLarge {
+    /// What the film is ("an image", "a meter").
+    pub what: String,
+    /// Its width.
+    pub width: u32,
+    /// Its height.
+    pub height: u32,
+    /// Bytes a pixel of its output needs.
+    pub output_bytes: u64,
+    /// Bytes needed in all.
+    pub need: u64,
+    /// Bytes available.
+    pub available: u64,
+}
+
+/// Bytes a pixel of an image output needs while it is written (the f32 RGB copy the writers
+/// take, and their own buffer).
+pub const IMAGE_OUTPUT_BYTES: u64 = 12 + 8;
+
+/// Refuses, before any work, a `width`×`height` film (an image, or a meter's cells) whose
+/// accumulation over `threads` threads ([`opticks_core::film::accumulation_bytes`]) and output
+/// (`output_bytes` a pixel: the f32 image or the CSV) need more memory than is available.
+pub fn check_film_fits(
+    what: &str,
+    (width, height): (u32, u32),
+    output_bytes: u64,
+    threads: usize,
+) -> Result<(), FilmTooLarge> {
+    let pixels = width as u64 * height as u64;
+    let need = opticks_core::film::accumulation_bytes(width, height, threads)
+        .saturating_add(pixels.saturating_mul(output_bytes));
+    match available_bytes() {
+        Some(available) if need > available => {
+            Err(FilmTooLarge { what: what.to_string(), width, height, output_bytes, need, available })
+        }
+        _ => Ok(()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

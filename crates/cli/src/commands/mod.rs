@@ -220,29 +220,14 @@ pub fn unless_interrupted() -> Result<()> {
     Ok(())
 }
 
-/// Refuses, before any work, a `width`×`height` film (an image, or a meter's cells) whose
-/// accumulation ([`opticks_core::film::accumulation_bytes`]) and output (`output_bytes` a pixel:
-/// the f32 image or the CSV) need more memory than the machine has available.
-pub fn check_film_fits(what: &str, (width, height): (u32, u32), output_bytes: u64) -> Result<()> {
-    let threads = rayon::current_num_threads();
-    let pixels = width as u64 * height as u64;
-    let need = opticks_core::film::accumulation_bytes(width, height, threads)
-        .saturating_add(pixels.saturating_mul(output_bytes));
-    match opticks_io::memory::available_bytes() {
-        Some(available) if need > available => anyhow::bail!(
-            "{what} of {width}x{height} needs about {} of memory ({} bytes a pixel to accumulate, {output_bytes} \
-             to write), but {} are available: choose a smaller size",
-            opticks_io::memory::human_bytes(need),
-            opticks_core::film::FILM_BYTES_PER_PIXEL,
-            opticks_io::memory::human_bytes(available)
-        ),
-        _ => Ok(()),
-    }
+/// Refuses, before any work, a film that does not fit in memory
+/// ([`opticks_io::memory::check_film_fits`], with this process's rayon threads).
+pub fn check_film_fits(what: &str, size: (u32, u32), output_bytes: u64) -> Result<()> {
+    Ok(opticks_io::memory::check_film_fits(what, size, output_bytes, rayon::current_num_threads())?)
 }
 
-/// Bytes a pixel of an image output needs while it is written (the f32 RGB copy the writers
-/// take, and their own buffer).
-pub const IMAGE_OUTPUT_BYTES: u64 = 12 + 8;
+/// Bytes a pixel of an image output needs while it is written.
+pub const IMAGE_OUTPUT_BYTES: u64 = opticks_io::memory::IMAGE_OUTPUT_BYTES;
 
 /// Renders `count` sample batches through `camera` with a progress bar over `total_samples`;
 /// stops with an error on Ctrl-C. The film is checked to fit in memory first
