@@ -4,8 +4,7 @@
 //! depth 1 measured 1.1-1.2x more efficient on the Cornell box, at a little more noise per path.
 
 use clap::{Args, ValueEnum};
-use opticks_core::dataset::{Directions, Roulette, Selection, StrategyChoice, TraceSettings};
-use opticks_core::sensor::bidirectional::Heuristic;
+use opticks_core::dataset::{Directions, Heuristic, Roulette, Selection, StrategyChoice, TraceSettings};
 
 /// Russian roulette rule.
 #[derive(Clone, Copy, Debug, ValueEnum)]

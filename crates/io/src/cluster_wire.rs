@@ -10,10 +10,9 @@
 //! an error naming the message, never a panic.
 
 use opticks_core::dataset::{
-    Block, Chunk, Directions, LightPlan, Roulette, Sample, Selection, TraceSettings,
+    Block, Chunk, Directions, Heuristic, LightPlan, MisRecord, Roulette, Sample, Selection, TraceSettings,
 };
 use opticks_core::scene::Fingerprint;
-use opticks_core::sensor::bidirectional::{Heuristic, MisRecord};
 
 /// Master → worker: a trace job ([`TraceJob`]).
 pub const JOB: i32 = 1;

@@ -21,9 +21,8 @@ use crate::dataset_file::{DatasetError, DatasetReader, DatasetSummary, DatasetWr
 use opticks_core::dataset::{
     Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan, TooManyPaths, UpgradeError, upgrade_plan,
 };
-use opticks_core::dataset::{check_path_budget, reproduces};
+use opticks_core::dataset::{Heuristic, check_path_budget, reproduces};
 use opticks_core::scene::Scene;
-use opticks_core::sensor::bidirectional::Heuristic;
 use opticks_core::trace::{trace_block, trace_plan_from};
 use rayon::prelude::*;
 use std::path::{Path, PathBuf};

@@ -4,13 +4,13 @@
 //! and boxes, the emissive furnace, the emitting panel, mean and standard error).
 
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
-use opticks_core::dataset::{Chunk, Directions, LightTable};
+use opticks_core::dataset::{Chunk, Directions, Heuristic, LightTable};
 use opticks_core::film::Film;
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{
     AreaEmission, CameraDesc, CameraKind, MeshDesc, PointLightDesc, Scene, SceneDescription,
 };
-use opticks_core::sensor::bidirectional::{CacheChunk, Heuristic, Renderer, Settings, combine};
+use opticks_core::sensor::bidirectional::{CacheChunk, Renderer, Settings, combine};
 use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
 use opticks_core::trace::{TraceSettings, trace};
 

@@ -7,10 +7,10 @@
 use crate::progress;
 use anyhow::{Result, anyhow, bail};
 use clap::ValueEnum;
-use opticks_core::dataset::{Directions, MisUnavailable, mis_compatibility};
+use opticks_core::dataset::{Directions, Heuristic, MisUnavailable, mis_compatibility};
 use opticks_core::sensor::Sensor;
+use opticks_core::sensor::bidirectional::Settings;
 use opticks_core::sensor::bidirectional::run::{self, Run, RunEvent, RunPlan};
-use opticks_core::sensor::bidirectional::{Heuristic, Settings};
 use opticks_io::opened::LitDataset;
 use std::time::Instant;
 

@@ -13,7 +13,7 @@ use super::{begin_dataset_write, job_error, open_with_scene};
 use crate::progress::TraceProgress;
 use anyhow::Result;
 use clap::ValueEnum;
-use opticks_core::sensor::bidirectional::Heuristic;
+use opticks_core::dataset::Heuristic;
 use opticks_io::dataset_job::upgrade_dataset;
 use opticks_io::dataset_lock::WriteIntent;
 use std::path::PathBuf;

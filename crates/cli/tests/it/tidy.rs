@@ -66,3 +66,32 @@ fn one_integration_test_binary_per_crate() {
         "tests/ at the root: integration tests live in their crate's tests/it/"
     );
 }
+
+/// ARCHITECTURE's invariant on the core's imports: sensors may use what the dataset stores, but
+/// nothing in `dataset/` or `trace/` reaches into `sensor/` (the tracer and the stored data must
+/// not depend on how a camera reads them).
+#[test]
+fn dataset_and_trace_never_import_from_sensor() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/src");
+    let mut files = Vec::new();
+    for dir in ["dataset", "trace"] {
+        rust_files(&src.join(dir), &mut files);
+    }
+    assert!(files.len() > 10, "found only {} files", files.len());
+    let offenders: Vec<_> = files
+        .iter()
+        .flat_map(|f| {
+            let text = std::fs::read_to_string(f).unwrap();
+            let rel = f.strip_prefix(&src).unwrap().display().to_string();
+            text.lines()
+                .enumerate()
+                .filter(|(_, l)| {
+                    let code = l.split("//").next().unwrap_or("");
+                    code.contains("crate::sensor") || code.contains("super::sensor")
+                })
+                .map(|(i, l)| format!("{rel}:{}: {}", i + 1, l.trim()))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert!(offenders.is_empty(), "dataset/trace import from sensor: {offenders:#?}");
+}

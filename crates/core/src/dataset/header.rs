@@ -4,10 +4,9 @@
 //! The file format (`opticks_io::dataset_file`) encodes exactly this; `docs/dataset-format.md`
 //! gives the bytes.
 
-use super::{Directions, Roulette, Selection};
+use super::{Directions, Heuristic, Roulette, Selection};
 use super::{LightPlan, LightTable, TraceSettings};
 use crate::scene::{Fingerprint, ObjectHash};
-use crate::sensor::bidirectional::Heuristic;
 
 /// The MIS records a pass stored with its samples (dataset format 3, `docs/bidirectional.md`
 /// §5, §7): the heuristic they are powered for and the sampling signature of the tracer that

@@ -19,16 +19,21 @@
 //!   block order ([`PassDispatch`], `dispatch.rs`);
 //! * the laws of using one — relighting (`relight.rs`), merging (`merge.rs`), a preview from a
 //!   subset of chunks (`subset.rs`) — and the dataset-versus-scene check (`scene_check.rs`);
-//! * whether its MIS records (one per sample, [`Chunk::records`]) serve the bidirectional
-//!   estimator ([`mis_compatibility`], `mis.rs`): every law keeps them exact as long as all
-//!   passes agree on heuristic, sampling signature and direction rule; a dataset without them
-//!   gains them by re-tracing its passes block for block ([`upgrade_plan`], `upgrade.rs`).
+//! * the MIS records (one per sample, [`Chunk::records`]) and whether they serve the
+//!   bidirectional estimator ([`mis_compatibility`], `mis/mod.rs`): every law keeps them exact
+//!   as long as all passes agree on heuristic, sampling signature and direction rule; a dataset
+//!   without them gains them by re-tracing its passes block for block ([`upgrade_plan`],
+//!   `upgrade.rs`). The records themselves — the [`Heuristic`] and the recursion both sides of
+//!   the estimator share (`mis/recursion.rs`), the light side the tracer walks and stores
+//!   ([`Emitter`], [`LightVertexMis`], [`MisRecord`], `mis/record.rs`) — are the dataset's too,
+//!   so the sensors use what the dataset stores and the dataset and the tracer never use a
+//!   sensor.
 
 mod dispatch;
 mod extend;
 mod header;
 mod merge;
-mod mis;
+pub(crate) mod mis;
 mod plan;
 mod relight;
 mod resume;
@@ -44,7 +49,10 @@ pub use dispatch::{NumberedBlock, PassDispatch};
 pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
 pub use header::{DatasetHeader, NoPassRecord, PassMis, TraceInfo, TracePass};
 pub use merge::{MergeError, merge_header, merge_tables};
-pub use mis::{MisSettings, MisUnavailable, mis_compatibility};
+pub use mis::{
+    Emitter, Heuristic, LightKind, LightVertexMis, MisRecord, MisSettings, MisUnavailable, VcmClass,
+    mis_compatibility,
+};
 pub use plan::{BLOCK_PATHS, Block, Directions, LightPlan, PassPlan, Roulette, Selection, StrategyChoice};
 pub use plan::{BlockOrder, MAX_PATHS, TooManyPaths, check_path_budget, planned_table, quota_weight};
 pub use plan::{NoEmission, check_emission};

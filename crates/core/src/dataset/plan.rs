@@ -11,10 +11,9 @@
 //! balanced, and the order is fixed by the plan alone, so a stopped run's blocks are a known
 //! prefix ([`blocks_done`]).
 
-use super::{LightRecord, LightTable};
+use super::{Heuristic, LightRecord, LightTable};
 use crate::math::Rgb;
 use crate::scene::Scene;
-use crate::sensor::bidirectional::Heuristic;
 
 /// Paths per block (one block = one chunk = one random stream).
 pub const BLOCK_PATHS: u64 = 4096;
@@ -71,7 +70,7 @@ pub struct TraceSettings {
     /// Vertex selection for extension.
     pub selection: Selection,
     /// The MIS heuristic the bidirectional estimator's per-sample records are computed for
-    /// (`docs/bidirectional.md` §5; the tracer stores one [`MisRecord`](crate::sensor::bidirectional::MisRecord)
+    /// (`docs/bidirectional.md` §5; the tracer stores one [`MisRecord`](super::MisRecord)
     /// per sample), or `None` for no records (the light estimator needs none). Records never
     /// change the samples: the random numbers drawn are the same either way.
     pub mis: Option<Heuristic>,

@@ -1,8 +1,7 @@
 //! The light table and sample chunks: the bookkeeping that makes the estimator exact.
 
-use super::Sample;
+use super::{MisRecord, Sample};
 use crate::math::Rgb;
-use crate::sensor::bidirectional::MisRecord;
 
 /// One light's row in the dataset: its power Φ_k at trace time and its path count N_k.
 #[derive(Clone, Debug, PartialEq)]

@@ -13,9 +13,9 @@
 //! dataset keeps its own samples, bit for bit, with the records of the re-trace.
 
 use super::resume::traced_plan;
-use super::{Block, DatasetHeader, LightMismatch, PassMis, Sample, TraceSettings, block_order, scene_lights};
+use super::{Block, DatasetHeader, Heuristic, LightMismatch, PassMis, Sample, TraceSettings};
+use super::{block_order, scene_lights};
 use crate::scene::Scene;
-use crate::sensor::bidirectional::Heuristic;
 use crate::trace::SAMPLING_SIGNATURE;
 
 /// Why a dataset's passes cannot be re-traced.

@@ -1,6 +1,6 @@
 //! The light tracer's densities, as the bidirectional estimator's MIS needs them
 //! (`docs/bidirectional.md` §4, §7): written once, here, and used both by the tracer (to
-//! compute the [`MisRecord`](crate::sensor::bidirectional::MisRecord) of each stored sample)
+//! compute the [`MisRecord`] of each stored sample)
 //! and by the camera-side renderer (to evaluate the light tracer's densities at camera
 //! vertices and connections), so that the two can never disagree.
 //!
@@ -17,10 +17,10 @@
 
 use super::Directions;
 use crate::bsdf::{Bsdf, Direction, Material, ShadingPoint};
+use crate::dataset::{Emitter, Heuristic, LightVertexMis, MisRecord};
 use crate::geometry::SurfaceNormals;
 use crate::light::{Emission, Light};
 use crate::math::Vec3;
-use crate::sensor::bidirectional::{Emitter, Heuristic, LightVertexMis, MisRecord};
 
 /// The sampling signature of this build's MIS records (`docs/bidirectional.md` §7): bump it
 /// whenever a density they depend on changes — the lights' emission sampling, `Bsdf::sample` /

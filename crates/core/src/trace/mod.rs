@@ -42,14 +42,13 @@
 //! early is still balanced.
 
 use crate::bsdf::TransportMode;
-use crate::dataset::{Chunk, LightTable, Sample, block_order, plan_all, planned_table};
+#[cfg(doc)]
+use crate::dataset::LightVertexMis;
+use crate::dataset::{Chunk, LightTable, MisRecord, Sample, block_order, plan_all, planned_table};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
-#[cfg(doc)]
-use crate::sensor::bidirectional::LightVertexMis;
-use crate::sensor::bidirectional::MisRecord;
 use mis::{PathMis, SegmentMis};
 use rayon::prelude::*;
 

@@ -12,7 +12,9 @@ use opticks_core::bsdf::{
     Bsdf, Material, ModifiedPhong, RoughConductor, SmoothConductor, SmoothDielectric, ThinDielectric,
     TransportMode,
 };
-use opticks_core::dataset::{Chunk, Directions, Sample, subset};
+use opticks_core::dataset::{
+    Chunk, Directions, Emitter, Heuristic, LightVertexMis, MisRecord, Sample, subset,
+};
 use opticks_core::geometry::{Ray, offset_ray_origin};
 use opticks_core::light::Light;
 use opticks_core::math::{Rgb, Vec3};
@@ -22,9 +24,8 @@ use opticks_core::scene::{
     SceneDescription,
 };
 use opticks_core::sensor::bidirectional::{
-    CacheChunk, CachedVertex, CameraVertexMis, Context, Emitter, Heuristic, LightVertexMis, MisRecord,
-    Receiver, Renderer, Settings, connection_weight, image_pdf, light_trace_weight, nee_weight, scatter_mis,
-    weight_emitter_hit,
+    CacheChunk, CachedVertex, CameraVertexMis, Context, Receiver, Renderer, Settings, connection_weight,
+    image_pdf, light_trace_weight, nee_weight, scatter_mis, weight_emitter_hit,
 };
 use opticks_core::sensor::{Equirectangular, Orthographic, Sensor, ThinLens};
 

@@ -3,10 +3,11 @@
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMAT_VERSION};
 use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
 use opticks_core::dataset::{DatasetHeader, Directions, PassMis, Roulette, Selection, TraceInfo, TracePass};
-use opticks_core::dataset::{LightRecord, LightTable, MAX_PATHS, Sample};
+use opticks_core::dataset::{
+    Heuristic, LightRecord, LightTable, LightVertexMis, MAX_PATHS, MisRecord, Sample, VcmClass,
+};
 use opticks_core::math::Rgb;
 use opticks_core::scene::{Fingerprint, ObjectHash, ObjectKind};
-use opticks_core::sensor::bidirectional::{Heuristic, LightVertexMis, MisRecord, VcmClass};
 use std::path::Path;
 
 /// Size of the fixed part of the header, up to and including the pass count.

@@ -10,8 +10,7 @@
 use super::format::{ChunkHeader, ChunkHeaderError, Trailer, decode_header, record_block_len};
 use super::format::{validate_records, validate_samples};
 use super::{CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, TRAILER_LEN};
-use opticks_core::dataset::{Chunk, DatasetHeader, MAX_PATHS, Sample};
-use opticks_core::sensor::bidirectional::MisRecord;
+use opticks_core::dataset::{Chunk, DatasetHeader, MAX_PATHS, MisRecord, Sample};
 use rayon::prelude::*;
 use std::fs::File;
 use std::path::{Path, PathBuf};

@@ -2,11 +2,11 @@
 //! (never a panic, never a huge allocation) naming the file and the offset.
 
 use opticks_core::dataset::{
-    Chunk, DatasetHeader, LightRecord, LightTable, PassMis, Sample, TraceInfo, TracePass,
+    Chunk, DatasetHeader, Emitter, Heuristic, LightRecord, LightTable, LightVertexMis, MisRecord, PassMis,
+    Sample, TraceInfo, TracePass,
 };
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{Fingerprint, ObjectHash, ObjectKind};
-use opticks_core::sensor::bidirectional::{Emitter, Heuristic, LightVertexMis, MisRecord};
 use opticks_io::dataset_file::*;
 use rayon::prelude::*;
 use std::path::Path;

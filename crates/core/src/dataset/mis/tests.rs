@@ -146,7 +146,6 @@ fn paths(scene: &Scene, k: usize, settings: &TraceSettings, n: u64) -> Vec<(Vec<
 }
 
 use crate::dataset::Sample;
-use crate::sensor::bidirectional::MisRecord;
 
 /// Records are functions of the path and the heuristic only: the same random numbers give the
 /// same records whatever the light's power (relighting a light, or its power changed in the

@@ -13,8 +13,7 @@
 //! paths N_k in the rendered chunks. Emission vertices are counted per chunk when a view is
 //! made ([`CacheChunk::new`]), so nothing is assumed about where a chunk keeps them.
 
-use super::MisRecord;
-use crate::dataset::{Chunk, Sample};
+use crate::dataset::{Chunk, MisRecord, Sample};
 use crate::sampling::RandomStream;
 
 /// One chunk of the cache: `paths` light paths of table light `light`, their `samples` and the

@@ -12,7 +12,7 @@
 //! and merged datasets and `--fraction` previews (whose N'_k are the rendered chunks' paths)
 //! stay exact.
 
-use super::Emitter;
+use crate::dataset::Emitter;
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::scene::Scene;

@@ -9,7 +9,7 @@
 //!
 //! | module | its one job |
 //! |---|---|
-//! | [`mis`] | the MIS weights and the per-vertex quantities both sides carry |
+//! | [`mis`] | the MIS weights and the camera side's per-vertex quantities (the light side's, stored with each sample, are the dataset's) |
 //! | `camera.rs` | camera rays of every sensor, the image-wide density of a direction |
 //! | `lights.rs` | the lights that are on: NEE's pick and light points, emitter hits |
 //! | `cache.rs` | the light vertex cache: uniform draws, |Y|, per-light N_k |
@@ -35,8 +35,8 @@ pub use cache::{CANDIDATES, CacheChunk, CachedVertex, LightCache, PendingDraw, R
 pub use camera::{CameraRay, camera_ray, image_pdf};
 pub use lights::{LightPoint, RenderLight, RenderLights};
 pub use mis::{
-    CameraPdf, CameraVertexMis, ConnectionEnd, Counts, Emitter, Heuristic, LightKind, LightVertexMis,
-    MisRecord, VcmClass, weight_connection, weight_emitter_hit, weight_light_trace, weight_nee,
+    CameraPdf, CameraVertexMis, ConnectionEnd, Counts, weight_connection, weight_emitter_hit,
+    weight_light_trace, weight_nee,
 };
 pub use path::{camera_path, scatter_mis};
 pub use progressive::Progressive;

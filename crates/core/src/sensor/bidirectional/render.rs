@@ -20,13 +20,13 @@
 //! pass cuts the chunks into a fixed number of runs and adds their films in run order. So an
 //! image depends on the seed, never on the thread count.
 
+use super::Counts;
 use super::cache::{CacheChunk, LightCache};
 use super::lights::RenderLights;
 use super::path::camera_path;
 use super::splat::splat_chunk;
 use super::vertex::Context;
-use super::{Counts, Heuristic};
-use crate::dataset::Directions;
+use crate::dataset::{Directions, Heuristic};
 use crate::film::{Accumulator, Film};
 use crate::math::Rgb;
 use crate::sampling::RandomStream;

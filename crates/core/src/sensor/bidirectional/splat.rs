@@ -8,8 +8,8 @@
 
 use super::camera::image_pdf;
 use super::vertex::Context;
-use super::{ConnectionEnd, LightVertexMis, MisRecord, cache::CacheChunk, weight_light_trace};
-use crate::dataset::Sample;
+use super::{ConnectionEnd, cache::CacheChunk, weight_light_trace};
+use crate::dataset::{LightVertexMis, MisRecord, Sample};
 use crate::film::SplatTarget;
 use crate::math::Vec3;
 use crate::sensor::{SampleConnection, Sensor, connect_sample};

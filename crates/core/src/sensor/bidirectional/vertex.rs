@@ -11,11 +11,9 @@
 
 use super::cache::{CachedVertex, LightCache, PendingDraw};
 use super::lights::{LightPoint, RenderLights};
-use super::{
-    CameraVertexMis, ConnectionEnd, Counts, Heuristic, LightVertexMis, weight_connection, weight_nee,
-};
+use super::{CameraVertexMis, ConnectionEnd, Counts, weight_connection, weight_nee};
 use crate::bsdf::{Direction, Material, ShadingPoint};
-use crate::dataset::Directions;
+use crate::dataset::{Directions, Heuristic, LightVertexMis};
 use crate::geometry::{Ray, SurfaceNormals, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;

@@ -9,14 +9,13 @@ use crate::bsdf::{
     Lambert, ModifiedPhong, Plastic, RoughConductor, SmoothConductor, SmoothDielectric, ThinDielectric,
     TransportMode,
 };
-use crate::dataset::{Sample, Selection, TraceSettings};
+use crate::dataset::{Heuristic, LightVertexMis, MisRecord, Sample, Selection, TraceSettings, VcmClass};
 use crate::math::{Rgb, Vec2};
 use crate::sampling::RandomStream;
 use crate::scene::{
     DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, PointLightDesc, Scene, Source,
     cornell_box,
 };
-use crate::sensor::bidirectional::{Heuristic, LightVertexMis, MisRecord, VcmClass};
 use crate::trace::{PathScratch, trace_block, trace_path};
 use glam::DVec3;
 

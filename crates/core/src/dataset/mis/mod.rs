@@ -7,10 +7,23 @@
 //! previewed datasets keep exact records, **if** every pass agrees on those three. Passes that
 //! disagree still merge (the light estimator needs no records), but the result is refused here,
 //! with the reason and the fix.
+//!
+//! The records themselves live here too, because the tracer computes them and the dataset
+//! stores them: `recursion.rs` holds the [`Heuristic`] and the per-vertex recursion both sides
+//! of the bidirectional estimator carry, `record.rs` the light side — a light's emission
+//! densities ([`Emitter`]), a light vertex's state ([`LightVertexMis`]) and its stored form
+//! ([`MisRecord`]). The estimator's camera side, in the bidirectional sensor, uses them;
+//! nothing here depends on it.
 
 use super::{DatasetHeader, Directions};
-use crate::sensor::bidirectional::Heuristic;
 use crate::trace::SAMPLING_SIGNATURE;
+
+mod record;
+mod recursion;
+
+pub use record::{Emitter, LightKind, LightVertexMis, MisRecord, VcmClass};
+pub use recursion::Heuristic;
+pub(crate) use recursion::{Subpath, div, mul};
 
 /// What the camera side needs to weight a dataset's strategies: the heuristic its records are
 /// powered for, and the light tracer's direction rule (for
