@@ -5,7 +5,8 @@
 //! dataset logic lives here: every dataset law and operation is a function of
 //! `opticks_core::dataset`, and every dataset is written by `opticks_io::dataset_job`.
 //! Built with the `mpi` feature and started by `mpirun`, one verb runs over many processes
-//! (`cluster/`, docs/cluster.md); without it no MPI code is compiled.
+//! (the `opticks-cluster` crate, docs/cluster.md; `cluster.rs` here maps the verbs onto it);
+//! without it no MPI code is compiled.
 
 mod camera_args;
 #[cfg(feature = "mpi")]
@@ -68,9 +69,9 @@ fn main() -> ExitCode {
     output::set_level(cli.quiet, cli.verbose);
     interrupt::install();
     #[cfg(feature = "mpi")]
-    let session = cluster::start(&cli.command);
+    let session = opticks_cluster::start(cluster::role(&cli.command), cluster::HOOKS);
     #[cfg(feature = "mpi")]
-    if let Some(code) = session.as_ref().and_then(|s| s.run_worker(cli.command.threads())) {
+    if let Some(code) = session.as_ref().and_then(|s| cluster::serve_if_worker(s, cli.command.threads())) {
         return code;
     }
     let code = run(cli.command);
@@ -83,7 +84,7 @@ fn main() -> ExitCode {
 }
 
 impl Command {
-    /// `--threads` of the verbs that trace (0: all cores).
+    /// `--threads` of the verbs that trace (0: all cores): a cluster worker's.
     #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
     fn threads(&self) -> usize {
         match self {

@@ -34,25 +34,6 @@ pub struct DefineArgs {
 }
 
 impl DefineArgs {
-    /// The parameters as given, `(NAME, VALUE)` (what a cluster worker is sent).
-    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-    pub fn pairs(&self) -> &[(String, String)] {
-        &self.define
-    }
-
-    /// The glTF scene chosen, if any (what a cluster worker is sent with the parameters).
-    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-    pub fn gltf_scene(&self) -> Option<&str> {
-        self.gltf_scene.as_deref()
-    }
-
-    /// What a cluster worker loads its scene with: the parameters `pairs` (as
-    /// [`DefineArgs::pairs`] gave them) and the glTF scene (a worker needs no camera).
-    #[cfg_attr(not(feature = "mpi"), allow(dead_code))]
-    pub fn for_worker(pairs: Vec<(String, String)>, gltf_scene: Option<String>) -> Self {
-        DefineArgs { define: pairs, camera: None, gltf_scene }
-    }
-
     /// The loader's options.
     pub fn options(&self) -> LoadOptions {
         LoadOptions {

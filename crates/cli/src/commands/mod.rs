@@ -74,8 +74,8 @@ pub fn write_job(
     progress: &dyn opticks_io::dataset_job::JobProgress,
 ) -> Result<JobReport, JobError> {
     #[cfg(feature = "mpi")]
-    if crate::cluster::is_master() {
-        let tracer = crate::cluster::trace::ClusterTracer::new(scene.0, scene.1);
+    if opticks_cluster::is_master() {
+        let tracer = opticks_cluster::ClusterTracer::new(scene.0, &scene.1.options(), crate::cluster::HOOKS);
         return opticks_io::dataset_job::write_dataset_with(output, header, sources, new, progress, &tracer);
     }
     let _ = scene;
@@ -255,7 +255,7 @@ pub fn render_with_progress<B: AsBatch>(
 }
 
 /// Renders `count` sample batches through `camera` like [`render_with_progress`], or split over
-/// the ranks of a cluster job (`crate::cluster::render`): the film, or `None` on a worker rank,
+/// the ranks of a cluster job (`opticks_cluster::render`): the film, or `None` on a worker rank,
 /// whose part went to the master. The image is the same either way, bit for bit.
 pub fn render_film<B: AsBatch>(
     scene: &Scene,
@@ -265,17 +265,19 @@ pub fn render_film<B: AsBatch>(
     batch: impl Fn(usize) -> Result<B> + Sync,
 ) -> Result<Option<Film>> {
     #[cfg(feature = "mpi")]
-    if crate::cluster::active() {
+    if opticks_cluster::active() {
         check_film_fits("an image", (camera.width(), camera.height()), IMAGE_OUTPUT_BYTES)?;
         let pb = progress::bar(0, "rendering", "runs");
         let batch = |i| {
             unless_interrupted()?;
             batch(i)
         };
-        let film = crate::cluster::render::render(scene, camera, count, batch, |done, runs| {
+        let progress = |done, runs| {
             pb.set_length(runs as u64);
             pb.set_position(done as u64);
-        })?;
+        };
+        let film =
+            opticks_cluster::render(scene, camera, count, batch, progress, crate::interrupt::requested)?;
         pb.finish_and_clear();
         return Ok(film);
     }
@@ -286,8 +288,8 @@ pub fn render_film<B: AsBatch>(
 /// i mod `.1` = `.0` — (rank, ranks) under `mpirun` with more than one rank, else (0, 1).
 pub fn my_share() -> (usize, usize) {
     #[cfg(feature = "mpi")]
-    if crate::cluster::active() {
-        return crate::cluster::rank_and_size();
+    if opticks_cluster::active() {
+        return opticks_cluster::rank_and_size();
     }
     (0, 1)
 }
@@ -297,9 +299,9 @@ pub fn my_share() -> (usize, usize) {
 /// master, or a process alone).
 pub fn shares_done() -> Result<bool> {
     #[cfg(feature = "mpi")]
-    if crate::cluster::active() {
-        crate::cluster::share_done()?;
-        return Ok(crate::cluster::is_master());
+    if opticks_cluster::active() {
+        opticks_cluster::share_done(crate::interrupt::requested)?;
+        return Ok(opticks_cluster::is_master());
     }
     Ok(true)
 }
@@ -308,7 +310,7 @@ pub fn shares_done() -> Result<bool> {
 /// split over the ranks is run as one process, never once per rank.
 pub fn single_process_only(what: &str) -> Result<()> {
     #[cfg(feature = "mpi")]
-    if crate::cluster::active() {
+    if opticks_cluster::active() {
         anyhow::bail!(
             "{what} does not run under mpirun yet (its camera passes are not split over the ranks): run it as \
              one process, `opticks render …` without mpirun (docs/cluster.md)"

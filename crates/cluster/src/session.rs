@@ -1,50 +1,16 @@
-//! The cluster build (`--features mpi`): one `opticks` job over the ranks of an MPI run
-//! (`mpirun -n N opticks trace …`, or `srun` under Slurm), the thesis's master/worker
-//! parallelisation (§6.2.4) built on the standard of HPC sites instead of a protocol of our own.
-//! Nothing here is compiled without the feature; docs/cluster.md is the user's manual.
-//!
-//! Rank 0 is the master, every other rank a worker; with one rank there is no cluster and the
-//! verb runs as always.
-//!
-//! * **Dataset verbs** (`trace`, `refine`, `add-light`, `resume`): only the master runs the
-//!   verb: it parses, opens, plans, and writes the one dataset through
-//!   `opticks_io::dataset_job` exactly as a single process does. Its tracer
-//!   ([`trace::ClusterTracer`], its bookkeeping the core's `PassDispatch`) hands the pass's
-//!   blocks out **on demand** to the workers, which
-//!   wait in [`trace::serve`]: a worker gets the job (the scene's path, its fingerprint and the
-//!   pass's settings), loads the scene **itself** from the shared file system — a scene file is
-//!   small and every site has one, while a built scene (BVH, lights) has no wire format, and
-//!   loading in parallel costs the master nothing — refuses the job if its fingerprint differs
-//!   from the master's, then asks for blocks, traces them on all its cores and returns each
-//!   block's chunk (its samples in their 32-byte form, `opticks_io::cluster_wire`). The master writes the chunks
-//!   in block order, so **the dataset is the single-process one, sample for sample**, whatever
-//!   N and the thread counts. Stopping (`--time`, a signal) stops the handing out; the blocks
-//!   in flight are awaited, and the file is a valid partial that `opticks resume` completes. A
-//!   block outstanding for longer than the worker timeout is handed to another worker (and its
-//!   late result ignored); with no worker left the master traces the rest itself.
-//! * **`render`**: every rank runs the verb (reading the dataset is read-only); the run films
-//!   of the core's fixed partition (`opticks_core::sensor::render_runs`) are split over the
-//!   workers, run r to worker 1 + r mod (N − 1), and the master adds them in run order
-//!   ([`render::render`]): the image is the single-process one, bit for bit.
-//! * **`walk`**: every rank runs the verb and renders the frames f with f mod N = its rank,
-//!   writing them itself (the output folder is on the shared file system); the master waits
-//!   for every rank's [`share_done`] before it encodes the video. Each frame is rendered exactly
-//!   as a single process renders it, so the frames are the same files.
-//! * **Other verbs** run on the master only; workers exit at once.
+//! The MPI session: which rank runs what ([`Role`]), the patient sends and receives every
+//! conversation uses, the end of a job.
 
-pub mod render;
-pub mod trace;
-
-use crate::Command;
+use crate::{ClusterError, Hooks};
 use mpi::environment::Universe;
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::{Communicator, SimpleCommunicator};
 use std::process::ExitCode;
 use std::time::Duration;
 
-/// How a verb uses the ranks.
+/// How a verb uses the ranks (the front end maps its verbs onto these).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Role {
+pub enum Role {
     /// Workers serve blocks to the master's dataset job.
     Serve,
     /// Every rank runs the verb; the work is split (render).
@@ -53,19 +19,21 @@ enum Role {
     MasterOnly,
 }
 
-fn role(command: &Command) -> Role {
-    match command {
-        Command::Trace(_) | Command::Refine(_) | Command::AddLight(_) | Command::Resume(_) => Role::Serve,
-        Command::Render(_) | Command::Walk(_) => Role::Split,
-        _ => Role::MasterOnly,
-    }
-}
-
 /// An MPI session of more than one rank, held by `main` for the life of the process (MPI is
 /// finalised when it ends).
 pub struct Session {
     universe: Universe,
     role: Role,
+    hooks: Hooks,
+}
+
+/// How a worker rank's service of the master's dataset jobs ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Served {
+    /// The master ended the session (or the verb needs no worker): success.
+    Done,
+    /// A stop was asked for and the master then stayed silent for the worker timeout.
+    GaveUp,
 }
 
 /// Whether this process was started by an MPI launcher (Open MPI's `mpirun`, MPICH's Hydra,
@@ -78,8 +46,8 @@ fn launched_by_mpi() -> bool {
 }
 
 /// Starts MPI when launched by `mpirun` with more than one rank (`None` otherwise: the verb
-/// runs alone, as in the default build).
-pub fn start(command: &Command) -> Option<Session> {
+/// runs alone, as in the default build); `role`: how the verb uses the ranks.
+pub fn start(role: Role, hooks: Hooks) -> Option<Session> {
     if !launched_by_mpi() {
         return None;
     }
@@ -88,7 +56,7 @@ pub fn start(command: &Command) -> Option<Session> {
     if universe.world().size() < 2 {
         return None; // one rank: the master traces itself; MPI ends with `universe`
     }
-    Some(Session { universe, role: role(command) })
+    Some(Session { universe, role, hooks })
 }
 
 /// The world communicator (valid while a [`Session`] lives).
@@ -153,9 +121,9 @@ pub fn rank_and_size() -> (usize, usize) {
 }
 
 /// The end of a split verb's independent shares (walk's frames): a worker tells the master its
-/// share is done; the master waits until every worker has (a signal ends its wait with an error,
-/// and a failed worker ends the whole job: [`Session::finish`]).
-pub fn share_done() -> anyhow::Result<()> {
+/// share is done; the master waits until every worker has (`stop_requested` ends its wait with an
+/// error, and a failed worker ends the whole job: [`Session::finish`]).
+pub fn share_done(stop_requested: fn() -> bool) -> Result<(), ClusterError> {
     let world = world();
     if world.rank() != 0 {
         world.process_at_rank(0).send_with_tag(&[0u8][..], opticks_io::cluster_wire::DONE);
@@ -163,17 +131,15 @@ pub fn share_done() -> anyhow::Result<()> {
     }
     for r in 1..world.size() {
         let from = world.process_at_rank(r);
-        let got =
-            patient_receive::<u8>(&from, Some(opticks_io::cluster_wire::DONE), &crate::interrupt::requested);
-        if got.is_none() {
-            anyhow::bail!("interrupted while waiting for rank {r}'s frames");
+        if patient_receive::<u8>(&from, Some(opticks_io::cluster_wire::DONE), &stop_requested).is_none() {
+            return Err(ClusterError::InterruptedShare(r));
         }
     }
     Ok(())
 }
 
 /// Whether a cluster session runs and this is its master (dataset jobs then go through
-/// [`trace::ClusterTracer`]).
+/// [`crate::ClusterTracer`]).
 pub fn is_master() -> bool {
     active() && world().rank() == 0
 }
@@ -184,17 +150,19 @@ impl Session {
         self.universe.world().rank()
     }
 
-    /// On a worker rank of a dataset verb, serves the master and returns the exit code; on a
-    /// worker of a master-only verb, returns at once. `None` on the master, and on the workers
-    /// of a split verb: they run the verb.
-    pub fn run_worker(&self, threads: usize) -> Option<ExitCode> {
+    /// On a worker rank of a dataset verb, serves the master's jobs on `threads` threads (0: all
+    /// cores) until the master ends the session; on a worker of a master-only verb, returns at
+    /// once. `None` on the master, and on the workers of a split verb: they run the verb.
+    /// Signals should not end a serving worker (the master decides when the job ends): the
+    /// front end keeps them from doing so while this runs.
+    pub fn run_worker(&self, threads: usize) -> Option<Served> {
         if self.rank() == 0 {
             return None;
         }
         match self.role {
-            Role::Serve => Some(trace::serve(threads)),
+            Role::Serve => Some(super::trace::serve(threads, &self.hooks)),
             Role::Split => None,
-            Role::MasterOnly => Some(ExitCode::SUCCESS),
+            Role::MasterOnly => Some(Served::Done),
         }
     }
 
@@ -206,14 +174,14 @@ impl Session {
         match (self.role, self.rank()) {
             // MPI_Finalize would wait for a lost rank forever: end the job instead (everything
             // is written by now), with the verb's outcome as its code.
-            (Role::Serve, 0) if !trace::release_workers() => {
-                crate::output::warning(
+            (Role::Serve, 0) if !super::trace::release_workers(&self.hooks) => {
+                (self.hooks.warning)(
                     "ending the cluster job without MPI's final handshake (a worker is lost)",
                 );
                 self.universe.world().abort(i32::from(failed))
             }
             (Role::Split, _) if failed => {
-                crate::output::error(&format!("on rank {}: ending the cluster job", self.rank()));
+                (self.hooks.warning)(&format!("on rank {}: ending the cluster job", self.rank()));
                 self.universe.world().abort(1)
             }
             _ => {}

@@ -16,7 +16,8 @@
 //! ends the whole job (the master then gets SIGTERM and saves its partial dataset) unless run
 //! with `--enable-recovery` (docs/cluster.md).
 
-use super::{patient_receive, patient_send, world};
+use crate::Hooks;
+use crate::session::{Served, patient_receive, patient_send, world};
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::Communicator;
 use opticks_core::dataset::{Block, Chunk, PassDispatch, PassPlan, TraceSettings};
@@ -24,9 +25,10 @@ use opticks_core::scene::Scene;
 use opticks_core::trace::trace_block;
 use opticks_io::cluster_wire::{self as wire, TraceJob};
 use opticks_io::dataset_job::{JobError, JobProgress, PassTracer};
+use opticks_io::scene_formats::LoadOptions;
+use opticks_io::scene_source::{self, SceneRef, SceneSourceError};
 use rayon::prelude::*;
 use std::collections::HashMap;
-use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 /// Seconds a block may be outstanding before its worker counts as lost (module docs).
@@ -41,25 +43,29 @@ fn blocks_wanted() -> usize {
 }
 
 /// The master's tracer: the pass's blocks go to the worker ranks; `scene` names the file they
-/// load (made absolute, as the workers may start elsewhere), with the `-D` parameters `defines`.
+/// load (made absolute, as the workers may start elsewhere), with the `-D` parameters `defines`
+/// and the glTF scene `gltf_scene`.
 pub struct ClusterTracer {
     scene: String,
     defines: Vec<(String, String)>,
     gltf_scene: Option<String>,
+    hooks: Hooks,
 }
 
 impl ClusterTracer {
     /// A tracer whose workers load `scene` (a file, sent as its absolute path, or a built-in
-    /// scene, sent by its label) with `defines`.
-    pub fn new(scene: &opticks_io::scene_source::SceneRef, defines: &crate::scene_arg::DefineArgs) -> Self {
+    /// scene, sent by its label) with the parameters and glTF scene of `options` (a worker
+    /// needs no camera).
+    pub fn new(scene: &SceneRef, options: &LoadOptions, hooks: Hooks) -> Self {
         let absolute = scene
             .file()
             .and_then(|f| std::fs::canonicalize(f).ok())
             .and_then(|p| p.to_str().map(str::to_owned));
         ClusterTracer {
             scene: absolute.unwrap_or_else(|| scene.label()),
-            defines: defines.pairs().to_vec(),
-            gltf_scene: defines.gltf_scene().map(str::to_owned),
+            defines: options.defines.clone(),
+            gltf_scene: options.gltf_scene.clone(),
+            hooks,
         }
     }
 }
@@ -174,7 +180,7 @@ impl PassTracer for ClusterTracer {
             for r in lost {
                 if workers.insert(r, Worker::Out) != Some(Worker::Out) {
                     let host = hosts.get(&r).map_or(String::new(), |h| format!(" ({h})"));
-                    crate::output::warning(&format!(
+                    (self.hooks.warning)(&format!(
                         "worker rank {r}{host} sent nothing for {:.0} s: its blocks go to others",
                         timeout.as_secs_f64()
                     ));
@@ -221,7 +227,7 @@ impl PassTracer for ClusterTracer {
             }
         }
         progress.traced_all();
-        stats.report(done, started.elapsed(), ranks.len());
+        stats.report(done, started.elapsed(), ranks.len(), &self.hooks);
         Ok(d.traced().to_vec())
     }
 }
@@ -237,10 +243,10 @@ struct WireStats {
 
 impl WireStats {
     /// One note on stderr (docs/cluster.md explains how to read it).
-    fn report(&self, paths: u64, elapsed: Duration, workers: usize) {
+    fn report(&self, paths: u64, elapsed: Duration, workers: usize, hooks: &Hooks) {
         let per_path = self.bytes as f64 / paths.max(1) as f64;
         let rate = self.bytes as f64 / self.busy.as_secs_f64().max(1e-9) / 1e6;
-        crate::output::note(&format!(
+        (hooks.note)(&format!(
             "cluster: {workers} workers, {paths} paths in {:.2} s; {:.1} MB received in {} messages ({per_path:.1} \
              bytes/path); master busy {:.2} s ({:.0}%, {rate:.0} MB/s while busy)",
             elapsed.as_secs_f64(),
@@ -260,9 +266,9 @@ fn trace(scene: &Scene, settings: &TraceSettings, b: &Block) -> Chunk {
 /// What a worker's loaded scene was loaded from: the file, its `-D` parameters, its glTF scene.
 type SceneKey = (String, Vec<(String, String)>, Option<String>);
 
-/// A worker's life: jobs until `QUIT`. Returns the exit code (success: a job this worker
-/// could not do was reported to the master, whose verb fails with the reason).
-pub fn serve(threads: usize) -> ExitCode {
+/// A worker's life: jobs until `QUIT` ([`Served::Done`], also when a job this worker could not
+/// do was reported to the master, whose verb fails with the reason).
+pub(crate) fn serve(threads: usize, hooks: &Hooks) -> Served {
     if threads > 0 {
         let _ = rayon::ThreadPoolBuilder::new().num_threads(threads).build_global();
     }
@@ -270,22 +276,21 @@ pub fn serve(threads: usize) -> ExitCode {
     let master = world.process_at_rank(0);
     let host = mpi::environment::processor_name().unwrap_or_default();
     // A signal (a scheduler's SIGTERM reaches every rank) does not end a worker: the master
-    // decides when the job ends, and the blocks in hand are finished and sent. Only a master
-    // that then stays silent for the worker timeout is given up on.
-    let _graceful = crate::interrupt::graceful();
+    // decides when the job ends, and the blocks in hand are finished and sent (the front end
+    // keeps signals from ending the process meanwhile). Only a master that then stays silent
+    // for the worker timeout is given up on.
     let signalled = std::sync::OnceLock::new();
     let give_up =
-        || crate::interrupt::requested() && signalled.get_or_init(Instant::now).elapsed() > worker_timeout();
-    let gone = || crate::interrupt::exit_code().map_or(ExitCode::FAILURE, ExitCode::from);
+        || (hooks.stop_requested)() && signalled.get_or_init(Instant::now).elapsed() > worker_timeout();
     let mut loaded: Option<(SceneKey, Scene)> = None;
     loop {
         let Some((bytes, status)) = patient_receive::<u8>(&master, None, &give_up) else {
-            return gone();
+            return Served::GaveUp;
         };
         match status.tag() {
             wire::QUIT => {
                 master.send_with_tag(&[0u8][..], wire::BYE);
-                return ExitCode::SUCCESS;
+                return Served::Done;
             }
             wire::JOB => {}
             _ => continue, // the end of a job this worker had already left
@@ -299,14 +304,10 @@ pub fn serve(threads: usize) -> ExitCode {
         };
         let wanted = (job.scene.clone(), job.defines.clone(), job.gltf_scene.clone());
         if loaded.as_ref().is_none_or(|(spec, _)| *spec != wanted) {
-            let defines =
-                crate::scene_arg::DefineArgs::for_worker(job.defines.clone(), job.gltf_scene.clone());
-            let scene = crate::scene_arg::parse_scene(&job.scene);
-            loaded = match scene.and_then(|scene| crate::scene_arg::load_scene(&scene, &defines)) {
+            loaded = match load_scene(&job) {
                 Ok(scene) => Some((wanted, scene)),
                 Err(e) => {
-                    let why = crate::error_chain(&e);
-                    master.send_with_tag(why.as_bytes(), wire::FAILED);
+                    master.send_with_tag(error_chain(&e).as_bytes(), wire::FAILED);
                     None
                 }
             };
@@ -325,11 +326,11 @@ pub fn serve(threads: usize) -> ExitCode {
         master.send_with_tag(&wire::encode_ready(&host, blocks_wanted())[..], wire::READY);
         loop {
             let Some((bytes, status)) = patient_receive::<u8>(&master, None, &give_up) else {
-                return gone();
+                return Served::GaveUp;
             };
             if status.tag() == wire::QUIT {
                 master.send_with_tag(&[0u8][..], wire::BYE);
-                return ExitCode::SUCCESS;
+                return Served::Done;
             }
             let blocks = match wire::decode_blocks(&bytes) {
                 Ok(blocks) => blocks,
@@ -350,11 +351,36 @@ pub fn serve(threads: usize) -> ExitCode {
     }
 }
 
+/// Loads the scene of a job as the master loaded it (its warnings are the master's to print).
+fn load_scene(job: &TraceJob) -> Result<Scene, SceneSourceError> {
+    let scene = SceneRef::parse(&job.scene)?;
+    let options =
+        LoadOptions { defines: job.defines.clone(), camera: None, gltf_scene: job.gltf_scene.clone() };
+    let loaded = scene_source::load(&scene, &options)?;
+    Ok(scene_source::build(&scene, &loaded.description)?.scene)
+}
+
+/// An error and its causes joined by ": ", leaving out a cause the message before it already
+/// ends with (what the worker sends the master, which reports it).
+fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        let part = c.to_string();
+        if !text.ends_with(&part) {
+            text.push_str(": ");
+            text.push_str(&part);
+        }
+        cause = c.source();
+    }
+    text
+}
+
 /// The master's end of the session: every worker is told to quit, and their answers awaited
 /// (messages a lost worker still sends are received and dropped, so none blocks on a send).
 /// Workers that do not answer within the worker timeout are reported; returns whether all
 /// answered (MPI's final handshake would wait forever for a dead one).
-pub fn release_workers() -> bool {
+pub(crate) fn release_workers(hooks: &Hooks) -> bool {
     let world = world();
     let mut waiting: Vec<i32> = (1..world.size()).collect();
     for &r in &waiting {
@@ -373,7 +399,7 @@ pub fn release_workers() -> bool {
         }
     }
     if !waiting.is_empty() {
-        crate::output::warning(&format!("worker ranks {waiting:?} did not answer at the end (lost?)"));
+        (hooks.warning)(&format!("worker ranks {waiting:?} did not answer at the end (lost?)"));
     }
     waiting.is_empty()
 }

@@ -7,7 +7,8 @@
 //! same way but each worker sends one film of all its runs, accumulated like the single-process
 //! render of such sizes (one shared film): equal to it within float rounding.
 
-use super::{patient_receive, patient_send, world};
+use crate::ClusterError;
+use crate::session::{patient_receive, patient_send, world};
 use mpi::topology::Communicator;
 use opticks_core::film::{Film, private_films};
 use opticks_core::scene::Scene;
@@ -26,14 +27,17 @@ fn owner(run: usize, size: usize) -> usize {
 
 /// Renders `count` batches through `camera` on the cluster: the film on the master, `None` on a
 /// worker (its part went to the master). `progress(done, total)` counts the films the master
-/// has added.
-pub fn render<B: AsBatch>(
+/// has added; `stop_requested` ends the master's wait for them (the job then ends:
+/// [`crate::Session::finish`]). A batch's error `E` ends the render; the cluster's own errors
+/// become one (`E: From<ClusterError>`).
+pub fn render<B: AsBatch, E: Send + From<ClusterError>>(
     scene: &Scene,
     camera: &Sensor,
     count: usize,
-    batch: impl Fn(usize) -> anyhow::Result<B> + Sync,
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize, usize),
-) -> anyhow::Result<Option<Film>> {
+    stop_requested: fn() -> bool,
+) -> Result<Option<Film>, E> {
     let world = world();
     let (rank, size) = (world.rank() as usize, world.size() as usize);
     let (width, height) = (camera.width(), camera.height());
@@ -49,18 +53,12 @@ pub fn render<B: AsBatch>(
             // Each worker sends its films in order, and messages between two ranks do not
             // overtake one another: the next message from the owner is film r.
             let from = world.process_at_rank(owner(r, size) as i32);
-            // A signal to the master ends its wait (the job then ends: `Session::finish`).
-            let Some((pixels, _)) =
-                patient_receive::<f64>(&from, Some(wire::FILM), &crate::interrupt::requested)
-            else {
-                anyhow::bail!("interrupted: stopped, nothing written");
+            let Some((pixels, _)) = patient_receive::<f64>(&from, Some(wire::FILM), &stop_requested) else {
+                return Err(ClusterError::Interrupted.into());
             };
             if pixels.len() != film_len(width, height) {
-                anyhow::bail!(
-                    "rank {} sent a film of {} values for {width}x{height}",
-                    owner(r, size),
-                    pixels.len()
-                );
+                let rank = owner(r, size);
+                return Err(ClusterError::BadFilm { rank, values: pixels.len(), width, height }.into());
             }
             let mut film = Film::new(width, height);
             for (p, v) in film.pixels.iter_mut().zip(pixels.chunks_exact(3)) {
