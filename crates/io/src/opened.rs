@@ -21,7 +21,10 @@ use opticks_core::math::Rgb;
 use opticks_core::scene::{Scene, SceneDescription, SceneError};
 use opticks_core::sensor::OwnedBatch;
 use opticks_core::sensor::bidirectional::CacheChunk;
-use opticks_core::sensor::meter::Group;
+use opticks_core::sensor::bidirectional::RenderLights;
+use opticks_core::sensor::meter::{
+    Group, MeterEstimator, MeterLayout, Reading, read_connected, read_samples,
+};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -94,6 +97,22 @@ pub enum OpenError {
 fn list(paths: &[PathBuf]) -> String {
     let paths: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
     paths.join(" and ")
+}
+
+/// Why a measurement ([`LitDataset::measure`]) failed.
+#[derive(Debug, thiserror::Error)]
+pub enum MeasureError {
+    /// The samples estimator was asked to read points.
+    #[error(
+        "the samples estimator counts samples landing on a surface and cannot read points: use connections"
+    )]
+    SamplesAtPoints,
+    /// Reading the dataset failed.
+    #[error(transparent)]
+    Dataset(#[from] DatasetError),
+    /// `stop` asked the measurement to end.
+    #[error("interrupted: stopped, nothing written")]
+    Interrupted,
 }
 
 /// A dataset opened against its scene.
@@ -292,5 +311,43 @@ impl LitDataset {
         }
         self.chunks = kept.chunks;
         Ok(())
+    }
+
+    /// Reads a meter over the kept chunks: irradiance per target with its standard error.
+    /// `progress(n)` counts samples read; `stop` is asked between batches and ends the reading
+    /// with [`MeasureError::Interrupted`].
+    pub fn measure(
+        &self,
+        layout: &MeterLayout,
+        estimator: MeterEstimator,
+        progress: impl Fn(usize) + Sync,
+        stop: impl Fn() -> bool + Sync,
+    ) -> Result<Reading, MeasureError> {
+        let groups = self.groups();
+        let batch = |i| {
+            if stop() {
+                return Err(MeasureError::Interrupted);
+            }
+            Ok(self.batch(i)?)
+        };
+        let reading = match (layout, estimator) {
+            (MeterLayout::Grid(meter), MeterEstimator::Samples) => {
+                read_samples(meter, &groups, batch, progress)?
+            }
+            (MeterLayout::Points(_), MeterEstimator::Samples) => return Err(MeasureError::SamplesAtPoints),
+            (_, MeterEstimator::Connections(settings)) => {
+                let mut paths = vec![0u64; self.flux_per_path().len()];
+                for g in &groups {
+                    paths[g.light as usize] += g.paths;
+                }
+                let lights =
+                    RenderLights::new(self.scene(), &self.light_names(), self.flux_per_path(), &paths);
+                read_connected(self.scene(), &lights, layout, settings, &groups, batch, progress)?
+            }
+        };
+        if stop() {
+            return Err(MeasureError::Interrupted);
+        }
+        Ok(reading)
     }
 }

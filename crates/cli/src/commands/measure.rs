@@ -36,8 +36,7 @@ use anyhow::{Context, Result, bail};
 use opticks_core::film::Film;
 use opticks_core::math::Vec3;
 use opticks_core::sensor::IlluminanceMeter;
-use opticks_core::sensor::bidirectional::RenderLights;
-use opticks_core::sensor::meter::{ConnectedSettings, MeterLayout, read_connected, read_samples};
+use opticks_core::sensor::meter::{self, ConnectedSettings, MeterLayout};
 use opticks_io::output_paths::{OutputKind, check_outputs};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -168,34 +167,21 @@ pub fn run(a: Args) -> Result<()> {
             bail!("give --surface NAME, --plane ox,oy,oz,ux,uy,uz,vx,vy,vz or --points FILE")
         }
     };
-    let groups = data.groups();
     // Per cell: its lux value and its CSV line (about 120 characters).
     super::check_film_fits("a meter", (layout.len() as u32, 1), 8 + 128)?;
     let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
-    let batch = |i| {
-        super::unless_interrupted()?;
-        Ok::<_, anyhow::Error>(data.batch(i)?)
-    };
     let progress = |n: usize| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64);
-    let reading = match (&layout, estimator) {
-        (MeterLayout::Grid(meter), MeterEstimator::Samples) => read_samples(meter, &groups, batch, progress)?,
-        (_, _) => {
-            let mut paths = vec![0u64; data.flux_per_path().len()];
-            for g in &groups {
-                paths[g.light as usize] += g.paths;
-            }
-            let lights = RenderLights::new(data.scene(), &data.light_names(), data.flux_per_path(), &paths);
-            let settings = ConnectedSettings {
-                connections: a.connections,
-                direct_samples: a.direct_samples,
-                seed: a.seed,
-            };
-            read_connected(data.scene(), &lights, &layout, settings, &groups, batch, progress)?
-        }
+    let how = match estimator {
+        MeterEstimator::Samples => meter::MeterEstimator::Samples,
+        MeterEstimator::Connections => meter::MeterEstimator::Connections(ConnectedSettings {
+            connections: a.connections,
+            direct_samples: a.direct_samples,
+            seed: a.seed,
+        }),
     };
-    super::unless_interrupted()?;
+    let reading = data.measure(&layout, how, progress, crate::interrupt::requested)?;
     pb.finish_and_clear();
     let side = match &layout {
         MeterLayout::Grid(m) => {

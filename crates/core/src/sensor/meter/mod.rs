@@ -36,6 +36,17 @@ pub use connect::{ConnectedSettings, read_connected};
 pub use layout::{MeterDraw, MeterLayout, MeterPoint};
 pub use tally::{Group, Reading, lux};
 
+/// How a meter reads a dataset (module docs): every stored sample connected to points of the
+/// meter, which reads anywhere, or the samples that landed on it, which reads only a grid on
+/// the scene's surfaces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MeterEstimator {
+    /// [`read_connected`] with these settings.
+    Connections(ConnectedSettings),
+    /// [`read_samples`].
+    Samples,
+}
+
 use super::{SampleBatch, Splatter, accumulate};
 use crate::film::{Film, SplatTarget};
 use crate::math::Vec3;
