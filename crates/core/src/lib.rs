@@ -15,6 +15,7 @@
 //!   plan, and every law and operation of the dataset (relighting, merging, refining, adding a
 //!   light, resuming, previews).
 //! * [`sensor`] connects stored samples to a sensor (pinhole camera) and accumulates a [`film::Film`].
+//! * [`bench`] times a trace and a render in memory (`opticks bench`).
 //!
 //! This crate does no file IO and is deterministic for a given seed.
 // One exception, allowed where it stands: the prefetch hint of the light vertex cache
@@ -25,6 +26,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod accel;
+pub mod bench;
 pub mod bsdf;
 pub mod dataset;
 pub mod film;

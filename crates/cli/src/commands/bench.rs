@@ -8,11 +8,6 @@ use crate::output;
 use crate::scene_arg::load_scene;
 use crate::strategy_args::StrategyArgs;
 use anyhow::Result;
-use opticks_core::dataset::Chunk;
-use opticks_core::film::Film;
-use opticks_core::sensor::{SampleBatch, render};
-use opticks_core::trace::trace;
-use std::time::Instant;
 
 /// Arguments of `opticks bench`.
 #[derive(clap::Args, Debug)]
@@ -66,43 +61,9 @@ pub fn run(a: Args) -> Result<()> {
     };
     super::check_film_fits("an image", (camera.width(), camera.height()), 0)?;
     let settings = a.strategy.settings(a.paths, a.seed);
-    let mut best_trace = f64::INFINITY;
-    let mut chunks: Vec<Chunk> = Vec::new();
-    let mut table = Default::default();
-    for _ in 0..a.repeat {
-        chunks.clear();
-        let t = Instant::now();
-        table = trace(
-            &scene,
-            &settings,
-            |c| {
-                chunks.push(c);
-                Ok::<(), std::convert::Infallible>(())
-            },
-            |_| {},
-        )?;
-        best_trace = best_trace.min(t.elapsed().as_secs_f64());
-    }
-    let samples: usize = chunks.iter().map(|c| c.samples.len()).sum();
-    let mut best_render = f64::INFINITY;
-    let mut film = Film::new(1, 1);
-    for _ in 0..a.repeat {
-        let t = Instant::now();
-        film = render(
-            &scene,
-            &camera,
-            chunks.len(),
-            |i| {
-                let c = &chunks[i];
-                Ok::<_, std::convert::Infallible>(SampleBatch {
-                    flux_per_path: table.flux_per_path(c.light as usize),
-                    samples: &c.samples,
-                })
-            },
-            |_| {},
-        )?;
-        best_render = best_render.min(t.elapsed().as_secs_f64());
-    }
+    let report = opticks_core::bench::bench(&scene, &camera, &settings, a.repeat);
+    let (best_trace, best_render, samples, film) =
+        (report.trace_seconds, report.render_seconds, report.samples, report.film);
     let threads = rayon::current_num_threads();
     output::result(&format!(
         "scene          {} ({} triangles, {threads} threads)",
@@ -126,7 +87,15 @@ pub fn run(a: Args) -> Result<()> {
         samples as f64 / best_render / 1e6
     ));
     let m = film.mean();
-    let mut quality = String::new();
+    let mut line = serde_json::json!({
+        "scene": a.scene.label(),
+        "paths": a.paths,
+        "threads": threads,
+        "trace_s": round(best_trace, 4),
+        "render_s": round(best_render, 4),
+        "samples": samples,
+        "mean_rgb": m.map(|x| round(x, 6)),
+    });
     if let Some((path, reference)) = &reference {
         let c = opticks_io::compare::compare(&film.to_rgb_f32(), reference);
         let efficiency = 1.0 / (c.relmse * (best_trace + best_render));
@@ -138,59 +107,35 @@ pub fn run(a: Args) -> Result<()> {
             c.mean_ratio[1],
             c.mean_ratio[2]
         ));
-        quality = format!(
-            ",\"relmse\":{},\"efficiency\":{}",
-            json_number(c.relmse, 6, true),
-            json_number(efficiency, 3, false)
-        );
+        line["relmse"] = significant(c.relmse, 7).into();
+        line["efficiency"] = round(efficiency, 3).into();
     }
-    let mean = m.map(|x| json_number(x, 6, false)).join(",");
-    output::data(&format!(
-        "{{\"scene\":{},\"paths\":{},\"threads\":{threads},\"trace_s\":{},\"render_s\":{},\"samples\":{samples},\"mean_rgb\":[{mean}]{quality}}}",
-        json_string(&a.scene.label()),
-        a.paths,
-        json_number(best_trace, 4, false),
-        json_number(best_render, 4, false)
-    ));
+    output::data(&line.to_string());
     Ok(())
 }
 
 /// `x` as a JSON number with `digits` decimals (in exponent form if `exp`), or `null` when it
 /// is not finite: JSON has no infinity or NaN, and the line must parse whatever was rendered.
-fn json_number(x: f64, digits: usize, exp: bool) -> String {
-    match (x.is_finite(), exp) {
-        (false, _) => "null".into(),
-        (true, true) => format!("{x:.digits$e}"),
-        (true, false) => format!("{x:.digits$}"),
-    }
+/// `x` rounded to `digits` decimals (JSON has no NaN or infinity: those are `null`).
+fn round(x: f64, digits: i32) -> Option<f64> {
+    let scale = 10f64.powi(digits);
+    x.is_finite().then(|| (x * scale).round() / scale)
 }
 
-/// `s` as a JSON string (quotes, backslashes and control characters escaped).
-fn json_string(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{:04x}", c as u32)),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
+/// `x` to `digits` significant digits (`null` if not finite).
+fn significant(x: f64, digits: usize) -> Option<f64> {
+    x.is_finite().then(|| format!("{x:.*e}", digits - 1).parse().unwrap_or(x))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// Issue 10, item 20: `bench` printed `"mean_rgb":[inf,inf,inf]`, which no JSON parser reads.
     #[test]
-    fn the_json_line_has_only_json_numbers_and_strings() {
-        assert_eq!(json_number(f64::INFINITY, 6, false), "null");
-        assert_eq!(json_number(f64::NAN, 6, true), "null");
-        assert_eq!(json_number(0.5, 3, false), "0.500");
-        assert_eq!(json_number(4.069e-3, 3, true), "4.069e-3");
-        assert_eq!(json_string("a\"b\\c\n"), "\"a\\\"b\\\\c\\u000a\"");
+    fn numbers_are_rounded_and_non_finite_ones_are_null() {
+        assert_eq!(round(f64::INFINITY, 6), None);
+        assert_eq!(significant(f64::NAN, 7), None);
+        assert_eq!(round(0.123456, 3), Some(0.123));
+        assert_eq!(significant(4.0691234e-3, 4), Some(4.069e-3));
     }
 }
