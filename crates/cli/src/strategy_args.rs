@@ -3,45 +3,17 @@
 //! roulette, importance sampling) and start roulette at depth 5 as Mitsuba does; roulette from
 //! depth 1 measured 1.1-1.2x more efficient on the Cornell box, at a little more noise per path.
 
-use clap::{Args, ValueEnum};
-use opticks_core::dataset::{Directions, Heuristic, Roulette, Selection, StrategyChoice, TraceSettings};
+use clap::Args;
+use clap::builder::TypedValueParser;
+use opticks_core::dataset::{
+    Choice, Directions, Heuristic, Roulette, Selection, StrategyChoice, TraceSettings,
+};
 
-/// Russian roulette rule.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum RouletteArg {
-    /// Survival probability from the path's energy: min(0.95, 2·max β).
-    Energy,
-    /// Fixed survival probability 0.95.
-    Fixed,
-}
-
-/// Continuation direction sampling.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum DirectionsArg {
-    /// Importance sampling of the BSDF.
-    Importance,
-    /// Uniform over the hemisphere.
-    Uniform,
-}
-
-/// Vertex selection for extension.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum SelectionArg {
-    /// One continuation per vertex.
-    Single,
-    /// High-energy vertices get proportionally more continuations (unbiased splitting).
-    Priority,
-}
-
-/// The MIS records stored with each sample for the bidirectional estimator.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum MisRecordsArg {
-    /// Records for the power heuristic (β = 2).
-    Power,
-    /// Records for the balance heuristic (β = 1).
-    Balance,
-    /// No records: a third smaller dataset that only the light estimator can render.
-    None,
+/// A clap parser for a [`Choice`]: its names, with their help, and nothing else.
+pub fn choice<C: Choice + Clone>() -> impl clap::builder::TypedValueParser<Value = C> {
+    let values = C::ALL.iter().map(|c| clap::builder::PossibleValue::new(c.name()).help(c.help()));
+    // Only the names listed are accepted, so the lookup finds one.
+    clap::builder::PossibleValuesParser::new(values).map(|name| C::from_name(&name).unwrap_or(C::ALL[0]))
 }
 
 /// How paths continue. Every option is optional: `trace` and `bench` fill in the defaults
@@ -53,50 +25,17 @@ pub struct StrategyArgs {
     #[arg(long)]
     pub rr_depth: Option<u32>,
     /// Russian roulette rule [default: energy].
-    #[arg(long, value_enum)]
-    pub roulette: Option<RouletteArg>,
+    #[arg(long, value_parser = choice::<Roulette>())]
+    pub roulette: Option<Roulette>,
     /// Direction sampling [default: importance].
-    #[arg(long, value_enum)]
-    pub directions: Option<DirectionsArg>,
+    #[arg(long, value_parser = choice::<Directions>())]
+    pub directions: Option<Directions>,
     /// Vertex selection [default: single].
-    #[arg(long, value_enum)]
-    pub selection: Option<SelectionArg>,
+    #[arg(long, value_parser = choice::<Selection>())]
+    pub selection: Option<Selection>,
     /// MIS records for the bidirectional estimator, 16 bytes per sample (docs/bidirectional.md) [default: power].
-    #[arg(long, value_enum)]
-    pub mis_records: Option<MisRecordsArg>,
-}
-
-/// The command-line spelling of a roulette rule (what `info` shows).
-pub fn roulette_name(r: Roulette) -> &'static str {
-    match r {
-        Roulette::Energy => "energy",
-        Roulette::Fixed => "fixed",
-    }
-}
-
-/// The command-line spelling of a direction sampling.
-pub fn directions_name(d: Directions) -> &'static str {
-    match d {
-        Directions::Importance => "importance",
-        Directions::Uniform => "uniform",
-    }
-}
-
-/// The command-line spelling of a vertex selection.
-pub fn selection_name(s: Selection) -> &'static str {
-    match s {
-        Selection::Single => "single",
-        Selection::Priority => "priority",
-    }
-}
-
-/// The command-line spelling of a pass's MIS records (`--mis-records`).
-pub fn mis_records_name(m: Option<Heuristic>) -> &'static str {
-    match m {
-        Some(Heuristic::Power) => "power",
-        Some(Heuristic::Balance) => "balance",
-        None => "none",
-    }
+    #[arg(long, value_parser = choice::<Option<Heuristic>>())]
+    pub mis_records: Option<Option<Heuristic>>,
 }
 
 impl StrategyArgs {
@@ -109,23 +48,10 @@ impl StrategyArgs {
     pub fn choice(&self) -> StrategyChoice {
         StrategyChoice {
             rr_depth: self.rr_depth,
-            roulette: self.roulette.map(|r| match r {
-                RouletteArg::Energy => Roulette::Energy,
-                RouletteArg::Fixed => Roulette::Fixed,
-            }),
-            directions: self.directions.map(|d| match d {
-                DirectionsArg::Importance => Directions::Importance,
-                DirectionsArg::Uniform => Directions::Uniform,
-            }),
-            selection: self.selection.map(|s| match s {
-                SelectionArg::Single => Selection::Single,
-                SelectionArg::Priority => Selection::Priority,
-            }),
-            mis: self.mis_records.map(|m| match m {
-                MisRecordsArg::Power => Some(Heuristic::Power),
-                MisRecordsArg::Balance => Some(Heuristic::Balance),
-                MisRecordsArg::None => None,
-            }),
+            roulette: self.roulette,
+            directions: self.directions,
+            selection: self.selection,
+            mis: self.mis_records,
         }
     }
 }

@@ -3,9 +3,8 @@
 //! dataset's own folder and absolute (`opticks_io::scene_ref`) — with which of them is found.
 
 use crate::output;
-use crate::strategy_args::{directions_name, mis_records_name, roulette_name, selection_name};
 use anyhow::Result;
-use opticks_core::dataset::DatasetHeader;
+use opticks_core::dataset::{Choice, DatasetHeader};
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::output_paths::check_input_file;
 use opticks_io::scene_ref;
@@ -52,11 +51,11 @@ fn strategy(h: &DatasetHeader, i: usize) -> String {
     let p = &h.trace.passes[i];
     format!(
         "--roulette {} --rr-depth {} --directions {} --selection {} --mis-records {}{}",
-        roulette_name(p.roulette),
+        p.roulette.name(),
         p.rr_depth,
-        directions_name(p.directions),
-        selection_name(p.selection),
-        mis_records_name(p.mis.map(|m| m.heuristic)),
+        p.directions.name(),
+        p.selection.name(),
+        p.mis.map(|m| m.heuristic).name(),
         p.mis.map_or(String::new(), |m| format!(" (sampling signature {})", m.signature))
     )
 }
@@ -105,7 +104,7 @@ fn readable(a: &Args, reader: &DatasetReader, checked: &str) -> Vec<String> {
     out.push(match opticks_core::dataset::mis_compatibility(h) {
         Ok(m) => format!(
             "mis       the bidirectional estimator can weight it ({} heuristic)",
-            mis_records_name(Some(m.heuristic))
+            Some(m.heuristic).name()
         ),
         Err(e) => format!("mis       not usable by the bidirectional estimator: {e}"),
     });
@@ -153,11 +152,11 @@ fn as_json(a: &Args, reader: &DatasetReader, checked: &str) -> serde_json::Value
                 "complete": p.is_complete(),
                 "resumable": !p.is_complete() && i + 1 == n,
                 "seconds": p.seconds,
-                "roulette": roulette_name(p.roulette),
+                "roulette": p.roulette.name(),
                 "rr_depth": p.rr_depth,
-                "directions": directions_name(p.directions),
-                "selection": selection_name(p.selection),
-                "mis_records": mis_records_name(p.mis.map(|m| m.heuristic)),
+                "directions": p.directions.name(),
+                "selection": p.selection.name(),
+                "mis_records": p.mis.map(|m| m.heuristic).name(),
                 "sampling_signature": p.mis.map(|m| m.signature),
             })
         })

@@ -29,6 +29,7 @@
 //!   so the sensors use what the dataset stores and the dataset and the tracer never use a
 //!   sensor.
 
+mod choice;
 mod dispatch;
 mod extend;
 mod header;
@@ -45,6 +46,7 @@ mod table;
 mod testing;
 mod upgrade;
 
+pub use choice::Choice;
 pub use dispatch::{NumberedBlock, PassDispatch};
 pub use extend::{AddLightError, add_light, continued_settings, fair_share, new_trace, refine};
 pub use header::{DatasetHeader, NoPassRecord, PassMis, TraceInfo, TracePass};
