@@ -15,13 +15,16 @@ use crate::dataset_file::{DatasetError, DatasetReader};
 use crate::scene_formats::LoadOptions;
 use crate::scene_source::{self, SceneRef, SceneSourceError};
 use opticks_core::dataset::{
-    ChangesText, LightScale, LightTable, Lighting, LightingError, check_scene, subset,
+    ChangesText, LightScale, LightTable, Lighting, LightingError, MisUnavailable, check_scene,
+    mis_compatibility, subset,
 };
 use opticks_core::math::Rgb;
 use opticks_core::scene::{Scene, SceneDescription, SceneError};
 use opticks_core::sensor::OwnedBatch;
+use opticks_core::sensor::Sensor;
 use opticks_core::sensor::bidirectional::CacheChunk;
-use opticks_core::sensor::bidirectional::RenderLights;
+use opticks_core::sensor::bidirectional::run::{self, Run, RunEvent, RunPlan};
+use opticks_core::sensor::bidirectional::{RenderLights, Settings};
 use opticks_core::sensor::meter::{
     Group, MeterEstimator, MeterLayout, Reading, read_connected, read_samples,
 };
@@ -97,6 +100,28 @@ pub enum OpenError {
 fn list(paths: &[PathBuf]) -> String {
     let paths: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
     paths.join(" and ")
+}
+
+/// Why the bidirectional estimator cannot render a dataset ([`LitDataset::render_bidirectional`]).
+#[derive(Debug, thiserror::Error)]
+pub enum BidirectionalError {
+    /// The dataset's MIS records cannot weight the estimator (none, or inexact).
+    #[error("{}: {source}", path.display())]
+    Mis {
+        /// The dataset.
+        path: PathBuf,
+        /// Why.
+        source: MisUnavailable,
+    },
+    /// A chunk of a pass with MIS records has none.
+    #[error("{}: a chunk of a pass with MIS records has none", .0.display())]
+    MissingRecords(PathBuf),
+    /// Reading the dataset failed.
+    #[error(transparent)]
+    Dataset(#[from] DatasetError),
+    /// `stop` asked the render to end.
+    #[error("interrupted: stopped, nothing written")]
+    Interrupted,
 }
 
 /// Why a measurement ([`LitDataset::measure`]) failed.
@@ -349,5 +374,32 @@ impl LitDataset {
             return Err(MeasureError::Interrupted);
         }
         Ok(reading)
+    }
+
+    /// Renders through `camera` with the bidirectional estimator (`opticks_core::sensor::
+    /// bidirectional::run`): the kept chunks as its light vertex cache, weighted with the
+    /// heuristic and direction rule the dataset's records were traced for; `connections` (n_c)
+    /// cache vertices per camera vertex, camera streams named by `seed`, passes as `plan` says.
+    /// `event` follows the run; `stop` ends it ([`BidirectionalError::Interrupted`]).
+    pub fn render_bidirectional(
+        &self,
+        camera: Sensor,
+        connections: u32,
+        seed: u64,
+        plan: RunPlan,
+        event: impl Fn(RunEvent) + Sync,
+        stop: impl Fn() -> bool + Sync,
+    ) -> Result<Run, BidirectionalError> {
+        let path = || self.reader().path().to_path_buf();
+        let mis = mis_compatibility(self.reader().header())
+            .map_err(|source| BidirectionalError::Mis { path: path(), source })?;
+        let chunks = self.cache_chunks()?;
+        if !chunks.iter().all(|c| c.records.len() == c.samples.len()) {
+            return Err(BidirectionalError::MissingRecords(path()));
+        }
+        let settings = Settings { connections, seed, heuristic: mis.heuristic, directions: mis.directions };
+        let names = self.light_names();
+        run::render(self.scene(), camera, chunks, &names, self.flux_per_path(), settings, plan, event, stop)
+            .ok_or(BidirectionalError::Interrupted)
     }
 }

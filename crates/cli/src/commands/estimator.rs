@@ -7,12 +7,11 @@
 use crate::progress;
 use anyhow::{Result, anyhow, bail};
 use clap::ValueEnum;
-use opticks_core::dataset::{Directions, Heuristic, MisUnavailable, mis_compatibility};
+use opticks_core::dataset::MisUnavailable;
 use opticks_core::sensor::Sensor;
-use opticks_core::sensor::bidirectional::Settings;
-use opticks_core::sensor::bidirectional::run::{self, Run, RunEvent, RunPlan};
-use opticks_io::opened::LitDataset;
-use std::time::Instant;
+use opticks_core::sensor::bidirectional::run::{Run, RunEvent, RunPlan};
+use opticks_io::opened::{BidirectionalError, LitDataset};
+use std::time::{Duration, Instant};
 
 /// Which estimator renders the image.
 #[derive(ValueEnum, Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -60,18 +59,12 @@ impl EstimatorArgs {
         &self,
         data: &LitDataset,
         camera: &Sensor,
-        time: Option<f64>,
+        time: Option<Duration>,
         pass: u64,
         bars: bool,
     ) -> Result<Run> {
         let start = Instant::now();
-        let (heuristic, directions) = mis_settings(data)?;
-        let chunks = data.cache_chunks()?;
-        if !chunks.iter().all(|c| c.records.len() == c.samples.len()) {
-            bail!("{}: a chunk of a pass with MIS records has none", data.reader().path().display());
-        }
-        let settings = Settings { connections: self.connections, seed: self.seed, heuristic, directions };
-        let deadline = time.map(|t| start + std::time::Duration::from_secs_f64(t));
+        let deadline = time.map(|t| start + t);
         let plan = RunPlan { spp: self.spp, deadline, first_pass: pass };
         let bar = std::sync::Mutex::new(indicatif::ProgressBar::hidden());
         let show = |new: indicatif::ProgressBar| {
@@ -83,14 +76,14 @@ impl EstimatorArgs {
             RunEvent::SplatStart(samples) if bars => show(progress::bar(samples, "splatting", "samples")),
             RunEvent::CameraStart(pixels) if bars => show(match time {
                 None => progress::bar(pixels, "camera", "pixels"),
-                Some(t) => progress::seconds_bar(t),
+                Some(t) => progress::seconds_bar(t.as_secs_f64()),
             }),
             RunEvent::Splatted(n) | RunEvent::Pixels(n) => {
                 bar.lock().unwrap_or_else(|e| e.into_inner()).inc(n as u64)
             }
             RunEvent::Pass { passes, spp, error } => {
                 let b = bar.lock().unwrap_or_else(|e| e.into_inner());
-                b.set_position(start.elapsed().as_secs_f64().min(time.unwrap_or(0.0)) as u64);
+                b.set_position(start.elapsed().min(time.unwrap_or_default()).as_secs());
                 b.set_message(match error {
                     Some(e) => format!("{passes} passes, {spp} spp, rel. error ≈ {:.2}%", 100.0 * e),
                     None => format!("{passes} passes, {spp} spp"),
@@ -98,36 +91,26 @@ impl EstimatorArgs {
             }
             _ => {}
         };
-        let names = data.light_names();
-        let stop = crate::interrupt::requested;
-        let run = run::render(
-            data.scene(),
+        let run = data.render_bidirectional(
             *camera,
-            chunks,
-            &names,
-            data.flux_per_path(),
-            settings,
+            self.connections,
+            self.seed,
             plan,
             event,
-            stop,
+            crate::interrupt::requested,
         );
         show(indicatif::ProgressBar::hidden());
-        run.ok_or_else(|| anyhow!("interrupted: stopped, nothing written"))
+        run.map_err(|e| match &e {
+            BidirectionalError::Mis { path, source } => {
+                let path = path.display();
+                match source {
+                    MisUnavailable::NoRecords { .. } | MisUnavailable::Signature { .. } => anyhow!(
+                        "{e} (`opticks upgrade {path}` does that; or render it with --estimator light)"
+                    ),
+                    _ => anyhow!("{e} (or render it with --estimator light)"),
+                }
+            }
+            _ => e.into(),
+        })
     }
-}
-
-/// The heuristic and direction strategy the dataset's records were traced with
-/// (`opticks_core::dataset::mis_compatibility`, which words why a dataset cannot be rendered
-/// with MIS); the command line adds the other way out.
-fn mis_settings(data: &LitDataset) -> Result<(Heuristic, Directions)> {
-    let s = mis_compatibility(data.reader().header()).map_err(|e| {
-        let path = data.reader().path().display();
-        match e {
-            MisUnavailable::NoRecords { .. } | MisUnavailable::Signature { .. } => anyhow!(
-                "{path}: {e} (`opticks upgrade {path}` does that; or render it with --estimator light)"
-            ),
-            _ => anyhow!("{path}: {e} (or render it with --estimator light)"),
-        }
-    })?;
-    Ok((s.heuristic, s.directions))
 }

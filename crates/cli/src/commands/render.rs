@@ -33,8 +33,8 @@ pub struct Args {
     estimator: EstimatorArgs,
     /// Bidirectional: add camera passes (of --spp paths per pixel each) over the same dataset
     /// until SECONDS have passed, with a progress bar and a running error estimate.
-    #[arg(long, value_name = "SECONDS")]
-    time: Option<f64>,
+    #[arg(long, value_name = "SECONDS", value_parser = super::parse_seconds)]
+    time: Option<std::time::Duration>,
 }
 
 /// Runs the render.
@@ -50,15 +50,8 @@ pub fn run(a: Args) -> Result<()> {
         None => "the dataset's scene".to_string(),
     })?;
     a.estimator.check()?;
-    if let Some(t) = a.time {
-        if a.estimator.estimator != Estimator::Bidirectional {
-            bail!(
-                "--time applies to --estimator bidirectional (the light estimator renders the dataset once)"
-            );
-        }
-        if !(t.is_finite() && t > 0.0) {
-            bail!("--time {t} must be a positive number of seconds");
-        }
+    if a.time.is_some() && a.estimator.estimator != Estimator::Bidirectional {
+        bail!("--time applies to --estimator bidirectional (the light estimator renders the dataset once)");
     }
     let t0 = Instant::now();
     let _graceful = crate::interrupt::graceful();
