@@ -19,7 +19,8 @@
 
 use crate::dataset_file::{DatasetError, DatasetReader, DatasetSummary, DatasetWriter};
 use opticks_core::dataset::{
-    Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan, TooManyPaths, UpgradeError, upgrade_plan,
+    Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan, TooManyPaths, TraceSettings, UpgradeError,
+    upgrade_plan,
 };
 use opticks_core::dataset::{Heuristic, check_path_budget, reproduces};
 use opticks_core::scene::Scene;
@@ -381,6 +382,30 @@ pub fn trace_observed<E>(
     Ok(traced)
 }
 
+/// A dataset traced into memory and never written (`opticks demo`, a quick look from a
+/// notebook): the header of a new trace of `scene` (recorded as `scene_label`) with `settings`,
+/// and its chunks in block order. `None` when `progress` asked the trace to stop.
+pub fn trace_in_memory(
+    scene: &Scene,
+    scene_label: &str,
+    settings: TraceSettings,
+    progress: &dyn JobProgress,
+) -> Result<Option<(DatasetHeader, Vec<Chunk>)>, NoPassRecord> {
+    let started = Instant::now();
+    let (mut header, pass) = opticks_core::dataset::new_trace(scene, scene_label, settings);
+    let mut chunks = Vec::new();
+    let sink = |c| {
+        chunks.push(c);
+        Ok::<(), std::convert::Infallible>(())
+    };
+    let Ok(traced) = trace_observed(scene, &pass, sink, progress);
+    if progress.stop() {
+        return Ok(None);
+    }
+    header.record_traced(&pass.lights, &traced, started.elapsed().as_secs_f64())?;
+    Ok(Some((header, chunks)))
+}
+
 /// A write failed while tracing `new`: the chunks known to be in the file become a valid
 /// partial dataset (a prefix of the pass's blocks, so `resume` finishes it), saved as
 /// [`partial_path`]`(output)`; the error says whether that worked.
@@ -462,6 +487,32 @@ pub fn estimate_bytes(sources: &[Source<'_>], new_paths: u64) -> u64 {
     let paths: u64 = sources.iter().map(|s| s.reader.header().table.total_paths()).sum();
     let per_path = if paths > 0 && bytes > 0 { bytes.div_ceil(paths) } else { ASSUMED_BYTES_PER_PATH };
     bytes.saturating_add(new_paths.saturating_mul(per_path))
+}
+
+/// A pass's dataset may not fit on its disk: about `needed` bytes, `free` free.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SpaceShortfall {
+    /// The estimated size.
+    pub needed: u64,
+    /// Bytes free on the output's file system.
+    pub free: u64,
+}
+
+/// Before a long trace into `output`: refuses a pass that would take the dataset beyond the
+/// most paths a dataset may hold (`opticks_core::dataset::check_path_budget`, which the job
+/// checks again), and says whether the dataset, estimated at `estimate` bytes, may not fit in
+/// the free space of the output's file system (if it fills up, the paths written so far are
+/// kept in [`partial_path`]).
+pub fn preflight(
+    table: &LightTable,
+    pass: &PassPlan,
+    output: &Path,
+    estimate: u64,
+) -> Result<Option<SpaceShortfall>, TooManyPaths> {
+    check_path_budget(table, pass)?;
+    Ok(free_space(output)
+        .filter(|&free| free < estimate)
+        .map(|free| SpaceShortfall { needed: estimate, free }))
 }
 
 /// Bytes free for an unprivileged writer on the file system that `output` is (to be) written to;

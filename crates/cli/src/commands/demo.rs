@@ -8,8 +8,8 @@ use crate::output;
 use crate::progress::TraceProgress;
 use crate::scene_arg::load_scene;
 use anyhow::{Context, Result};
-use opticks_core::dataset::{TraceSettings, new_trace};
-use opticks_io::dataset_job::trace_observed;
+use opticks_core::dataset::TraceSettings;
+use opticks_io::dataset_job::trace_in_memory;
 use opticks_io::output_paths::{OutputKind, check_output, check_outputs};
 use opticks_io::scene_source::SceneRef;
 use std::path::{Path, PathBuf};
@@ -68,18 +68,9 @@ pub fn run(a: Args) -> Result<()> {
     let camera = a.camera.resolve(scene.camera)?;
     let settings = TraceSettings { paths: a.paths, seed: a.seed, ..Default::default() };
     let t0 = Instant::now();
-    let mut chunks = Vec::new();
-    let (mut header, pass) = new_trace(&scene, &SceneRef::cornell().label(), settings);
-    let sink = |c| {
-        chunks.push(c);
-        Ok::<(), std::convert::Infallible>(())
-    };
     let _graceful = crate::interrupt::graceful();
-    let traced = trace_observed(&scene, &pass, sink, &TraceProgress::default())?;
-    if crate::interrupt::requested() {
-        anyhow::bail!("interrupted: stopped, nothing written");
-    }
-    header.record_traced(&pass.lights, &traced, 0.0)?;
+    let traced = trace_in_memory(&scene, &SceneRef::cornell().label(), settings, &TraceProgress::default())?;
+    let Some((header, chunks)) = traced else { anyhow::bail!("interrupted: stopped, nothing written") };
     let t1 = Instant::now();
     let film = render_chunks(&scene, &camera, &header.table, &chunks)?;
     let t2 = Instant::now();

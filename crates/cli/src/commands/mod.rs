@@ -165,35 +165,23 @@ pub fn check_finished(path: &Path, header: &opticks_core::dataset::DatasetHeader
         .map_err(|e| anyhow!("{}: {e} (`opticks resume {}`)", path.display(), path.display()))
 }
 
-/// "light 'ceiling' 4000000 paths, …": what a pass plans, for `--verbose`.
-pub fn describe_plan(table: &LightTable, pass: &opticks_core::dataset::PassPlan) -> String {
-    let parts: Vec<String> = pass
-        .lights
-        .iter()
-        .map(|p| format!("light '{}' {} paths", table.lights[p.table_index as usize].name, p.paths))
-        .collect();
-    parts.join(", ")
-}
-
-/// Before a long trace: refuses a pass that would take the dataset beyond the most paths a
-/// dataset may hold (`opticks_core::dataset::check_path_budget`, which the job checks again),
-/// then warns when the estimated dataset would not fit in the free space of the output's file
-/// system.
+/// Before a long trace ([`opticks_io::dataset_job::preflight`]): refuses a pass beyond the most
+/// paths a dataset may hold, and warns when the dataset may not fit on its disk.
 pub fn check_before_trace(
     output: &Path,
     table: &LightTable,
     pass: &opticks_core::dataset::PassPlan,
     estimate: u64,
 ) -> Result<()> {
-    opticks_core::dataset::check_path_budget(table, pass)
+    let shortfall = opticks_io::dataset_job::preflight(table, pass, output, estimate)
         .map_err(|e| anyhow!("cannot trace into {}: {e}", output.display()))?;
-    if let Some(free) = opticks_io::dataset_job::free_space(output).filter(|&free| free < estimate) {
+    if let Some(s) = shortfall {
         crate::output::warning(&format!(
             "{} will need about {} but its file system has {} free; if it fills up, the paths \
              written so far are kept in {}",
             output.display(),
-            crate::output::bytes(estimate),
-            crate::output::bytes(free),
+            crate::output::bytes(s.needed),
+            crate::output::bytes(s.free),
             opticks_io::dataset_job::partial_path(output).display()
         ));
     }

@@ -43,7 +43,7 @@ pub fn run(a: Args) -> Result<()> {
         .map_err(|e| anyhow!("{e}: refine needs the same scene"))?;
     check_emission(&pass.lights).map_err(|e| anyhow!("{scene_ref}: {e}"))?;
     header.label = label_for(&scene_ref.label(), &output);
-    output::detail(&format!("plan: {}", super::describe_plan(&header.table, &pass)));
+    output::detail(&format!("plan: {}", pass.describe(&header.table)));
     let before = reader.header().table.total_paths();
     let sources = [Source::as_is(&reader)];
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, a.paths))?;

@@ -66,7 +66,7 @@ pub fn run(a: Args) -> Result<()> {
         a.scene,
         scene.triangles.len(),
         output::count(scene.lights.len() as u64, "light"),
-        super::describe_plan(&header.table, &pass)
+        pass.describe(&header.table)
     ));
     check_before_trace(&a.output, &header.table, &pass, a.paths.saturating_mul(ASSUMED_BYTES_PER_PATH))?;
     let new = NewPaths { scene: &scene, pass };

@@ -197,6 +197,19 @@ pub struct PassPlan {
     pub first_block: usize,
 }
 
+impl PassPlan {
+    /// "light 'ceiling' 4000000 paths, …": what the pass traces, named from `table`.
+    pub fn describe(&self, table: &LightTable) -> String {
+        let name = |i: u32| table.lights.get(i as usize).map_or("?", |l| l.name.as_str());
+        let parts: Vec<String> = self
+            .lights
+            .iter()
+            .map(|p| format!("light '{}' {} paths", name(p.table_index), p.paths))
+            .collect();
+        parts.join(", ")
+    }
+}
+
 /// The plan that shares `paths` out over `scene_lights` (scene indices) by their current power
 /// ([`path_quotas`]), filing light i of the list under table index i.
 pub fn plan_lights(scene: &Scene, scene_lights: &[usize], paths: u64) -> Vec<LightPlan> {
