@@ -34,9 +34,13 @@ pub struct StrategyArgs {
     #[arg(long, value_parser = choice::<Selection>())]
     pub selection: Option<Selection>,
     /// MIS records for the bidirectional estimator, 16 bytes per sample (docs/bidirectional.md) [default: power].
-    #[arg(long, value_parser = choice::<Option<Heuristic>>())]
-    pub mis_records: Option<Option<Heuristic>>,
+    #[arg(long, value_parser = choice::<MisRecords>())]
+    pub mis_records: Option<MisRecords>,
 }
+
+/// The value of `--mis-records` (`none` or a heuristic). An alias, because clap's derive reads
+/// a literal `Option<Option<T>>` as a flag whose value may be left out.
+pub type MisRecords = Option<Heuristic>;
 
 impl StrategyArgs {
     /// Trace settings with these options over the defaults.

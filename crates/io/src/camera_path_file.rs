@@ -25,7 +25,7 @@
 
 use opticks_core::math::Vec3;
 use opticks_core::scene::{CameraKey, CameraPath};
-use opticks_core::sensor::check_fov;
+use opticks_core::sensor::{Pinhole, check_fov};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -38,6 +38,70 @@ pub struct Walkthrough {
     pub fps: f32,
     /// Image size, if the file gives one.
     pub size: Option<(u32, u32)>,
+}
+
+/// The most frames a walkthrough renders.
+pub const MAX_FRAMES: usize = 100_000;
+
+/// Why a walkthrough's frames cannot be rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum FramesError {
+    /// The time span and fps give no frame (a span or rate out of range).
+    #[error("the camera path's time span and fps make no frame")]
+    NoFrame,
+    /// More frames than [`MAX_FRAMES`].
+    #[error(
+        "{frames:.0} frames ({t0} s to {t1} s at {fps} fps) is more than a walkthrough renders ({MAX_FRAMES})"
+    )]
+    TooMany {
+        /// How many the path makes.
+        frames: f64,
+        /// Its start, in seconds.
+        t0: f32,
+        /// Its end, in seconds.
+        t1: f32,
+        /// Frames per second.
+        fps: f32,
+    },
+    /// An interpolated camera is invalid (e.g. its field of view), though every keyframe's is.
+    #[error("frame {frame} (t = {t} s): invalid camera")]
+    Camera {
+        /// The frame.
+        frame: usize,
+        /// Its time.
+        t: f32,
+        /// Why.
+        source: opticks_core::sensor::CameraError,
+    },
+}
+
+impl Walkthrough {
+    /// The camera of every frame, at t = t₀, t₀ + 1/fps, … ≤ t₁, of `size` pixels, all
+    /// checked before any is rendered; the count computed without overflow and bounded by
+    /// [`MAX_FRAMES`].
+    pub fn cameras(&self, size: (u32, u32)) -> Result<Vec<Pinhole>, FramesError> {
+        let (t0, t1) = self.path.span();
+        let frames = frame_count(t0, t1, self.fps).ok_or(FramesError::NoFrame)?;
+        if frames > MAX_FRAMES as f64 {
+            return Err(FramesError::TooMany { frames, t0, t1, fps: self.fps });
+        }
+        (0..frames as usize)
+            .map(|frame| {
+                let t = t0 + frame as f32 / self.fps;
+                Pinhole::new(&self.path.at(t, size.0, size.1)).map_err(|source| FramesError::Camera {
+                    frame,
+                    t,
+                    source,
+                })
+            })
+            .collect()
+    }
+}
+
+/// Frames in [t0, t1] at `fps` (in f64: a huge span is too many frames, never 0).
+fn frame_count(t0: f32, t1: f32, fps: f32) -> Option<f64> {
+    let n = ((f64::from(t1) - f64::from(t0)) * f64::from(fps) + 1e-4).floor() + 1.0;
+    (n.is_finite() && n >= 1.0).then_some(n)
 }
 
 /// Why a camera path file cannot be used.
@@ -144,6 +208,14 @@ fn key_problem(k: &CameraKey) -> Option<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn frame_counts_never_overflow_to_zero() {
+        assert_eq!(frame_count(0.0, 1.0, 24.0), Some(25.0));
+        assert_eq!(frame_count(0.0, 0.0, 24.0), Some(1.0));
+        assert!(frame_count(0.0, 1e30, 1000.0).unwrap() > MAX_FRAMES as f64, "too many, not 0 frames");
+        assert_eq!(frame_count(0.0, f32::INFINITY, 24.0), None);
+    }
 
     fn read(text: &str) -> Result<Walkthrough, CameraPathFileError> {
         let dir = tempfile::tempdir().unwrap();

@@ -16,7 +16,8 @@
 //! * [`scene_ref`]: the scene file a dataset records (relative to the dataset, and absolute);
 //! * [`image_file`]: OpenEXR and PNG output (atomic writes), EXR input;
 //! * [`texture_file`]: texture images (PNG, JPEG, HDR, EXR) as linear RGB, sizes checked first;
-//! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs;
+//! * [`camera_path_file`]: camera paths (JSON keyframes) for walkthroughs, and their frames' cameras;
+//! * [`video`]: a walkthrough's frames as an MP4 video through ffmpeg;
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
 //! * [`meter_table`]: a meter's reading as the CSV table `measure` writes;
@@ -47,6 +48,7 @@ pub mod scene_formats;
 pub mod scene_ref;
 pub mod scene_source;
 pub mod texture_file;
+pub mod video;
 
 pub use scene_formats::{
     FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,

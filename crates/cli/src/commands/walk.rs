@@ -14,10 +14,9 @@ use crate::camera_args::exposure_for;
 use crate::output;
 use crate::progress;
 use anyhow::{Context, Result, bail};
-use opticks_core::sensor::{Pinhole, render};
+use opticks_core::sensor::render;
 use opticks_io::camera_path_file::read_camera_path;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 use std::time::Instant;
 
 /// Arguments of `opticks walk`.
@@ -60,26 +59,8 @@ pub fn run(a: Args) -> Result<()> {
     let (reader, scene) = (data.reader(), data.scene());
     let walk = read_camera_path(&a.path, scene.camera.map_or(45.0, |c| c.fov_x_degrees))?;
     let (w, h) = walk.size.or(scene.camera.map(|c| (c.width, c.height))).unwrap_or((512, 512));
-    let (t0, t1) = walk.path.span();
-    let frames = frame_count(t0, t1, walk.fps).ok_or_else(|| {
-        anyhow::anyhow!("{}: the camera path's time span and fps make no frame", a.path.display())
-    })?;
-    if frames > MAX_FRAMES {
-        bail!(
-            "{}: {:.0} frames ({t0} s to {t1} s at {} fps) is more than this command renders ({MAX_FRAMES})",
-            a.path.display(),
-            frames,
-            walk.fps
-        );
-    }
-    let frames = frames as usize;
-    let cameras: Vec<Pinhole> = (0..frames)
-        .map(|f| {
-            let t = t0 + f as f32 / walk.fps;
-            Pinhole::new(&walk.path.at(t, w, h))
-                .with_context(|| format!("{}: frame {f} (t = {t} s): invalid camera", a.path.display()))
-        })
-        .collect::<Result<_>>()?;
+    let cameras = walk.cameras((w, h)).with_context(|| a.path.display().to_string())?;
+    let frames = cameras.len();
     super::check_film_fits("a frame", (w, h), super::IMAGE_OUTPUT_BYTES)?;
     std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
     let _graceful = crate::interrupt::graceful();
@@ -121,74 +102,12 @@ pub fn run(a: Args) -> Result<()> {
             "no video: ffmpeg is given PNG frames only (this run wrote {} frames)",
             a.format
         ));
-    } else if ffmpeg_available() {
+    } else if opticks_io::video::ffmpeg_available() {
         let video = a.output.join("walk.mp4");
-        encode_video(&a.output, frames, walk.fps, &video)?;
+        opticks_io::video::encode_frames(&a.output, frames, walk.fps, &video)?;
         output::result(&format!("video → {}", video.display()));
     } else {
         output::result("no video: ffmpeg is not on the PATH");
     }
     Ok(())
-}
-
-/// Most frames one walk renders.
-const MAX_FRAMES: f64 = 100_000.0;
-
-/// Frames at t₀, t₀ + 1/fps, … ≤ t₁, counted in f64 so that no span overflows: `None` if there is
-/// no whole number of them (a non-finite span or rate); may exceed [`MAX_FRAMES`].
-fn frame_count(t0: f32, t1: f32, fps: f32) -> Option<f64> {
-    let n = ((f64::from(t1) - f64::from(t0)) * f64::from(fps) + 1e-4).floor() + 1.0;
-    (n.is_finite() && n >= 1.0).then_some(n)
-}
-
-/// Encodes this run's `frames` PNG frames into `video`: exactly frames 0..frames (stale frames
-/// of an earlier, longer run in the same folder are not read), into a temporary file renamed
-/// into place only when ffmpeg succeeded.
-fn encode_video(folder: &std::path::Path, frames: usize, fps: f32, video: &std::path::Path) -> Result<()> {
-    let tmp = folder.join(format!(".walk.tmp-{}.mp4", std::process::id()));
-    let status = Command::new("ffmpeg")
-        .args(["-y", "-loglevel", "error", "-framerate", &fps.to_string(), "-start_number", "0", "-i"])
-        .arg(folder.join("frame_%05d.png"))
-        .args([
-            "-frames:v",
-            &frames.to_string(),
-            "-pix_fmt",
-            "yuv420p",
-            "-vf",
-            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
-        ])
-        .arg(&tmp)
-        .status();
-    let done = match status {
-        Ok(s) if s.success() && tmp.exists() => std::fs::rename(&tmp, video)
-            .with_context(|| format!("cannot move the video into place as {}", video.display())),
-        Ok(s) => Err(anyhow::anyhow!("ffmpeg failed to encode {} ({s})", video.display())),
-        Err(e) => Err(anyhow::anyhow!("cannot run ffmpeg: {e}")),
-    };
-    if done.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    done
-}
-
-fn ffmpeg_available() -> bool {
-    Command::new("ffmpeg")
-        .arg("-version")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn frame_counts_never_overflow_to_zero() {
-        assert_eq!(frame_count(0.0, 1.0, 24.0), Some(25.0));
-        assert_eq!(frame_count(0.0, 0.0, 24.0), Some(1.0));
-        assert!(frame_count(0.0, 1e30, 1000.0).unwrap() > MAX_FRAMES, "refused as too many, not 0 frames");
-        assert_eq!(frame_count(0.0, f32::INFINITY, 24.0), None);
-    }
 }

@@ -365,7 +365,7 @@ fn walks_are_checked_whole_before_any_frame() {
     ok(&["trace", "builtin:cornell", "--paths", "5000", "-o", "c.opds"], d);
     let key = |t: &str, z: &str| format!("{{\"time\": {t}, \"eye\": [0, 0, {z}], \"target\": [0, 0, 0]}}");
     for (keys, complaint) in [
-        (format!("{},{}", key("0", "3.9"), key("1e30", "3.9")), "more than this command renders"),
+        (format!("{},{}", key("0", "3.9"), key("1e30", "3.9")), "more than a walkthrough renders"),
         (format!("{},{}", key("0", "1"), key("1", "-1")), "frame 500 (t = 0.5 s): invalid camera"),
     ] {
         std::fs::write(d.join("p.json"), format!("{{\"fps\": 1000, \"keyframes\": [{keys}]}}")).unwrap();
