@@ -33,6 +33,10 @@
 //! mesh primitives; [`lights`] converts the nodes' punctual lights; [`cameras`] chooses and
 //! converts the camera; [`materials`] converts the materials the primitives use (with
 //! [`textures`] and [`buffers`] below them).
+//!
+//! [`MeshDesc`]: opticks_core::scene::MeshDesc
+//! [`PointLightDesc`]: opticks_core::scene::PointLightDesc
+//! [`DirectionalLightDesc`]: opticks_core::scene::DirectionalLightDesc
 
 pub mod buffers;
 pub mod cameras;
