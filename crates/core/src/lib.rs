@@ -15,13 +15,12 @@
 //!   plan, and every law and operation of the dataset (relighting, merging, refining, adding a
 //!   light, resuming, previews).
 //! * [`sensor`] connects stored samples to a sensor (pinhole camera) and accumulates a [`film::Film`].
-//! * [`bench`] times a trace and a render in memory (`opticks bench`).
+//! * [`bench`](mod@bench) times a trace and a render in memory (`opticks bench`).
 //!
 //! This crate does no file IO and is deterministic for a given seed.
-// One exception, allowed where it stands: the prefetch hint of the light vertex cache
+// `unsafe_code` is denied and `missing_docs` warned by the workspace's lints (Cargo.toml). One
+// exception to the first, allowed where it stands: the prefetch hint of the light vertex cache
 // (`sensor::bidirectional`'s cache), which reads no memory into the program.
-#![deny(unsafe_code)]
-#![warn(missing_docs)]
 // `!(x > 0.0)` is how this crate rejects NaN along with the out-of-range values: deliberate.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 

@@ -22,7 +22,8 @@
 //!
 //! [`Sample`]: opticks_core::dataset::Sample
 //! [`DatasetHeader`]: opticks_core::dataset::DatasetHeader
-#![deny(unsafe_code)]
+//!
+//! No `unsafe` (the workspace denies it): records are cast with `bytemuck`'s checked casts.
 
 mod error;
 mod format;

@@ -48,13 +48,16 @@
 //! loader with `map_Ke`. Emission is one-sided (front, counter-clockwise face), even for
 //! `doubleSided` materials.
 
+use super::Report;
 use super::textures::{Images, TextureUse};
+use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
     Bsdf, Lambert, Material, MaterialError, ModifiedPhong, RoughDielectric, SmoothDielectric, ThinDielectric,
 };
 use opticks_core::light::check::check_emission;
 use opticks_core::math::{Rgb, Vec2};
-use opticks_core::texture::{Bitmap, ColourSlot, Texture, UvTransform};
+use opticks_core::scene::SceneDescription;
+use opticks_core::texture::{Bitmap, ColourSlot, Texture, TextureBinding, UvTransform};
 use std::sync::Arc;
 
 /// Largest Phong exponent produced (the core's limit).
@@ -119,6 +122,72 @@ fn make_bsdf(kd: Rgb, ks: Rgb, n: f32) -> Result<Bsdf, MaterialError> {
         Lambert::new(kd).map(Bsdf::Lambert)
     } else {
         ModifiedPhong::new(kd, ks, n).map(Bsdf::ModifiedPhong)
+    }
+}
+
+/// How the primitives of one glTF material use it once converted.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialUse {
+    /// Index of the material in the scene description's materials.
+    pub index: usize,
+    /// Emitted radiance, W/(m²·sr), if any.
+    pub emission: Option<Rgb>,
+    /// The `TEXCOORD_n` set its textures read (`None` without textures).
+    pub tex_coord: Option<u32>,
+}
+
+/// The document's materials, each converted on first use and added to the scene description
+/// once (with its textures and its notes as warnings).
+pub struct MaterialTable<'a> {
+    /// By glTF material index + 1 (0: the default material), once converted.
+    used: Vec<Option<MaterialUse>>,
+    /// The document's images, decoded on first use.
+    images: Images<'a>,
+}
+
+impl<'a> MaterialTable<'a> {
+    /// The materials of `doc`, whose buffers are `buffers` and whose files are in `folder`.
+    pub fn new(doc: &'a ::gltf::Document, buffers: &'a [Vec<u8>], folder: &'a std::path::Path) -> Self {
+        MaterialTable {
+            used: vec![None; doc.materials().len() + 1],
+            images: Images::new(doc, buffers, folder),
+        }
+    }
+
+    /// `mat` as the scene uses it, converted and added to `desc` the first time; an invalid
+    /// value is an error at the material.
+    pub(super) fn resolve(
+        &mut self,
+        mat: &::gltf::Material<'_>,
+        desc: &mut SceneDescription,
+        report: &mut Report,
+    ) -> Result<MaterialUse, SceneFileError> {
+        let key = mat.index().map_or(0, |i| i + 1);
+        if let Some(used) = self.used.get(key).copied().flatten() {
+            return Ok(used);
+        }
+        let (name, c) = match mat.index() {
+            None => ("default".to_string(), default_material()),
+            Some(i) => {
+                let name = mat.name().map_or_else(|| format!("material {i}"), str::to_string);
+                let c = convert(mat, &name, &mut self.images)
+                    .map_err(|e| report.invalid(format!("material {i} ({name})"), e))?;
+                (name, c)
+            }
+        };
+        for note in c.notes {
+            report.warn(&format!("material {name:?}"), note);
+        }
+        desc.materials.push(c.material);
+        let index = desc.materials.len() - 1;
+        for (slot, texture) in c.textures {
+            desc.textures.push(TextureBinding { material: index, slot, texture });
+        }
+        let used = MaterialUse { index, emission: c.emission, tex_coord: c.tex_coord };
+        if let Some(s) = self.used.get_mut(key) {
+            *s = Some(used);
+        }
+        Ok(used)
     }
 }
 

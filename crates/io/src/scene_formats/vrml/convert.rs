@@ -8,7 +8,8 @@
 //! recursion guarded). Nodes that do not change the image (sensors, interpolators, `Script`,
 //! `WorldInfo`, `NavigationInfo`, sound) are ignored silently; what would change it and is not
 //! supported (`Background`, `Fog`, textures, transparency) gives a warning. Lights are converted
-//! in [`super::lights`]. Output is bounded ([`MAX_TRIANGLES`], [`MAX_VISITS`],
+//! in [`super::lights`], appearances in [`super::appearance`], the camera in
+//! [`super::viewpoint`]. Output is bounded ([`MAX_TRIANGLES`], [`MAX_VISITS`],
 //! and the mesh bytes, positions counted as well as triangles, by [`MAX_MESH_BYTES`] and
 //! max([`MIN_MESH_BUDGET`], [`MAX_AMPLIFICATION`] × the source)) because `DEF`/`USE` can
 //! multiply geometry exponentially; a geometry node is triangulated once however often it is
@@ -16,17 +17,15 @@
 //! checked by a first, counting walk that copies nothing, so a bomb is refused while memory
 //! holds only the parsed file and its distinct meshes — not the copies that would exceed them.
 
+use super::appearance::Emission;
 use super::extension;
 use super::geometry::{self, Geometry, LocalMesh};
 use super::lexer::Pos;
 use super::tree::{FieldValue, Node, NodeRef, ProtoInstance};
 use crate::scene_formats::{FileLocation, LoadedScene, SceneFileError};
 use glam::{DMat4, DQuat, DVec3};
-use opticks_core::bsdf::{Bsdf, Lambert, Material, ModifiedPhong};
-use opticks_core::light::EmissionProfile;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{AreaEmission, CameraDesc, CameraKind, MeshDesc, SceneDescription, Source};
-use opticks_core::sensor::Pinhole;
+use opticks_core::scene::{AreaEmission, MeshDesc, SceneDescription, Source};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -51,31 +50,8 @@ pub const EMISSIVE_RADIANCE: f32 = 1.0;
 /// Image size when the file has no `PhysicalViewpoint` saying otherwise.
 pub const DEFAULT_IMAGE_SIZE: u32 = 512;
 
-type Result<T> = std::result::Result<T, SceneFileError>;
-
-#[derive(Clone, Debug, PartialEq)]
-enum Emission {
-    None,
-    Radiance(Rgb, AreaProfile),
-    Power(Rgb, AreaProfile),
-}
-
-/// An AreaLight's `emission` function as the core's profile; `None` is `"lambertian"` (the
-/// core's default).
-type AreaProfile = Option<EmissionProfile>;
-
-/// Parses an `emission` string: `"lambertian"`, `"uniform"` or `"cosine n"` (n as the core's
-/// [`EmissionProfile::cosine_power`] allows); `None` if it is none of them.
-fn parse_area_profile(s: &str) -> Option<AreaProfile> {
-    let mut words = s.split_whitespace();
-    let p = match (words.next()?, words.next()) {
-        ("lambertian", None) => None,
-        ("uniform", None) => Some(EmissionProfile::Uniform),
-        ("cosine", Some(n)) => Some(EmissionProfile::cosine_power(n.parse().ok()?).ok()?),
-        _ => return None,
-    };
-    words.next().is_none().then_some(p)
-}
+/// The converter's result: its errors are the loaders' [`SceneFileError`].
+pub(super) type Result<T> = std::result::Result<T, SceneFileError>;
 
 /// Converts the parsed top-level `nodes` of `file` (whose parser warnings are `warnings`).
 pub fn convert(nodes: &[NodeRef], file: &Path, warnings: Vec<String>) -> Result<LoadedScene> {
@@ -144,20 +120,21 @@ pub fn convert_sized(
 
 pub(super) struct Converter {
     /// The Viewpoint `--camera` names (by `description` or DEF name), if one is chosen.
-    wanted_viewpoint: Option<String>,
+    pub(super) wanted_viewpoint: Option<String>,
     /// The names of the Viewpoints passed over (for the error when none is the wanted one).
-    viewpoint_names: Vec<String>,
+    pub(super) viewpoint_names: Vec<String>,
     pub(super) out: SceneDescription,
     pub(super) warnings: Vec<String>,
     /// (material node, two-sided) → (material index, emission).
-    materials: HashMap<(usize, bool), (usize, Emission)>,
+    pub(super) materials: HashMap<(usize, bool), (usize, Emission)>,
     /// Nodes already warned about (a USEd node warns once).
     warned: HashSet<(usize, &'static str)>,
     /// The Inline chain; the last one is the file being walked.
     files: Vec<PathBuf>,
     visits: usize,
     triangles: usize,
-    extra_viewpoints: usize,
+    /// Viewpoints after the first, ignored (a warning once the walk is done).
+    pub(super) extra_viewpoints: usize,
     /// Bytes of source text read (the file and its Inlines), for the mesh budget.
     source_bytes: usize,
     /// Bytes of positions and triangles produced so far.
@@ -172,7 +149,8 @@ pub(super) struct Converter {
     counting: bool,
 }
 
-fn ptr(n: &Node) -> usize {
+/// A node's address: the key of what is made once per node however often it is `USE`d.
+pub(super) fn ptr(n: &Node) -> usize {
     n as *const Node as usize
 }
 
@@ -185,7 +163,7 @@ pub(super) fn rgb(v: [f32; 3]) -> Rgb {
 }
 
 /// An SFRotation as a quaternion (a zero or non-finite axis is the identity).
-fn rotation(r: [f32; 4]) -> DQuat {
+pub(super) fn rotation(r: [f32; 4]) -> DQuat {
     let axis = dv([r[0], r[1], r[2]]);
     let len = axis.length();
     if len > 0.0 && len.is_finite() && r[3].is_finite() {
@@ -217,7 +195,7 @@ impl Converter {
         self.files.last().map(PathBuf::as_path).unwrap_or(Path::new(""))
     }
 
-    fn loc(&self, pos: Pos) -> FileLocation {
+    pub(super) fn loc(&self, pos: Pos) -> FileLocation {
         FileLocation { file: self.file().to_path_buf(), line: pos.line, column: pos.col }
     }
 
@@ -331,7 +309,7 @@ impl Converter {
         Ok(())
     }
 
-    // ----- shapes and materials -----
+    // ----- shapes -----
 
     #[inline(never)] // keeps the recursive walk's stack frame small
     fn shape(&mut self, n: &Node, m: &DMat4) -> Result<()> {
@@ -423,226 +401,6 @@ impl Converter {
         Ok(())
     }
 
-    /// The material of a Shape's appearance (shared by every Shape using the same node).
-    #[inline(never)] // keeps the recursive walk's stack frame small
-    fn material(&mut self, appearance: Option<&Node>, solid: bool) -> Result<(usize, Emission)> {
-        let mat = match appearance {
-            Some(a) if a.type_name == "Appearance" => {
-                if a.node("texture").is_some() {
-                    self.warn_once(a, "texture", "textures are not supported: ignored");
-                }
-                a.node("material").map(|m| &**m)
-            }
-            Some(a) => {
-                self.warn_once(a, "appearance", "not an Appearance node: the default material is used");
-                None
-            }
-            None => None,
-        };
-        // (kd, ks, exponent, two-sided, emission); `physical`: the extension's explicit Modified
-        // Phong parameters, which must be possible as given (legacy colours are rescaled).
-        let mut physical = false;
-        let (kd, ks, exponent, two_sided, emission) = match mat {
-            None => ([0.8; 3], [0.0; 3], 0.2 * 128.0, !solid, Emission::None),
-            Some(m) => {
-                if let Some(p) = self.extension(m, "PhysicalMaterial") {
-                    physical = true;
-                    let f = |k: &str| p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]);
-                    let e = p.get("exponent").and_then(FieldValue::as_float).unwrap_or(0.0);
-                    let two = matches!(p.get("twoSided"), Some(FieldValue::Bool(true)));
-                    (f("diffuse"), f("specular"), e, two, Emission::None)
-                } else if let Some(p) = self.extension(m, "AreaLight") {
-                    physical = true;
-                    self.area_light(m, p)
-                } else if m.type_name == "Material" {
-                    if m.float("transparency", 0.0) > 0.0 {
-                        self.warn_once(
-                            m,
-                            "transparency",
-                            "transparency is not supported: the surface is opaque",
-                        );
-                    }
-                    let e = m.vec3("emissiveColor", [0.0; 3]);
-                    let emission = if e.iter().any(|&c| c != 0.0) {
-                        Emission::Radiance(rgb(e) * EMISSIVE_RADIANCE, None)
-                    } else {
-                        Emission::None
-                    };
-                    let shininess = m.float("shininess", 0.2);
-                    (
-                        m.vec3("diffuseColor", [0.8; 3]),
-                        m.vec3("specularColor", [0.0; 3]),
-                        shininess * 128.0,
-                        !solid,
-                        emission,
-                    )
-                } else {
-                    self.warn_once(m, "material", "not a Material node: the default material is used");
-                    ([0.8; 3], [0.0; 3], 0.2 * 128.0, !solid, Emission::None)
-                }
-            }
-        };
-        let key = (mat.map(ptr).unwrap_or(0), two_sided);
-        if let Some(found) = self.materials.get(&key) {
-            return Ok(found.clone());
-        }
-        let name = match mat {
-            Some(m) => {
-                m.def_name.clone().unwrap_or_else(|| format!("{}_{}_{}", m.type_name, m.pos.line, m.pos.col))
-            }
-            None => "default".to_string(),
-        };
-        let bsdf = self.bsdf(mat, rgb(kd), rgb(ks), exponent, !physical)?;
-        let index = self.out.materials.len();
-        self.out.materials.push(Material { name, bsdf, two_sided });
-        self.materials.insert(key, (index, emission.clone()));
-        Ok((index, emission))
-    }
-
-    fn area_light(&mut self, m: &Node, p: &ProtoInstance) -> ([f32; 3], [f32; 3], f32, bool, Emission) {
-        let f = |k: &str| p.get(k).and_then(FieldValue::as_vec3).unwrap_or([0.0; 3]);
-        let (radiance, power) = (f("radiance"), f("power"));
-        let profile = match p.get("emission") {
-            Some(FieldValue::Str(e)) => parse_area_profile(e).unwrap_or_else(|| {
-                self.warn_once(
-                    m,
-                    "emission",
-                    format!(
-                        "emission function \"{e}\" is not one of \"lambertian\", \"uniform\", \"cosine n\" (0 ≤ n ≤ 10⁶): lambertian used"
-                    ),
-                );
-                None
-            }),
-            _ => None,
-        };
-        let nonzero = |c: [f32; 3]| c.iter().any(|&v| v != 0.0);
-        let emission = if nonzero(radiance) {
-            if nonzero(power) {
-                self.warn_once(m, "power", "both radiance and power are given: radiance is used");
-            }
-            Emission::Radiance(rgb(radiance), profile)
-        } else if nonzero(power) {
-            Emission::Power(rgb(power), profile)
-        } else {
-            self.warn_once(m, "dark", "AreaLight with zero radiance and zero power: it does not emit");
-            Emission::None
-        };
-        let e = p.get("exponent").and_then(FieldValue::as_float).unwrap_or(0.0);
-        let two = matches!(p.get("twoSided"), Some(FieldValue::Bool(true)));
-        (f("diffuse"), f("specular"), e, two, emission)
-    }
-
-    /// Lambert if there is no specular part, else Modified Phong. Legacy colours (`rescale`)
-    /// with kd + ks > 1 are scaled down with a warning; the extension's physical parameters are
-    /// taken as given, so an impossible value is an error.
-    fn bsdf(&mut self, mat: Option<&Node>, kd: Rgb, ks: Rgb, exponent: f32, rescale: bool) -> Result<Bsdf> {
-        let material_error = |s: &Self, source| match mat {
-            Some(m) => SceneFileError::Material { at: s.loc(m.pos), element: m.type_name.clone(), source },
-            None => SceneFileError::Material { at: s.loc(Pos::default()), element: "default".into(), source },
-        };
-        let sum = kd + ks;
-        let (kd, ks) =
-            if rescale && sum.max_element() > 1.0 && kd.min_element() >= 0.0 && ks.min_element() >= 0.0 {
-                let scale = Rgb::ONE / sum.max(Rgb::ONE);
-                if let Some(m) = mat {
-                    let [r, g, b] = sum.to_array();
-                    let note = format!(
-                        "diffuse + specular = ({r}, {g}, {b}) exceeds 1: both scaled down to conserve energy"
-                    );
-                    self.warn_once(m, "energy", note);
-                }
-                (kd * scale, ks * scale)
-            } else {
-                (kd, ks)
-            };
-        if ks == Rgb::ZERO {
-            Lambert::new(kd).map(Bsdf::Lambert).map_err(|e| material_error(self, e))
-        } else {
-            ModifiedPhong::new(kd, ks, exponent).map(Bsdf::ModifiedPhong).map_err(|e| material_error(self, e))
-        }
-    }
-
-    // ----- camera and lights -----
-
-    #[inline(never)] // keeps the recursive walk's stack frame small
-    fn viewpoint(&mut self, n: &Node, m: &DMat4) -> Result<()> {
-        if let Some(wanted) = &self.wanted_viewpoint {
-            // Chosen by `--camera`: its `description`, or its DEF name.
-            let description = match n.get("description") {
-                Some(FieldValue::Str(d)) => Some(d.as_str()),
-                _ => None,
-            };
-            let names: Vec<&str> = description.into_iter().chain(n.def_name.as_deref()).collect();
-            let picked = names.contains(&wanted.as_str()) && self.out.camera.is_none();
-            if !picked {
-                if let Some(name) = names.first() {
-                    self.viewpoint_names.push(format!("{name:?}"));
-                }
-                return Ok(());
-            }
-        } else if self.out.camera.is_some() {
-            self.extra_viewpoints += 1;
-            return Ok(());
-        }
-        let (position, orientation, fov, width, height) = match self.extension(n, "PhysicalViewpoint") {
-            Some(p) => {
-                let int = |k: &str| match p.get(k) {
-                    Some(FieldValue::Int(v)) => *v,
-                    _ => DEFAULT_IMAGE_SIZE as i32,
-                };
-                (
-                    p.get("position").and_then(FieldValue::as_vec3).unwrap_or([0.0, 0.0, 10.0]),
-                    match p.get("orientation") {
-                        Some(FieldValue::Rotation(r)) => *r,
-                        _ => [0.0, 0.0, 1.0, 0.0],
-                    },
-                    p.get("fieldOfView")
-                        .and_then(FieldValue::as_float)
-                        .unwrap_or(std::f32::consts::FRAC_PI_4),
-                    int("width"),
-                    int("height"),
-                )
-            }
-            None => (
-                n.vec3("position", [0.0, 0.0, 10.0]),
-                n.rotation("orientation", [0.0, 0.0, 1.0, 0.0]),
-                n.float("fieldOfView", std::f32::consts::FRAC_PI_4),
-                DEFAULT_IMAGE_SIZE as i32,
-                DEFAULT_IMAGE_SIZE as i32,
-            ),
-        };
-        let size = (u32::try_from(width), u32::try_from(height));
-        let (Ok(width), Ok(height)) = size else {
-            return Err(self.invalid(n, format!("image size {width}x{height} must be positive")));
-        };
-        // The core's one rule for image sizes, before anything is sized by them.
-        opticks_core::sensor::check_image_size(width, height).map_err(|e| self.invalid(n, e.to_string()))?;
-        let q = rotation(orientation);
-        let eye = m.transform_point3(dv(position));
-        let forward = m.transform_vector3(q * DVec3::NEG_Z).normalize_or_zero();
-        let up = m.transform_vector3(q * DVec3::Y).normalize_or_zero();
-        if m.determinant() < 0.0 {
-            self.warn(n, "a mirroring transform: the image is not mirrored");
-        }
-        // fieldOfView is the angle along the smaller image side.
-        let fov = f64::from(fov);
-        let aspect = f64::from(width) / f64::from(height);
-        let fov_x = if width <= height { fov } else { 2.0 * ((fov / 2.0).tan() * aspect).atan() };
-        let camera = CameraDesc {
-            eye: eye.as_vec3(),
-            target: (eye + forward).as_vec3(),
-            up: up.as_vec3(),
-            fov_x_degrees: fov_x.to_degrees() as f32,
-            width,
-            height,
-            kind: CameraKind::Perspective,
-        };
-        // The core's camera checks (image size, field of view, axes), reported at the node.
-        Pinhole::new(&camera).map_err(|e| self.invalid(n, e.to_string()))?;
-        self.out.camera = Some(camera);
-        Ok(())
-    }
-
     // ----- Inline -----
 
     #[inline(never)] // keeps the recursive walk's stack frame small
@@ -694,6 +452,8 @@ impl Converter {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use opticks_core::bsdf::{Bsdf, Lambert};
+    use opticks_core::light::EmissionProfile;
     use opticks_core::light::Light;
     use opticks_core::scene::Scene;
     use std::f64::consts::PI;

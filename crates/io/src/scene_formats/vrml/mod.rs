@@ -7,7 +7,7 @@
 //! |---|---|
 //! | [`lexer`] | text → tokens with line:column |
 //! | [`parser`] | tokens → generic node tree ([`tree`]), typed by [`nodes`]; PROTOs expanded by [`proto`] |
-//! | [`convert`] | node tree → [`SceneDescription`](opticks_core::scene::SceneDescription) ([`geometry`], [`triangulate`], [`lights`]) |
+//! | [`convert`] | node tree → [`SceneDescription`](opticks_core::scene::SceneDescription) ([`geometry`], [`triangulate`], [`appearance`], [`lights`], [`viewpoint`]) |
 //! | [`writer`] | [`SceneDescription`](opticks_core::scene::SceneDescription) → VRML97 with the extension |
 //!
 //! `.wrl`, `.wrz` and `.wrl.gz` files are read; gzip compression is recognised by its magic
@@ -25,6 +25,7 @@
 //! input, and parses a 40 MB mesh at hundreds of MB/s is less code written here than adapted. Lexing,
 //! parsing and conversion are kept apart so that each can be tested (and fuzzed) on its own.
 
+pub mod appearance;
 pub mod convert;
 pub mod extension;
 pub mod geometry;
@@ -35,6 +36,7 @@ pub mod parser;
 pub mod proto;
 pub mod tree;
 pub mod triangulate;
+pub mod viewpoint;
 pub mod writer;
 
 use super::{FileLocation, LoadedScene, SceneFileError};

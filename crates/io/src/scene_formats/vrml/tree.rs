@@ -8,28 +8,47 @@ use std::rc::Rc;
 pub type NodeRef = Rc<Node>;
 
 /// The twenty VRML97 field types (§5).
-#[allow(missing_docs)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum FieldType {
+    /// One boolean (`TRUE`, `FALSE`).
     SFBool,
+    /// One RGB colour, three floats in [0, 1].
     SFColor,
+    /// One single-precision float.
     SFFloat,
+    /// One uncompressed image: width, height, components, then the pixels.
     SFImage,
+    /// One 32-bit integer.
     SFInt32,
+    /// One node, or `NULL`.
     SFNode,
+    /// One rotation: an axis (three floats) and an angle in radians.
     SFRotation,
+    /// One double-quoted UTF-8 string.
     SFString,
+    /// One time, seconds as a double.
     SFTime,
+    /// One 2D vector of floats.
     SFVec2f,
+    /// One 3D vector of floats.
     SFVec3f,
+    /// Zero or more RGB colours.
     MFColor,
+    /// Zero or more floats.
     MFFloat,
+    /// Zero or more 32-bit integers.
     MFInt32,
+    /// Zero or more nodes.
     MFNode,
+    /// Zero or more rotations.
     MFRotation,
+    /// Zero or more strings.
     MFString,
+    /// Zero or more times.
     MFTime,
+    /// Zero or more 2D vectors.
     MFVec2f,
+    /// Zero or more 3D vectors.
     MFVec3f,
 }
 
