@@ -12,6 +12,49 @@ use crate::input_file;
 use opticks_core::math::Rgb;
 use std::path::Path;
 
+/// Why a texture image could not be read. Its message does not repeat the file's path: the
+/// loader that asked for the texture names the file and the element.
+#[derive(Debug, thiserror::Error)]
+pub enum TextureError {
+    /// The file could not be opened or read.
+    #[error("cannot read: {0}")]
+    Read(#[from] std::io::Error),
+    /// The extension names no supported format.
+    #[error("unsupported texture format \".{0}\" (supported: .png, .jpg, .jpeg, .hdr, .exr)")]
+    Unsupported(String),
+    /// An image held in memory is neither PNG nor JPEG.
+    #[error("not a PNG or JPEG image")]
+    NotPngOrJpeg,
+    /// The header gives a width or height of zero.
+    #[error("the image is {width} × {height}: it has no texels")]
+    Empty {
+        /// Columns in the header.
+        width: u64,
+        /// Rows in the header.
+        height: u64,
+    },
+    /// The header gives more than [`MAX_TEXELS`] texels.
+    #[error("the image is {width} × {height}: more than the {MAX_TEXELS} texels a texture may have")]
+    TooLarge {
+        /// Columns in the header.
+        width: u64,
+        /// Rows in the header.
+        height: u64,
+    },
+    /// The header (PNG, JPEG, HDR) could not be read.
+    #[error("cannot read the image header: {0}")]
+    Header(image::ImageError),
+    /// The pixels (PNG, JPEG, HDR) could not be decoded.
+    #[error("cannot decode: {0}")]
+    Decode(image::ImageError),
+    /// The EXR header could not be read.
+    #[error("cannot read the EXR header: {0}")]
+    ExrHeader(exr::error::Error),
+    /// The EXR pixels could not be read.
+    #[error(transparent)]
+    Exr(#[from] crate::image_file::ImageError),
+}
+
 /// The most texels a texture may have (a 8192 × 8192 image; 805 MB as linear f32 RGB).
 pub const MAX_TEXELS: u64 = 1 << 26;
 
@@ -29,35 +72,31 @@ pub struct TextureImage {
 /// Reads `path` (format by extension: `.png`, `.jpg`/`.jpeg`, `.hdr`, `.exr`). With `raw`, 8-
 /// and 16-bit values are taken as they are (scaled to [0, 1]) instead of sRGB-decoded. The
 /// error message does not repeat the path (the caller names it).
-pub fn read_texture(path: &Path, raw: bool) -> Result<TextureImage, String> {
-    input_file::check_regular(path).map_err(|e| format!("cannot read: {e}"))?;
+pub fn read_texture(path: &Path, raw: bool) -> Result<TextureImage, TextureError> {
+    input_file::check_regular(path)?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "exr" => read_exr(path),
         "png" | "jpg" | "jpeg" | "hdr" => read_with_image(path, raw, ext == "hdr"),
-        _ => Err(format!("unsupported texture format \".{ext}\" (supported: .png, .jpg, .jpeg, .hdr, .exr)")),
+        _ => Err(TextureError::Unsupported(ext)),
     }
 }
 
 /// Checks a header's size against [`MAX_TEXELS`].
-fn check_size(width: u64, height: u64) -> Result<(), String> {
+fn check_size(width: u64, height: u64) -> Result<(), TextureError> {
     if width == 0 || height == 0 {
-        return Err(format!("the image is {width} × {height}: it has no texels"));
+        return Err(TextureError::Empty { width, height });
     }
     match width.checked_mul(height) {
         Some(n) if n <= MAX_TEXELS => Ok(()),
-        _ => Err(format!(
-            "the image is {width} × {height}: more than the {MAX_TEXELS} texels a texture may have"
-        )),
+        _ => Err(TextureError::TooLarge { width, height }),
     }
 }
 
-fn read_with_image(path: &Path, raw: bool, linear: bool) -> Result<TextureImage, String> {
+fn read_with_image(path: &Path, raw: bool, linear: bool) -> Result<TextureImage, TextureError> {
     let open = || {
-        let file = input_file::open(path).map_err(|e| format!("cannot read: {e}"))?.0;
-        image::ImageReader::new(std::io::BufReader::new(file))
-            .with_guessed_format()
-            .map_err(|e| format!("cannot read: {e}"))
+        let file = input_file::open(path)?.0;
+        Ok(image::ImageReader::new(std::io::BufReader::new(file)).with_guessed_format()?)
     };
     decode_with_image(open, raw, linear)
 }
@@ -65,14 +104,12 @@ fn read_with_image(path: &Path, raw: bool, linear: bool) -> Result<TextureImage,
 /// Decodes a PNG or JPEG image held in memory (a glTF buffer view or `data:` URI), the format
 /// guessed from its first bytes; `raw` as for [`read_texture`]. The header's size is checked
 /// before the pixels are decoded, as for files.
-pub fn decode_texture(bytes: &[u8], raw: bool) -> Result<TextureImage, String> {
+pub fn decode_texture(bytes: &[u8], raw: bool) -> Result<TextureImage, TextureError> {
     let open = || {
-        let reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| format!("cannot read: {e}"))?;
+        let reader = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
         match reader.format() {
             Some(image::ImageFormat::Png | image::ImageFormat::Jpeg) => Ok(reader),
-            _ => Err("not a PNG or JPEG image".to_string()),
+            _ => Err(TextureError::NotPngOrJpeg),
         }
     };
     decode_with_image(open, raw, false)
@@ -81,11 +118,11 @@ pub fn decode_texture(bytes: &[u8], raw: bool) -> Result<TextureImage, String> {
 /// Decodes what `open` gives (called twice: once for the header, once for the pixels) with the
 /// size checked in between; `linear`: the format holds linear values (HDR).
 fn decode_with_image<R: std::io::BufRead + std::io::Seek>(
-    open: impl Fn() -> Result<image::ImageReader<R>, String>,
+    open: impl Fn() -> Result<image::ImageReader<R>, TextureError>,
     raw: bool,
     linear: bool,
-) -> Result<TextureImage, String> {
-    let (w, h) = open()?.into_dimensions().map_err(|e| format!("cannot read the image header: {e}"))?;
+) -> Result<TextureImage, TextureError> {
+    let (w, h) = open()?.into_dimensions().map_err(TextureError::Header)?;
     check_size(w as u64, h as u64)?;
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(w);
@@ -94,7 +131,7 @@ fn decode_with_image<R: std::io::BufRead + std::io::Seek>(
     limits.max_alloc = Some(w as u64 * h as u64 * 16 + (1 << 20));
     let mut reader = open()?;
     reader.limits(limits);
-    let image = reader.decode().map_err(|e| format!("cannot decode: {e}"))?;
+    let image = reader.decode().map_err(TextureError::Decode)?;
     let (width, height) = (image.width() as usize, image.height() as usize);
     let decode = !(raw || linear);
     let texels = image
@@ -108,14 +145,13 @@ fn decode_with_image<R: std::io::BufRead + std::io::Seek>(
     Ok(TextureImage { width, height, texels })
 }
 
-fn read_exr(path: &Path) -> Result<TextureImage, String> {
-    let meta = exr::meta::MetaData::read_from_file(path, false)
-        .map_err(|e| format!("cannot read the EXR header: {e}"))?;
+fn read_exr(path: &Path) -> Result<TextureImage, TextureError> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(TextureError::ExrHeader)?;
     for header in &meta.headers {
         let s = header.layer_size;
         check_size(s.width() as u64, s.height() as u64)?;
     }
-    let (w, h, rgb) = read_exr_rgb(path).map_err(|e| e.to_string())?;
+    let (w, h, rgb) = read_exr_rgb(path)?;
     let texels = rgb.chunks_exact(3).map(|c| Rgb::new(c[0], c[1], c[2])).collect();
     Ok(TextureImage { width: w as usize, height: h as usize, texels })
 }
@@ -157,7 +193,7 @@ mod tests {
     #[test]
     fn bad_and_huge_files_are_errors_before_any_allocation() {
         assert!(read_texture(&temp("b.png", b"not a png"), false).is_err());
-        assert!(read_texture(&temp("c.tga", b""), false).unwrap_err().contains("unsupported"));
+        assert!(read_texture(&temp("c.tga", b""), false).unwrap_err().to_string().contains("unsupported"));
         // A PNG header claiming 100000 × 100000 pixels, with no data.
         let mut png = b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR".to_vec();
         png.extend(100_000u32.to_be_bytes());
@@ -169,7 +205,7 @@ mod tests {
         png.extend(b"\0\0\0\0IDAT");
         png.extend(crc32(b"IDAT").to_be_bytes());
         let e = read_texture(&temp("d.png", &png), false).unwrap_err();
-        assert!(e.contains("100000 × 100000"), "{e}");
+        assert!(e.to_string().contains("100000 × 100000"), "{e}");
         assert!(read_texture(Path::new("/nonexistent/e.png"), false).is_err());
     }
 

@@ -22,13 +22,29 @@ pub struct IesLuminaire {
     pub warning: Option<String>,
 }
 
+/// Why an IES file could not be a light's profile.
+#[derive(Debug, thiserror::Error)]
+pub enum IesLuminaireError {
+    /// The file could not be read or parsed (the message names the file and line).
+    #[error(transparent)]
+    File(#[from] crate::ies::IesError),
+    /// Its candela grid is not a valid profile.
+    #[error("{}: {source}", path.display())]
+    Profile {
+        /// The IES file.
+        path: std::path::PathBuf,
+        /// What the core found wrong.
+        source: opticks_core::light::ProfileError,
+    },
+}
+
 /// Reads the IES file at `path` and builds it as a point light's profile, or an area light's
 /// (cut at 90°) if `hemisphere`. The error message names the IES file (and its line).
-pub fn ies_luminaire(path: &std::path::Path, hemisphere: bool) -> Result<IesLuminaire, String> {
-    let ies = crate::ies::load_ies(path).map_err(|e| e.to_string())?;
+pub fn ies_luminaire(path: &std::path::Path, hemisphere: bool) -> Result<IesLuminaire, IesLuminaireError> {
+    let ies = crate::ies::load_ies(path)?;
     let built =
         opticks_core::light::BuiltProfile::build(&EmissionProfile::Ies(ies.profile.clone()), hemisphere)
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(|source| IesLuminaireError::Profile { path: path.to_path_buf(), source })?;
     let watts = built.integral();
     let warning = ies.rated_lumens().and_then(|rated| {
         let actual = watts * opticks_core::light::LUMENS_PER_WATT;

@@ -368,7 +368,7 @@ fn ies_file<'d>(
 ) -> Result<Option<(Ies, f32, &'d Element)>> {
     let Some((file, fnode)) = p.string("filename")? else { return Ok(None) };
     let path = b.doc.resolve(fnode, &file);
-    let ies = lights::ies_luminaire(&path, hemisphere).map_err(|e| fnode.err(e))?;
+    let ies = lights::ies_luminaire(&path, hemisphere).map_err(|e| fnode.err(e.to_string()))?;
     if let Some(w) = ies.warning {
         b.warn(fnode, w);
     }
