@@ -328,7 +328,7 @@ fn lambertian_emitter_reads_its_radiance_bidirectional() {
 }
 
 /// A 32×32 camera at `eye` looking at the emitting panel.
-fn panel_view(eye: Vec3) -> Pinhole {
+pub(crate) fn panel_view(eye: Vec3) -> Pinhole {
     let desc = CameraDesc {
         eye,
         target: Vec3::ZERO,

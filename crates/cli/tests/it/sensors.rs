@@ -266,16 +266,7 @@ fn thin_lens_leaves_a_uniform_scene_unchanged() {
 fn thin_lens_focus_is_sharp_and_defocus_blurs() {
     let l = Rgb::new(3.0, 2.0, 0.5);
     let scene = Scene::build(&emitting_panel(l)).unwrap();
-    let cam = Pinhole::new(&CameraDesc {
-        eye: Vec3::new(0.0, 0.0, 2.0),
-        target: Vec3::ZERO,
-        up: Vec3::Y,
-        fov_x_degrees: 40.0,
-        width: 32,
-        height: 32,
-        kind: CameraKind::Perspective,
-    })
-    .unwrap();
+    let cam = crate::analytic::panel_view(Vec3::new(0.0, 0.0, 2.0));
     let (table, chunks) = trace_chunks(&scene, 2_000_000, 34);
     let sharp = render_chunks(&scene, &ThinLens::new(cam, 0.1, 2.0).unwrap().into(), &table, &chunks);
     let blurred = render_chunks(&scene, &ThinLens::new(cam, 0.1, 1.0).unwrap().into(), &table, &chunks);
