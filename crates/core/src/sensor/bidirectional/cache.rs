@@ -199,6 +199,83 @@ impl<'a> LightCache<'a> {
     }
 }
 
+/// A connection set: vertices drawn uniformly from the cache, copied into one compact array
+/// small enough to stay in the CPU's L2 cache ([`LightCache::fill_set`]); a band of camera
+/// paths then connects to vertices drawn uniformly from the set instead of the whole cache
+/// (`docs/bidirectional.md` §11).
+///
+/// Why it is unbiased: the set's entries are independent uniform draws from the |Y| drawable
+/// vertices, and a draw from the set picks one of them uniformly, so each connection's vertex
+/// is, marginally, uniform over |Y| — the same distribution as a draw from the cache, so the
+/// |Y|/n_c weight and the MIS weights are unchanged. What it changes is the correlation between
+/// the connections of one band (they share the set's vertices), traded for reading memory once
+/// per entry, in a pipelined loop, instead of once per connection at the far end of a random
+/// DRAM access.
+#[derive(Clone, Debug, Default)]
+pub struct ConnectionSet {
+    entries: Vec<SetEntry>,
+}
+
+/// One vertex of a [`ConnectionSet`]: its sample, record and light, held by value.
+#[derive(Clone, Copy, Debug)]
+struct SetEntry {
+    sample: Sample,
+    record: MisRecord,
+    light: u32,
+}
+
+impl ConnectionSet {
+    /// An empty set with room for `n` vertices.
+    pub fn with_capacity(n: usize) -> Self {
+        ConnectionSet { entries: Vec::with_capacity(n) }
+    }
+
+    /// Vertices in the set.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether the set has no vertex (the cache had none to give).
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// A vertex drawn uniformly from the set; `None` if it is empty.
+    #[inline]
+    pub fn draw(&self, rng: &mut RandomStream) -> Option<CachedVertex<'_>> {
+        if self.entries.is_empty() {
+            return None;
+        }
+        let e = &self.entries[below(rng, self.entries.len() as u64) as usize];
+        Some(CachedVertex { light: e.light, sample: &e.sample, record: e.record })
+    }
+}
+
+/// Draws a [`LightCache::fill_set`] keeps in flight: each is begun (its memory read started)
+/// this many draws before it is read.
+const SET_AHEAD: usize = 8;
+
+impl LightCache<'_> {
+    /// Replaces the contents of `set` by `n` vertices drawn independently and uniformly from
+    /// the cache (none if the cache has nothing to draw). The draws are pipelined: each read
+    /// is started [`SET_AHEAD`] draws before it is used, so that the memory reads overlap.
+    pub fn fill_set(&self, set: &mut ConnectionSet, n: usize, rng: &mut RandomStream) {
+        set.entries.clear();
+        let mut ring = [None; SET_AHEAD];
+        for slot in ring.iter_mut().take(n) {
+            *slot = self.begin_draw(rng);
+        }
+        for k in 0..n {
+            let Some(pending) = ring[k % SET_AHEAD].take() else { return };
+            if k + SET_AHEAD < n {
+                ring[k % SET_AHEAD] = self.begin_draw(rng);
+            }
+            let v = self.finish_draw(pending, rng);
+            set.entries.push(SetEntry { sample: *v.sample, record: v.record, light: v.light });
+        }
+    }
+}
+
 /// Candidate indices a [`PendingDraw`] draws ahead: with a fraction e of emission vertices in a
 /// chunk (a quarter in a closed room), a draw must still read memory synchronously with
 /// probability e^CANDIDATES.
@@ -287,5 +364,42 @@ mod tests {
         let mut short = chunks[..1].to_vec();
         short[0].records.truncate(2);
         assert!(LightCache::from_chunks(&short, 3, &[true; 3]).is_err());
+    }
+
+    /// A vertex drawn through connection sets (each filled afresh, as a band does) is drawn with
+    /// the cache's own probability 1/|Y|: the set keeps every vertex's marginal probability.
+    #[test]
+    fn draws_through_a_connection_set_keep_the_marginal_probability() {
+        let chunks = vec![
+            chunk(0, &[true, false, false, true, false]),
+            chunk(1, &[true, false, true, false, false, false]),
+            chunk(0, &[false]),
+        ];
+        let cache = LightCache::from_chunks(&chunks, 2, &[true, true]).unwrap();
+        let drawable = cache.vertices() as f64;
+        let mut rng = RandomStream::new(3, &[]);
+        let mut set = ConnectionSet::with_capacity(4);
+        let mut counts = std::collections::HashMap::new();
+        let (sets, per_set) = (20_000, 8);
+        for _ in 0..sets {
+            cache.fill_set(&mut set, 4, &mut rng);
+            assert_eq!(set.len(), 4);
+            for _ in 0..per_set {
+                let v = set.draw(&mut rng).unwrap();
+                assert!(!v.sample.is_emission());
+                *counts.entry((v.light, v.sample.position.map(f32::to_bits))).or_insert(0u32) += 1;
+            }
+        }
+        assert_eq!(counts.len() as f64, drawable);
+        // The draws of one set are correlated: the bound is on the sets' independent means.
+        let n = (sets * per_set) as f64;
+        for c in counts.values() {
+            let expected = n / drawable;
+            let sd = (expected * per_set as f64).sqrt();
+            assert!((*c as f64 - expected).abs() < 5.0 * sd, "{c} vs {expected}");
+        }
+        let empty = LightCache::from_chunks(&chunks, 2, &[false, false]).unwrap();
+        empty.fill_set(&mut set, 4, &mut rng);
+        assert!(set.is_empty() && set.draw(&mut rng).is_none());
     }
 }

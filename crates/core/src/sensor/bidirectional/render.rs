@@ -21,7 +21,7 @@
 //! image depends on the seed, never on the thread count.
 
 use super::Counts;
-use super::cache::{CacheChunk, LightCache};
+use super::cache::{CacheChunk, ConnectionSet, LightCache};
 use super::lights::RenderLights;
 use super::path::camera_path;
 use super::splat::splat_chunk;
@@ -52,6 +52,13 @@ const CAMERA_STREAM: u64 = 0x6361_6d65_7261; // "camera"
 
 /// Image rows per parallel band of a camera pass.
 const BAND_ROWS: usize = 2;
+
+/// First key word of the random stream that fills a band's connection set.
+const SET_STREAM: u64 = 0x7365_7473; // "sets"
+
+/// Most vertices in a band's connection set (52 bytes each: 416 KiB, within a core's L2 beside
+/// the scene's hot data; `docs/performance.md`).
+const SET_MAX: usize = 1 << 13;
 
 /// Runs the splat pass's chunks are cut into, whatever the thread count.
 const SPLAT_RUNS: usize = 64;
@@ -122,6 +129,7 @@ impl<'a> Renderer<'a> {
             scene: self.scene,
             lights: &self.lights,
             cache: &self.cache,
+            set: None,
             flux_per_path: &self.flux_per_path,
             counts: self.counts,
             heuristic: self.settings.heuristic,
@@ -186,17 +194,32 @@ impl<'a> Renderer<'a> {
         let mut film = Film::new(w, h);
         let ctx = self.context();
         let band = w as usize * BAND_ROWS;
-        let stopped = film.pixels.par_chunks_mut(band).enumerate().any(|(b, pixels)| {
+        // Each band connects through its own set of cache vertices, as many as its camera paths
+        // make connections from their first vertex (each is then reused about once per further
+        // vertex), at most SET_MAX; filled from the band's own stream, so the image does not
+        // depend on the thread count.
+        let connects = self.counts.conn > 0.0 && self.settings.connections > 0;
+        let set_size =
+            (band as u64 * spp as u64 * self.settings.connections as u64).min(SET_MAX as u64) as usize;
+        let init = || ConnectionSet::with_capacity(if connects { set_size } else { 0 });
+        let stopped = film.pixels.par_chunks_mut(band).enumerate().map_init(init, |set, (b, pixels)| {
             if stop() {
                 return true;
             }
+            let mut ctx = ctx;
+            if connects {
+                let mut rng = RandomStream::new(self.settings.seed, &[SET_STREAM, pass, b as u64]);
+                self.cache.fill_set(set, set_size, &mut rng);
+                ctx.set = Some(set);
+            }
+            let ctx = &ctx;
             for (k, px) in pixels.iter_mut().enumerate() {
                 let p = b * band + k;
                 let (i, j) = ((p % w as usize) as u32, (p / w as usize) as u32);
                 let mut rng = RandomStream::new(self.settings.seed, &[CAMERA_STREAM, pass, p as u64]);
                 let mut sum = [0.0f64; 3];
                 for _ in 0..spp {
-                    let l = camera_path(&ctx, &self.sensor, i, j, &mut rng);
+                    let l = camera_path(ctx, &self.sensor, i, j, &mut rng);
                     for c in 0..3 {
                         sum[c] += l[c] as f64;
                     }
@@ -206,7 +229,7 @@ impl<'a> Renderer<'a> {
             progress(pixels.len());
             false
         });
-        (!stopped).then_some(film)
+        (!stopped.any(|s| s)).then_some(film)
     }
 }
 

@@ -9,7 +9,7 @@
 //! material). They return the radiance toward the camera side per unit throughput, already
 //! weighted; the caller multiplies by its throughput.
 
-use super::cache::{CachedVertex, LightCache, PendingDraw};
+use super::cache::{CachedVertex, ConnectionSet, LightCache, PendingDraw};
 use super::lights::{LightPoint, RenderLights};
 use super::{CameraVertexMis, ConnectionEnd, Counts, weight_connection, weight_nee};
 use crate::bsdf::{Direction, Material, ShadingPoint};
@@ -29,6 +29,9 @@ pub struct Context<'a> {
     pub lights: &'a RenderLights,
     /// The light half.
     pub cache: &'a LightCache<'a>,
+    /// Where connections draw their vertices: a [`ConnectionSet`] drawn from the cache (what a
+    /// camera pass's band uses), or, if `None`, the cache itself.
+    pub set: Option<&'a ConnectionSet>,
     /// Per table light: Φ'_k/N_k (relit, over the rendered chunks' N_k).
     pub flux_per_path: &'a [Rgb],
     /// The render's counts.
@@ -280,7 +283,7 @@ impl DrawsAhead {
 
     #[inline]
     fn refill(&mut self, ctx: &Context, rng: &mut RandomStream) {
-        if ctx.connections == 0 || ctx.counts.conn == 0.0 {
+        if ctx.connections == 0 || ctx.counts.conn == 0.0 || ctx.set.is_some() {
             return;
         }
         let n = (ctx.connections as usize).min(MAX_AHEAD);
@@ -304,6 +307,13 @@ pub fn connect_ahead(
         return Rgb::ZERO;
     }
     let mut total = Rgb::ZERO;
+    if let Some(set) = ctx.set {
+        for _ in 0..ctx.connections {
+            let Some(v) = set.draw(rng) else { break };
+            total += connect_one(ctx, r, camera, &v);
+        }
+        return total * (ctx.cache.vertices() as f32 / ctx.connections as f32);
+    }
     for k in 0..ctx.connections as usize {
         let pending = match ahead.draws.get_mut(k).and_then(Option::take) {
             Some(p) => p,
