@@ -196,7 +196,11 @@ pub fn check_mesh(mesh: &MeshData, at: u64) -> Result<(), MeshFileError> {
             ("vertex", vertices)
         };
         if a.values.len() != n {
-            return Err(err(format!("attribute {} has {} values for {n} (one per {per})", a.name, a.values.len())));
+            return Err(err(format!(
+                "attribute {} has {} values for {n} (one per {per})",
+                a.name,
+                a.values.len()
+            )));
         }
     }
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {

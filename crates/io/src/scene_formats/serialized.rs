@@ -111,7 +111,10 @@ fn sub_mesh_offset(data: &[u8], version: u16, index: u64) -> Result<(usize, usiz
         let at = b.offset() as usize;
         let offset = if width == 8 { b.u64()? } else { b.u32()? as u64 };
         if offset >= dict_at as u64 {
-            return Err(err(at, format!("mesh {k} starts at {offset}, not before the dictionary (at {dict_at})")));
+            return Err(err(
+                at,
+                format!("mesh {k} starts at {offset}, not before the dictionary (at {dict_at})"),
+            ));
         }
         if let Some(p) = previous.filter(|&p| offset <= p) {
             return Err(err(
@@ -350,7 +353,11 @@ mod tests {
     /// Issue 26: a dictionary whose entries alias one another loaded mesh 0 for shape_index 2.
     #[test]
     fn aliased_or_decreasing_dictionary_offsets_are_refused() {
-        let three = [(TRI, &[[0, 1, 2]][..], false), (QUAD, &[[0, 1, 2], [0, 2, 3]][..], false), (TRI, &[[0, 2, 1]][..], false)];
+        let three = [
+            (TRI, &[[0, 1, 2]][..], false),
+            (QUAD, &[[0, 1, 2], [0, 2, 3]][..], false),
+            (TRI, &[[0, 2, 1]][..], false),
+        ];
         let good = write_v4(&three);
         assert_eq!(parse_serialized(&good, 2).unwrap().triangles, [[0, 2, 1]]);
         let n = good.len();

@@ -132,11 +132,15 @@ fn includes_and_spectrum_files_refuse_special_files_quickly() {
             ),
             (
                 "ply",
-                format!("<scene version=\"3.0.0\"><shape type=\"ply\"><string name=\"filename\" value=\"{special}\"/></shape></scene>"),
+                format!(
+                    "<scene version=\"3.0.0\"><shape type=\"ply\"><string name=\"filename\" value=\"{special}\"/></shape></scene>"
+                ),
             ),
             (
                 "serialized",
-                format!("<scene version=\"3.0.0\"><shape type=\"serialized\"><string name=\"filename\" value=\"{special}\"/></shape></scene>"),
+                format!(
+                    "<scene version=\"3.0.0\"><shape type=\"serialized\"><string name=\"filename\" value=\"{special}\"/></shape></scene>"
+                ),
             ),
         ];
         for (what, xml) in cases {
@@ -151,7 +155,10 @@ fn includes_and_spectrum_files_refuse_special_files_quickly() {
                 Ok(Ok(())) => panic!("{what} → {special}: loaded"),
                 Err(_) => panic!("{what} → {special}: no answer within 20 s"),
             };
-            assert!(e.contains("scene.xml:1:") && e.contains("not a regular file"), "{what} → {special}: {e}");
+            assert!(
+                e.contains("scene.xml:1:") && e.contains("not a regular file"),
+                "{what} → {special}: {e}"
+            );
         }
     }
 }
