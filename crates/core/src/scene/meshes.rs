@@ -182,7 +182,8 @@ impl Flat {
             let mut t = *t;
             let mut tri = Triangle::from_indices(&mesh.positions, t);
             let area = tri.area();
-            if !(area > 0.0 && area.is_finite()) || !tri.normal().is_finite() {
+            let usable = area > 0.0 && area.is_finite() && tri.normal().is_finite();
+            if !usable {
                 if overflows_f32(&mesh.positions, t) {
                     self.oversized += 1;
                 } else {
