@@ -25,7 +25,7 @@ seconds=${1:-20}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset)
+    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset ply serialized)
 fi
 
 # seed TARGET FILE...: small files only (libFuzzer mutates better, and faster, from small inputs).
@@ -46,6 +46,8 @@ seed gltf seeds/gltf/* ../testdata/gltf/cornell.gltf
 seed ies $(find ../testdata ../scenes -name '*.ies')
 seed camera_path seeds/camera_path/*
 seed dataset seeds/dataset/*
+seed ply $(find ../testdata ../scenes -name '*.ply')
+seed serialized $(find ../testdata ../scenes -name '*.serialized')
 
 # The instrumentation of `cargo fuzz build -O`: coverage counters and comparison tracing for
 # libFuzzer, debug assertions and overflow checks on. An explicit --target keeps build scripts

@@ -139,6 +139,49 @@ pub fn ies(data: &[u8]) {
     }
 }
 
+/// A Mitsuba scene of one mesh shape `shape` (its other properties in `params`), a camera and
+/// a constant environment, so that whatever loads is also built, traced and rendered.
+fn mesh_scene(shape: &str, params: &str) {
+    let xml = format!(
+        "<scene version=\"3.0.0\">\
+         <sensor type=\"perspective\"><float name=\"fov\" value=\"60\"/>\
+         <transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform></sensor>\
+         <emitter type=\"constant\"/><shape type=\"{shape}\">{params}</shape></scene>"
+    );
+    let path = scratch().join(format!("{shape}.xml"));
+    if let Ok(loaded) = opticks_io::scene_formats::mitsuba::parse(&xml, &path, &Default::default()) {
+        exercise(&loaded);
+    }
+}
+
+/// A PLY mesh (ASCII or binary), loaded by a Mitsuba `ply` shape, then again with its vertex
+/// colours asked for (so the attribute reader runs too; a file without them is an error there).
+pub fn ply(data: &[u8]) {
+    file("fuzz.ply", data);
+    let filename = "<string name=\"filename\" value=\"fuzz.ply\"/>";
+    mesh_scene("ply", filename);
+    mesh_scene(
+        "ply",
+        &format!(
+            "{filename}<bsdf type=\"diffuse\"><texture type=\"mesh_attribute\" name=\"reflectance\">\
+             <string name=\"name\" value=\"vertex_color\"/></texture></bsdf>"
+        ),
+    );
+}
+
+/// A Mitsuba `.serialized` mesh file, its meshes 0 and 1 each loaded by a `serialized` shape.
+pub fn serialized(data: &[u8]) {
+    file("fuzz.serialized", data);
+    for index in 0..2 {
+        mesh_scene(
+            "serialized",
+            &format!(
+                "<string name=\"filename\" value=\"fuzz.serialized\"/><integer name=\"shape_index\" value=\"{index}\"/>"
+            ),
+        );
+    }
+}
+
 /// A walkthrough camera path (JSON keyframes), evaluated at its ends and between.
 pub fn camera_path(data: &[u8]) {
     let Ok(walk) = opticks_io::camera_path_file::read_camera_path(&file("fuzz.json", data), 45.0) else {

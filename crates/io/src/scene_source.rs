@@ -164,7 +164,8 @@ pub fn load(scene: &SceneRef, options: &LoadOptions) -> Result<LoadedScene, Scen
 pub struct Built {
     /// The scene.
     pub scene: Scene,
-    /// "FILE: dropped N degenerate (zero-area) triangles", when some were.
+    /// "FILE: dropped N degenerate (zero-area) triangles" and/or "N triangles too large for
+    /// single precision", when some were.
     pub warning: Option<String>,
 }
 
@@ -172,8 +173,17 @@ pub struct Built {
 pub fn build(scene: &SceneRef, description: &SceneDescription) -> Result<Built, SceneSourceError> {
     let built = Scene::build(description)
         .map_err(|source| SceneSourceError::Invalid { scene: scene.clone(), source: Box::new(source) })?;
-    let warning = (built.dropped_triangles > 0)
-        .then(|| format!("{scene}: dropped {} degenerate (zero-area) triangles", built.dropped_triangles));
+    let mut dropped = Vec::new();
+    if built.dropped_triangles > 0 {
+        dropped.push(format!("{} degenerate (zero-area) triangles", built.dropped_triangles));
+    }
+    if built.oversized_triangles > 0 {
+        dropped.push(format!(
+            "{} triangles too large for single precision (their area overflows f32)",
+            built.oversized_triangles
+        ));
+    }
+    let warning = (!dropped.is_empty()).then(|| format!("{scene}: dropped {}", dropped.join(" and ")));
     Ok(Built { scene: built, warning })
 }
 

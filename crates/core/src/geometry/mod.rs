@@ -70,9 +70,12 @@ pub fn offset_ray_origin(p: Vec3, n: Vec3, dir: Vec3) -> Vec3 {
     const FLOAT_SCALE: f32 = 1.0 / 65536.0;
     const INT_SCALE: f32 = 256.0;
     let of_i = (n * INT_SCALE).as_ivec3();
+    // Wrapping: `-0.0`'s bits are `i32::MIN`, and a step away from zero then wraps to a NaN's
+    // bits; such a coordinate is below `ORIGIN`, so `pick` discards the stepped value anyway
+    // (what release builds always did; an overflow-checked build panicked).
     let step = |x: f32, o: i32| {
         let bits = x.to_bits() as i32;
-        f32::from_bits((bits + if x < 0.0 { -o } else { o }) as u32)
+        f32::from_bits(bits.wrapping_add(if x < 0.0 { o.wrapping_neg() } else { o }) as u32)
     };
     let p_i = Vec3::new(step(p.x, of_i.x), step(p.y, of_i.y), step(p.z, of_i.z));
     let pick = |x: f32, xi: f32, nx: f32| if x.abs() < ORIGIN { x + FLOAT_SCALE * nx } else { xi };
@@ -95,5 +98,21 @@ mod tests {
                 assert!((up.y - p.y).abs() <= 1e-4 * p.y.abs().max(1.0));
             }
         }
+    }
+
+    /// Issue 26: `-0.0`'s bits are `i32::MIN`; stepping them by a negative normal component
+    /// overflowed in an overflow-checked build (this test's dev profile).
+    #[test]
+    fn offset_of_negative_zero_does_not_overflow() {
+        let z = Vec3::new(-0.0, -0.0, -0.0);
+        for n in [Vec3::new(0.0, -1.0, 0.0), Vec3::new(-0.6, -0.8, 0.0), Vec3::new(0.0, 0.6, -0.8)] {
+            for dir in [n, -n] {
+                let o = offset_ray_origin(z, n, dir);
+                assert!(o.is_finite() && (o - z).dot(dir) > 0.0, "n={n:?} dir={dir:?} o={o:?}");
+            }
+        }
+        // Other inputs are unchanged: the step of a coordinate far from 0 is a few ulps.
+        let o = offset_ray_origin(Vec3::new(-2.0, 3.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::Y);
+        assert_eq!((o.x, o.y), (-2.0, f32::from_bits(3.0f32.to_bits() + 256)));
     }
 }

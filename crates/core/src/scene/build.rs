@@ -67,6 +67,9 @@ pub struct Scene {
     pub objects: Vec<ObjectHash>,
     /// Zero-area triangles that were dropped.
     pub dropped_triangles: usize,
+    /// Finite triangles that were dropped because their area overflows `f32` (too large for
+    /// single precision, not degenerate).
+    pub oversized_triangles: usize,
     accel: Accel,
 }
 
@@ -122,6 +125,7 @@ impl Scene {
             geometry_v1: hashes.geometry_v1,
             objects: hashes.objects,
             dropped_triangles: flat.dropped,
+            oversized_triangles: flat.oversized,
             accel,
         })
     }
@@ -290,5 +294,29 @@ mod tests {
         }
         assert!(hits > 2000, "{hits} hits on the floor or the x = 0 wall");
         assert_eq!(again, 0, "{again} of {hits} rays leaving a wall at 0 hit it again");
+    }
+
+    /// Issue 26: a finite triangle whose area overflows `f32` was counted as "degenerate
+    /// (zero-area)"; it is counted as too large, and a zero-area one is still degenerate.
+    #[test]
+    fn triangles_too_large_for_f32_are_not_called_degenerate() {
+        let mut desc = cornell_box();
+        let m = desc.meshes.iter_mut().find(|m| m.emission.is_none() && m.normals.is_empty()).unwrap();
+        m.uvs.clear();
+        m.attributes.clear();
+        let n = m.positions.len() as u32;
+        m.positions.extend([
+            Vec3::ZERO,
+            Vec3::new(1e20, 0.0, 0.0),
+            Vec3::new(0.0, 1e20, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(3e38, 0.0, 0.0),
+            Vec3::new(-3e38, 1.0, 0.0),
+        ]);
+        // Area 5·10³⁹; a zero-area one; edges that overflow f32 themselves.
+        m.triangles.extend([[n, n + 1, n + 2], [n, n + 3, n + 3], [n + 4, n + 5, n]]);
+        let scene = Scene::build(&desc).unwrap();
+        assert_eq!((scene.dropped_triangles, scene.oversized_triangles), (1, 2));
+        assert_eq!(Scene::build(&cornell_box()).unwrap().oversized_triangles, 0);
     }
 }

@@ -1,8 +1,10 @@
 //! The first stages of [`super::Scene::build`]: each mesh is validated ([`validate`]: material,
 //! vertices, vertex normals, emitted radiance, indices) and then flattened into the scene's
 //! triangle arrays ([`Flat::push_mesh`]), with its shading normals, texture coordinates and
-//! attributes. Degenerate (zero-area)
-//! triangles are dropped there, since they can neither be hit nor emit.
+//! attributes. Degenerate (zero-area) triangles are dropped there, since they can neither be
+//! hit nor emit; so are finite triangles too large for single precision (their area or normal
+//! overflows `f32`: nothing about them can be computed), counted apart so that the warning
+//! says which it was.
 
 use super::attributes::{self, AttributeTable};
 use super::{MeshDesc, SceneError};
@@ -143,6 +145,17 @@ pub(super) struct Flat {
     pub attributes: Vec<AttributeTable>,
     /// Zero-area triangles dropped.
     pub dropped: usize,
+    /// Finite triangles dropped because their area overflows `f32`.
+    pub oversized: usize,
+}
+
+/// Whether the triangle `t` of `positions`, which `f32` arithmetic finds unusable (area zero or
+/// not finite, or normal not finite), has in fact a positive area (computed in `f64`, where
+/// finite `f32` coordinates cannot overflow) that `f32` cannot hold: too large, not degenerate.
+fn overflows_f32(positions: &[Vec3], t: [u32; 3]) -> bool {
+    let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+    let area = 0.5 * (b - a).cross(c - a).length();
+    area > 0.0 && (area > f32::MAX as f64 || !(Triangle::from_indices(positions, t).area().is_finite()))
 }
 
 /// The triangles an emissive mesh contributes, with their cumulative areas (for picking one
@@ -169,8 +182,13 @@ impl Flat {
             let mut t = *t;
             let mut tri = Triangle::from_indices(&mesh.positions, t);
             let area = tri.area();
-            if !(area > 0.0) || !tri.normal().is_finite() {
-                self.dropped += 1;
+            let usable = area > 0.0 && area.is_finite() && tri.normal().is_finite();
+            if !usable {
+                if overflows_f32(&mesh.positions, t) {
+                    self.oversized += 1;
+                } else {
+                    self.dropped += 1;
+                }
                 continue;
             }
             let mut shading = NO_SHADING;

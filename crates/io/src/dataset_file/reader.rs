@@ -73,8 +73,7 @@ impl DatasetReader {
             });
         }
         crate::input_file::check_regular(path).map_err(io("read"))?;
-        let file = File::open(path).map_err(io("open"))?;
-        let len = file.metadata().map_err(io("read the size of"))?.len();
+        let (file, len) = crate::input_file::open(path).map_err(io("open"))?;
         let mut r = DatasetReader {
             path: path.to_owned(),
             file,

@@ -177,10 +177,32 @@ impl<'a> Bytes<'a> {
     }
 }
 
-/// Checks what every mesh file must satisfy once read: finite positions (and normals and
-/// texture coordinates), indices below the vertex count. `at` gives the error's offset.
+/// Checks what every mesh file must satisfy once read: one normal and one texture coordinate
+/// per vertex (or none), one value per vertex (`vertex_…`) or per triangle (`face_…`) for each
+/// attribute, finite positions (and normals and texture coordinates), indices below the vertex
+/// count. `at` gives the error's offset.
 pub fn check_mesh(mesh: &MeshData, at: u64) -> Result<(), MeshFileError> {
     let err = |message: String| MeshFileError { offset: at, line: 0, message };
+    let vertices = mesh.positions.len();
+    for (what, len) in [("normals", mesh.normals.len()), ("texture coordinates", mesh.uvs.len())] {
+        if len != 0 && len != vertices {
+            return Err(err(format!("{len} {what} for {vertices} vertices (one per vertex, or none)")));
+        }
+    }
+    for a in &mesh.attributes {
+        let (per, n) = if a.name.starts_with("face_") {
+            ("triangle", mesh.triangles.len())
+        } else {
+            ("vertex", vertices)
+        };
+        if a.values.len() != n {
+            return Err(err(format!(
+                "attribute {} has {} values for {n} (one per {per})",
+                a.name,
+                a.values.len()
+            )));
+        }
+    }
     if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
         return Err(err(format!("vertex {i} has a non-finite position {}", mesh.positions[i])));
     }

@@ -13,7 +13,15 @@
 //! two characters per property (ASCII), so a header declaring 10¹² vertices is refused at once.
 //! Errors name the byte offset (and the line, for the header and ASCII data): a face index past
 //! the declared vertex count, a list shorter than 3, a non-finite coordinate, a file ending
-//! early.
+//! early, and a file holding more than its header declares (ASCII: anything but whitespace
+//! after the last declared element; binary: any byte after it), which would otherwise load
+//! part of the file without a word. The finished mesh goes through the same check as the
+//! serialized reader's ([`super::mesh_bytes::check_mesh`]).
+//!
+//! A second `vertex` or `face` element is refused (naming it and its header line): the mesh
+//! has one vertex array and one face list, and no reading of two is right (appending would
+//! shift the second's indices, replacing would drop the first). Mitsuba's reader does not
+//! merge them either; refusing says so instead of loading something else.
 //!
 //! # Why not `ply-rs`
 //!
@@ -22,7 +30,7 @@
 //! errors without a byte offset, and read element counts without relating them to the file's
 //! size. This reader is a single pass over the file's bytes into the mesh arrays.
 
-use super::mesh_bytes::{Bytes, MeshData, MeshFileError};
+use super::mesh_bytes::{Bytes, MeshData, MeshFileError, check_mesh};
 use opticks_core::math::{Rgb, Vec2, Vec3};
 use opticks_core::scene::MeshAttribute;
 
@@ -100,6 +108,17 @@ pub fn parse_ply(data: &[u8]) -> Result<MeshData, MeshFileError> {
 /// `vertex_color`, `face_weight`, …) that the file has.
 pub fn parse_ply_with(data: &[u8], wanted: &[String]) -> Result<MeshData, MeshFileError> {
     let (format, elements, body) = header(data)?;
+    for name in ["vertex", "face"] {
+        if let Some(second) = elements.iter().filter(|e| e.name == name).nth(1) {
+            return Err(MeshFileError {
+                offset: second.offset,
+                line: second.line,
+                message: format!(
+                    "a second `{name}` element: a PLY mesh has one `{name}` element (the file declares several)"
+                ),
+            });
+        }
+    }
     let mut mesh = MeshData::default();
     let vertex_count = elements.iter().find(|e| e.name == "vertex").map_or(0, |e| e.count);
     if vertex_count > u32::MAX as u64 {
@@ -128,6 +147,8 @@ pub fn parse_ply_with(data: &[u8], wanted: &[String]) -> Result<MeshData, MeshFi
             }
         }
     }
+    input.check_end()?;
+    check_mesh(&mesh, body as u64)?;
     Ok(mesh)
 }
 
@@ -506,6 +527,21 @@ impl Input<'_> {
         Ok(())
     }
 
+    /// An error if anything but (ASCII) whitespace follows the last declared element.
+    fn check_end(&mut self) -> Result<(), MeshFileError> {
+        let at = self.place();
+        let extra = match self {
+            Input::Ascii(a) => a.data.len() - a.pos,
+            Input::Binary(b) => b.remaining(),
+        };
+        if extra == 0 {
+            return Ok(());
+        }
+        Err(at.error(format!(
+            "{extra} bytes follow the last element the header declares (a PLY file holds exactly what its header declares)"
+        )))
+    }
+
     fn scalar(&mut self, s: Scalar) -> Result<f64, MeshFileError> {
         match self {
             Input::Ascii(a) => a.number(),
@@ -712,5 +748,46 @@ mod tests {
         );
         assert_eq!(groups(&["a_x", "a_z", "b_0"]), ["vertex_b"]);
         assert_eq!(groups(&["r", "g", "b", "alpha"]), ["vertex_color"]);
+    }
+
+    const TRIANGLE: &str = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                            property float z\nelement face 1\nproperty list uchar int vertex_indices\n";
+
+    /// Issue 26: a second `vertex` element replaced the positions while faces were checked
+    /// against the first's count (a panic later, in the normals); a second `face` element
+    /// replaced the first.
+    #[test]
+    fn a_second_vertex_or_face_element_is_refused() {
+        let d = format!(
+            "{TRIANGLE}element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n\
+             0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n5 5 5\n"
+        );
+        let e = parse_ply(d.as_bytes()).unwrap_err();
+        assert_eq!(e.line, 9, "{e:?}");
+        assert!(e.message.contains("a second `vertex` element"), "{e:?}");
+        let d = format!(
+            "{TRIANGLE}element face 1\nproperty list uchar int vertex_indices\nend_header\n\
+             0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 2 1 0\n"
+        );
+        let e = parse_ply(d.as_bytes()).unwrap_err();
+        assert_eq!((e.line, e.offset), (9, TRIANGLE.len() as u64), "{e:?}");
+        assert!(e.message.contains("a second `face` element"), "{e:?}");
+    }
+
+    /// Issue 26: more faces and garbage than the header declares loaded without a word.
+    #[test]
+    fn data_beyond_the_declared_elements_is_refused() {
+        let ok = format!("{TRIANGLE}end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n \n\n");
+        assert_eq!(parse_ply(ok.as_bytes()).unwrap().triangles, [[0, 1, 2]]);
+        let d = format!("{ok}3 2 1 0\ngarbage\n");
+        let e = parse_ply(d.as_bytes()).unwrap_err();
+        assert_eq!((e.line, e.offset), (16, ok.len() as u64), "{e:?}");
+        assert!(e.message.contains("16 bytes follow the last element the header declares"), "{e:?}");
+        let mut d = binary(false);
+        let end = d.len();
+        d.extend([1, 2, 3]);
+        let e = parse_ply(&d).unwrap_err();
+        assert_eq!(e.offset, end as u64, "{e:?}");
+        assert!(e.message.contains("3 bytes follow"), "{e:?}");
     }
 }

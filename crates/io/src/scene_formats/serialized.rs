@@ -16,15 +16,29 @@
 //! size directly; instead nothing is allocated from them: the stream is decompressed only up to
 //! the bytes the counts call for, into a buffer that grows as data actually arrives (so a
 //! count of 10¹² ends with "the stream ends after …", having allocated what the stream held),
-//! and a mesh of more than 2³² vertices is refused. Errors give the byte offset in the file (for
-//! the compressed part: where the mesh's stream starts, and the offset inside the
+//! and a mesh of more than 2³² vertices is refused. Zlib expands zeros about a thousandfold, so
+//! a stream's real data can still be far larger than the file (a 391 KB file of zeros claiming
+//! 2²⁴ vertices took 794 MB): the bytes the counts call for are also bounded by
+//! [`MAX_EXPANSION`] times the compressed bytes of the mesh, checked before anything is
+//! decompressed, and the buffer is reserved once at that size. Errors give the byte offset in
+//! the file (for the compressed part: where the mesh's stream starts, and the offset inside the
 //! decompressed data).
+//!
+//! The dictionary's offsets must increase strictly (each mesh starts after the one before and
+//! before the dictionary): offsets that alias one another (two `shape_index` values naming the
+//! same mesh) are refused, and a mesh's stream is read no further than where the next one
+//! starts.
 
 use super::mesh_bytes::{Bytes, MeshData, MeshFileError, check_mesh};
 use opticks_core::math::{Vec2, Vec3};
 use std::io::Read;
 
 const MAGIC: u16 = 0x041C;
+
+/// The most bytes a mesh's header may call for per compressed byte of its stream (the
+/// decompressed mesh is at most this many times the compressed one). Real meshes compress 2–10
+/// times; zlib's own limit is about 1032 (long runs of one byte), which only forged files reach.
+pub const MAX_EXPANSION: u64 = 128;
 
 /// Reads mesh `shape_index` of a `.serialized` file's bytes.
 pub fn parse_serialized(data: &[u8], shape_index: u64) -> Result<MeshData, MeshFileError> {
@@ -54,18 +68,20 @@ pub fn parse_serialized(data: &[u8], shape_index: u64) -> Result<MeshData, MeshF
             message: format!("unsupported serialized format version {version} (supported: 3, 4)"),
         });
     }
-    let start = if shape_index == 0 { start } else { sub_mesh_offset(data, version, shape_index)? };
-    let mut h = Bytes::new(&data[start..], start as u64, false);
+    let (start, end) =
+        if shape_index == 0 { (start, data.len()) } else { sub_mesh_offset(data, version, shape_index)? };
+    let mut h = Bytes::new(&data[start..end], start as u64, false);
     if h.u16()? != MAGIC || h.u16()? != version {
         return Err(h.error(format!("mesh {shape_index} does not start with the serialized header")));
     }
     let stream_at = h.offset();
-    let compressed = &data[stream_at as usize..];
+    let compressed = &data[stream_at as usize..end];
     decode(compressed, version, stream_at)
 }
 
-/// The file offset of mesh `index`, from the dictionary at the end of the file.
-fn sub_mesh_offset(data: &[u8], version: u16, index: u64) -> Result<usize, MeshFileError> {
+/// The file offsets where mesh `index` starts and where its bytes end (the next mesh, or the
+/// dictionary), from the dictionary at the end of the file, whose offsets must increase.
+fn sub_mesh_offset(data: &[u8], version: u16, index: u64) -> Result<(usize, usize), MeshFileError> {
     let n = data.len();
     let err = |offset: usize, message: String| MeshFileError { offset: offset as u64, line: 0, message };
     if n < 8 {
@@ -82,16 +98,41 @@ fn sub_mesh_offset(data: &[u8], version: u16, index: u64) -> Result<usize, MeshF
         ));
     }
     let width = if version >= 4 { 8 } else { 4 };
-    let entry = (count - index) as usize * width + 4;
-    if entry > n {
+    let dictionary = (count as usize).checked_mul(width).and_then(|d| d.checked_add(4)).filter(|&d| d <= n);
+    let Some(dictionary) = dictionary else {
         return Err(err(n - 4, format!("the dictionary of {count} meshes does not fit in the file")));
+    };
+    // Every entry up to the one after `index` (bounded by the file's size, checked above).
+    let dict_at = n - dictionary;
+    let mut b = Bytes::new(&data[dict_at..n - 4], dict_at as u64, false);
+    let mut previous: Option<u64> = None;
+    let mut start = 0;
+    for k in 0..=index.saturating_add(1).min(count - 1) {
+        let at = b.offset() as usize;
+        let offset = if width == 8 { b.u64()? } else { b.u32()? as u64 };
+        if offset >= dict_at as u64 {
+            return Err(err(
+                at,
+                format!("mesh {k} starts at {offset}, not before the dictionary (at {dict_at})"),
+            ));
+        }
+        if let Some(p) = previous.filter(|&p| offset <= p) {
+            return Err(err(
+                at,
+                format!(
+                    "mesh {k} starts at {offset}, not after mesh {} (at {p}): the dictionary's offsets must increase",
+                    k - 1
+                ),
+            ));
+        }
+        if k == index {
+            start = offset as usize;
+        } else if k == index + 1 {
+            return Ok((start, offset as usize));
+        }
+        previous = Some(offset);
     }
-    let mut b = Bytes::new(&data[n - entry..], (n - entry) as u64, false);
-    let offset = if width == 8 { b.u64()? } else { b.u32()? as u64 };
-    if offset >= n as u64 {
-        return Err(err(n - entry, format!("mesh {index} starts at {offset}, past the end of the file")));
-    }
-    Ok(offset as usize)
+    Ok((start, dict_at))
 }
 
 /// Decompresses and reads one mesh stream starting at file offset `at`.
@@ -159,6 +200,19 @@ fn decode(compressed: &[u8], version: u16, at: u64) -> Result<MeshData, MeshFile
         .and_then(|x| f.checked_mul(12).and_then(|y| x.checked_add(y)))
         .and_then(|x| x.checked_add(head_len))
         .ok_or_else(|| located(b.error(format!("{v} vertices and {f} triangles overflow"))))?;
+    let limit = MAX_EXPANSION.saturating_mul(compressed.len() as u64);
+    if total > limit {
+        return Err(located(b.error(format!(
+            "{v} vertices and {f} triangles call for {total} bytes, more than {MAX_EXPANSION} times the \
+             {} compressed bytes of the mesh (the most a real mesh expands)",
+            compressed.len()
+        ))));
+    }
+    let counts_at = b.offset();
+    buf.try_reserve_exact((total as usize).saturating_sub(buf.len())).map_err(|e| {
+        let message = format!("{total} bytes for {v} vertices and {f} triangles: {e}");
+        located(MeshFileError { offset: counts_at, line: 0, message })
+    })?;
     fill(&mut buf, total)?;
     let mut b = Bytes::new(&buf[head_len as usize..], head_len, false);
     let read_vec = |b: &mut Bytes, dim: usize| -> Result<Vec<[f32; 3]>, MeshFileError> {
@@ -279,11 +333,70 @@ mod tests {
         let mut z = flate2::write::ZlibEncoder::new(vec![0x1c, 0x04, 4, 0], flate2::Compression::default());
         z.write_all(&raw).unwrap();
         let e = parse_serialized(&z.finish().unwrap(), 0).unwrap_err();
-        assert!(e.message.contains("ends after 21 bytes; its header calls for"), "{e:?}");
+        assert!(e.message.contains("more than 128 times the"), "{e:?}");
+        let mut raw = Vec::new();
+        raw.extend(0x1000u32.to_le_bytes());
+        raw.extend(b"\0");
+        raw.extend(3u64.to_le_bytes());
+        raw.extend(1u64.to_le_bytes());
+        let mut z = flate2::write::ZlibEncoder::new(vec![0x1c, 0x04, 4, 0], flate2::Compression::default());
+        z.write_all(&raw).unwrap();
+        let e = parse_serialized(&z.finish().unwrap(), 0).unwrap_err();
+        assert!(e.message.contains("ends after 21 bytes; its header calls for 69"), "{e:?}");
         // Corrupt compressed data.
         let mut d = write_v4(&[(TRI, &[[0, 1, 2]], false)]);
         d[8] ^= 0xff;
         d[9] ^= 0xff;
         assert!(parse_serialized(&d, 0).is_err());
+    }
+
+    /// Issue 26: a dictionary whose entries alias one another loaded mesh 0 for shape_index 2.
+    #[test]
+    fn aliased_or_decreasing_dictionary_offsets_are_refused() {
+        let three = [
+            (TRI, &[[0, 1, 2]][..], false),
+            (QUAD, &[[0, 1, 2], [0, 2, 3]][..], false),
+            (TRI, &[[0, 2, 1]][..], false),
+        ];
+        let good = write_v4(&three);
+        assert_eq!(parse_serialized(&good, 2).unwrap().triangles, [[0, 2, 1]]);
+        let n = good.len();
+        // Entry 2 := entry 0.
+        let mut d = good.clone();
+        let (e0, e2) = (n - 4 - 24, n - 4 - 8);
+        d.copy_within(e0..e0 + 8, e2);
+        let e = parse_serialized(&d, 2).unwrap_err();
+        assert_eq!(e.offset, e2 as u64, "{e:?}");
+        assert!(e.message.contains("mesh 2 starts at 0, not after mesh 1"), "{e:?}");
+        // Entry 1 past the dictionary's start.
+        let mut d = good.clone();
+        d[e0 + 8..e0 + 16].copy_from_slice(&((n - 10) as u64).to_le_bytes());
+        let e = parse_serialized(&d, 1).unwrap_err();
+        assert!(e.message.contains("not before the dictionary"), "{e:?}");
+        // Mesh 1's stream is read no further than mesh 2's start: cut it short there.
+        let mut d = good;
+        let m2 = u64::from_le_bytes(d[e2..e2 + 8].try_into().unwrap());
+        d[e0 + 16..e0 + 24].copy_from_slice(&(m2 - 20).to_le_bytes());
+        assert!(parse_serialized(&d, 1).is_err());
+    }
+
+    /// Issue 26: zlib of zeros claiming 2²⁴ vertices (391 KB) took 794 MB; counts calling for
+    /// more than MAX_EXPANSION times the compressed bytes are refused before decompressing.
+    #[test]
+    fn counts_beyond_the_expansion_limit_are_refused() {
+        let v = 1u64 << 20;
+        let mut z = flate2::write::ZlibEncoder::new(vec![0x1c, 0x04, 4, 0], flate2::Compression::best());
+        let mut raw = Vec::new();
+        raw.extend(0x1000u32.to_le_bytes());
+        raw.extend(b"\0");
+        raw.extend(v.to_le_bytes());
+        raw.extend(0u64.to_le_bytes());
+        z.write_all(&raw).unwrap();
+        z.write_all(&vec![0u8; 12 << 20]).unwrap();
+        let d = z.finish().unwrap();
+        assert!(d.len() < (12 << 20) / 200, "{} bytes", d.len());
+        let e = parse_serialized(&d, 0).unwrap_err();
+        assert!(e.message.contains(&format!("{v} vertices and 0 triangles call for")), "{e:?}");
+        assert!(e.message.contains("more than 128 times"), "{e:?}");
     }
 }

@@ -13,7 +13,7 @@ use std::path::Path;
 /// A fuzz target's entry point.
 type Entry = fn(&[u8]);
 
-const TARGETS: [(&str, Entry); 7] = [
+const TARGETS: [(&str, Entry); 9] = [
     ("mitsuba", entry::mitsuba),
     ("vrml", entry::vrml),
     ("obj_mtl", entry::obj_mtl),
@@ -21,6 +21,8 @@ const TARGETS: [(&str, Entry); 7] = [
     ("ies", entry::ies),
     ("camera_path", entry::camera_path),
     ("dataset", entry::dataset),
+    ("ply", entry::ply),
+    ("serialized", entry::serialized),
 ];
 
 #[test]
@@ -58,6 +60,8 @@ fn the_seed_inputs_run_through_every_entry_point() {
     entry::ies(&data("ies/asymmetric-wallwasher.ies"));
     entry::gltf(&data("../fuzz/seeds/gltf/cornell.glb"));
     entry::dataset(&data("datasets/cornell-v2.opds"));
+    entry::ply(&data("mitsuba/shapes/meshes/octa.ply"));
+    entry::serialized(&data("mitsuba/shapes/meshes/two.serialized"));
     entry::camera_path(br#"{"fps": 4, "size": [8, 8], "keyframes": [
         {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [1, 0, 3.9], "target": [0, 0, 0]}]}"#);
     entry::remove_scratch();

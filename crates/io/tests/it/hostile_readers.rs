@@ -109,3 +109,56 @@ fn special_files_are_refused_wherever_a_scene_names_a_file() {
         assert!(e.contains("not a regular file"), "{e}");
     }
 }
+
+/// Issue 26: `<include>` and `<spectrum filename>` read through `std::fs` directly, past the
+/// regular-file check: `/dev/zero` was read until memory ran out, a FIFO blocked forever. Each
+/// load runs on a thread of its own so that a regression fails here instead of hanging (the
+/// FIFO first: if it blocks, `/dev/zero` is never tried). PLY and serialized meshes too.
+#[cfg(unix)]
+#[test]
+fn includes_and_spectrum_files_refuse_special_files_quickly() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("fifo");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    for special in [fifo.to_str().unwrap().to_string(), "/dev/zero".to_string()] {
+        let cases = [
+            ("include", format!("<scene version=\"3.0.0\"><include filename=\"{special}\"/></scene>")),
+            (
+                "spectrum",
+                format!(
+                    "<scene version=\"3.0.0\"><bsdf type=\"diffuse\" id=\"b\"><spectrum name=\"reflectance\" \
+                     filename=\"{special}\"/></bsdf><shape type=\"rectangle\"><ref id=\"b\"/></shape></scene>"
+                ),
+            ),
+            (
+                "ply",
+                format!(
+                    "<scene version=\"3.0.0\"><shape type=\"ply\"><string name=\"filename\" value=\"{special}\"/></shape></scene>"
+                ),
+            ),
+            (
+                "serialized",
+                format!(
+                    "<scene version=\"3.0.0\"><shape type=\"serialized\"><string name=\"filename\" value=\"{special}\"/></shape></scene>"
+                ),
+            ),
+        ];
+        for (what, xml) in cases {
+            let (tx, rx) = std::sync::mpsc::channel();
+            std::thread::spawn(move || {
+                let (_d, r) = load_files(&[("scene.xml", xml.as_bytes())]);
+                let _ = tx.send(r.map(|_| ()).map_err(|e| e.to_string()));
+            });
+            let r = rx.recv_timeout(std::time::Duration::from_secs(20));
+            let e = match r {
+                Ok(Err(e)) => e,
+                Ok(Ok(())) => panic!("{what} → {special}: loaded"),
+                Err(_) => panic!("{what} → {special}: no answer within 20 s"),
+            };
+            assert!(
+                e.contains("scene.xml:1:") && e.contains("not a regular file"),
+                "{what} → {special}: {e}"
+            );
+        }
+    }
+}

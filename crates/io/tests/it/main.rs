@@ -1,5 +1,6 @@
 //! The file formats' integration tests, one binary: every reader and writer through the public
-//! API of `opticks-io` (scene formats, the dataset file, images, hostile input, fuzz regressions).
+//! API of `opticks-io` (scene formats, the dataset file, images, hostile input, fuzz regressions),
+//! and a tidy check of its sources (files opened only through `input_file`).
 //! The VRML module installs a thread-local counting allocator for the whole binary (its budgets
 //! are checked as bytes); the one test that needs a process-wide peak has a binary of its own
 //! (`vrml_bomb_memory.rs`).
@@ -14,4 +15,5 @@ mod mitsuba_structure;
 mod mitsuba_textures;
 mod obj_mtl;
 mod scene_loading;
+mod tidy;
 mod vrml;

@@ -22,7 +22,7 @@
 
 use super::Result;
 use super::xml::{self, Element};
-use crate::scene_formats::{LoadOptions, SceneFileError};
+use crate::scene_formats::LoadOptions;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -131,8 +131,10 @@ impl Expander {
                 self.stack[i..].iter().chain([&key]).map(|p| p.display().to_string()).collect();
             return Err(e.attr_err("filename", format!("include cycle: {}", chain.join(" → "))));
         }
-        let text = std::fs::read_to_string(&file)
-            .map_err(|source| SceneFileError::Read { path: file.clone(), source })?;
+        // Through `input_file`: a device (`/dev/zero`) or a FIFO is refused before it is read.
+        let text = crate::input_file::read_to_string(&file).map_err(|err| {
+            e.attr_err("filename", format!("cannot read included file {}: {err}", file.display()))
+        })?;
         let mut inc = xml::parse_root(&text, &file)?;
         self.stack.push(key);
         let result = if inc.tag == "scene" {

@@ -274,7 +274,8 @@ fn spectrum_colour(e: &Element, emitter: bool, unbounded: bool) -> Result<DVec3>
         (Some(s), None) => spectrum::parse_pairs(s).map_err(|m| e.attr_err("value", m))?,
         (None, Some(file)) => {
             let path = e.resolve(file);
-            let text = std::fs::read_to_string(&path).map_err(|err| {
+            // Through `input_file`: a device (`/dev/zero`) or a FIFO is refused before it is read.
+            let text = crate::input_file::read_to_string(&path).map_err(|err| {
                 e.attr_err("filename", format!("cannot read spectrum file {}: {err}", path.display()))
             })?;
             spectrum::parse_spd(&text)
