@@ -96,6 +96,11 @@ impl<'a> Bytes<'a> {
         self.origin + self.pos as u64
     }
 
+    /// The bytes left.
+    pub fn rest(&self) -> &'a [u8] {
+        &self.data[self.pos..]
+    }
+
     /// Bytes left.
     pub fn remaining(&self) -> usize {
         self.data.len() - self.pos

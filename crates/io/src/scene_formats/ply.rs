@@ -14,7 +14,8 @@
 //! Errors name the byte offset (and the line, for the header and ASCII data): a face index past
 //! the declared vertex count, a list shorter than 3, a non-finite coordinate, a file ending
 //! early, and a file holding more than its header declares (ASCII: anything but whitespace
-//! after the last declared element; binary: any byte after it), which would otherwise load
+//! after the last declared element; binary: any byte after it but the line end some writers
+//! add), which would otherwise load
 //! part of the file without a word. The finished mesh goes through the same check as the
 //! serialized reader's ([`super::mesh_bytes::check_mesh`]).
 //!
@@ -527,11 +528,13 @@ impl Input<'_> {
         Ok(())
     }
 
-    /// An error if anything but (ASCII) whitespace follows the last declared element.
+    /// An error if anything but ASCII whitespace (in a binary file: a trailing line end or other
+    /// whitespace some writers add) follows the last declared element.
     fn check_end(&mut self) -> Result<(), MeshFileError> {
         let at = self.place();
         let extra = match self {
             Input::Ascii(a) => a.data.len() - a.pos,
+            Input::Binary(b) if b.rest().iter().all(u8::is_ascii_whitespace) => 0,
             Input::Binary(b) => b.remaining(),
         };
         if extra == 0 {
@@ -785,7 +788,9 @@ mod tests {
         assert!(e.message.contains("16 bytes follow the last element the header declares"), "{e:?}");
         let mut d = binary(false);
         let end = d.len();
-        d.extend([1, 2, 3]);
+        d.push(b'\n');
+        assert!(parse_ply(&d).is_ok(), "a trailing line end is not data");
+        d.extend([1, 2]);
         let e = parse_ply(&d).unwrap_err();
         assert_eq!(e.offset, end as u64, "{e:?}");
         assert!(e.message.contains("3 bytes follow"), "{e:?}");
