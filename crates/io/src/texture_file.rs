@@ -55,7 +55,8 @@ pub enum TextureError {
     Exr(#[from] crate::image_file::ImageError),
 }
 
-/// The most texels a texture may have (a 8192 × 8192 image; 805 MB as linear f32 RGB).
+/// The most texels a texture may have (a 8192 × 8192 image; 805 MB as linear f32 RGB, and at
+/// most 20 bytes a texel while an 8- or 16-bit image is read, 24 for a float one).
 pub const MAX_TEXELS: u64 = 1 << 26;
 
 /// A texture image as read: its size and its texels, linear RGB, row-major from the top row.
@@ -133,16 +134,33 @@ fn decode_with_image<R: std::io::BufRead + std::io::Seek>(
     reader.limits(limits);
     let image = reader.decode().map_err(TextureError::Decode)?;
     let (width, height) = (image.width() as usize, image.height() as usize);
-    let decode = !(raw || linear);
-    let texels = image
-        .into_rgb32f()
-        .pixels()
-        .map(|p| {
-            let c = Rgb::new(p[0], p[1], p[2]);
-            if decode { c.map(srgb_to_linear) } else { c }
-        })
-        .collect();
+    let texels = linear_texels(image, !(raw || linear));
     Ok(TextureImage { width, height, texels })
+}
+
+/// The texels of a decoded image as linear RGB (sRGB-decoded if `decode`), converted from its
+/// own sample type straight into the texel array: an 8-bit image through a 256-entry table, a
+/// 16-bit one per sample, so no full-size f32 copy of the image exists beside the texels (the
+/// peak is the decoded image, at most 8 bytes a texel for these, plus the 12-byte texels; it
+/// was 12 more). Float images (HDR) are converted to RGB f32 first (a no-op for RGB ones).
+fn linear_texels(image: image::DynamicImage, decode: bool) -> Vec<Rgb> {
+    use image::DynamicImage as D;
+    let to_linear = |v: f32| if decode { srgb_to_linear(v) } else { v };
+    match image {
+        D::ImageLuma8(_) | D::ImageLumaA8(_) | D::ImageRgb8(_) | D::ImageRgba8(_) => {
+            let table: Vec<f32> = (0..=255u8).map(|v| to_linear(v as f32 / 255.0)).collect();
+            let rgb = image.into_rgb8();
+            rgb.pixels()
+                .map(|p| Rgb::new(table[p[0] as usize], table[p[1] as usize], table[p[2] as usize]))
+                .collect()
+        }
+        D::ImageLuma16(_) | D::ImageLumaA16(_) | D::ImageRgb16(_) | D::ImageRgba16(_) => {
+            let rgb = image.into_rgb16();
+            let f = |v: u16| to_linear(v as f32 / 65535.0);
+            rgb.pixels().map(|p| Rgb::new(f(p[0]), f(p[1]), f(p[2]))).collect()
+        }
+        other => other.into_rgb32f().pixels().map(|p| Rgb::new(p[0], p[1], p[2]).map(to_linear)).collect(),
+    }
 }
 
 fn read_exr(path: &Path) -> Result<TextureImage, TextureError> {

@@ -37,7 +37,7 @@ fn every_source_file_has_module_docs() {
 #[test]
 fn one_integration_test_binary_per_crate() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let own_process = ["crates/io/tests/vrml_bomb_memory.rs", "crates/cli/tests/cluster.rs"];
+    let own_process = ["crates/io/tests/peak_memory.rs", "crates/cli/tests/cluster.rs"];
     let mut binaries = Vec::new();
     for krate in std::fs::read_dir(root.join("crates")).unwrap() {
         let tests = krate.unwrap().path().join("tests");

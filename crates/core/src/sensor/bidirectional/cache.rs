@@ -258,7 +258,7 @@ const SET_AHEAD: usize = 8;
 impl LightCache<'_> {
     /// Replaces the contents of `set` by `n` vertices drawn independently and uniformly from
     /// the cache (none if the cache has nothing to draw). The draws are pipelined: each read
-    /// is started [`SET_AHEAD`] draws before it is used, so that the memory reads overlap.
+    /// is started eight draws before it is used, so that the memory reads overlap.
     pub fn fill_set(&self, set: &mut ConnectionSet, n: usize, rng: &mut RandomStream) {
         set.entries.clear();
         let mut ring = [None; SET_AHEAD];

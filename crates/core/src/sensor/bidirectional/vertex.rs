@@ -29,7 +29,7 @@ pub struct Context<'a> {
     pub lights: &'a RenderLights,
     /// The light half.
     pub cache: &'a LightCache<'a>,
-    /// Where connections draw their vertices: a [`ConnectionSet`] drawn from the cache (what a
+    /// Where connections draw their vertices: a `ConnectionSet` drawn from the cache (what a
     /// camera pass's band uses), or, if `None`, the cache itself.
     pub set: Option<&'a ConnectionSet>,
     /// Per table light: Φ'_k/N_k (relit, over the rendered chunks' N_k).

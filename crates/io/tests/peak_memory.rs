@@ -1,12 +1,26 @@
-//! The memory a VRML `USE` bomb costs before it is refused (issue 10 §19: a 2.5 MB bomb reached
-//! 4.2 GB before the documented refusal). A counting allocator measures this process's peak
-//! heap while the bomb loads; it must stay a small multiple of the input, not grow to the mesh
-//! budget the bomb exceeds. One test per binary: the peak is process-wide.
+//! Peak heap of readers whose memory must stay within a documented bound of their input: a
+//! VRML `USE` bomb before it is refused (issue 10 §19: a 2.5 MB bomb reached 4.2 GB before the
+//! documented refusal) and a texture image as it is decoded (issue 26: a 65 KB 8192² PNG took
+//! 1.58 GB). A counting allocator measures this process's peak heap; the peak is process-wide,
+//! so the tests take turns ([`ONE_AT_A_TIME`]). A binary of its own: a global allocator.
 
 use opticks_io::scene_formats::vrml;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Held by each test while it measures.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
+/// The peak heap, above what was in use when it started, while `f` runs.
+fn peak_of<T>(f: impl FnOnce() -> T) -> (T, usize) {
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let before = NOW.load(Ordering::Relaxed);
+    PEAK.store(before, Ordering::Relaxed);
+    let value = f();
+    (value, PEAK.load(Ordering::Relaxed).saturating_sub(before))
+}
 
 struct Counting;
 static NOW: AtomicUsize = AtomicUsize::new(0);
@@ -41,12 +55,27 @@ fn a_use_bomb_is_refused_before_memory_grows_past_a_small_multiple_of_the_input(
     for i in 0..1000 {
         text.push_str(&format!("Transform {{ translation {i} 0 0 children Shape {{ geometry USE G }} }}\n"));
     }
-    let before = NOW.load(Ordering::Relaxed);
-    PEAK.store(before, Ordering::Relaxed);
-    let e = vrml::load_str(&text, Path::new("bomb.wrl")).map(|_| ()).unwrap_err().to_string();
+    let (e, peak) =
+        peak_of(|| vrml::load_str(&text, Path::new("bomb.wrl")).map(|_| ()).unwrap_err().to_string());
     assert!(e.contains("bomb.wrl:") && e.contains("multiplies geometry too much"), "{e}");
-    let peak = PEAK.load(Ordering::Relaxed) - before;
     // The text, its parse tree and the one distinct mesh: a few times the input (it was the
     // whole budget, over 300 × the input, when the copies were made before counting).
     assert!(peak < 32 * text.len(), "peak heap {peak} bytes for {} bytes of VRML", text.len());
+}
+
+/// An 8-bit texture is read at its 12-byte linear texels plus its decoded image and the
+/// decoder's buffers, within 20 bytes a texel (`texture_file::MAX_TEXELS`): a full-size f32
+/// copy beside the texels, as before, takes 27.
+#[test]
+fn an_8_bit_texture_is_read_within_20_bytes_a_texel() {
+    let (w, h) = (2048u32, 2048u32);
+    let image = image::RgbImage::from_pixel(w, h, image::Rgb([200, 100, 50]));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("flat.png");
+    image.save(&path).unwrap();
+    drop(image);
+    let (texture, peak) = peak_of(|| opticks_io::texture_file::read_texture(&path, false).unwrap());
+    assert_eq!(texture.texels.len(), (w * h) as usize);
+    let texels = (w * h) as usize;
+    assert!(peak < 20 * texels, "peak heap {peak} bytes, {:.1} a texel", peak as f64 / texels as f64);
 }
