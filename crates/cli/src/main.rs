@@ -68,6 +68,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     output::set_level(cli.quiet, cli.verbose);
     interrupt::install();
+    // Every file read from here on is remembered, so that no output can replace it.
+    opticks_io::input_file::remember_inputs();
     #[cfg(feature = "mpi")]
     let session = opticks_cluster::start(cluster::role(&cli.command), cluster::HOOKS);
     #[cfg(feature = "mpi")]

@@ -97,6 +97,10 @@ pub enum JobError {
     /// A source chunk could not be read, or a chunk not written.
     #[error(transparent)]
     Dataset(#[from] DatasetError),
+    /// The dataset would replace a file the run reads other than a source dataset (a file the
+    /// scene names); refused before any work.
+    #[error(transparent)]
+    ReplacesInput(#[from] crate::output_paths::OutputError),
     /// Asked to stop while copying: nothing was written.
     #[error("{} was left as it was: interrupted: stopped, nothing written", output.display())]
     Stopped {
@@ -259,6 +263,10 @@ pub fn write_dataset_with(
     if let Some(new) = &new {
         check_path_budget(&header.table, &new.pass)
             .map_err(|source| JobError::TooManyPaths { path: output.to_owned(), source })?;
+    }
+    // Replacing a source dataset is the documented in-place update; nothing else read may go.
+    if !sources.iter().any(|s| crate::dataset_lock::same_file(s.reader.path(), output)) {
+        crate::output_paths::spares_what_was_read(output)?;
     }
     let mut writer = DatasetWriter::create(output, &header)
         .map_err(|source| JobError::Create { path: output.to_owned(), source })?;

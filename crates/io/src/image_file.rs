@@ -103,6 +103,9 @@ pub enum ImageError {
         /// The underlying error.
         source: image::ImageError,
     },
+    /// The file would replace one the run reads (a texture, an environment map, ...).
+    #[error(transparent)]
+    ReplacesInput(#[from] crate::output_paths::OutputError),
     /// The EXR file is readable but holds nothing usable as an RGB image.
     #[error("{}: {message}", .path.display())]
     Content {
@@ -196,7 +199,7 @@ pub fn read_exr_rgb(path: &Path) -> Result<(u32, u32, Vec<f32>), ImageError> {
         .all_channels()
         .all_layers()
         .all_attributes()
-        .from_file(path)
+        .from_buffered(std::io::BufReader::new(open_input(path)?))
         .map_err(|source| exr_error(path, source))?;
 
     let content_err = |message: String| ImageError::Content { path: path.to_path_buf(), message };
@@ -253,6 +256,14 @@ pub fn srgb_oetf(linear: f32) -> f32 {
 enum Format {
     Exr,
     Png,
+}
+
+/// Opens an image to read through [`crate::input_file`] (regular files only, and remembered as
+/// an input of the run).
+pub(crate) fn open_input(path: &Path) -> Result<File, ImageError> {
+    crate::input_file::open(path)
+        .map(|(file, _)| file)
+        .map_err(|source| ImageError::Io { path: path.to_path_buf(), source })
 }
 
 fn exr_error(path: &Path, source: exr::error::Error) -> ImageError {
@@ -329,13 +340,17 @@ fn write_png_to(
 
 /// Writes several files all or none: each into its temporary file first, and only when every
 /// one is complete are they renamed into place (so `measure -o x.csv --png y.png` never leaves
-/// one written and the other not because of a write error).
+/// one written and the other not because of a write error). None may be a file the run has read
+/// ([`crate::output_paths::spares_what_was_read`]): then nothing is written.
 ///
 /// Before writing, the temporary files `.NAME.tmp-PID-N` that killed runs left beside each
 /// destination `NAME` are removed, and returned with their sizes: only those whose process no
 /// longer exists (so a concurrent writer's file is never touched; on systems without `/proc`
 /// none are).
 pub fn write_files_atomically(files: &[(&Path, &[u8])]) -> Result<Vec<(PathBuf, u64)>, ImageError> {
+    for &(path, _) in files {
+        crate::output_paths::spares_what_was_read(path)?;
+    }
     let mut removed = Vec::new();
     for &(path, _) in files {
         removed.extend(remove_stale_temporaries(path));

@@ -3,10 +3,66 @@
 //! block forever), a device such as `/dev/zero` (which never ends), a socket or a directory
 //! named as a scene, mesh, MTL file, buffer, IES file, camera path or dataset is an error, not a
 //! hang or an allocation until memory runs out. Every reader of `opticks-io` goes through here.
+//!
+//! Being the one way in, it is also where a program learns what it has read: once
+//! [`remember_inputs`] is called (the CLI does at start), every file opened here is remembered
+//! by its identity (device and inode), and [`read_by_this_run`] says whether a path is one of
+//! them. `output_paths` and the atomic writers ask it, so that no output — an image, a table,
+//! a dataset — can replace a texture, an environment map, a mesh or any other file the scene
+//! named, however the two paths are spelled. It is opt-in so that a long-lived library user (a
+//! fuzzer, a server) does not accumulate a record it never asks for.
 
 use std::fs::File;
 use std::io::{self, Read};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static REMEMBER: AtomicBool = AtomicBool::new(false);
+static INPUTS: Mutex<Vec<(FileId, PathBuf)>> = Mutex::new(Vec::new());
+
+/// What makes two paths one file: device and inode on Unix, the canonical path elsewhere.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct FileId(#[cfg(unix)] (u64, u64), #[cfg(not(unix))] PathBuf);
+
+impl FileId {
+    #[cfg(unix)]
+    fn of(_path: &Path, meta: &std::fs::Metadata) -> Option<FileId> {
+        use std::os::unix::fs::MetadataExt;
+        Some(FileId((meta.dev(), meta.ino())))
+    }
+
+    #[cfg(not(unix))]
+    fn of(path: &Path, _meta: &std::fs::Metadata) -> Option<FileId> {
+        std::fs::canonicalize(path).ok().map(FileId)
+    }
+}
+
+/// From now on, every file this process opens through [`open`] is remembered (see the module
+/// docs). Called once by a program that writes outputs.
+pub fn remember_inputs() {
+    REMEMBER.store(true, Ordering::Relaxed);
+}
+
+/// If `path` names a file this process has opened as an input since [`remember_inputs`], the
+/// path it was opened by; `None` otherwise (also when `path` does not exist).
+pub fn read_by_this_run(path: &Path) -> Option<PathBuf> {
+    let meta = std::fs::metadata(path).ok()?;
+    let id = FileId::of(path, &meta)?;
+    let inputs = INPUTS.lock().unwrap_or_else(|e| e.into_inner());
+    inputs.iter().find(|(known, _)| *known == id).map(|(_, p)| p.clone())
+}
+
+fn remember(path: &Path, meta: &std::fs::Metadata) {
+    if !REMEMBER.load(Ordering::Relaxed) {
+        return;
+    }
+    let Some(id) = FileId::of(path, meta) else { return };
+    let mut inputs = INPUTS.lock().unwrap_or_else(|e| e.into_inner());
+    if !inputs.iter().any(|(known, _)| *known == id) {
+        inputs.push((id, path.to_owned()));
+    }
+}
 
 /// `Ok` if `path` (after symbolic links) is a regular file; otherwise an error saying what it is.
 /// Asked before the file is opened: opening a FIFO blocks until a writer appears.
@@ -45,6 +101,7 @@ pub fn open(path: &Path) -> io::Result<(File, u64)> {
         // Replaced between the check and the open.
         return Err(io::Error::new(io::ErrorKind::InvalidInput, "not a regular file"));
     }
+    remember(path, &meta);
     Ok((file, meta.len()))
 }
 

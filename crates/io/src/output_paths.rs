@@ -5,7 +5,10 @@
 //!   the keyboard (`-o scene.xml`, `--png data.opds`) cannot turn one kind of file into another.
 //! * Its directory exists, and the path is not a directory.
 //! * It is none of the command's inputs (scene file, dataset, camera path, reference image),
-//!   however spelled (links included). The one exception is a dataset verb's documented
+//!   however spelled (links included), nor any file the run has read so far through
+//!   [`crate::input_file`] — the textures, environment maps, meshes, includes, IES and spectrum
+//!   files a scene names (see [`crate::input_file::remember_inputs`]); a command checks again
+//!   once its scene is loaded, before its work. The one exception is a dataset verb's documented
 //!   in-place update (`refine` and `add-light` without `-o`), which `crate::dataset_lock`
 //!   handles: the new dataset contains all of the old one.
 //! * Two outputs of one command are not the same file.
@@ -68,6 +71,14 @@ pub enum OutputError {
         /// The output.
         path: PathBuf,
     },
+    /// The output is a file the run has read (one the scene names, or the dataset).
+    #[error("{}: an output may not replace {}, which this run reads", path.display(), input.display())]
+    ReadByRun {
+        /// The output.
+        path: PathBuf,
+        /// The input as the run named it.
+        input: PathBuf,
+    },
     /// Two outputs are the same file.
     #[error("{}: given as two outputs of the command", path.display())]
     Twice {
@@ -97,6 +108,16 @@ fn list(extensions: &[&str]) -> String {
 
 /// Checks `outputs` (path and kind) against the module's rules and the command's `inputs`.
 pub fn check_outputs(outputs: &[(&Path, OutputKind)], inputs: &[&Path]) -> Result<(), OutputError> {
+    check_outputs_in_place(outputs, inputs, &[])
+}
+
+/// [`check_outputs`] for a command that updates the files `in_place` (a dataset it read) by
+/// replacing them: those alone may be both read and written.
+pub fn check_outputs_in_place(
+    outputs: &[(&Path, OutputKind)],
+    inputs: &[&Path],
+    in_place: &[&Path],
+) -> Result<(), OutputError> {
     for (i, &(path, kind)) in outputs.iter().enumerate() {
         let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
         if !ext.is_some_and(|e| kind.extensions().contains(&e.as_str())) {
@@ -115,11 +136,23 @@ pub fn check_outputs(outputs: &[(&Path, OutputKind)], inputs: &[&Path]) -> Resul
         if inputs.iter().any(|input| same_file(input, path)) {
             return Err(OutputError::IsInput { path: path.to_owned() });
         }
+        if !in_place.iter().any(|p| same_file(p, path)) {
+            spares_what_was_read(path)?;
+        }
         if outputs[..i].iter().any(|&(other, _)| same_file(other, path)) {
             return Err(OutputError::Twice { path: path.to_owned() });
         }
     }
     Ok(())
+}
+
+/// `Err` if `path` is a file this run has read ([`crate::input_file::read_by_this_run`]): what
+/// a writer asks last, just before it renames its finished file into place.
+pub fn spares_what_was_read(path: &Path) -> Result<(), OutputError> {
+    match crate::input_file::read_by_this_run(path) {
+        Some(input) => Err(OutputError::ReadByRun { path: path.to_owned(), input }),
+        None => Ok(()),
+    }
 }
 
 /// Checks one output.

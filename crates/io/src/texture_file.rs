@@ -164,7 +164,9 @@ fn linear_texels(image: image::DynamicImage, decode: bool) -> Vec<Rgb> {
 }
 
 fn read_exr(path: &Path) -> Result<TextureImage, TextureError> {
-    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(TextureError::ExrHeader)?;
+    let file = crate::image_file::open_input(path)?;
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::BufReader::new(file), false)
+        .map_err(TextureError::ExrHeader)?;
     for header in &meta.headers {
         let s = header.layer_size;
         check_size(s.width() as u64, s.height() as u64)?;

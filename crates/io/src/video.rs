@@ -19,6 +19,9 @@ pub enum VideoError {
         /// ffmpeg's exit status.
         status: std::process::ExitStatus,
     },
+    /// The video would replace a file the run reads.
+    #[error(transparent)]
+    ReplacesInput(#[from] crate::output_paths::OutputError),
     /// The finished video could not be moved into place.
     #[error("cannot move the video into place as {}", video.display())]
     Rename {
@@ -41,6 +44,7 @@ pub fn ffmpeg_available() -> bool {
 
 /// Encodes `frames` PNG frames of `folder` at `fps` into `video` (H.264, even dimensions).
 pub fn encode_frames(folder: &Path, frames: usize, fps: f32, video: &Path) -> Result<(), VideoError> {
+    crate::output_paths::spares_what_was_read(video)?;
     let tmp = folder.join(format!(".walk.tmp-{}.mp4", std::process::id()));
     let status = Command::new("ffmpeg")
         .args(["-y", "-loglevel", "error", "-framerate", &fps.to_string(), "-start_number", "0", "-i"])

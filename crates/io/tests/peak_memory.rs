@@ -1,8 +1,9 @@
 //! Peak heap of readers whose memory must stay within a documented bound of their input: a
 //! VRML `USE` bomb before it is refused (issue 10 §19: a 2.5 MB bomb reached 4.2 GB before the
 //! documented refusal) and a texture image as it is decoded (issue 26: a 65 KB 8192² PNG took
-//! 1.58 GB). A counting allocator measures this process's peak heap; the peak is process-wide,
-//! so the tests take turns ([`ONE_AT_A_TIME`]). A binary of its own: a global allocator.
+//! 1.58 GB). A counting allocator measures this process's peak heap; the count is process-wide,
+//! so each test holds [`ONE_AT_A_TIME`] from its first allocation to its last (another test's
+//! setup would otherwise count in its peak). A binary of its own: a global allocator.
 
 use opticks_io::scene_formats::vrml;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -13,9 +14,13 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 /// Held by each test while it measures.
 static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
 
+/// Taken by each test before anything else, held to its end.
+fn my_turn() -> std::sync::MutexGuard<'static, ()> {
+    ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// The peak heap, above what was in use when it started, while `f` runs.
 fn peak_of<T>(f: impl FnOnce() -> T) -> (T, usize) {
-    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let before = NOW.load(Ordering::Relaxed);
     PEAK.store(before, Ordering::Relaxed);
     let value = f();
@@ -46,6 +51,7 @@ static A: Counting = Counting;
 
 #[test]
 fn a_use_bomb_is_refused_before_memory_grows_past_a_small_multiple_of_the_input() {
+    let _turn = my_turn();
     // One DEF'd point set of 20,000 points (one triangle), USEd 1,000 times: ~190 KB of text
     // whose copies would need 240 MB, beyond its budget of max(64 MB, 1024 × the text).
     let points: String = (0..20_000).map(|i| format!("{} 0 1,", i % 10)).collect();
@@ -68,6 +74,7 @@ fn a_use_bomb_is_refused_before_memory_grows_past_a_small_multiple_of_the_input(
 /// copy beside the texels, as before, takes 27.
 #[test]
 fn an_8_bit_texture_is_read_within_20_bytes_a_texel() {
+    let _turn = my_turn();
     let (w, h) = (2048u32, 2048u32);
     let image = image::RgbImage::from_pixel(w, h, image::Rgb([200, 100, 50]));
     let dir = tempfile::tempdir().unwrap();

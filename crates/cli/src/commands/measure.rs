@@ -152,6 +152,8 @@ pub fn run(a: Args) -> Result<()> {
         None => None,
     };
     let data = a.input.open()?;
+    // Again, now that the files the scene names have been read (textures, environment maps).
+    check_outputs(&outputs, &inputs)?;
     let desc = data.description();
     let (nx, ny) = a.cells.unwrap_or((10, 10));
     let layout = match (&a.surface, &a.plane, points) {

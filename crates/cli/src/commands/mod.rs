@@ -30,7 +30,7 @@ use opticks_core::sensor::{AsBatch, SampleBatch, Sensor, render};
 use opticks_io::dataset_job::{JobError, JobReport};
 use opticks_io::dataset_lock::{WriteIntent, WriteLock, WriteRefused, begin_write, same_file};
 use opticks_io::opened::{LitDataset, OpenError, OpenedDataset};
-use opticks_io::output_paths::{OutputKind, check_output};
+use opticks_io::output_paths::{OutputKind, check_outputs_in_place};
 use opticks_io::scene_source::SceneRef;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -135,8 +135,9 @@ pub fn begin_dataset_write(output: &Path, intent: WriteIntent<'_>) -> Result<Wri
         inputs.push(p);
     }
     // A dataset may replace its own input in place (refine, add-light): the lock's rules.
-    let others: Vec<&Path> = inputs.iter().copied().filter(|i| !same_file(i, output)).collect();
-    check_output(output, OutputKind::Dataset, &others)?;
+    let (in_place, others): (Vec<&Path>, Vec<&Path>) =
+        inputs.iter().copied().partition(|i| same_file(i, output));
+    check_outputs_in_place(&[(output, OutputKind::Dataset)], &others, &in_place)?;
     let lock = begin_write(output, intent).map_err(|e| match &e {
         WriteRefused::Exists { .. } => anyhow!("{e}: give --overwrite to replace it"),
         WriteRefused::PendingPartial { partial, .. } => {

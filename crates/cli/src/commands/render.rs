@@ -44,6 +44,8 @@ pub fn run(a: Args) -> Result<()> {
     let exposure = exposure_for(&a.output, a.exposure)?;
     a.camera.check()?;
     let data = a.input.open()?;
+    // Again, now that the files the scene names have been read (textures, environment maps).
+    check_output(&a.output, OutputKind::Image, &a.input.inputs())?;
     let scene = data.scene();
     let camera = a.camera.resolve(scene.camera).with_context(|| match a.input.scene() {
         Some(spec) => format!("the scene given with --scene ({spec})"),
@@ -61,6 +63,15 @@ pub fn run(a: Args) -> Result<()> {
         let secs = t0.elapsed().as_secs_f64();
         warn_if_black(&run.film, data.samples(), "camera");
         write_film(&run.film, &a.output, exposure)?;
+        if run.interrupted {
+            // Exit 128 + signal, as every interrupted verb, with the image of the passes done.
+            bail!(
+                "interrupted after {} passes ({} camera paths per pixel): their image is written to {}",
+                run.passes,
+                run.spp,
+                a.output.display()
+            );
+        }
         let error =
             run.error.map_or(String::new(), |e| format!(", estimated relative error {:.2}%", 100.0 * e));
         output::result(&format!(

@@ -69,7 +69,9 @@ pub fn run(a: Args) -> Result<()> {
     let start = Instant::now();
     for (f, camera) in cameras.into_iter().enumerate().filter(|(f, _)| f % ranks == me) {
         if crate::interrupt::requested() {
-            bail!("interrupted after {f} of {frames} frames");
+            bail!(
+                "interrupted after {f} of {frames} frames: the frames finished are kept, each written whole"
+            );
         }
         let film = match a.estimator.estimator {
             Estimator::Light => render(scene, &camera.into(), data.count(), |i| data.batch(i), |_| {})?,

@@ -515,3 +515,96 @@ fn the_meter_states_the_side_it_measures() {
     let help = ok(&["measure", "--help"], d);
     assert!(help.contains("u × v") && help.contains("swap u and v"), "{help}");
 }
+
+/// The files of `testdata/mitsuba/NAME` (a scene and what it names) copied into `dir/NAME`.
+fn copy_testdata_scene(dir: &Path, name: &str) -> PathBuf {
+    let to = dir.join(name);
+    std::fs::create_dir_all(&to).unwrap();
+    for e in std::fs::read_dir(common::files::testdata(&format!("mitsuba/{name}"))).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_file() {
+            std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+        }
+    }
+    to
+}
+
+/// Issue 26: no output replaces a file the run reads — here an environment map and a texture
+/// the scene names, spelled as the scene does, through `./`, or through a hard link — and the
+/// refusal comes before any work; the scene's files are left as they were.
+#[test]
+fn no_output_replaces_a_file_the_scene_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    for (folder, file, alias) in
+        [("envmap", "sky.exr", "alias.exr"), ("textures", "stripes.png", "alias.png")]
+    {
+        let d = &copy_testdata_scene(dir.path(), folder);
+        ok(&["trace", "scene.xml", "--paths", "2000", "-o", "t.opds"], d);
+        std::fs::hard_link(d.join(file), d.join(alias)).unwrap();
+        let before = std::fs::read(d.join(file)).unwrap();
+        let listing = files(d);
+        let dotted = format!("./{file}");
+        let mut refused = vec![
+            vec!["render", "t.opds", "-o", file],
+            vec!["render", "t.opds", "-o", &dotted],
+            vec!["render", "t.opds", "-o", alias, "--estimator", "bidirectional"],
+        ];
+        if file.ends_with(".png") {
+            refused.push(vec![
+                "measure",
+                "t.opds",
+                "--plane",
+                "-1,0,-1,2,0,0,0,0,2",
+                "-o",
+                "m.csv",
+                "--png",
+                file,
+            ]);
+        }
+        for args in refused {
+            let e = fails(&args, d);
+            assert!(e.contains("may not replace") && e.contains("which this run reads"), "{args:?}: {e}");
+        }
+        assert!(std::fs::read(d.join(file)).unwrap() == before, "{file} is intact");
+        assert_eq!(files(d), listing, "nothing was written");
+        // What the scene reads is still there: the dataset renders.
+        ok(&["render", "t.opds", "-o", "fine.exr"], d);
+    }
+}
+
+/// Issue 26: Ctrl-C during a timed bidirectional render writes the image of the camera passes
+/// it completed (as the interrupt message promises: "the work done so far is kept") and exits
+/// 130; before its first pass is complete there is nothing to write, and nothing is written.
+#[cfg(unix)]
+#[test]
+fn an_interrupted_bidirectional_render_writes_the_passes_it_completed() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(&["trace", "builtin:cornell", "--paths", "20000", "-o", "c.opds"], d);
+    // The signal must come after the first pass: wait longer each time it came before.
+    for wait in [2, 5, 12] {
+        let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
+            .args(["render", "c.opds", "--estimator", "bidirectional", "--time", "120", "--size", "32x24"])
+            .args(["-o", "r.exr"])
+            .current_dir(d)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_secs(wait));
+        kill(&child, "-INT");
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(130), "{err}");
+        if err.contains("interrupted after") {
+            assert!(err.contains("their image is written to r.exr"), "{err}");
+            let (w, h, rgb) = opticks_io::image_file::read_exr_rgb(&d.join("r.exr")).unwrap();
+            assert_eq!((w, h), (32, 24));
+            assert!(rgb.iter().all(|v| v.is_finite()) && rgb.iter().any(|&v| v > 0.0));
+            assert_eq!(files(d), ["c.opds", "r.exr"], "no temporary file is left");
+            return;
+        }
+        assert_eq!(files(d), ["c.opds"], "{err}");
+    }
+    panic!("no render was interrupted after its first pass");
+}

@@ -19,12 +19,9 @@ use opticks_core::scene::{
 };
 use opticks_core::trace::{PathScratch, TraceSettings, trace_path};
 use opticks_io::ies::load_ies;
+use opticks_testkit::files::testdata;
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
-
-fn testdata(p: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata").join(p)
-}
+use std::path::Path;
 
 fn black() -> Material {
     Material { name: "black".into(), bsdf: Bsdf::Lambert(Lambert::new(Rgb::ZERO).unwrap()), two_sided: true }

@@ -60,11 +60,15 @@ pub struct Run {
     pub spp: u64,
     /// The running estimate of the relative error (after two passes).
     pub error: Option<f64>,
+    /// `stop` ended the render before its plan was done: the image is that of the passes
+    /// completed (an unbiased estimate, as any number of passes is; §10.2).
+    pub interrupted: bool,
 }
 
 /// Renders the light vertex cache `chunks` (lights `names`, their flux per path
-/// `flux_per_path`) of `scene` through `camera` as `plan` says; `None` once `stop` returned
-/// true (checked between bands of every pass).
+/// `flux_per_path`) of `scene` through `camera` as `plan` says. Once `stop` returns true, the
+/// passes completed make the image ([`Run::interrupted`]), or, before the first is complete,
+/// there is none (`None`).
 #[allow(clippy::too_many_arguments)]
 pub fn render(
     scene: &Scene,
@@ -97,6 +101,7 @@ pub fn render(
     let splat = renderer.splat_pass(|n| progress(RunEvent::Splatted(n)), &stop)?;
     progress(RunEvent::CameraStart(w as u64 * h as u64));
     let mut acc = Progressive::new(w, h);
+    let mut interrupted = false;
     match plan.deadline {
         None => {
             let film =
@@ -106,7 +111,14 @@ pub fn render(
         Some(deadline) => {
             let mut pass = plan.first_pass;
             loop {
-                let film = renderer.camera_pass(pass, plan.spp, |_| {}, &stop)?;
+                let Some(film) = renderer.camera_pass(pass, plan.spp, |_| {}, &stop) else {
+                    // The passes done stand on their own; with none there is no image.
+                    if acc.passes() == 0 {
+                        return None;
+                    }
+                    interrupted = true;
+                    break;
+                };
                 acc.add(&film, plan.spp);
                 pass += 1;
                 progress(RunEvent::Pass {
@@ -120,5 +132,6 @@ pub fn render(
             }
         }
     }
-    Some(Run { film: acc.image(&splat), passes: acc.passes(), spp: acc.spp(), error: acc.relative_error() })
+    let (passes, spp, error) = (acc.passes(), acc.spp(), acc.relative_error());
+    Some(Run { film: acc.image(&splat), passes, spp, error, interrupted })
 }
