@@ -3,7 +3,9 @@
 //! * Its extension fits what is written there ([`OutputKind`]): a dataset only to `.opds`, an
 //!   image to `.exr` or `.png`, a table to `.csv`, a VRML scene to `.wrl` — so that a slip of
 //!   the keyboard (`-o scene.xml`, `--png data.opds`) cannot turn one kind of file into another.
-//! * Its directory exists, and the path is not a directory.
+//! * Its directory exists and a file can be created in it (a probe file is created and removed:
+//!   a read-only folder is refused before the work, not after it), and the path is not a
+//!   directory.
 //! * It is none of the command's inputs (scene file, dataset, camera path, reference image),
 //!   however spelled (links included), nor any file the run has read so far through
 //!   [`crate::input_file`] — the textures, environment maps, meshes, includes, IES and spectrum
@@ -93,6 +95,16 @@ pub enum OutputError {
         /// Its directory.
         dir: PathBuf,
     },
+    /// No file can be created in the output's directory (read-only, no permission).
+    #[error("{}: cannot create a file in {}: {source}", path.display(), dir.display())]
+    NotWritable {
+        /// The output.
+        path: PathBuf,
+        /// Its directory.
+        dir: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
     /// The output is a directory.
     #[error("{}: is a directory, not a file", path.display())]
     IsDirectory {
@@ -133,6 +145,11 @@ pub fn check_outputs_in_place(
         if !dir.is_dir() {
             return Err(OutputError::NoDirectory { path: path.to_owned(), dir: dir.to_owned() });
         }
+        probe_writable(dir).map_err(|source| OutputError::NotWritable {
+            path: path.to_owned(),
+            dir: dir.to_owned(),
+            source,
+        })?;
         if inputs.iter().any(|input| same_file(input, path)) {
             return Err(OutputError::IsInput { path: path.to_owned() });
         }
@@ -144,6 +161,21 @@ pub fn check_outputs_in_place(
         }
     }
     Ok(())
+}
+
+/// Creates and removes a hidden file in `dir`: what an atomic write will do there.
+fn probe_writable(dir: &Path) -> std::io::Result<()> {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static N: AtomicU64 = AtomicU64::new(0);
+    loop {
+        let n = N.fetch_add(1, Ordering::Relaxed);
+        let probe = dir.join(format!(".opticks-probe-{}-{n}", std::process::id()));
+        match std::fs::File::options().write(true).create_new(true).open(&probe) {
+            Ok(_) => return std::fs::remove_file(&probe),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(e),
+        }
+    }
 }
 
 /// `Err` if `path` is a file this run has read ([`crate::input_file::read_by_this_run`]): what
@@ -176,6 +208,10 @@ pub fn check_input_file(path: &Path, what: &str) -> Result<(), std::io::Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn files_in(d: &Path) -> Vec<String> {
+        std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect()
+    }
 
     #[test]
     fn outputs_must_fit_their_kind_and_spare_the_inputs() {
@@ -214,6 +250,14 @@ mod tests {
                 .contains("is a directory, not a dataset")
         );
         assert!(check_input_file(&out("none"), "a scene").is_err());
+        // A folder where nothing can be created, even by root: refused before any work.
+        #[cfg(target_os = "linux")]
+        {
+            let e = check_output(Path::new("/sys/x.png"), OutputKind::Image, &[]).unwrap_err();
+            assert!(matches!(e, OutputError::NotWritable { .. }), "{e}");
+            assert!(e.to_string().contains("cannot create a file in /sys"), "{e}");
+        }
+        assert!(files_in(d).iter().all(|f| !f.contains("probe")), "the probe is removed");
         check_input_file(&data, "a dataset").unwrap();
     }
 }

@@ -16,6 +16,7 @@ use crate::progress;
 use anyhow::{Context, Result, bail};
 use opticks_core::sensor::render;
 use opticks_io::camera_path_file::read_camera_path;
+use opticks_io::output_paths::{OutputKind, check_outputs, spares_what_was_read};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -63,6 +64,12 @@ pub fn run(a: Args) -> Result<()> {
     let frames = cameras.len();
     super::check_film_fits("a frame", (w, h), super::IMAGE_OUTPUT_BYTES)?;
     std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
+    // Every frame can be written, and none replaces a file the run read (a texture, say).
+    let frame = |f: usize| a.output.join(format!("frame_{f:05}.{}", a.format));
+    let mut inputs = a.input.inputs();
+    inputs.push(&a.path);
+    check_outputs(&[(&frame(0), OutputKind::Image)], &inputs)?;
+    (0..frames).try_for_each(|f| spares_what_was_read(&frame(f)))?;
     let _graceful = crate::interrupt::graceful();
     let (me, ranks) = super::my_share();
     let pb = progress::bar(frames.div_ceil(ranks) as u64, "frames", "frames");
@@ -83,7 +90,7 @@ pub fn run(a: Args) -> Result<()> {
         if f == 0 {
             warn_if_black(&film, data.samples(), "camera of frame 0");
         }
-        write_film(&film, &a.output.join(format!("frame_{f:05}.{}", a.format)), exposure)?;
+        write_film(&film, &frame(f), exposure)?;
         pb.inc(1);
     }
     pb.finish_and_clear();

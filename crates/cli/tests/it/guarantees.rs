@@ -608,3 +608,23 @@ fn an_interrupted_bidirectional_render_writes_the_passes_it_completed() {
     }
     panic!("no render was interrupted after its first pass");
 }
+
+/// Issue 26: an output in a folder where no file can be created (here /sys, where even root
+/// cannot) is refused before the work, as a missing folder is, not after it.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_output_folder_that_cannot_be_written_is_refused_before_the_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    ok(&["trace", "builtin:cornell", "--paths", "2000", "-o", "c.opds"], d);
+    for args in [
+        vec!["render", "c.opds", "-o", "/sys/r.png"],
+        vec!["render", "c.opds", "--estimator", "bidirectional", "-o", "/sys/r.exr"],
+        vec!["measure", "c.opds", "--plane", "-1,0,-1,2,0,0,0,0,2", "-o", "/sys/m.csv"],
+        vec!["trace", "builtin:cornell", "--paths", "1000", "-o", "/sys/t.opds"],
+    ] {
+        let e = fails(&args, d);
+        assert!(e.contains("cannot create a file in /sys"), "{args:?}: {e}");
+        assert!(!e.contains("rendered") && !e.contains("traced"), "{args:?}: {e}");
+    }
+}
