@@ -92,4 +92,8 @@ impl JobProgress for TraceProgress {
         }
         crate::interrupt::requested() || self.time_up.get()
     }
+
+    fn time_is_up(&self) -> bool {
+        self.time_was_up()
+    }
 }

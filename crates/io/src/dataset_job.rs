@@ -22,7 +22,7 @@ use opticks_core::dataset::{
     Chunk, DatasetHeader, LightTable, NoPassRecord, PassPlan, TooManyPaths, TraceSettings, UpgradeError,
     upgrade_plan,
 };
-use opticks_core::dataset::{Heuristic, check_path_budget, reproduces};
+use opticks_core::dataset::{Heuristic, check_path_budget, end_pass_here, reproduces};
 use opticks_core::scene::Scene;
 use opticks_core::trace::{trace_block, trace_plan_from};
 use rayon::prelude::*;
@@ -40,6 +40,13 @@ pub trait JobProgress {
     /// Whether to stop (e.g. Ctrl-C was pressed): asked before each chunk copied and between
     /// batches of blocks traced.
     fn stop(&self) -> bool {
+        false
+    }
+    /// Whether the stop asked for was the run's own time limit (`--time`), not a signal: a run
+    /// with a time limit is complete by definition, so its pass ends where it stopped
+    /// ([`opticks_core::dataset::end_pass_here`]) and the dataset is written whole, not saved as
+    /// a partial run to resume.
+    fn time_is_up(&self) -> bool {
         false
     }
 }
@@ -294,6 +301,11 @@ pub fn write_dataset_with(
             return Err(save_written(writer, header, &new, output, trace_seconds, source));
         }
         interrupted = !header.record_traced(&new.pass.lights, &traced?, trace_seconds)?;
+        // Out of time: the pass ends here, complete. (Only if every light it was to trace has a
+        // path by now; otherwise it is saved to be resumed, as an interrupted run is.)
+        if interrupted && progress.time_is_up() && end_pass_here(&mut header).is_ok() {
+            interrupted = false;
+        }
     }
     let target = if interrupted { partial_path(output) } else { output.to_owned() };
     writer.retarget(&target);

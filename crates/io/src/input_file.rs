@@ -53,6 +53,13 @@ pub fn read_by_this_run(path: &Path) -> Option<PathBuf> {
     inputs.iter().find(|(known, _)| *known == id).map(|(_, p)| p.clone())
 }
 
+/// Forgets that `path` was read: for a command that replaces a file it read by design, after
+/// checking that it may (`resume` replacing the dataset its interrupted run started from).
+pub fn forget(path: &Path) {
+    let Some(id) = std::fs::metadata(path).ok().and_then(|m| FileId::of(path, &m)) else { return };
+    INPUTS.lock().unwrap_or_else(|e| e.into_inner()).retain(|(known, _)| *known != id);
+}
+
 fn remember(path: &Path, meta: &std::fs::Metadata) {
     if !REMEMBER.load(Ordering::Relaxed) {
         return;

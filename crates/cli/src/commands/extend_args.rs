@@ -34,8 +34,8 @@ pub struct ExtendArgs {
     pub strategy: StrategyArgs,
     #[command(flatten)]
     pub threads: super::ThreadArgs,
-    /// Stop after this many seconds of tracing (at the next block boundary), saving the paths traced as
-    /// NAME.partial.opds for `opticks resume`.
+    /// Trace for this many seconds (ending at the next block boundary): the dataset is complete with
+    /// the paths traced by then (give a large --paths).
     #[arg(long, value_name = "SECONDS", value_parser = super::parse_seconds)]
     pub time: Option<std::time::Duration>,
 }

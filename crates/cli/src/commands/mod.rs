@@ -82,8 +82,9 @@ pub fn write_job(
     opticks_io::dataset_job::write_dataset(output, header, sources, new, progress)
 }
 
-/// The outcome of a dataset job run with a time limit: the report, or `None` when the time was
-/// up first — then the paths traced so far are saved as `NAME.partial.opds` (said here), which
+/// The outcome of a dataset job run with a time limit: the report (a run whose time was up is
+/// complete with the paths it traced), or `None` when the time was up before every light had a
+/// path — then the paths traced so far are saved as `NAME.partial.opds` (said here), which
 /// `opticks resume` completes, and that is a success.
 pub fn unless_time_up(
     result: Result<JobReport, JobError>,
@@ -92,8 +93,8 @@ pub fn unless_time_up(
     match result {
         Err(JobError::Interrupted { output, partial, paths }) if progress.time_was_up() => {
             crate::output::result(&format!(
-                "time up after {paths} paths: saved {} (a valid dataset; `opticks resume {}` traces the rest \
-                 into {})",
+                "time up after {paths} paths, before every light had a path: saved {} (`opticks resume {}` \
+                 traces the rest into {})",
                 partial.display(),
                 partial.display(),
                 output.display()

@@ -1,8 +1,10 @@
 //! `opticks resume`: finishes an interrupted `trace`, `refine` or `add-light` from the
 //! `NAME.partial.opds` it saved. The partial file's last pass records what the run planned;
 //! `opticks_core::dataset::resume_plan` finds the blocks still missing, and only those are
-//! traced. The result holds exactly the samples of an uninterrupted run. With `--time` it stops
-//! at a block boundary when the time is up and saves what it has as the partial again.
+//! traced. The result holds exactly the samples of an uninterrupted run. With `--time` it ends
+//! at a block boundary when the time is up, complete with what it traced; with `--finish-now`
+//! it traces nothing and ends the pass where the interrupted run stopped
+//! (`opticks_core::dataset::end_pass_here`).
 //!
 //! An existing `NAME.opds` is replaced only if it is still the dataset the interrupted run
 //! started from (`opticks_core::dataset::check_resume_target`): after a later refinement of it,
@@ -16,7 +18,7 @@ use super::{
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
-use opticks_core::dataset::{ResumeError, check_resume_target, resume_plan};
+use opticks_core::dataset::{ResumeError, check_resume_target, end_pass_here, resume_plan};
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, finished_path, remove_partial};
 use opticks_io::dataset_lock::{WriteIntent, same_file};
@@ -41,10 +43,14 @@ pub struct Args {
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
     pub(crate) threads: ThreadArgs,
-    /// Stop after this many seconds of tracing (at the next block boundary), saving the paths traced so
-    /// far as NAME.partial.opds again, for the next `opticks resume`.
+    /// Trace for this many seconds more (ending at the next block boundary): the dataset is then
+    /// complete with the paths traced by then.
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     time: Option<std::time::Duration>,
+    /// Trace nothing more: accept the paths the interrupted run traced as the finished run (its
+    /// last pass ends where it stopped), so that it can be refined, merged or given a light.
+    #[arg(long, conflicts_with = "time")]
+    finish_now: bool,
 }
 
 /// Resumes the run.
@@ -74,10 +80,28 @@ pub fn run(a: Args) -> Result<()> {
                 output.display()
             )
         })?;
+        // Read only to be checked: replacing it is what finishing the run is for.
+        drop(target);
+        opticks_io::input_file::forget(&output);
     }
     let (done, planned) = (header.trace.passes.last().map_or(0, |p| p.paths), pass.settings.paths);
     header.label = label_for(&scene_ref.label(), &output);
     let sources = [Source::as_is(&reader)];
+    if a.finish_now {
+        end_pass_here(&mut header).map_err(|e| anyhow!("{partial}: {e}"))?;
+        let _graceful = crate::interrupt::graceful();
+        let progress = TraceProgress::default();
+        let report = write_job((&scene_ref, &a.defines), &output, header, &sources, None, &progress)
+            .map_err(super::job_error)?;
+        remove_partial(&a.partial, &output)?;
+        output::result(&format!(
+            "finished {partial} as it is: {done} of the {planned} paths planned → {} ({} paths, {} samples)",
+            output.display(),
+            report.table.total_paths(),
+            report.summary.samples
+        ));
+        return Ok(());
+    }
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, planned - done))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();

@@ -1,9 +1,9 @@
 //! `opticks trace`: light sampling of a scene file into a dataset file (written atomically).
 //! An existing dataset at the output is replaced only with `--overwrite` (it may hold hours of
 //! refined work); see `opticks_io::dataset_lock` for every rule checked before the trace starts.
-//! `--time` stops it at a block boundary when the time is up, leaving a valid
-//! `NAME.partial.opds` that `opticks resume` completes (the blocks are traced in a fixed order,
-//! so what a run of any length traced is a prefix of the plan).
+//! `--time` ends it at a block boundary when the time is up, complete with what it traced
+//! (`opticks_core::dataset::end_pass_here`: the blocks are traced in a fixed order, each from
+//! its own stream, so what a run of any length traced is what a run planning it traces).
 
 use super::{ThreadArgs, begin_dataset_write, check_before_trace, parse_seconds, unless_time_up, write_job};
 use crate::output;
@@ -37,8 +37,8 @@ pub struct Args {
     /// Random seed; the same seed gives the same dataset whatever the thread count.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Stop after this many seconds of tracing (at the next block boundary), saving the paths traced as
-    /// NAME.partial.opds for `opticks resume`; give a large --paths to trace for a fixed time.
+    /// Trace for this many seconds (ending at the next block boundary): the dataset is complete with
+    /// the paths traced by then, as if they had been planned; give a large --paths.
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     time: Option<Duration>,
     #[command(flatten)]

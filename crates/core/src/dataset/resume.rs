@@ -3,8 +3,15 @@
 //! traced in a fixed order ([`super::block_order`]), each from its own random stream, so the
 //! blocks saved are a known prefix and tracing only the rest gives exactly the samples of an
 //! uninterrupted run.
+//!
+//! Or the pass ends where it stopped ([`end_pass_here`]): a time-limited run is complete by
+//! definition, and an interrupted one may be accepted as it is. Its plan becomes what it
+//! traced; since every block's random stream is named by its light and number alone, the
+//! dataset is then exactly what a run planning those paths would have traced.
 
-use super::{DatasetHeader, LightMismatch, LightPlan, PassPlan, TracePass, blocks_done, scene_lights};
+use super::{
+    DatasetHeader, LightMismatch, LightPlan, PassPlan, TracePass, block_order, blocks_done, scene_lights,
+};
 use crate::scene::Scene;
 
 /// Why a dataset's last pass cannot be resumed.
@@ -56,6 +63,60 @@ pub(super) fn traced_plan(pass: &TracePass, scene_lights: &[usize]) -> (Vec<Ligh
         .collect();
     let done = blocks_done(&lights, pass.paths);
     (lights, done)
+}
+
+/// Why an unfinished pass cannot end where it stopped.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum EndPassError {
+    /// The last pass traced all it planned (or there is no pass).
+    #[error("nothing to end, its last trace pass is complete")]
+    Complete,
+    /// The paths traced are not a whole number of the plan's first blocks.
+    #[error("its last pass traced {paths} paths, which is no whole number of its blocks")]
+    NotBlockAligned {
+        /// Paths the pass traced.
+        paths: u64,
+    },
+    /// A light the pass was to trace has no paths in the dataset yet: ended here, the dataset
+    /// would not see that light at all.
+    #[error("light '{name}' has no paths yet, so the dataset would not see it: trace longer")]
+    Unlit {
+        /// The light.
+        name: String,
+    },
+}
+
+/// Ends the dataset's unfinished last pass where it stopped: its plan becomes, per light, the
+/// paths of the blocks it traced (a prefix of its [`super::block_order`]), so the pass is
+/// complete, the dataset can be refined, merged or given a light, and it holds exactly the
+/// chunks a pass planning those paths traces (in another order across lights; each light's
+/// own blocks in the same order). N_k and the samples are unchanged. Refused if a light the
+/// pass was to trace would be left without any path.
+pub fn end_pass_here(header: &mut DatasetHeader) -> Result<(), EndPassError> {
+    let Some(pass) = header.trace.passes.last().filter(|p| !p.is_complete()) else {
+        return Err(EndPassError::Complete);
+    };
+    let plan: Vec<LightPlan> = pass
+        .planned
+        .iter()
+        .map(|&(table_index, paths)| LightPlan { scene_light: 0, table_index, paths })
+        .collect();
+    let blocks = blocks_done(&plan, pass.paths).ok_or(EndPassError::NotBlockAligned { paths: pass.paths })?;
+    let mut traced: Vec<(u32, u64)> = pass.planned.iter().map(|&(t, _)| (t, 0)).collect();
+    for b in block_order(&plan).take(blocks) {
+        if let Some(entry) = traced.iter_mut().find(|e| e.0 == b.light.table_index) {
+            entry.1 += b.paths;
+        }
+    }
+    for &(t, planned) in &pass.planned {
+        if let Some(light) = header.table.lights.get(t as usize).filter(|l| planned > 0 && l.paths == 0) {
+            return Err(EndPassError::Unlit { name: light.name.clone() });
+        }
+    }
+    if let Some(pass) = header.trace.passes.last_mut() {
+        pass.planned = traced;
+    }
+    Ok(())
 }
 
 /// A dataset whose last pass was interrupted: only resuming it keeps it resumable. A pass
@@ -171,6 +232,48 @@ mod tests {
         assert_eq!((rest.first_block, rest.settings), (3, pass.settings));
         cut.run(&scene, &rest);
         assert_eq!(contents(&cut), contents(&refined), "refinement resumed");
+    }
+
+    /// The chunks of each light, in order: what two passes tracing the same blocks share.
+    fn per_light(t: &Traced, lights: u32) -> Vec<Vec<&crate::dataset::Chunk>> {
+        (0..lights).map(|k| t.chunks.iter().filter(|c| c.light == k).collect()).collect()
+    }
+
+    #[test]
+    fn a_pass_ended_where_it_stopped_is_complete_and_is_the_trace_of_what_it_traced() {
+        let scene = Scene::build(&cornell_with_bulb()).unwrap();
+        let settings = TraceSettings { paths: 60_000, seed: 5, ..Default::default() };
+        let (header, pass) = new_trace(&scene, "two", settings);
+        let empty = Traced { header, chunks: vec![] };
+        let mut whole = empty.clone();
+        whole.run(&scene, &pass);
+        assert!(pass.lights.iter().all(|l| l.paths > 0) && pass.lights.len() == 2);
+
+        let nothing = cut(&empty, &pass, &whole, 0);
+        let mut unlit = nothing.header.clone();
+        assert!(matches!(end_pass_here(&mut unlit), Err(EndPassError::Unlit { .. })), "no path at all");
+        let mut ended = cut(&empty, &pass, &whole, 5);
+        let table = ended.header.table.clone();
+        end_pass_here(&mut ended.header).unwrap();
+        let p = ended.header.trace.passes.last().unwrap();
+        assert!(p.is_complete() && check_finished(&ended.header).is_ok());
+        assert_eq!(ended.header.table, table, "N_k unchanged");
+        for &(t, planned) in &p.planned {
+            assert_eq!(planned, table.lights[t as usize].paths, "light {t}: the plan is what it traced");
+        }
+        assert_eq!(end_pass_here(&mut ended.header), Err(EndPassError::Complete));
+
+        // A pass planning those paths traces the same blocks.
+        let lights: Vec<LightPlan> = pass
+            .lights
+            .iter()
+            .map(|l| LightPlan { paths: table.lights[l.table_index as usize].paths, ..*l })
+            .collect();
+        let mut short = empty.clone();
+        short.run(&scene, &PassPlan { lights, ..pass.clone() });
+        assert_eq!(per_light(&short, 2), per_light(&ended, 2));
+        // And the dataset can be refined.
+        refine(&ended.header, &scene, 10_000, None, &StrategyChoice::default()).unwrap();
     }
 
     #[test]

@@ -253,8 +253,17 @@ impl DatasetWriter {
                 )));
             }
         }
-        let plans = |t: &TraceInfo| t.passes.iter().map(|p| p.planned.clone()).collect::<Vec<_>>();
-        if trace.passes.len() == self.header.trace.passes.len() && plans(trace) != plans(&self.header.trace) {
+        // Plans are fixed when a pass starts; the one change allowed is the last pass ending
+        // where it stopped (`end_pass_here`): the same lights, none planned more paths.
+        let ended_early = |new: &[(u32, u64)], old: &[(u32, u64)]| {
+            new.len() == old.len() && new.iter().zip(old).all(|(n, o)| n.0 == o.0 && n.1 <= o.1)
+        };
+        let (new, old) = (&trace.passes, &self.header.trace.passes);
+        let changed = new.len() == old.len()
+            && new.iter().zip(old).enumerate().any(|(i, (n, o))| {
+                n.planned != o.planned && (i + 1 != new.len() || !ended_early(&n.planned, &o.planned))
+            });
+        if changed {
             return Err(invalid("the final trace record changes a pass's plan".into()));
         }
         if trace.passes.len() != self.header.trace.passes.len() {
