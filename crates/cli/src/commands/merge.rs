@@ -12,11 +12,11 @@
 use super::{begin_dataset_write, check_finished, job_error};
 use crate::output;
 use crate::progress::TraceProgress;
-use anyhow::{Result, anyhow};
+use anyhow::{Result, anyhow, bail};
 use opticks_core::dataset::{ChangesText, MergeError, merge_header};
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::dataset_job::{Source, write_dataset};
-use opticks_io::dataset_lock::WriteIntent;
+use opticks_io::dataset_lock::{WriteIntent, same_file};
 use opticks_io::output_paths::check_input_file;
 use std::path::{Path, PathBuf};
 
@@ -29,7 +29,8 @@ pub struct Args {
     /// Output dataset (.opds).
     #[arg(short, long)]
     output: PathBuf,
-    /// Replace an existing dataset at the output that is none of the inputs.
+    /// Replace an existing dataset at the output, also one of the inputs (the merge then holds
+    /// all of it).
     #[arg(long)]
     overwrite: bool,
 }
@@ -37,6 +38,10 @@ pub struct Args {
 /// Merges the datasets.
 pub fn run(a: Args) -> Result<()> {
     let inputs: Vec<&Path> = a.inputs.iter().map(PathBuf::as_path).collect();
+    // Unlike refine's in-place update, replacing an input is a choice the user states.
+    if !a.overwrite && inputs.iter().any(|i| same_file(i, &a.output)) {
+        bail!("{}: is one of the inputs; give --overwrite to replace it by the merge", a.output.display());
+    }
     let _lock = begin_dataset_write(
         &a.output,
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },

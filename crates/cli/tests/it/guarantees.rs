@@ -80,6 +80,13 @@ fn outputs_never_replace_inputs_or_take_a_foreign_extension() {
     assert!(e.contains("repeats the random stream"), "{e}");
     assert!(std::fs::read(&scene).unwrap() == xml && std::fs::read(d.join("mm.opds")).unwrap() == data);
     assert_eq!(files(d), ["mm.opds", "s"], "nothing else was written");
+    // Merging into one of the inputs replaces it: only when asked (issue 26).
+    ok(&["trace", s, "--paths", "3000", "--seed", "3", "-o", "other.opds"], d);
+    let e = fails(&["merge", "mm.opds", "other.opds", "-o", "./mm.opds"], d);
+    assert!(e.contains("is one of the inputs") && e.contains("--overwrite"), "{e}");
+    assert!(std::fs::read(d.join("mm.opds")).unwrap() == data);
+    ok(&["merge", "mm.opds", "other.opds", "-o", "mm.opds", "--overwrite"], d);
+    assert_eq!(DatasetReader::open(&d.join("mm.opds")).unwrap().header().table.total_paths(), 8000);
     ok(&["trace", s, "--paths", "100", "-o", "mm.opds", "--overwrite"], d);
     assert_eq!(DatasetReader::open(&d.join("mm.opds")).unwrap().header().table.total_paths(), 100);
 }
