@@ -171,6 +171,23 @@ pub fn run(a: Args) -> Result<()> {
     };
     // Per cell: its lux value and its CSV line (about 120 characters).
     super::check_film_fits("a meter", (layout.len() as u32, 1), 8 + 128)?;
+    // Counting the samples on a plane reads only where the plane lies on a surface.
+    if let (MeterLayout::Grid(m), Some(p), MeterEstimator::Samples) = (&layout, &a.plane, estimator) {
+        let (on, cells) = (m.cells_on_surfaces(data.scene()), layout.len());
+        if on == 0 {
+            bail!(
+                "--plane '{p}' lies on no scene surface, and --estimator samples reads only the light landing \
+                 on surfaces: measure the light crossing it with --estimator connections (a plane's default)"
+            );
+        }
+        if on < cells {
+            output::warning(&format!(
+                "{} of the {cells} cells of --plane '{p}' lie on no scene surface: --estimator samples reads \
+                 zero there (--estimator connections measures them)",
+                cells - on
+            ));
+        }
+    }
     let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);

@@ -388,6 +388,28 @@ fn measure_and_sensor_options_on_the_command_line() {
         s.lines().skip(1).map(|l| l.split(',').nth(8).unwrap().parse::<f64>().unwrap()).sum()
     };
     assert!((total(&csv) / total(&b) - 1.0).abs() < 1e-9, "surface and plane meters disagree");
+    // Issue 26: a plane in the air has no samples to count — it read ~1e-4 of the light with
+    // exit 0 — so it is refused; one reaching beyond the wall is warned of.
+    let air = opticks(
+        &[
+            "measure",
+            "c.opds",
+            "--plane",
+            "-1,-1,0.95,2,0,0,0,2,0",
+            "--estimator",
+            "samples",
+            "-o",
+            "air.csv",
+        ],
+        d,
+    );
+    let err = String::from_utf8_lossy(&air.stderr);
+    assert!(!air.status.success() && err.contains("lies on no scene surface"), "{err}");
+    let beyond =
+        ["--plane", "-1,-1,1,0,0,-2,0,4,0", "--cells", "4x4", "--estimator", "samples", "-o", "h.csv"];
+    let half = opticks(&[&["measure", "c.opds"][..], &beyond[..]].concat(), d);
+    let err = String::from_utf8_lossy(&half.stderr);
+    assert!(half.status.success() && err.contains("8 of the 16 cells"), "{err}");
     // By default a plane connects the samples to itself: the same wall within the errors.
     ok(opticks(&[&plane[..], &["-o", "c.csv"]].concat(), d));
     let c = std::fs::read_to_string(d.join("c.csv")).unwrap();

@@ -49,8 +49,9 @@ pub enum MeterEstimator {
 
 use super::{SampleBatch, Splatter, accumulate};
 use crate::film::{Film, SplatTarget};
+use crate::geometry::Ray;
 use crate::math::Vec3;
-use crate::scene::SceneDescription;
+use crate::scene::{Scene, SceneDescription};
 
 /// Why a meter cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -196,6 +197,23 @@ impl IlluminanceMeter {
         self.origin + (i as f32 + 0.5) / self.nx as f32 * self.u + (j as f32 + 0.5) / self.ny as f32 * self.v
     }
 
+    /// How many cells have a scene surface at their centre (within twice the tolerance of the
+    /// plane there). The samples estimator reads the light that lands on surfaces: a cell in the
+    /// air reads zero with it whatever the light there, so a front end refuses a meter with no
+    /// cell on a surface and warns of one with some.
+    pub fn cells_on_surfaces(&self, scene: &Scene) -> usize {
+        let reach = 2.0 * self.tolerance;
+        let on_surface = |(i, j)| {
+            let centre = self.cell_centre(i, j);
+            scene.occluded(&Ray {
+                origin: centre + reach * self.normal,
+                dir: -self.normal,
+                t_max: 2.0 * reach,
+            })
+        };
+        (0..self.ny).flat_map(|j| (0..self.nx).map(move |i| (i, j))).filter(|&c| on_surface(c)).count()
+    }
+
     /// The cell (index `j * nx + i`) holding the point, if it is on the meter.
     #[inline]
     pub fn locate(&self, x: Vec3) -> Option<usize> {
@@ -287,6 +305,17 @@ mod tests {
         );
         assert_eq!(film.pixels[0], [2.0; 3]);
         assert_eq!(film.pixels.iter().map(|p| p[0]).sum::<f64>(), 2.0);
+    }
+
+    #[test]
+    fn cells_on_surfaces_are_told_from_cells_in_the_air() {
+        let scene = Scene::build(&crate::scene::cornell_box()).unwrap();
+        // The floor is y = −1 over x, z ∈ [−1, 1]; this plane holds it and reaches beyond x = 1.
+        let floor =
+            IlluminanceMeter::new(Vec3::new(-0.9, -1.0, 0.9), Vec3::new(2.8, 0.0, 0.0), -1.8 * Vec3::Z, 4, 2);
+        assert_eq!(floor.unwrap().cells_on_surfaces(&scene), 6, "three columns of four on the floor");
+        let air = IlluminanceMeter::new(Vec3::new(-0.5, 0.0, 0.5), Vec3::X, -Vec3::Z, 3, 3).unwrap();
+        assert_eq!(air.cells_on_surfaces(&scene), 0);
     }
 
     #[test]
