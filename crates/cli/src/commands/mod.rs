@@ -190,6 +190,27 @@ pub fn check_before_trace(
     Ok(())
 }
 
+/// Warns of what the light estimator cannot show through `sensor`: an environment seen directly,
+/// and mirrors or smooth glass seen directly (`opticks_core::sensor::delta_fraction`), which it
+/// renders black with all that is seen in or through them.
+pub fn warn_light_estimator_blind_spots(scene: &opticks_core::scene::Scene, sensor: &Sensor) {
+    if let Some(sky) = scene.lights.iter().find(|l| matches!(l, opticks_core::light::Light::Environment(_))) {
+        crate::output::warning(&format!(
+            "the light estimator does not show the environment '{}' itself (only what it lights): \
+             render with --estimator bidirectional to see the sky",
+            sky.name()
+        ));
+    }
+    let delta = opticks_core::sensor::delta_fraction(scene, sensor);
+    if delta > 0.0 {
+        crate::output::warning(&format!(
+            "{:.0}% of the view is a mirror or smooth glass seen directly, which the light estimator shows \
+             black (with all that is seen in or through it): render with --estimator bidirectional",
+            (100.0 * delta).max(1.0)
+        ));
+    }
+}
+
 /// Warns when an image or a measurement received nothing at all (`what` names the sensor).
 pub fn warn_if_black(film: &Film, samples: u64, what: &str) {
     if film.pixels.iter().all(|p| p.iter().all(|&v| v == 0.0)) {

@@ -87,13 +87,7 @@ pub fn run(a: Args) -> Result<()> {
         ));
         return Ok(());
     }
-    if let Some(sky) = scene.lights.iter().find(|l| matches!(l, opticks_core::light::Light::Environment(_))) {
-        output::warning(&format!(
-            "the light estimator does not show the environment '{}' itself (only what it lights): \
-             render with --estimator bidirectional to see the sky",
-            sky.name()
-        ));
-    }
+    super::warn_light_estimator_blind_spots(scene, &camera);
     let Some(film) = render_film(scene, &camera, data.count(), data.samples(), |i| Ok(data.batch(i)?))?
     else {
         return Ok(()); // a worker rank of a cluster job: its part went to the master

@@ -70,6 +70,9 @@ pub fn run(a: Args) -> Result<()> {
     inputs.push(&a.path);
     check_outputs(&[(&frame(0), OutputKind::Image)], &inputs)?;
     (0..frames).try_for_each(|f| spares_what_was_read(&frame(f)))?;
+    if let (Estimator::Light, Some(first)) = (a.estimator.estimator, cameras.first()) {
+        super::warn_light_estimator_blind_spots(scene, &(*first).into());
+    }
     let _graceful = crate::interrupt::graceful();
     let (me, ranks) = super::my_share();
     let pb = progress::bar(frames.div_ceil(ranks) as u64, "frames", "frames");

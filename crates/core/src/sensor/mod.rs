@@ -36,6 +36,7 @@
 //! rendered through.
 
 pub mod bidirectional;
+mod blind_spots;
 mod equirect;
 pub mod meter;
 mod orthographic;
@@ -44,6 +45,7 @@ mod runs;
 mod thin_lens;
 pub mod view;
 
+pub use blind_spots::delta_fraction;
 pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure};
 pub use orthographic::Orthographic;
