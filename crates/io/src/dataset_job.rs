@@ -328,15 +328,17 @@ pub fn write_dataset_with(
 /// (`opticks_core::dataset::reproduces`: the same paths, up to rounding); the dataset's samples
 /// are written unchanged, with the records of the re-trace. A chunk that does not re-trace, or a stop request,
 /// writes nothing. The header keeps every pass's figures and gains the records' heuristic and
-/// sampling signature.
+/// sampling signature; its label becomes `label` (the scene as used, recorded from `output`'s
+/// place: [`crate::scene_ref`]).
 pub fn upgrade_dataset(
     reader: &DatasetReader,
     scene: &Scene,
     heuristic: Heuristic,
-    output: &Path,
+    (output, label): (&Path, String),
     progress: &dyn JobProgress,
 ) -> Result<JobReport, JobError> {
-    let (header, blocks) = upgrade_plan(reader.header(), scene, heuristic, reader.chunk_count())?;
+    let (mut header, blocks) = upgrade_plan(reader.header(), scene, heuristic, reader.chunk_count())?;
+    header.label = label;
     let mut writer = DatasetWriter::create(output, &header)
         .map_err(|source| JobError::Create { path: output.to_owned(), source })?;
     let t0 = Instant::now();
@@ -780,7 +782,8 @@ mod tests {
         let (plain, with) = (write("plain.opds", None), write("with.opds", Some(Heuristic::Power)));
         let up = dir.path().join("up.opds");
         let reader = DatasetReader::open(&plain).unwrap();
-        upgrade_dataset(&reader, &scene, Heuristic::Power, &up, &()).unwrap();
+        upgrade_dataset(&reader, &scene, Heuristic::Power, (&up, reader.header().label.clone()), &())
+            .unwrap();
         let (mut a, b) = (read_all(&up).unwrap(), read_all(&with).unwrap());
         a.0.trace.passes.iter_mut().zip(&b.0.trace.passes).for_each(|(p, q)| p.seconds = q.seconds);
         assert_eq!(a, b);
@@ -793,8 +796,14 @@ mod tests {
         let forged = dir.path().join("forged.opds");
         write_dataset(&forged, h, &[Source::as_is(&other)], None, &()).unwrap();
         let bad = dir.path().join("bad.opds");
-        let e = upgrade_dataset(&DatasetReader::open(&forged).unwrap(), &scene, Heuristic::Power, &bad, &())
-            .unwrap_err();
+        let e = upgrade_dataset(
+            &DatasetReader::open(&forged).unwrap(),
+            &scene,
+            Heuristic::Power,
+            (&bad, String::new()),
+            &(),
+        )
+        .unwrap_err();
         assert!(matches!(e, JobError::NotReproduced { chunk: 0, pass: 0, seed: 5, stream: 0 }), "{e}");
         assert!(e.to_string().contains("does not re-trace to the same samples"), "{e}");
         assert!(!bad.exists(), "nothing written");

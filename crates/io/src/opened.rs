@@ -75,7 +75,7 @@ pub enum OpenError {
     /// The scene's geometry or materials are not those the dataset was traced in.
     #[error(
         "{} was traced from a different scene than {scene}: {changes} (fingerprint {recorded} ≠ {current}; a scene \
-         traced with -D parameters needs the same ones){lights}",
+         traced with -D parameters or --gltf-scene needs the same ones, which a dataset records from now on){lights}",
         dataset.display()
     )]
     DifferentScene {
@@ -150,17 +150,31 @@ pub struct OpenedDataset {
     pub scene: Scene,
     /// The scene used: what a dataset written from this one records.
     pub scene_ref: SceneRef,
+    /// The options the scene was loaded with: those given, or, when none that change the scene
+    /// were given (`-D`, `--gltf-scene`), those the dataset records
+    /// ([`crate::scene_ref::recorded_options`]). What a dataset written from this one records.
+    pub options: LoadOptions,
     /// What loading the scene did not reproduce exactly (`file:line:column: …`, one a line).
     pub warnings: Vec<String>,
 }
 
 impl OpenedDataset {
     /// Opens `dataset` against `scene` — given, or else the scene file the dataset records —
-    /// loaded with `options`, and checks that it is the scene the dataset was traced in.
+    /// loaded with `options` (or, if they set no `-D` parameter and no glTF scene, with those
+    /// the dataset records), and checks that it is the scene the dataset was traced in.
     #[allow(clippy::result_large_err)] // once per run, and the error carries what the user needs
     pub fn open(dataset: &Path, scene: Option<&SceneRef>, options: &LoadOptions) -> Result<Self, OpenError> {
         crate::output_paths::check_input_file(dataset, "a dataset").map_err(OpenError::Unreadable)?;
         let mut reader = DatasetReader::open(dataset)?;
+        let options = if options.defines.is_empty() && options.gltf_scene.is_none() {
+            LoadOptions {
+                camera: options.camera.clone(),
+                ..crate::scene_ref::recorded_options(&reader.header().label)
+            }
+        } else {
+            options.clone()
+        };
+        let options = &options;
         let scene_ref = match scene {
             Some(s) => s.clone(),
             None => {
@@ -204,7 +218,14 @@ impl OpenedDataset {
             lights: lights_changed(&reader.header().table, &scene),
         })?;
         reader.check_triangles(scene.triangles.len());
-        Ok(OpenedDataset { reader, description: loaded.description, scene, scene_ref, warnings })
+        Ok(OpenedDataset {
+            reader,
+            description: loaded.description,
+            scene,
+            scene_ref,
+            options: options.clone(),
+            warnings,
+        })
     }
 
     /// The flux each light's samples stand for, relit by `scales` (each multiplies one light's

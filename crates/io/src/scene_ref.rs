@@ -17,8 +17,57 @@
 //! writes a dataset records the scene file it actually used ([`label_for`]); `merge`, which
 //! loads no scene, moves the label of the input it takes to the output's location
 //! ([`rebase`]).
+//!
+//! The parameters the scene was loaded with that change it — Mitsuba `-D NAME=VALUE` values and
+//! the glTF scene chosen (`--gltf-scene`) — follow as further lines ([`with_options`]), so a
+//! dataset renders, refines and resumes against the scene it was traced in without the user
+//! repeating them ([`recorded_options`]; options given on the command line replace them):
+//!
+//! ```text
+//! -D wall=0.5
+//! --gltf-scene Night
+//! ```
+//!
+//! The camera is not recorded: any camera renders a dataset.
 
+use crate::scene_formats::LoadOptions;
 use std::path::{Component, Path, PathBuf};
+
+const DEFINE: &str = "-D ";
+const GLTF_SCENE: &str = "--gltf-scene ";
+
+/// `label` followed by the lines recording the `defines` and `gltf_scene` of `options` (see the
+/// module docs). Values holding a line break cannot be recorded: then none is.
+pub fn with_options(label: &str, options: &LoadOptions) -> String {
+    let mut lines: Vec<String> = options.defines.iter().map(|(k, v)| format!("{DEFINE}{k}={v}")).collect();
+    lines.extend(options.gltf_scene.iter().map(|s| format!("{GLTF_SCENE}{s}")));
+    if lines.is_empty() || lines.iter().any(|l| l.contains('\n')) {
+        return label.to_string();
+    }
+    format!("{label}\n{}", lines.join("\n"))
+}
+
+/// The loading options a label records ([`with_options`]); no camera.
+pub fn recorded_options(label: &str) -> LoadOptions {
+    let mut options = LoadOptions::default();
+    for line in option_lines(label) {
+        if let Some((k, v)) = line.strip_prefix(DEFINE).and_then(|d| d.split_once('=')) {
+            options.defines.push((k.to_string(), v.to_string()));
+        } else if let Some(s) = line.strip_prefix(GLTF_SCENE) {
+            options.gltf_scene = Some(s.to_string());
+        }
+    }
+    options
+}
+
+/// The label's lines after its scene reference.
+fn option_lines(label: &str) -> impl Iterator<Item = &str> {
+    label.split('\n').skip(1).filter(|l| is_option(l))
+}
+
+fn is_option(line: &str) -> bool {
+    line.starts_with(DEFINE) || line.starts_with(GLTF_SCENE)
+}
 
 /// The scene reference of a label, parsed.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -38,14 +87,16 @@ pub enum RecordedScene {
 
 /// Parses a dataset label.
 pub fn parse(label: &str) -> RecordedScene {
-    if label.starts_with("builtin:") {
-        return RecordedScene::Builtin(label.to_string());
+    let mut lines = label.split('\n');
+    let first = lines.next().unwrap_or_default();
+    if first.starts_with("builtin:") {
+        return RecordedScene::Builtin(first.to_string());
     }
-    match label.split_once('\n') {
-        Some((relative, absolute)) => {
-            RecordedScene::File { relative: PathBuf::from(relative), absolute: PathBuf::from(absolute) }
+    match lines.next().filter(|l| !is_option(l)) {
+        Some(absolute) => {
+            RecordedScene::File { relative: PathBuf::from(first), absolute: PathBuf::from(absolute) }
         }
-        None => RecordedScene::Legacy(label.to_string()),
+        None => RecordedScene::Legacy(first.to_string()),
     }
 }
 
@@ -128,7 +179,7 @@ pub fn resolve(label: &str, dataset: &Path) -> Result<String, Vec<PathBuf>> {
 /// is; otherwise the label is kept.
 pub fn rebase(label: &str, from: &Path, to: &Path) -> String {
     match resolve(label, from) {
-        Ok(spec) => label_for(&spec, to),
+        Ok(spec) => with_options(&label_for(&spec, to), &recorded_options(label)),
         Err(_) => label.to_string(),
     }
 }
@@ -163,6 +214,36 @@ pub fn describe(label: &str, dataset: &Path) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn loading_options_are_recorded_after_the_scene_and_read_back() {
+        let options = LoadOptions {
+            defines: vec![("wall".into(), "0.5".into()), ("spp".into(), "x=y".into())],
+            camera: Some("side".into()),
+            gltf_scene: Some("Night".into()),
+        };
+        let label = with_options("../s.gltf\n/abs/s.gltf", &options);
+        assert_eq!(label, "../s.gltf\n/abs/s.gltf\n-D wall=0.5\n-D spp=x=y\n--gltf-scene Night");
+        assert_eq!(
+            parse(&label),
+            RecordedScene::File { relative: "../s.gltf".into(), absolute: "/abs/s.gltf".into() }
+        );
+        assert_eq!(recorded_options(&label), LoadOptions { camera: None, ..options.clone() }, "no camera");
+        assert_eq!(with_options("builtin:cornell", &LoadOptions::default()), "builtin:cornell");
+        let builtin = with_options("builtin:cornell", &options);
+        assert_eq!(parse(&builtin), RecordedScene::Builtin("builtin:cornell".into()));
+        assert_eq!(recorded_options(&builtin).defines.len(), 2);
+        assert_eq!(recorded_options("old/scene.xml"), LoadOptions::default());
+        let one_line = with_options("scene.xml", &options);
+        assert_eq!(
+            parse(&one_line),
+            RecordedScene::Legacy("scene.xml".into()),
+            "a path as given, then options"
+        );
+        assert_eq!(recorded_options(&one_line).gltf_scene.as_deref(), Some("Night"));
+        let broken = LoadOptions { defines: vec![("a".into(), "1\n2".into())], ..Default::default() };
+        assert_eq!(with_options("x\ny", &broken), "x\ny", "a line break cannot be recorded");
+    }
 
     #[test]
     fn a_scene_is_found_from_anywhere_and_after_moving_the_dataset_or_both() {

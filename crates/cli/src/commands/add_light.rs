@@ -11,7 +11,7 @@ use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow};
 use opticks_core::dataset::AddLightError;
 use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes};
-use opticks_io::scene_ref::label_for;
+use opticks_io::scene_ref::{label_for, with_options};
 use std::path::PathBuf;
 
 /// Arguments of `opticks add-light`.
@@ -38,7 +38,7 @@ pub struct Args {
 pub fn run(a: Args) -> Result<()> {
     let Extending { output, lock: _lock, opened } =
         a.extend.begin(&a.dataset, a.scene.as_ref(), &a.defines)?;
-    let Opened { reader, scene, scene_ref, .. } = opened;
+    let Opened { reader, scene, scene_ref, options, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) =
         opticks_core::dataset::add_light(reader.header(), &scene, &a.light, a.paths, seed, &strategy)
@@ -54,13 +54,13 @@ pub fn run(a: Args) -> Result<()> {
                 e @ AddLightError::NoSuchLight { .. } => e.into(),
             })?;
     let paths = pass.settings.paths;
-    header.label = label_for(&scene_ref.label(), &output);
+    header.label = with_options(&label_for(&scene_ref.label(), &output), &options);
     let sources = [Source::as_is(&reader)];
     check_before_trace(&output, &header.table, &pass, estimate_bytes(&sources, paths))?;
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let progress = TraceProgress::with_time_limit(a.extend.time);
-    let job = write_job((&scene_ref, &a.defines), &output, header, &sources, Some(new), &progress);
+    let job = write_job((&scene_ref, &options), &output, header, &sources, Some(new), &progress);
     let Some(report) = unless_time_up(job, &progress)? else {
         return Ok(());
     };

@@ -13,7 +13,7 @@ use super::{begin_dataset_write, check_finished, job_error};
 use crate::output;
 use crate::progress::TraceProgress;
 use anyhow::{Result, anyhow, bail};
-use opticks_core::dataset::{ChangesText, MergeError, merge_header};
+use opticks_core::dataset::{ChangesText, MergeError, merge_header, mis_compatibility};
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::dataset_job::{Source, write_dataset};
 use opticks_io::dataset_lock::{WriteIntent, same_file};
@@ -76,7 +76,25 @@ pub fn run(a: Args) -> Result<()> {
     }
     // The label is one input's (the one with every light): record its scene from the output.
     if let Some(from) = readers.iter().zip(&a.inputs).find(|(r, _)| r.header().label == header.label) {
+        if opticks_io::scene_ref::resolve(&header.label, from.1).is_err() {
+            output::warning(&format!(
+                "the scene {} records is not found from there, so neither will the merged dataset find it: \
+                 give --scene when you use {}",
+                from.1.display(),
+                a.output.display()
+            ));
+        }
         header.label = opticks_io::scene_ref::rebase(&header.label, from.1, &a.output);
+    }
+    // Passes without MIS records (older datasets) leave the whole merge without them.
+    if let Err(why) = mis_compatibility(&header)
+        && readers.iter().any(|r| mis_compatibility(r.header()).is_ok())
+    {
+        output::warning(&format!(
+            "the merged dataset cannot be rendered with --estimator bidirectional ({why}), though some of \
+             its inputs could: `opticks upgrade {}` gives it MIS records",
+            a.output.display()
+        ));
     }
     let _graceful = crate::interrupt::graceful();
     let report =

@@ -66,7 +66,7 @@ impl ThreadArgs {
 /// which load `scene` (the file the verb loaded its scene from, with its `-D` parameters)
 /// themselves.
 pub fn write_job(
-    scene: (&SceneRef, &crate::scene_arg::DefineArgs),
+    scene: (&SceneRef, &opticks_io::scene_formats::LoadOptions),
     output: &Path,
     header: opticks_core::dataset::DatasetHeader,
     sources: &[opticks_io::dataset_job::Source<'_>],
@@ -75,7 +75,7 @@ pub fn write_job(
 ) -> Result<JobReport, JobError> {
     #[cfg(feature = "mpi")]
     if opticks_cluster::is_master() {
-        let tracer = opticks_cluster::ClusterTracer::new(scene.0, &scene.1.options(), crate::cluster::HOOKS);
+        let tracer = opticks_cluster::ClusterTracer::new(scene.0, scene.1, crate::cluster::HOOKS);
         return opticks_io::dataset_job::write_dataset_with(output, header, sources, new, progress, &tracer);
     }
     let _ = scene;

@@ -22,7 +22,7 @@ use opticks_core::dataset::{ResumeError, check_resume_target, end_pass_here, res
 use opticks_io::dataset_file::DatasetReader;
 use opticks_io::dataset_job::{NewPaths, Source, estimate_bytes, finished_path, remove_partial};
 use opticks_io::dataset_lock::{WriteIntent, same_file};
-use opticks_io::scene_ref::label_for;
+use opticks_io::scene_ref::{label_for, with_options};
 use std::path::PathBuf;
 
 /// Arguments of `opticks resume`.
@@ -59,7 +59,8 @@ pub fn run(a: Args) -> Result<()> {
     let output = a.output.clone().unwrap_or_else(|| finished_path(&a.partial));
     let intent = WriteIntent { inputs: &[], resuming: Some(&a.partial), overwrite: a.overwrite };
     let _lock = begin_dataset_write(&output, intent)?;
-    let Opened { reader, scene, scene_ref, .. } = open_with_scene(&a.partial, a.scene.as_ref(), &a.defines)?;
+    let Opened { reader, scene, scene_ref, options, .. } =
+        open_with_scene(&a.partial, a.scene.as_ref(), &a.defines)?;
     let mut header = reader.header().clone();
     let partial = a.partial.display();
     let pass = resume_plan(&header, &scene).map_err(|e| match e {
@@ -85,13 +86,13 @@ pub fn run(a: Args) -> Result<()> {
         opticks_io::input_file::forget(&output);
     }
     let (done, planned) = (header.trace.passes.last().map_or(0, |p| p.paths), pass.settings.paths);
-    header.label = label_for(&scene_ref.label(), &output);
+    header.label = with_options(&label_for(&scene_ref.label(), &output), &options);
     let sources = [Source::as_is(&reader)];
     if a.finish_now {
         end_pass_here(&mut header).map_err(|e| anyhow!("{partial}: {e}"))?;
         let _graceful = crate::interrupt::graceful();
         let progress = TraceProgress::default();
-        let report = write_job((&scene_ref, &a.defines), &output, header, &sources, None, &progress)
+        let report = write_job((&scene_ref, &options), &output, header, &sources, None, &progress)
             .map_err(super::job_error)?;
         remove_partial(&a.partial, &output)?;
         output::result(&format!(
@@ -106,7 +107,7 @@ pub fn run(a: Args) -> Result<()> {
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let progress = TraceProgress::with_time_limit(a.time);
-    let job = write_job((&scene_ref, &a.defines), &output, header, &sources, Some(new), &progress);
+    let job = write_job((&scene_ref, &options), &output, header, &sources, Some(new), &progress);
     let Some(report) = unless_time_up(job, &progress)? else {
         return Ok(());
     };

@@ -14,7 +14,7 @@ use anyhow::{Result, anyhow};
 use opticks_core::dataset::{check_emission, new_trace};
 use opticks_io::dataset_job::{ASSUMED_BYTES_PER_PATH, NewPaths};
 use opticks_io::dataset_lock::WriteIntent;
-use opticks_io::scene_ref::label_for;
+use opticks_io::scene_ref::{label_for, with_options};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -58,8 +58,12 @@ pub fn run(a: Args) -> Result<()> {
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
     )?;
     let scene = load_scene(&a.scene, &a.defines)?;
-    let (header, pass) =
-        new_trace(&scene, &label_for(&a.scene.label(), &a.output), a.strategy.settings(a.paths, a.seed));
+    let options = a.defines.options();
+    let (header, pass) = new_trace(
+        &scene,
+        &with_options(&label_for(&a.scene.label(), &a.output), &options),
+        a.strategy.settings(a.paths, a.seed),
+    );
     check_emission(&pass.lights).map_err(|e| anyhow!("{}: {e}", a.scene))?;
     output::detail(&format!(
         "scene {}: {} triangles, {}; plan: {}",
@@ -72,7 +76,7 @@ pub fn run(a: Args) -> Result<()> {
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let progress = TraceProgress::with_time_limit(a.time);
-    let job = write_job((&a.scene, &a.defines), &a.output, header, &[], Some(new), &progress);
+    let job = write_job((&a.scene, &options), &a.output, header, &[], Some(new), &progress);
     let Some(report) = unless_time_up(job, &progress)? else {
         return Ok(());
     };

@@ -16,6 +16,7 @@ use clap::ValueEnum;
 use opticks_core::dataset::Heuristic;
 use opticks_io::dataset_job::upgrade_dataset;
 use opticks_io::dataset_lock::WriteIntent;
+use opticks_io::scene_ref::{label_for, with_options};
 use std::path::PathBuf;
 
 /// The heuristic of the records.
@@ -59,13 +60,16 @@ pub fn run(a: Args) -> Result<()> {
         &output,
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
     )?;
-    let super::Opened { reader, scene, .. } = open_with_scene(&a.dataset, a.scene.as_ref(), &a.defines)?;
+    let super::Opened { reader, scene, scene_ref, options, .. } =
+        open_with_scene(&a.dataset, a.scene.as_ref(), &a.defines)?;
+    // The scene as used (--scene, -D), recorded from where the output is.
+    let label = with_options(&label_for(&scene_ref.label(), &output), &options);
     let heuristic = match a.mis_records {
         HeuristicArg::Power => Heuristic::Power,
         HeuristicArg::Balance => Heuristic::Balance,
     };
-    let report =
-        upgrade_dataset(&reader, &scene, heuristic, &output, &TraceProgress::default()).map_err(job_error)?;
+    let report = upgrade_dataset(&reader, &scene, heuristic, (&output, label), &TraceProgress::default())
+        .map_err(job_error)?;
     println!(
         "upgraded {}: {} chunks re-traced to the same {} samples, with MIS records ({:.2} s) → {} ({:.1} MB)",
         a.dataset.display(),

@@ -654,3 +654,29 @@ fn the_light_estimator_warns_of_mirrors_and_glass_in_view() {
     ok(&["trace", "builtin:cornell", "--paths", "2000", "-o", "c.opds"], d);
     assert!(!ok(&["render", "c.opds", "-o", "c.exr"], d).contains(warning));
 }
+
+/// Issue 26: `upgrade --scene` records the scene it used (it kept the old dataset's label,
+/// which did not resolve), and `merge` says when the merged dataset cannot find its scene or
+/// has lost the bidirectional estimator to an input without MIS records.
+#[test]
+fn upgrade_and_merge_record_a_scene_that_resolves_or_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let scene = scene_file("cornell", "scene.xml");
+    let s = scene.to_str().unwrap();
+    std::fs::copy(common::files::testdata("datasets/cornell-v2.opds"), d.join("v2.opds")).unwrap();
+    fails(&["render", "v2.opds", "-o", "x.exr"], d); // its scene, relative to where it was traced
+    ok(&["upgrade", "v2.opds", "--scene", s, "-o", "up.opds"], d);
+    ok(&["render", "up.opds", "-o", "u.exr", "--estimator", "bidirectional", "--size", "32x32"], d);
+    ok(&["trace", s, "--paths", "4096", "--seed", "3", "-o", "new.opds"], d);
+    let out = ok(&["merge", "new.opds", "v2.opds", "-o", "m.opds"], d);
+    assert!(out.contains("cannot be rendered with --estimator bidirectional"), "{out}");
+    assert!(out.contains("opticks upgrade m.opds"), "{out}");
+    // Its label is v2.opds's (the input it takes the light table from), which resolves nowhere.
+    assert!(out.contains("give --scene when you use m.opds"), "{out}");
+    fails(&["render", "m.opds", "-o", "m.exr"], d);
+    ok(&["render", "m.opds", "-o", "m.exr", "--scene", s], d);
+    let out = ok(&["merge", "new.opds", "up.opds", "-o", "both.opds"], d);
+    assert!(!out.contains("warning"), "{out}");
+    ok(&["render", "both.opds", "-o", "b.exr", "--estimator", "bidirectional", "--size", "32x32"], d);
+}
