@@ -58,7 +58,8 @@ enum Command {
     Info(commands::info::Args),
     /// Measure tracing and rendering speed on a scene (in memory, nothing written).
     Bench(commands::bench::Args),
-    /// Measure irradiance (W/m², lux) on a grid over a scene surface into CSV and a heat map.
+    /// Measure irradiance (W/m², lux) with standard errors: on a scene surface, on a plane anywhere
+    /// (a grid of cells, CSV and a heat map) or at points read from a file (CSV).
     Measure(commands::measure::Args),
     /// Give a dataset without MIS records its records, by re-tracing its passes bit for bit.
     Upgrade(commands::upgrade::Args),

@@ -213,7 +213,7 @@ pub fn run(a: Args) -> Result<()> {
     for (p, v) in film.pixels.iter_mut().zip(&reading.value) {
         *p = [v[0], v[1], v[2]];
     }
-    super::warn_if_black(&film, data.samples(), &format!("meter's front ({side})"));
+    super::warn_if_black(&film, data.samples(), &format!("meter's front ({side})"), data.flux_per_path());
 
     let csv = opticks_io::meter_table::csv(&layout, &reading);
     let lux: Vec<f64> = reading.value.iter().map(|v| v[3]).collect();

@@ -211,9 +211,18 @@ pub fn warn_light_estimator_blind_spots(scene: &opticks_core::scene::Scene, sens
     }
 }
 
-/// Warns when an image or a measurement received nothing at all (`what` names the sensor).
-pub fn warn_if_black(film: &Film, samples: u64, what: &str) {
-    if film.pixels.iter().all(|p| p.iter().all(|&v| v == 0.0)) {
+/// Warns when an image or a measurement received nothing at all (`what` names the sensor):
+/// because `--light` switched every light off (`flux_per_path` all zero), or else because of
+/// where the sensor is.
+pub fn warn_if_black(film: &Film, samples: u64, what: &str, flux_per_path: &[opticks_core::math::Rgb]) {
+    if !film.pixels.iter().all(|p| p.iter().all(|&v| v == 0.0)) {
+        return;
+    }
+    if flux_per_path.iter().all(|f| *f == opticks_core::math::Rgb::ZERO) {
+        crate::output::warning(&format!(
+            "the {what} received nothing: --light switched every light of the dataset off"
+        ));
+    } else {
         crate::output::warning(&format!(
             "0 of {samples} samples reached the {what}: the image is black (is it inside a wall, facing \
              away from the light, or the lit side of a one-sided surface seen from behind?)"

@@ -51,6 +51,17 @@ pub fn run(a: Args) -> Result<()> {
         Some(spec) => format!("the scene given with --scene ({spec})"),
         None => "the dataset's scene".to_string(),
     })?;
+    output::detail(&format!(
+        "dataset {}: {} samples of {} paths; {} triangles, {}; view {}x{}, estimator {:?}",
+        data.reader().path().display(),
+        data.samples(),
+        data.reader().header().table.total_paths(),
+        scene.triangles.len(),
+        output::count(scene.lights.len() as u64, "light"),
+        camera.width(),
+        camera.height(),
+        a.estimator.estimator
+    ));
     a.estimator.check()?;
     if a.time.is_some() && a.estimator.estimator != Estimator::Bidirectional {
         bail!("--time applies to --estimator bidirectional (the light estimator renders the dataset once)");
@@ -61,7 +72,7 @@ pub fn run(a: Args) -> Result<()> {
         super::single_process_only("render --estimator bidirectional")?;
         let run = a.estimator.render(&data, &camera, a.time, 0, true)?;
         let secs = t0.elapsed().as_secs_f64();
-        warn_if_black(&run.film, data.samples(), "camera");
+        warn_if_black(&run.film, data.samples(), "camera", data.flux_per_path());
         write_film(&run.film, &a.output, exposure)?;
         if run.interrupted {
             // Exit 128 + signal, as every interrupted verb, with the image of the passes done.
@@ -93,7 +104,7 @@ pub fn run(a: Args) -> Result<()> {
         return Ok(()); // a worker rank of a cluster job: its part went to the master
     };
     let secs = t0.elapsed().as_secs_f64();
-    warn_if_black(&film, data.samples(), "camera");
+    warn_if_black(&film, data.samples(), "camera", data.flux_per_path());
     write_film(&film, &a.output, exposure)?;
     output::result(&format!(
         "rendered {} samples at {}x{} in {:.2} s → {}",

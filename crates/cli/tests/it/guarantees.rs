@@ -333,6 +333,11 @@ fn nothing_to_trace_or_see_is_said() {
     assert!(out.contains("warning: 0 of") && out.contains("reached the camera"), "{out}");
     let out = ok(&["render", "c.opds", "-o", "box.exr", "--size", "8x8"], d);
     assert!(!out.contains("warning"), "{out}");
+    // Issue 26: every light switched off is said as such, not blamed on walls; -v says more.
+    let out = ok(&["render", "c.opds", "-o", "off.exr", "--size", "8x8", "--light", "light=0"], d);
+    assert!(out.contains("--light switched every light") && !out.contains("inside a wall"), "{out}");
+    let out = ok(&["render", "c.opds", "-o", "v.exr", "--size", "8x8", "-v"], d);
+    assert!(out.contains("5000 paths") && out.contains("36 triangles"), "{out}");
 }
 
 /// Item 9: options that were silently ignored or combined are errors.

@@ -289,7 +289,8 @@ impl Converter {
                 self.warn_once(
                     n,
                     "env",
-                    "not supported (Opticks has no environment or participating media): ignored",
+                    "not supported (a VRML Background or Fog is not read: give environments in Mitsuba XML, \
+                     and Opticks has no participating media): ignored",
                 );
                 Ok(())
             }
