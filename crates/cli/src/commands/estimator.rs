@@ -9,6 +9,7 @@ use anyhow::{Result, anyhow, bail};
 use clap::ValueEnum;
 use opticks_core::dataset::MisUnavailable;
 use opticks_core::sensor::Sensor;
+use opticks_core::sensor::bidirectional::MAX_CONNECTIONS;
 use opticks_core::sensor::bidirectional::run::{Run, RunEvent, RunPlan};
 use opticks_io::opened::{BidirectionalError, LitDataset};
 use std::time::{Duration, Instant};
@@ -34,8 +35,8 @@ pub struct EstimatorArgs {
     /// Bidirectional: camera paths per pixel.
     #[arg(long, default_value_t = 16)]
     pub spp: u32,
-    /// Bidirectional: dataset vertices each camera vertex connects to (n_c).
-    #[arg(long, default_value_t = 1)]
+    /// Bidirectional: dataset vertices each camera vertex connects to (n_c, at most 1024).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(0..=MAX_CONNECTIONS as i64))]
     pub connections: u32,
     /// Bidirectional: seed of the camera paths' random streams.
     #[arg(long = "camera-seed", default_value_t = 0)]
