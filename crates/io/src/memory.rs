@@ -1,5 +1,6 @@
 //! How much memory the machine can give a new allocation, so that a command can refuse a film
-//! (an image, a meter grid) that cannot fit before it does any work, with a clear error, instead
+//! (an image, a meter grid) or any work held in memory (a benchmark's traced paths) that cannot
+//! fit before it does any work, with a clear error, instead
 //! of being killed or aborting halfway. Linux: `MemAvailable` of `/proc/meminfo`, lowered to a
 //! cgroup v2 limit (`memory.max` − `memory.current`) when the process runs under one.
 
@@ -57,6 +58,29 @@ pub struct FilmTooLarge {
     pub need: u64,
     /// Bytes available.
     pub available: u64,
+}
+
+/// Work that needs more memory than is available.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{what} needs about {} of memory, but {} are available", human_bytes(*need), human_bytes(*available))]
+pub struct NotEnoughMemory {
+    /// What needs it.
+    pub what: String,
+    /// Bytes needed.
+    pub need: u64,
+    /// Bytes available.
+    pub available: u64,
+}
+
+/// Refuses, before any work, `what` needing `need` bytes when fewer are available (unknown
+/// availability refuses nothing).
+pub fn check_fits(what: &str, need: u64) -> Result<(), NotEnoughMemory> {
+    match available_bytes() {
+        Some(available) if need > available => {
+            Err(NotEnoughMemory { what: what.to_string(), need, available })
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Bytes a pixel of an image output needs while it is written (the f32 RGB copy the writers

@@ -53,3 +53,12 @@ fn a_bidirectional_render_of_a_billion_paths_per_pixel_stops_on_sigint() {
     };
     assert_eq!(status.code(), Some(130), "128 + SIGINT");
 }
+
+/// `bench` holds every traced sample in memory: a count the machine cannot hold is refused
+/// before any run, naming the count, the memory it needs and what is available.
+#[test]
+fn bench_refuses_paths_the_memory_cannot_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    let e = fails(&["bench", "--paths", "1e15", "--repeat", "1"], dir.path());
+    assert!(e.contains("--paths 1000000000000000") && e.contains("available"), "{e}");
+}
