@@ -62,3 +62,15 @@ fn bench_refuses_paths_the_memory_cannot_hold() {
     let e = fails(&["bench", "--paths", "1e15", "--repeat", "1"], dir.path());
     assert!(e.contains("--paths 1000000000000000") && e.contains("available"), "{e}");
 }
+
+/// `--threads` is bounded by the cores (100000 threads never finished starting); every verb
+/// shares the bound.
+#[test]
+fn thread_counts_beyond_the_machine_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for verb in [&["trace", "builtin:cornell", "-o", "x.opds"][..], &["bench"], &["demo"]] {
+        let e = fails(&[verb, &["--threads", "100000"]].concat(), dir.path());
+        assert!(e.contains("--threads") && e.contains("at most") && e.contains("cores"), "{e}");
+    }
+    assert!(!dir.path().join("x.opds").exists());
+}
