@@ -43,16 +43,16 @@ pub fn run(a: Args) -> Result<()> {
     check_output(&a.output, OutputKind::Image, &a.input.inputs())?;
     let exposure = exposure_for(&a.output, a.exposure)?;
     a.camera.check()?;
+    a.estimator.check()?;
+    if a.time.is_some() && a.estimator.estimator != Estimator::Bidirectional {
+        bail!("--time applies to --estimator bidirectional (the light estimator renders the dataset once)");
+    }
     let data = a.input.open()?;
     let scene = data.scene();
     let camera = a.camera.resolve(scene.camera).with_context(|| match a.input.scene() {
         Some(spec) => format!("the scene given with --scene ({spec})"),
         None => "the dataset's scene".to_string(),
     })?;
-    a.estimator.check()?;
-    if a.time.is_some() && a.estimator.estimator != Estimator::Bidirectional {
-        bail!("--time applies to --estimator bidirectional (the light estimator renders the dataset once)");
-    }
     let t0 = Instant::now();
     let _graceful = crate::interrupt::graceful();
     if a.estimator.estimator == Estimator::Bidirectional {
@@ -68,7 +68,7 @@ pub fn run(a: Args) -> Result<()> {
             data.samples(),
             run.spp,
             run.passes,
-            a.estimator.connections,
+            a.estimator.connections(),
             camera.width(),
             camera.height(),
             secs,

@@ -74,3 +74,41 @@ fn thread_counts_beyond_the_machine_are_refused() {
     }
     assert!(!dir.path().join("x.opds").exists());
 }
+
+/// An option that would do nothing is refused, not silently accepted: the bidirectional
+/// estimator's options with the light estimator (render and walk), and a focus distance
+/// without a lens.
+#[test]
+fn options_that_would_do_nothing_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    stdout(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "c.opds"], d);
+    for (option, value) in [("--spp", "4"), ("--connections", "2"), ("--camera-seed", "3")] {
+        let e = fails(&["render", "c.opds", "-o", "x.png", option, value], d);
+        assert!(e.contains(option) && e.contains("--estimator bidirectional"), "{e}");
+        let path = opticks_testkit::repo().join("examples/camera-path.json");
+        let e =
+            fails(&["walk", "c.opds", "--path", path.to_str().unwrap(), "-o", "frames", option, value], d);
+        assert!(e.contains(option) && e.contains("--estimator bidirectional"), "{e}");
+    }
+    let e = fails(&["render", "c.opds", "-o", "x.png", "--focus-distance", "3"], d);
+    assert!(e.contains("--focus-distance") && e.contains("--lens-radius"), "{e}");
+    assert_eq!(files(d), ["c.opds"], "nothing written");
+    // What they apply to still takes them.
+    ok(
+        &[
+            "render",
+            "c.opds",
+            "-o",
+            "x.png",
+            "--lens-radius",
+            "0.05",
+            "--focus-distance",
+            "3",
+            "--size",
+            "8x8",
+        ],
+        d,
+    );
+}

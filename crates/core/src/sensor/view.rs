@@ -166,6 +166,11 @@ impl View {
                     CameraKind::Perspective | CameraKind::Orthographic { .. } => (None, None),
                 };
                 let (radius, focus) = (self.lens_radius.or(radius), self.focus_distance.or(focus));
+                if let Some(f) = self.focus_distance.filter(|_| radius.unwrap_or(0.0) == 0.0) {
+                    refuse!(
+                        "--focus-distance {f} does nothing without a lens: give --lens-radius (the camera is a pinhole)"
+                    );
+                }
                 if radius.is_none() && focus.is_none() {
                     return Ok(pinhole.into());
                 }
@@ -236,6 +241,13 @@ mod tests {
         assert!(View { size: Some((64, 32)), ..pano }.check().is_ok());
         assert!(View { lens_radius: Some(-1.0), ..Default::default() }.resolve(Some(desc())).is_err());
         assert!(View { focus_distance: Some(0.0), ..Default::default() }.resolve(Some(desc())).is_err());
+        // A focus distance without a lens would do nothing: refused, not ignored.
+        let focus_alone = View { focus_distance: Some(2.0), ..Default::default() };
+        assert!(
+            matches!(focus_alone.resolve(Some(desc())), Err(ViewError::Options(m)) if m.contains("--lens-radius"))
+        );
+        let no_lens = View { lens_radius: Some(0.0), ..focus_alone };
+        assert!(no_lens.resolve(Some(desc())).is_err());
         let both = View { lens_radius: Some(0.1), ..pano };
         assert!(both.resolve(Some(desc())).is_err());
     }
