@@ -30,9 +30,13 @@ fn cgroup_headroom(root: &Path) -> Option<u64> {
     Some(max.saturating_sub(current))
 }
 
-/// Bytes as people read them: "25.8 GB", "403 MB".
+/// Bytes as people read them: "403 MB", "25.8 GB", "835.5 TB", "208.9 PB", "18.4 EB".
 pub fn human_bytes(bytes: u64) -> String {
+    let x = bytes as f64;
     match bytes {
+        b if b >= 1_000_000_000_000_000_000 => format!("{:.1} EB", x / 1e18),
+        b if b >= 1_000_000_000_000_000 => format!("{:.1} PB", x / 1e15),
+        b if b >= 1_000_000_000_000 => format!("{:.1} TB", x / 1e12),
         b if b >= 1_000_000_000 => format!("{:.1} GB", b as f64 / 1e9),
         b => format!("{:.0} MB", (b as f64 / 1e6).max(1.0)),
     }
@@ -127,6 +131,10 @@ mod tests {
             (human_bytes(25_769_803_776), human_bytes(403_000_000)),
             ("25.8 GB".into(), "403 MB".into())
         );
+        assert_eq!(human_bytes(208_863_281_200_000_000), "208.9 PB", "not 208863281.2 GB");
+        assert_eq!(human_bytes(835_500_000_000), "835.5 GB");
+        assert_eq!(human_bytes(8_355_000_000_000), "8.4 TB");
+        assert_eq!(human_bytes(u64::MAX), "18.4 EB");
         #[cfg(target_os = "linux")]
         assert!(available_bytes().is_some_and(|b| b > 0));
     }

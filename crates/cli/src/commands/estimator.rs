@@ -33,8 +33,8 @@ pub struct EstimatorArgs {
     /// with MIS records, written by this version's `trace`).
     #[arg(long, value_enum, default_value_t = Estimator::Light)]
     pub estimator: Estimator,
-    /// Bidirectional: camera paths per pixel (default 16).
-    #[arg(long)]
+    /// Bidirectional: camera paths per pixel (default 16); e.g. 64, 1k, 1e6.
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_spp)]
     spp: Option<u32>,
     /// Bidirectional: dataset vertices each camera vertex connects to (n_c; default 1, at most
     /// 1024).

@@ -9,7 +9,8 @@ use super::estimator::{Estimator, EstimatorArgs};
 use super::{DatasetArgs, ThreadArgs, render_film, warn_if_black, write_film};
 use crate::camera_args::{CameraArgs, exposure_for};
 use crate::output;
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
+use opticks_core::sensor::view::ViewError;
 use opticks_io::output_paths::{OutputKind, check_output};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -49,9 +50,14 @@ pub fn run(a: Args) -> Result<()> {
     }
     let data = a.input.open()?;
     let scene = data.scene();
-    let camera = a.camera.resolve(scene.camera).with_context(|| match a.input.scene() {
-        Some(spec) => format!("the scene given with --scene ({spec})"),
-        None => "the dataset's scene".to_string(),
+    // An option's own fault is blamed on the option; the rest (an invalid scene camera, or an
+    // option the scene's camera cannot take) on the scene.
+    let camera = a.camera.resolve(scene.camera).map_err(|e| match e {
+        ViewError::Options(_) => anyhow::Error::new(e),
+        e => anyhow::Error::new(e).context(match a.input.scene() {
+            Some(spec) => format!("the scene given with --scene ({spec})"),
+            None => "the dataset's scene".to_string(),
+        }),
     })?;
     let t0 = Instant::now();
     let _graceful = crate::interrupt::graceful();

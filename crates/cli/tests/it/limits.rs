@@ -112,3 +112,30 @@ fn options_that_would_do_nothing_are_refused() {
         d,
     );
 }
+
+/// Messages name the option at fault and read the way counts are written: `--spp` takes
+/// `1e9` like `--paths`, a negative `--paths` is "must be positive" (not clap's `-- -5`), an
+/// invalid `--fov` is the option's fault (not the dataset's scene), `--projection`'s help lists
+/// orthographic, and `--version` says whether the binary was built with mpi.
+#[test]
+fn messages_name_the_option_and_read_well() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // --spp 1e9 is parsed (the missing dataset is what stops it), 1e10 is beyond 32 bits.
+    let bidirectional = ["render", "missing.opds", "-o", "x.png", "--estimator", "bidirectional", "--spp"];
+    let e = fails(&[&bidirectional[..], &["1e9"]].concat(), d);
+    assert!(e.contains("missing.opds") && !e.contains("--spp"), "{e}");
+    let e = fails(&[&bidirectional[..], &["1e10"]].concat(), d);
+    assert!(e.contains("--spp") && e.contains("4294967295"), "{e}");
+    for verb in [&["trace", "builtin:cornell", "-o", "x.opds"][..], &["bench"], &["demo"]] {
+        let e = fails(&[verb, &["--paths", "-5"]].concat(), d);
+        assert!(e.contains("--paths") && e.contains("must be positive") && !e.contains("-- -5"), "{e}");
+    }
+    let e = fails(&["render", "missing.opds", "-o", "x.png", "--fov", "0"], d);
+    assert!(e.contains("--fov 0") && !e.contains("scene") && !e.contains("missing.opds"), "{e}");
+    let help = stdout(&["render", "--help"], d);
+    let projection = help.split("--projection").nth(1).unwrap().split("Possible values").next().unwrap();
+    assert!(projection.contains("orthographic"), "{projection}");
+    let version = stdout(&["--version"], d);
+    assert!(version.contains("mpi"), "{version}");
+}

@@ -70,10 +70,14 @@ macro_rules! refuse {
 }
 
 impl View {
-    /// The option combinations refused before any work: `--fov` and a non-2:1 `--size` with the
+    /// The option values and combinations refused before any work: a field of view out of its
+    /// range (blamed on `--fov`, not on the scene's camera), `--fov` and a non-2:1 `--size` with the
     /// equirect projection (which always covers 360°×180°), the lens options with a projection
     /// other than perspective, `--fov` with orthographic, `--ortho-width` with another.
     pub fn check(&self) -> Result<(), ViewError> {
+        if let Some(fov) = self.fov {
+            super::check_fov(fov).map_err(|e| ViewError::Options(format!("--fov {fov}: {e}")))?;
+        }
         match self.projection {
             Some(p) => self.check_for(p),
             None if self.ortho_width.is_some() => self.check_for(Projection::Orthographic),
