@@ -44,7 +44,8 @@ pub struct CameraArgs {
     /// Image size "WxH" in pixels.
     #[arg(long, value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
-    /// Projection: perspective (default) or equirect (360° panorama around the eye).
+    /// Projection: perspective (default), orthographic (parallel rays; --ortho-width) or
+    /// equirect (360° panorama around the eye).
     #[arg(long, value_enum)]
     pub projection: Option<Projection>,
     /// Thin-lens aperture radius in metres (depth of field; 0 = pinhole).
@@ -122,8 +123,8 @@ impl CameraArgs {
     }
 
     /// The sensor to render with ([`View::resolve`]).
-    pub fn resolve(&self, scene_camera: Option<CameraDesc>) -> Result<Sensor> {
-        Ok(self.view().resolve(scene_camera)?)
+    pub fn resolve(&self, scene_camera: Option<CameraDesc>) -> Result<Sensor, view::ViewError> {
+        self.view().resolve(scene_camera)
     }
 }
 

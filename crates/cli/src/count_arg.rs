@@ -1,13 +1,18 @@
 //! Counts on the command line (`--paths`): `4000000`, `4_000_000`, `4,000,000`, `4M`, `2.5k`,
 //! `1e6`, `1.5e6`. Suffixes k, M, G, T are powers of 1000. The value must be a whole number of
 //! at least 1 that fits 64 bits; it is computed exactly (no floating point), so `1e6` is
-//! 1000000 and `1.0000001e6` is refused as not whole.
+//! 1000000 and `1.0000001e6` is refused as not whole. A negative count is refused as such (the
+//! options take hyphen values so that `-5` reaches this parser instead of clap's advice to write
+//! `-- -5`). [`parse_spp`] reads camera paths per pixel the same way, up to 32 bits.
 
 use anyhow::{Result, bail};
 
 /// Parses a count (see the module documentation).
 pub fn parse_count(s: &str) -> Result<u64> {
     let t: String = s.trim().chars().filter(|c| *c != '_' && *c != ',').collect();
+    if t.starts_with('-') {
+        bail!("'{s}': a count must be positive (at least 1)");
+    }
     let (number, suffix) = match t.char_indices().last() {
         Some((i, c)) if "kKMGT".contains(c) => (
             &t[..i],
@@ -61,9 +66,26 @@ pub fn parse_count(s: &str) -> Result<u64> {
     u64::try_from(value).map_err(|_| too_big())
 }
 
+/// Parses camera paths per pixel (`--spp`): a count as [`parse_count`] reads it, at most
+/// `u32::MAX`.
+pub fn parse_spp(s: &str) -> Result<u32> {
+    let n = parse_count(s)?;
+    u32::try_from(n).map_err(|_| anyhow::anyhow!("'{s}': at most {} camera paths per pixel", u32::MAX))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn negative_counts_and_too_many_paths_per_pixel_are_worded() {
+        let e = parse_count("-5").unwrap_err().to_string();
+        assert!(e.contains("must be positive"), "{e}");
+        assert_eq!(parse_spp("1e9").unwrap(), 1_000_000_000);
+        assert_eq!(parse_spp("16").unwrap(), 16);
+        assert!(parse_spp("1e10").unwrap_err().to_string().contains("4294967295"));
+        assert!(parse_spp("0").is_err());
+    }
 
     #[test]
     fn counts_are_read_the_ways_people_write_them() {

@@ -22,9 +22,16 @@ mod strategy_args;
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
+/// `--version`: the version and whether this binary can run cluster jobs (the `mpi` feature).
+const VERSION: &str = if cfg!(feature = "mpi") {
+    concat!(env!("CARGO_PKG_VERSION"), " (features: mpi — cluster jobs under mpirun)")
+} else {
+    concat!(env!("CARGO_PKG_VERSION"), " (features: none — built without mpi, a single process)")
+};
+
 /// Opticks: physically based light sampling into a camera-independent dataset.
 #[derive(Parser, Debug)]
-#[command(name = "opticks", version, about, long_about = None, propagate_version = true)]
+#[command(name = "opticks", version = VERSION, about, long_about = None, propagate_version = true)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

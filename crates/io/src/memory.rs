@@ -1,5 +1,6 @@
 //! How much memory the machine can give a new allocation, so that a command can refuse a film
-//! (an image, a meter grid) that cannot fit before it does any work, with a clear error, instead
+//! (an image, a meter grid) or any work held in memory (a benchmark's traced paths) that cannot
+//! fit before it does any work, with a clear error, instead
 //! of being killed or aborting halfway. Linux: `MemAvailable` of `/proc/meminfo`, lowered to a
 //! cgroup v2 limit (`memory.max` − `memory.current`) when the process runs under one.
 
@@ -29,9 +30,13 @@ fn cgroup_headroom(root: &Path) -> Option<u64> {
     Some(max.saturating_sub(current))
 }
 
-/// Bytes as people read them: "25.8 GB", "403 MB".
+/// Bytes as people read them: "403 MB", "25.8 GB", "835.5 TB", "208.9 PB", "18.4 EB".
 pub fn human_bytes(bytes: u64) -> String {
+    let x = bytes as f64;
     match bytes {
+        b if b >= 1_000_000_000_000_000_000 => format!("{:.1} EB", x / 1e18),
+        b if b >= 1_000_000_000_000_000 => format!("{:.1} PB", x / 1e15),
+        b if b >= 1_000_000_000_000 => format!("{:.1} TB", x / 1e12),
         b if b >= 1_000_000_000 => format!("{:.1} GB", b as f64 / 1e9),
         b => format!("{:.0} MB", (b as f64 / 1e6).max(1.0)),
     }
@@ -57,6 +62,29 @@ pub struct FilmTooLarge {
     pub need: u64,
     /// Bytes available.
     pub available: u64,
+}
+
+/// Work that needs more memory than is available.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{what} needs about {} of memory, but {} are available", human_bytes(*need), human_bytes(*available))]
+pub struct NotEnoughMemory {
+    /// What needs it.
+    pub what: String,
+    /// Bytes needed.
+    pub need: u64,
+    /// Bytes available.
+    pub available: u64,
+}
+
+/// Refuses, before any work, `what` needing `need` bytes when fewer are available (unknown
+/// availability refuses nothing).
+pub fn check_fits(what: &str, need: u64) -> Result<(), NotEnoughMemory> {
+    match available_bytes() {
+        Some(available) if need > available => {
+            Err(NotEnoughMemory { what: what.to_string(), need, available })
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Bytes a pixel of an image output needs while it is written (the f32 RGB copy the writers
@@ -103,6 +131,10 @@ mod tests {
             (human_bytes(25_769_803_776), human_bytes(403_000_000)),
             ("25.8 GB".into(), "403 MB".into())
         );
+        assert_eq!(human_bytes(208_863_281_200_000_000), "208.9 PB", "not 208863281.2 GB");
+        assert_eq!(human_bytes(835_500_000_000), "835.5 GB");
+        assert_eq!(human_bytes(8_355_000_000_000), "8.4 TB");
+        assert_eq!(human_bytes(u64::MAX), "18.4 EB");
         #[cfg(target_os = "linux")]
         assert!(available_bytes().is_some_and(|b| b > 0));
     }

@@ -388,7 +388,8 @@ impl LitDataset {
                 }
                 let lights =
                     RenderLights::new(self.scene(), &self.light_names(), self.flux_per_path(), &paths);
-                read_connected(self.scene(), &lights, layout, settings, &groups, batch, progress)?
+                read_connected(self.scene(), &lights, layout, settings, &groups, batch, progress, &stop)?
+                    .ok_or(MeasureError::Interrupted)?
             }
         };
         if stop() {

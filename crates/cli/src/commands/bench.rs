@@ -1,6 +1,8 @@
 //! `opticks bench`: tracing and rendering speed on a scene, in memory (no disk in the timing).
 //! Reports light paths/s, stored samples/s and render time; runs each phase `--repeat` times
-//! and reports the best, so a one-off hiccup of the machine does not count.
+//! and reports the best, so a one-off hiccup of the machine does not count. Everything traced is
+//! held in memory, so a `--paths` the machine cannot hold is refused before the runs (its bytes
+//! measured on a pilot trace, `opticks_core::bench::memory_estimate`).
 
 use super::ThreadArgs;
 use crate::camera_args::CameraArgs;
@@ -16,7 +18,7 @@ pub struct Args {
     #[arg(default_value = "builtin:cornell", value_parser = crate::scene_arg::parse_scene)]
     scene: opticks_io::scene_source::SceneRef,
     /// Light paths per run; e.g. 4194304, 4M, 4e6.
-    #[arg(long, value_parser = crate::count_arg::parse_count, default_value_t = 4_194_304)]
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_count, default_value_t = 4_194_304)]
     paths: u64,
     /// Random seed of the traced paths (the same default as `trace`).
     #[arg(long, default_value_t = 0)]
@@ -61,6 +63,13 @@ pub fn run(a: Args) -> Result<()> {
     };
     super::check_film_fits("an image", (camera.width(), camera.height()), 0)?;
     let settings = a.strategy.settings(a.paths, a.seed);
+    // Every traced sample is held in memory: refuse a count the machine cannot hold.
+    let need = opticks_core::bench::memory_estimate(&scene, &settings);
+    opticks_io::memory::check_fits(
+        &format!("--paths {} (its traced samples, held in memory)", a.paths),
+        need,
+    )
+    .map_err(|e| anyhow::anyhow!("{e}: choose fewer --paths"))?;
     let report = opticks_core::bench::bench(&scene, &camera, &settings, a.repeat);
     let (best_trace, best_render, samples, film) =
         (report.trace_seconds, report.render_seconds, report.samples, report.film);

@@ -9,6 +9,7 @@ use anyhow::{Result, anyhow, bail};
 use clap::ValueEnum;
 use opticks_core::dataset::MisUnavailable;
 use opticks_core::sensor::Sensor;
+use opticks_core::sensor::bidirectional::MAX_CONNECTIONS;
 use opticks_core::sensor::bidirectional::run::{Run, RunEvent, RunPlan};
 use opticks_io::opened::{BidirectionalError, LitDataset};
 use std::time::{Duration, Instant};
@@ -24,35 +25,64 @@ pub enum Estimator {
     Bidirectional,
 }
 
-/// The estimator options.
+/// The estimator options. The bidirectional estimator's own options are `Option`s so that one
+/// given with the light estimator, where it would do nothing, is refused rather than ignored.
 #[derive(clap::Args, Debug, Clone)]
 pub struct EstimatorArgs {
     /// The estimator: `light` (the thesis's, the default) or `bidirectional` (needs a dataset
     /// with MIS records, written by this version's `trace`).
     #[arg(long, value_enum, default_value_t = Estimator::Light)]
     pub estimator: Estimator,
-    /// Bidirectional: camera paths per pixel.
-    #[arg(long, default_value_t = 16)]
-    pub spp: u32,
-    /// Bidirectional: dataset vertices each camera vertex connects to (n_c).
-    #[arg(long, default_value_t = 1)]
-    pub connections: u32,
-    /// Bidirectional: seed of the camera paths' random streams.
-    #[arg(long = "camera-seed", default_value_t = 0)]
-    pub seed: u64,
+    /// Bidirectional: camera paths per pixel (default 16); e.g. 64, 1k, 1e6.
+    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_spp)]
+    spp: Option<u32>,
+    /// Bidirectional: dataset vertices each camera vertex connects to (n_c; default 1, at most
+    /// 1024).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=MAX_CONNECTIONS as i64))]
+    connections: Option<u32>,
+    /// Bidirectional: seed of the camera paths' random streams (default 0).
+    #[arg(long = "camera-seed")]
+    seed: Option<u64>,
 }
 
 impl EstimatorArgs {
-    /// Checks the options that do not depend on the dataset.
+    /// Camera paths per pixel.
+    pub fn spp(&self) -> u32 {
+        self.spp.unwrap_or(16)
+    }
+
+    /// n_c.
+    pub fn connections(&self) -> u32 {
+        self.connections.unwrap_or(1)
+    }
+
+    /// Checks the options that do not depend on the dataset: the bidirectional estimator's own
+    /// options are refused with the light estimator, which has no use for them.
     pub fn check(&self) -> Result<()> {
-        if self.estimator == Estimator::Bidirectional && self.spp == 0 {
+        if self.estimator == Estimator::Light {
+            let given: Vec<&str> = [
+                (self.spp.is_some(), "--spp"),
+                (self.connections.is_some(), "--connections"),
+                (self.seed.is_some(), "--camera-seed"),
+            ]
+            .into_iter()
+            .filter_map(|(given, name)| given.then_some(name))
+            .collect();
+            if !given.is_empty() {
+                bail!(
+                    "{} applies to --estimator bidirectional; the light estimator has no camera paths",
+                    given.join(", ")
+                );
+            }
+        }
+        if self.spp == Some(0) {
             bail!("--spp must be at least 1");
         }
         Ok(())
     }
 
     /// Renders `data` through `camera` bidirectionally (`opticks_core::sensor::bidirectional::run`):
-    /// `self.spp` camera paths per pixel in one pass, or, with `time`, passes of that many until
+    /// `self.spp()` camera paths per pixel in one pass, or, with `time`, passes of that many until
     /// `time` seconds have passed since the start. `pass` names the first pass's random streams
     /// (a walkthrough's frame number).
     pub fn render(
@@ -65,7 +95,7 @@ impl EstimatorArgs {
     ) -> Result<Run> {
         let start = Instant::now();
         let deadline = time.map(|t| start + t);
-        let plan = RunPlan { spp: self.spp, deadline, first_pass: pass };
+        let plan = RunPlan { spp: self.spp(), deadline, first_pass: pass };
         let bar = std::sync::Mutex::new(indicatif::ProgressBar::hidden());
         let show = |new: indicatif::ProgressBar| {
             let mut b = bar.lock().unwrap_or_else(|e| e.into_inner());
@@ -93,8 +123,8 @@ impl EstimatorArgs {
         };
         let run = data.render_bidirectional(
             *camera,
-            self.connections,
-            self.seed,
+            self.connections(),
+            self.seed.unwrap_or(0),
             plan,
             event,
             crate::interrupt::requested,

@@ -38,9 +38,26 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// `--threads`, shared by every verb that computes.
 #[derive(clap::Args, Debug)]
 pub struct ThreadArgs {
-    /// Worker threads (0 = all cores).
-    #[arg(long, default_value_t = 0)]
+    /// Worker threads (0 = all cores; at most 4 × the cores).
+    #[arg(long, default_value_t = 0, value_parser = parse_threads)]
     threads: usize,
+}
+
+/// Most worker threads per core `--threads` accepts: more only costs (each thread's stack and
+/// its share of the film batches), and tens of thousands of threads took minutes to start.
+pub const MAX_THREADS_PER_CORE: usize = 4;
+
+/// Parses `--threads`: 0 (all cores) up to [`MAX_THREADS_PER_CORE`] × the cores available.
+fn parse_threads(s: &str) -> Result<usize> {
+    let n: usize = s.trim().parse().map_err(|_| anyhow!("'{s}' is not a thread count (0 = all cores)"))?;
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let max = MAX_THREADS_PER_CORE * cores;
+    if n > max {
+        anyhow::bail!(
+            "at most {max} threads on this machine ({MAX_THREADS_PER_CORE} × its {cores} cores); 0 uses all cores"
+        );
+    }
+    Ok(n)
 }
 
 impl ThreadArgs {

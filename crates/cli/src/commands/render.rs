@@ -9,7 +9,8 @@ use super::estimator::{Estimator, EstimatorArgs};
 use super::{DatasetArgs, ThreadArgs, render_film, warn_if_black, write_film};
 use crate::camera_args::{CameraArgs, exposure_for};
 use crate::output;
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
+use opticks_core::sensor::view::ViewError;
 use opticks_io::output_paths::{OutputKind, check_output};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -43,13 +44,22 @@ pub fn run(a: Args) -> Result<()> {
     check_output(&a.output, OutputKind::Image, &a.input.inputs())?;
     let exposure = exposure_for(&a.output, a.exposure)?;
     a.camera.check()?;
+    a.estimator.check()?;
+    if a.time.is_some() && a.estimator.estimator != Estimator::Bidirectional {
+        bail!("--time applies to --estimator bidirectional (the light estimator renders the dataset once)");
+    }
     let data = a.input.open()?;
     // Again, now that the files the scene names have been read (textures, environment maps).
     check_output(&a.output, OutputKind::Image, &a.input.inputs())?;
     let scene = data.scene();
-    let camera = a.camera.resolve(scene.camera).with_context(|| match a.input.scene() {
-        Some(spec) => format!("the scene given with --scene ({spec})"),
-        None => "the dataset's scene".to_string(),
+    // An option's own fault is blamed on the option; the rest (an invalid scene camera, or an
+    // option the scene's camera cannot take) on the scene.
+    let camera = a.camera.resolve(scene.camera).map_err(|e| match e {
+        ViewError::Options(_) => anyhow::Error::new(e),
+        e => anyhow::Error::new(e).context(match a.input.scene() {
+            Some(spec) => format!("the scene given with --scene ({spec})"),
+            None => "the dataset's scene".to_string(),
+        }),
     })?;
     output::detail(&format!(
         "dataset {}: {} samples of {} paths; {} triangles, {}; view {}x{}, estimator {:?}",
@@ -62,10 +72,6 @@ pub fn run(a: Args) -> Result<()> {
         camera.height(),
         a.estimator.estimator
     ));
-    a.estimator.check()?;
-    if a.time.is_some() && a.estimator.estimator != Estimator::Bidirectional {
-        bail!("--time applies to --estimator bidirectional (the light estimator renders the dataset once)");
-    }
     let t0 = Instant::now();
     let _graceful = crate::interrupt::graceful();
     if a.estimator.estimator == Estimator::Bidirectional {
@@ -90,7 +96,7 @@ pub fn run(a: Args) -> Result<()> {
             data.samples(),
             run.spp,
             run.passes,
-            a.estimator.connections,
+            a.estimator.connections(),
             camera.width(),
             camera.height(),
             secs,

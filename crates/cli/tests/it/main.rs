@@ -14,6 +14,7 @@ mod fingerprints;
 mod guarantees;
 mod hostile_input;
 mod lights;
+mod limits;
 mod meter;
 mod mitsuba_scenes;
 mod reference_scenes;

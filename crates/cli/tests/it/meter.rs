@@ -45,7 +45,9 @@ fn read(scene: &Scene, table: &LightTable, chunks: &[Chunk], layout: &MeterLayou
         &groups,
         |i| batch(table, chunks, i),
         |_| {},
+        || false,
     )
+    .unwrap()
     .unwrap()
 }
 

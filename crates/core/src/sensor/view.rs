@@ -70,10 +70,14 @@ macro_rules! refuse {
 }
 
 impl View {
-    /// The option combinations refused before any work: `--fov` and a non-2:1 `--size` with the
+    /// The option values and combinations refused before any work: a field of view out of its
+    /// range (blamed on `--fov`, not on the scene's camera), `--fov` and a non-2:1 `--size` with the
     /// equirect projection (which always covers 360°×180°), the lens options with a projection
     /// other than perspective, `--fov` with orthographic, `--ortho-width` with another.
     pub fn check(&self) -> Result<(), ViewError> {
+        if let Some(fov) = self.fov {
+            super::check_fov(fov).map_err(|e| ViewError::Options(format!("--fov {fov}: {e}")))?;
+        }
         match self.projection {
             Some(p) => self.check_for(p),
             None if self.ortho_width.is_some() => self.check_for(Projection::Orthographic),
@@ -166,6 +170,11 @@ impl View {
                     CameraKind::Perspective | CameraKind::Orthographic { .. } => (None, None),
                 };
                 let (radius, focus) = (self.lens_radius.or(radius), self.focus_distance.or(focus));
+                if let Some(f) = self.focus_distance.filter(|_| radius.unwrap_or(0.0) == 0.0) {
+                    refuse!(
+                        "--focus-distance {f} does nothing without a lens: give --lens-radius (the camera is a pinhole)"
+                    );
+                }
                 if radius.is_none() && focus.is_none() {
                     return Ok(pinhole.into());
                 }
@@ -236,6 +245,13 @@ mod tests {
         assert!(View { size: Some((64, 32)), ..pano }.check().is_ok());
         assert!(View { lens_radius: Some(-1.0), ..Default::default() }.resolve(Some(desc())).is_err());
         assert!(View { focus_distance: Some(0.0), ..Default::default() }.resolve(Some(desc())).is_err());
+        // A focus distance without a lens would do nothing: refused, not ignored.
+        let focus_alone = View { focus_distance: Some(2.0), ..Default::default() };
+        assert!(
+            matches!(focus_alone.resolve(Some(desc())), Err(ViewError::Options(m)) if m.contains("--lens-radius"))
+        );
+        let no_lens = View { lens_radius: Some(0.0), ..focus_alone };
+        assert!(no_lens.resolve(Some(desc())).is_err());
         let both = View { lens_radius: Some(0.1), ..pano };
         assert!(both.resolve(Some(desc())).is_err());
     }

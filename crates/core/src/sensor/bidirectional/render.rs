@@ -15,6 +15,11 @@
 //! line refuses such datasets for `--estimator bidirectional`, the core's tests use it for the
 //! camera half alone.
 //!
+//! Interruption: `stop` is asked before every band and, inside a band, after every
+//! [`STOP_WORK`] camera paths' worth of work (a path counted with its connections), so an
+//! interrupt is seen after a bounded amount of work whatever `spp` and the image size are;
+//! n_c itself is bounded by [`MAX_CONNECTIONS`].
+//!
 //! Determinism: a camera path draws from its own random stream, named by (seed, pass, pixel),
 //! and adds only to its own pixel; rows of the image are rendered in parallel bands. The splat
 //! pass cuts the chunks into a fixed number of runs and adds their films in run order. So an
@@ -59,6 +64,20 @@ const SET_STREAM: u64 = 0x7365_7473; // "sets"
 /// Most vertices in a band's connection set (52 bytes each: 416 KiB, within a core's L2 beside
 /// the scene's hot data; `docs/performance.md`).
 const SET_MAX: usize = 1 << 13;
+
+/// Work between two questions to `stop` inside a camera pass's band, in camera paths of one
+/// vertex each making one connection (module docs): a few milliseconds of one core.
+pub const STOP_WORK: u64 = 1 << 12;
+
+/// Most cache vertices a camera vertex may connect to (n_c): more than the light-tracing splat
+/// gains anything from at a vertex (each connection costs a shadow ray), and what keeps a single
+/// camera path's work, the unit [`STOP_WORK`] is counted in, bounded.
+pub const MAX_CONNECTIONS: u32 = 1 << 10;
+
+/// Camera paths between two questions to `stop` inside a band, for n_c = `connections`.
+fn stop_interval(connections: u32) -> u64 {
+    (STOP_WORK / (1 + connections as u64)).max(1)
+}
 
 /// Runs the splat pass's chunks are cut into, whatever the thread count.
 const SPLAT_RUNS: usize = 64;
@@ -182,7 +201,8 @@ impl<'a> Renderer<'a> {
     }
 
     /// Pass number `pass` of `spp` camera paths per pixel: per pixel the **sum** of their
-    /// estimates; `progress(pixels)` after each band of rows; `None` if `stop()` said so.
+    /// estimates; `progress(pixels)` after each band of rows; `None` if `stop()` said so (asked
+    /// before each band and after every bounded amount of work within it: module docs).
     pub fn camera_pass(
         &self,
         pass: u64,
@@ -202,6 +222,7 @@ impl<'a> Renderer<'a> {
         let set_size =
             (band as u64 * spp as u64 * self.settings.connections as u64).min(SET_MAX as u64) as usize;
         let init = || ConnectionSet::with_capacity(if connects { set_size } else { 0 });
+        let every = stop_interval(self.settings.connections);
         let stopped = film.pixels.par_chunks_mut(band).enumerate().map_init(init, |set, (b, pixels)| {
             if stop() {
                 return true;
@@ -213,12 +234,20 @@ impl<'a> Renderer<'a> {
                 ctx.set = Some(set);
             }
             let ctx = &ctx;
+            let mut since_stop = 0u64;
             for (k, px) in pixels.iter_mut().enumerate() {
                 let p = b * band + k;
                 let (i, j) = ((p % w as usize) as u32, (p / w as usize) as u32);
                 let mut rng = RandomStream::new(self.settings.seed, &[CAMERA_STREAM, pass, p as u64]);
                 let mut sum = [0.0f64; 3];
                 for _ in 0..spp {
+                    since_stop += 1;
+                    if since_stop == every {
+                        since_stop = 0;
+                        if stop() {
+                            return true;
+                        }
+                    }
                     let l = camera_path(ctx, &self.sensor, i, j, &mut rng);
                     for c in 0..3 {
                         sum[c] += l[c] as f64;
@@ -243,4 +272,46 @@ pub fn combine(splat: &Film, camera_sum: &Film, spp: u64) -> Film {
         }
     }
     image
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::cornell_box;
+    use crate::sensor::Pinhole;
+    use std::sync::atomic::{AtomicU64, Ordering};
+
+    /// A stop asked for once a band has begun ends the pass within the band (after at most
+    /// `stop_interval` camera paths), not after the band's 2^16 paths per pixel: `stop` is
+    /// asked once before the band and once inside it, and the pass returns `None`.
+    #[test]
+    fn a_camera_pass_sees_a_stop_inside_a_band() {
+        let mut desc = cornell_box();
+        let camera = desc.camera.as_mut().unwrap();
+        (camera.width, camera.height) = (2, BAND_ROWS as u32); // one band
+        let scene = Scene::build(&desc).unwrap();
+        let sensor = Sensor::from(Pinhole::new(scene.camera.as_ref().unwrap()).unwrap());
+        let settings = Settings {
+            connections: 1,
+            seed: 0,
+            heuristic: Heuristic::Power,
+            directions: Directions::Importance,
+        };
+        let renderer = Renderer::new(&scene, sensor, Vec::new(), &[], &[], settings, 1);
+        let asked = AtomicU64::new(0);
+        let stop = || asked.fetch_add(1, Ordering::Relaxed) >= 1; // false before the band only
+        assert!(renderer.camera_pass(0, 1 << 16, |_| {}, stop).is_none());
+        assert_eq!(asked.load(Ordering::Relaxed), 2);
+    }
+
+    /// The work between two questions to `stop` is at most STOP_WORK paths' worth, up to the
+    /// largest n_c, and never zero paths.
+    #[test]
+    fn the_stop_interval_bounds_the_work_between_questions() {
+        for n_c in [0, 1, 7, 100, MAX_CONNECTIONS] {
+            let every = stop_interval(n_c);
+            assert!(every >= 1);
+            assert!(every * (1 + n_c as u64) <= STOP_WORK.max(1 + n_c as u64), "{n_c}");
+        }
+    }
 }

@@ -75,7 +75,10 @@ impl Default for ConnectedSettings {
 /// Reads the meter `layout` from `groups.len()` batches (batch i is chunk i of the dataset, of
 /// light and path count `groups[i]`) on all cores: the connected stored samples plus the direct
 /// light of the point and directional `lights` that are on. The value per target is in W/m²
-/// (and lux), with its standard error.
+/// (and lux), with its standard error. `Ok(None)` once `stop` said so: the batches check it
+/// themselves (the caller's `batch`); the direct light asks it every [`DIRECT_STOP_DRAWS`]
+/// points of a target, so `direct_samples` never delays an interrupt.
+#[allow(clippy::too_many_arguments)]
 pub fn read_connected<B: AsBatch, E: Send>(
     scene: &Scene,
     lights: &RenderLights,
@@ -84,13 +87,18 @@ pub fn read_connected<B: AsBatch, E: Send>(
     groups: &[Group],
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
-) -> Result<Reading, E> {
+    stop: impl Fn() -> bool + Sync,
+) -> Result<Option<Reading>, E> {
     let mut reading = tally_groups(layout.len(), groups, batch, progress, |i, samples, flux, scratch| {
         splat_connected(scene, layout, settings, i as u64, samples, flux, scratch)
     })?;
-    reading.add_independent(&direct_light(scene, lights, layout, settings));
-    Ok(reading)
+    let Some(direct) = direct_light(scene, lights, layout, settings, stop) else { return Ok(None) };
+    reading.add_independent(&direct);
+    Ok(Some(reading))
 }
+
+/// Direct-light points drawn between two questions to `stop` (a millisecond or so of one core).
+pub const DIRECT_STOP_DRAWS: u32 = 1 << 10;
 
 /// The connections of one chunk's samples (its light's flux per path `flux`) to the layout.
 fn splat_connected(
@@ -148,12 +156,13 @@ fn direct_light(
     lights: &RenderLights,
     layout: &MeterLayout,
     settings: ConnectedSettings,
-) -> Reading {
+    stop: impl Fn() -> bool + Sync,
+) -> Option<Reading> {
     let delta: Vec<usize> = (0..lights.lights().len())
         .filter(|&i| !matches!(scene.lights[lights.lights()[i].scene_index], Light::Area(_)))
         .collect();
     if delta.is_empty() {
-        return Reading::zero(layout.len());
+        return Some(Reading::zero(layout.len()));
     }
     let environment =
         delta.iter().any(|&i| matches!(scene.lights[lights.lights()[i].scene_index], Light::Environment(_)));
@@ -163,7 +172,10 @@ fn direct_light(
         .map(|t| {
             let mut rng = RandomStream::new(settings.seed, &[DIRECT_STREAM, t as u64]);
             let (mut sum, mut sq) = ([0.0f64; 4], [0.0f64; 4]);
-            for _ in 0..m {
+            for k in 0..m {
+                if k % DIRECT_STOP_DRAWS == 0 && stop() {
+                    return None;
+                }
                 let d = layout.draw_in(t, rng.next_2d());
                 let e = delta.iter().fold(Rgb::ZERO, |e, &i| e + direct_from(scene, lights, i, &d, &mut rng));
                 let e = [e.x as f64, e.y as f64, e.z as f64];
@@ -181,11 +193,11 @@ fn direct_light(
                     se[c] = ((sq[c] - mf * mean[c] * mean[c]).max(0.0) / (mf - 1.0) / mf).sqrt();
                 }
             }
-            (mean, se)
+            Some((mean, se))
         })
-        .collect();
+        .collect::<Option<_>>()?;
     let (value, std_error) = per_target.into_iter().unzip();
-    Reading { value, std_error }
+    Some(Reading { value, std_error })
 }
 
 /// The irradiance at `d` from light `i` of `lights` (a point, directional or environment
@@ -217,10 +229,8 @@ mod tests {
     use crate::sensor::IlluminanceMeter;
     use crate::sensor::meter::MeterPoint;
 
-    /// A black floor at y = 0 and a point light of intensity `i` at height 1: the samples carry
-    /// nothing, so the reading is the direct light alone, I·cos θ/d², exact at points.
-    #[test]
-    fn point_light_direct_term_is_the_inverse_square_law() {
+    /// A black floor at y = 0 and a point light "bulb" of intensity 3 at height 1.
+    fn bulb_over_floor() -> Scene {
         let desc = SceneDescription {
             materials: vec![Material {
                 name: "black".into(),
@@ -246,7 +256,14 @@ mod tests {
             }],
             ..Default::default()
         };
-        let scene = Scene::build(&desc).unwrap();
+        Scene::build(&desc).unwrap()
+    }
+
+    /// A black floor at y = 0 and a point light of intensity `i` at height 1: the samples carry
+    /// nothing, so the reading is the direct light alone, I·cos θ/d², exact at points.
+    #[test]
+    fn point_light_direct_term_is_the_inverse_square_law() {
+        let scene = bulb_over_floor();
         let power = Rgb::splat(3.0 * 4.0 * std::f32::consts::PI);
         let lights = RenderLights::new(&scene, &["bulb"], &[power / 100.0], &[100]);
         let points = MeterLayout::points(vec![
@@ -264,7 +281,9 @@ mod tests {
             &groups,
             |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
             |_| {},
+            || false,
         )
+        .unwrap()
         .unwrap();
         let d2 = 0.5f64 * 0.5 + 0.5 * 0.5;
         let expected = 3.0 * (0.5 / d2.sqrt()) / d2;
@@ -284,7 +303,9 @@ mod tests {
             &groups,
             |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
             |_| {},
+            || false,
         )
+        .unwrap()
         .unwrap();
         // The cell's mean of I·h/d³ (h = 0.5), by a 200 × 200 midpoint rule.
         let k = 200;
@@ -302,5 +323,34 @@ mod tests {
         let (v, se) = (g.value[0][0], g.std_error[0][0]);
         assert!(se > 0.0 && se < 0.01 * v, "{v} ± {se}");
         assert!((v - mean).abs() < 4.0 * se, "{v} ± {se} vs {mean}");
+    }
+
+    /// The direct light asks whether to stop every DIRECT_STOP_DRAWS points of a target, so a
+    /// stop is seen whatever the points per cell are: asked for after the first question, it
+    /// ends the reading with `None` at the second, DIRECT_STOP_DRAWS draws in, not 2^20.
+    #[test]
+    fn the_direct_light_sees_a_stop_within_a_target() {
+        let scene = bulb_over_floor();
+        let power = Rgb::splat(3.0 * 4.0 * std::f32::consts::PI);
+        let lights = RenderLights::new(&scene, &["bulb"], &[power / 100.0], &[100]);
+        let grid = MeterLayout::Grid(
+            IlluminanceMeter::new(Vec3::new(-0.1, 0.5, -0.1), Vec3::Z * 0.2, Vec3::X * 0.2, 1, 1).unwrap(),
+        );
+        let asked = std::sync::atomic::AtomicU64::new(0);
+        let stop = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 1;
+        let settings = ConnectedSettings { direct_samples: 1 << 20, ..Default::default() };
+        let r = read_connected(
+            &scene,
+            &lights,
+            &grid,
+            settings,
+            &[Group { light: 0, paths: 100 }],
+            |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
+            |_| {},
+            stop,
+        )
+        .unwrap();
+        assert!(r.is_none());
+        assert_eq!(asked.into_inner(), 2);
     }
 }

@@ -1,0 +1,141 @@
+//! Bounded work and meaningful arguments (issue 26): every long loop sees an interrupt after a
+//! bounded amount of work whatever the counts asked for, every count that sizes work or memory
+//! has a stated bound, an option that would do nothing is refused, and a refusal names the
+//! option at fault.
+
+use crate::cli_run::*;
+use opticks_testkit::scene_file;
+use std::process::Command;
+
+#[test]
+fn counts_beyond_their_bounds_are_refused_naming_the_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let e = fails(
+        &["render", "x.opds", "-o", "x.png", "--estimator", "bidirectional", "--connections", "5000"],
+        d,
+    );
+    assert!(e.contains("--connections") && e.contains("1024"), "{e}");
+}
+
+/// `render --estimator bidirectional --spp 1000000000` stops on SIGINT: the camera pass asks
+/// whether to stop within its bands, not only between them (a band's work grows with --spp).
+#[cfg(unix)]
+#[test]
+fn a_bidirectional_render_of_a_billion_paths_per_pixel_stops_on_sigint() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    stdout(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "data.opds"], d);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_opticks"))
+        .args(["render", "data.opds", "-o", "x.png", "--estimator", "bidirectional"])
+        .args(["--spp", "1000000000", "--size", "16x16"])
+        .current_dir(d)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let status = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(status.success());
+    // Generous: the interrupt is seen within milliseconds; a render that ignores it runs for days.
+    let mut exited = None;
+    for _ in 0..600 {
+        if let Some(s) = child.try_wait().unwrap() {
+            exited = Some(s);
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    let Some(status) = exited else {
+        child.kill().unwrap();
+        child.wait().unwrap();
+        panic!("the render went on for a minute after SIGINT");
+    };
+    assert_eq!(status.code(), Some(130), "128 + SIGINT");
+}
+
+/// `bench` holds every traced sample in memory: a count the machine cannot hold is refused
+/// before any run, naming the count, the memory it needs and what is available.
+#[test]
+fn bench_refuses_paths_the_memory_cannot_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    let e = fails(&["bench", "--paths", "1e15", "--repeat", "1"], dir.path());
+    assert!(e.contains("--paths 1000000000000000") && e.contains("available"), "{e}");
+}
+
+/// `--threads` is bounded by the cores (100000 threads never finished starting); every verb
+/// shares the bound.
+#[test]
+fn thread_counts_beyond_the_machine_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for verb in [&["trace", "builtin:cornell", "-o", "x.opds"][..], &["bench"], &["demo"]] {
+        let e = fails(&[verb, &["--threads", "100000"]].concat(), dir.path());
+        assert!(e.contains("--threads") && e.contains("at most") && e.contains("cores"), "{e}");
+    }
+    assert!(!dir.path().join("x.opds").exists());
+}
+
+/// An option that would do nothing is refused, not silently accepted: the bidirectional
+/// estimator's options with the light estimator (render and walk), and a focus distance
+/// without a lens.
+#[test]
+fn options_that_would_do_nothing_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    stdout(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "c.opds"], d);
+    for (option, value) in [("--spp", "4"), ("--connections", "2"), ("--camera-seed", "3")] {
+        let e = fails(&["render", "c.opds", "-o", "x.png", option, value], d);
+        assert!(e.contains(option) && e.contains("--estimator bidirectional"), "{e}");
+        let path = opticks_testkit::repo().join("examples/camera-path.json");
+        let e =
+            fails(&["walk", "c.opds", "--path", path.to_str().unwrap(), "-o", "frames", option, value], d);
+        assert!(e.contains(option) && e.contains("--estimator bidirectional"), "{e}");
+    }
+    let e = fails(&["render", "c.opds", "-o", "x.png", "--focus-distance", "3"], d);
+    assert!(e.contains("--focus-distance") && e.contains("--lens-radius"), "{e}");
+    assert_eq!(files(d), ["c.opds"], "nothing written");
+    // What they apply to still takes them.
+    ok(
+        &[
+            "render",
+            "c.opds",
+            "-o",
+            "x.png",
+            "--lens-radius",
+            "0.05",
+            "--focus-distance",
+            "3",
+            "--size",
+            "8x8",
+        ],
+        d,
+    );
+}
+
+/// Messages name the option at fault and read the way counts are written: `--spp` takes
+/// `1e9` like `--paths`, a negative `--paths` is "must be positive" (not clap's `-- -5`), an
+/// invalid `--fov` is the option's fault (not the dataset's scene), `--projection`'s help lists
+/// orthographic, and `--version` says whether the binary was built with mpi.
+#[test]
+fn messages_name_the_option_and_read_well() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // --spp 1e9 is parsed (the missing dataset is what stops it), 1e10 is beyond 32 bits.
+    let bidirectional = ["render", "missing.opds", "-o", "x.png", "--estimator", "bidirectional", "--spp"];
+    let e = fails(&[&bidirectional[..], &["1e9"]].concat(), d);
+    assert!(e.contains("missing.opds") && !e.contains("--spp"), "{e}");
+    let e = fails(&[&bidirectional[..], &["1e10"]].concat(), d);
+    assert!(e.contains("--spp") && e.contains("4294967295"), "{e}");
+    for verb in [&["trace", "builtin:cornell", "-o", "x.opds"][..], &["bench"], &["demo"]] {
+        let e = fails(&[verb, &["--paths", "-5"]].concat(), d);
+        assert!(e.contains("--paths") && e.contains("must be positive") && !e.contains("-- -5"), "{e}");
+    }
+    let e = fails(&["render", "missing.opds", "-o", "x.png", "--fov", "0"], d);
+    assert!(e.contains("--fov 0") && !e.contains("scene") && !e.contains("missing.opds"), "{e}");
+    let help = stdout(&["render", "--help"], d);
+    let projection = help.split("--projection").nth(1).unwrap().split("Possible values").next().unwrap();
+    assert!(projection.contains("orthographic"), "{projection}");
+    let version = stdout(&["--version"], d);
+    assert!(version.contains("mpi"), "{version}");
+}
