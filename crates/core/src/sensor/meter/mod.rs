@@ -32,7 +32,7 @@ mod connect;
 mod layout;
 mod tally;
 
-pub use connect::{ConnectedSettings, read_connected};
+pub use connect::{ConnectedSettings, DIRECT_STOP_DRAWS, read_connected};
 pub use layout::{MeterDraw, MeterLayout, MeterPoint};
 pub use tally::{Group, Reading, lux};
 
