@@ -14,6 +14,11 @@
 //!   so the build does at most `(MAX_DEPTH + 1) · n` triangle visits
 //!   ([`Built::work`] counts them), whatever the input: 30,000 identical triangles used to cost
 //!   obvhs's PLOC builder 38 s (quadratic), here a few milliseconds.
+//! * **Parallel, same tree.** A node of at least [`PARALLEL_FROM`] triangles builds its two
+//!   subtrees on two threads (`rayon::join`), each into an arena of its own that is then
+//!   appended to its parent's. Split decisions depend on a node's triangles alone and the
+//!   4-wide tree is laid out depth first from the binary one, so the result is the tree a
+//!   single thread builds, node for node, whatever the thread count (a test holds it).
 //! * **Validation** ([`validate`]) runs in release builds: every triangle in exactly one leaf,
 //!   every child box inside its parent's and every triangle inside its leaf's box (exact `f32`
 //!   comparisons), no node reached twice, no leaf deeper than the stack.
@@ -27,6 +32,9 @@ const BINS: usize = 16;
 pub(super) const MAX_LEAF: usize = 4;
 /// The deepest a node can be (the root is at depth 0); the traversal stack holds this many.
 pub(super) const MAX_DEPTH: usize = 64;
+/// Nodes with at least this many triangles build their two subtrees in parallel (below it,
+/// a task costs more than it saves).
+pub(super) const PARALLEL_FROM: usize = 4096;
 
 /// A built hierarchy, before its triangles are reordered.
 pub(super) struct Built {
@@ -85,19 +93,36 @@ struct Node2([Child; 2]);
 struct Builder<'a> {
     boxes: &'a [Aabb],
     /// Centroids, as `lo/2 + hi/2` (cannot overflow).
-    centroids: Vec<Vec3>,
+    centroids: &'a [Vec3],
+    /// This builder's arena of binary nodes (a subtree built in parallel has its own).
     nodes: Vec<Node2>,
     depth: usize,
     work: u64,
     max_depth: usize,
+    /// Nodes of at least this many triangles split their work over two threads.
+    parallel_from: usize,
 }
 
 /// Builds the hierarchy over triangles given by their boxes, switching to median splits where
 /// SAH could take a node deeper than `max_depth` (so no node is deeper than
 /// `max(max_depth, ⌈log₂ n⌉)`).
 pub(super) fn build(boxes: &[Aabb], max_depth: usize) -> Built {
-    let centroids = boxes.iter().map(|b| b.lo * 0.5 + b.hi * 0.5).collect();
-    let mut b = Builder { boxes, centroids, nodes: Vec::new(), depth: 0, work: 0, max_depth };
+    build_with(boxes, max_depth, PARALLEL_FROM)
+}
+
+/// [`build`], splitting nodes of at least `parallel_from` triangles over two threads.
+pub(super) fn build_with(boxes: &[Aabb], max_depth: usize, parallel_from: usize) -> Built {
+    use rayon::prelude::*;
+    let centroids: Vec<Vec3> = boxes.par_iter().map(|b| b.lo * 0.5 + b.hi * 0.5).collect();
+    let mut b = Builder {
+        boxes,
+        centroids: &centroids,
+        nodes: Vec::new(),
+        depth: 0,
+        work: 0,
+        max_depth,
+        parallel_from: parallel_from.max(2 * MAX_LEAF),
+    };
     let mut order: Vec<u32> = (0..boxes.len() as u32).collect();
     b.nodes.push(Node2([empty_child(); 2]));
     if order.len() <= MAX_LEAF {
@@ -152,7 +177,7 @@ pub(super) fn ceil_log2(m: usize) -> usize {
     (usize::BITS - (m.max(1) - 1).leading_zeros()) as usize
 }
 
-impl Builder<'_> {
+impl<'a> Builder<'a> {
     fn bounds(&self, prims: &[u32]) -> Aabb {
         prims.iter().fold(Aabb::EMPTY, |acc, &i| acc.union(self.boxes[i as usize]))
     }
@@ -170,10 +195,39 @@ impl Builder<'_> {
         self.depth = self.depth.max(depth);
         self.work += prims.len() as u64;
         let mid = self.split(prims, depth);
+        let parallel = prims.len() >= self.parallel_from;
         let (left, right) = prims.split_at_mut(mid);
-        let a = self.child(left, first, depth + 1);
-        let b = self.child(right, first + mid, depth + 1);
+        let (a, b) = if parallel {
+            let (mut l, mut r) = (self.fork(), self.fork());
+            let (a, b) =
+                rayon::join(|| l.child(left, first, depth + 1), || r.child(right, first + mid, depth + 1));
+            (self.adopt(l, a), self.adopt(r, b))
+        } else {
+            let a = self.child(left, first, depth + 1);
+            (a, self.child(right, first + mid, depth + 1))
+        };
         self.nodes[slot] = Node2([a, b]);
+    }
+
+    /// A builder for a subtree built on another thread: same inputs, an arena of its own.
+    fn fork(&self) -> Builder<'a> {
+        Builder { nodes: Vec::new(), depth: 0, work: 0, ..*self }
+    }
+
+    /// Appends the arena of `sub` (which built `child`) to this one, renumbering its interior
+    /// nodes; returns `child` renumbered.
+    fn adopt(&mut self, sub: Builder<'_>, child: Child) -> Child {
+        let offset = self.nodes.len() as u32;
+        let renumber = |mut c: Child| {
+            if c.count == 0 && c.first != EMPTY {
+                c.first += offset;
+            }
+            c
+        };
+        self.nodes.extend(sub.nodes.into_iter().map(|Node2(kids)| Node2(kids.map(renumber))));
+        self.depth = self.depth.max(sub.depth);
+        self.work += sub.work;
+        renumber(child)
     }
 
     /// The child slot over `prims`: a leaf, or a new interior node at depth `depth`.

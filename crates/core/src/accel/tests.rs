@@ -438,3 +438,24 @@ fn queries_that_outgrow_the_small_stack_answer_as_with_the_full_stack() {
     }
     assert!(overflowed > 500, "only {overflowed} queries outgrew a 2-entry stack: the test shows nothing");
 }
+
+/// A build that splits its nodes over threads makes the tree one thread makes, node for node
+/// (subtrees are built in arenas of their own and appended: only the binary numbering differs,
+/// and the 4-wide tree is laid out depth first from it).
+#[test]
+fn a_parallel_build_is_the_single_threaded_tree() {
+    let mut rng = Rng::new(11);
+    let mut tris: Vec<[Vec3; 3]> = (0..20_000)
+        .map(|_| {
+            let c = rng.point(Vec3::splat(-10.0), Vec3::splat(10.0));
+            rng.triangle(c, 0.2)
+        })
+        .collect();
+    tris.extend(identical_case(&mut rng).tris);
+    let boxes: Vec<build::Aabb> = tris.iter().map(build::Aabb::of).collect();
+    let one = build::build_with(&boxes, MAX_DEPTH, usize::MAX);
+    let many = build::build_with(&boxes, MAX_DEPTH, 16);
+    assert!(one.nodes.len() > 1000);
+    assert_eq!(format!("{:?}", one.nodes), format!("{:?}", many.nodes));
+    assert_eq!((one.order, one.depth, one.work), (many.order, many.depth, many.work));
+}
