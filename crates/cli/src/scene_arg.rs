@@ -34,6 +34,14 @@ pub struct DefineArgs {
 }
 
 impl DefineArgs {
+    /// Refuses `--camera` for `verb`, which writes a dataset: no camera changes one.
+    pub fn refuse_camera(&self, verb: &str) -> Result<()> {
+        if self.camera.is_some() {
+            bail!("--camera chooses a view to render; {verb} writes a dataset, which no camera changes");
+        }
+        Ok(())
+    }
+
     /// The loader's options.
     pub fn options(&self) -> LoadOptions {
         LoadOptions {

@@ -63,6 +63,7 @@ impl ExtendArgs {
         defines: &DefineArgs,
     ) -> Result<Extending> {
         self.threads.apply()?;
+        defines.refuse_camera("a dataset verb")?;
         let output = self.output.clone().unwrap_or_else(|| dataset.to_path_buf());
         let inputs = [dataset];
         let lock = begin_dataset_write(

@@ -77,16 +77,16 @@ pub struct Args {
     /// is cheaper and less noisy. Default: `samples` for --surface, `connections` otherwise.
     #[arg(long, value_enum)]
     estimator: Option<MeterEstimator>,
-    /// Connections: meter points each stored sample is connected to.
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
-    connections: u32,
+    /// Connections: meter points each stored sample is connected to [default: 1].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    connections: Option<u32>,
     /// Connections: points per cell at which the direct light of point and directional lights
-    /// is gathered.
-    #[arg(long, default_value_t = 256, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
-    direct_samples: u32,
-    /// Connections: seed of the meter's random streams.
-    #[arg(long, default_value_t = 0)]
-    seed: u64,
+    /// is gathered [default: 256].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
+    direct_samples: Option<u32>,
+    /// Connections: seed of the meter's random streams [default: 0].
+    #[arg(long)]
+    seed: Option<u64>,
     /// Output CSV file (.csv).
     #[arg(short, long)]
     output: PathBuf,
@@ -129,6 +129,18 @@ pub fn run(a: Args) -> Result<()> {
         Some(_) => MeterEstimator::Samples,
         None => MeterEstimator::Connections,
     });
+    if estimator == MeterEstimator::Samples {
+        let given = [
+            ("--connections", a.connections.is_some()),
+            ("--direct-samples", a.direct_samples.is_some()),
+            ("--seed", a.seed.is_some()),
+        ];
+        if let Some((name, _)) = given.iter().find(|g| g.1) {
+            bail!(
+                "{name} applies to --estimator connections; --estimator samples counts the stored samples as they are"
+            );
+        }
+    }
     if a.points.is_some() {
         if a.cells.is_some() {
             bail!("--cells is for planes; with --points every point is one cell");
@@ -195,9 +207,9 @@ pub fn run(a: Args) -> Result<()> {
     let how = match estimator {
         MeterEstimator::Samples => meter::MeterEstimator::Samples,
         MeterEstimator::Connections => meter::MeterEstimator::Connections(ConnectedSettings {
-            connections: a.connections,
-            direct_samples: a.direct_samples,
-            seed: a.seed,
+            connections: a.connections.unwrap_or(1),
+            direct_samples: a.direct_samples.unwrap_or(256),
+            seed: a.seed.unwrap_or(0),
         }),
     };
     let reading = data.measure(&layout, how, progress, crate::interrupt::requested)?;

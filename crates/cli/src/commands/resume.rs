@@ -56,6 +56,7 @@ pub struct Args {
 /// Resumes the run.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    a.defines.refuse_camera("resume")?;
     let output = a.output.clone().unwrap_or_else(|| finished_path(&a.partial));
     let intent = WriteIntent { inputs: &[], resuming: Some(&a.partial), overwrite: a.overwrite };
     let _lock = begin_dataset_write(&output, intent)?;

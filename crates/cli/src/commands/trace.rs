@@ -52,6 +52,7 @@ pub struct Args {
 /// Runs the trace.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    a.defines.refuse_camera("trace")?;
     let inputs: Vec<&Path> = a.scene.file().into_iter().collect();
     let _lock = begin_dataset_write(
         &a.output,

@@ -54,6 +54,7 @@ pub struct Args {
 /// Runs the upgrade.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
+    a.defines.refuse_camera("upgrade")?;
     let output = a.output.clone().unwrap_or_else(|| a.dataset.clone());
     let inputs = [a.dataset.as_path()];
     let _lock = begin_dataset_write(
