@@ -222,3 +222,24 @@ pub fn dataset(data: &[u8]) {
         assert!(film.pixels.iter().flatten().all(|x| x.is_finite()), "rendered a non-finite pixel");
     }
 }
+
+/// An image file (PNG, JPEG, Radiance HDR, OpenEXR), read as a texture under each extension in
+/// turn (`.png`: sRGB-decoded, the format guessed from the bytes; `.hdr`: linear; `.exr`), as
+/// an in-memory glTF image, and as a reference image (`read_exr_rgb`, which `opticks bench`
+/// calls without a texture's checks). Every image read holds as many texels as its size says.
+pub fn texture(data: &[u8]) {
+    let check = |t: opticks_io::texture_file::TextureImage| {
+        assert_eq!(t.texels.len(), t.width * t.height, "a texture of the wrong size");
+    };
+    for (ext, raw) in [("png", false), ("hdr", false), ("exr", true)] {
+        if let Ok(t) = opticks_io::texture_file::read_texture(&file(&format!("fuzz.{ext}"), data), raw) {
+            check(t);
+        }
+    }
+    if let Ok(t) = opticks_io::texture_file::decode_texture(data, true) {
+        check(t);
+    }
+    if let Ok((w, h, rgb)) = opticks_io::image_file::read_exr_rgb(&scratch().join("fuzz.exr")) {
+        assert_eq!(rgb.len(), w as usize * h as usize * 3, "an EXR image of the wrong size");
+    }
+}

@@ -13,7 +13,7 @@ use std::path::Path;
 /// A fuzz target's entry point.
 type Entry = fn(&[u8]);
 
-const TARGETS: [(&str, Entry); 9] = [
+const TARGETS: [(&str, Entry); 10] = [
     ("mitsuba", entry::mitsuba),
     ("vrml", entry::vrml),
     ("obj_mtl", entry::obj_mtl),
@@ -23,6 +23,7 @@ const TARGETS: [(&str, Entry); 9] = [
     ("dataset", entry::dataset),
     ("ply", entry::ply),
     ("serialized", entry::serialized),
+    ("texture", entry::texture),
 ];
 
 #[test]
@@ -62,6 +63,10 @@ fn the_seed_inputs_run_through_every_entry_point() {
     entry::dataset(&data("datasets/cornell-v2.opds"));
     entry::ply(&data("mitsuba/shapes/meshes/octa.ply"));
     entry::serialized(&data("mitsuba/shapes/meshes/two.serialized"));
+    entry::texture(&data("mitsuba/textures/stripes.png"));
+    entry::texture(&data("mitsuba/envmap/sky.exr"));
+    entry::texture(&data("../fuzz/seeds/texture/tiny.jpg"));
+    entry::texture(&data("../fuzz/seeds/texture/rle.hdr"));
     entry::camera_path(br#"{"fps": 4, "size": [8, 8], "keyframes": [
         {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [1, 0, 3.9], "target": [0, 0, 0]}]}"#);
     entry::remove_scratch();
