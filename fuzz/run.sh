@@ -25,7 +25,7 @@ seconds=${1:-15}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset ply serialized texture)
+    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset ply serialized texture spectrum)
 fi
 
 # seed TARGET FILE...: small files only (libFuzzer mutates better, and faster, from small inputs).
@@ -49,6 +49,7 @@ seed dataset seeds/dataset/*
 seed ply $(find ../testdata ../scenes -name '*.ply')
 seed serialized $(find ../testdata ../scenes -name '*.serialized')
 seed texture seeds/texture/* $(find ../testdata ../scenes -name '*.png' -o -name '*.jpg' -o -name '*.hdr' -o -name '*.exr')
+seed spectrum seeds/spectrum/*
 
 # The instrumentation of `cargo fuzz build -O`: coverage counters and comparison tracing for
 # libFuzzer, debug assertions and overflow checks on. An explicit --target keeps build scripts

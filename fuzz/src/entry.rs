@@ -243,3 +243,29 @@ pub fn texture(data: &[u8]) {
         assert_eq!(rgb.len(), w as usize * h as usize * 3, "an EXR image of the wrong size");
     }
 }
+
+/// A `.spd` spectrum file, named by a Mitsuba scene three times: as an emitter's radiance, a
+/// diffuse reflectance (clamped) and a conductor's `eta` and `k` (unbounded), so each of the
+/// conversions runs on it; whatever loads is built, traced and rendered.
+pub fn spectrum(data: &[u8]) {
+    file("fuzz.spd", data);
+    let spd = |name: &str| format!("<spectrum name=\"{name}\" filename=\"fuzz.spd\"/>");
+    let xml = format!(
+        "<scene version=\"3.0.0\">\
+         <sensor type=\"perspective\"><float name=\"fov\" value=\"60\"/>\
+         <transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform></sensor>\
+         <emitter type=\"constant\">{}</emitter>\
+         <shape type=\"sphere\"><bsdf type=\"diffuse\">{}</bsdf></shape>\
+         <shape type=\"rectangle\"><transform name=\"to_world\"><translate z=\"-2\"/></transform>\
+         <bsdf type=\"conductor\">{}{}</bsdf></shape></scene>",
+        spd("radiance"),
+        spd("reflectance"),
+        spd("eta"),
+        spd("k"),
+    );
+    if let Ok(loaded) =
+        opticks_io::scene_formats::mitsuba::parse(&xml, &scratch().join("spectrum.xml"), &Default::default())
+    {
+        exercise(&loaded);
+    }
+}
