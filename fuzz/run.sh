@@ -25,7 +25,8 @@ seconds=${1:-15}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset ply serialized texture spectrum)
+    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset ply serialized texture spectrum
+        meter_points)
 fi
 
 # seed TARGET FILE...: small files only (libFuzzer mutates better, and faster, from small inputs).
@@ -50,6 +51,7 @@ seed ply $(find ../testdata ../scenes -name '*.ply')
 seed serialized $(find ../testdata ../scenes -name '*.serialized')
 seed texture seeds/texture/* $(find ../testdata ../scenes -name '*.png' -o -name '*.jpg' -o -name '*.hdr' -o -name '*.exr')
 seed spectrum seeds/spectrum/*
+seed meter_points seeds/meter_points/*
 
 # The instrumentation of `cargo fuzz build -O`: coverage counters and comparison tracing for
 # libFuzzer, debug assertions and overflow checks on. An explicit --target keeps build scripts

@@ -269,3 +269,14 @@ pub fn spectrum(data: &[u8]) {
         exercise(&loaded);
     }
 }
+
+/// A meter points file (`opticks measure --points`): what it reads is a valid layout of finite
+/// points with unit normals.
+pub fn meter_points(data: &[u8]) {
+    let Ok(points) = opticks_io::meter_points::read_points(&file("fuzz.csv", data)) else { return };
+    for p in &points {
+        assert!(p.position.is_finite(), "a non-finite point {p:?}");
+        assert!((p.normal.length() - 1.0).abs() < 1e-4, "a normal not of unit length {p:?}");
+    }
+    opticks_core::sensor::meter::MeterLayout::points(points).expect("the points file gave a valid layout");
+}

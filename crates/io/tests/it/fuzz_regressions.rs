@@ -13,7 +13,7 @@ use std::path::Path;
 /// A fuzz target's entry point.
 type Entry = fn(&[u8]);
 
-const TARGETS: [(&str, Entry); 11] = [
+const TARGETS: [(&str, Entry); 12] = [
     ("mitsuba", entry::mitsuba),
     ("vrml", entry::vrml),
     ("obj_mtl", entry::obj_mtl),
@@ -25,6 +25,7 @@ const TARGETS: [(&str, Entry); 11] = [
     ("serialized", entry::serialized),
     ("texture", entry::texture),
     ("spectrum", entry::spectrum),
+    ("meter_points", entry::meter_points),
 ];
 
 #[test]
@@ -69,6 +70,7 @@ fn the_seed_inputs_run_through_every_entry_point() {
     entry::texture(&data("../fuzz/seeds/texture/tiny.jpg"));
     entry::texture(&data("../fuzz/seeds/texture/rle.hdr"));
     entry::spectrum(&data("../fuzz/seeds/spectrum/measured.spd"));
+    entry::meter_points(&data("../fuzz/seeds/meter_points/grid.csv"));
     entry::camera_path(br#"{"fps": 4, "size": [8, 8], "keyframes": [
         {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [1, 0, 3.9], "target": [0, 0, 0]}]}"#);
     entry::remove_scratch();
