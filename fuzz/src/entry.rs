@@ -280,3 +280,24 @@ pub fn meter_points(data: &[u8]) {
     }
     opticks_core::sensor::meter::MeterLayout::points(points).expect("the points file gave a valid layout");
 }
+
+/// A cluster message (`opticks_io::cluster_wire`), given to the decoder of every kind; what
+/// decodes encodes back to the same bytes (each decoder reads all of its message).
+pub fn cluster_wire(data: &[u8]) {
+    use opticks_io::cluster_wire as w;
+    if let Ok(job) = w::decode_job(data) {
+        assert_eq!(w::encode_job(&job), data, "a job that does not encode back");
+    }
+    if let Ok(blocks) = w::decode_blocks(data) {
+        assert_eq!(w::encode_blocks(&blocks), data, "blocks that do not encode back");
+    }
+    if let Ok((host, want)) = w::decode_ready(data) {
+        assert_eq!(w::encode_ready(&host, want), data, "a ready message that does not encode back");
+    }
+    if let Ok(chunks) = w::decode_chunks(data) {
+        assert_eq!(w::encode_chunks(&chunks), data, "chunks that do not encode back");
+    }
+    if let Ok(want) = w::decode_request(data) {
+        assert_eq!(w::encode_request(want), data, "a request that does not encode back");
+    }
+}

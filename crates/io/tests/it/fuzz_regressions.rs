@@ -13,7 +13,7 @@ use std::path::Path;
 /// A fuzz target's entry point.
 type Entry = fn(&[u8]);
 
-const TARGETS: [(&str, Entry); 12] = [
+const TARGETS: [(&str, Entry); 13] = [
     ("mitsuba", entry::mitsuba),
     ("vrml", entry::vrml),
     ("obj_mtl", entry::obj_mtl),
@@ -26,6 +26,7 @@ const TARGETS: [(&str, Entry); 12] = [
     ("texture", entry::texture),
     ("spectrum", entry::spectrum),
     ("meter_points", entry::meter_points),
+    ("cluster_wire", entry::cluster_wire),
 ];
 
 #[test]
@@ -71,6 +72,9 @@ fn the_seed_inputs_run_through_every_entry_point() {
     entry::texture(&data("../fuzz/seeds/texture/rle.hdr"));
     entry::spectrum(&data("../fuzz/seeds/spectrum/measured.spd"));
     entry::meter_points(&data("../fuzz/seeds/meter_points/grid.csv"));
+    for message in ["job", "blocks", "ready", "chunks", "request"] {
+        entry::cluster_wire(&data(&format!("../fuzz/seeds/cluster_wire/{message}.bin")));
+    }
     entry::camera_path(br#"{"fps": 4, "size": [8, 8], "keyframes": [
         {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [1, 0, 3.9], "target": [0, 0, 0]}]}"#);
     entry::remove_scratch();
