@@ -301,3 +301,23 @@ pub fn cluster_wire(data: &[u8]) {
         assert_eq!(w::encode_request(want), data, "a request that does not encode back");
     }
 }
+
+/// A Mitsuba file included by a scene (`<include filename="$inc"/>`, the name a `<default>`),
+/// which also declares the parameters the seeds use (`$spp`, `$floor`) and a `<path>` folder
+/// `parts` holding `box.xml` (a cube), so the included file can include that by its bare name.
+pub fn mitsuba_include(data: &[u8]) {
+    std::fs::create_dir_all(scratch().join("parts")).expect("cannot create the fuzz parts folder");
+    file("parts/box.xml", b"<shape version=\"3.0.0\" type=\"cube\"><bsdf type=\"diffuse\"/></shape>");
+    file("inc.xml", data);
+    let xml = "<scene version=\"3.0.0\">\
+        <default name=\"spp\" value=\"4\"/><default name=\"floor\" value=\"0.5\"/>\
+        <default name=\"inc\" value=\"inc.xml\"/><path value=\"parts\"/>\
+        <sensor type=\"perspective\"><float name=\"fov\" value=\"60\"/>\
+        <transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform></sensor>\
+        <emitter type=\"constant\"/><include filename=\"$inc\"/></scene>";
+    if let Ok(loaded) =
+        opticks_io::scene_formats::mitsuba::parse(xml, &scratch().join("main.xml"), &Default::default())
+    {
+        exercise(&loaded);
+    }
+}
