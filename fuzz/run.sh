@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the fuzz targets, each for SECONDS seconds (default 20), from seeds taken from testdata/,
+# Runs the fuzz targets, each for SECONDS seconds (default 15), from seeds taken from testdata/,
 # scenes/ and fuzz/seeds/ (copied into fuzz/corpus/, which keeps what the fuzzer finds between
 # runs and is not committed). Needs only the nightly toolchain (`rustup toolchain install
 # nightly`): the targets are built here with the coverage instrumentation libFuzzer needs, the
@@ -17,15 +17,16 @@
 # commit the input under testdata/fuzz-regressions/TARGET/ (a stable test replays every file
 # there).
 #
-#   fuzz/run.sh            # every target, 20 s each
+#   fuzz/run.sh            # every target, 15 s each
 #   fuzz/run.sh 600 vrml   # one target, ten minutes
 set -euo pipefail
 cd "$(dirname "$0")"
-seconds=${1:-20}
+seconds=${1:-15}
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset ply serialized)
+    targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset ply serialized texture spectrum
+        meter_points cluster_wire mitsuba_include)
 fi
 
 # seed TARGET FILE...: small files only (libFuzzer mutates better, and faster, from small inputs).
@@ -48,6 +49,11 @@ seed camera_path seeds/camera_path/*
 seed dataset seeds/dataset/*
 seed ply $(find ../testdata ../scenes -name '*.ply')
 seed serialized $(find ../testdata ../scenes -name '*.serialized')
+seed texture seeds/texture/* $(find ../testdata ../scenes -name '*.png' -o -name '*.jpg' -o -name '*.hdr' -o -name '*.exr')
+seed spectrum seeds/spectrum/*
+seed meter_points seeds/meter_points/*
+seed cluster_wire seeds/cluster_wire/*
+seed mitsuba_include seeds/mitsuba_include/* $(find ../testdata ../scenes -name '*.xml')
 
 # The instrumentation of `cargo fuzz build -O`: coverage counters and comparison tracing for
 # libFuzzer, debug assertions and overflow checks on. An explicit --target keeps build scripts

@@ -222,3 +222,102 @@ pub fn dataset(data: &[u8]) {
         assert!(film.pixels.iter().flatten().all(|x| x.is_finite()), "rendered a non-finite pixel");
     }
 }
+
+/// An image file (PNG, JPEG, Radiance HDR, OpenEXR), read as a texture under each extension in
+/// turn (`.png`: sRGB-decoded, the format guessed from the bytes; `.hdr`: linear; `.exr`), as
+/// an in-memory glTF image, and as a reference image (`read_exr_rgb`, which `opticks bench`
+/// calls without a texture's checks). Every image read holds as many texels as its size says.
+pub fn texture(data: &[u8]) {
+    let check = |t: opticks_io::texture_file::TextureImage| {
+        assert_eq!(t.texels.len(), t.width * t.height, "a texture of the wrong size");
+    };
+    for (ext, raw) in [("png", false), ("hdr", false), ("exr", true)] {
+        if let Ok(t) = opticks_io::texture_file::read_texture(&file(&format!("fuzz.{ext}"), data), raw) {
+            check(t);
+        }
+    }
+    if let Ok(t) = opticks_io::texture_file::decode_texture(data, true) {
+        check(t);
+    }
+    if let Ok((w, h, rgb)) = opticks_io::image_file::read_exr_rgb(&scratch().join("fuzz.exr")) {
+        assert_eq!(rgb.len(), w as usize * h as usize * 3, "an EXR image of the wrong size");
+    }
+}
+
+/// A `.spd` spectrum file, named by a Mitsuba scene three times: as an emitter's radiance, a
+/// diffuse reflectance (clamped) and a conductor's `eta` and `k` (unbounded), so each of the
+/// conversions runs on it; whatever loads is built, traced and rendered.
+pub fn spectrum(data: &[u8]) {
+    file("fuzz.spd", data);
+    let spd = |name: &str| format!("<spectrum name=\"{name}\" filename=\"fuzz.spd\"/>");
+    let xml = format!(
+        "<scene version=\"3.0.0\">\
+         <sensor type=\"perspective\"><float name=\"fov\" value=\"60\"/>\
+         <transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform></sensor>\
+         <emitter type=\"constant\">{}</emitter>\
+         <shape type=\"sphere\"><bsdf type=\"diffuse\">{}</bsdf></shape>\
+         <shape type=\"rectangle\"><transform name=\"to_world\"><translate z=\"-2\"/></transform>\
+         <bsdf type=\"conductor\">{}{}</bsdf></shape></scene>",
+        spd("radiance"),
+        spd("reflectance"),
+        spd("eta"),
+        spd("k"),
+    );
+    if let Ok(loaded) =
+        opticks_io::scene_formats::mitsuba::parse(&xml, &scratch().join("spectrum.xml"), &Default::default())
+    {
+        exercise(&loaded);
+    }
+}
+
+/// A meter points file (`opticks measure --points`): what it reads is a valid layout of finite
+/// points with unit normals.
+pub fn meter_points(data: &[u8]) {
+    let Ok(points) = opticks_io::meter_points::read_points(&file("fuzz.csv", data)) else { return };
+    for p in &points {
+        assert!(p.position.is_finite(), "a non-finite point {p:?}");
+        assert!((p.normal.length() - 1.0).abs() < 1e-4, "a normal not of unit length {p:?}");
+    }
+    opticks_core::sensor::meter::MeterLayout::points(points).expect("the points file gave a valid layout");
+}
+
+/// A cluster message (`opticks_io::cluster_wire`), given to the decoder of every kind; what
+/// decodes encodes back to the same bytes (each decoder reads all of its message).
+pub fn cluster_wire(data: &[u8]) {
+    use opticks_io::cluster_wire as w;
+    if let Ok(job) = w::decode_job(data) {
+        assert_eq!(w::encode_job(&job), data, "a job that does not encode back");
+    }
+    if let Ok(blocks) = w::decode_blocks(data) {
+        assert_eq!(w::encode_blocks(&blocks), data, "blocks that do not encode back");
+    }
+    if let Ok((host, want)) = w::decode_ready(data) {
+        assert_eq!(w::encode_ready(&host, want), data, "a ready message that does not encode back");
+    }
+    if let Ok(chunks) = w::decode_chunks(data) {
+        assert_eq!(w::encode_chunks(&chunks), data, "chunks that do not encode back");
+    }
+    if let Ok(want) = w::decode_request(data) {
+        assert_eq!(w::encode_request(want), data, "a request that does not encode back");
+    }
+}
+
+/// A Mitsuba file included by a scene (`<include filename="$inc"/>`, the name a `<default>`),
+/// which also declares the parameters the seeds use (`$spp`, `$floor`) and a `<path>` folder
+/// `parts` holding `box.xml` (a cube), so the included file can include that by its bare name.
+pub fn mitsuba_include(data: &[u8]) {
+    std::fs::create_dir_all(scratch().join("parts")).expect("cannot create the fuzz parts folder");
+    file("parts/box.xml", b"<shape version=\"3.0.0\" type=\"cube\"><bsdf type=\"diffuse\"/></shape>");
+    file("inc.xml", data);
+    let xml = "<scene version=\"3.0.0\">\
+        <default name=\"spp\" value=\"4\"/><default name=\"floor\" value=\"0.5\"/>\
+        <default name=\"inc\" value=\"inc.xml\"/><path value=\"parts\"/>\
+        <sensor type=\"perspective\"><float name=\"fov\" value=\"60\"/>\
+        <transform name=\"to_world\"><lookat origin=\"0,0,4\" target=\"0,0,0\" up=\"0,1,0\"/></transform></sensor>\
+        <emitter type=\"constant\"/><include filename=\"$inc\"/></scene>";
+    if let Ok(loaded) =
+        opticks_io::scene_formats::mitsuba::parse(xml, &scratch().join("main.xml"), &Default::default())
+    {
+        exercise(&loaded);
+    }
+}

@@ -22,6 +22,10 @@ use exr::prelude::{
     WritableImage,
 };
 
+/// The most samples (pixels × channels, over all its layers) [`read_exr_rgb`] reads from a file:
+/// an RGBA image of [`MAX_TEXELS`](crate::texture_file::MAX_TEXELS) pixels (1 GiB as `f32`).
+pub const MAX_EXR_SAMPLES: u64 = 4 * crate::texture_file::MAX_TEXELS;
+
 /// Extensions [`write_image`] understands (lower case, without the dot).
 pub const SUPPORTED_EXTENSIONS: &[&str] = &["exr", "png"];
 
@@ -191,8 +195,34 @@ fn output_format(path: &Path) -> Result<Format, ImageError> {
 /// extra channels are dropped. Half, float and uint samples and every compression the `exr`
 /// crate supports (incl. the ZIP float32 files Mitsuba writes) are read; for a multi-layer file
 /// the first layer with usable channels is taken, at its largest resolution level.
+///
+/// The sizes in the header are checked before any pixel is read (the `exr` crate allocates
+/// every channel of every layer at the size its header gives): a layer of more than
+/// [`MAX_TEXELS`](crate::texture_file::MAX_TEXELS) pixels, or more than [`MAX_EXR_SAMPLES`]
+/// samples in all, is an error, so a small file claiming a huge image allocates nothing.
 pub fn read_exr_rgb(path: &Path) -> Result<(u32, u32, Vec<f32>), ImageError> {
     use exr::prelude::{ReadChannels, ReadLayers};
+    let content_err = |message: String| ImageError::Content { path: path.to_path_buf(), message };
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::BufReader::new(open_input(path)?), false)
+        .map_err(|source| exr_error(path, source))?;
+    let mut samples = 0u64;
+    for header in &meta.headers {
+        let (w, h) = (header.layer_size.width() as u64, header.layer_size.height() as u64);
+        let pixels = w.saturating_mul(h);
+        if pixels > crate::texture_file::MAX_TEXELS {
+            return Err(content_err(format!(
+                "EXR layer of {w} x {h} pixels: more than the {} an image read may have",
+                crate::texture_file::MAX_TEXELS
+            )));
+        }
+        samples = samples.saturating_add(pixels.saturating_mul(header.channels.list.len() as u64));
+        if samples > MAX_EXR_SAMPLES {
+            return Err(content_err(format!(
+                "EXR layers of more than {MAX_EXR_SAMPLES} samples (pixels x channels) in all: \
+                 more than an image read may hold"
+            )));
+        }
+    }
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -202,7 +232,6 @@ pub fn read_exr_rgb(path: &Path) -> Result<(u32, u32, Vec<f32>), ImageError> {
         .from_buffered(std::io::BufReader::new(open_input(path)?))
         .map_err(|source| exr_error(path, source))?;
 
-    let content_err = |message: String| ImageError::Content { path: path.to_path_buf(), message };
     for layer in &image.layer_data {
         let channels = &layer.channel_data.list;
         let find = |name: &str| {

@@ -13,7 +13,7 @@ use std::path::Path;
 /// A fuzz target's entry point.
 type Entry = fn(&[u8]);
 
-const TARGETS: [(&str, Entry); 9] = [
+const TARGETS: [(&str, Entry); 14] = [
     ("mitsuba", entry::mitsuba),
     ("vrml", entry::vrml),
     ("obj_mtl", entry::obj_mtl),
@@ -23,6 +23,11 @@ const TARGETS: [(&str, Entry); 9] = [
     ("dataset", entry::dataset),
     ("ply", entry::ply),
     ("serialized", entry::serialized),
+    ("texture", entry::texture),
+    ("spectrum", entry::spectrum),
+    ("meter_points", entry::meter_points),
+    ("cluster_wire", entry::cluster_wire),
+    ("mitsuba_include", entry::mitsuba_include),
 ];
 
 #[test]
@@ -62,6 +67,17 @@ fn the_seed_inputs_run_through_every_entry_point() {
     entry::dataset(&data("datasets/cornell-v2.opds"));
     entry::ply(&data("mitsuba/shapes/meshes/octa.ply"));
     entry::serialized(&data("mitsuba/shapes/meshes/two.serialized"));
+    entry::texture(&data("mitsuba/textures/stripes.png"));
+    entry::texture(&data("mitsuba/envmap/sky.exr"));
+    entry::texture(&data("../fuzz/seeds/texture/tiny.jpg"));
+    entry::texture(&data("../fuzz/seeds/texture/rle.hdr"));
+    entry::spectrum(&data("../fuzz/seeds/spectrum/measured.spd"));
+    entry::meter_points(&data("../fuzz/seeds/meter_points/grid.csv"));
+    for message in ["job", "blocks", "ready", "chunks", "request"] {
+        entry::cluster_wire(&data(&format!("../fuzz/seeds/cluster_wire/{message}.bin")));
+    }
+    entry::mitsuba_include(&data("mitsuba/shapes/parts/bsdfs.xml"));
+    entry::mitsuba_include(&data("../fuzz/seeds/mitsuba_include/nested.xml"));
     entry::camera_path(br#"{"fps": 4, "size": [8, 8], "keyframes": [
         {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [1, 0, 3.9], "target": [0, 0, 0]}]}"#);
     entry::remove_scratch();

@@ -23,7 +23,15 @@ impl MeterPoint {
         if !position.is_finite() || !normal.is_finite() || !(len > 1e-12) {
             return Err(MeterError::BadPoint);
         }
-        Ok(MeterPoint { position, normal: normal / len })
+        let normal = if len.is_finite() {
+            normal / len
+        } else {
+            // The length of a huge normal (≥ ~1.8e19) overflows to infinity, and dividing by
+            // that gave a zero normal: divided by its largest component first.
+            let n = normal / normal.abs().max_element();
+            n / n.length()
+        };
+        Ok(MeterPoint { position, normal })
     }
 }
 
@@ -148,5 +156,7 @@ mod tests {
         assert_eq!(MeterLayout::points(vec![]), Err(MeterError::PointCount(0)));
         assert_eq!(MeterPoint::new(Vec3::X, Vec3::ZERO), Err(MeterError::BadPoint));
         assert_eq!(MeterPoint::new(Vec3::splat(f32::NAN), Vec3::Y), Err(MeterError::BadPoint));
+        let huge = MeterPoint::new(Vec3::X, Vec3::new(4e23, 0.7, 0.0)).unwrap();
+        assert!(huge.normal.abs_diff_eq(Vec3::X, 1e-6), "a normal whose length overflows f32: {huge:?}");
     }
 }

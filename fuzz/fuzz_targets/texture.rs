@@ -1,0 +1,4 @@
+//! Fuzz target `texture`: [`opticks_fuzz::texture`] on every input (see `fuzz/src/entry.rs`).
+#![no_main]
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| opticks_fuzz::texture(data));
