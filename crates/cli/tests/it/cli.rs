@@ -460,6 +460,8 @@ fn a_gltf_scene_and_camera_are_chosen_by_name() {
     let e =
         fails(&["render", "night.opds", "-o", "c.exr", "--gltf-scene", "Night", "--camera", "Overview"], d);
     assert!(e.contains("no camera of that name") && e.contains("\"Detail.night\""), "{e}");
-    let e = fails(&["trace", "builtin:cornell", "--paths", "10", "-o", "x.opds", "--camera", "a"], d);
+    let e = fails(&["bench", "builtin:cornell", "--paths", "10", "--repeat", "1", "--camera", "a"], d);
     assert!(e.contains("one camera and one scene"), "{e}");
+    let e = fails(&["trace", gltf, "--paths", "10", "-o", "x.opds", "--camera", "Overview"], d);
+    assert!(e.contains("--camera chooses a view"), "{e}");
 }
