@@ -90,6 +90,45 @@ pub(crate) fn patient_receive<T: mpi::datatype::Equivalence>(
     }
 }
 
+/// Receives the message a matched probe found, giving up after `timeout`: a sender that dies in
+/// the middle of a large message (sent in pieces) would otherwise hold a blocking receive for
+/// ever, and the master with it. Given up, the receive stays posted to MPI with a buffer of its
+/// own that is leaked (MPI may still write into it): the price of a dead worker's last message.
+///
+/// The one `unsafe` of this crate: a `'static` receive buffer is needed to keep a receive that
+/// may never complete (an `mpi::request::scope` panics on one), and reading it back after the
+/// receive has completed takes the raw pointer it was leaked from.
+#[allow(unsafe_code)]
+pub(crate) fn receive_within(
+    (message, status): (mpi::point_to_point::Message, mpi::point_to_point::Status),
+    timeout: std::time::Duration,
+) -> Option<(Vec<u8>, mpi::point_to_point::Status)> {
+    use mpi::datatype::Equivalence;
+    let count = usize::try_from(status.count(u8::equivalent_datatype())).unwrap_or(0);
+    let raw: *mut [u8] = Box::into_raw(vec![0u8; count].into_boxed_slice());
+    // SAFETY: `raw` comes from a live Box that nothing else references; the `'static` borrow
+    // is handed to the request and used by MPI alone until the request completes.
+    let buffer: &'static mut [u8] = unsafe { &mut *raw };
+    let mut request = message.immediate_matched_receive_into(mpi::request::StaticScope, buffer);
+    let deadline = std::time::Instant::now() + timeout;
+    loop {
+        match request.test() {
+            Ok(status) => {
+                // SAFETY: the request has completed (and is consumed), so MPI no longer
+                // writes the buffer and no borrow of it is left: the Box is ours again.
+                let bytes = unsafe { Box::from_raw(raw) };
+                return Some((bytes.into_vec(), status));
+            }
+            Err(pending) if std::time::Instant::now() > deadline => {
+                std::mem::forget(pending); // still posted: dropping it would panic
+                return None;
+            }
+            Err(pending) => request = pending,
+        }
+        std::thread::sleep(PATIENCE);
+    }
+}
+
 /// Sends `bytes` to `to`, sleeping while the receiver has not taken them yet (a large message
 /// waits for its receiver), for the reason of [`patient_receive`].
 pub(crate) fn patient_send<T: mpi::datatype::Equivalence>(

@@ -17,7 +17,7 @@
 //! with `--enable-recovery` (docs/cluster.md).
 
 use crate::Hooks;
-use crate::session::{Served, patient_receive, patient_send, world};
+use crate::session::{Served, patient_receive, patient_send, receive_within, world};
 use mpi::point_to_point::{Destination, MatchedReceiveVec, Source};
 use mpi::topology::Communicator;
 use opticks_core::dataset::{Block, Chunk, PassDispatch, PassPlan, TraceSettings};
@@ -119,7 +119,17 @@ impl PassTracer for ClusterTracer {
             while let Some(probed) = world.any_process().immediate_matched_probe() {
                 quiet = false;
                 let busy = Instant::now();
-                let (bytes, status) = probed.matched_receive_vec::<u8>();
+                let from = probed.1.source_rank();
+                let Some((bytes, status)) = receive_within(probed, base_timeout.max(slowest * 10)) else {
+                    // Its sender died mid-message: lost, like a worker that sends nothing.
+                    workers.insert(from, Worker::Out);
+                    (self.hooks.warning)(&format!(
+                        "worker rank {from}{}: a message stopped arriving: its blocks go to others",
+                        hosts.get(&from).map_or(String::new(), |h| format!(" ({h})"))
+                    ));
+                    d.reclaim(|t| t.0 == from);
+                    continue;
+                };
                 stats.bytes += bytes.len() as u64;
                 stats.messages += 1;
                 let rank = status.source_rank();
