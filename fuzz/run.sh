@@ -68,10 +68,16 @@ fi
 echo "== building the fuzz targets (nightly, $triple)"
 bins=()
 for t in "${targets[@]}"; do bins+=(--bin "$t"); done
-RUSTFLAGS="$flags" cargo +nightly build --release --target "$triple" "${bins[@]}"
+# The binaries go to fuzz/target whatever CARGO_TARGET_DIR says (the loop below runs them from
+# there; a binary that is missing is an error, never a silent pass).
+RUSTFLAGS="$flags" cargo +nightly build --release --target-dir target --target "$triple" "${bins[@]}"
 
 for t in "${targets[@]}"; do
     echo "== fuzzing $t for ${seconds} s"
+    if [ ! -x "target/$triple/release/$t" ]; then
+        echo "fuzz target $t was not built: target/$triple/release/$t is missing" >&2
+        exit 1
+    fi
     mkdir -p "artifacts/$t"
     # -rss_limit_mb: a reader must never need more for a small input; -timeout: nor hang.
     "target/$triple/release/$t" "corpus/$t" -artifact_prefix="artifacts/$t/" \
