@@ -542,11 +542,7 @@ pub fn preflight(
 pub fn free_space(output: &Path) -> Option<u64> {
     #[cfg(unix)]
     {
-        let dir = match output.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        let s = nix::sys::statvfs::statvfs(dir).ok()?;
+        let s = nix::sys::statvfs::statvfs(crate::output_paths::folder_of(output)).ok()?;
         Some((s.blocks_available() as u64).saturating_mul(s.fragment_size() as u64))
     }
     #[cfg(not(unix))]

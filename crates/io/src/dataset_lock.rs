@@ -223,11 +223,7 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
 
 /// The canonical directory of `p` joined with its file name (for files that do not exist yet).
 fn absolute_parent(p: &Path) -> Option<PathBuf> {
-    let dir = match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
+    Some(std::fs::canonicalize(crate::output_paths::folder_of(p)).ok()?.join(p.file_name()?))
 }
 
 /// Removes `dir/.NAME.tmp-*` (the temporary files of `DatasetWriter` for `dir/NAME`); to be
@@ -235,11 +231,8 @@ fn absolute_parent(p: &Path) -> Option<PathBuf> {
 fn remove_stale_temporaries(target: &Path) -> Result<Vec<(PathBuf, u64)>, WriteRefused> {
     let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let prefix = format!(".{name}.tmp-");
-    let dir = match target.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    let Ok(entries) = std::fs::read_dir(&dir) else { return Ok(Vec::new()) };
+    let dir = crate::output_paths::folder_of(target);
+    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(Vec::new()) };
     let mut removed = Vec::new();
     for entry in entries.flatten() {
         if !entry.file_name().to_string_lossy().starts_with(&prefix) {

@@ -15,7 +15,6 @@
 use std::fs::{self, File};
 use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use exr::prelude::{
     Blocks, Encoding, FlatSamples, Image, Layer, LayerAttributes, LineOrder, SpecificChannels, Vec2,
@@ -412,11 +411,7 @@ fn remove_stale_temporaries(path: &Path) -> Vec<(PathBuf, u64)> {
     let proc_fs = Path::new("/proc/self").exists();
     let (Some(name), true) = (path.file_name(), proc_fs) else { return Vec::new() };
     let prefix = format!(".{}.tmp-", name.to_string_lossy());
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let Ok(entries) = fs::read_dir(dir) else { return Vec::new() };
+    let Ok(entries) = fs::read_dir(crate::output_paths::folder_of(path)) else { return Vec::new() };
     let mut removed = Vec::new();
     for entry in entries.flatten() {
         let file_name = entry.file_name().to_string_lossy().into_owned();
@@ -440,29 +435,8 @@ fn write_temporary(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> Result<(), ImageError>,
 ) -> Result<PathBuf, ImageError> {
-    static COUNTER: AtomicU64 = AtomicU64::new(0);
     let io_err = |p: &Path, source| ImageError::Io { path: p.to_path_buf(), source };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let name = path.file_name().ok_or_else(|| {
-        io_err(path, std::io::Error::new(std::io::ErrorKind::InvalidInput, "path has no file name"))
-    })?;
-
-    // Find a fresh name (create_new never clobbers another writer's temporary file).
-    let (tmp, file) = loop {
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let mut tmp_name = std::ffi::OsString::from(".");
-        tmp_name.push(name);
-        tmp_name.push(format!(".tmp-{}-{n}", std::process::id()));
-        let tmp = dir.join(tmp_name);
-        match File::options().write(true).create_new(true).open(&tmp) {
-            Ok(f) => break (tmp, f),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-            Err(e) => return Err(io_err(path, e)),
-        }
-    };
+    let (tmp, file) = crate::output_paths::create_temporary(path).map_err(|e| io_err(path, e))?;
 
     let result = (|| {
         let mut writer = BufWriter::new(file);

@@ -3,9 +3,9 @@
 //! * Its extension fits what is written there ([`OutputKind`]): a dataset only to `.opds`, an
 //!   image to `.exr` or `.png`, a table to `.csv`, a VRML scene to `.wrl` — so that a slip of
 //!   the keyboard (`-o scene.xml`, `--png data.opds`) cannot turn one kind of file into another.
-//! * Its directory exists and a file can be created in it (a probe file is created and removed:
-//!   a read-only folder is refused before the work, not after it), and the path is not a
-//!   directory.
+//! * Its directory exists and a file can be created in it (the write's temporary file,
+//!   [`create_temporary`], is created and removed: a read-only folder is refused before the
+//!   work, not after it), and the path is not a directory.
 //! * It is none of the command's inputs (scene file, dataset, camera path, reference image),
 //!   however spelled (links included), nor any file the run has read so far through
 //!   [`crate::input_file`] — the textures, environment maps, meshes, includes, IES and spectrum
@@ -138,17 +138,13 @@ pub fn check_outputs_in_place(
         if path.is_dir() {
             return Err(OutputError::IsDirectory { path: path.to_owned() });
         }
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
+        let dir = folder_of(path);
         if !dir.is_dir() {
             return Err(OutputError::NoDirectory { path: path.to_owned(), dir: dir.to_owned() });
         }
-        probe_writable(dir).map_err(|source| OutputError::NotWritable {
-            path: path.to_owned(),
-            dir: dir.to_owned(),
-            source,
+        // The temporary file the write will create there, created and removed.
+        create_temporary(path).and_then(|(probe, _)| std::fs::remove_file(probe)).map_err(|source| {
+            OutputError::NotWritable { path: path.to_owned(), dir: dir.to_owned(), source }
         })?;
         if inputs.iter().any(|input| same_file(input, path)) {
             return Err(OutputError::IsInput { path: path.to_owned() });
@@ -163,15 +159,32 @@ pub fn check_outputs_in_place(
     Ok(())
 }
 
-/// Creates and removes a hidden file in `dir`: what an atomic write will do there.
-fn probe_writable(dir: &Path) -> std::io::Result<()> {
+/// The folder `path` is in (`.` for a bare file name).
+pub fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
+/// Creates a fresh hidden temporary file `.NAME.tmp-PID-N` beside `path` = `dir/NAME`, where
+/// an atomic write puts its bytes before renaming them onto `path` (images, tables, datasets).
+/// `create_new` never takes another writer's file; the name is what the next writer recognises
+/// a killed run's leftover by.
+pub fn create_temporary(path: &Path) -> std::io::Result<(PathBuf, std::fs::File)> {
     use std::sync::atomic::{AtomicU64, Ordering};
-    static N: AtomicU64 = AtomicU64::new(0);
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let name = path
+        .file_name()
+        .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::InvalidInput, "the path has no file name"))?;
     loop {
-        let n = N.fetch_add(1, Ordering::Relaxed);
-        let probe = dir.join(format!(".opticks-probe-{}-{n}", std::process::id()));
-        match std::fs::File::options().write(true).create_new(true).open(&probe) {
-            Ok(_) => return std::fs::remove_file(&probe),
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let mut tmp_name = std::ffi::OsString::from(".");
+        tmp_name.push(name);
+        tmp_name.push(format!(".tmp-{}-{n}", std::process::id()));
+        let tmp = folder_of(path).join(tmp_name);
+        match std::fs::File::options().write(true).create_new(true).open(&tmp) {
+            Ok(file) => return Ok((tmp, file)),
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
             Err(e) => return Err(e),
         }
@@ -257,7 +270,7 @@ mod tests {
             assert!(matches!(e, OutputError::NotWritable { .. }), "{e}");
             assert!(e.to_string().contains("cannot create a file in /sys"), "{e}");
         }
-        assert!(files_in(d).iter().all(|f| !f.contains("probe")), "the probe is removed");
+        assert!(files_in(d).iter().all(|f| !f.contains(".tmp-")), "the probe is removed");
         check_input_file(&data, "a dataset").unwrap();
     }
 }

@@ -30,6 +30,7 @@
 //!
 //! The camera is not recorded: any camera renders a dataset.
 
+use crate::output_paths::folder_of;
 use crate::scene_formats::LoadOptions;
 use std::path::{Component, Path, PathBuf};
 
@@ -100,14 +101,6 @@ pub fn parse(label: &str) -> RecordedScene {
     }
 }
 
-/// The directory a dataset lives in (`.` for a bare file name).
-fn dir_of(dataset: &Path) -> &Path {
-    match dataset.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    }
-}
-
 /// The label recording scene `spec` (a file path or a built-in name) for a dataset written to
 /// `dataset`: its path relative to the dataset's directory and its absolute path. A file that
 /// cannot be made absolute (it does not exist) is recorded as given.
@@ -123,7 +116,7 @@ pub fn label_for(spec: &str, dataset: &Path) -> String {
 
 fn record(scene: &Path, dataset: &Path) -> Option<String> {
     let absolute = std::fs::canonicalize(scene).ok()?;
-    let dir = std::fs::canonicalize(dir_of(dataset)).ok()?;
+    let dir = std::fs::canonicalize(folder_of(dataset)).ok()?;
     let relative = relative_path(&absolute, &dir)?;
     let (r, a) = (relative.to_str()?, absolute.to_str()?);
     if r.contains('\n') || a.contains('\n') {
@@ -153,10 +146,10 @@ fn relative_path(path: &Path, base: &Path) -> Option<PathBuf> {
 pub fn candidates(label: &str, dataset: &Path) -> Vec<PathBuf> {
     match parse(label) {
         RecordedScene::Builtin(name) => vec![PathBuf::from(name)],
-        RecordedScene::File { relative, absolute } => vec![dir_of(dataset).join(relative), absolute],
+        RecordedScene::File { relative, absolute } => vec![folder_of(dataset).join(relative), absolute],
         RecordedScene::Legacy(path) => {
             let p = PathBuf::from(&path);
-            if p.is_absolute() { vec![p] } else { vec![p.clone(), dir_of(dataset).join(p)] }
+            if p.is_absolute() { vec![p] } else { vec![p.clone(), folder_of(dataset).join(p)] }
         }
     }
 }
@@ -196,7 +189,7 @@ pub fn describe(label: &str, dataset: &Path) -> Vec<String> {
     match parse(label) {
         RecordedScene::Builtin(name) => vec![format!("{name} (built in)")],
         RecordedScene::File { relative, absolute } => {
-            let from_here = dir_of(dataset).join(&relative);
+            let from_here = folder_of(dataset).join(&relative);
             vec![
                 format!("{} (relative to the dataset){}", relative.display(), mark(&from_here)),
                 format!("{} (absolute){}", absolute.display(), mark(&absolute)),

@@ -5,10 +5,9 @@ use super::format::{
     ChunkHeader, Trailer, encode_header, encode_record_block, validate_records, validate_samples,
 };
 use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, MAX_PATHS, TraceInfo};
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// What [`DatasetWriter::finish`] wrote.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -73,8 +72,6 @@ struct Written {
     light_paths: Vec<u64>,
 }
 
-static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
 /// Buffer size of the writer: large enough that the system call cost vanishes.
 const BUFFER: usize = 1 << 20;
 
@@ -90,21 +87,14 @@ impl DatasetWriter {
         }
         check_table(&header.table).map_err(invalid)?;
         let bytes = encode_header(header).map_err(invalid)?;
-        let name = path
-            .file_name()
-            .ok_or_else(|| invalid("the path has no file name".into()))?
-            .to_string_lossy()
-            .into_owned();
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
-            _ => PathBuf::from("."),
-        };
-        let n = TMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-        let tmp = dir.join(format!(".{name}.tmp-{}-{n}", std::process::id()));
-        let file =
-            OpenOptions::new().write(true).create_new(true).open(&tmp).map_err(|source| {
-                DatasetError::Io { path: tmp.clone(), op: "create temporary file", source }
-            })?;
+        if path.file_name().is_none() {
+            return Err(invalid("the path has no file name".into()));
+        }
+        let (tmp, file) = crate::output_paths::create_temporary(path).map_err(|source| DatasetError::Io {
+            path: path.to_owned(),
+            op: "create temporary file",
+            source,
+        })?;
         let empty = Written { light_paths: vec![0; header.table.lights.len()], ..Default::default() };
         let mut w = DatasetWriter {
             path: path.to_owned(),
