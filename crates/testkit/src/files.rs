@@ -1,12 +1,24 @@
-//! Helpers shared by the scene-format integration tests: the test data folder, loading files
-//! written into a temporary folder, comparing two built scenes triangle by triangle, and a tiny
-//! generator for mangling inputs.
+//! Helpers shared by the scene-format integration tests: the test data folder, the files of a
+//! kind below a folder, loading files written into a temporary folder, comparing two built
+//! scenes triangle by triangle, and a tiny generator for mangling inputs.
 
 use opticks_core::bsdf::{Bsdf, Material};
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::Scene;
 use opticks_io::{LoadedScene, SceneFileError, load_scene};
 use std::path::{Path, PathBuf};
+
+/// Appends every file below `dir` (its subfolders too) whose extension is `ext` to `out`.
+pub fn files_with_extension(dir: &Path, ext: &str, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files_with_extension(&path, ext, out);
+        } else if path.extension().is_some_and(|e| e == ext) {
+            out.push(path);
+        }
+    }
+}
 
 /// `testdata/REL` at the repository root.
 pub fn testdata(rel: &str) -> PathBuf {

@@ -2,25 +2,15 @@
 //! file opens with `//!` module docs saying what lives there and why, and each crate has one
 //! integration-test binary (`tests/it/`) besides the few that need a process of their own.
 
-use std::path::{Path, PathBuf};
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
-}
+use opticks_testkit::files::files_with_extension;
+use std::path::Path;
 
 #[test]
 fn every_source_file_has_module_docs() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut files = Vec::new();
     for dir in ["crates", "fuzz/src", "fuzz/fuzz_targets"] {
-        rust_files(&root.join(dir), &mut files);
+        files_with_extension(&root.join(dir), "rs", &mut files);
     }
     assert!(files.len() > 20, "found only {} files", files.len());
     let missing: Vec<_> = files
@@ -75,7 +65,7 @@ fn dataset_and_trace_never_import_from_sensor() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/src");
     let mut files = Vec::new();
     for dir in ["dataset", "trace"] {
-        rust_files(&src.join(dir), &mut files);
+        files_with_extension(&src.join(dir), "rs", &mut files);
     }
     assert!(files.len() > 10, "found only {} files", files.len());
     let offenders: Vec<_> = files

@@ -43,23 +43,22 @@ pub fn resume_plan(header: &DatasetHeader, scene: &Scene) -> Result<PassPlan, Re
         return Err(ResumeError::Complete);
     };
     let scene_lights = scene_lights(&header.table, scene)?;
-    let (lights, done) = traced_plan(pass, &scene_lights);
+    let (lights, done) = traced_plan(pass, |t| scene_lights[t as usize]);
     let first_block = done.ok_or(ResumeError::NotBlockAligned { paths: pass.paths })?;
     Ok(PassPlan { settings: pass.settings(), lights, first_block })
 }
 
-/// The plan of `pass` with its light table indices mapped to the scene lights `scene_lights`
-/// ([`scene_lights`]), and how many of its blocks (in [`super::block_order`]) it traced
+/// The plan of `pass` with its light table indices mapped to scene lights by `scene_light`
+/// (from [`scene_lights`]), and how many of its blocks (in [`super::block_order`]) it traced
 /// (`None` if its paths are no whole number of them).
-pub(super) fn traced_plan(pass: &TracePass, scene_lights: &[usize]) -> (Vec<LightPlan>, Option<usize>) {
+pub(super) fn traced_plan(
+    pass: &TracePass,
+    scene_light: impl Fn(u32) -> usize,
+) -> (Vec<LightPlan>, Option<usize>) {
     let lights: Vec<LightPlan> = pass
         .planned
         .iter()
-        .map(|&(table_index, paths)| LightPlan {
-            scene_light: scene_lights[table_index as usize],
-            table_index,
-            paths,
-        })
+        .map(|&(table_index, paths)| LightPlan { scene_light: scene_light(table_index), table_index, paths })
         .collect();
     let done = blocks_done(&lights, pass.paths);
     (lights, done)
@@ -96,12 +95,9 @@ pub fn end_pass_here(header: &mut DatasetHeader) -> Result<(), EndPassError> {
     let Some(pass) = header.trace.passes.last().filter(|p| !p.is_complete()) else {
         return Err(EndPassError::Complete);
     };
-    let plan: Vec<LightPlan> = pass
-        .planned
-        .iter()
-        .map(|&(table_index, paths)| LightPlan { scene_light: 0, table_index, paths })
-        .collect();
-    let blocks = blocks_done(&plan, pass.paths).ok_or(EndPassError::NotBlockAligned { paths: pass.paths })?;
+    // No scene here: the block order depends on the table indices and counts alone.
+    let (plan, blocks) = traced_plan(pass, |_| 0);
+    let blocks = blocks.ok_or(EndPassError::NotBlockAligned { paths: pass.paths })?;
     let mut traced: Vec<(u32, u64)> = pass.planned.iter().map(|&(t, _)| (t, 0)).collect();
     for b in block_order(&plan).take(blocks) {
         if let Some(entry) = traced.iter_mut().find(|e| e.0 == b.light.table_index) {

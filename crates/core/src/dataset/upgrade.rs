@@ -82,7 +82,7 @@ pub fn upgrade_plan(
         if p.planned.is_empty() && p.paths > 0 {
             return Err(UpgradeError::NoPlan { pass: i, seed: p.seed, stream: p.stream });
         }
-        let (lights, done) = traced_plan(p, &scene_lights);
+        let (lights, done) = traced_plan(p, |t| scene_lights[t as usize]);
         let done = done.ok_or(UpgradeError::NotBlockAligned { pass: i, paths: p.paths })?;
         let settings = TraceSettings { mis: Some(heuristic), ..p.settings() };
         blocks.extend(block_order(&lights).take(done).map(|block| RetraceBlock { pass: i, settings, block }));

@@ -356,16 +356,6 @@ fn bench_a_million_triangles() {
 /// mesh of a Mitsuba `obj` shape: the same corners, bit for bit, in the same winding.
 #[test]
 fn every_obj_in_the_repository_matches_tobj() {
-    fn obj_files(dir: &Path, out: &mut Vec<PathBuf>) {
-        for entry in std::fs::read_dir(dir).unwrap() {
-            let path = entry.unwrap().path();
-            if path.is_dir() {
-                obj_files(&path, out);
-            } else if path.extension().is_some_and(|e| e == "obj") {
-                out.push(path);
-            }
-        }
-    }
     // A triangle as its corners' bits, rotated to start at the smallest (winding kept).
     fn key(c: [Vec3; 3]) -> [[u32; 3]; 3] {
         let b = c.map(|v| v.to_array().map(f32::to_bits));
@@ -374,8 +364,8 @@ fn every_obj_in_the_repository_matches_tobj() {
     }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut files = Vec::new();
-    obj_files(&root.join("testdata"), &mut files);
-    obj_files(&root.join("scenes"), &mut files);
+    opticks_testkit::files::files_with_extension(&root.join("testdata"), "obj", &mut files);
+    opticks_testkit::files::files_with_extension(&root.join("scenes"), "obj", &mut files);
     assert!(files.len() >= 10, "{files:?}");
     for file in files {
         let ours = load_scene(&file).unwrap().description;

@@ -4,18 +4,8 @@
 //! block on a FIFO. This test reads the crate's sources and refuses any other way of opening
 //! a file for reading, outside the few files that open what the program itself owns.
 
-use std::path::{Path, PathBuf};
-
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|e| e == "rs") {
-            out.push(path);
-        }
-    }
-}
+use opticks_testkit::files::files_with_extension;
+use std::path::Path;
 
 #[test]
 fn files_are_opened_for_reading_only_through_input_file() {
@@ -25,7 +15,7 @@ fn files_are_opened_for_reading_only_through_input_file() {
     let own = ["input_file.rs", "memory.rs", "dataset_lock.rs", "dataset_file/writer.rs"];
     let forbidden = ["fs::read(", "fs::read_to_string(", "File::open(", "OpenOptions", "BufReader::new(File"];
     let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    files_with_extension(&src, "rs", &mut files);
     assert!(files.len() > 30, "found only {} files", files.len());
     let mut found = Vec::new();
     for f in &files {
