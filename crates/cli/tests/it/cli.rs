@@ -8,7 +8,6 @@ use common::*;
 use opticks_io::dataset_file::{DatasetReader, read_all};
 use opticks_io::image_file::read_exr_rgb;
 use std::path::Path;
-use std::process::Command;
 
 fn mean(rgb: &[f32]) -> [f64; 3] {
     let mut m = [0.0; 3];
@@ -190,15 +189,9 @@ fn ctrl_c_saves_the_paths_traced_so_far_and_leaves_the_old_dataset() {
     let cornell = cornell.to_str().unwrap();
     stdout(&["trace", cornell, "--paths", "10000", "-o", "data.opds"], d);
     let before = std::fs::read(d.join("data.opds")).unwrap();
-    let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
-        .args(["trace", cornell, "--paths", "2000000000", "-o", "data.opds", "--overwrite"])
-        .current_dir(d)
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = start(&["trace", cornell, "--paths", "2000000000", "-o", "data.opds", "--overwrite"], d);
     std::thread::sleep(std::time::Duration::from_millis(1500));
-    let status = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(status.success());
+    signal(&child, "-INT");
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("interrupted") && err.contains("data.partial.opds"), "{err}");

@@ -6,7 +6,24 @@
 #![allow(dead_code)] // each test binary uses a different subset
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::{Child, Command, Output, Stdio};
+
+/// Starts `opticks ARGS` in `dir` (stderr piped, stdout dropped), for a test that signals it.
+pub fn start(args: &[&str], dir: &Path) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_opticks"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts opticks")
+}
+
+/// Sends `signal` (as `kill` takes it: `-INT`, `-TERM`, `-KILL`) to `child`.
+#[cfg(unix)]
+pub fn signal(child: &Child, signal: &str) {
+    assert!(Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap().success());
+}
 
 /// Runs `opticks ARGS` in `dir` with extra environment variables.
 pub fn opticks_env(args: &[&str], dir: &Path, env: &[(&str, &str)]) -> Output {

@@ -11,7 +11,7 @@ use cli_run::*;
 use common::*;
 use opticks_io::dataset_file::{DatasetReader, read_all};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::Child;
 use std::time::Duration;
 
 /// The Cornell box scene (scene.xml and meshes/) copied into `dir/folder`.
@@ -28,24 +28,13 @@ fn copy_cornell(dir: &Path, folder: &str) -> PathBuf {
 
 /// Starts a long trace (or another long dataset job) and waits until it writes its dataset.
 fn start_long(args: &[&str], dir: &Path, target: &str) -> Child {
-    let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = start(args, dir);
     let prefix = format!(".{target}.tmp-");
     while !files(dir).iter().any(|f| f.starts_with(&prefix)) {
         std::thread::sleep(Duration::from_millis(20));
     }
     std::thread::sleep(Duration::from_millis(300)); // a few batches traced
     child
-}
-
-#[cfg(unix)]
-fn kill(child: &Child, signal: &str) {
-    assert!(Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap().success());
 }
 
 /// Item 1: no output lands on an input, and no output's extension misnames what it holds.
@@ -101,7 +90,7 @@ fn every_stop_signal_saves_the_work_and_cleans_up() {
     for (signals, code) in [(&["-TERM"][..], 143), (&["-HUP"], 129), (&["-INT", "-INT"], 130)] {
         let child = start_long(&["trace", "builtin:cornell", "--paths", "4e9", "-o", "s.opds"], d, "s.opds");
         for s in signals {
-            kill(&child, s);
+            signal(&child, s);
         }
         let out = child.wait_with_output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
@@ -123,7 +112,7 @@ fn a_killed_runs_temporary_file_is_removed_by_the_next_run() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let mut child = start_long(&["trace", "builtin:cornell", "--paths", "4e9", "-o", "k.opds"], d, "k.opds");
-    kill(&child, "-KILL");
+    signal(&child, "-KILL");
     child.wait().unwrap();
     let stale: Vec<String> = files(d).into_iter().filter(|f| f.starts_with(".k.opds.tmp-")).collect();
     assert_eq!(stale.len(), 1, "{:?}", files(d));
@@ -163,7 +152,7 @@ fn writers_take_turns_and_partial_runs_are_never_overwritten() {
     let child = start_long(&["refine", "d.opds", "--paths", "4e9"], d, "d.opds");
     let e = fails(&["refine", "d.opds", "--paths", "4096"], d);
     assert!(e.contains(&format!("d.opds is being written by another process (pid {})", child.id())), "{e}");
-    kill(&child, "-TERM");
+    signal(&child, "-TERM");
     let out = child.wait_with_output().unwrap();
     assert_eq!(out.status.code(), Some(143), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(std::fs::read(d.join("d.opds")).unwrap() == before);
@@ -224,7 +213,7 @@ fn upgrade_obeys_the_output_rules_and_the_write_lock() {
     let mut child = start_long(&["trace", "builtin:cornell", "--paths", "4e9", "-o", "c.opds"], d, "c.opds");
     let e = fails(&["upgrade", "a.opds", "-o", "c.opds"], d);
     assert!(e.contains(&format!("c.opds is being written by another process (pid {})", child.id())), "{e}");
-    kill(&child, "-KILL");
+    signal(&child, "-KILL");
     child.wait().unwrap();
     // In place, and onto another dataset with --overwrite.
     ok(&["upgrade", "a.opds", "-o", "b.opds", "--overwrite"], d);
@@ -595,16 +584,10 @@ fn an_interrupted_bidirectional_render_writes_the_passes_it_completed() {
     ok(&["trace", "builtin:cornell", "--paths", "20000", "-o", "c.opds"], d);
     // The signal must come after the first pass: wait longer each time it came before.
     for wait in [2, 5, 12] {
-        let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
-            .args(["render", "c.opds", "--estimator", "bidirectional", "--time", "120", "--size", "32x24"])
-            .args(["-o", "r.exr"])
-            .current_dir(d)
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
+        let args = ["render", "c.opds", "--estimator", "bidirectional", "--time", "120", "--size", "32x24"];
+        let child = start(&[&args[..], &["-o", "r.exr"]].concat(), d);
         std::thread::sleep(Duration::from_secs(wait));
-        kill(&child, "-INT");
+        signal(&child, "-INT");
         let out = child.wait_with_output().unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(130), "{err}");

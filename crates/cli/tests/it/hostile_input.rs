@@ -11,7 +11,6 @@ use cli_run::*;
 #[allow(unused_imports)]
 use common::*;
 use opticks_io::dataset_file::{DatasetReader, DatasetWriter, read_all};
-use std::process::Command;
 
 /// Issue 10, item 10: `--paths 18446744073709551615` aborted allocating 2·10¹⁷ bytes of block
 /// plan. Now the plan is lazy and a count beyond the documented bound (2^53) is refused before
@@ -30,14 +29,10 @@ fn path_counts_beyond_the_bound_are_refused_before_any_work() {
 #[test]
 fn a_huge_trace_starts_at_once_and_stops_on_ctrl_c() {
     let dir = tempfile::tempdir().unwrap();
-    let child = Command::new(env!("CARGO_BIN_EXE_opticks"))
-        .args(["trace", "builtin:cornell", "--paths", "1000000000000", "-o", "big.opds"])
-        .current_dir(dir.path())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child =
+        start(&["trace", "builtin:cornell", "--paths", "1000000000000", "-o", "big.opds"], dir.path());
     std::thread::sleep(std::time::Duration::from_millis(1500));
-    assert!(Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap().success());
+    signal(&child, "-INT");
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("big.partial.opds"), "{err}");

@@ -5,7 +5,6 @@
 
 use crate::cli_run::*;
 use opticks_testkit::scene_file;
-use std::process::Command;
 
 #[test]
 fn counts_beyond_their_bounds_are_refused_naming_the_bound() {
@@ -27,16 +26,10 @@ fn a_bidirectional_render_of_a_billion_paths_per_pixel_stops_on_sigint() {
     let d = dir.path();
     let cornell = scene_file("cornell", "scene.xml");
     stdout(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "data.opds"], d);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_opticks"))
-        .args(["render", "data.opds", "-o", "x.png", "--estimator", "bidirectional"])
-        .args(["--spp", "1000000000", "--size", "16x16"])
-        .current_dir(d)
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    let render = ["render", "data.opds", "-o", "x.png", "--estimator", "bidirectional"];
+    let mut child = start(&[&render[..], &["--spp", "1000000000", "--size", "16x16"]].concat(), d);
     std::thread::sleep(std::time::Duration::from_millis(1500));
-    let status = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(status.success());
+    signal(&child, "-INT");
     // Generous: the interrupt is seen within milliseconds; a render that ignores it runs for days.
     let mut exited = None;
     for _ in 0..600 {
