@@ -10,7 +10,7 @@ use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{
     AreaEmission, CameraDesc, CameraKind, MeshDesc, PointLightDesc, Scene, SceneDescription,
 };
-use opticks_core::sensor::bidirectional::{CacheChunk, Renderer, Settings, combine};
+use opticks_core::sensor::bidirectional::{Allocation, CacheChunk, Renderer, Settings, combine};
 use opticks_core::sensor::{Pinhole, SampleBatch, Sensor, render};
 use opticks_core::trace::{TraceSettings, trace};
 
@@ -78,6 +78,31 @@ pub fn render_bidirectional(
     connections: u32,
     seed: u64,
 ) -> Film {
+    render_bidirectional_allocated(
+        scene,
+        sensor,
+        table,
+        chunks,
+        records,
+        &Allocation::Uniform(spp),
+        connections,
+        seed,
+    )
+}
+
+/// [`render_bidirectional`] with one camera pass of `allocation`'s camera paths per pixel (the
+/// same everywhere, or pixel by pixel).
+#[allow(clippy::too_many_arguments)]
+pub fn render_bidirectional_allocated(
+    scene: &Scene,
+    sensor: Sensor,
+    table: &LightTable,
+    chunks: &[Chunk],
+    records: bool,
+    allocation: &Allocation,
+    connections: u32,
+    seed: u64,
+) -> Film {
     let views = chunks
         .iter()
         .map(|c| {
@@ -88,11 +113,10 @@ pub fn render_bidirectional(
     let flux: Vec<Rgb> = (0..names.len()).map(|k| table.flux_per_path(k)).collect();
     let settings =
         Settings { connections, seed, heuristic: Heuristic::Power, directions: Directions::Importance };
-    let m = sensor.width() as u64 * sensor.height() as u64 * spp as u64;
-    let r = Renderer::new(scene, sensor, views, &names, &flux, settings, m);
+    let r = Renderer::allocated(scene, sensor, views, &names, &flux, settings, allocation, 1);
     let splat = r.splat_pass(|_| {}, || false).unwrap();
-    let cam = r.camera_pass(0, spp, |_| {}, || false).unwrap();
-    combine(&splat, &cam, spp as u64)
+    let cam = r.camera_pass(0, allocation, |_| {}, || false).unwrap();
+    combine(&splat, &cam, allocation, 1)
 }
 
 /// A Lambertian BSDF of grey albedo.

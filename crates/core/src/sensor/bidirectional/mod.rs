@@ -16,10 +16,12 @@
 //! | `vertex.rs` | what a camera-side vertex (a [`Receiver`]) gathers: NEE and connections |
 //! | `path.rs` | camera subpaths and their emitter hits |
 //! | `splat.rs` | the MIS-weighted light-tracing splat |
+//! | `allocation.rs` | camera paths per pixel: uniform, or allocated pixel by pixel |
 //! | `render.rs` | the [`Renderer`]: passes, counts, determinism |
 //! | `progressive.rs` | camera passes accumulated into one image, with a running error estimate |
 //! | `run.rs` | a whole render: the splat pass, then one camera pass or passes until a deadline, with progress callbacks |
 
+mod allocation;
 mod cache;
 mod camera;
 mod lights;
@@ -31,6 +33,7 @@ pub mod run;
 mod splat;
 mod vertex;
 
+pub use allocation::Allocation;
 pub use cache::{CANDIDATES, CacheChunk, CachedVertex, LightCache, PendingDraw, RecordMismatch};
 pub use camera::{CameraRay, camera_ray, image_pdf};
 pub use lights::{LightPoint, RenderLight, RenderLights};

@@ -6,6 +6,7 @@
 //! luminance), s² the pixels' sample variance over the P passes. It leaves out the splat
 //! pass's noise (one estimate, no spread to measure), so it is a lower bound of the error.
 
+use super::allocation::Allocation;
 use super::render::combine;
 use crate::film::Film;
 use crate::math::{Rgb, luminance};
@@ -19,33 +20,34 @@ pub struct Progressive {
     /// Per pixel: Σ over passes of that mean.
     means: Vec<f64>,
     passes: u64,
-    spp: u64,
+    /// Camera paths per pixel in each pass.
+    allocation: Allocation,
 }
 
 impl Progressive {
-    /// Nothing rendered yet, for a `width`×`height` image.
-    pub fn new(width: u32, height: u32) -> Self {
+    /// Nothing rendered yet, for a `width`×`height` image whose passes each take
+    /// `allocation`'s camera paths per pixel.
+    pub fn new(width: u32, height: u32, allocation: Allocation) -> Self {
         let n = width as usize * height as usize;
         Progressive {
             sum: Film::new(width, height),
             squares: vec![0.0; n],
             means: vec![0.0; n],
             passes: 0,
-            spp: 0,
+            allocation,
         }
     }
 
-    /// Adds a camera pass: per pixel the sum of `spp` camera paths' estimates.
-    pub fn add(&mut self, pass: &Film, spp: u32) {
+    /// Adds a camera pass: per pixel the sum of its allocated camera paths' estimates.
+    pub fn add(&mut self, pass: &Film) {
         self.sum.add(pass);
-        let inv = 1.0 / spp.max(1) as f64;
         for (i, p) in pass.pixels.iter().enumerate() {
+            let inv = 1.0 / self.allocation.at(i).max(1) as f64;
             let l = luminance(Rgb::new(p[0] as f32, p[1] as f32, p[2] as f32)) as f64 * inv;
             self.means[i] += l;
             self.squares[i] += l * l;
         }
         self.passes += 1;
-        self.spp += spp as u64;
     }
 
     /// Camera passes added.
@@ -53,9 +55,11 @@ impl Progressive {
         self.passes
     }
 
-    /// Camera paths per pixel so far.
+    /// Camera paths per pixel so far (their mean over the pixels, rounded, if allocated pixel
+    /// by pixel).
     pub fn spp(&self) -> u64 {
-        self.spp
+        let pixels = self.means.len().max(1) as u64;
+        (self.allocation.total(self.means.len()) * self.passes + pixels / 2) / pixels
     }
 
     /// The relative RMS standard error of the camera passes' mean (module docs); `None` before
@@ -77,7 +81,7 @@ impl Progressive {
 
     /// The image: `splat` plus the camera passes' mean.
     pub fn image(&self, splat: &Film) -> Film {
-        combine(splat, &self.sum, self.spp)
+        combine(splat, &self.sum, &self.allocation, self.passes)
     }
 }
 
@@ -88,13 +92,13 @@ mod tests {
     /// Passes of known spread: the estimate is the standard error of the mean.
     #[test]
     fn the_error_estimate_is_the_standard_error_of_the_passes_mean() {
-        let mut p = Progressive::new(2, 1);
+        let mut p = Progressive::new(2, 1, Allocation::Uniform(2));
         assert_eq!(p.relative_error(), None);
         // Luminance of grey g is g; pixel values per pass (sums over 2 paths): means 1 ± 0.5.
         for v in [1.0, 3.0, 1.0, 3.0] {
             let mut f = Film::new(2, 1);
             f.pixels = vec![[v; 3], [v; 3]];
-            p.add(&f, 2);
+            p.add(&f);
         }
         assert_eq!((p.passes(), p.spp()), (4, 8));
         // Sample variance of (0.5, 1.5, 0.5, 1.5) = 1/3; standard error² = 1/12; mean 1.

@@ -26,6 +26,7 @@
 //! image depends on the seed, never on the thread count.
 
 use super::Counts;
+use super::allocation::Allocation;
 use super::cache::{CacheChunk, ConnectionSet, LightCache};
 use super::lights::RenderLights;
 use super::path::camera_path;
@@ -94,6 +95,9 @@ pub struct Renderer<'a> {
     lights: RenderLights,
     flux_per_path: Vec<Rgb>,
     counts: Counts,
+    /// Per pixel c_LT(p) when the render's camera paths are allocated pixel by pixel
+    /// ([`Allocation`]); `None`: `counts.light_trace` everywhere.
+    pixel_light_trace: Option<Vec<f64>>,
     settings: Settings,
 }
 
@@ -124,7 +128,39 @@ impl<'a> Renderer<'a> {
         } else {
             Counts { conn: 0.0, light_trace: 0.0 }
         };
-        Renderer { scene, sensor, cache, lights, flux_per_path: flux_per_path.to_vec(), counts, settings }
+        Renderer {
+            scene,
+            sensor,
+            cache,
+            lights,
+            flux_per_path: flux_per_path.to_vec(),
+            counts,
+            pixel_light_trace: None,
+            settings,
+        }
+    }
+
+    /// [`Renderer::new`] for a render of `passes` camera passes of `allocation`'s camera paths
+    /// per pixel: with a per-pixel allocation, each pixel's light-tracing count is its own
+    /// (`allocation` module docs).
+    #[allow(clippy::too_many_arguments)]
+    pub fn allocated(
+        scene: &'a Scene,
+        sensor: Sensor,
+        chunks: Vec<CacheChunk<'a>>,
+        names: &[&str],
+        flux_per_path: &[Rgb],
+        settings: Settings,
+        allocation: &Allocation,
+        passes: u64,
+    ) -> Self {
+        let pixels = sensor.width() as usize * sensor.height() as usize;
+        let planned = allocation.total(pixels) * passes.max(1);
+        let mut r = Renderer::new(scene, sensor, chunks, names, flux_per_path, settings, planned);
+        if r.cache.has_records() {
+            r.pixel_light_trace = allocation.light_trace_counts(r.lights.total_paths(), pixels, passes);
+        }
+        r
     }
 
     /// The render's counts (c_conn = n_c·N/|Y|, c_LT = N/M).
@@ -151,6 +187,7 @@ impl<'a> Renderer<'a> {
             set: None,
             flux_per_path: &self.flux_per_path,
             counts: self.counts,
+            pixel_light_trace: self.pixel_light_trace.as_deref(),
             heuristic: self.settings.heuristic,
             directions: self.settings.directions,
             connections: self.settings.connections,
@@ -200,13 +237,13 @@ impl<'a> Renderer<'a> {
         Some(total)
     }
 
-    /// Pass number `pass` of `spp` camera paths per pixel: per pixel the **sum** of their
-    /// estimates; `progress(pixels)` after each band of rows; `None` if `stop()` said so (asked
+    /// Pass number `pass` of `spp` camera paths per pixel (the same everywhere, or per pixel:
+    /// [`Allocation`]): per pixel the **sum** of their estimates; `progress(pixels)` after each band of rows; `None` if `stop()` said so (asked
     /// before each band and after every bounded amount of work within it: module docs).
     pub fn camera_pass(
         &self,
         pass: u64,
-        spp: u32,
+        spp: &Allocation,
         progress: impl Fn(usize) + Sync,
         stop: impl Fn() -> bool + Sync,
     ) -> Option<Film> {
@@ -220,7 +257,7 @@ impl<'a> Renderer<'a> {
         // depend on the thread count.
         let connects = self.counts.conn > 0.0 && self.settings.connections > 0;
         let set_size =
-            (band as u64 * spp as u64 * self.settings.connections as u64).min(SET_MAX as u64) as usize;
+            (band as u64 * spp.max() as u64 * self.settings.connections as u64).min(SET_MAX as u64) as usize;
         let init = || ConnectionSet::with_capacity(if connects { set_size } else { 0 });
         let every = stop_interval(self.settings.connections);
         let stopped = film.pixels.par_chunks_mut(band).enumerate().map_init(init, |set, (b, pixels)| {
@@ -240,7 +277,8 @@ impl<'a> Renderer<'a> {
                 let (i, j) = ((p % w as usize) as u32, (p / w as usize) as u32);
                 let mut rng = RandomStream::new(self.settings.seed, &[CAMERA_STREAM, pass, p as u64]);
                 let mut sum = [0.0f64; 3];
-                for _ in 0..spp {
+                let ctx = &Context { counts: ctx.counts_at(p), ..*ctx };
+                for _ in 0..spp.at(p) {
                     since_stop += 1;
                     if since_stop == every {
                         since_stop = 0;
@@ -262,11 +300,12 @@ impl<'a> Renderer<'a> {
     }
 }
 
-/// The image: the splat film plus the camera films' sum over `spp` camera paths per pixel.
-pub fn combine(splat: &Film, camera_sum: &Film, spp: u64) -> Film {
+/// The image: the splat film plus the camera films' sum over `passes` passes of `spp` camera
+/// paths per pixel.
+pub fn combine(splat: &Film, camera_sum: &Film, spp: &Allocation, passes: u64) -> Film {
     let mut image = splat.clone();
-    let inv = 1.0 / spp.max(1) as f64;
-    for (a, b) in image.pixels.iter_mut().zip(&camera_sum.pixels) {
+    for (p, (a, b)) in image.pixels.iter_mut().zip(&camera_sum.pixels).enumerate() {
+        let inv = 1.0 / (spp.at(p) as u64 * passes).max(1) as f64;
         for c in 0..3 {
             a[c] += b[c] * inv;
         }
@@ -300,7 +339,7 @@ mod tests {
         let renderer = Renderer::new(&scene, sensor, Vec::new(), &[], &[], settings, 1);
         let asked = AtomicU64::new(0);
         let stop = || asked.fetch_add(1, Ordering::Relaxed) >= 1; // false before the band only
-        assert!(renderer.camera_pass(0, 1 << 16, |_| {}, stop).is_none());
+        assert!(renderer.camera_pass(0, &Allocation::Uniform(1 << 16), |_| {}, stop).is_none());
         assert_eq!(asked.load(Ordering::Relaxed), 2);
     }
 

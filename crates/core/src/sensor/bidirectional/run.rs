@@ -9,7 +9,7 @@
 //! per pixel; any constant M is unbiased (`docs/bidirectional.md` §10.2), so the plan only
 //! balances the strategies, and the render stops at the first pass ending past the deadline.
 
-use super::{CacheChunk, Progressive, Renderer, Settings};
+use super::{Allocation, CacheChunk, Progressive, Renderer, Settings};
 use crate::film::Film;
 use crate::math::Rgb;
 use crate::scene::Scene;
@@ -89,7 +89,7 @@ pub fn render(
             let pilot =
                 Renderer::new(scene, camera, chunks.clone(), names, flux_per_path, settings, per_pass);
             let t0 = Instant::now();
-            pilot.camera_pass(u64::MAX, 1, |_| {}, &stop)?;
+            pilot.camera_pass(u64::MAX, &Allocation::Uniform(1), |_| {}, &stop)?;
             let per_spp = t0.elapsed().as_secs_f64().max(1e-6);
             let left = deadline.saturating_duration_since(Instant::now()).as_secs_f64();
             let passes = (left / (per_spp * plan.spp as f64)).floor().max(1.0);
@@ -100,18 +100,19 @@ pub fn render(
     progress(RunEvent::SplatStart(renderer.cache().chunks().iter().map(|c| c.samples.len() as u64).sum()));
     let splat = renderer.splat_pass(|n| progress(RunEvent::Splatted(n)), &stop)?;
     progress(RunEvent::CameraStart(w as u64 * h as u64));
-    let mut acc = Progressive::new(w, h);
+    let spp = Allocation::Uniform(plan.spp);
+    let mut acc = Progressive::new(w, h, spp.clone());
     let mut interrupted = false;
     match plan.deadline {
         None => {
             let film =
-                renderer.camera_pass(plan.first_pass, plan.spp, |n| progress(RunEvent::Pixels(n)), &stop)?;
-            acc.add(&film, plan.spp);
+                renderer.camera_pass(plan.first_pass, &spp, |n| progress(RunEvent::Pixels(n)), &stop)?;
+            acc.add(&film);
         }
         Some(deadline) => {
             let mut pass = plan.first_pass;
             loop {
-                let Some(film) = renderer.camera_pass(pass, plan.spp, |_| {}, &stop) else {
+                let Some(film) = renderer.camera_pass(pass, &spp, |_| {}, &stop) else {
                     // The passes done stand on their own; with none there is no image.
                     if acc.passes() == 0 {
                         return None;
@@ -119,7 +120,7 @@ pub fn render(
                     interrupted = true;
                     break;
                 };
-                acc.add(&film, plan.spp);
+                acc.add(&film);
                 pass += 1;
                 progress(RunEvent::Pass {
                     passes: acc.passes(),

@@ -27,6 +27,7 @@ pub fn splat_chunk(ctx: &Context, sensor: &Sensor, chunk: &CacheChunk<'_>, film:
         else {
             continue;
         };
+        let ctx = &Context { counts: ctx.counts_at(conn.pixel), ..*ctx };
         let w = light_trace_weight(ctx, sensor, chunk.light, s, *record, conn.point);
         film.splat(conn.pixel, flux * s.beta() * f * (cos_x.abs() * conn.weight * w));
     }

@@ -34,14 +34,29 @@ pub struct Context<'a> {
     pub set: Option<&'a ConnectionSet>,
     /// Per table light: Φ'_k/N_k (relit, over the rendered chunks' N_k).
     pub flux_per_path: &'a [Rgb],
-    /// The render's counts.
+    /// The render's counts (in a camera pass: those of the pixel being rendered).
     pub counts: Counts,
+    /// Per pixel c_LT(p), when the render allocates its camera paths pixel by pixel
+    /// (`Allocation::PerPixel`); `None`: `counts` holds everywhere.
+    pub pixel_light_trace: Option<&'a [f64]>,
     /// The dataset's heuristic.
     pub heuristic: Heuristic,
     /// The dataset's direction strategy (the light tracer's densities).
     pub directions: Directions,
     /// n_c, cache vertices drawn per receiver.
     pub connections: u32,
+}
+
+impl Context<'_> {
+    /// The counts of a path that ends in pixel `p` (row-major): the render's, with the pixel's
+    /// own c_LT when camera paths are allocated pixel by pixel.
+    #[inline]
+    pub fn counts_at(&self, p: usize) -> Counts {
+        match self.pixel_light_trace {
+            Some(lt) => Counts { light_trace: lt[p], ..self.counts },
+            None => self.counts,
+        }
+    }
 }
 
 /// A camera-side vertex that gathers light: where it is, how it scatters, and where the
