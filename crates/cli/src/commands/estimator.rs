@@ -25,17 +25,6 @@ pub enum Estimator {
     Bidirectional,
 }
 
-/// How the bidirectional estimator spreads its camera paths over the pixels.
-#[derive(ValueEnum, Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub enum AllocationArg {
-    /// From a short pilot, where they buy the most error: few where the dataset's splats are
-    /// strong, many where they are weak (mirrors, glass, glossy surfaces); `--spp` is the mean.
-    #[default]
-    Adaptive,
-    /// `--spp` in every pixel.
-    Uniform,
-}
-
 /// The estimator options. The bidirectional estimator's own options are `Option`s so that one
 /// given with the light estimator, where it would do nothing, is refused rather than ignored.
 #[derive(clap::Args, Debug, Clone)]
@@ -54,10 +43,6 @@ pub struct EstimatorArgs {
     /// Bidirectional: seed of the camera paths' random streams (default 0).
     #[arg(long = "camera-seed")]
     seed: Option<u64>,
-    /// Bidirectional: how camera paths are spread over the pixels: `adaptive` (default: a
-    /// pilot puts them where they reduce the error most, `--spp` their mean) or `uniform`.
-    #[arg(long, value_enum)]
-    allocation: Option<AllocationArg>,
 }
 
 impl EstimatorArgs {
@@ -79,7 +64,6 @@ impl EstimatorArgs {
                 (self.spp.is_some(), "--spp"),
                 (self.connections.is_some(), "--connections"),
                 (self.seed.is_some(), "--camera-seed"),
-                (self.allocation.is_some(), "--allocation"),
             ]
             .into_iter()
             .filter_map(|(given, name)| given.then_some(name))
@@ -111,8 +95,7 @@ impl EstimatorArgs {
     ) -> Result<Run> {
         let start = Instant::now();
         let deadline = time.map(|t| start + t);
-        let adaptive = self.allocation.unwrap_or_default() == AllocationArg::Adaptive;
-        let plan = RunPlan { spp: self.spp(), deadline, first_pass: pass, adaptive };
+        let plan = RunPlan { spp: self.spp(), deadline, first_pass: pass };
         let bar = std::sync::Mutex::new(indicatif::ProgressBar::hidden());
         let show = |new: indicatif::ProgressBar| {
             let mut b = bar.lock().unwrap_or_else(|e| e.into_inner());

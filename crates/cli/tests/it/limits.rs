@@ -77,9 +77,7 @@ fn options_that_would_do_nothing_are_refused() {
     let d = dir.path();
     let cornell = scene_file("cornell", "scene.xml");
     stdout(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "c.opds"], d);
-    for (option, value) in
-        [("--spp", "4"), ("--connections", "2"), ("--camera-seed", "3"), ("--allocation", "uniform")]
-    {
+    for (option, value) in [("--spp", "4"), ("--connections", "2"), ("--camera-seed", "3")] {
         let e = fails(&["render", "c.opds", "-o", "x.png", option, value], d);
         assert!(e.contains(option) && e.contains("--estimator bidirectional"), "{e}");
         let path = opticks_testkit::repo().join("examples/camera-path.json");
@@ -180,7 +178,6 @@ fn every_option_of_every_verb_is_accounted_for() {
                 "spp",
                 "connections",
                 "camera-seed",
-                "allocation",
                 "time",
             ],
         ), // cli, limits, guarantees
@@ -214,7 +211,6 @@ fn every_option_of_every_verb_is_accounted_for() {
                 "spp",
                 "connections",
                 "camera-seed",
-                "allocation",
             ],
         ), // dataset_product, limits
         ("info", &["json"]),                 // cli

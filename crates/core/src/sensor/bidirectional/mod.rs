@@ -17,7 +17,6 @@
 //! | `path.rs` | camera subpaths and their emitter hits |
 //! | `splat.rs` | the MIS-weighted light-tracing splat |
 //! | `allocation.rs` | camera paths per pixel: uniform, or allocated pixel by pixel |
-//! | `pilot.rs` | the pilot that allocates camera paths where they buy the most error |
 //! | `render.rs` | the [`Renderer`]: passes, counts, determinism |
 //! | `progressive.rs` | camera passes accumulated into one image, with a running error estimate |
 //! | `run.rs` | a whole render: the splat pass, then one camera pass or passes until a deadline, with progress callbacks |
@@ -28,7 +27,6 @@ mod camera;
 mod lights;
 pub mod mis;
 mod path;
-mod pilot;
 mod progressive;
 mod render;
 pub mod run;
@@ -44,7 +42,6 @@ pub use mis::{
     weight_light_trace, weight_nee,
 };
 pub use path::{camera_path, scatter_mis};
-pub use pilot::PilotMeasure;
 pub use progressive::Progressive;
 pub use render::{MAX_CONNECTIONS, Renderer, STOP_WORK, Settings, combine};
 pub use splat::{light_trace_weight, splat_chunk};

@@ -168,11 +168,6 @@ impl<'a> Renderer<'a> {
         self.counts
     }
 
-    /// The sensor.
-    pub fn sensor(&self) -> &Sensor {
-        &self.sensor
-    }
-
     /// The light vertex cache.
     pub fn cache(&self) -> &LightCache<'a> {
         &self.cache
@@ -252,21 +247,9 @@ impl<'a> Renderer<'a> {
         progress: impl Fn(usize) + Sync,
         stop: impl Fn() -> bool + Sync,
     ) -> Option<Film> {
-        self.camera_pass_in(&self.context(), pass, spp, progress, stop)
-    }
-
-    /// [`Renderer::camera_pass`] with the counts of `ctx` (the pilot's own: `pilot` module).
-    pub(super) fn camera_pass_in(
-        &self,
-        ctx: &Context<'_>,
-        pass: u64,
-        spp: &Allocation,
-        progress: impl Fn(usize) + Sync,
-        stop: impl Fn() -> bool + Sync,
-    ) -> Option<Film> {
         let (w, h) = (self.sensor.width(), self.sensor.height());
         let mut film = Film::new(w, h);
-        let ctx = *ctx;
+        let ctx = self.context();
         let band = w as usize * BAND_ROWS;
         // Each band connects through its own set of cache vertices, as many as its camera paths
         // make connections from their first vertex (each is then reused about once per further

@@ -8,10 +8,8 @@
 //! light-tracing strategy need before the first pass) is planned from a pilot pass of one path
 //! per pixel; any constant M is unbiased (`docs/bidirectional.md` §10.2), so the plan only
 //! balances the strategies, and the render stops at the first pass ending past the deadline.
-//! With an adaptive allocation that pilot is [`PilotMeasure`]'s, which also decides how many of
-//! each pass's camera paths every pixel gets; the pilot's paths are never part of the image.
 
-use super::{Allocation, CacheChunk, PilotMeasure, Progressive, Renderer, Settings};
+use super::{Allocation, CacheChunk, Progressive, Renderer, Settings};
 use crate::film::Film;
 use crate::math::Rgb;
 use crate::scene::Scene;
@@ -27,9 +25,6 @@ pub struct RunPlan {
     pub deadline: Option<Instant>,
     /// The first pass's number, which names its random streams (a walkthrough's frame).
     pub first_pass: u64,
-    /// Allocate the camera paths pixel by pixel from a pilot ([`PilotMeasure`]: where they buy
-    /// the most error), `spp` being their mean; else `spp` in every pixel.
-    pub adaptive: bool,
 }
 
 /// What a render reports while it runs.
@@ -88,36 +83,24 @@ pub fn render(
 ) -> Option<Run> {
     let (w, h) = (camera.width(), camera.height());
     let per_pass = w as u64 * h as u64 * plan.spp as u64;
-    // The pilot (discarded): one camera path per pixel, which times a pass for a deadline, and,
-    // for an adaptive allocation, the measure that allocates the paths.
-    let needs_pilot = plan.deadline.is_some() || (plan.adaptive && plan.spp > 1);
-    let (allocation, passes) = if needs_pilot {
-        let pilot = Renderer::new(scene, camera, chunks.clone(), names, flux_per_path, settings, per_pass);
-        let t0 = Instant::now();
-        let allocation = if plan.adaptive && plan.spp > 1 {
-            PilotMeasure::run(&pilot, &stop)?.allocate(plan.spp)
-        } else {
+    let planned = match plan.deadline {
+        None => per_pass,
+        Some(deadline) => {
+            let pilot =
+                Renderer::new(scene, camera, chunks.clone(), names, flux_per_path, settings, per_pass);
+            let t0 = Instant::now();
             pilot.camera_pass(u64::MAX, &Allocation::Uniform(1), |_| {}, &stop)?;
-            Allocation::Uniform(plan.spp)
-        };
-        let passes = match plan.deadline {
-            None => 1,
-            Some(deadline) => {
-                let per_spp = t0.elapsed().as_secs_f64().max(1e-6);
-                let left = deadline.saturating_duration_since(Instant::now()).as_secs_f64();
-                (left / (per_spp * plan.spp as f64)).floor().max(1.0) as u64
-            }
-        };
-        (allocation, passes)
-    } else {
-        (Allocation::Uniform(plan.spp), 1)
+            let per_spp = t0.elapsed().as_secs_f64().max(1e-6);
+            let left = deadline.saturating_duration_since(Instant::now()).as_secs_f64();
+            let passes = (left / (per_spp * plan.spp as f64)).floor().max(1.0);
+            per_pass * passes as u64
+        }
     };
-    let renderer =
-        Renderer::allocated(scene, camera, chunks, names, flux_per_path, settings, &allocation, passes);
+    let renderer = Renderer::new(scene, camera, chunks, names, flux_per_path, settings, planned);
     progress(RunEvent::SplatStart(renderer.cache().chunks().iter().map(|c| c.samples.len() as u64).sum()));
     let splat = renderer.splat_pass(|n| progress(RunEvent::Splatted(n)), &stop)?;
     progress(RunEvent::CameraStart(w as u64 * h as u64));
-    let spp = allocation;
+    let spp = Allocation::Uniform(plan.spp);
     let mut acc = Progressive::new(w, h, spp.clone());
     let mut interrupted = false;
     match plan.deadline {
