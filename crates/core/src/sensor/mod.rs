@@ -239,6 +239,11 @@ pub(crate) struct SampleConnection {
     pub to_sensor: Vec3,
     /// |x − c|².
     pub dist2: f32,
+    /// With [`connect_sample_reversible`]: the density of the light tracer's BSDF sampling at x
+    /// of continuing from the sensor's direction back to the sample's predecessor
+    /// (`Material::pdf_world(n, to_sensor, from_dir)`, what the bidirectional splat's MIS weight
+    /// needs), from the same shading point as `f`; 0 for an emission vertex or when not asked.
+    pub pdf_rev: f32,
 }
 
 /// Connects stored sample `s` to `sensor` (aperture point from the sample's hash when
@@ -251,15 +256,33 @@ pub(crate) fn connect_sample(
     random: bool,
 ) -> Option<SampleConnection> {
     let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-    connect_to(scene, s, sensor.connect(s.position(), u)?)
+    connect_to::<false>(scene, s, sensor.connect(s.position(), u)?)
+}
+
+/// [`connect_sample`] with [`SampleConnection::pdf_rev`]: one shading point at the sample for
+/// both f and the reverse density (the bidirectional splat).
+#[inline]
+pub(crate) fn connect_sample_reversible(
+    scene: &Scene,
+    sensor: &Sensor,
+    s: &Sample,
+    random: bool,
+) -> Option<SampleConnection> {
+    let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
+    connect_to::<true>(scene, s, sensor.connect(s.position(), u)?)
 }
 
 /// Connects stored sample `s` to the sensor point `conn.point` (the rest of `conn` is passed
 /// through): f toward it (or the emission factor), cos θ_x, and the shadow ray. `None` when
 /// f is 0, an emitter is seen from behind, or the point is hidden. Shared by the cameras and
-/// the connected illuminance meter ([`meter`]).
+/// the connected illuminance meter ([`meter`]). With `REVERSE`, also the reverse density
+/// ([`SampleConnection::pdf_rev`]).
 #[inline]
-pub(crate) fn connect_to(scene: &Scene, s: &Sample, conn: Connection) -> Option<SampleConnection> {
+pub(crate) fn connect_to<const REVERSE: bool>(
+    scene: &Scene,
+    s: &Sample,
+    conn: Connection,
+) -> Option<SampleConnection> {
     let x = s.position();
     let to_c = conn.point - x;
     let d = to_c.length();
@@ -272,17 +295,20 @@ pub(crate) fn connect_to(scene: &Scene, s: &Sample, conn: Connection) -> Option<
     // |cos θ_x| is the connection's geometry term: always the geometric normal's. Shading
     // normals enter only through f_r (the adjoint f_eff, see `crate::bsdf::shading`).
     let cos_x = n.dot(wc);
-    let f = if s.is_emission() {
+    let (f, pdf_rev) = if s.is_emission() {
         if cos_x <= 0.0 {
             return None; // emitters are one-sided
         }
-        Rgb::splat(scene.light_of(prim).map_or(0.0, |k| scene.lights[k].emitted_fraction(n, wc)))
+        (Rgb::splat(scene.light_of(prim).map_or(0.0, |k| scene.lights[k].emitted_fraction(n, wc))), 0.0)
     } else {
-        let f = scene.material_at(prim, x, &mut None).eval_world(scene.normals_at(prim, x), s.from_dir(), wc);
+        let mut resolved = None;
+        let p = scene.material_at(prim, x, &mut resolved).at(scene.normals_at(prim, x));
+        let (from, to_c) = (p.direction(s.from_dir()), p.direction(wc));
+        let f = p.eval(&from, &to_c);
         if f == Rgb::ZERO {
             return None;
         }
-        f
+        (f, if REVERSE { p.pdf(&to_c, &from) } else { 0.0 })
     };
     let origin = offset_ray_origin(x, n, wc);
     let to_c = conn.point - origin;
@@ -290,7 +316,7 @@ pub(crate) fn connect_to(scene: &Scene, s: &Sample, conn: Connection) -> Option<
     if scene.occluded(&Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) }) {
         return None;
     }
-    Some(SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d })
+    Some(SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev })
 }
 
 /// Adds the contribution of `batch` to `film` as seen by `sensor` — the one splat loop every

@@ -8,11 +8,11 @@
 
 use super::camera::image_pdf;
 use super::vertex::Context;
-use super::{ConnectionEnd, cache::CacheChunk, weight_light_trace};
+use super::{ConnectionEnd, Counts, cache::CacheChunk, weight_light_trace};
 use crate::dataset::{LightVertexMis, MisRecord, Sample};
 use crate::film::SplatTarget;
 use crate::math::Vec3;
-use crate::sensor::{SampleConnection, Sensor, connect_sample};
+use crate::sensor::{Sensor, connect_sample_reversible};
 
 /// Adds the MIS-weighted splats of `chunk`'s samples to `film`.
 pub fn splat_chunk(ctx: &Context, sensor: &Sensor, chunk: &CacheChunk<'_>, film: &mut impl SplatTarget) {
@@ -22,20 +22,43 @@ pub fn splat_chunk(ctx: &Context, sensor: &Sensor, chunk: &CacheChunk<'_>, film:
     }
     let flux = ctx.flux_per_path[k];
     let random = sensor.samples_aperture();
+    let Some(light) = ctx.lights.of_table(k) else { return };
     for (s, record) in chunk.samples.iter().zip(chunk.records) {
-        let Some(SampleConnection { conn, f, cos_x, .. }) = connect_sample(ctx.scene, sensor, s, random)
-        else {
+        // One shading point at the sample for f and the reverse density.
+        let Some(c) = connect_sample_reversible(ctx.scene, sensor, s, random) else {
             continue;
         };
-        let ctx = &Context { counts: ctx.counts_at(conn.pixel), ..*ctx };
-        let w = light_trace_weight(ctx, sensor, chunk.light, s, *record, conn.point);
-        film.splat(conn.pixel, flux * s.beta() * f * (cos_x.abs() * conn.weight * w));
+        let end = ConnectionEnd { cos: c.cos_x.abs(), pdf_fwd_w: 0.0, pdf_rev_w: c.pdf_rev };
+        let dist2 = (c.conn.point - s.position()).length_squared();
+        let counts = ctx.counts_at(c.conn.pixel);
+        let w = weight_at_sensor(ctx, sensor, light.pick, counts, *record, end, c.to_sensor, dist2);
+        film.splat(c.conn.pixel, flux * s.beta() * c.f * (c.cos_x.abs() * c.conn.weight * w));
     }
 }
 
+/// The MIS weight of a splat with `counts` (those of the pixel it lands in), the sample's end of
+/// the connection being `at_light`, `to_sensor` and `dist2` the connection's direction and
+/// squared length.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn weight_at_sensor(
+    ctx: &Context,
+    sensor: &Sensor,
+    pick: f32,
+    counts: Counts,
+    record: MisRecord,
+    at_light: ConnectionEnd,
+    to_sensor: Vec3,
+    dist2: f32,
+) -> f32 {
+    let state = LightVertexMis::from_record(record, ctx.heuristic);
+    weight_light_trace(&state, at_light, image_pdf(sensor, -to_sensor), dist2, pick, counts)
+}
+
 /// The MIS weight of splatting the stored sample `s` of table light `light` (record `record`)
-/// to the sensor point `c` (the eye, or the lens point its connection chose); 0 if the light
-/// is off.
+/// to the sensor point `c` (the eye, or the lens point its connection chose), with the render's
+/// counts; 0 if the light is off. The splat pass computes the same weight from its connection
+/// ([`splat_chunk`]: the reverse density from the shading point that gave f).
 #[inline]
 pub fn light_trace_weight(
     ctx: &Context,
@@ -60,6 +83,5 @@ pub fn light_trace_weight(
     };
     let cos = ctx.scene.normal(prim).dot(to_sensor).abs();
     let at_light = ConnectionEnd { cos, pdf_fwd_w: 0.0, pdf_rev_w };
-    let state = LightVertexMis::from_record(record, ctx.heuristic);
-    weight_light_trace(&state, at_light, image_pdf(sensor, -to_sensor), dist2, light.pick, ctx.counts)
+    weight_at_sensor(ctx, sensor, light.pick, ctx.counts, record, at_light, to_sensor, dist2)
 }

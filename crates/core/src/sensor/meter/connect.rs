@@ -145,7 +145,7 @@ fn connect_one(
     if h <= layout.tolerance(d) && n_x.dot(d.normal).abs() > 1.0 - 1e-6 {
         return None; // on a surface in the meter's plane: both cosines are 0
     }
-    let c = connect_to(scene, s, Connection { pixel: d.target, point: d.position, weight: 0.0 })?;
+    let c = connect_to::<false>(scene, s, Connection { pixel: d.target, point: d.position, weight: 0.0 })?;
     let cos_p = h / c.dist2.sqrt();
     Some(s.beta() * c.f * (c.cos_x.abs() * cos_p / c.dist2))
 }
