@@ -218,7 +218,7 @@ fn read_exr(path: &Path, max_texels: u64) -> Result<TextureImage, TextureError> 
         check_size(s.width() as u64, s.height() as u64, max_texels)?;
     }
     // Straight from the file's channels to the texels (no interleaved f32 copy between them).
-    let (w, h, texels) = read_exr_pixels(path, max_texels, |r, g, b| Rgb::new(r, g, b))?;
+    let (w, h, texels) = read_exr_pixels(path, max_texels, Rgb::new)?;
     Ok(TextureImage { width: w as usize, height: h as usize, texels })
 }
 
