@@ -1,10 +1,11 @@
 //! The scene arguments of the commands: `SCENE` parsed into the library's typed reference
 //! (`opticks_io::scene_source::SceneRef`), the `-D NAME=VALUE` parameters, `--camera` and
-//! `--gltf-scene` ([`DefineArgs`]); loading prints the library's warnings.
+//! `--gltf-scene`, and the memory limits on loading, `--max-texels` and `--max-mesh-expansion`
+//! ([`DefineArgs`]); loading prints the library's warnings.
 
 use anyhow::{Result, bail};
 use opticks_core::scene::{Scene, SceneDescription};
-use opticks_io::scene_formats::LoadOptions;
+use opticks_io::scene_formats::{LoadLimits, LoadOptions};
 use opticks_io::scene_source::{self, SceneRef};
 
 /// `SCENE` on the command line: a scene file, or `builtin:NAME` ([`SceneRef::parse`]).
@@ -12,9 +13,9 @@ pub fn parse_scene(spec: &str) -> Result<SceneRef> {
     Ok(SceneRef::parse(spec)?)
 }
 
-/// The options of every verb that loads a scene: `-D` parameters, and which camera and which
-/// scene of a file that holds several.
-#[derive(clap::Args, Debug, Clone, Default)]
+/// The options of every verb that loads a scene: `-D` parameters, which camera and which scene
+/// of a file that holds several, and the bounds on what its files may allocate.
+#[derive(clap::Args, Debug, Clone)]
 pub struct DefineArgs {
     /// Value of the Mitsuba scene parameter `$NAME` (overrides its `<default>`), as
     /// `mitsuba -D NAME=VALUE`; repeatable. A dataset traced with parameters renders only
@@ -31,6 +32,42 @@ pub struct DefineArgs {
     /// default scene). A dataset renders only against the scene it was traced from.
     #[arg(long, value_name = "NAME|INDEX")]
     gltf_scene: Option<String>,
+    /// The most texels (width × height) a texture or environment map the scene names may
+    /// have, checked from the file's header before it is decoded; a count (1e8, 100M). Reading
+    /// one peaks at 15–28 bytes a texel and keeps 12 (default: 8192², 805 MB kept).
+    #[arg(
+        long,
+        value_name = "N",
+        allow_hyphen_values = true,
+        value_parser = crate::count_arg::parse_count,
+        default_value_t = opticks_io::texture_file::MAX_TEXELS
+    )]
+    max_texels: u64,
+    /// The most a `.serialized` mesh the scene names may expand: bytes its counts call for per
+    /// byte of its compressed stream, checked before decompressing (real meshes: 2–10; zlib's
+    /// most, on runs of one value: about 1032).
+    #[arg(
+        long,
+        value_name = "N",
+        allow_hyphen_values = true,
+        value_parser = crate::count_arg::parse_count,
+        default_value_t = opticks_io::scene_formats::serialized::MAX_EXPANSION
+    )]
+    max_mesh_expansion: u64,
+}
+
+/// No parameters, the default camera and scene, and the default limits ([`LoadLimits`]).
+impl Default for DefineArgs {
+    fn default() -> Self {
+        let limits = LoadLimits::default();
+        DefineArgs {
+            define: Vec::new(),
+            camera: None,
+            gltf_scene: None,
+            max_texels: limits.max_texels,
+            max_mesh_expansion: limits.max_mesh_expansion,
+        }
+    }
 }
 
 impl DefineArgs {
@@ -48,6 +85,7 @@ impl DefineArgs {
             defines: self.define.clone(),
             camera: self.camera.clone(),
             gltf_scene: self.gltf_scene.clone(),
+            limits: LoadLimits { max_texels: self.max_texels, max_mesh_expansion: self.max_mesh_expansion },
         }
     }
 }

@@ -43,12 +43,13 @@ fn blocks_wanted() -> usize {
 }
 
 /// The master's tracer: the pass's blocks go to the worker ranks; `scene` names the file they
-/// load (made absolute, as the workers may start elsewhere), with the `-D` parameters `defines`
-/// and the glTF scene `gltf_scene`.
+/// load (made absolute, as the workers may start elsewhere), with the `-D` parameters `defines`,
+/// the glTF scene `gltf_scene` and the memory limits `limits`.
 pub struct ClusterTracer {
     scene: String,
     defines: Vec<(String, String)>,
     gltf_scene: Option<String>,
+    limits: opticks_io::scene_formats::LoadLimits,
     hooks: Hooks,
 }
 
@@ -65,6 +66,7 @@ impl ClusterTracer {
             scene: absolute.unwrap_or_else(|| scene.label()),
             defines: options.defines.clone(),
             gltf_scene: options.gltf_scene.clone(),
+            limits: options.limits,
             hooks,
         }
     }
@@ -96,6 +98,7 @@ impl PassTracer for ClusterTracer {
             scene: self.scene.clone(),
             defines: self.defines.clone(),
             gltf_scene: self.gltf_scene.clone(),
+            limits: self.limits,
             fingerprint: scene.fingerprint,
             settings: pass.settings,
         };
@@ -273,8 +276,9 @@ fn trace(scene: &Scene, settings: &TraceSettings, b: &Block) -> Chunk {
     trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths)
 }
 
-/// What a worker's loaded scene was loaded from: the file, its `-D` parameters, its glTF scene.
-type SceneKey = (String, Vec<(String, String)>, Option<String>);
+/// What a worker's loaded scene was loaded from: the file, its `-D` parameters, its glTF scene,
+/// the memory limits it was loaded within.
+type SceneKey = (String, Vec<(String, String)>, Option<String>, opticks_io::scene_formats::LoadLimits);
 
 /// A worker's life: jobs until `QUIT` ([`Served::Done`], also when a job this worker could not
 /// do was reported to the master, whose verb fails with the reason).
@@ -312,7 +316,7 @@ pub(crate) fn serve(threads: usize, hooks: &Hooks) -> Served {
                 continue;
             }
         };
-        let wanted = (job.scene.clone(), job.defines.clone(), job.gltf_scene.clone());
+        let wanted = (job.scene.clone(), job.defines.clone(), job.gltf_scene.clone(), job.limits);
         if loaded.as_ref().is_none_or(|(spec, _)| *spec != wanted) {
             loaded = match load_scene(&job) {
                 Ok(scene) => Some((wanted, scene)),
@@ -364,8 +368,12 @@ pub(crate) fn serve(threads: usize, hooks: &Hooks) -> Served {
 /// Loads the scene of a job as the master loaded it (its warnings are the master's to print).
 fn load_scene(job: &TraceJob) -> Result<Scene, SceneSourceError> {
     let scene = SceneRef::parse(&job.scene)?;
-    let options =
-        LoadOptions { defines: job.defines.clone(), camera: None, gltf_scene: job.gltf_scene.clone() };
+    let options = LoadOptions {
+        defines: job.defines.clone(),
+        camera: None,
+        gltf_scene: job.gltf_scene.clone(),
+        limits: job.limits,
+    };
     let loaded = scene_source::load(&scene, &options)?;
     Ok(scene_source::build(&scene, &loaded.description)?.scene)
 }

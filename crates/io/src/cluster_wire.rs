@@ -130,6 +130,9 @@ pub struct TraceJob {
     pub defines: Vec<(String, String)>,
     /// The scene of a glTF file holding several (`--gltf-scene`), if one was chosen.
     pub gltf_scene: Option<String>,
+    /// The master's memory limits on loading (`--max-texels`, `--max-mesh-expansion`), so a
+    /// worker loads whatever the master loaded.
+    pub limits: crate::scene_formats::LoadLimits,
     /// The master's scene fingerprint: a worker whose scene differs refuses the job.
     pub fingerprint: Fingerprint,
     /// Seed, stream and strategy.
@@ -148,6 +151,7 @@ pub fn encode_job(job: &TraceJob) -> Vec<u8> {
         None => w.u8(0),
         Some(name) => w.u8(1).bytes(name.as_bytes()),
     };
+    w.u64(job.limits.max_texels).u64(job.limits.max_mesh_expansion);
     w.bytes(&job.fingerprint.geometry).bytes(&job.fingerprint.lights);
     w.u64(s.paths).u64(s.seed).u64(s.stream).u32(s.rr_depth);
     w.u8(match s.roulette {
@@ -181,6 +185,7 @@ pub fn decode_job(data: &[u8]) -> Result<TraceJob, Malformed> {
         1 => Some(r.string()?),
         _ => return Err(r.bad()),
     };
+    let limits = crate::scene_formats::LoadLimits { max_texels: r.u64()?, max_mesh_expansion: r.u64()? };
     let hash = |r: &mut Reader<'_>| -> Result<[u8; 16], Malformed> {
         r.bytes()?.try_into().map_err(|_| Malformed { what: "job", at: r.at })
     };
@@ -207,7 +212,7 @@ pub fn decode_job(data: &[u8]) -> Result<TraceJob, Malformed> {
     };
     r.end()?;
     let settings = TraceSettings { paths, seed, stream, rr_depth, roulette, directions, selection, mis };
-    Ok(TraceJob { scene, defines, gltf_scene, fingerprint, settings })
+    Ok(TraceJob { scene, defines, gltf_scene, limits, fingerprint, settings })
 }
 
 use opticks_core::dataset::NumberedBlock as Numbered;
@@ -345,6 +350,7 @@ mod tests {
             scene: "/data/scène.xml".into(),
             defines: vec![("spp".into(), "4".into()), ("name".into(), "wall é".into())],
             gltf_scene: Some("Interior".into()),
+            limits: crate::scene_formats::LoadLimits { max_texels: 5, max_mesh_expansion: 1000 },
             fingerprint: Fingerprint { geometry: [7; 16], lights: [3; 16] },
             settings,
         };
@@ -352,6 +358,7 @@ mod tests {
         let plain = TraceJob {
             defines: vec![],
             gltf_scene: None,
+            limits: Default::default(),
             settings: TraceSettings { mis: None, ..settings },
             ..job
         };

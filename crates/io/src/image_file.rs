@@ -23,6 +23,7 @@ use exr::prelude::{
 
 /// The most samples (pixels × channels, over all its layers) [`read_exr_rgb`] reads from a file:
 /// an RGBA image of [`MAX_TEXELS`](crate::texture_file::MAX_TEXELS) pixels (1 GiB as `f32`).
+/// A texture read with a raised limit of N texels allows 4 N samples.
 pub const MAX_EXR_SAMPLES: u64 = 4 * crate::texture_file::MAX_TEXELS;
 
 /// Extensions [`write_image`] understands (lower case, without the dot).
@@ -200,7 +201,20 @@ fn output_format(path: &Path) -> Result<Format, ImageError> {
 /// [`MAX_TEXELS`](crate::texture_file::MAX_TEXELS) pixels, or more than [`MAX_EXR_SAMPLES`]
 /// samples in all, is an error, so a small file claiming a huge image allocates nothing.
 pub fn read_exr_rgb(path: &Path) -> Result<(u32, u32, Vec<f32>), ImageError> {
+    let (w, h, rgb) = read_exr_pixels(path, crate::texture_file::MAX_TEXELS, |r, g, b| [r, g, b])?;
+    Ok((w, h, rgb.into_flattened()))
+}
+
+/// [`read_exr_rgb`] with layers of at most `max_pixels` pixels (and `4 * max_pixels` samples in
+/// all), each pixel made by `pixel` from its R, G, B values: the pixels are built straight from
+/// the file's channels, with no copy between them.
+pub(crate) fn read_exr_pixels<T>(
+    path: &Path,
+    max_pixels: u64,
+    pixel: impl Fn(f32, f32, f32) -> T,
+) -> Result<(u32, u32, Vec<T>), ImageError> {
     use exr::prelude::{ReadChannels, ReadLayers};
+    let max_samples = max_pixels.saturating_mul(4);
     let content_err = |message: String| ImageError::Content { path: path.to_path_buf(), message };
     let meta = exr::meta::MetaData::read_from_buffered(std::io::BufReader::new(open_input(path)?), false)
         .map_err(|source| exr_error(path, source))?;
@@ -208,16 +222,15 @@ pub fn read_exr_rgb(path: &Path) -> Result<(u32, u32, Vec<f32>), ImageError> {
     for header in &meta.headers {
         let (w, h) = (header.layer_size.width() as u64, header.layer_size.height() as u64);
         let pixels = w.saturating_mul(h);
-        if pixels > crate::texture_file::MAX_TEXELS {
+        if pixels > max_pixels {
             return Err(content_err(format!(
-                "EXR layer of {w} x {h} pixels: more than the {} an image read may have",
-                crate::texture_file::MAX_TEXELS
+                "EXR layer of {w} x {h} pixels: more than the {max_pixels} an image read may have"
             )));
         }
         samples = samples.saturating_add(pixels.saturating_mul(header.channels.list.len() as u64));
-        if samples > MAX_EXR_SAMPLES {
+        if samples > max_samples {
             return Err(content_err(format!(
-                "EXR layers of more than {MAX_EXR_SAMPLES} samples (pixels x channels) in all: \
+                "EXR layers of more than {max_samples} samples (pixels x channels) in all: \
                  more than an image read may hold"
             )));
         }
@@ -257,13 +270,10 @@ pub fn read_exr_rgb(path: &Path) -> Result<(u32, u32, Vec<f32>), ImageError> {
         }
         let width = u32::try_from(w).map_err(|_| content_err(format!("EXR width {w} too large")))?;
         let height = u32::try_from(h).map_err(|_| content_err(format!("EXR height {h} too large")))?;
-        let mut rgb = Vec::with_capacity(n * 3);
-        for i in 0..n {
-            for samples in picked {
-                rgb.push(samples.value_by_flat_index(i).to_f32());
-            }
-        }
-        return Ok((width, height, rgb));
+        let [r, g, b] = picked;
+        let value = |s: &FlatSamples, i: usize| s.value_by_flat_index(i).to_f32();
+        let pixels = (0..n).map(|i| pixel(value(r, i), value(g, i), value(b, i))).collect();
+        return Ok((width, height, pixels));
     }
     let names: Vec<String> = image
         .layer_data

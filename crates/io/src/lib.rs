@@ -51,5 +51,5 @@ pub mod texture_file;
 pub mod video;
 
 pub use scene_formats::{
-    FileLocation, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,
+    FileLocation, LoadLimits, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,
 };

@@ -152,7 +152,8 @@ pub struct OpenedDataset {
     pub scene_ref: SceneRef,
     /// The options the scene was loaded with: those given, or, when none that change the scene
     /// were given (`-D`, `--gltf-scene`), those the dataset records
-    /// ([`crate::scene_ref::recorded_options`]). What a dataset written from this one records.
+    /// ([`crate::scene_ref::recorded_options`]); the memory limits are always those given. What
+    /// a dataset written from this one records.
     pub options: LoadOptions,
     /// What loading the scene did not reproduce exactly (`file:line:column: …`, one a line).
     pub warnings: Vec<String>,
@@ -169,6 +170,7 @@ impl OpenedDataset {
         let options = if options.defines.is_empty() && options.gltf_scene.is_none() {
             LoadOptions {
                 camera: options.camera.clone(),
+                limits: options.limits,
                 ..crate::scene_ref::recorded_options(&reader.header().label)
             }
         } else {

@@ -28,7 +28,8 @@
 //! --gltf-scene Night
 //! ```
 //!
-//! The camera is not recorded: any camera renders a dataset.
+//! The camera is not recorded: any camera renders a dataset. Nor are the memory limits
+//! ([`crate::scene_formats::LoadLimits`]): they change no scene that loads.
 
 use crate::output_paths::folder_of;
 use crate::scene_formats::LoadOptions;
@@ -214,6 +215,7 @@ mod tests {
             defines: vec![("wall".into(), "0.5".into()), ("spp".into(), "x=y".into())],
             camera: Some("side".into()),
             gltf_scene: Some("Night".into()),
+            limits: crate::scene_formats::LoadLimits { max_texels: 10, max_mesh_expansion: 1000 },
         };
         let label = with_options("../s.gltf\n/abs/s.gltf", &options);
         assert_eq!(label, "../s.gltf\n/abs/s.gltf\n-D wall=0.5\n-D spp=x=y\n--gltf-scene Night");
@@ -221,7 +223,11 @@ mod tests {
             parse(&label),
             RecordedScene::File { relative: "../s.gltf".into(), absolute: "/abs/s.gltf".into() }
         );
-        assert_eq!(recorded_options(&label), LoadOptions { camera: None, ..options.clone() }, "no camera");
+        assert_eq!(
+            recorded_options(&label),
+            LoadOptions { camera: None, limits: Default::default(), ..options.clone() },
+            "no camera, no limits"
+        );
         assert_eq!(with_options("builtin:cornell", &LoadOptions::default()), "builtin:cornell");
         let builtin = with_options("builtin:cornell", &options);
         assert_eq!(parse(&builtin), RecordedScene::Builtin("builtin:cornell".into()));

@@ -1,13 +1,34 @@
 //! Texture images: PNG, JPEG, Radiance HDR and OpenEXR files read into linear RGB texels for
 //! `opticks_core::texture::Bitmap` (Mitsuba's `<texture type="bitmap">`).
 //!
-//! The size in the file's header is checked before any pixel is decoded ([`MAX_TEXELS`], and
-//! the `image` crate's allocation limit for the formats it decodes), so a small file claiming a
-//! huge image is refused without allocating it. Like Mitsuba, 8- and 16-bit formats (PNG, JPEG)
-//! are sRGB-encoded and decoded to linear unless `raw` is set; HDR and EXR hold linear values.
-//! Alpha is dropped; grey images give three equal channels. Row 0 is the image's top row.
+//! The size in the file's header is checked before any pixel is decoded, against a limit on
+//! the texels ([`MAX_TEXELS`] by default; [`read_texture_within`] and
+//! [`crate::scene_formats::LoadLimits::max_texels`] set another, the CLI's `--max-texels`), and
+//! the `image` crate's allocation limit is set to the decoded image's size, so a small file
+//! claiming a huge image is refused without allocating it. Like Mitsuba, 8- and 16-bit formats
+//! (PNG, JPEG) are sRGB-encoded and decoded to linear unless `raw` is set; HDR and EXR hold
+//! linear values. Alpha is dropped; grey images give three equal channels. Row 0 is the image's
+//! top row.
+//!
+//! # Memory
+//!
+//! The texels take 12 bytes each (linear `f32` RGB). While a file is read, the decoder's own
+//! copy of the image is held beside them; the peak, measured (maximum resident set of a process
+//! reading one 8192 × 8192 image, which includes the file's buffers), is about:
+//!
+//! | file | bytes a texel at the peak |
+//! |---|---|
+//! | PNG, JPEG, 8 bits a channel | 15 |
+//! | PNG, 16 bits a channel, RGBA | 18 |
+//! | Radiance HDR | 24 (the decoded `f32` image and the texels) |
+//! | OpenEXR, `half` RGBA | 20 |
+//! | OpenEXR, `float` RGB | 24 |
+//! | OpenEXR, `float` RGBA | 28 (every channel of the file is read, then the three used) |
+//!
+//! so an image of the default limit's 2²⁶ texels peaks at 1.0–1.9 GB while it is read and
+//! keeps 805 MB.
 
-use crate::image_file::read_exr_rgb;
+use crate::image_file::read_exr_pixels;
 use crate::input_file;
 use opticks_core::math::Rgb;
 use std::path::Path;
@@ -33,13 +54,19 @@ pub enum TextureError {
         /// Rows in the header.
         height: u64,
     },
-    /// The header gives more than [`MAX_TEXELS`] texels.
-    #[error("the image is {width} × {height}: more than the {MAX_TEXELS} texels a texture may have")]
+    /// The header gives more texels than the limit ([`MAX_TEXELS`] by default).
+    #[error(
+        "the image is {width} × {height} = {} texels, more than the limit of {limit} \
+         (--max-texels raises it)",
+        .width.saturating_mul(*.height)
+    )]
     TooLarge {
         /// Columns in the header.
         width: u64,
         /// Rows in the header.
         height: u64,
+        /// The most texels the read allowed.
+        limit: u64,
     },
     /// The header (PNG, JPEG, HDR) could not be read.
     #[error("cannot read the image header: {0}")]
@@ -55,8 +82,9 @@ pub enum TextureError {
     Exr(#[from] crate::image_file::ImageError),
 }
 
-/// The most texels a texture may have (a 8192 × 8192 image; 805 MB as linear f32 RGB, and at
-/// most 20 bytes a texel while an 8- or 16-bit image is read, 24 for a float one).
+/// The most texels a texture may have unless the caller says otherwise
+/// ([`crate::scene_formats::LoadLimits::max_texels`]'s default): an 8192 × 8192 image, 805 MB as
+/// linear f32 RGB, read at a peak of 15–28 bytes a texel (see the module docs).
 pub const MAX_TEXELS: u64 = 1 << 26;
 
 /// A texture image as read: its size and its texels, linear RGB, row-major from the top row.
@@ -70,42 +98,59 @@ pub struct TextureImage {
     pub texels: Vec<Rgb>,
 }
 
-/// Reads `path` (format by extension: `.png`, `.jpg`/`.jpeg`, `.hdr`, `.exr`). With `raw`, 8-
-/// and 16-bit values are taken as they are (scaled to [0, 1]) instead of sRGB-decoded. The
-/// error message does not repeat the path (the caller names it).
+/// Reads `path` (format by extension: `.png`, `.jpg`/`.jpeg`, `.hdr`, `.exr`), of at most
+/// [`MAX_TEXELS`] texels. With `raw`, 8- and 16-bit values are taken as they are (scaled to
+/// [0, 1]) instead of sRGB-decoded. The error message does not repeat the path (the caller
+/// names it).
 pub fn read_texture(path: &Path, raw: bool) -> Result<TextureImage, TextureError> {
+    read_texture_within(path, raw, MAX_TEXELS)
+}
+
+/// [`read_texture`] with a limit of `max_texels` texels instead of [`MAX_TEXELS`]: a larger
+/// image is refused ([`TextureError::TooLarge`]) from its header, before any pixel is decoded.
+pub fn read_texture_within(path: &Path, raw: bool, max_texels: u64) -> Result<TextureImage, TextureError> {
     input_file::check_regular(path)?;
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
-        "exr" => read_exr(path),
-        "png" | "jpg" | "jpeg" | "hdr" => read_with_image(path, raw, ext == "hdr"),
+        "exr" => read_exr(path, max_texels),
+        "png" | "jpg" | "jpeg" | "hdr" => read_with_image(path, raw, ext == "hdr", max_texels),
         _ => Err(TextureError::Unsupported(ext)),
     }
 }
 
-/// Checks a header's size against [`MAX_TEXELS`].
-fn check_size(width: u64, height: u64) -> Result<(), TextureError> {
+/// Checks a header's size against `limit` texels.
+fn check_size(width: u64, height: u64, limit: u64) -> Result<(), TextureError> {
     if width == 0 || height == 0 {
         return Err(TextureError::Empty { width, height });
     }
     match width.checked_mul(height) {
-        Some(n) if n <= MAX_TEXELS => Ok(()),
-        _ => Err(TextureError::TooLarge { width, height }),
+        Some(n) if n <= limit => Ok(()),
+        _ => Err(TextureError::TooLarge { width, height, limit }),
     }
 }
 
-fn read_with_image(path: &Path, raw: bool, linear: bool) -> Result<TextureImage, TextureError> {
+fn read_with_image(
+    path: &Path,
+    raw: bool,
+    linear: bool,
+    max_texels: u64,
+) -> Result<TextureImage, TextureError> {
     let open = || {
         let file = input_file::open(path)?.0;
         Ok(image::ImageReader::new(std::io::BufReader::new(file)).with_guessed_format()?)
     };
-    decode_with_image(open, raw, linear)
+    decode_with_image(open, raw, linear, max_texels)
 }
 
 /// Decodes a PNG or JPEG image held in memory (a glTF buffer view or `data:` URI), the format
-/// guessed from its first bytes; `raw` as for [`read_texture`]. The header's size is checked
-/// before the pixels are decoded, as for files.
+/// guessed from its first bytes, of at most [`MAX_TEXELS`] texels; `raw` as for
+/// [`read_texture`]. The header's size is checked before the pixels are decoded, as for files.
 pub fn decode_texture(bytes: &[u8], raw: bool) -> Result<TextureImage, TextureError> {
+    decode_texture_within(bytes, raw, MAX_TEXELS)
+}
+
+/// [`decode_texture`] with a limit of `max_texels` texels instead of [`MAX_TEXELS`].
+pub fn decode_texture_within(bytes: &[u8], raw: bool, max_texels: u64) -> Result<TextureImage, TextureError> {
     let open = || {
         let reader = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
         match reader.format() {
@@ -113,23 +158,24 @@ pub fn decode_texture(bytes: &[u8], raw: bool) -> Result<TextureImage, TextureEr
             _ => Err(TextureError::NotPngOrJpeg),
         }
     };
-    decode_with_image(open, raw, false)
+    decode_with_image(open, raw, false, max_texels)
 }
 
 /// Decodes what `open` gives (called twice: once for the header, once for the pixels) with the
-/// size checked in between; `linear`: the format holds linear values (HDR).
+/// size checked in between against `max_texels`; `linear`: the format holds linear values (HDR).
 fn decode_with_image<R: std::io::BufRead + std::io::Seek>(
     open: impl Fn() -> Result<image::ImageReader<R>, TextureError>,
     raw: bool,
     linear: bool,
+    max_texels: u64,
 ) -> Result<TextureImage, TextureError> {
     let (w, h) = open()?.into_dimensions().map_err(TextureError::Header)?;
-    check_size(w as u64, h as u64)?;
+    check_size(w as u64, h as u64, max_texels)?;
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(w);
     limits.max_image_height = Some(h);
     // The decoded image in the widest form decoded here (f32 RGBA), and some slack.
-    limits.max_alloc = Some(w as u64 * h as u64 * 16 + (1 << 20));
+    limits.max_alloc = Some((w as u64 * h as u64).saturating_mul(16).saturating_add(1 << 20));
     let mut reader = open()?;
     reader.limits(limits);
     let image = reader.decode().map_err(TextureError::Decode)?;
@@ -163,16 +209,16 @@ fn linear_texels(image: image::DynamicImage, decode: bool) -> Vec<Rgb> {
     }
 }
 
-fn read_exr(path: &Path) -> Result<TextureImage, TextureError> {
+fn read_exr(path: &Path, max_texels: u64) -> Result<TextureImage, TextureError> {
     let file = crate::image_file::open_input(path)?;
     let meta = exr::meta::MetaData::read_from_buffered(std::io::BufReader::new(file), false)
         .map_err(TextureError::ExrHeader)?;
     for header in &meta.headers {
         let s = header.layer_size;
-        check_size(s.width() as u64, s.height() as u64)?;
+        check_size(s.width() as u64, s.height() as u64, max_texels)?;
     }
-    let (w, h, rgb) = read_exr_rgb(path)?;
-    let texels = rgb.chunks_exact(3).map(|c| Rgb::new(c[0], c[1], c[2])).collect();
+    // Straight from the file's channels to the texels (no interleaved f32 copy between them).
+    let (w, h, texels) = read_exr_pixels(path, max_texels, Rgb::new)?;
     Ok(TextureImage { width: w as usize, height: h as usize, texels })
 }
 

@@ -150,6 +150,79 @@ fn messages_name_the_option_and_read_well() {
     assert!(version.contains("mpi"), "{version}");
 }
 
+/// The memory limits on loading are options: `--max-texels` refuses a scene whose texture is
+/// larger (naming the file, its size, the limit and the option) when a trace loads it and when
+/// a render loads it again for a dataset, and admits it at its size; `--max-mesh-expansion`
+/// admits a serialized mesh that zlib shrank beyond the default's 128 times (one triangle
+/// and 200,000 unused zero vertices), which the default refuses. Zero is refused as a count.
+#[test]
+fn loading_limits_change_what_loads() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let textures = opticks_testkit::repo().join("testdata/mitsuba/textures/scene.xml");
+    let textures = textures.to_str().unwrap();
+    let trace = |extra: &[&'static str]| -> Vec<&str> {
+        [&["trace", textures, "--paths", "2000", "-o", "t.opds"][..], extra].concat()
+    };
+    let e = fails(&trace(&["--max-texels", "127"]), d);
+    for part in ["stripes.png", "16 × 8 = 128 texels", "the limit of 127", "--max-texels"] {
+        assert!(e.contains(part), "{part:?} missing: {e}");
+    }
+    ok(&trace(&["--max-texels", "128"]), d);
+    let e = fails(&["render", "t.opds", "-o", "t.png", "--max-texels", "1e2"], d);
+    assert!(
+        e.contains("stripes.png") && e.contains("the limit of 100 ") && e.contains("--max-texels"),
+        "{e}"
+    );
+    ok(&["render", "t.opds", "-o", "t.png", "--size", "8x8"], d);
+    for zero in [&["--max-texels", "0"], &["--max-mesh-expansion", "0"]] {
+        let e = fails(&trace(zero), d);
+        assert!(e.contains(zero[0]) && e.contains("at least 1"), "{e}");
+    }
+
+    // Mesh: a triangle then zero vertices, one face; all but its first bytes zeros.
+    let vertices = 200_000u64;
+    let mut raw = Vec::new();
+    raw.extend(0x1000u32.to_le_bytes()); // flags: single precision, no normals
+    raw.extend(b"m\0");
+    raw.extend(vertices.to_le_bytes());
+    raw.extend(1u64.to_le_bytes());
+    for i in 0..vertices {
+        let p: [f32; 3] = match i {
+            1 => [1.0, 0.0, 0.0],
+            2 => [0.0, 1.0, 0.0],
+            _ => [0.0; 3],
+        };
+        p.iter().for_each(|x| raw.extend(x.to_le_bytes()));
+    }
+    [0u32, 1, 2].iter().for_each(|i| raw.extend(i.to_le_bytes()));
+    let mut z = flate2::write::ZlibEncoder::new(vec![0x1c, 0x04, 4, 0], flate2::Compression::best());
+    std::io::Write::write_all(&mut z, &raw).unwrap();
+    std::fs::write(d.join("m.serialized"), z.finish().unwrap()).unwrap();
+    std::fs::write(
+        d.join("mesh.xml"),
+        r#"<scene version="3.0.0">
+    <shape type="serialized"><string name="filename" value="m.serialized"/><bsdf type="diffuse"/></shape>
+    <emitter type="point"><point name="position" x="0.2" y="0.2" z="1"/><rgb name="intensity" value="1"/></emitter>
+</scene>"#,
+    )
+    .unwrap();
+    let trace = |extra: &[&'static str]| -> Vec<&str> {
+        [&["trace", "mesh.xml", "--paths", "1000", "-o", "m.opds"][..], extra].concat()
+    };
+    let e = fails(&trace(&[]), d);
+    for part in [
+        "m.serialized",
+        "200000 vertices and 1 triangles call for",
+        "the limit is 128 times",
+        "--max-mesh-expansion",
+    ] {
+        assert!(e.contains(part), "{part:?} missing: {e}");
+    }
+    ok(&trace(&["--max-mesh-expansion", "2000"]), d);
+    assert!(d.join("m.opds").exists());
+}
+
 /// "No option is ignored" (README): every option of every verb, as its `--help` lists it, is
 /// one this table accounts for — each changes the result or is refused where it would not
 /// (the tests named beside it hold that). A new option fails this test until it is added here,
@@ -160,6 +233,8 @@ fn every_option_of_every_verb_is_accounted_for() {
     let view =
         ["eye", "target", "up", "fov", "size", "projection", "lens-radius", "focus-distance", "ortho-width"];
     let strategy = ["rr-depth", "roulette", "directions", "selection", "mis-records"];
+    // Every verb that loads a scene (loading_limits_change_what_loads).
+    let loading = ["max-texels", "max-mesh-expansion"];
     // verb: its own options (the test modules that hold them in the comments).
     let table: &[(&str, &[&str])] = &[
         ("demo", &["output", "paths", "seed", "exposure", "threads", "export-scene"]), // cli, guarantees
@@ -259,6 +334,9 @@ fn every_option_of_every_verb_is_accounted_for() {
         }
         if ["trace", "refine", "add-light", "bench"].contains(verb) {
             expected.extend(strategy.iter().map(|s| s.to_string()));
+        }
+        if !["demo", "merge", "info"].contains(verb) {
+            expected.extend(loading.iter().map(|s| s.to_string()));
         }
         expected.sort();
         expected.dedup();

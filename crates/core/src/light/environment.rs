@@ -31,9 +31,6 @@ use crate::math::{Frame, Mat3, Rgb, Vec2, Vec3};
 use crate::sampling::warp;
 use std::f64::consts::PI as PI64;
 
-/// Largest map a light accepts (texels; the texture reader's bound, 8192 × 8192).
-pub const MAX_MAP_TEXELS: usize = 1 << 26;
-
 /// What an environment emits.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EnvRadiance {
@@ -68,24 +65,16 @@ fn map_error(message: String) -> LightError {
 
 impl LatLong {
     /// The map of `width` × `height` texels (row-major from the top row; linear RGB, each
-    /// finite and non-negative) scaled by `scale` (finite, ≥ 0).
+    /// finite and non-negative) scaled by `scale` (finite, ≥ 0). Its size is bounded only by
+    /// the texels given (the file reader bounds them: `opticks_io`'s `LoadLimits::max_texels`,
+    /// which the CLI's `--max-texels` raises); the map and its distribution take about 36
+    /// bytes a texel.
     pub fn new(width: usize, height: usize, texels: &[Rgb], scale: f32) -> Result<Self, LightError> {
         if width == 0 || height == 0 {
             return Err(map_error(format!("the map is {width} × {height}: it has no texels")));
         }
-        match width.checked_mul(height) {
-            Some(n) if n <= MAX_MAP_TEXELS && n == texels.len() => {}
-            Some(n) if n <= MAX_MAP_TEXELS => {
-                return Err(map_error(format!(
-                    "the map is {width} × {height} but has {} texels",
-                    texels.len()
-                )));
-            }
-            _ => {
-                return Err(map_error(format!(
-                    "the map is {width} × {height}: more than the {MAX_MAP_TEXELS} texels a map may have"
-                )));
-            }
+        if width.checked_mul(height) != Some(texels.len()) {
+            return Err(map_error(format!("the map is {width} × {height} but has {} texels", texels.len())));
         }
         if let Some(i) = texels.iter().position(|t| check_emission(*t).is_err()) {
             let t = texels[i];
@@ -181,8 +170,10 @@ impl LatLong {
         }
         let total: f64 = weights.iter().sum();
         self.cell_prob = weights.iter().map(|x| x / total).collect();
+        drop(weights); // before the column CDFs, which take as much again
         self.row_cdf.clear();
         self.col_cdf.clear();
+        self.col_cdf.reserve_exact(self.cell_prob.len());
         let mut acc = 0.0;
         for row in self.cell_prob.chunks(w) {
             let sum: f64 = row.iter().sum();

@@ -142,9 +142,9 @@ impl Hasher {
         Hasher(h)
     }
     pub(crate) fn f32s(&mut self, v: &[f32]) {
-        for x in v {
-            self.0.update(&x.to_le_bytes());
-        }
+        // One update for the slice: the same stream as one a value, without the per-call cost.
+        let bytes: Vec<u8> = v.iter().flat_map(|x| x.to_le_bytes()).collect();
+        self.0.update(&bytes);
     }
     pub(crate) fn finish(&self) -> [u8; 16] {
         let mut out = [0u8; 16];
@@ -376,9 +376,13 @@ pub(crate) fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
                     h.0.update(&(ht as u64).to_le_bytes());
                     let (texels, scale) = m.texels();
                     h.f32s(&[scale]);
-                    let bytes: Vec<u8> =
-                        texels.iter().flat_map(|t| t.to_array()).flat_map(f32::to_le_bytes).collect();
-                    h.0.update(&bytes);
+                    // A block at a time (the same stream as the whole map at once): a copy of
+                    // an 8192² map's texels took 805 MB.
+                    for block in texels.chunks(4096) {
+                        let bytes: Vec<u8> =
+                            block.iter().flat_map(|t| t.to_array()).flat_map(f32::to_le_bytes).collect();
+                        h.0.update(&bytes);
+                    }
                 }
             };
         }

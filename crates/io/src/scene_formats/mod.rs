@@ -27,6 +27,16 @@
 //! Things the loader can read but Opticks does not reproduce (an integrator's finite
 //! `max_depth`, a non-box reconstruction filter, an unknown parameter) are not errors: they are
 //! reported as human-readable lines in [`LoadedScene::warnings`], in the same format.
+//!
+//! # Memory limits
+//!
+//! A small file can describe a huge amount of data (a PNG of one colour, a zlib stream of
+//! zeros), so the readers bound what they allocate from a file's own counts, before decoding,
+//! by the [`LoadLimits`] in [`LoadOptions::limits`]: the texels of each texture or environment
+//! map ([`LoadLimits::max_texels`]) and how far a serialized mesh may expand its compressed
+//! bytes ([`LoadLimits::max_mesh_expansion`]). A file beyond a limit is an error naming the
+//! file, the size found, the limit, and the CLI option that raises it (`--max-texels`,
+//! `--max-mesh-expansion`).
 
 pub mod gltf;
 pub mod lights;
@@ -53,6 +63,31 @@ pub struct LoadedScene {
     pub warnings: Vec<String>,
 }
 
+/// Bounds on what a scene's files may make the readers allocate (see the module docs). The
+/// defaults admit any real file of a reasonable size; raise them for larger ones (the CLI's
+/// `--max-texels` and `--max-mesh-expansion`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LoadLimits {
+    /// The most texels (width × height) of one texture image or environment map, checked
+    /// against the file's header before any pixel is decoded. Default
+    /// [`crate::texture_file::MAX_TEXELS`], 2²⁶ (8192 × 8192): 805 MB as linear `f32` RGB, and
+    /// about 15–28 bytes a texel at the peak of the read (see [`crate::texture_file`]).
+    pub max_texels: u64,
+    /// The most bytes a `.serialized` mesh's counts may call for per byte of its compressed
+    /// stream, checked before decompressing. Default [`serialized::MAX_EXPANSION`],
+    /// 128 (real meshes compress 2–10 times; zlib can reach about 1032 only on runs of one byte).
+    pub max_mesh_expansion: u64,
+}
+
+impl Default for LoadLimits {
+    fn default() -> Self {
+        LoadLimits {
+            max_texels: crate::texture_file::MAX_TEXELS,
+            max_mesh_expansion: serialized::MAX_EXPANSION,
+        }
+    }
+}
+
 /// Options for [`load_scene_with`].
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct LoadOptions {
@@ -67,6 +102,9 @@ pub struct LoadOptions {
     /// The scene to load from a file holding several (glTF's `scenes`, the CLI's
     /// `--gltf-scene`): its name, or its index. `None`: the file's default scene.
     pub gltf_scene: Option<String>,
+    /// Bounds on the memory a file's own counts may ask for ([`LoadLimits`]). They do not
+    /// change a scene that loads, so a dataset does not record them.
+    pub limits: LoadLimits,
 }
 
 /// A position in a scene file. Displays as `file:line:column` (line and column are 1-based; a

@@ -18,9 +18,12 @@
 //! count of 10¹² ends with "the stream ends after …", having allocated what the stream held),
 //! and a mesh of more than 2³² vertices is refused. Zlib expands zeros about a thousandfold, so
 //! a stream's real data can still be far larger than the file (a 391 KB file of zeros claiming
-//! 2²⁴ vertices took 794 MB): the bytes the counts call for are also bounded by
-//! [`MAX_EXPANSION`] times the compressed bytes of the mesh, checked before anything is
-//! decompressed, and the buffer is reserved once at that size. Errors give the byte offset in
+//! 2²⁴ vertices took 794 MB): the bytes the counts call for are also bounded by a limit times
+//! the compressed bytes of the mesh ([`MAX_EXPANSION`] by default; [`parse_serialized_within`]
+//! and [`LoadLimits::max_mesh_expansion`](crate::scene_formats::LoadLimits::max_mesh_expansion)
+//! set another, the CLI's `--max-mesh-expansion`), checked before anything is decompressed, and
+//! the buffer is reserved once at that size. A mesh's memory is then at most about twice that
+//! limit times its compressed bytes (the decompressed bytes, and the mesh read from them). Errors give the byte offset in
 //! the file (for the compressed part: where the mesh's stream starts, and the offset inside the
 //! decompressed data).
 //!
@@ -35,13 +38,26 @@ use std::io::Read;
 
 const MAGIC: u16 = 0x041C;
 
-/// The most bytes a mesh's header may call for per compressed byte of its stream (the
-/// decompressed mesh is at most this many times the compressed one). Real meshes compress 2–10
-/// times; zlib's own limit is about 1032 (long runs of one byte), which only forged files reach.
+/// The most bytes a mesh's header may call for per compressed byte of its stream unless the
+/// caller says otherwise (the decompressed mesh is at most this many times the compressed one).
+/// Real meshes compress 2–10 times; zlib's own limit is about 1032 (long runs of one byte),
+/// which only forged files, or meshes of one repeated value, reach.
 pub const MAX_EXPANSION: u64 = 128;
 
-/// Reads mesh `shape_index` of a `.serialized` file's bytes.
+/// Reads mesh `shape_index` of a `.serialized` file's bytes, expanding at most
+/// [`MAX_EXPANSION`] times.
 pub fn parse_serialized(data: &[u8], shape_index: u64) -> Result<MeshData, MeshFileError> {
+    parse_serialized_within(data, shape_index, MAX_EXPANSION)
+}
+
+/// [`parse_serialized`] with a mesh's counts allowed to call for at most `max_expansion` bytes
+/// per byte of its compressed stream (instead of [`MAX_EXPANSION`]); more is an error before
+/// anything is decompressed.
+pub fn parse_serialized_within(
+    data: &[u8],
+    shape_index: u64,
+    max_expansion: u64,
+) -> Result<MeshData, MeshFileError> {
     let mut head = Bytes::new(data, 0, false);
     let (version, start) = {
         let magic = head.u16()?;
@@ -76,7 +92,7 @@ pub fn parse_serialized(data: &[u8], shape_index: u64) -> Result<MeshData, MeshF
     }
     let stream_at = h.offset();
     let compressed = &data[stream_at as usize..end];
-    decode(compressed, version, stream_at)
+    decode(compressed, version, stream_at, max_expansion)
 }
 
 /// The file offsets where mesh `index` starts and where its bytes end (the next mesh, or the
@@ -135,8 +151,9 @@ fn sub_mesh_offset(data: &[u8], version: u16, index: u64) -> Result<(usize, usiz
     Ok((start, dict_at))
 }
 
-/// Decompresses and reads one mesh stream starting at file offset `at`.
-fn decode(compressed: &[u8], version: u16, at: u64) -> Result<MeshData, MeshFileError> {
+/// Decompresses and reads one mesh stream starting at file offset `at`, expanding at most
+/// `max_expansion` times.
+fn decode(compressed: &[u8], version: u16, at: u64, max_expansion: u64) -> Result<MeshData, MeshFileError> {
     let mut z = flate2::read::ZlibDecoder::new(compressed);
     let mut buf = Vec::new();
     let mut fill = |buf: &mut Vec<u8>, total: u64| -> Result<(), MeshFileError> {
@@ -200,11 +217,12 @@ fn decode(compressed: &[u8], version: u16, at: u64) -> Result<MeshData, MeshFile
         .and_then(|x| f.checked_mul(12).and_then(|y| x.checked_add(y)))
         .and_then(|x| x.checked_add(head_len))
         .ok_or_else(|| located(b.error(format!("{v} vertices and {f} triangles overflow"))))?;
-    let limit = MAX_EXPANSION.saturating_mul(compressed.len() as u64);
+    let limit = max_expansion.saturating_mul(compressed.len() as u64);
     if total > limit {
         return Err(located(b.error(format!(
-            "{v} vertices and {f} triangles call for {total} bytes, more than {MAX_EXPANSION} times the \
-             {} compressed bytes of the mesh (the most a real mesh expands)",
+            "{v} vertices and {f} triangles call for {total} bytes, {:.1} times the {} compressed bytes \
+             of the mesh; the limit is {max_expansion} times (--max-mesh-expansion raises it)",
+            total as f64 / compressed.len().max(1) as f64,
             compressed.len()
         ))));
     }
@@ -333,7 +351,7 @@ mod tests {
         let mut z = flate2::write::ZlibEncoder::new(vec![0x1c, 0x04, 4, 0], flate2::Compression::default());
         z.write_all(&raw).unwrap();
         let e = parse_serialized(&z.finish().unwrap(), 0).unwrap_err();
-        assert!(e.message.contains("more than 128 times the"), "{e:?}");
+        assert!(e.message.contains("the limit is 128 times"), "{e:?}");
         let mut raw = Vec::new();
         raw.extend(0x1000u32.to_le_bytes());
         raw.extend(b"\0");
@@ -397,6 +415,24 @@ mod tests {
         assert!(d.len() < (12 << 20) / 200, "{} bytes", d.len());
         let e = parse_serialized(&d, 0).unwrap_err();
         assert!(e.message.contains(&format!("{v} vertices and 0 triangles call for")), "{e:?}");
-        assert!(e.message.contains("more than 128 times"), "{e:?}");
+        assert!(e.message.contains("the limit is 128 times"), "{e:?}");
+        assert!(e.message.contains("--max-mesh-expansion raises it"), "{e:?}");
+    }
+
+    /// The expansion limit is the caller's: a real mesh of one triangle repeated (zlib shrinks
+    /// it about 700 times) is refused by default and loads with the limit raised; a plain mesh
+    /// that loads by default is refused with the limit lowered below its own expansion.
+    #[test]
+    fn the_expansion_limit_is_the_callers() {
+        let repeated = vec![[0, 1, 2]; 100_000];
+        let d = write_v4(&[(TRI, &repeated, false)]);
+        let e = parse_serialized(&d, 0).unwrap_err();
+        assert!(e.message.contains("100000 triangles call for"), "{e:?}");
+        assert!(e.message.contains("the limit is 128 times"), "{e:?}");
+        assert_eq!(parse_serialized_within(&d, 0, 2000).unwrap().triangles.len(), 100_000);
+        let d = write_v4(&[(QUAD, &[[0, 1, 2], [0, 2, 3]], true)]);
+        assert!(parse_serialized(&d, 0).is_ok());
+        let e = parse_serialized_within(&d, 0, 1).unwrap_err();
+        assert!(e.message.contains("the limit is 1 times"), "{e:?}");
     }
 }

@@ -679,6 +679,17 @@ fn load_textured(options: &opticks_io::LoadOptions) -> Result<LoadedScene, Scene
     opticks_io::load_scene_with(&testdata("gltf/textured.gltf"), options)
 }
 
+/// Issue 26: a glTF file's images are held to the caller's texel limit, like Mitsuba's bitmaps.
+#[test]
+fn gltf_images_are_held_to_the_callers_texel_limit() {
+    let limits = opticks_io::LoadLimits { max_texels: 1, ..Default::default() };
+    let e = load_textured(&opticks_io::LoadOptions { limits, ..Default::default() }).unwrap_err().to_string();
+    assert!(
+        e.contains("textured.gltf") && e.contains("the limit of 1 ") && e.contains("--max-texels"),
+        "{e}"
+    );
+}
+
 #[test]
 fn scenes_and_cameras_are_chosen_by_name_and_unknown_names_list_the_choices() {
     use opticks_io::LoadOptions;

@@ -354,3 +354,30 @@ fn mesh_attribute_textures_read_the_plys_attributes_they_name() {
     );
     assert!(e.contains("missing <string name=\"name\""), "{e}");
 }
+
+/// Issue 26: the texel limit is the caller's ([`opticks_io::LoadLimits::max_texels`]), for
+/// bitmap textures (PNG) and environment maps (EXR) alike: a file over a lowered limit is
+/// refused naming the file, its size, the limit and the option that raises it; the same file
+/// loads at a limit of exactly its size.
+#[test]
+fn the_texel_limit_is_the_callers_for_textures_and_environment_maps() {
+    let dir = folder("limits");
+    image::RgbImage::from_pixel(64, 32, image::Rgb([200, 100, 50])).save(dir.join("t.png")).unwrap();
+    opticks_io::image_file::write_image(&dir.join("sky.exr"), 64, 32, &[0.5; 64 * 32 * 3], 0.0).unwrap();
+    let bitmap = r#"<shape type="rectangle"><bsdf type="diffuse"><texture type="bitmap" name="reflectance">
+        <string name="filename" value="t.png"/></texture></bsdf></shape>"#;
+    let envmap = r#"<emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>"#;
+    let load = |body: &str, max_texels: u64| {
+        let xml = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
+        let limits = opticks_io::LoadLimits { max_texels, ..Default::default() };
+        parse(&xml, &dir.join("test.xml"), &LoadOptions { limits, ..Default::default() })
+    };
+    for (body, file) in [(bitmap, "t.png"), (envmap, "sky.exr")] {
+        let e = load(body, 2047).map(|_| ()).unwrap_err().to_string();
+        for part in [file, "64 × 32 = 2048 texels", "the limit of 2047", "--max-texels"] {
+            assert!(e.contains(part), "{part:?} missing: {e}");
+        }
+        load(body, 2048).unwrap_or_else(|e| panic!("{e}"));
+        assert!(load_in(&dir, body).is_ok(), "the default limit admits it");
+    }
+}

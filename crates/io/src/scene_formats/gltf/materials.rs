@@ -146,11 +146,17 @@ pub struct MaterialTable<'a> {
 }
 
 impl<'a> MaterialTable<'a> {
-    /// The materials of `doc`, whose buffers are `buffers` and whose files are in `folder`.
-    pub fn new(doc: &'a ::gltf::Document, buffers: &'a [Vec<u8>], folder: &'a std::path::Path) -> Self {
+    /// The materials of `doc`, whose buffers are `buffers` and whose files are in `folder`,
+    /// their images of at most `max_texels` texels each.
+    pub fn new(
+        doc: &'a ::gltf::Document,
+        buffers: &'a [Vec<u8>],
+        folder: &'a std::path::Path,
+        max_texels: u64,
+    ) -> Self {
         MaterialTable {
             used: vec![None; doc.materials().len() + 1],
-            images: Images::new(doc, buffers, folder),
+            images: Images::new(doc, buffers, folder, max_texels),
         }
     }
 

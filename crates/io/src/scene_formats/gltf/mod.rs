@@ -71,7 +71,7 @@ pub fn load_gltf_scene_with(path: &Path, options: &LoadOptions) -> Result<Loaded
 
     let mut desc = SceneDescription::default();
     let folder = path.parent().unwrap_or(Path::new(""));
-    let mut materials = materials::MaterialTable::new(doc, &file.buffers, folder);
+    let mut materials = materials::MaterialTable::new(doc, &file.buffers, folder, options.limits.max_texels);
     // The scene's cameras, in node order (one is chosen once every node is converted).
     let mut cameras = Vec::new();
     for (node, world) in &placed {

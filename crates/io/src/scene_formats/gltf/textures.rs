@@ -4,7 +4,7 @@
 //!
 //! | glTF | Opticks |
 //! |---|---|
-//! | image `bufferView` / `uri` | decoded by [`crate::texture_file::decode_texture`] (header size checked first), sRGB-decoded for colour textures, raw for data textures (metallic-roughness) |
+//! | image `bufferView` / `uri` | decoded by [`crate::texture_file::decode_texture_within`] (header size checked first against [`crate::scene_formats::LoadLimits::max_texels`]), sRGB-decoded for colour textures, raw for data textures (metallic-roughness) |
 //! | sampler `magFilter` | `NEAREST` → nearest texel; `LINEAR` or none → bilinear. Minification filters and mipmaps are not used (no texture is filtered over a pixel's footprint, as in Mitsuba's `bitmap`) |
 //! | sampler `wrapS`, `wrapT` | `REPEAT`, `MIRRORED_REPEAT`, `CLAMP_TO_EDGE` → repeat, mirror, clamp; a sampler with two different modes uses `wrapS` (warning: an Opticks bitmap has one mode) |
 //! | `texCoord` (and the transform's override) | which `TEXCOORD_n` set the mesh's UVs are read from |
@@ -20,7 +20,7 @@
 //! convention of the core's bitmaps (row 0 at v = 0): coordinates are used as they are.
 
 use super::buffers::{self, BufferError};
-use crate::texture_file::{TextureImage, decode_texture};
+use crate::texture_file::{TextureImage, decode_texture_within};
 use ::gltf::texture::{MagFilter, WrappingMode};
 use opticks_core::texture::{FilterType, UvTransform, WrapMode};
 use std::collections::HashMap;
@@ -31,6 +31,8 @@ pub struct Images<'a> {
     doc: &'a ::gltf::Document,
     buffers: &'a [Vec<u8>],
     folder: &'a Path,
+    /// The most texels an image may have ([`crate::scene_formats::LoadLimits::max_texels`]).
+    max_texels: u64,
     decoded: HashMap<(usize, bool), std::sync::Arc<TextureImage>>,
 }
 
@@ -94,9 +96,10 @@ pub fn uv_transform(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> UvTrans
 }
 
 impl<'a> Images<'a> {
-    /// The images of `doc`, whose buffers are `buffers` and whose files are in `folder`.
-    pub fn new(doc: &'a ::gltf::Document, buffers: &'a [Vec<u8>], folder: &'a Path) -> Self {
-        Images { doc, buffers, folder, decoded: HashMap::new() }
+    /// The images of `doc`, whose buffers are `buffers` and whose files are in `folder`, each
+    /// of at most `max_texels` texels.
+    pub fn new(doc: &'a ::gltf::Document, buffers: &'a [Vec<u8>], folder: &'a Path, max_texels: u64) -> Self {
+        Images { doc, buffers, folder, max_texels, decoded: HashMap::new() }
     }
 
     /// Image `index`, decoded (sRGB to linear unless `raw`); the error names the image and,
@@ -131,7 +134,8 @@ impl<'a> Images<'a> {
                 .into(),
             (None, None) => return Err(format!("{what} has neither a bufferView nor a uri")),
         };
-        let image = decode_texture(&bytes, raw).map_err(|e| format!("{what}: {e}"))?;
+        let image =
+            decode_texture_within(&bytes, raw, self.max_texels).map_err(|e| format!("{what}: {e}"))?;
         let image = std::sync::Arc::new(image);
         self.decoded.insert((index, raw), image.clone());
         Ok(image)

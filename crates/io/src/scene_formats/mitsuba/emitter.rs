@@ -17,7 +17,7 @@ use super::properties::Props;
 use super::transform::Transform;
 use super::xml::Element;
 use crate::scene_formats::lights;
-use crate::texture_file::read_texture;
+use crate::texture_file::read_texture_within;
 use glam::{DMat3, DVec3};
 use opticks_core::light::check::{check_emission, check_power, unit_tangent};
 use opticks_core::light::{
@@ -283,7 +283,7 @@ fn envmap<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Re
     };
     p.bool("mis_compensation")?;
     let path = b.doc.resolve(fnode, &file);
-    let image = read_texture(&path, false)
+    let image = read_texture_within(&path, false, b.doc.limits.max_texels)
         .map_err(|m| fnode.attr_err("value", format!("{}: {m}", path.display())))?;
     // The core's check of the texels, reported at the file (e.g. a negative EXR value).
     LatLong::new(image.width, image.height, &image.texels, scale as f32)

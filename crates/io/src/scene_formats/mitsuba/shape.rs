@@ -22,7 +22,7 @@ use super::xml::Element;
 use super::{emitter, medium};
 use crate::scene_formats::mesh_bytes::{MeshData, read_mesh_file};
 use crate::scene_formats::obj::{generated_vertex_normals, read_obj};
-use crate::scene_formats::{ply::parse_ply_with, serialized::parse_serialized};
+use crate::scene_formats::{ply::parse_ply_with, serialized::parse_serialized_within};
 use glam::{DMat3, DMat4};
 use opticks_core::math::{Vec2, Vec3};
 use opticks_core::scene::{MeshAttribute, MeshDesc};
@@ -250,7 +250,10 @@ fn serialized<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Res
         None => 0,
     };
     let path = b.doc.resolve(fnode, &file);
-    let mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), |d| parse_serialized(d, index))?;
+    let max_expansion = b.doc.limits.max_mesh_expansion;
+    let mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), |d| {
+        parse_serialized_within(d, index, max_expansion)
+    })?;
     Ok(mesh_geometry(b, e, &path, mesh))
 }
 

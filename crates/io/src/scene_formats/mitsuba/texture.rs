@@ -17,7 +17,7 @@ use super::Result;
 use super::build::Builder;
 use super::properties::Props;
 use super::xml::{Document, Element};
-use crate::texture_file::read_texture;
+use crate::texture_file::read_texture_within;
 use opticks_core::bsdf::MAX_ALPHA;
 use opticks_core::math::Rgb;
 use opticks_core::texture::{
@@ -195,8 +195,8 @@ fn bitmap<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<
     let to_uv = to_uv(p)?;
     p.ignore(&["format"]); // a storage precision: the same values
     let path = b.doc.resolve(fnode, &file);
-    let image =
-        read_texture(&path, raw).map_err(|m| fnode.attr_err("value", format!("{}: {m}", path.display())))?;
+    let image = read_texture_within(&path, raw, b.doc.limits.max_texels)
+        .map_err(|m| fnode.attr_err("value", format!("{}: {m}", path.display())))?;
     let bitmap = Bitmap::new(image.width, image.height, image.texels, filter, wrap, to_uv)
         .map_err(|m| fnode.attr_err("value", format!("{}: {m}", path.display())))?;
     Ok(Texture::Bitmap(bitmap))

@@ -34,6 +34,8 @@ pub struct Document {
     pub warnings: Vec<String>,
     /// The `id` of the `<sensor>` to use ([`LoadOptions::camera`]); `None`: the first one.
     pub camera: Option<String>,
+    /// Bounds on what the files the scene names may allocate ([`LoadOptions::limits`]).
+    pub limits: crate::scene_formats::LoadLimits,
 }
 
 impl Document {
@@ -124,6 +126,7 @@ pub fn read(text: &str, path: &Path, options: &LoadOptions) -> Result<Document> 
         main: path.to_path_buf(),
         warnings,
         camera: options.camera.clone(),
+        limits: options.limits,
     })
 }
 
