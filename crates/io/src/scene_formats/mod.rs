@@ -35,6 +35,7 @@ pub mod mitsuba;
 pub mod obj;
 pub mod ply;
 pub mod serialized;
+pub mod tessellate;
 pub mod vrml;
 pub mod wavefront;
 
