@@ -28,8 +28,9 @@ fn err(at: &FileLocation, element: &str, message: String) -> SceneFileError {
     SceneFileError::Invalid { at: at.clone(), element: element.to_string(), message }
 }
 
-/// Loads a Radiance scene file and what it includes; `options.camera` is a Radiance view (see
-/// [`view`]); `--gltf-scene` is refused.
+/// Loads a Radiance scene file and what it includes. `options.camera` is a Radiance view: a
+/// view file, or view options when it starts with `-`; without it, a view of the bounding box
+/// (`docs/scene-formats.md`, "Views and the camera"). `--gltf-scene` is refused.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFileError> {
     if let Some(s) = &options.gltf_scene {
         return Err(err(
