@@ -176,6 +176,19 @@ fn each_material_maps_to_the_closest_core_material() {
         Bsdf::Blend(b) => assert_eq!(b.weight, 0.05),
         other => panic!("{other:?}"),
     }
+    // A white plastic with a perfect highlight stays within the core's bounds (its base is not
+    // recomputed from the (1 − s)-scaled colour, which rounds above 1).
+    let w = one(
+        "void plastic white 0 0 5 1 1 1 0.07 0\ngrey polygon q 0 0 9 0 0 0 1 0 0 0 1 0\nwhite polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n",
+    );
+    assert!(
+        matches!(&w.description.materials[1].bsdf, Bsdf::Blend(b) if b.max_albedo().max_element() <= 1.0)
+    );
+    for spec in 1..100 {
+        let s = format!("void plastic w 0 0 5 1 1 1 0.{spec:02} 0.1\nw polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n");
+        let w = load_ok(&[("a.rad", s.as_bytes())]);
+        assert!(matches!(&w.description.materials[0].bsdf, Bsdf::ModifiedPhong(_)), "{spec}");
+    }
     match &bsdf("p3").0.bsdf {
         Bsdf::ModifiedPhong(p) => {
             let metal = Rgb::new(0.8, 0.6, 0.4);

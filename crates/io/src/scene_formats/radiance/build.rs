@@ -399,15 +399,19 @@ impl Builder {
                         trans * (1.0 - spec)
                     ));
                 }
-                let base = rgb * ((1.0 - spec) * (1.0 - trans));
+                // The colour is a reflectance (the core's check, naming it); then base and
+                // highlight sum to at most 1 but for rounding, which the min takes away.
+                Lambert::new(rgb).map_err(mat)?;
                 let highlight = if kind == "metal" { rgb * spec } else { Rgb::splat(spec) };
+                let base = (rgb * ((1.0 - spec) * (1.0 - trans))).min(Rgb::ONE - highlight).max(Rgb::ZERO);
                 let bsdf = if spec == 0.0 {
                     Bsdf::Lambert(Lambert::new(base).map_err(mat)?)
                 } else if rough == 0.0 {
                     // A perfect highlight: the diffuse base plus a mirror of the highlight's
-                    // colour, in Radiance's proportions.
-                    let diffuse = if base.max_element() > 0.0 { base / (1.0 - spec) } else { Rgb::ZERO };
-                    let tint = highlight / spec;
+                    // colour, in Radiance's proportions (the blend's weights give the (1 − s)
+                    // and s; the colours are taken as written, so that a white 1 stays 1).
+                    let diffuse = rgb * (1.0 - trans);
+                    let tint = if kind == "metal" { rgb } else { Rgb::ONE };
                     Bsdf::Blend(
                         Blend::new(
                             spec,
