@@ -26,7 +26,7 @@ shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
     targets=(mitsuba vrml obj_mtl gltf ies camera_path dataset ply serialized texture spectrum
-        meter_points cluster_wire mitsuba_include)
+        meter_points cluster_wire mitsuba_include radiance)
 fi
 
 # seed TARGET FILE...: small files only (libFuzzer mutates better, and faster, from small inputs).
@@ -54,6 +54,7 @@ seed spectrum seeds/spectrum/*
 seed meter_points seeds/meter_points/*
 seed cluster_wire seeds/cluster_wire/*
 seed mitsuba_include seeds/mitsuba_include/* $(find ../testdata ../scenes -name '*.xml')
+seed radiance seeds/radiance/* $(find ../testdata -name '*.rad')
 
 # The instrumentation of `cargo fuzz build -O`: coverage counters and comparison tracing for
 # libFuzzer, debug assertions and overflow checks on. An explicit --target keeps build scripts

@@ -111,6 +111,20 @@ pub fn obj_mtl(data: &[u8]) {
     }
 }
 
+/// A Radiance scene and a file it may include: the input is the scene text, then, after a line
+/// `#INC`, the text of `inc.rad` (which the scene includes with `!xform … inc.rad`; it may
+/// include itself or the scene, a cycle the reader refuses).
+pub fn radiance(data: &[u8]) {
+    let (scene, inc) = match data.windows(6).position(|w| w == b"\n#INC\n") {
+        Some(i) => (&data[..i], &data[i + 6..]),
+        None => (data, &b""[..]),
+    };
+    file("inc.rad", inc);
+    if let Ok(loaded) = opticks_io::load_scene(&file("fuzz.rad", scene)) {
+        exercise(&loaded);
+    }
+}
+
 /// A glTF 2.0 scene: binary (GLB) if it starts with the GLB magic, else JSON.
 pub fn gltf(data: &[u8]) {
     let name = if data.starts_with(b"glTF") { "fuzz.glb" } else { "fuzz.gltf" };

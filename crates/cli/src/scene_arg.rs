@@ -24,7 +24,8 @@ pub struct DefineArgs {
     define: Vec<(String, String)>,
     /// The scene file's camera to use, by name, where it has several: a glTF camera (its
     /// node's or its own name), a Mitsuba `<sensor>` (its `id`), a VRML `Viewpoint` (its
-    /// `description` or DEF name). Default: the format's first.
+    /// `description` or DEF name). Default: the format's first. For a Radiance `.rad` scene
+    /// (which has no view): a Radiance view file, or view options (`--camera="-vp 1 2 1.5 -vd 0 1 0"`).
     /// Cameras do not change a dataset: any of them renders it.
     #[arg(long, value_name = "NAME")]
     camera: Option<String>,

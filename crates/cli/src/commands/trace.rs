@@ -21,7 +21,7 @@ use std::time::Duration;
 /// Arguments of `opticks trace`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene file (Mitsuba 3 XML, VRML97 .wrl/.wrz, OBJ/MTL, glTF .gltf/.glb), or `builtin:cornell`.
+    /// Scene file (Mitsuba 3 XML, VRML97 .wrl/.wrz, OBJ/MTL, glTF .gltf/.glb, Radiance .rad), or `builtin:cornell`.
     #[arg(value_parser = crate::scene_arg::parse_scene)]
     scene: opticks_io::scene_source::SceneRef,
     /// Light paths to trace, over all lights (split in proportion to their power); e.g.

@@ -458,3 +458,26 @@ fn a_gltf_scene_and_camera_are_chosen_by_name() {
     let e = fails(&["trace", gltf, "--paths", "10", "-o", "x.opds", "--camera", "Overview"], d);
     assert!(e.contains("--camera chooses a view"), "{e}");
 }
+
+/// A Radiance room (testdata/radiance: a window, a ceiling panel, a table included by
+/// `!xform`) traces and renders: from the overview camera the loader gives a `.rad` file, and
+/// from a Radiance view file inside the room, where the lit walls show.
+#[test]
+fn radiance_room_traces_and_renders() {
+    let dir = tempfile::tempdir().unwrap();
+    let room = repo().join("testdata/radiance/room.rad");
+    let view = repo().join("testdata/radiance/room.vf");
+    stdout(&["trace", room.to_str().unwrap(), "--paths", "1000", "-o", "room.opds"], dir.path());
+    stdout(&["render", "room.opds", "-o", "overview.exr"], dir.path());
+    let (w, h, _) = read_exr_rgb(&dir.path().join("overview.exr")).unwrap();
+    assert_eq!((w, h), (512, 512));
+    stdout(&["trace", room.to_str().unwrap(), "--paths", "20000", "-o", "inside.opds"], dir.path());
+    stdout(
+        &["render", "inside.opds", "-o", "inside.exr", "--camera", view.to_str().unwrap(), "--size", "64x52"],
+        dir.path(),
+    );
+    let (w, h, rgb) = read_exr_rgb(&dir.path().join("inside.exr")).unwrap();
+    assert_eq!((w, h), (64, 52));
+    let m = mean(&rgb);
+    assert!(m.iter().all(|&c| c > 0.0 && c.is_finite()), "{m:?}");
+}

@@ -1,11 +1,14 @@
-//! One scene, four formats: the Cornell box written in VRML97 (by hand, with the Opticks
-//! extension), OBJ/MTL and glTF 2.0 must render to the same image as its Mitsuba XML — the same
+//! One scene, five formats: the Cornell box written in VRML97 (by hand, with the Opticks
+//! extension), OBJ/MTL, glTF 2.0 and Radiance (`testdata/radiance/make_cornell.py`; its light
+//! reflects nothing, as a Radiance `light` does) must render to the same image as its Mitsuba XML — the same
 //! up to noise: their relative MSE against each other is what two independent traces of the
 //! XML scene show between themselves.
 
 use opticks_testkit as common;
 
 use common::*;
+use opticks_core::bsdf::{Bsdf, Lambert, Material};
+use opticks_core::math::Rgb;
 use opticks_core::scene::Scene;
 use opticks_core::sensor::Pinhole;
 use opticks_io::compare::compare;
@@ -20,7 +23,7 @@ fn render(path: &Path, seed: u64, camera: &Pinhole) -> Vec<f32> {
 }
 
 #[test]
-fn vrml_obj_and_gltf_cornell_boxes_render_like_the_mitsuba_xml() {
+fn vrml_obj_gltf_and_radiance_cornell_boxes_render_like_the_mitsuba_xml() {
     let xml = scene_file("cornell", "scene.xml");
     // The XML's camera for every format (OBJ has none; glTF's image is 512 px high).
     let camera = camera(&load("cornell"));
@@ -28,12 +31,29 @@ fn vrml_obj_and_gltf_cornell_boxes_render_like_the_mitsuba_xml() {
     let b = render(&xml, 2, &camera);
     let noise = compare(&a, &b).relmse;
     eprintln!("XML vs XML (two seeds): relMSE {noise:.3e}");
-    for (i, file) in ["testdata/vrml/cornell.wrl", "testdata/obj/cornell.obj", "testdata/gltf/cornell.gltf"]
-        .iter()
-        .enumerate()
+    // A Radiance light reflects nothing: the XML with its light black is the Radiance box's
+    // reference (with it reflecting, the Radiance image is 1% darker in red).
+    let mut dark = opticks_io::scene_formats::load_scene(&xml).unwrap().description;
+    dark.materials.push(Material {
+        name: "black".into(),
+        bsdf: Bsdf::Lambert(Lambert::new(Rgb::ZERO).unwrap()),
+        two_sided: false,
+    });
+    for m in dark.meshes.iter_mut().filter(|m| m.emission.is_some()) {
+        m.material = dark.materials.len() - 1;
+    }
+    let dark = trace_and_render(&Scene::build(&dark).unwrap(), &camera, PATHS, 1).to_rgb_f32();
+    for (i, file) in [
+        "testdata/vrml/cornell.wrl",
+        "testdata/obj/cornell.obj",
+        "testdata/gltf/cornell.gltf",
+        "testdata/radiance/cornell.rad",
+    ]
+    .iter()
+    .enumerate()
     {
         let other = render(&repo().join(file), 10 + i as u64, &camera);
-        let c = compare(&other, &a);
+        let c = compare(&other, if file.ends_with(".rad") { &dark } else { &a });
         eprintln!("{file} vs XML: relMSE {:.3e}, mean ratio {:?}", c.relmse, c.mean_ratio);
         // Two independent estimates of the same image: relMSE ≈ the XML-vs-XML level (±15%).
         assert!(c.relmse < 1.15 * noise, "{file}: relMSE {} vs noise {noise}", c.relmse);

@@ -7,6 +7,7 @@
 //! | `.wrl`, `.wrz`, `.wrl.gz` | VRML97 with the Opticks physical extension (the thesis's format) | [`vrml`] |
 //! | `.obj` | Wavefront OBJ with MTL materials (area lights from `Ke`), no camera | [`wavefront`] |
 //! | `.gltf`, `.glb` | glTF 2.0 (meshes, metallic-roughness materials, emission, point, spot and directional lights, cameras) | [`gltf`] |
+//! | `.rad` | Radiance scene description (primitives, materials, `!xform` includes; never executed) | [`radiance`] |
 //!
 //! The extension is matched case-insensitively; anything else is a
 //! [`SceneFileError::UnsupportedExtension`].
@@ -44,7 +45,9 @@ pub mod mesh_bytes;
 pub mod mitsuba;
 pub mod obj;
 pub mod ply;
+pub mod radiance;
 pub mod serialized;
+pub mod tessellate;
 pub mod vrml;
 pub mod wavefront;
 
@@ -147,7 +150,7 @@ pub enum SceneFileError {
     },
     /// The extension is not one [`load_scene`] knows.
     #[error(
-        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .wrl, .wrz and .wrl.gz for VRML97, .obj for OBJ/MTL, .gltf and .glb for glTF 2.0)",
+        "{}: unsupported scene file type (supported extensions: .xml for Mitsuba 3 scenes, .wrl, .wrz and .wrl.gz for VRML97, .obj for OBJ/MTL, .gltf and .glb for glTF 2.0, .rad for Radiance)",
         .path.display()
     )]
     UnsupportedExtension {
@@ -259,6 +262,7 @@ pub fn load_scene_with(path: &Path, options: &LoadOptions) -> Result<LoadedScene
             wavefront::load_obj_mtl_scene(path)
         }
         Some("gltf" | "glb") => gltf::load_gltf_scene_with(path, options),
+        Some("rad") => radiance::load(path, options),
         _ if vrml::is_vrml_path(path) => {
             refuse_selection(
                 path,
@@ -295,7 +299,7 @@ mod tests {
         let e = load_scene(Path::new("dir/scene.ply")).unwrap_err();
         let msg = e.to_string();
         assert!(msg.starts_with("dir/scene.ply: unsupported scene file type"), "{msg}");
-        for ext in [".xml", ".wrl", ".wrz", ".wrl.gz", ".obj", ".gltf", ".glb"] {
+        for ext in [".xml", ".wrl", ".wrz", ".wrl.gz", ".obj", ".gltf", ".glb", ".rad"] {
             assert!(msg.contains(ext), "{ext}: {msg}");
         }
         assert!(matches!(load_scene(Path::new("noext")), Err(SceneFileError::UnsupportedExtension { .. })));

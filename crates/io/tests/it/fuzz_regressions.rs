@@ -13,7 +13,7 @@ use std::path::Path;
 /// A fuzz target's entry point.
 type Entry = fn(&[u8]);
 
-const TARGETS: [(&str, Entry); 14] = [
+const TARGETS: [(&str, Entry); 15] = [
     ("mitsuba", entry::mitsuba),
     ("vrml", entry::vrml),
     ("obj_mtl", entry::obj_mtl),
@@ -28,6 +28,7 @@ const TARGETS: [(&str, Entry); 14] = [
     ("meter_points", entry::meter_points),
     ("cluster_wire", entry::cluster_wire),
     ("mitsuba_include", entry::mitsuba_include),
+    ("radiance", entry::radiance),
 ];
 
 #[test]
@@ -78,6 +79,8 @@ fn the_seed_inputs_run_through_every_entry_point() {
     }
     entry::mitsuba_include(&data("mitsuba/shapes/parts/bsdfs.xml"));
     entry::mitsuba_include(&data("../fuzz/seeds/mitsuba_include/nested.xml"));
+    entry::radiance(&data("radiance/cornell.rad"));
+    entry::radiance(&data("../fuzz/seeds/radiance/include-and-shapes"));
     entry::camera_path(br#"{"fps": 4, "size": [8, 8], "keyframes": [
         {"time": 0, "eye": [0, 0, 3.9], "target": [0, 0, 0]}, {"time": 1, "eye": [1, 0, 3.9], "target": [0, 0, 0]}]}"#);
     entry::remove_scratch();

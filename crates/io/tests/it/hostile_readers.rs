@@ -83,6 +83,7 @@ fn special_files_are_refused_wherever_a_scene_names_a_file() {
                 ),
             ),
             ("scene.obj", format!("mtllib {special}\n{quad}")),
+            ("scene.rad", format!("!xform -t 1 0 0 {special}\n")),
             (
                 "scene.gltf",
                 format!(

@@ -14,6 +14,7 @@ mod mitsuba;
 mod mitsuba_structure;
 mod mitsuba_textures;
 mod obj_mtl;
+mod radiance;
 mod scene_loading;
 mod tidy;
 mod vrml;

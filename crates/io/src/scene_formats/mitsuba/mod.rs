@@ -13,7 +13,7 @@
 //! | `properties.rs`, `transform.rs` | the typed property getters every builder reads its parameters through, and `<transform>` (`spectrum.rs`, `cie.rs`: `<spectrum>` to RGB as Mitsuba's RGB variants convert it) |
 //! | `sensor.rs` | `<sensor>` and `<film>` → the camera |
 //! | `bsdf.rs` | `<bsdf>` → materials (`conductors.rs`: Mitsuba's named conductors in RGB, generated; `texture.rs`: `<texture>` colour parameters) |
-//! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior; `tessellate.rs`: the analytic sphere, disk and cylinder as meshes) |
+//! | `shape.rs` | `<shape>` → meshes, with their normals (`medium.rs`: a shape's absorbing interior; the analytic sphere, disk and cylinder tessellated by [`super::tessellate`]) |
 //! | `instance.rs` | `shapegroup` and `instance` shapes → world-space copies of the group's meshes |
 //! | `emitter.rs` | `<emitter>` → area, point, spot, IES and directional lights |
 //!
@@ -46,7 +46,6 @@ mod properties;
 mod sensor;
 mod shape;
 mod spectrum;
-mod tessellate;
 mod texture;
 mod transform;
 mod xml;

@@ -8,7 +8,7 @@
 //! inverse transpose of `to_world`); a mesh file without normals gets Mitsuba's generated smooth
 //! normals, computed on the world positions ([`generated_vertex_normals`]) — OBJ, PLY and
 //! serialized files alike; `rectangle`, `cube` and `disk` are faceted, `sphere` and `cylinder`
-//! tessellated with their exact normals ([`super::tessellate`]), and a mirroring `to_world`
+//! tessellated with their exact normals ([`crate::scene_formats::tessellate`]), and a mirroring `to_world`
 //! reverses an analytic shape's winding so that its normal stays where Mitsuba's transformed
 //! normal is.
 
@@ -16,12 +16,12 @@ use super::Result;
 use super::bsdf;
 use super::build::Builder;
 use super::properties::Props;
-use super::tessellate;
 use super::texture;
 use super::xml::Element;
 use super::{emitter, medium};
 use crate::scene_formats::mesh_bytes::{MeshData, read_mesh_file};
 use crate::scene_formats::obj::{generated_vertex_normals, read_obj};
+use crate::scene_formats::tessellate;
 use crate::scene_formats::{ply::parse_ply_with, serialized::parse_serialized_within};
 use glam::{DMat3, DMat4};
 use opticks_core::math::{Vec2, Vec3};

@@ -1,14 +1,17 @@
-//! Mitsuba's analytic `sphere`, `disk` and `cylinder` as triangle meshes (Opticks renders
-//! triangles only), fine enough to match the analytic shapes within the noise of a converged
+//! Analytic shapes as triangle meshes (Opticks renders triangles only): Mitsuba's `sphere`,
+//! `disk` and `cylinder`, and Radiance's cones and rings (a cylinder is a cone of equal radii,
+//! a disk a ring without a hole). Fine enough to match the analytic shapes within the noise of a converged
 //! image: 128 segments around (and 64 rings for the sphere), smooth normals on the curved
 //! surfaces (the exact normal of the analytic shape at each vertex), and the radius scaled so
 //! that each mesh has exactly the analytic shape's area — so an area light on it emits
 //! Mitsuba's power, and the surface it offers to light is the same.
 //!
-//! Each function returns object-space positions, counter-clockwise triangles whose front faces
-//! the way Mitsuba's normal points (outward; +z for the disk) and the vertex normals (empty for
-//! the flat disk). The `to_world` and `flip_normals` of the shape are applied by
-//! [`super::shape`] as for every shape.
+//! Each function returns positions, counter-clockwise triangles whose front faces the way the
+//! analytic normal points (outward; +z for the disk, the given normal for a ring) and the
+//! vertex normals (empty for the flat disk and ring). A Mitsuba shape's `to_world` and
+//! `flip_normals` are applied by its loader as for every shape; Radiance's shapes are built
+//! from their world-space parameters, and its inward variants (`bubble`, `cup`, `tube`) flip
+//! the result ([`flip`]).
 
 use opticks_core::math::{Vec2, Vec3};
 use std::f64::consts::PI;
@@ -92,11 +95,24 @@ pub fn disk() -> Tessellation {
 /// The open cylinder of `radius` around the segment `p0`–`p1` (no caps), normals outward.
 /// `None` if `p0` = `p1`.
 pub fn cylinder(p0: glam::DVec3, p1: glam::DVec3, radius: f64) -> Option<Tessellation> {
+    cone(p0, p1, radius, radius)
+}
+
+/// The open cone (a frustum) around the segment `p0`–`p1`, of radius `r0` at `p0` and `r1` at
+/// `p1` (no caps; one of them may be 0, an apex), smooth normals outward (perpendicular to the
+/// slanted side). The radii are scaled as the cylinder's, so a cylinder's area is exact and a
+/// cone's within 2·10⁻⁴. `None` if `p0` = `p1` or both radii are 0.
+pub fn cone(p0: glam::DVec3, p1: glam::DVec3, r0: f64, r1: f64) -> Option<Tessellation> {
+    let h = (p1 - p0).length();
     let axis = (p1 - p0).try_normalize()?;
+    if r0 <= 0.0 && r1 <= 0.0 {
+        return None;
+    }
     let (u, v) = axis.any_orthonormal_pair();
     let step = 2.0 * PI / SEGMENTS as f64;
-    // A prism of SEGMENTS sides of width 2k·sin(step/2) has the area of the cylinder.
-    let k = radius * (step / 2.0) / (step / 2.0).sin();
+    // A prism of SEGMENTS sides of width 2k·sin(step/2) has the area of the cylinder (written
+    // as it always was, so that Mitsuba's cylinders keep their bits).
+    let k = |radius: f64| radius * (step / 2.0) / (step / 2.0).sin();
     let mut positions = Vec::with_capacity(2 * SEGMENTS + 2);
     let mut normals = Vec::with_capacity(2 * SEGMENTS + 2);
     let mut uvs = Vec::with_capacity(2 * SEGMENTS + 2);
@@ -105,9 +121,11 @@ pub fn cylinder(p0: glam::DVec3, p1: glam::DVec3, radius: f64) -> Option<Tessell
     for s in 0..=SEGMENTS {
         let phi = step * (s % SEGMENTS) as f64;
         let n = u * phi.cos() + v * phi.sin();
-        for (end, z) in [(p0, 0.0), (p1, 1.0)] {
-            positions.push((end + n * k).as_vec3());
-            normals.push(n.as_vec3());
+        // The side's normal leans toward the narrow end; a cylinder's is the radial one as is.
+        let normal = if r0 == r1 { n } else { (n * h - axis * (r1 - r0)).normalize() };
+        for (end, r, z) in [(p0, r0, 0.0), (p1, r1, 1.0)] {
+            positions.push((end + n * k(r)).as_vec3());
+            normals.push(normal.as_vec3());
             uvs.push(Vec2::new(s as f32 / SEGMENTS as f32, z));
         }
     }
@@ -115,11 +133,62 @@ pub fn cylinder(p0: glam::DVec3, p1: glam::DVec3, radius: f64) -> Option<Tessell
     for s in 0..SEGMENTS as u32 {
         let t = s + 1;
         let (a, b, c, d) = (2 * s, 2 * t, 2 * t + 1, 2 * s + 1);
-        // u × v = axis: going around (u → v) with the axis up, (a, b, c) winds outward.
-        triangles.push([a, b, c]);
-        triangles.push([a, c, d]);
+        // u × v = axis: going around (u → v) with the axis up, (a, b, c) winds outward. At an
+        // apex one of the two triangles has no area and is left out.
+        if r0 > 0.0 {
+            triangles.push([a, b, c]);
+        }
+        if r1 > 0.0 {
+            triangles.push([a, c, d]);
+        }
     }
     Some((positions, triangles, normals, uvs))
+}
+
+/// The flat ring (annulus) about `center` facing `normal`, between radii `r0` ≥ 0 (the hole)
+/// and `r1` > `r0`, faceted: two triangles per segment (one where `r0` = 0), the radii
+/// pushed out as the disk's so that the area π(r1² − r0²) is exact. No UVs. `None` if the
+/// normal is zero or the radii are not 0 ≤ `r0` < `r1`.
+pub fn ring(center: glam::DVec3, normal: glam::DVec3, r0: f64, r1: f64) -> Option<Tessellation> {
+    let normal = normal.try_normalize()?;
+    if !(0.0 <= r0 && r0 < r1) {
+        return None;
+    }
+    let (u, v) = normal.any_orthonormal_pair();
+    let step = 2.0 * PI / SEGMENTS as f64;
+    // The fan's area is SEGMENTS/2 · k² · sin(step) · (r1² − r0²) = π(r1² − r0²).
+    let k = (step / step.sin()).sqrt();
+    let mut positions = Vec::with_capacity(2 * SEGMENTS);
+    for s in 0..SEGMENTS {
+        let phi = step * s as f64;
+        let d = u * phi.cos() + v * phi.sin();
+        for r in [r0, r1] {
+            positions.push((center + d * (k * r)).as_vec3());
+        }
+    }
+    let n = SEGMENTS as u32;
+    let mut triangles = Vec::with_capacity(2 * SEGMENTS);
+    for s in 0..n {
+        let t = (s + 1) % n;
+        // u × v = normal: (inner s, outer s, outer t) winds counter-clockwise seen from it.
+        let (a, b, c, d) = (2 * s, 2 * s + 1, 2 * t + 1, 2 * t);
+        triangles.push([a, b, c]);
+        if r0 > 0.0 {
+            triangles.push([a, c, d]);
+        }
+    }
+    Some((positions, triangles, Vec::new(), Vec::new()))
+}
+
+/// Turns a tessellation inside out: the winding reversed and the normals negated (Radiance's
+/// `bubble`, `cup` and `tube`).
+pub fn flip(t: &mut Tessellation) {
+    for tri in &mut t.1 {
+        tri.swap(1, 2);
+    }
+    for n in &mut t.2 {
+        *n = -*n;
+    }
 }
 
 #[cfg(test)]
@@ -157,6 +226,31 @@ mod tests {
         // Vertices deviate from the analytic surface by less than 0.1% of the radius.
         assert!(s.0.iter().all(|p| ((*p - Vec3::new(1.0, 2.0, 3.0)).length() / 2.0 - 1.0).abs() < 1e-3));
         assert!(cylinder(glam::DVec3::ONE, glam::DVec3::ONE, 1.0).is_none());
+        // A frustum of radii 1 and 0.5 over height 2, and a cone with its apex at p1.
+        let (p0, p1) = (glam::DVec3::new(1.0, 0.0, 0.0), glam::DVec3::new(1.0, 0.0, 2.0));
+        for (r0, r1) in [(1.0, 0.5), (0.7, 0.0), (0.0, 0.3)] {
+            let c = cone(p0, p1, r0, r1).unwrap();
+            let (a, out) = area_and_outwardness(&c, |m| Vec3::new(1.0, 0.0, m.z));
+            let slant = (4.0f64 + (r1 - r0) * (r1 - r0)).sqrt();
+            let exact = PI * (r0 + r1) * slant;
+            assert!((a / exact - 1.0).abs() < 2e-4 && out, "{r0} {r1}: {a} {exact}");
+            assert!(c.1.iter().all(|t| t.iter().all(|&i| (i as usize) < c.0.len())));
+        }
+        assert!(cone(p0, p1, 0.0, 0.0).is_none());
+        let r = ring(glam::DVec3::new(0.0, 1.0, 0.0), glam::DVec3::new(0.0, 2.0, 0.0), 0.5, 1.5).unwrap();
+        let (a, _) = area_and_outwardness(&r, |m| m - Vec3::Y);
+        assert!((a / (PI * 2.0) - 1.0).abs() < 1e-5, "{a}");
+        let g = |t: [u32; 3]| {
+            let [a, b, c] = t.map(|i| r.0[i as usize]);
+            (b - a).cross(c - a)
+        };
+        assert!(r.1.iter().all(|&t| g(t).y > 0.0), "the ring faces its normal");
+        assert_eq!(ring(glam::DVec3::ZERO, glam::DVec3::Z, 0.0, 1.0).unwrap().1.len(), SEGMENTS);
+        assert!(ring(glam::DVec3::ZERO, glam::DVec3::Z, 1.0, 1.0).is_none());
+        let mut s = sphere(Vec3::ZERO, 1.0);
+        flip(&mut s);
+        let (_, out) = area_and_outwardness(&s, |m| m * 2.0);
+        assert!(out, "flipped: every front and normal faces the centre");
     }
 
     #[test]

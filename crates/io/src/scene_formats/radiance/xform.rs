@@ -1,0 +1,194 @@
+//! `xform`'s arguments, read (never run): the transform, the options that rename or re-modify
+//! what it includes, and the files. Transforms are Radiance's: each applies after the ones
+//! before it, and they preserve shape (rotations, translations, a uniform scale, mirrors), so
+//! every primitive stays the same kind of primitive with transformed parameters, as `xform`
+//! itself writes them.
+
+use glam::{DMat3, DVec3};
+
+/// A similarity transform x ↦ s·R·x + t, R orthogonal (a mirror when its determinant is −1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Similarity {
+    /// s·R.
+    pub linear: DMat3,
+    /// t.
+    pub translation: DVec3,
+    /// |s|: how lengths (radii) scale.
+    pub scale: f64,
+}
+
+impl Default for Similarity {
+    fn default() -> Self {
+        Similarity { linear: DMat3::IDENTITY, translation: DVec3::ZERO, scale: 1.0 }
+    }
+}
+
+impl Similarity {
+    /// A point transformed.
+    pub fn point(&self, p: DVec3) -> DVec3 {
+        self.linear * p + self.translation
+    }
+
+    /// A direction transformed (without translation; normals too, R being orthogonal).
+    pub fn vector(&self, v: DVec3) -> DVec3 {
+        self.linear * v
+    }
+
+    /// Whether it mirrors (reverses handedness).
+    pub fn mirrors(&self) -> bool {
+        self.linear.determinant() < 0.0
+    }
+
+    /// `self` applied after `inner`.
+    pub fn then_after(&self, inner: &Similarity) -> Similarity {
+        Similarity {
+            linear: self.linear * inner.linear,
+            translation: self.linear * inner.translation + self.translation,
+            scale: self.scale * inner.scale,
+        }
+    }
+
+    fn then(self, linear: DMat3, translation: DVec3, scale: f64) -> Similarity {
+        Similarity { linear, translation, scale }.then_after(&self)
+    }
+}
+
+/// An `xform` command, read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Xform {
+    /// The transform of the included files.
+    pub transform: Similarity,
+    /// `-n name`: surfaces' identifiers become `name.identifier`.
+    pub prefix: Option<String>,
+    /// `-m modifier`: surfaces take this modifier instead of their own.
+    pub modifier: Option<String>,
+    /// `-I`: surfaces are turned inside out.
+    pub invert: bool,
+    /// The files, as written (relative to the including file).
+    pub files: Vec<String>,
+}
+
+/// Reads `xform`'s arguments (the words after `xform`). An unknown option, a missing or bad
+/// number, or no file (standard input) is an error message.
+pub fn parse(args: &[String]) -> Result<Xform, String> {
+    let mut x = Xform {
+        transform: Similarity::default(),
+        prefix: None,
+        modifier: None,
+        invert: false,
+        files: Vec::new(),
+    };
+    let mut i = 0;
+    let number = |i: usize, option: &str| -> Result<f64, String> {
+        let Some(w) = args.get(i) else { return Err(format!("{option} needs a number")) };
+        super::lexer::parse_real(w).ok_or_else(|| format!("{option}: \"{w}\" is not a number"))
+    };
+    while i < args.len() {
+        let a = args[i].as_str();
+        if !a.starts_with('-') || a == "-" {
+            break;
+        }
+        let t = &mut x.transform;
+        match a {
+            "-t" => {
+                let v = DVec3::new(number(i + 1, a)?, number(i + 2, a)?, number(i + 3, a)?);
+                *t = t.then(DMat3::IDENTITY, v, 1.0);
+                i += 4;
+            }
+            "-rx" | "-ry" | "-rz" => {
+                let angle = number(i + 1, a)?.to_radians();
+                let r = match a {
+                    "-rx" => DMat3::from_rotation_x(angle),
+                    "-ry" => DMat3::from_rotation_y(angle),
+                    _ => DMat3::from_rotation_z(angle),
+                };
+                *t = t.then(r, DVec3::ZERO, 1.0);
+                i += 2;
+            }
+            "-s" => {
+                let s = number(i + 1, a)?;
+                if s == 0.0 {
+                    return Err("-s 0 collapses the scene to a point".into());
+                }
+                *t = t.then(DMat3::from_diagonal(DVec3::splat(s)), DVec3::ZERO, s.abs());
+                i += 2;
+            }
+            "-mx" | "-my" | "-mz" => {
+                let d = match a {
+                    "-mx" => DVec3::new(-1.0, 1.0, 1.0),
+                    "-my" => DVec3::new(1.0, -1.0, 1.0),
+                    _ => DVec3::new(1.0, 1.0, -1.0),
+                };
+                *t = t.then(DMat3::from_diagonal(d), DVec3::ZERO, 1.0);
+                i += 1;
+            }
+            "-n" | "-m" => {
+                let Some(name) = args.get(i + 1) else { return Err(format!("{a} needs a name")) };
+                let slot = if a == "-n" { &mut x.prefix } else { &mut x.modifier };
+                *slot = Some(match (a, slot.take()) {
+                    // Repeated -n options nest, as xform's do; the first -m wins.
+                    ("-n", Some(outer)) => format!("{outer}.{name}"),
+                    (_, Some(first)) => first,
+                    (_, None) => name.clone(),
+                });
+                i += 2;
+            }
+            "-I" => {
+                x.invert = !x.invert;
+                i += 1;
+            }
+            // Whether commands in the included file are expanded now or later: here they are
+            // read (and refused unless they are xform) either way.
+            "-e" | "-c" => i += 1,
+            _ => {
+                return Err(format!(
+                    "unsupported xform option {a} (supported: -t, -rx, -ry, -rz, -s, -mx, -my, -mz, -n, -m, -I, -e, -c; arrays -a and -i, and -f, are not)"
+                ));
+            }
+        }
+    }
+    x.files = args[i..].to_vec();
+    if x.files.is_empty() {
+        return Err("xform without a file would read standard input: name the file to include".into());
+    }
+    if let Some(f) = x.files.iter().find(|f| f.starts_with('-')) {
+        return Err(format!("option {f} after the first file"));
+    }
+    Ok(x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(s: &str) -> Vec<String> {
+        s.split_whitespace().map(str::to_string).collect()
+    }
+
+    #[test]
+    fn transforms_compose_in_order() {
+        let x = parse(&args("-rz 90 -t 1 0 0 -s 2 a.rad")).unwrap();
+        // (1, 0, 0) → rotated (0, 1, 0) → moved (1, 1, 0) → scaled (2, 2, 0).
+        let p = x.transform.point(DVec3::X);
+        assert!((p - DVec3::new(2.0, 2.0, 0.0)).length() < 1e-12, "{p}");
+        assert_eq!((x.transform.scale, x.files.clone()), (2.0, vec!["a.rad".to_string()]));
+        assert!(!x.transform.mirrors());
+        assert!(parse(&args("-mx a.rad")).unwrap().transform.mirrors());
+        assert!(parse(&args("-s -1 a.rad")).unwrap().transform.mirrors());
+        let x = parse(&args("-n a -n b -m glass -I a.rad b.rad")).unwrap();
+        assert_eq!(
+            (x.prefix.as_deref(), x.modifier.as_deref(), x.invert),
+            (Some("a.b"), Some("glass"), true)
+        );
+        assert_eq!(x.files.len(), 2);
+    }
+
+    #[test]
+    fn refuses_what_it_does_not_do() {
+        assert!(parse(&args("-a 3 -t 1 0 0 a.rad")).unwrap_err().contains("unsupported xform option -a"));
+        assert!(parse(&args("-i 2 a.rad")).unwrap_err().contains("-i"));
+        assert!(parse(&args("-t 1 0")).unwrap_err().contains("-t needs a number"));
+        assert!(parse(&args("-rx x a.rad")).unwrap_err().contains("not a number"));
+        assert!(parse(&args("-t 1 2 3")).unwrap_err().contains("standard input"));
+    }
+}

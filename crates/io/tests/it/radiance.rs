@@ -1,0 +1,460 @@
+//! The Radiance scene loader through the public API: errors with file:line:column, each
+//! surface's geometry, each material's mapping, `!xform` includes with their transforms, include
+//! cycles, commands and unknown primitives refused, views, and the example room.
+
+use opticks_core::bsdf::Bsdf;
+use opticks_core::math::{Rgb, Vec3};
+use opticks_core::scene::{CameraKind, MeshDesc, Scene};
+use opticks_io::scene_formats::{LoadOptions, load_scene, load_scene_with};
+use opticks_testkit::files::{error_of, load_ok, testdata};
+
+fn area(m: &MeshDesc) -> f64 {
+    m.triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            0.5 * (b - a).cross(c - a).length() as f64
+        })
+        .sum()
+}
+
+/// Σ over triangles of area × the unit face normal: zero for a closed surface, A·n for a
+/// flat one facing n.
+fn vector_area(m: &MeshDesc) -> Vec3 {
+    m.triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            0.5 * (b - a).cross(c - a)
+        })
+        .sum()
+}
+
+const MAT: &str = "void plastic grey\n0\n0\n5 0.5 0.5 0.5 0 0\n";
+
+fn one(text: &str) -> opticks_io::scene_formats::LoadedScene {
+    load_ok(&[("a.rad", format!("{MAT}{text}").as_bytes())])
+}
+
+#[test]
+fn each_surface_has_its_geometry() {
+    let s = one("grey polygon quad 0 0 12 0 0 0 2 0 0 2 1 0 0 1 0\n\
+         grey polygon concave 0 0 18 0 0 1 2 0 1 2 1 1 1 1 1 1 2 1 0 2 1\n\
+         grey sphere ball 0 0 4 1 2 3 0.5\n\
+         grey bubble inside 0 0 4 0 0 0 2\n\
+         grey cone c 0 0 8 0 0 0 0 0 2 1 0.5\n\
+         grey cup u 0 0 8 0 0 0 0 0 2 1 0\n\
+         grey cylinder cy 0 0 7 0 0 0 0 3 0 0.25\n\
+         grey tube tu 0 0 7 0 0 0 0 3 0 0.25\n\
+         grey ring r 0 0 8 0 0 0 0 0 -1 0.5 1.5\n\
+         void light l 0 0 3 1 1 1\n\
+         l polygon lamp 0 0 9 0 0 5 0 1 5 1 0 5\n");
+    let d = &s.description;
+    let m = |name: &str| d.meshes.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("{name}"));
+    let pi = std::f64::consts::PI;
+    // Polygons: as many vertices as written, triangulated (the concave L by ear clipping).
+    assert_eq!((m("quad").positions.len(), m("quad").triangles.len()), (4, 2));
+    assert!(
+        (vector_area(m("quad")) - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-6,
+        "front by the right-hand rule"
+    );
+    assert_eq!((m("concave").positions.len(), m("concave").triangles.len()), (6, 4));
+    assert!((area(m("concave")) - 3.0).abs() < 1e-6);
+    // Curved surfaces: finely tessellated, the analytic area, smooth normals.
+    assert!((area(m("ball")) / (4.0 * pi * 0.25) - 1.0).abs() < 1e-4, "{}", area(m("ball")));
+    assert!(m("ball").triangles.len() > 10_000 && m("ball").normals.len() == m("ball").positions.len());
+    let centre = Vec3::new(1.0, 2.0, 3.0);
+    assert!(m("ball").positions.iter().all(|p| ((*p - centre).length() - 0.5).abs() < 1e-3));
+    let slant = (4.0f64 + 0.25).sqrt();
+    assert!((area(m("c")) / (pi * 1.5 * slant) - 1.0).abs() < 3e-4, "{}", area(m("c")));
+    assert!((area(m("u")) / (pi * (4.0f64 + 1.0).sqrt()) - 1.0).abs() < 3e-4);
+    assert!((area(m("cy")) / (2.0 * pi * 0.25 * 3.0) - 1.0).abs() < 1e-5);
+    assert!((area(m("r")) / (pi * (1.5 * 1.5 - 0.25)) - 1.0).abs() < 1e-5);
+    assert!(
+        (vector_area(m("r")).normalize() - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5,
+        "the ring faces its normal"
+    );
+    // Outward for sphere, cone, cylinder; inward for bubble, cup, tube (normals and fronts).
+    let outward = |mesh: &MeshDesc, axis_point: &dyn Fn(Vec3) -> Vec3| {
+        mesh.triangles.iter().all(|t| {
+            let [a, b, c] = t.map(|i| mesh.positions[i as usize]);
+            let g = (b - a).cross(c - a);
+            let out = (a + b + c) / 3.0 - axis_point((a + b + c) / 3.0);
+            g.dot(out) > 0.0 && t.iter().all(|&i| mesh.normals[i as usize].dot(g) > 0.0)
+        })
+    };
+    let z_axis = |p: Vec3| Vec3::new(0.0, 0.0, p.z);
+    assert!(outward(m("ball"), &|_| centre));
+    assert!(outward(m("c"), &z_axis));
+    assert!(outward(m("cy"), &|p| Vec3::new(0.0, p.y, 0.0)));
+    let inverted =
+        |mesh: &MeshDesc, axis_point: &dyn Fn(Vec3) -> Vec3| outward(mesh, &|p| 2.0 * p - axis_point(p));
+    assert!(inverted(m("inside"), &|_| Vec3::ZERO));
+    assert!(inverted(m("u"), &z_axis));
+    assert!(inverted(m("tu"), &|p| Vec3::new(0.0, p.y, 0.0)));
+    // Every mesh builds.
+    let scene = Scene::build(d).unwrap();
+    assert_eq!(scene.dropped_triangles, 0);
+}
+
+#[test]
+fn each_material_maps_to_the_closest_core_material() {
+    let s = load_ok(&[(
+        "a.rad",
+        b"void plastic matte 0 0 5 0.5 0.4 0.3 0 0.1\n\
+          void plastic shiny 0 0 5 0.5 0.4 0.3 0.05 0.1\n\
+          void plastic gloss 0 0 5 0.5 0.4 0.3 0.05 0\n\
+          void metal steel 0 0 5 0.8 0.6 0.4 0.9 0.2\n\
+          void trans tr 0 0 7 0.6 0.6 0.6 0 0 0.5 1\n\
+          void glass gl 0 0 3 0.9 0.8 0.7\n\
+          void glass gl14 0 0 4 0.9 0.9 0.9 1.4\n\
+          void dielectric water 0 0 5 0.5 0.5 0.5 1.33 0\n\
+          void mirror mi 0 0 3 0.9 0.9 0.9\n\
+          void light lamp 0 0 3 10 9 8\n\
+          void glow gw 0 0 4 1 2 3 0\n\
+          void alias again matte\n\
+          void illum win 0 0 3 5 5 5\n\
+          void illum win2 1 gl 0 3 5 5 5\n",
+    )]);
+    let d = &s.description;
+    assert!(
+        d.meshes.is_empty() && d.materials.is_empty(),
+        "materials enter the scene when a surface uses them"
+    );
+    let mut text = String::new();
+    for (i, name) in [
+        "matte", "shiny", "gloss", "steel", "tr", "gl", "gl14", "water", "mi", "lamp", "gw", "again", "win",
+        "win2",
+    ]
+    .iter()
+    .enumerate()
+    {
+        text += &format!("{name} polygon p{i} 0 0 9 0 0 0 1 0 0 0 1 0\n");
+    }
+    let all = format!(
+        "void plastic matte 0 0 5 0.5 0.4 0.3 0 0.1\n\
+         void plastic shiny 0 0 5 0.5 0.4 0.3 0.05 0.1\n\
+         void plastic gloss 0 0 5 0.5 0.4 0.3 0.05 0\n\
+         void metal steel 0 0 5 0.8 0.6 0.4 0.9 0.2\n\
+         void trans tr 0 0 7 0.6 0.6 0.6 0 0 0.5 1\n\
+         void glass gl 0 0 3 0.9 0.8 0.7\n\
+         void glass gl14 0 0 4 0.9 0.9 0.9 1.4\n\
+         void dielectric water 0 0 5 0.5 0.5 0.5 1.33 0\n\
+         void mirror mi 0 0 3 0.9 0.9 0.9\n\
+         void light lamp 0 0 3 10 9 8\n\
+         void glow gw 0 0 4 1 2 3 0\n\
+         void alias again matte\n\
+         void illum win 0 0 3 5 5 5\n\
+         void illum win2 1 gl 0 3 5 5 5\n{text}"
+    );
+    let s = load_ok(&[("c.rad", all.as_bytes())]);
+    let w = s.warnings.join("\n");
+    assert!(w.contains("c.rad:5:1: trans tr: transmission is not modelled yet"), "{w}");
+    assert!(w.contains("1 surface(s) modified by void"), "{w}");
+    let d = &s.description;
+    // The illum without an alternate is left out; the one with `gl` is glass.
+    assert_eq!(d.meshes.len(), 13);
+    let bsdf = |name: &str| {
+        let m = d.meshes.iter().find(|m| m.name == name).unwrap();
+        (&d.materials[m.material], m.emission.as_ref().map(|e| e.radiance))
+    };
+    let rgb = Rgb::new(0.5, 0.4, 0.3);
+    match bsdf("p0") {
+        (m, None) if m.two_sided => {
+            assert_eq!(m.bsdf, Bsdf::Lambert(opticks_core::bsdf::Lambert::new(rgb).unwrap()))
+        }
+        other => panic!("{other:?}"),
+    }
+    match &bsdf("p1").0.bsdf {
+        Bsdf::ModifiedPhong(p) => {
+            assert!((p.kd - rgb * 0.95).length() < 1e-6 && p.ks == Rgb::splat(0.05));
+            assert!((p.exponent - (2.0 / 0.01 - 2.0)).abs() < 1e-3, "{}", p.exponent);
+        }
+        other => panic!("{other:?}"),
+    }
+    match &bsdf("p2").0.bsdf {
+        Bsdf::Blend(b) => assert_eq!(b.weight, 0.05),
+        other => panic!("{other:?}"),
+    }
+    // A white plastic with a perfect highlight stays within the core's bounds (its base is not
+    // recomputed from the (1 − s)-scaled colour, which rounds above 1).
+    let w = one(
+        "void plastic white 0 0 5 1 1 1 0.07 0\ngrey polygon q 0 0 9 0 0 0 1 0 0 0 1 0\nwhite polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n",
+    );
+    assert!(
+        matches!(&w.description.materials[1].bsdf, Bsdf::Blend(b) if b.max_albedo().max_element() <= 1.0)
+    );
+    for spec in 1..100 {
+        let s = format!("void plastic w 0 0 5 1 1 1 0.{spec:02} 0.1\nw polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n");
+        let w = load_ok(&[("a.rad", s.as_bytes())]);
+        assert!(matches!(&w.description.materials[0].bsdf, Bsdf::ModifiedPhong(_)), "{spec}");
+    }
+    match &bsdf("p3").0.bsdf {
+        Bsdf::ModifiedPhong(p) => {
+            let metal = Rgb::new(0.8, 0.6, 0.4);
+            assert!(
+                (p.kd - metal * 0.1).length() < 1e-6 && (p.ks - metal * 0.9).length() < 1e-6,
+                "coloured highlight"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    match &bsdf("p4").0.bsdf {
+        Bsdf::Lambert(l) => assert!((l.reflectance - Rgb::splat(0.3)).length() < 1e-6),
+        other => panic!("{other:?}"),
+    }
+    match &bsdf("p5").0.bsdf {
+        Bsdf::ThinDielectric(t) => {
+            assert_eq!((t.eta, t.specular_transmittance), (1.52, Rgb::new(0.9, 0.8, 0.7)));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(&bsdf("p6").0.bsdf, Bsdf::ThinDielectric(t) if t.eta == 1.4));
+    match &bsdf("p7").0.bsdf {
+        Bsdf::SmoothDielectric(t) => {
+            assert_eq!(t.eta, 1.33);
+            assert!((t.absorption - Rgb::splat(2f32.ln())).length() < 1e-6, "{}", t.absorption);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(
+        matches!(&bsdf("p8").0.bsdf, Bsdf::SmoothConductor(c) if c.specular_reflectance == Rgb::splat(0.9) && c.ior.is_none())
+    );
+    let (lamp, emission) = bsdf("p9");
+    assert_eq!(emission, Some(Rgb::new(10.0, 9.0, 8.0)));
+    assert!(!lamp.two_sided && lamp.bsdf.max_albedo() == Rgb::ZERO);
+    assert_eq!(bsdf("p10").1, Some(Rgb::new(1.0, 2.0, 3.0)));
+    // An alias is the material it names (one material, shared).
+    assert_eq!(d.meshes.iter().find(|m| m.name == "p11").unwrap().material, d.meshes[0].material);
+    assert!(matches!(&bsdf("p13").0.bsdf, Bsdf::ThinDielectric(_)));
+    assert!(d.meshes.iter().all(|m| m.name != "p12"));
+}
+
+#[test]
+fn impossible_and_unsupported_materials_name_the_line() {
+    let e = error_of(&[("a.rad", b"\n void plastic hot 0 0 5 1.5 0 0 0 0\n")]);
+    assert!(e.starts_with("TMP/a.rad:2:2: plastic hot: invalid material:"), "{e}");
+    let e = error_of(&[("a.rad", b"void plastic p 0 0 4 1 1 1 0\n")]);
+    assert!(
+        e.contains(
+            "a.rad:1:1: plastic p: plastic takes 0 string, 0 integer and 5 real arguments, not 0, 0 and 4"
+        ),
+        "{e}"
+    );
+    let e = error_of(&[("a.rad", b"void mirror m 1 other 0 3 1 1 1\n")]);
+    assert!(e.contains("mirror m: mirror takes 0 string"), "{e}");
+    let e = error_of(&[("a.rad", b"void dielectric d 0 0 5 0 0.5 0.5 1.5 0\n")]);
+    assert!(e.contains("dielectric d: the transmission per unit length"), "{e}");
+    let e = error_of(&[("a.rad", b"pat plastic p 0 0 5 1 1 1 0 0\n")]);
+    assert!(e.contains("a.rad:1:1: plastic p: modifier \"pat\""), "{e}");
+    let e = error_of(&[("a.rad", b"void light l 0 0 3 -1 1 1\n")]);
+    assert!(e.contains("must not be negative"), "{e}");
+}
+
+#[test]
+fn unknown_and_unsupported_primitives_are_refused_naming_file_line_and_primitive() {
+    let e = error_of(&[("a.rad", format!("{MAT}\ngrey teapot t 0 0 0\n").as_bytes())]);
+    assert!(e.starts_with("TMP/a.rad:6:1: teapot t: unknown primitive type \"teapot\""), "{e}");
+    assert!(e.contains("polygon, sphere, bubble, cone, cup, cylinder, tube, ring"), "{e}");
+    for (text, what) in [
+        ("void brightfunc skyfunc 2 skybright skybright.cal 0 0\n", "brightfunc is a pattern"),
+        ("void texfunc wave 4 dx dy dz wave.cal 0 0\n", "texfunc is a texture"),
+        ("grey mesh m 1 chair.rtm 0 0\n", "mesh is a surface"),
+        ("grey instance i 1 chair.oct 0 0\n", "instance is a surface"),
+        ("grey source sun 0 0 4 0 0 1 0.5\n", "source is a surface"),
+        ("void spotlight s 0 0 7 1 1 1 30 0 0 -1\n", "spotlight is a material"),
+    ] {
+        let e = error_of(&[("a.rad", format!("{MAT}{text}").as_bytes())]);
+        assert!(e.starts_with("TMP/a.rad:5:1: ") && e.contains(what), "{e}");
+    }
+    let e =
+        error_of(&[("a.rad", b"void plastic p 0 0 5 1 1 1 0 0\nnone polygon x 0 0 9 0 0 0 1 0 0 0 1 0\n")]);
+    assert!(e.contains("a.rad:2:1: polygon x: undefined modifier \"none\""), "{e}");
+    let e = error_of(&[("a.rad", format!("{MAT}grey polygon x 0 0 6 0 0 0 1 0 0\n").as_bytes())]);
+    assert!(
+        e.contains("a.rad:5:1: polygon x: a polygon takes 3 reals per vertex and at least 3 vertices"),
+        "{e}"
+    );
+    let e = error_of(&[("a.rad", format!("{MAT}grey sphere s 0 0 4 0 0 0 0\n").as_bytes())]);
+    assert!(e.contains("sphere s: the radius 0 must be positive"), "{e}");
+    let e = error_of(&[("a.rad", format!("{MAT}grey ring r 0 0 8 0 0 0 0 0 1 2 1\n").as_bytes())]);
+    assert!(e.contains("ring r: needs a non-zero normal and radii"), "{e}");
+    let e = error_of(&[("a.rad", format!("{MAT}grey cone c 0 0 8 0 0 0 0 0 0 1 1\n").as_bytes())]);
+    assert!(e.contains("cone c: its two end points are the same"), "{e}");
+}
+
+#[test]
+fn parse_errors_give_file_line_and_column() {
+    let e = error_of(&[("a.rad", b"# comment\nvoid plastic p\n0\n0\n5 0.5 0.5 oops 0 0\n")]);
+    assert_eq!(e, "TMP/a.rad:5:11: syntax: expected a real argument of plastic p, found \"oops\"");
+    let e = error_of(&[("a.rad", b"void plastic p 0 0 5 0.5 0.5")]);
+    assert!(
+        e.starts_with("TMP/a.rad:1:29: syntax: the file ends before a real argument of plastic p"),
+        "{e}"
+    );
+    let e = error_of(&[("a.rad", b"void plastic p three")]);
+    assert!(
+        e.starts_with("TMP/a.rad:1:16: syntax: expected the number of string arguments of plastic p"),
+        "{e}"
+    );
+    // In an included file, the error is located there.
+    let e = error_of(&[
+        ("a.rad", b"!xform -t 1 0 0 sub/b.rad\n"),
+        ("sub/b.rad", b"\n\nvoid glass g 0 0 3 x 1 1\n"),
+    ]);
+    assert!(e.starts_with("TMP/sub/b.rad:3:20: syntax: expected a real argument of glass g"), "{e}");
+}
+
+#[test]
+fn commands_are_never_executed() {
+    let dir = tempfile::tempdir().unwrap();
+    let marker = dir.path().join("ran");
+    let scene = dir.path().join("a.rad");
+    std::fs::write(&scene, format!("{MAT}!touch {}\n", marker.display())).unwrap();
+    let e = load_scene(&scene).unwrap_err().to_string();
+    assert!(e.contains("a.rad:5:1: !touch: commands in a scene file are never executed"), "{e}");
+    assert!(!marker.exists());
+    let e = error_of(&[("a.rad", b"\n  !gensky 3 21 12 +s\n")]);
+    assert!(
+        e.starts_with(
+            "TMP/a.rad:2:3: !gensky: skies are not supported yet (gensky is not run): \"!gensky 3 21 12 +s\""
+        ),
+        "{e}"
+    );
+    let e = error_of(&[("a.rad", b"!gendaylit 3 21 12 -W 800 100\n")]);
+    assert!(e.contains("a.rad:1:1: !gendaylit: skies are not supported yet"), "{e}");
+    let e = error_of(&[("a.rad", b"!xform b.rad | xform -t 1 0 0\n"), ("b.rad", b"")]);
+    assert!(e.contains("!xform: shell syntax ('|')"), "{e}");
+    let e = error_of(&[("a.rad", b"!xform -a 5 -t 1 0 0 b.rad\n"), ("b.rad", b"")]);
+    assert!(e.contains("a.rad:1:1: !xform: unsupported xform option -a"), "{e}");
+    let e = error_of(&[("a.rad", b"!xform -t 1 0 0\n")]);
+    assert!(e.contains("standard input"), "{e}");
+    let e = error_of(&[("a.rad", b"!xform missing.rad\n")]);
+    assert!(e.contains("a.rad:1:1: !xform: cannot read TMP/missing.rad"), "{e}");
+}
+
+#[test]
+fn xform_includes_relative_to_the_including_file_transformed() {
+    let s = load_ok(&[
+        (
+            "a.rad",
+            format!("{MAT}!xform -n outer -rz 90 -t 10 0 0 parts/b.rad\n!xform -mx -s 2 parts/b.rad\n")
+                .as_bytes(),
+        ),
+        // b.rad includes c.rad beside it, moved up by 1.
+        ("parts/b.rad", b"grey polygon tri 0 0 9 1 0 0 2 0 0 1 1 0\n!xform -n inner -t 0 0 1 c.rad\n"),
+        ("parts/c.rad", b"grey sphere ball 0 0 4 1 0 0 0.5\ngrey ring r 0 0 8 0 0 0 1 0 0 0 1\n"),
+    ]);
+    let d = &s.description;
+    let names: Vec<&str> = d.meshes.iter().map(|m| m.name.as_str()).collect();
+    assert_eq!(names, ["outer.tri", "outer.inner.ball", "outer.inner.r", "tri", "inner.ball", "inner.r"]);
+    let near = |a: Vec3, b: Vec3| (a - b).length() < 1e-5;
+    // -rz 90 then -t 10 0 0: (1, 0, 0) → (0, 1, 0) → (10, 1, 0).
+    assert!(near(d.meshes[0].positions[0], Vec3::new(10.0, 1.0, 0.0)), "{:?}", d.meshes[0].positions);
+    let centre = |m: &MeshDesc| {
+        let lo = m.positions.iter().fold(Vec3::splat(f32::MAX), |a, p| a.min(*p));
+        let hi = m.positions.iter().fold(Vec3::splat(f32::MIN), |a, p| a.max(*p));
+        (lo + hi) / 2.0
+    };
+    assert!(near(centre(&d.meshes[1]), Vec3::new(10.0, 1.0, 1.0)), "{}", centre(&d.meshes[1]));
+    assert!((area(&d.meshes[1]) / std::f64::consts::PI - 1.0).abs() < 1e-4);
+    // The ring's normal turns with the transform: +x → +y.
+    assert!(near(vector_area(&d.meshes[2]).normalize(), Vec3::Y));
+    // -mx -s 2: mirrored and doubled; the mirrored polygon is reversed, so it still faces +z
+    // (the mirrored normal), and the sphere's radius doubles.
+    let tri = &d.meshes[3];
+    assert!(
+        near(tri.positions[2], Vec3::new(-2.0, 0.0, 0.0))
+            || near(tri.positions[0], Vec3::new(-2.0, 2.0, 0.0)),
+        "{:?}",
+        tri.positions
+    );
+    assert!(vector_area(tri).z > 0.0 && (vector_area(tri).z - 2.0).abs() < 1e-5);
+    assert!(near(centre(&d.meshes[4]), Vec3::new(-2.0, 0.0, 2.0)));
+    assert!((area(&d.meshes[4]) / (4.0 * std::f64::consts::PI) - 1.0).abs() < 1e-4);
+    assert!(near(vector_area(&d.meshes[5]).normalize(), -Vec3::X), "the mirrored normal");
+    // A material defined in an included file is visible after the include (xform passes it on).
+    let s = load_ok(&[
+        ("a.rad", b"!xform m.rad\nred polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n"),
+        ("m.rad", b"void plastic red 0 0 5 1 0 0 0 0\n"),
+    ]);
+    assert_eq!(s.description.materials[0].name, "red");
+    // -m replaces the included surfaces' modifier; -I turns them inside out.
+    let s = load_ok(&[
+        ("a.rad", format!("{MAT}void light hot 0 0 3 1 1 1\n!xform -m hot -I b.rad\n").as_bytes()),
+        ("b.rad", b"grey sphere s 0 0 4 0 0 0 1\ngrey polygon p 0 0 9 0 0 0 1 0 0 0 1 0\n"),
+    ]);
+    let d = &s.description;
+    assert!(d.meshes.iter().all(|m| m.emission.is_some()));
+    assert!(vector_area(&d.meshes[1]).z < 0.0, "-I reverses the polygon");
+    let m = &d.meshes[0];
+    let t = m.triangles[100];
+    let [a, b, c] = t.map(|i| m.positions[i as usize]);
+    assert!((b - a).cross(c - a).dot(a) < 0.0, "-I makes the sphere a bubble");
+}
+
+#[test]
+fn include_cycles_and_depth_are_bounded() {
+    let e = error_of(&[("a.rad", b"!xform b.rad\n"), ("b.rad", b"\n!xform -t 1 0 0 a.rad\n")]);
+    assert!(e.starts_with("TMP/b.rad:2:1: !xform: TMP/a.rad includes itself"), "{e}");
+    let e = error_of(&[("a.rad", b"!xform a.rad\n")]);
+    assert!(e.contains("includes itself"), "{e}");
+    // A chain of 20 distinct files stops at the depth limit.
+    let names: Vec<String> = (0..20).map(|i| format!("f{i}.rad")).collect();
+    let texts: Vec<String> = (0..20).map(|i| format!("!xform f{}.rad\n", i + 1)).collect();
+    let files: Vec<(&str, &[u8])> =
+        names.iter().zip(&texts).map(|(n, t)| (n.as_str(), t.as_bytes())).collect();
+    let e = error_of(&files);
+    assert!(e.contains("includes nest deeper than 16 files"), "{e}");
+}
+
+#[test]
+fn views_come_from_the_camera_option() {
+    let room = testdata("radiance/room.rad");
+    // Without a view, inside a room: from the centre of its bounding box, looking north, z up.
+    let s = load_scene(&room).unwrap();
+    let c = s.description.camera.unwrap();
+    assert_eq!((c.up, c.width, c.height, c.fov_x_degrees), (Vec3::Z, 512, 512, 90.0));
+    assert!(
+        (c.eye - Vec3::new(2.0, 2.5, 1.5)).length() < 0.01 && (c.target - c.eye - Vec3::Y).length() < 1e-5
+    );
+    // Around an object (not enclosed): an overview from the south-west, above.
+    let s = one("grey sphere ball 0 0 4 1 2 3 0.5\n");
+    let c = s.description.camera.unwrap();
+    assert!(
+        c.eye.x < 1.0
+            && c.eye.y < 2.0
+            && c.eye.z > 3.5
+            && (c.target - Vec3::new(1.0, 2.0, 3.0)).length() < 0.01
+    );
+    let vf = testdata("radiance/room.vf");
+    let options = LoadOptions { camera: Some(vf.display().to_string()), ..Default::default() };
+    let c = load_scene_with(&room, &options).unwrap().description.camera.unwrap();
+    assert_eq!((c.eye, c.fov_x_degrees, c.kind), (Vec3::new(2.0, 4.6, 1.6), 75.0, CameraKind::Perspective));
+    let options = LoadOptions {
+        camera: Some("-vtl -vp 2 2.5 10 -vd 0 0 -1 -vu 0 1 0 -vh 4 -vv 5".into()),
+        ..Default::default()
+    };
+    let c = load_scene_with(&room, &options).unwrap().description.camera.unwrap();
+    assert_eq!((c.width, c.height), (512, 640));
+    let options = LoadOptions { camera: Some("-vth".into()), ..Default::default() };
+    let e = load_scene_with(&room, &options).unwrap_err().to_string();
+    assert!(e.contains("--camera \"-vth\": Radiance view: view type -vth is not supported"), "{e}");
+    let options = LoadOptions { gltf_scene: Some("1".into()), ..Default::default() };
+    assert!(load_scene_with(&room, &options).unwrap_err().to_string().contains("one scene"));
+}
+
+#[test]
+fn the_example_room_loads_and_builds() {
+    let s = load_scene(&testdata("radiance/room.rad")).unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let d = &s.description;
+    let lights: Vec<&str> =
+        d.meshes.iter().filter(|m| m.emission.is_some()).map(|m| m.name.as_str()).collect();
+    assert_eq!(lights, ["ceiling_panel"]);
+    assert!(d.meshes.iter().any(|m| m.name == "desk.bowl"));
+    let window = d.meshes.iter().find(|m| m.name == "window").unwrap();
+    assert!(matches!(d.materials[window.material].bsdf, Bsdf::ThinDielectric(_)));
+    let scene = Scene::build(d).unwrap();
+    assert_eq!(scene.dropped_triangles, 0);
+}
