@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""compare_mitsuba.py - issue 25's whole table, Opticks beside Mitsuba 3, in one run.
+
+What it runs
+    For each reference scene (default: the Cornell box, bunny-box, rough, caustics, ring,
+    mirror-glass): `opticks_bidirectional.py SCENE --paths PATHS --spp SPP --mitsuba-spp MSPP`,
+    i.e. Mitsuba 3's `path` at MSPP spp (its second run timed), then `opticks trace` of PATHS
+    light paths and, from that dataset, the light estimator and the bidirectional one at SPP
+    camera paths per pixel. Every image is compared with the scene's reference (relMSE as
+    `tools/imgcmp.py` computes it). Then, for the light half, Mitsuba's `ptracer` and
+    `opticks bench` on the Cornell box at 4,194,304 light paths.
+
+What it prints
+    On stdout, a Markdown table per part; per scene the efficiency 1/(relMSE x seconds) of a
+    frame from the dataset (render time only) and of one image including its trace, each as a
+    ratio to Mitsuba `path`'s (>= 1: Opticks ahead), and the bidirectional estimator's ratio to
+    the light estimator's. The issue's targets: frame >= 1x on every scene and >= 2x as the
+    geometric mean; image >= 1x; bidirectional >= light; the light half <= 0.67x ptracer.
+    Wall-clock figures: run it on a quiet machine (the 1-minute load average is printed).
+
+Run (from the repo root, after `cargo build --release`; Mitsuba as benches/README.md installs it)
+    DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so /work/venv-mitsuba/bin/python \\
+        benches/compare_mitsuba.py [--paths 1000000] [--spp 16] [--mitsuba-spp 64] [SCENE ...]
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(HERE)
+SCENES = ['testdata/scenes/cornell/scene.xml'] + [
+    f'testdata/mitsuba/{n}/scene.xml' for n in ['bunny-box', 'rough', 'caustics', 'ring', 'mirror-glass']]
+
+
+def lines(cmd):
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True, cwd=REPO).stdout
+    return [json.loads(l) for l in out.splitlines() if l.startswith('{')]
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    ap.add_argument('scenes', nargs='*', default=SCENES)
+    ap.add_argument('--paths', type=int, default=1_000_000)
+    ap.add_argument('--spp', type=int, default=16)
+    ap.add_argument('--mitsuba-spp', type=int, default=64)
+    ap.add_argument('--opticks', default=os.path.join(REPO, 'target', 'release', 'opticks'))
+    ap.add_argument('--skip-light-half', action='store_true')
+    a = ap.parse_args()
+    print(f'1-minute load average at the start: {os.getloadavg()[0]:.2f}\n')
+    print(f'| scene | Mitsuba `path` {a.mitsuba_spp} spp: s, relMSE | light: frame / image | '
+          f'bidirectional {a.spp} spp: frame / image | bidirectional ÷ light (frame) |')
+    print('|---|---|---|---|---|')
+    frames = []
+    for scene in a.scenes:
+        recs = lines([sys.executable, os.path.join(HERE, 'opticks_bidirectional.py'), scene, '--paths',
+                      str(a.paths), '--spp', str(a.spp), '--mitsuba-spp', str(a.mitsuba_spp),
+                      '--opticks', a.opticks])
+        by = {r['estimator']: r for r in recs}
+        m, li, bi = by['mitsuba-path'], by['light'], by['bidirectional']
+        ratio = lambda r, k: r[k] / m['efficiency_frame']
+        frames.append(max(ratio(li, 'efficiency_frame'), ratio(bi, 'efficiency_frame')))
+        name = os.path.basename(os.path.dirname(scene))
+        print(f'| {name} | {m["render_s"]:.2f} s, {m["relmse"]:.3g} | '
+              f'{ratio(li, "efficiency_frame"):.2f}× / {ratio(li, "efficiency_image"):.2f}× | '
+              f'{ratio(bi, "efficiency_frame"):.2f}× / {ratio(bi, "efficiency_image"):.2f}× | '
+              f'{bi["efficiency_frame"] / li["efficiency_frame"]:.2f} |', flush=True)
+    if frames:
+        gm = math.exp(sum(math.log(f) for f in frames) / len(frames))
+        print(f'\nGeometric mean over the scenes of the better estimator\'s frame ratio: {gm:.2f}× '
+              f'(target ≥ 2×; every scene ≥ 1×: {"yes" if min(frames) >= 1 else "no"})\n')
+    if a.skip_light_half:
+        return
+    cornell = 'testdata/scenes/cornell/scene.xml'
+    mp = lines([sys.executable, os.path.join(HERE, 'mitsuba_ptracer.py'), cornell, '--threads', '2'])[-1]
+    out = subprocess.run([a.opticks, 'bench', cornell, '--seed', '1', '--reference',
+                          'testdata/scenes/cornell/reference.exr'],
+                         check=True, capture_output=True, text=True, cwd=REPO).stdout
+    ob = [json.loads(l) for l in out.splitlines() if l.startswith('{')][-1]
+    total = ob['trace_s'] + ob['render_s']
+    # Equal error: Opticks's time scaled by its relMSE over Mitsuba's (error ∝ 1/paths).
+    equal = total * ob['relmse'] / mp['relmse']
+    print('The light half, Cornell box, 4,194,304 light paths (target: trace + render at equal error '
+          '≤ 0.67× ptracer):\n')
+    print('| | time | relMSE | ÷ Mitsuba at equal error |')
+    print('|---|---|---|---|')
+    print(f'| Mitsuba `ptracer` | {mp["time_s"]:.2f} s | {mp["relmse"]:.3g} | 1 |')
+    print(f'| Opticks trace + render | {ob["trace_s"]:.2f} + {ob["render_s"]:.2f} s | {ob["relmse"]:.3g} | '
+          f'{equal / mp["time_s"]:.2f}× |')
+    print(f'| Opticks render from the dataset | {ob["render_s"]:.2f} s | | '
+          f'{ob["render_s"] * ob["relmse"] / mp["relmse"] / mp["time_s"]:.2f}× |')
+    print(f'\n1-minute load average at the end: {os.getloadavg()[0]:.2f}')
+
+
+if __name__ == '__main__':
+    main()
