@@ -239,7 +239,7 @@ pub(crate) struct SampleConnection {
     pub to_sensor: Vec3,
     /// |x − c|².
     pub dist2: f32,
-    /// With [`connect_sample_reversible`]: the density of the light tracer's BSDF sampling at x
+    /// With `connect_sample::<true>`: the density of the light tracer's BSDF sampling at x
     /// of continuing from the sensor's direction back to the sample's predecessor
     /// (`Material::pdf_world(n, to_sensor, from_dir)`, what the bidirectional splat's MIS weight
     /// needs), from the same shading point as `f`; 0 for an emission vertex or when not asked.
@@ -248,28 +248,17 @@ pub(crate) struct SampleConnection {
 
 /// Connects stored sample `s` to `sensor` (aperture point from the sample's hash when
 /// `random`): `None` when it projects outside the image, its f is 0, or the sensor cannot see it.
+/// With `REVERSE`, also [`SampleConnection::pdf_rev`], from the shading point that gives f (the
+/// bidirectional splat's MIS weight needs both).
 #[inline]
-pub(crate) fn connect_sample(
+pub(crate) fn connect_sample<const REVERSE: bool>(
     scene: &Scene,
     sensor: &Sensor,
     s: &Sample,
     random: bool,
 ) -> Option<SampleConnection> {
     let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-    connect_to::<false>(scene, s, sensor.connect(s.position(), u)?)
-}
-
-/// [`connect_sample`] with [`SampleConnection::pdf_rev`]: one shading point at the sample for
-/// both f and the reverse density (the bidirectional splat).
-#[inline]
-pub(crate) fn connect_sample_reversible(
-    scene: &Scene,
-    sensor: &Sensor,
-    s: &Sample,
-    random: bool,
-) -> Option<SampleConnection> {
-    let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-    connect_to::<true>(scene, s, sensor.connect(s.position(), u)?)
+    connect_to::<REVERSE>(scene, s, sensor.connect(s.position(), u)?)
 }
 
 /// Connects stored sample `s` to the sensor point `conn.point` (the rest of `conn` is passed
@@ -327,7 +316,8 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
     }
     let random = sensor.samples_aperture();
     for s in batch.samples {
-        let Some(SampleConnection { conn, f, cos_x, .. }) = connect_sample(scene, sensor, s, random) else {
+        let Some(SampleConnection { conn, f, cos_x, .. }) = connect_sample::<false>(scene, sensor, s, random)
+        else {
             continue;
         };
         film.splat(conn.pixel, batch.flux_per_path * s.beta() * f * (cos_x.abs() * conn.weight));

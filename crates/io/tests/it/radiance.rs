@@ -97,25 +97,26 @@ fn each_surface_has_its_geometry() {
     assert_eq!(scene.dropped_triangles, 0);
 }
 
+/// One material of every kind Radiance has, each defined on `void`.
+const MATERIALS: &str = "void plastic matte 0 0 5 0.5 0.4 0.3 0 0.1
+void plastic shiny 0 0 5 0.5 0.4 0.3 0.05 0.1
+void plastic gloss 0 0 5 0.5 0.4 0.3 0.05 0
+void metal steel 0 0 5 0.8 0.6 0.4 0.9 0.2
+void trans tr 0 0 7 0.6 0.6 0.6 0 0 0.5 1
+void glass gl 0 0 3 0.9 0.8 0.7
+void glass gl14 0 0 4 0.9 0.9 0.9 1.4
+void dielectric water 0 0 5 0.5 0.5 0.5 1.33 0
+void mirror mi 0 0 3 0.9 0.9 0.9
+void light lamp 0 0 3 10 9 8
+void glow gw 0 0 4 1 2 3 0
+void alias again matte
+void illum win 0 0 3 5 5 5
+void illum win2 1 gl 0 3 5 5 5
+";
+
 #[test]
 fn each_material_maps_to_the_closest_core_material() {
-    let s = load_ok(&[(
-        "a.rad",
-        b"void plastic matte 0 0 5 0.5 0.4 0.3 0 0.1\n\
-          void plastic shiny 0 0 5 0.5 0.4 0.3 0.05 0.1\n\
-          void plastic gloss 0 0 5 0.5 0.4 0.3 0.05 0\n\
-          void metal steel 0 0 5 0.8 0.6 0.4 0.9 0.2\n\
-          void trans tr 0 0 7 0.6 0.6 0.6 0 0 0.5 1\n\
-          void glass gl 0 0 3 0.9 0.8 0.7\n\
-          void glass gl14 0 0 4 0.9 0.9 0.9 1.4\n\
-          void dielectric water 0 0 5 0.5 0.5 0.5 1.33 0\n\
-          void mirror mi 0 0 3 0.9 0.9 0.9\n\
-          void light lamp 0 0 3 10 9 8\n\
-          void glow gw 0 0 4 1 2 3 0\n\
-          void alias again matte\n\
-          void illum win 0 0 3 5 5 5\n\
-          void illum win2 1 gl 0 3 5 5 5\n",
-    )]);
+    let s = load_ok(&[("a.rad", MATERIALS.as_bytes())]);
     let d = &s.description;
     assert!(
         d.meshes.is_empty() && d.materials.is_empty(),
@@ -131,22 +132,7 @@ fn each_material_maps_to_the_closest_core_material() {
     {
         text += &format!("{name} polygon p{i} 0 0 9 0 0 0 1 0 0 0 1 0\n");
     }
-    let all = format!(
-        "void plastic matte 0 0 5 0.5 0.4 0.3 0 0.1\n\
-         void plastic shiny 0 0 5 0.5 0.4 0.3 0.05 0.1\n\
-         void plastic gloss 0 0 5 0.5 0.4 0.3 0.05 0\n\
-         void metal steel 0 0 5 0.8 0.6 0.4 0.9 0.2\n\
-         void trans tr 0 0 7 0.6 0.6 0.6 0 0 0.5 1\n\
-         void glass gl 0 0 3 0.9 0.8 0.7\n\
-         void glass gl14 0 0 4 0.9 0.9 0.9 1.4\n\
-         void dielectric water 0 0 5 0.5 0.5 0.5 1.33 0\n\
-         void mirror mi 0 0 3 0.9 0.9 0.9\n\
-         void light lamp 0 0 3 10 9 8\n\
-         void glow gw 0 0 4 1 2 3 0\n\
-         void alias again matte\n\
-         void illum win 0 0 3 5 5 5\n\
-         void illum win2 1 gl 0 3 5 5 5\n{text}"
-    );
+    let all = format!("{MATERIALS}{text}");
     let s = load_ok(&[("c.rad", all.as_bytes())]);
     let w = s.warnings.join("\n");
     assert!(w.contains("c.rad:5:1: trans tr: transmission is not modelled yet"), "{w}");

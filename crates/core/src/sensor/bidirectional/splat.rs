@@ -12,7 +12,7 @@ use super::{ConnectionEnd, Counts, cache::CacheChunk, weight_light_trace};
 use crate::dataset::{LightVertexMis, MisRecord, Sample};
 use crate::film::SplatTarget;
 use crate::math::Vec3;
-use crate::sensor::{Sensor, connect_sample_reversible};
+use crate::sensor::{Sensor, connect_sample};
 
 /// Adds the MIS-weighted splats of `chunk`'s samples to `film`.
 pub fn splat_chunk(ctx: &Context, sensor: &Sensor, chunk: &CacheChunk<'_>, film: &mut impl SplatTarget) {
@@ -25,7 +25,7 @@ pub fn splat_chunk(ctx: &Context, sensor: &Sensor, chunk: &CacheChunk<'_>, film:
     let Some(light) = ctx.lights.of_table(k) else { return };
     for (s, record) in chunk.samples.iter().zip(chunk.records) {
         // One shading point at the sample for f and the reverse density.
-        let Some(c) = connect_sample_reversible(ctx.scene, sensor, s, random) else {
+        let Some(c) = connect_sample::<true>(ctx.scene, sensor, s, random) else {
             continue;
         };
         let end = ConnectionEnd { cos: c.cos_x.abs(), pdf_fwd_w: 0.0, pdf_rev_w: c.pdf_rev };
