@@ -16,8 +16,8 @@ use opticks_core::bsdf::{
 };
 use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{
-    AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, SceneDescription,
-    Source,
+    AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc,
+    SceneDescription, Source,
 };
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -312,7 +312,11 @@ impl Builder {
         angle: f64,
     ) -> Result<(), SceneFileError> {
         let name = self.light_name(frame, name);
-        let omega = if angle == sky::SUN_DIAMETER_DEGREES { sky::SUN_SOLID_ANGLE } else { sky::cone_solid_angle(angle) };
+        let omega = if angle == sky::SUN_DIAMETER_DEGREES {
+            sky::SUN_SOLID_ANGLE
+        } else {
+            sky::cone_solid_angle(angle)
+        };
         let d = DirectionalLightDesc::new(
             name.clone(),
             Source { file: path.display().to_string(), line: here.line },
@@ -363,9 +367,14 @@ impl Builder {
         let (sky, rgb) = match &self.modifiers[i] {
             Modifier::SkyGlow(g, rgb) => (Some(g.clone()), *rgb),
             Modifier::Material { emission: Some(rgb), .. } => (None, *rgb),
-            Modifier::Material { emission: None, .. } | Modifier::Invisible => {
+            Modifier::Invisible => {
                 self.void_surfaces += 1;
                 return Ok(());
+            }
+            Modifier::Material { emission: None, .. } => {
+                return Err(bad(format!(
+                    "modifier \"{modifier}\" emits nothing: a source takes a light or glow (or a glow of gensky's skyfunc)"
+                )));
             }
             Modifier::Sky(_) => {
                 return Err(bad(format!(
@@ -375,7 +384,15 @@ impl Builder {
             Modifier::Same(_) => unreachable!("Same is never stored"),
         };
         if sky.is_none() && angle < DIRECTIONAL_SOURCE_DEGREES {
-            return self.add_sun(path, here, &Frame::default(), &self.light_name(frame, &p.ident.text), axis, rgb, angle);
+            return self.add_sun(
+                path,
+                here,
+                &Frame::default(),
+                &self.light_name(frame, &p.ident.text),
+                axis,
+                rgb,
+                angle,
+            );
         }
         let half = (0.5 * angle).to_radians();
         let texels = sky::rasterise(SKY_MAP_WIDTH, SKY_MAP_HEIGHT, axis, half, |d| match &sky {
@@ -495,7 +512,11 @@ impl Builder {
             && let Modifier::Sky(g) = &self.modifiers[i]
         {
             if p.reals.len() != 4 || !p.strings.is_empty() || !p.ints.is_empty() {
-                return Err(err(here, &element, "glow takes 0 string, 0 integer and 4 real arguments".into()));
+                return Err(err(
+                    here,
+                    &element,
+                    "glow takes 0 string, 0 integer and 4 real arguments".into(),
+                ));
             }
             let r = &p.reals;
             let rgb = Rgb::new(r[0] as f32, r[1] as f32, r[2] as f32);

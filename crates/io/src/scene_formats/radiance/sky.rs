@@ -203,7 +203,10 @@ impl Site {
 
 fn number(args: &[String], i: usize, option: &str) -> Result<f64, String> {
     let s = args.get(i).ok_or_else(|| format!("{option} needs a value"))?;
-    s.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| format!("{option}: \"{s}\" is not a number"))
+    s.parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| format!("{option}: \"{s}\" is not a number"))
 }
 
 /// Reads gensky's arguments (`args` without the program name) and computes the sky as gensky
@@ -307,11 +310,8 @@ pub fn gensky(args: &[String]) -> Result<Gensky, String> {
         warnings.push("sun too close to zenith, reducing altitude to 87 degrees".into());
         altitude = 87.0 * DEG;
     }
-    let sun_dir = DVec3::new(
-        -azimuth.sin() * altitude.cos(),
-        -azimuth.cos() * altitude.cos(),
-        altitude.sin(),
-    );
+    let sun_dir =
+        DVec3::new(-azimuth.sin() * altitude.cos(), -azimuth.cos() * altitude.cos(), altitude.sin());
     let normsc = || {
         let c: [f64; 5] = if sky == SkyType::Intermediate {
             [3.5556, -2.7152, -1.3081, 1.0660, 0.60227]
