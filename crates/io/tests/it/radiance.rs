@@ -247,7 +247,7 @@ fn unknown_and_unsupported_primitives_are_refused_naming_file_line_and_primitive
         ("void texfunc wave 4 dx dy dz wave.cal 0 0\n", "texfunc is a texture"),
         ("grey mesh m 1 chair.rtm 0 0\n", "mesh is a surface"),
         ("grey instance i 1 chair.oct 0 0\n", "instance is a surface"),
-        ("grey source sun 0 0 4 0 0 1 0.5\n", "source is a surface"),
+        ("grey source sun 0 0 4 0 0 1 0.5\n", "emits nothing: a source takes a light or glow"),
         ("void spotlight s 0 0 7 1 1 1 30 0 0 -1\n", "spotlight is a material"),
     ] {
         let e = error_of(&[("a.rad", format!("{MAT}{text}").as_bytes())]);
@@ -300,13 +300,8 @@ fn commands_are_never_executed() {
     let e = load_scene(&scene).unwrap_err().to_string();
     assert!(e.contains("a.rad:5:1: !touch: commands in a scene file are never executed"), "{e}");
     assert!(!marker.exists());
-    let e = error_of(&[("a.rad", b"\n  !gensky 3 21 12 +s\n")]);
-    assert!(
-        e.starts_with(
-            "TMP/a.rad:2:3: !gensky: skies are not supported yet (gensky is not run): \"!gensky 3 21 12 +s\""
-        ),
-        "{e}"
-    );
+    let e = error_of(&[("a.rad", b"\n  !gensky 13 21 12 +s\n")]);
+    assert!(e.starts_with("TMP/a.rad:2:3: !gensky: bad month: \"!gensky 13 21 12 +s\""), "{e}");
     let e = error_of(&[("a.rad", b"!gendaylit 3 21 12 -W 800 100\n")]);
     assert!(e.contains("a.rad:1:1: !gendaylit: skies are not supported yet"), "{e}");
     let e = error_of(&[("a.rad", b"!xform b.rad | xform -t 1 0 0\n"), ("b.rad", b"")]);

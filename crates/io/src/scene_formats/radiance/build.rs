@@ -5,6 +5,7 @@
 
 use super::err;
 use super::lexer::{self, Primitive, Record};
+use super::sky::{self, Gensky};
 use super::xform::{self, Similarity};
 use crate::scene_formats::vrml::triangulate::triangulate;
 use crate::scene_formats::{FileLocation, LoadedScene, SceneFileError, tessellate};
@@ -14,7 +15,10 @@ use opticks_core::bsdf::{
     ThinDielectric,
 };
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{AreaEmission, MeshDesc, SceneDescription, Source};
+use opticks_core::scene::{
+    AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc,
+    SceneDescription, Source,
+};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -25,6 +29,16 @@ pub const MAX_FILES: usize = 10_000;
 /// At most this many triangles in the scene (a sphere is 16 384).
 pub const MAX_TRIANGLES: usize = 50_000_000;
 
+/// The size of the equirectangular map a sky `source` is rasterised into: 0.7° texels, whose
+/// bilinear interpolant's horizontal irradiance is within 10⁻³ of the analytic sky's (measured,
+/// `sky::tests::rasterisation_error_of_the_horizontal_irradiance`); about 4.7 MB a light.
+pub const SKY_MAP_WIDTH: usize = 512;
+/// Rows of the sky map (odd: the horizon is a row).
+pub const SKY_MAP_HEIGHT: usize = 257;
+/// A `source` narrower than this (full angle, degrees) with a constant radiance is a
+/// directional light (gensky's sun is 0.5°); a wider one an environment light of its cone.
+pub const DIRECTIONAL_SOURCE_DEGREES: f64 = 5.0;
+
 /// The materials Opticks maps (the manual's table).
 const MATERIALS: &[&str] =
     &["plastic", "metal", "trans", "glass", "dielectric", "mirror", "light", "glow", "illum"];
@@ -32,7 +46,7 @@ const MATERIALS: &[&str] =
 const SURFACES: &[&str] = &["polygon", "sphere", "bubble", "cone", "cup", "cylinder", "tube", "ring"];
 /// Radiance's other primitive types, by what they are (each refused naming it).
 const UNSUPPORTED: &[(&str, &[&str])] = &[
-    ("a surface", &["mesh", "instance", "source"]),
+    ("a surface", &["mesh", "instance"]),
     (
         "a material",
         &[
@@ -85,6 +99,10 @@ enum Modifier {
     /// A material: the core's, its emission (`light`, `glow`), and its index in the scene's
     /// materials once a surface uses it.
     Material { material: Material, emission: Option<Rgb>, index: Option<usize> },
+    /// gensky's `skyfunc`: the sky's brightness, for a `glow` to modify.
+    Sky(Box<Gensky>),
+    /// A `glow` modified by a `skyfunc`: colour × the sky's brightness, for a `source`.
+    SkyGlow(Box<Gensky>, Rgb),
     /// What an earlier definition is (an `illum`'s alternate material): never stored, the
     /// name is mapped to that definition instead.
     Same(usize),
@@ -136,9 +154,12 @@ pub fn build(path: &Path) -> Result<LoadedScene, SceneFileError> {
     }
     if b.desc.meshes.is_empty() {
         b.warnings.push(format!("{}: the scene has no surfaces", path.display()));
-    } else if b.desc.meshes.iter().all(|m| m.emission.is_none()) {
+    } else if b.desc.meshes.iter().all(|m| m.emission.is_none())
+        && b.desc.directional_lights.is_empty()
+        && b.desc.environment_lights.is_empty()
+    {
         b.warnings.push(format!(
-            "{}: no light or glow surface: the scene has no light of its own (skies are not supported yet)",
+            "{}: no light or glow surface and no source (sun or sky): the scene has no light of its own",
             path.display()
         ));
     }
@@ -180,7 +201,8 @@ impl Builder {
         let element = format!("!{program}");
         match program {
             "xform" => {}
-            "gensky" | "gendaylit" => {
+            "gensky" => return self.gensky(path, words, text, &here, frame),
+            "gendaylit" => {
                 return Err(err(
                     &here,
                     &element,
@@ -247,6 +269,152 @@ impl Builder {
         Ok(())
     }
 
+    /// `!gensky …`, interpreted (never run; `sky.rs`): defines `skyfunc` (for the `glow` of
+    /// the sky and ground `source`s that follow, as in Radiance), and with a sun the `solar`
+    /// light and its `source sun`, a directional light.
+    fn gensky(
+        &mut self,
+        path: &Path,
+        words: &[String],
+        text: &str,
+        here: &FileLocation,
+        frame: &Frame,
+    ) -> Result<(), SceneFileError> {
+        let element = "!gensky";
+        let g = sky::gensky(&words[1..]).map_err(|m| err(here, element, format!("{m}: \"!{text}\"")))?;
+        for w in &g.warnings {
+            self.warnings.push(format!("{here}: {element}: {w}"));
+        }
+        if let Some(solar) = g.solar {
+            let rgb = Rgb::splat(solar as f32);
+            let black = Bsdf::Lambert(Lambert::new(Rgb::ZERO).expect("black is a reflectance"));
+            let material = Material { name: "solar".into(), bsdf: black, two_sided: false };
+            self.modifiers.push(Modifier::Material { material, emission: Some(rgb), index: None });
+            self.names.insert("solar".into(), self.modifiers.len() - 1);
+            self.add_sun(path, here, frame, "sun", g.sun_dir, rgb, sky::SUN_DIAMETER_DEGREES)?;
+        }
+        self.modifiers.push(Modifier::Sky(Box::new(g)));
+        self.names.insert("skyfunc".into(), self.modifiers.len() - 1);
+        Ok(())
+    }
+
+    /// A directional light `name` toward `toward` (Radiance's source direction) of a disc of
+    /// `angle` degrees and radiance `rgb`: irradiance `rgb` × the disc's solid angle.
+    #[allow(clippy::too_many_arguments)]
+    fn add_sun(
+        &mut self,
+        path: &Path,
+        here: &FileLocation,
+        frame: &Frame,
+        name: &str,
+        toward: DVec3,
+        rgb: Rgb,
+        angle: f64,
+    ) -> Result<(), SceneFileError> {
+        let name = self.light_name(frame, name);
+        let omega = if angle == sky::SUN_DIAMETER_DEGREES {
+            sky::SUN_SOLID_ANGLE
+        } else {
+            sky::cone_solid_angle(angle)
+        };
+        let d = DirectionalLightDesc::new(
+            name.clone(),
+            Source { file: path.display().to_string(), line: here.line },
+            -frame.transform.vector(toward),
+            rgb * omega as f32,
+        )
+        .map_err(|e| err(here, &format!("source {name}"), e.to_string()))?;
+        self.desc.directional_lights.push(d);
+        Ok(())
+    }
+
+    fn light_name(&self, frame: &Frame, ident: &str) -> String {
+        match &frame.prefix {
+            Some(prefix) => format!("{prefix}.{ident}"),
+            None => ident.to_string(),
+        }
+    }
+
+    /// `mod source id 0 0 4 dx dy dz angle`: a light at infinity in the cone of full `angle`
+    /// degrees around the direction. Modified by a glow of gensky's `skyfunc`, an environment
+    /// light of the sky's brightness × the glow's colour in the cone (the sky dome, the ground
+    /// dome); by a `light` or `glow` of constant radiance, a directional light when narrower
+    /// than [`DIRECTIONAL_SOURCE_DEGREES`] (the sun), else an environment light of the cone.
+    fn source(
+        &mut self,
+        path: &Path,
+        p: &Primitive,
+        here: &FileLocation,
+        frame: &Frame,
+    ) -> Result<(), SceneFileError> {
+        let element = p.describe();
+        let bad = |m: String| err(here, &element, m);
+        if !p.strings.is_empty() || !p.ints.is_empty() || p.reals.len() != 4 {
+            return Err(bad("source takes 0 string, 0 integer and 4 real arguments".into()));
+        }
+        let r = &p.reals;
+        let axis = frame.transform.vector(DVec3::new(r[0], r[1], r[2]));
+        let angle = r[3];
+        if axis.length() == 0.0 || !axis.is_finite() || !(angle > 0.0 && angle <= 360.0) {
+            return Err(bad(format!("needs a non-zero direction and an angle in (0, 360], not {angle}")));
+        }
+        let axis = axis.normalize();
+        let modifier = frame.modifier.as_deref().unwrap_or(&p.modifier.text);
+        let Some(i) = self.lookup(modifier, here, &element)? else {
+            self.void_surfaces += 1;
+            return Ok(());
+        };
+        let (sky, rgb) = match &self.modifiers[i] {
+            Modifier::SkyGlow(g, rgb) => (Some(g.clone()), *rgb),
+            Modifier::Material { emission: Some(rgb), .. } => (None, *rgb),
+            Modifier::Invisible => {
+                self.void_surfaces += 1;
+                return Ok(());
+            }
+            Modifier::Material { emission: None, .. } => {
+                return Err(bad(format!(
+                    "modifier \"{modifier}\" emits nothing: a source takes a light or glow (or a glow of gensky's skyfunc)"
+                )));
+            }
+            Modifier::Sky(_) => {
+                return Err(bad(format!(
+                    "modifier \"{modifier}\" is gensky's skyfunc, a pattern: a source takes a glow of it (skyfunc glow sky_glow 0 0 4 1 1 1 0)"
+                )));
+            }
+            Modifier::Same(_) => unreachable!("Same is never stored"),
+        };
+        if sky.is_none() && angle < DIRECTIONAL_SOURCE_DEGREES {
+            return self.add_sun(
+                path,
+                here,
+                &Frame::default(),
+                &self.light_name(frame, &p.ident.text),
+                axis,
+                rgb,
+                angle,
+            );
+        }
+        let half = (0.5 * angle).to_radians();
+        let texels = sky::rasterise(SKY_MAP_WIDTH, SKY_MAP_HEIGHT, axis, half, |d| match &sky {
+            Some(g) => g.brightness(d),
+            None => 1.0,
+        });
+        let texels: Vec<Rgb> = texels.into_iter().map(|v| rgb * v as f32).collect();
+        self.desc.environment_lights.push(EnvironmentLightDesc {
+            name: self.light_name(frame, &p.ident.text),
+            source: Source { file: path.display().to_string(), line: p.modifier.line },
+            radiance: EnvironmentRadiance::Map {
+                width: SKY_MAP_WIDTH,
+                height: SKY_MAP_HEIGHT,
+                texels,
+                scale: 1.0,
+                file: None,
+            },
+            to_world: sky::MAP_TO_WORLD,
+        });
+        Ok(())
+    }
+
     fn primitive(&mut self, path: &Path, p: &Primitive, frame: &Frame) -> Result<(), SceneFileError> {
         let here = at(path, p.modifier.line, p.modifier.column);
         let kind = p.kind.text.as_str();
@@ -266,6 +434,9 @@ impl Builder {
         }
         if SURFACES.contains(&kind) {
             return self.surface(path, p, &here, frame);
+        }
+        if kind == "source" {
+            return self.source(path, p, &here, frame);
         }
         let message = match UNSUPPORTED.iter().find(|(_, names)| names.contains(&kind)) {
             Some((what, _)) => format!("{kind} is {what} Opticks does not read yet"),
@@ -335,6 +506,25 @@ impl Builder {
     ) -> Result<Modifier, SceneFileError> {
         let element = p.describe();
         let kind = p.kind.text.as_str();
+        if kind == "glow"
+            && p.modifier.text != "void"
+            && let Some(&i) = self.names.get(&p.modifier.text)
+            && let Modifier::Sky(g) = &self.modifiers[i]
+        {
+            if p.reals.len() != 4 || !p.strings.is_empty() || !p.ints.is_empty() {
+                return Err(err(
+                    here,
+                    &element,
+                    "glow takes 0 string, 0 integer and 4 real arguments".into(),
+                ));
+            }
+            let r = &p.reals;
+            let rgb = Rgb::new(r[0] as f32, r[1] as f32, r[2] as f32);
+            if !rgb.is_finite() || rgb.min_element() < 0.0 {
+                return Err(err(here, &element, format!("the radiance {rgb} must not be negative")));
+            }
+            return Ok(Modifier::SkyGlow(g.clone(), rgb));
+        }
         if p.modifier.text != "void" {
             return Err(err(
                 here,
@@ -589,6 +779,11 @@ impl Builder {
             self.void_surfaces += 1;
             return Ok(());
         };
+        if matches!(self.modifiers[i], Modifier::Sky(_) | Modifier::SkyGlow(..)) {
+            return Err(bad(format!(
+                "modifier \"{modifier}\" is a sky (gensky's skyfunc, or a glow of it): it lights a source (the sky and ground domes), not a surface"
+            )));
+        }
         let Some((material, emission)) = self.material_index(i) else {
             self.void_surfaces += 1;
             return Ok(());
