@@ -20,5 +20,6 @@ mod mitsuba_scenes;
 mod reference_scenes;
 mod scene_formats;
 mod sensors;
+mod sky;
 mod strategies;
 mod tidy;
