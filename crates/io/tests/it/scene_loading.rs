@@ -377,3 +377,65 @@ fn obj_without_normals_gets_mitsubas_smooth_normals() {
     ]);
     assert!(r.unwrap().description.meshes[0].normals.is_empty());
 }
+
+/// A mesh file that several `<shape>`s name is parsed once for all of them (issue 25); each
+/// shape still gets its own `to_world`, `flip_normals`, `face_normals`, and the meshes are the
+/// ones each shape gives when it is alone in its scene.
+#[test]
+fn mesh_files_named_twice_give_the_meshes_they_give_alone() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../testdata/mitsuba");
+    let shapes = [
+        ("bunny-box", "<shape type=\"obj\"><string name=\"filename\" value=\"meshes/bunny.obj\"/></shape>"),
+        (
+            "bunny-box",
+            "<shape type=\"obj\"><string name=\"filename\" value=\"meshes/bunny.obj\"/>\
+             <transform name=\"to_world\"><rotate y=\"1\" angle=\"30\"/><translate x=\"1\"/></transform></shape>",
+        ),
+        (
+            "bunny-box",
+            "<shape type=\"obj\"><string name=\"filename\" value=\"meshes/bunny.obj\"/>\
+             <boolean name=\"flip_normals\" value=\"true\"/><boolean name=\"face_normals\" value=\"true\"/></shape>",
+        ),
+        ("bunny-box", "<shape type=\"obj\"><string name=\"filename\" value=\"./meshes/bunny.obj\"/></shape>"),
+        ("shapes", "<shape type=\"ply\"><string name=\"filename\" value=\"meshes/octa.ply\"/></shape>"),
+        (
+            "shapes",
+            "<shape type=\"ply\"><string name=\"filename\" value=\"meshes/octa.ply\"/>\
+             <transform name=\"to_world\"><scale value=\"-2\"/></transform></shape>",
+        ),
+        (
+            "shapes",
+            "<shape type=\"serialized\"><string name=\"filename\" value=\"meshes/two.serialized\"/>\
+             <integer name=\"shape_index\" value=\"1\"/></shape>",
+        ),
+        (
+            "shapes",
+            "<shape type=\"serialized\"><string name=\"filename\" value=\"meshes/two.serialized\"/></shape>",
+        ),
+    ];
+    let load = |folder: &str, body: &str| {
+        let xml = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
+        opticks_io::scene_formats::mitsuba::parse(
+            &xml,
+            &dir.join(folder).join("test.xml"),
+            &LoadOptions::default(),
+        )
+        .unwrap_or_else(|e| panic!("{e}\n{xml}"))
+        .description
+    };
+    for folder in ["bunny-box", "shapes"] {
+        let bodies: Vec<&str> = shapes.iter().filter(|(f, _)| *f == folder).map(|(_, b)| *b).collect();
+        let together = load(folder, &bodies.concat());
+        assert_eq!(together.meshes.len(), bodies.len());
+        for (m, body) in together.meshes.iter().zip(&bodies) {
+            let alone = load(folder, body);
+            let a = &alone.meshes[0];
+            assert!(!a.triangles.is_empty());
+            assert_eq!(
+                (&m.positions, &m.triangles, &m.normals, &m.uvs),
+                (&a.positions, &a.triangles, &a.normals, &a.uvs),
+                "{body}"
+            );
+        }
+    }
+}

@@ -15,10 +15,12 @@ use super::texture::BsdfTextures;
 use super::xml::{Document, Element};
 use super::{emitter, sensor, shape};
 use crate::scene_formats::LoadedScene;
+use crate::scene_formats::mesh_bytes::MeshData;
 use opticks_core::scene::{SceneDescription, Source};
 use opticks_core::texture::Texture;
 use std::collections::{HashMap, HashSet};
 use std::fmt::Display;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// What the builders share while the scene is built.
@@ -45,6 +47,10 @@ pub struct Builder<'d> {
     pub bsdf_textures: BsdfTextures,
     /// Shapegroups already built (where first instanced), by id.
     pub groups: HashMap<String, super::instance::Group>,
+    /// Mesh files named by more than one `<shape>` (a scene placing one mesh many times),
+    /// parsed once: the mesh by (kind and parse options, canonical path), and how many shapes
+    /// still name each `filename` value (the last one takes the mesh instead of copying it).
+    pub mesh_files: MeshFiles,
     /// How many shapes and top-level emitters have been read (their default names count them).
     shapes: usize,
     emitters: usize,
@@ -64,6 +70,71 @@ impl<'d> Builder<'d> {
     /// The scene-file location of `e` kept on the scene's objects.
     pub fn source(e: &Element) -> Source {
         Source { file: e.at.file.display().to_string(), line: e.at.line }
+    }
+}
+
+/// Mesh files read once for all the shapes naming them ([`Builder::mesh_files`]).
+#[derive(Default)]
+pub struct MeshFiles {
+    /// Shapes not yet built that name each `filename` value (after `$parameters`).
+    uses: HashMap<String, usize>,
+    /// Meshes as read, before any transform, by parse options and canonical path.
+    meshes: HashMap<(String, PathBuf), MeshData>,
+}
+
+impl MeshFiles {
+    /// Counts the `filename` values of the `<shape>`s of `doc`.
+    fn of(doc: &Document) -> Self {
+        fn walk(e: &Element, uses: &mut HashMap<String, usize>) {
+            if e.tag == "shape" {
+                for c in &e.children {
+                    if c.tag == "string"
+                        && c.raw("name") == Some("filename")
+                        && let Ok(Some(v)) = c.attr("value")
+                    {
+                        *uses.entry(v.to_string()).or_default() += 1;
+                    }
+                }
+            }
+            e.children.iter().for_each(|c| walk(c, uses));
+        }
+        let mut uses = HashMap::new();
+        walk(&doc.root, &mut uses);
+        uses.retain(|_, n| *n > 1);
+        MeshFiles { uses, meshes: HashMap::new() }
+    }
+
+    /// The mesh of file `path` (`file` as the shape wrote it) parsed with `options` (the
+    /// reader and what it was asked for): `read` parses it the first time, later shapes naming
+    /// the same file with the same options get a copy. A mesh is the same data however often
+    /// it is read, so the scene (and its fingerprint) is the same as when every shape reads
+    /// its own.
+    pub fn get(
+        &mut self,
+        file: &str,
+        path: &Path,
+        options: String,
+        read: impl FnOnce() -> Result<MeshData>,
+    ) -> Result<MeshData> {
+        let Some(left) = self.uses.get_mut(file) else { return read() };
+        *left -= 1;
+        let last = *left == 0;
+        if last {
+            self.uses.remove(file);
+        }
+        let key = (options, std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf()));
+        if last {
+            return match self.meshes.remove(&key) {
+                Some(mesh) => Ok(mesh),
+                None => read(),
+            };
+        }
+        if let Some(mesh) = self.meshes.get(&key) {
+            return Ok(mesh.clone());
+        }
+        let mesh = read()?;
+        self.meshes.insert(key, mesh.clone());
+        Ok(mesh)
     }
 }
 
@@ -96,6 +167,7 @@ pub fn build(doc: &Document) -> Result<LoadedScene> {
         textures: HashMap::new(),
         bsdf_textures: Vec::new(),
         groups: HashMap::new(),
+        mesh_files: MeshFiles::of(doc),
         shapes: 0,
         emitters: 0,
     };

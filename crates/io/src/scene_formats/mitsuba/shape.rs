@@ -213,7 +213,16 @@ fn obj<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geo
     let path = b.doc.resolve(fnode, &file);
     // Mitsuba's OBJ reader flips v by default (most OBJ files count it from the bottom).
     let flip_v = p.bool("flip_tex_coords")?.unwrap_or(true);
-    let mesh = read_obj(&path, Some((e.describe(), e.at.clone())))?;
+    let mesh = b.mesh_files.get(&file, &path, "obj".to_string(), || {
+        let m = read_obj(&path, Some((e.describe(), e.at.clone())))?;
+        Ok(MeshData {
+            positions: m.positions,
+            triangles: m.triangles,
+            normals: m.normals,
+            uvs: m.uvs,
+            ..MeshData::default()
+        })
+    })?;
     if mesh.triangles.is_empty() {
         b.warn(e, format!("{} has no faces", path.display()));
     }
@@ -236,7 +245,9 @@ fn ply<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Geo
     // Mitsuba's PLY reader keeps v as written by default.
     let flip_v = p.bool("flip_tex_coords")?.unwrap_or(false);
     let wanted = texture::attribute_names(b.doc, e);
-    let mut mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), |d| parse_ply_with(d, &wanted))?;
+    let mut mesh = b.mesh_files.get(&file, &path, format!("ply {wanted:?}"), || {
+        read_mesh_file(&path, Some((e.describe(), e.at.clone())), |d| parse_ply_with(d, &wanted))
+    })?;
     mesh.uvs = flipped_v(std::mem::take(&mut mesh.uvs), flip_v);
     Ok(mesh_geometry(b, e, &path, mesh))
 }
@@ -251,8 +262,10 @@ fn serialized<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Res
     };
     let path = b.doc.resolve(fnode, &file);
     let max_expansion = b.doc.limits.max_mesh_expansion;
-    let mesh = read_mesh_file(&path, Some((e.describe(), e.at.clone())), |d| {
-        parse_serialized_within(d, index, max_expansion)
+    let mesh = b.mesh_files.get(&file, &path, format!("serialized {index} {max_expansion}"), || {
+        read_mesh_file(&path, Some((e.describe(), e.at.clone())), |d| {
+            parse_serialized_within(d, index, max_expansion)
+        })
     })?;
     Ok(mesh_geometry(b, e, &path, mesh))
 }
