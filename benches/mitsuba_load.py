@@ -39,7 +39,7 @@ import time
 
 T0 = time.perf_counter()
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mitsuba_ptracer import find_libllvm, log  # noqa: E402
+from mitsuba_ptracer import log, start_mitsuba  # noqa: E402
 
 
 def main():
@@ -56,19 +56,7 @@ def main():
     scene_path = os.path.abspath(args.scene)
 
     t = time.perf_counter()
-    llvm = find_libllvm() if args.variant.startswith('llvm') else None
-    import drjit as dr
-    import mitsuba as mi
-
-    variant = args.variant
-    try:
-        mi.set_variant(variant)
-        if variant.startswith('llvm'):
-            dr.zeros(mi.Float, 1).numpy()  # forces the LLVM backend to initialise now
-    except Exception as e:  # no libLLVM, or the variant is not compiled in
-        log(f'WARNING: variant {variant} unavailable ({e}); falling back to scalar_rgb')
-        variant = 'scalar_rgb'
-        mi.set_variant(variant)
+    mi, dr, variant, llvm = start_mitsuba(args.variant)
     if args.threads:
         dr.set_thread_count(args.threads)
     import_s = time.perf_counter() - t

@@ -39,7 +39,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from mitsuba_ptracer import DEFAULT_SCENE, find_libllvm, log, read_rgb, relmse  # noqa: E402
+from mitsuba_ptracer import DEFAULT_SCENE, log, read_rgb, relmse, start_mitsuba  # noqa: E402
 
 
 def default_reference(scene_path):
@@ -72,21 +72,8 @@ def main():
     scene_path = os.path.abspath(args.scene)
     ref_path = args.reference or default_reference(scene_path)
 
-    llvm = find_libllvm() if args.variant.startswith('llvm') else None
     import numpy as np
-    import drjit as dr
-    import mitsuba as mi
-
-    variant = args.variant
-    try:
-        mi.set_variant(variant)
-        if variant.startswith('llvm'):
-            dr.zeros(mi.Float, 1).numpy()  # forces the LLVM backend to initialise now
-    except Exception as e:  # no libLLVM, or the variant is not compiled in
-        log(f'WARNING: variant {variant} unavailable ({e}); falling back to scalar_rgb '
-            f'(much slower; install libLLVM and set DRJIT_LIBLLVM_PATH)')
-        variant = 'scalar_rgb'
-        mi.set_variant(variant)
+    mi, dr, variant, llvm = start_mitsuba(args.variant)
     # Read the reference before changing Dr.Jit's thread count: with --threads 1, Mitsuba 3.9.1's
     # EXR reader (OpenEXR's thread pool) was seen to wait forever when called after it.
     ref = read_rgb(mi, ref_path) if os.path.exists(ref_path) else None

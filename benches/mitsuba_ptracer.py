@@ -74,6 +74,25 @@ def find_libllvm():
     return None
 
 
+def start_mitsuba(variant):
+    """Imports Dr.Jit and Mitsuba and sets `variant`, initialising the LLVM backend now (so that
+    its start-up is not timed later); falls back to `scalar_rgb` with a warning where the
+    variant cannot start (no libLLVM). Returns (mi, dr, the variant set, the libLLVM path)."""
+    llvm = find_libllvm() if variant.startswith('llvm') else None
+    import drjit as dr
+    import mitsuba as mi
+    try:
+        mi.set_variant(variant)
+        if variant.startswith('llvm'):
+            dr.zeros(mi.Float, 1).numpy()  # forces the LLVM backend to initialise now
+    except Exception as e:  # no libLLVM, or the variant is not compiled in
+        log(f'WARNING: variant {variant} unavailable ({e}); falling back to scalar_rgb '
+            f'(much slower; install libLLVM and set DRJIT_LIBLLVM_PATH)')
+        variant = 'scalar_rgb'
+        mi.set_variant(variant)
+    return mi, dr, variant, llvm
+
+
 def relmse(test, ref):
     """imgcmp.py's metric: mean over pixels and channels of (t - r)^2 / (r^2 + 1e-2)."""
     import numpy as np
@@ -117,21 +136,8 @@ def main():
     scene_path = os.path.abspath(args.scene)
     ref_path = args.reference or os.path.join(os.path.dirname(scene_path), 'reference.exr')
 
-    llvm = find_libllvm() if args.variant.startswith('llvm') else None
     import numpy as np
-    import drjit as dr
-    import mitsuba as mi
-
-    variant = args.variant
-    try:
-        mi.set_variant(variant)
-        if variant.startswith('llvm'):
-            dr.zeros(mi.Float, 1).numpy()  # forces the LLVM backend to initialise now
-    except Exception as e:  # no libLLVM, or the variant is not compiled in
-        log(f'WARNING: variant {variant} unavailable ({e}); falling back to scalar_rgb '
-            f'(much slower; install libLLVM and set DRJIT_LIBLLVM_PATH)')
-        variant = 'scalar_rgb'
-        mi.set_variant(variant)
+    mi, dr, variant, llvm = start_mitsuba(args.variant)
     # Read the reference before changing Dr.Jit's thread count: with --threads 1, Mitsuba 3.9.1's
     # EXR reader (OpenEXR's thread pool) was seen to wait forever when called after it.
     ref = read_rgb(mi, ref_path) if os.path.exists(ref_path) else None
