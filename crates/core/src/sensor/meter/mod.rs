@@ -85,6 +85,12 @@ pub enum MeterError {
     /// The mesh has no (non-degenerate) triangles.
     #[error("mesh '{0}' has no area to measure")]
     EmptySurface(String),
+    /// The mesh has area, but its triangles face every way (a closed or curved surface: a
+    /// cylinder, a box), so that no plane is the surface's.
+    #[error(
+        "mesh '{0}' is not planar (a closed or curved surface: its triangles face every way); meters need planar surfaces (measure points on it with --points)"
+    )]
+    Curved(String),
     /// A meter point's position or normal is not finite, or its normal is zero.
     #[error("a meter point needs a finite position and a finite, non-zero normal")]
     BadPoint,
@@ -144,13 +150,15 @@ impl IlluminanceMeter {
             return Err(MeterError::UnknownSurface { name: name.into(), known: known.join(", ") });
         }
         let mut points = Vec::new();
-        let mut area_normal = Vec3::ZERO;
+        let (mut area_normal, mut area) = (Vec3::ZERO, 0.0f32);
         for m in &meshes {
             for t in &m.triangles {
                 let [Some(a), Some(b), Some(c)] = t.map(|i| m.positions.get(i as usize).copied()) else {
                     continue; // the scene builder reports bad indices
                 };
-                area_normal += (b - a).cross(c - a);
+                let cross = (b - a).cross(c - a);
+                area_normal += cross;
+                area += cross.length();
                 points.extend([a, b, c]);
             }
         }
@@ -158,7 +166,11 @@ impl IlluminanceMeter {
         let extent = points.iter().map(|p| (*p - p0).length()).fold(0.0f32, f32::max);
         let len = area_normal.length();
         if !(len > 1e-12 * extent * extent) || !area_normal.is_finite() {
-            return Err(MeterError::EmptySurface(name.into()));
+            return Err(if area > 1e-12 * extent * extent && area.is_finite() {
+                MeterError::Curved(name.into())
+            } else {
+                MeterError::EmptySurface(name.into())
+            });
         }
         let n = area_normal / len;
         let deviation = points.iter().map(|p| (*p - p0).dot(n).abs()).fold(0.0f32, f32::max);
@@ -338,6 +350,20 @@ mod tests {
             Err(MeterError::UnknownSurface { .. })
         ));
         assert!(matches!(IlluminanceMeter::on_mesh(&desc, "bent", 2, 2), Err(MeterError::NotPlanar { .. })));
+        // A closed surface (a tetrahedron) has area, but its triangles' facing cancels: it is
+        // called curved, not empty (it used to read "has no area to measure").
+        let closed = SceneDescription {
+            meshes: vec![MeshDesc {
+                name: "tetra".into(),
+                positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
+                triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+                ..Default::default()
+            }],
+            ..Default::default()
+        };
+        let e = IlluminanceMeter::on_mesh(&closed, "tetra", 2, 2).unwrap_err();
+        assert_eq!(e, MeterError::Curved("tetra".into()), "{e}");
+        assert!(e.to_string().contains("not planar"), "{e}");
     }
 
     #[test]
