@@ -51,6 +51,13 @@ impl ModifiedPhong {
     /// renderer cannot resolve the lobe.
     pub const MAX_EXPONENT: f32 = 1e6;
 
+    /// The exponent whose lobe has the width of a microfacet surface of RMS slope `alpha` near
+    /// its peak, n = 2/α² − 2, within [0, [`Self::MAX_EXPONENT`]] (α = 0: the largest). The
+    /// rule the glTF (α = roughness²) and Radiance (Ward's α) readers map roughness with.
+    pub fn exponent_for_slope(alpha: f32) -> f32 {
+        (2.0 / (alpha * alpha) - 2.0).clamp(0.0, Self::MAX_EXPONENT)
+    }
+
     /// Validated constructor: every parameter finite and non-negative, `exponent` at most
     /// [`Self::MAX_EXPONENT`], and `kd + ks ≤ 1` in every channel (energy conservation).
     pub fn new(kd: Rgb, ks: Rgb, exponent: f32) -> Result<Self, MaterialError> {

@@ -60,9 +60,6 @@ use opticks_core::scene::SceneDescription;
 use opticks_core::texture::{Bitmap, ColourSlot, Texture, TextureBinding, UvTransform};
 use std::sync::Arc;
 
-/// Largest Phong exponent produced (the core's limit).
-const MAX_EXPONENT: f32 = ModifiedPhong::MAX_EXPONENT;
-
 /// A converted glTF material.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Converted {
@@ -78,11 +75,10 @@ pub struct Converted {
     pub tex_coord: Option<u32>,
 }
 
-/// Phong exponent for a glTF roughness: α = r², n = 2/α² − 2, clamped to [0, 10⁶].
+/// Phong exponent for a glTF roughness: α = r², n = 2/α² − 2 ([`ModifiedPhong::exponent_for_slope`]).
 pub fn phong_exponent(roughness: f32) -> f32 {
     let r = roughness.clamp(0.0, 1.0);
-    let a2 = (r * r) * (r * r);
-    if a2 <= 2.0 / (MAX_EXPONENT + 2.0) { MAX_EXPONENT } else { (2.0 / a2 - 2.0).clamp(0.0, MAX_EXPONENT) }
+    ModifiedPhong::exponent_for_slope(r * r)
 }
 
 /// The BSDF parameters of the mapping in the module docs: (kd, ks, exponent).
@@ -476,10 +472,10 @@ mod tests {
     #[test]
     fn exponent_follows_roughness() {
         assert_eq!(phong_exponent(1.0), 0.0);
-        assert_eq!(phong_exponent(0.0), MAX_EXPONENT);
+        assert_eq!(phong_exponent(0.0), ModifiedPhong::MAX_EXPONENT);
         // r = 0.5: α = 0.25, n = 2/0.0625 − 2 = 30.
         assert!((phong_exponent(0.5) - 30.0).abs() < 1e-4);
-        assert!(phong_exponent(0.01) <= MAX_EXPONENT);
+        assert!(phong_exponent(0.01) <= ModifiedPhong::MAX_EXPONENT);
     }
 
     #[test]

@@ -612,7 +612,8 @@ impl Builder {
                     )
                 } else {
                     Bsdf::ModifiedPhong(
-                        ModifiedPhong::new(base, highlight, phong_exponent(rough)).map_err(mat)?,
+                        ModifiedPhong::new(base, highlight, ModifiedPhong::exponent_for_slope(rough))
+                            .map_err(mat)?,
                     )
                 };
                 Modifier::Material { material: material(bsdf, true), emission: None, index: None }
@@ -810,11 +811,4 @@ impl Builder {
         });
         Ok(())
     }
-}
-
-/// Radiance's roughness (Ward's α, the RMS slope of the facets) as a Phong exponent: the lobe
-/// of the same width near the peak, n = 2/α² − 2 (as for glTF's roughness), within the core's
-/// range.
-pub fn phong_exponent(alpha: f32) -> f32 {
-    (2.0 / (alpha * alpha) - 2.0).clamp(0.0, ModifiedPhong::MAX_EXPONENT)
 }
