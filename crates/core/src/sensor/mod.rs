@@ -292,12 +292,12 @@ pub(crate) fn connect_to<const REVERSE: bool>(
     } else {
         let mut resolved = None;
         let p = scene.material_at(prim, x, &mut resolved).at(scene.normals_at(prim, x));
-        let (from, to_c) = (p.direction(s.from_dir()), p.direction(wc));
-        let f = p.eval(&from, &to_c);
+        let (from, toward) = (p.direction(s.from_dir()), p.direction(wc));
+        let f = p.eval(&from, &toward);
         if f == Rgb::ZERO {
             return None;
         }
-        (f, if REVERSE { p.pdf(&to_c, &from) } else { 0.0 })
+        (f, if REVERSE { p.pdf(&toward, &from) } else { 0.0 })
     };
     let origin = offset_ray_origin(x, n, wc);
     let to_c = conn.point - origin;

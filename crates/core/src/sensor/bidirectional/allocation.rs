@@ -66,9 +66,3 @@ impl Allocation {
         }
     }
 }
-
-impl From<u32> for Allocation {
-    fn from(spp: u32) -> Self {
-        Allocation::Uniform(spp)
-    }
-}

@@ -238,8 +238,9 @@ impl<'a> Renderer<'a> {
     }
 
     /// Pass number `pass` of `spp` camera paths per pixel (the same everywhere, or per pixel:
-    /// [`Allocation`]): per pixel the **sum** of their estimates; `progress(pixels)` after each band of rows; `None` if `stop()` said so (asked
-    /// before each band and after every bounded amount of work within it: module docs).
+    /// [`Allocation`]): per pixel the **sum** of their estimates; `progress(pixels)` after each
+    /// band of rows; `None` if `stop()` said so (asked before each band and after every bounded
+    /// amount of work within it: module docs).
     pub fn camera_pass(
         &self,
         pass: u64,

@@ -17,12 +17,9 @@ use crate::sensor::{Sensor, connect_sample};
 /// Adds the MIS-weighted splats of `chunk`'s samples to `film`.
 pub fn splat_chunk(ctx: &Context, sensor: &Sensor, chunk: &CacheChunk<'_>, film: &mut impl SplatTarget) {
     let k = chunk.light as usize;
-    if ctx.lights.of_table(k).is_none() {
-        return;
-    }
+    let Some(light) = ctx.lights.of_table(k) else { return };
     let flux = ctx.flux_per_path[k];
     let random = sensor.samples_aperture();
-    let Some(light) = ctx.lights.of_table(k) else { return };
     for (s, record) in chunk.samples.iter().zip(chunk.records) {
         // One shading point at the sample for f and the reverse density.
         let Some(c) = connect_sample::<true>(ctx.scene, sensor, s, random) else {
