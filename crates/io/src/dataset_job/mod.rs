@@ -29,6 +29,9 @@ use rayon::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+mod space;
+pub use space::{ASSUMED_BYTES_PER_PATH, SpaceShortfall, estimate_bytes, free_space, preflight};
+
 /// What a long job reports, and how it is asked to stop (by default: silently, never).
 pub trait JobProgress {
     /// Tracing begins; `paths` are planned in all (those of blocks already done included).
@@ -495,61 +498,6 @@ fn trace_overlapped(
         let (writer, failed) = writing.join().map_err(|_| JobError::WriterPanicked)?;
         Ok((traced, writer, failed))
     })
-}
-
-/// Stored bytes per path assumed when nothing better is known (a fresh trace): 5 vertices of
-/// 32 bytes and a share of the chunk headers. The Cornell box stores 4.4 vertices per path;
-/// scenes of higher albedo store more.
-pub const ASSUMED_BYTES_PER_PATH: u64 = 5 * 32 + 1;
-
-/// About how large a dataset of `sources` and `new_paths` more paths will be: the sources'
-/// sizes, plus the new paths at the sources' bytes per path (or [`ASSUMED_BYTES_PER_PATH`]).
-pub fn estimate_bytes(sources: &[Source<'_>], new_paths: u64) -> u64 {
-    let bytes: u64 = sources.iter().map(|s| s.reader.file_len()).sum();
-    let paths: u64 = sources.iter().map(|s| s.reader.header().table.total_paths()).sum();
-    let per_path = if paths > 0 && bytes > 0 { bytes.div_ceil(paths) } else { ASSUMED_BYTES_PER_PATH };
-    bytes.saturating_add(new_paths.saturating_mul(per_path))
-}
-
-/// A pass's dataset may not fit on its disk: about `needed` bytes, `free` free.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SpaceShortfall {
-    /// The estimated size.
-    pub needed: u64,
-    /// Bytes free on the output's file system.
-    pub free: u64,
-}
-
-/// Before a long trace into `output`: refuses a pass that would take the dataset beyond the
-/// most paths a dataset may hold (`opticks_core::dataset::check_path_budget`, which the job
-/// checks again), and says whether the dataset, estimated at `estimate` bytes, may not fit in
-/// the free space of the output's file system (if it fills up, the paths written so far are
-/// kept in [`partial_path`]).
-pub fn preflight(
-    table: &LightTable,
-    pass: &PassPlan,
-    output: &Path,
-    estimate: u64,
-) -> Result<Option<SpaceShortfall>, TooManyPaths> {
-    check_path_budget(table, pass)?;
-    Ok(free_space(output)
-        .filter(|&free| free < estimate)
-        .map(|free| SpaceShortfall { needed: estimate, free }))
-}
-
-/// Bytes free for an unprivileged writer on the file system that `output` is (to be) written to;
-/// `None` where that cannot be asked.
-pub fn free_space(output: &Path) -> Option<u64> {
-    #[cfg(unix)]
-    {
-        let s = nix::sys::statvfs::statvfs(crate::output_paths::folder_of(output)).ok()?;
-        Some((s.blocks_available() as u64).saturating_mul(s.fragment_size() as u64))
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = output;
-        None
-    }
 }
 
 /// `dir/NAME.partial.opds` for `dir/NAME.opds`: where an interrupted job saves its work.
