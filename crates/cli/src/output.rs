@@ -67,25 +67,9 @@ pub fn error(msg: &str) {
     let _ = writeln!(std::io::stderr(), "error: {msg}");
 }
 
-/// `n` bytes readably: "832 bytes", "1.4 MB", "2.10 GB", "3.20 TB", "161.00 PB", "18.45 EB"
-/// (the largest unit below the size, so no figure has more than three digits before its point).
+/// `n` bytes readably ([`opticks_io::memory::readable_bytes`]).
 pub fn bytes(n: u64) -> String {
-    let x = n as f64;
-    if n < 1000 {
-        format!("{n} bytes")
-    } else if x < 1e6 {
-        format!("{:.1} kB", x / 1e3)
-    } else if x < 1e9 {
-        format!("{:.1} MB", x / 1e6)
-    } else if x < 1e12 {
-        format!("{:.2} GB", x / 1e9)
-    } else if x < 1e15 {
-        format!("{:.2} TB", x / 1e12)
-    } else if x < 1e18 {
-        format!("{:.2} PB", x / 1e15)
-    } else {
-        format!("{:.2} EB", x / 1e18)
-    }
+    opticks_io::memory::readable_bytes(n)
 }
 
 /// "1 light", "2 lights".
@@ -98,13 +82,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn sizes_and_counts_read_well() {
-        assert_eq!(bytes(224), "224 bytes");
-        assert_eq!(bytes(1_400_000), "1.4 MB");
-        assert_eq!(bytes(2_100_000_000), "2.10 GB");
-        assert_eq!(bytes(3_200_000_000_000), "3.20 TB");
-        assert_eq!(bytes(161_000_000_000_000_000), "161.00 PB", "not 161000000.00 GB");
-        assert_eq!(bytes(u64::MAX), "18.45 EB");
+    fn counts_read_well() {
         assert_eq!(count(1, "light"), "1 light");
         assert_eq!(count(0, "light"), "0 lights");
         assert_eq!(count(3, "dataset"), "3 datasets");

@@ -30,15 +30,24 @@ fn cgroup_headroom(root: &Path) -> Option<u64> {
     Some(max.saturating_sub(current))
 }
 
-/// Bytes as people read them: "403 MB", "25.8 GB", "835.5 TB", "208.9 PB", "18.4 EB".
-pub fn human_bytes(bytes: u64) -> String {
-    let x = bytes as f64;
-    match bytes {
-        b if b >= 1_000_000_000_000_000_000 => format!("{:.1} EB", x / 1e18),
-        b if b >= 1_000_000_000_000_000 => format!("{:.1} PB", x / 1e15),
-        b if b >= 1_000_000_000_000 => format!("{:.1} TB", x / 1e12),
-        b if b >= 1_000_000_000 => format!("{:.1} GB", b as f64 / 1e9),
-        b => format!("{:.0} MB", (b as f64 / 1e6).max(1.0)),
+/// `n` bytes readably: "832 bytes", "1.4 MB", "2.10 GB", "3.20 TB", "161.00 PB", "18.45 EB"
+/// (the largest unit below the size, so no figure has more than three digits before its point).
+pub fn readable_bytes(n: u64) -> String {
+    let x = n as f64;
+    if n < 1000 {
+        format!("{n} bytes")
+    } else if x < 1e6 {
+        format!("{:.1} kB", x / 1e3)
+    } else if x < 1e9 {
+        format!("{:.1} MB", x / 1e6)
+    } else if x < 1e12 {
+        format!("{:.2} GB", x / 1e9)
+    } else if x < 1e15 {
+        format!("{:.2} TB", x / 1e12)
+    } else if x < 1e18 {
+        format!("{:.2} PB", x / 1e15)
+    } else {
+        format!("{:.2} EB", x / 1e18)
     }
 }
 
@@ -47,7 +56,7 @@ pub fn human_bytes(bytes: u64) -> String {
 #[error(
     "{what} of {width}x{height} needs about {} of memory ({} bytes a pixel to accumulate, {output_bytes} to \
      write), but {} are available: choose a smaller size",
-    human_bytes(*need), opticks_core::film::FILM_BYTES_PER_PIXEL, human_bytes(*available)
+    readable_bytes(*need), opticks_core::film::FILM_BYTES_PER_PIXEL, readable_bytes(*available)
 )]
 pub struct FilmTooLarge {
     /// What the film is ("an image", "a meter").
@@ -66,7 +75,7 @@ pub struct FilmTooLarge {
 
 /// Work that needs more memory than is available.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{what} needs about {} of memory, but {} are available", human_bytes(*need), human_bytes(*available))]
+#[error("{what} needs about {} of memory, but {} are available", readable_bytes(*need), readable_bytes(*available))]
 pub struct NotEnoughMemory {
     /// What needs it.
     pub what: String,
@@ -128,13 +137,14 @@ mod tests {
         std::fs::write(dir.path().join("memory.max"), "3000\n").unwrap();
         assert_eq!(cgroup_headroom(dir.path()), Some(2000));
         assert_eq!(
-            (human_bytes(25_769_803_776), human_bytes(403_000_000)),
-            ("25.8 GB".into(), "403 MB".into())
+            (readable_bytes(25_769_803_776), readable_bytes(403_000_000)),
+            ("25.77 GB".into(), "403.0 MB".into())
         );
-        assert_eq!(human_bytes(208_863_281_200_000_000), "208.9 PB", "not 208863281.2 GB");
-        assert_eq!(human_bytes(835_500_000_000), "835.5 GB");
-        assert_eq!(human_bytes(8_355_000_000_000), "8.4 TB");
-        assert_eq!(human_bytes(u64::MAX), "18.4 EB");
+        assert_eq!(readable_bytes(224), "224 bytes");
+        assert_eq!(readable_bytes(1_400_000), "1.4 MB");
+        assert_eq!(readable_bytes(3_200_000_000_000), "3.20 TB");
+        assert_eq!(readable_bytes(161_000_000_000_000_000), "161.00 PB", "not 161000000.00 GB");
+        assert_eq!(readable_bytes(u64::MAX), "18.45 EB");
         #[cfg(target_os = "linux")]
         assert!(available_bytes().is_some_and(|b| b > 0));
     }

@@ -75,7 +75,7 @@ pub fn run(a: Args) -> Result<()> {
     let film = render_chunks(&scene, &camera, &header.table, &chunks)?;
     let t2 = Instant::now();
     let samples: usize = chunks.iter().map(|c| c.samples.len()).sum();
-    warn_if_black(&film, samples as u64, "camera", &[opticks_core::math::Rgb::ONE]);
+    warn_if_black(film.is_black(), samples as u64, "camera", &[opticks_core::math::Rgb::ONE]);
     // Both images or neither.
     let encode = |path: &Path| {
         opticks_io::image_file::encode_image(path, film.width, film.height, &film.to_rgb_f32(), a.exposure)

@@ -33,15 +33,13 @@ use crate::camera_args::parse_vec3;
 use crate::output;
 use crate::progress;
 use anyhow::{Context, Result, bail};
-use opticks_core::film::Film;
 use opticks_core::math::Vec3;
-use opticks_core::sensor::IlluminanceMeter;
-use opticks_core::sensor::meter::{self, ConnectedSettings, MeterLayout};
+use opticks_io::measurement::{Estimator, Measured, Place, Request};
 use opticks_io::output_paths::{OutputKind, check_outputs};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-/// How `measure` estimates.
+/// How `measure` estimates (`opticks_io::measurement::Estimator`).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MeterEstimator {
     /// Connect every stored sample to the meter (+ direct light of point and directional
@@ -125,121 +123,60 @@ fn parse_plane(s: &str) -> Result<(Vec3, Vec3, Vec3)> {
 /// Runs the measurement.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let estimator = a.estimator.unwrap_or(match a.surface {
-        Some(_) => MeterEstimator::Samples,
-        None => MeterEstimator::Connections,
-    });
-    if estimator == MeterEstimator::Samples {
-        let given = [
-            ("--connections", a.connections.is_some()),
-            ("--direct-samples", a.direct_samples.is_some()),
-            ("--seed", a.seed.is_some()),
-        ];
-        if let Some((name, _)) = given.iter().find(|g| g.1) {
-            bail!(
-                "{name} applies to --estimator connections; --estimator samples counts the stored samples as they are"
-            );
+    let place = match (&a.surface, &a.plane) {
+        (Some(name), _) => Place::Surface(name.clone()),
+        (None, Some(p)) => {
+            let (origin, u, v) = parse_plane(p)?;
+            Place::Plane { origin, u, v }
         }
-    }
-    if a.points.is_some() {
-        if a.cells.is_some() {
-            bail!("--cells is for planes; with --points every point is one cell");
-        }
-        if a.png.is_some() {
-            bail!("--png draws a plane's heat map; points have none (the CSV has every point)");
-        }
-        if estimator == MeterEstimator::Samples {
-            bail!(
-                "--estimator samples counts samples landing on a surface and cannot read points: use connections"
-            );
-        }
-    }
+        (None, None) => Place::Points(Vec::new()),
+    };
+    let mut request = Request {
+        place,
+        cells: a.cells,
+        estimator: a.estimator.map(|e| match e {
+            MeterEstimator::Connections => Estimator::Connections,
+            MeterEstimator::Samples => Estimator::Samples,
+        }),
+        connections: a.connections,
+        direct_samples: a.direct_samples,
+        seed: a.seed,
+        heatmap: a.png.is_some(),
+    };
+    let estimator = request.check()?;
     let mut outputs = vec![(a.output.as_path(), OutputKind::Csv)];
     outputs.extend(a.png.as_deref().map(|p| (p, OutputKind::Png)));
     let mut inputs = a.input.inputs();
     inputs.extend(a.points.as_deref());
     check_outputs(&outputs, &inputs)?;
-    let points = match &a.points {
-        Some(p) => Some(MeterLayout::points(opticks_io::meter_points::read_points(p)?)?),
-        None => None,
-    };
+    if let Some(p) = &a.points {
+        request.place = Place::Points(opticks_io::meter_points::read_points(p)?);
+    }
     let data = a.input.open()?;
     // Again, now that the files the scene names have been read (textures, environment maps).
     check_outputs(&outputs, &inputs)?;
-    let desc = data.description();
-    let (nx, ny) = a.cells.unwrap_or((10, 10));
-    let layout = match (&a.surface, &a.plane, points) {
-        (_, _, Some(points)) => points,
-        (Some(name), _, _) => MeterLayout::Grid(IlluminanceMeter::on_mesh(desc, name, nx, ny)?),
-        (None, Some(p), _) => {
-            let (o, u, v) = parse_plane(p)?;
-            MeterLayout::Grid(
-                IlluminanceMeter::new(o, u, v, nx, ny).with_context(|| format!("--plane '{p}'"))?,
-            )
-        }
-        (None, None, None) => {
-            bail!("give --surface NAME, --plane ox,oy,oz,ux,uy,uz,vx,vy,vz or --points FILE")
-        }
+    let plane = |e: opticks_io::measurement::RequestError| match &a.plane {
+        Some(p) => anyhow::Error::from(e).context(format!("--plane '{p}'")),
+        None => e.into(),
     };
+    let (layout, warning) = request.layout(&data).map_err(plane)?;
+    warning.iter().for_each(|w| output::warning(w));
     // Per cell: its lux value and its CSV line (about 120 characters).
     super::check_film_fits("a meter", (layout.len() as u32, 1), 8 + 128)?;
-    // Counting the samples on a plane reads only where the plane lies on a surface.
-    if let (MeterLayout::Grid(m), Some(p), MeterEstimator::Samples) = (&layout, &a.plane, estimator) {
-        let (on, cells) = (m.cells_on_surfaces(data.scene()), layout.len());
-        if on == 0 {
-            bail!(
-                "--plane '{p}' lies on no scene surface, and --estimator samples reads only the light landing \
-                 on surfaces: measure the light crossing it with --estimator connections (a plane's default)"
-            );
-        }
-        if on < cells {
-            output::warning(&format!(
-                "{} of the {cells} cells of --plane '{p}' lie on no scene surface: --estimator samples reads \
-                 zero there (--estimator connections measures them)",
-                cells - on
-            ));
-        }
-    }
     let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
     let progress = |n: usize| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64);
-    let how = match estimator {
-        MeterEstimator::Samples => meter::MeterEstimator::Samples,
-        MeterEstimator::Connections => meter::MeterEstimator::Connections(ConnectedSettings {
-            connections: a.connections.unwrap_or(1),
-            direct_samples: a.direct_samples.unwrap_or(256),
-            seed: a.seed.unwrap_or(0),
-        }),
-    };
-    let reading = data.measure(&layout, how, progress, crate::interrupt::requested)?;
+    let reading = data.measure(&layout, request.settings()?, progress, crate::interrupt::requested)?;
     pb.finish_and_clear();
-    let side = match &layout {
-        MeterLayout::Grid(m) => {
-            let n = m.normal();
-            format!("normal {:.3},{:.3},{:.3}; to measure the other side, swap u and v", n.x, n.y, n.z)
-        }
-        MeterLayout::Points(_) => "points' normals".into(),
-    };
-    let mut film = Film::new(layout.len() as u32, 1);
-    for (p, v) in film.pixels.iter_mut().zip(&reading.value) {
-        *p = [v[0], v[1], v[2]];
-    }
-    super::warn_if_black(&film, data.samples(), &format!("meter's front ({side})"), data.flux_per_path());
+    let measured = Measured { layout: &layout, reading: &reading, estimator };
+    let front = format!("meter's front ({})", measured.side());
+    super::warn_if_black(measured.is_black(), data.samples(), &front, data.flux_per_path());
 
-    let csv = opticks_io::meter_table::csv(&layout, &reading);
-    let lux: Vec<f64> = reading.value.iter().map(|v| v[3]).collect();
-    let heatmap = match (&a.png, &layout) {
-        (Some(png), MeterLayout::Grid(m)) => Some(opticks_io::heatmap::encode_heatmap(
-            png,
-            &lux,
-            nx,
-            ny,
-            m.u.length() as f64,
-            m.v.length() as f64,
-            "E (lux)",
-        )?),
-        _ => None,
+    let csv = measured.csv();
+    let heatmap = match &a.png {
+        Some(png) => measured.heatmap(png)?,
+        None => None,
     };
     let mut files = vec![(a.output.as_path(), csv.as_bytes())];
     if let (Some(png), Some(bytes)) = (&a.png, &heatmap) {
@@ -247,41 +184,11 @@ pub fn run(a: Args) -> Result<()> {
     }
     let removed = opticks_io::image_file::write_files_atomically(&files).context("nothing was written")?;
     super::note_removed_stale(&removed);
-    let mean = film.mean();
-    let (min, max) = lux.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
-    let what = match &layout {
-        MeterLayout::Grid(m) => {
-            let n = m.normal();
-            let area = (m.cell_area() as f64) * (nx * ny) as f64;
-            format!(
-                "{nx}x{ny} cells on {area:.4} m², front side (light arriving from normal {:.3},{:.3},{:.3})",
-                n.x, n.y, n.z
-            )
-        }
-        MeterLayout::Points(p) => format!("{} points, each facing its normal", p.len()),
-    };
-    output::result(&format!(
-        "{what}: mean E = {:.5e},{:.5e},{:.5e} W/m², E_v {min:.4e}..{max:.4e} lux → {}{}",
-        mean[0],
-        mean[1],
-        mean[2],
-        a.output.display(),
-        a.png.as_ref().map(|p| format!(" and {}", p.display())).unwrap_or_default()
-    ));
-    let (rel_max, rel_mean, lit) = reading.relative_error();
-    if lit > 0 {
-        output::result(&format!(
-            "relative standard error of E_v over the {lit} lit {}: max {:.3} %, mean {:.3} % ({} estimator)",
-            if layout.is_point() { "points" } else { "cells" },
-            100.0 * rel_max,
-            100.0 * rel_mean,
-            match estimator {
-                MeterEstimator::Connections => "connections",
-                MeterEstimator::Samples => "samples",
-            }
-        ));
+    let png = a.png.as_ref().map(|p| format!(" and {}", p.display())).unwrap_or_default();
+    for line in measured.summary(&format!("{}{png}", a.output.display())) {
+        output::result(&line);
     }
-    if rel_max.is_nan() {
+    if measured.errors_unknown() {
         output::warning(
             "some standard errors are unknown (NaN): a light with a single chunk of paths gives no \
              spread to estimate them from; trace more paths",

@@ -228,11 +228,11 @@ pub fn warn_light_estimator_blind_spots(scene: &opticks_core::scene::Scene, sens
     }
 }
 
-/// Warns when an image or a measurement received nothing at all (`what` names the sensor):
+/// Warns when an image or a measurement received nothing at all (`black`; `what` names the sensor):
 /// because `--light` switched every light off (`flux_per_path` all zero), or else because of
 /// where the sensor is.
-pub fn warn_if_black(film: &Film, samples: u64, what: &str, flux_per_path: &[opticks_core::math::Rgb]) {
-    if !film.pixels.iter().all(|p| p.iter().all(|&v| v == 0.0)) {
+pub fn warn_if_black(black: bool, samples: u64, what: &str, flux_per_path: &[opticks_core::math::Rgb]) {
+    if !black {
         return;
     }
     if flux_per_path.iter().all(|f| *f == opticks_core::math::Rgb::ZERO) {

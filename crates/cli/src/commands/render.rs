@@ -78,7 +78,7 @@ pub fn run(a: Args) -> Result<()> {
         super::single_process_only("render --estimator bidirectional")?;
         let run = a.estimator.render(&data, &camera, a.time, 0, true)?;
         let secs = t0.elapsed().as_secs_f64();
-        warn_if_black(&run.film, data.samples(), "camera", data.flux_per_path());
+        warn_if_black(run.film.is_black(), data.samples(), "camera", data.flux_per_path());
         write_film(&run.film, &a.output, exposure)?;
         if run.interrupted {
             // Exit 128 + signal, as every interrupted verb, with the image of the passes done.
@@ -110,7 +110,7 @@ pub fn run(a: Args) -> Result<()> {
         return Ok(()); // a worker rank of a cluster job: its part went to the master
     };
     let secs = t0.elapsed().as_secs_f64();
-    warn_if_black(&film, data.samples(), "camera", data.flux_per_path());
+    warn_if_black(film.is_black(), data.samples(), "camera", data.flux_per_path());
     write_film(&film, &a.output, exposure)?;
     output::result(&format!(
         "rendered {} samples at {}x{} in {:.2} s → {}",

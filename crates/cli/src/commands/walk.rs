@@ -91,7 +91,7 @@ pub fn run(a: Args) -> Result<()> {
             }
         };
         if f == 0 {
-            warn_if_black(&film, data.samples(), "camera of frame 0", data.flux_per_path());
+            warn_if_black(film.is_black(), data.samples(), "camera of frame 0", data.flux_per_path());
         }
         write_film(&film, &frame(f), exposure)?;
         pb.inc(1);

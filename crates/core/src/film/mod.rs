@@ -182,6 +182,11 @@ impl Film {
         self.pixels.iter().flat_map(|p| p.map(|x| x as f32)).collect()
     }
 
+    /// Whether every pixel is zero: nothing reached the sensor.
+    pub fn is_black(&self) -> bool {
+        self.pixels.iter().all(|p| p.iter().all(|&v| v == 0.0))
+    }
+
     /// Mean value per channel.
     pub fn mean(&self) -> [f64; 3] {
         let n = self.pixels.len().max(1) as f64;

@@ -1,0 +1,270 @@
+//! A measurement as a front end asks for it (`opticks measure`, a binding): where — a mesh, a
+//! rectangle on a surface or in the air, or points — in how many cells, with which estimator and
+//! its settings. [`Request::check`] refuses, before any work, the combinations that cannot mean
+//! anything; [`Request::layout`] places the meter in an opened dataset's scene; the reading
+//! ([`crate::opened::OpenedDataset::measure`]) then comes back as a [`Measured`], which gives the
+//! CSV table ([`crate::meter_table`]), the heat map ([`crate::heatmap`]) and the summary a front
+//! end prints.
+//!
+//! Defaults are the command line's: 10×10 cells; the `samples` estimator on a mesh (on scene
+//! geometry it is several times cheaper and less noisy) and `connections` elsewhere, with one
+//! connection per stored sample, 256 direct-light points per cell and seed 0.
+
+use crate::heatmap::{HeatmapError, encode_heatmap};
+use crate::opened::LitDataset;
+use opticks_core::math::Vec3;
+use opticks_core::sensor::IlluminanceMeter;
+use opticks_core::sensor::meter::{self, ConnectedSettings, MeterError, MeterLayout, MeterPoint, Reading};
+use std::path::Path;
+
+/// Where the meter is.
+#[derive(Clone, Debug)]
+pub enum Place {
+    /// On the planar mesh of this name (its bounding rectangle in its plane), on the side its
+    /// triangles face.
+    Surface(String),
+    /// On the rectangle with this corner and edges (m); its front is the side u × v faces.
+    Plane {
+        /// A corner.
+        origin: Vec3,
+        /// The first edge (cells along it are `i`).
+        u: Vec3,
+        /// The second edge (`j`).
+        v: Vec3,
+    },
+    /// At these points, each facing its normal.
+    Points(Vec<MeterPoint>),
+}
+
+/// How a meter estimates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Estimator {
+    /// Connect every stored sample to the meter (+ direct light of point and directional
+    /// lights): anywhere, in the air too.
+    Connections,
+    /// Count the samples that landed on the meter: only for meters on scene geometry.
+    Samples,
+}
+
+impl Estimator {
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Estimator::Connections => "connections",
+            Estimator::Samples => "samples",
+        }
+    }
+}
+
+/// A measurement asked for; unset settings take the defaults in the module docs.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// Where.
+    pub place: Place,
+    /// Cells along u and v (planes).
+    pub cells: Option<(u32, u32)>,
+    /// The estimator.
+    pub estimator: Option<Estimator>,
+    /// Connections: meter points each stored sample is connected to.
+    pub connections: Option<u32>,
+    /// Connections: points per cell gathering the direct light of point and directional lights.
+    pub direct_samples: Option<u32>,
+    /// Connections: seed of the meter's random streams.
+    pub seed: Option<u64>,
+    /// Whether a heat map is wanted (planes only).
+    pub heatmap: bool,
+}
+
+/// A measurement that cannot be made as asked.
+#[derive(Debug, thiserror::Error)]
+pub enum RequestError {
+    /// A setting of the connections estimator given to the samples estimator.
+    #[error(
+        "{0} applies to --estimator connections; --estimator samples counts the stored samples as they are"
+    )]
+    ConnectionsOnly(&'static str),
+    /// Cells asked of points.
+    #[error("--cells is for planes; with --points every point is one cell")]
+    CellsAtPoints,
+    /// A heat map asked of points.
+    #[error("--png draws a plane's heat map; points have none (the CSV has every point)")]
+    HeatmapOfPoints,
+    /// The samples estimator asked to read points.
+    #[error(
+        "--estimator samples counts samples landing on a surface and cannot read points: use connections"
+    )]
+    SamplesAtPoints,
+    /// The samples estimator asked to read a plane on no surface.
+    #[error(
+        "the plane lies on no scene surface, and --estimator samples reads only the light landing on surfaces: \
+         measure the light crossing it with --estimator connections (a plane's default)"
+    )]
+    PlaneOffSurfaces,
+    /// The meter cannot be placed.
+    #[error(transparent)]
+    Meter(#[from] MeterError),
+}
+
+impl Request {
+    /// Refuses the combinations that mean nothing; the estimator to use.
+    pub fn check(&self) -> Result<Estimator, RequestError> {
+        let points = matches!(self.place, Place::Points(_));
+        let estimator = self.estimator.unwrap_or(match self.place {
+            Place::Surface(_) => Estimator::Samples,
+            _ => Estimator::Connections,
+        });
+        if estimator == Estimator::Samples {
+            let given = [
+                ("--connections", self.connections.is_some()),
+                ("--direct-samples", self.direct_samples.is_some()),
+                ("--seed", self.seed.is_some()),
+            ];
+            if let Some((name, _)) = given.iter().find(|g| g.1) {
+                return Err(RequestError::ConnectionsOnly(name));
+            }
+        }
+        match (points, self.cells.is_some(), self.heatmap, estimator) {
+            (true, true, _, _) => Err(RequestError::CellsAtPoints),
+            (true, _, true, _) => Err(RequestError::HeatmapOfPoints),
+            (true, _, _, Estimator::Samples) => Err(RequestError::SamplesAtPoints),
+            _ => Ok(estimator),
+        }
+    }
+
+    /// Cells along u and v (10×10 unless given).
+    pub fn cells(&self) -> (u32, u32) {
+        self.cells.unwrap_or((10, 10))
+    }
+
+    /// The meter placed in `data`'s scene, and a warning when the samples estimator reads a
+    /// plane only partly on scene surfaces (zero elsewhere).
+    pub fn layout(&self, data: &LitDataset) -> Result<(MeterLayout, Option<String>), RequestError> {
+        let estimator = self.check()?;
+        let (nx, ny) = self.cells();
+        let layout = match &self.place {
+            Place::Points(points) => MeterLayout::points(points.clone())?,
+            Place::Surface(name) => {
+                MeterLayout::Grid(IlluminanceMeter::on_mesh(data.description(), name, nx, ny)?)
+            }
+            Place::Plane { origin, u, v } => {
+                MeterLayout::Grid(IlluminanceMeter::new(*origin, *u, *v, nx, ny)?)
+            }
+        };
+        let mut warning = None;
+        if let (MeterLayout::Grid(m), Place::Plane { .. }, Estimator::Samples) =
+            (&layout, &self.place, estimator)
+        {
+            let (on, cells) = (m.cells_on_surfaces(data.scene()), layout.len());
+            if on == 0 {
+                return Err(RequestError::PlaneOffSurfaces);
+            }
+            if on < cells {
+                warning = Some(format!(
+                    "{} of the {cells} cells of the plane lie on no scene surface: --estimator samples reads \
+                     zero there (--estimator connections measures them)",
+                    cells - on
+                ));
+            }
+        }
+        Ok((layout, warning))
+    }
+
+    /// The estimator with its settings, for [`crate::opened::OpenedDataset::measure`].
+    pub fn settings(&self) -> Result<meter::MeterEstimator, RequestError> {
+        Ok(match self.check()? {
+            Estimator::Samples => meter::MeterEstimator::Samples,
+            Estimator::Connections => meter::MeterEstimator::Connections(ConnectedSettings {
+                connections: self.connections.unwrap_or(1),
+                direct_samples: self.direct_samples.unwrap_or(256),
+                seed: self.seed.unwrap_or(0),
+            }),
+        })
+    }
+}
+
+/// A reading with its meter: what a front end writes and says of it.
+pub struct Measured<'a> {
+    /// The meter.
+    pub layout: &'a MeterLayout,
+    /// Its reading.
+    pub reading: &'a Reading,
+    /// The estimator it was read with.
+    pub estimator: Estimator,
+}
+
+impl Measured<'_> {
+    /// The CSV table ([`crate::meter_table::csv`]).
+    pub fn csv(&self) -> String {
+        crate::meter_table::csv(self.layout, self.reading)
+    }
+
+    /// The PNG heat map of the illuminance (lux) for `path`, if the meter is a plane.
+    pub fn heatmap(&self, path: &Path) -> Result<Option<Vec<u8>>, HeatmapError> {
+        let MeterLayout::Grid(m) = self.layout else { return Ok(None) };
+        let lux: Vec<f64> = self.reading.value.iter().map(|v| v[3]).collect();
+        let (u, v) = (m.u.length() as f64, m.v.length() as f64);
+        encode_heatmap(path, &lux, m.nx, m.ny, u, v, "E (lux)").map(Some)
+    }
+
+    /// Whether nothing reached the meter's front.
+    pub fn is_black(&self) -> bool {
+        self.reading.value.iter().all(|v| v[..3].iter().all(|&x| x == 0.0))
+    }
+
+    /// Which side is measured, said so the user can measure the other.
+    pub fn side(&self) -> String {
+        match self.layout {
+            MeterLayout::Grid(m) => {
+                let n = m.normal();
+                format!("normal {:.3},{:.3},{:.3}; to measure the other side, swap u and v", n.x, n.y, n.z)
+            }
+            MeterLayout::Points(_) => "points' normals".into(),
+        }
+    }
+
+    /// The summary: what was measured, mean irradiance and the range of illuminance, then the
+    /// relative standard errors if any target was lit. `written` names the outputs.
+    pub fn summary(&self, written: &str) -> Vec<String> {
+        let n = self.reading.value.len().max(1) as f64;
+        let mut mean = [0.0f64; 3];
+        for v in &self.reading.value {
+            for c in 0..3 {
+                mean[c] += v[c];
+            }
+        }
+        let mean = mean.map(|m| m / n);
+        let lux = self.reading.value.iter().map(|v| v[3]);
+        let (min, max) = lux.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
+        let what = match self.layout {
+            MeterLayout::Grid(m) => {
+                let n = m.normal();
+                let area = (m.cell_area() as f64) * (m.nx * m.ny) as f64;
+                format!(
+                    "{}x{} cells on {area:.4} m², front side (light arriving from normal {:.3},{:.3},{:.3})",
+                    m.nx, m.ny, n.x, n.y, n.z
+                )
+            }
+            MeterLayout::Points(p) => format!("{} points, each facing its normal", p.len()),
+        };
+        let mut lines = vec![format!(
+            "{what}: mean E = {:.5e},{:.5e},{:.5e} W/m², E_v {min:.4e}..{max:.4e} lux → {written}",
+            mean[0], mean[1], mean[2]
+        )];
+        let (rel_max, rel_mean, lit) = self.reading.relative_error();
+        if lit > 0 {
+            lines.push(format!(
+                "relative standard error of E_v over the {lit} lit {}: max {:.3} %, mean {:.3} % ({} estimator)",
+                if self.layout.is_point() { "points" } else { "cells" },
+                100.0 * rel_max,
+                100.0 * rel_mean,
+                self.estimator.name()
+            ));
+        }
+        lines
+    }
+
+    /// Whether some standard errors are unknown (a light with a single chunk of paths).
+    pub fn errors_unknown(&self) -> bool {
+        self.reading.relative_error().0.is_nan()
+    }
+}
