@@ -22,6 +22,8 @@ mod sky;
 mod view;
 mod xform;
 
+pub use sky::cie::{CieGeneralSky, SkyModel};
+
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
 use std::path::Path;
 
