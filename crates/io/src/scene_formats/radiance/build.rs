@@ -186,8 +186,8 @@ impl Builder {
         Ok(())
     }
 
-    /// A `!` line: `xform` is read as an include, skies are not supported yet, anything else
-    /// is refused. Nothing is run.
+    /// A `!` line: `xform` is read as an include, `gensky` and `gendaylit` are interpreted
+    /// (`sources.rs`), anything else is refused. Nothing is run.
     fn command(
         &mut self,
         path: &Path,
