@@ -302,8 +302,14 @@ fn commands_are_never_executed() {
     assert!(!marker.exists());
     let e = error_of(&[("a.rad", b"\n  !gensky 13 21 12 +s\n")]);
     assert!(e.starts_with("TMP/a.rad:2:3: !gensky: bad month: \"!gensky 13 21 12 +s\""), "{e}");
-    let e = error_of(&[("a.rad", b"!gendaylit 3 21 12 -W 800 100\n")]);
-    assert!(e.contains("a.rad:1:1: !gendaylit: skies are not supported yet"), "{e}");
+    // A malformed !gendaylit names the file, the line and the line itself.
+    let e = error_of(&[("a.rad", b"# sky\n!gendaylit 3 21 12 -W 800\n")]);
+    assert!(
+        e.starts_with("TMP/a.rad:2:1: !gendaylit: -W needs a value: \"!gendaylit 3 21 12 -W 800\""),
+        "{e}"
+    );
+    let e = error_of(&[("a.rad", b"!gendaylit 3 21 12\n")]);
+    assert!(e.starts_with("TMP/a.rad:1:1: !gendaylit: the sky's levels are missing"), "{e}");
     let e = error_of(&[("a.rad", b"!xform b.rad | xform -t 1 0 0\n"), ("b.rad", b"")]);
     assert!(e.contains("!xform: shell syntax ('|')"), "{e}");
     let e = error_of(&[("a.rad", b"!xform -a 5 -t 1 0 0 b.rad\n"), ("b.rad", b"")]);

@@ -1,0 +1,133 @@
+//! Radiance's sky generators interpreted, never run: `!gensky` (the CIE clear, intermediate,
+//! overcast and uniform skies of `skybright.cal`) and `!gendaylit` (the Perez all-weather sky of
+//! `perezlum.cal`), each a `skyfunc` brightness and a `solar` source; and, for front ends
+//! other than Radiance's, the CIE general skies ([`cie`]).
+//!
+//! Written from the formulas of Radiance's own sources (LBNL-ETA/Radiance, as Radiance 6 and
+//! pyradiance 1.3.1 ship them), not from their code:
+//!
+//! | file | source |
+//! |---|---|
+//! | `sun.rs` | `src/gen/sun.c` 2.7: the site, the date and hour or `-ang`, the sun's position |
+//! | `gensky.rs` | `src/gen/gensky.c` 2.31, `src/gen/skybright.cal` 2.7 |
+//! | `perez.rs` | `src/gen/gendaylit.c` 2.6 (2021-01-29, with the dew point; RCS 2.21), `lib/perezlum.cal` 1.2 |
+//! | `cie.rs` | ISO 15469:2004 / CIE S 011/E:2003, the 15 general skies |
+//!
+//! * **Sun position** (`sun.c`). Day of the year J (no leap years), solar declination
+//!   δ = 0.4093·sin(2π(J − 81)/365), solar time t = hour + 0.170·sin(4π(J − 80)/373)
+//!   − 0.129·sin(2π(J − 8)/355) + 12(meridian − longitude)/π (longitudes and meridians in radians
+//!   **west** of Greenwich, Radiance's sign), altitude a = asin(sin φ sin δ − cos φ cos δ cos(πt/12))
+//!   and azimuth A = −atan2(cos δ sin(πt/12), −cos φ sin δ − sin φ cos δ cos(πt/12)) (from south,
+//!   positive toward west). With `-y year`, the Michalsky (1988) almanac algorithm instead, as
+//!   both programs. The sun's direction is (−sin A cos a, −cos A cos a, sin a): x east, y north,
+//!   z up.
+//! * **gensky's levels** (`gensky.c`). Zenith luminance (kcd/m²) (1.376T − 1.81)·tan a + 0.38 for
+//!   clear skies, 8.6 sin a + 0.123 for overcast and uniform, their mean for intermediate, as
+//!   radiance ×1000/203 (Radiance's sky efficacy, D65's); or from `-b` (radiance) or `-B`
+//!   (horizontal diffuse irradiance E, zenith = E/(π·n)) with n the sky's normalisation (1
+//!   uniform, 7/9 overcast, the polynomial `normsc`/F2/π for clear and intermediate). Solar
+//!   radiance 1.5·10⁹/208·(1.147 − 0.147/max(sin a, 0.16)) (×0.15 for intermediate), or `-r`
+//!   radiance, or `-R` horizontal direct irradiance ÷ (5.98·10⁻⁵·sin a). Ground brightness
+//!   ρ_g·(zenith·n + 6·10⁻⁵/π·solar·sin a).
+//! * **gensky's sky** (`skybright.cal`): the CIE clear, overcast ((1 + 2 cos θ)/3), uniform and
+//!   intermediate distributions, blended toward the ground brightness by the weights
+//!   (D_z + 1.01)^±10 near and below the horizon.
+//! * **gendaylit's levels** (`gendaylit.c`). From direct normal and diffuse horizontal
+//!   irradiance (`-W`; `-G` gives the direct on the horizontal, ÷ sin a; `-E` the global,
+//!   split by Erbs's correlation), the sky's brightness Δ = E_d·m/(1367·E₀) (air mass
+//!   m = 1/(cos Z + 0.15·(93.885 − Z°)^−1.253), eccentricity E₀ of the day, day 0 with `-ang`)
+//!   and clearness ε = ((E_d + E_n)/E_d + 1.041 Z³)/(1 + 1.041 Z³), clamped to [1, 12.01) and
+//!   [0.01, 0.6]; `-P ε Δ` gives them directly, `-L` illuminances are turned into irradiances by
+//!   nine rounds of the efficacy models. The luminous efficacies of Perez 1990 (precipitable
+//!   water W = exp(0.07 T_d − 0.075), T_d the dew point `-d`, default 2 cm) give the
+//!   illuminances. The Perez 1993 coefficients a–e (Δ raised to 0.2 for 1.065 < ε < 2.8) give
+//!   the relative luminance (1 + a e^{b/cos ζ})(1 + c e^{dγ} + e cos²γ); gendaylit scales it so
+//!   that its sum over 145 directions (2π/145 each, rings 12° apart) times cos θ is the diffuse
+//!   horizontal level: illuminance/179 (`-O 0`, Radiance's visible watts), irradiance (`-O 1`)
+//!   or illuminance (`-O 2`). The sun: a 0.533° disc of radiance direct/Ω (Ω its solid angle),
+//!   so that its normal irradiance is the direct level in the same unit. Ground brightness
+//!   ρ_g·(zenith·n + 6.8·10⁻⁵/π·solar·sin a), n gensky's normalisation of the CIE sky nearest
+//!   ε (overcast at ε = 1, intermediate below 6, clear above). Days with the sun below the
+//!   horizon, a positive b, and out-of-range levels give gendaylit's "error sky": black, no sun.
+//! * **gendaylit's sky** (`perezlum.cal`): A1·(1 + a e^{b/max(D_z, 0.01)})(1 + c e^{dγ} + e cos²γ),
+//!   blended toward the ground as gensky's.
+
+mod gensky;
+mod perez;
+mod sun;
+
+pub mod cie;
+
+pub use gensky::{Gensky, SUN_DIAMETER_DEGREES, SUN_SOLID_ANGLE, gensky};
+pub use perez::{Gendaylit, SUN_DIAMETER_DEGREES as GENDAYLIT_SUN_DIAMETER_DEGREES, gendaylit};
+
+use glam::DVec3;
+use std::f64::consts::PI;
+
+const DEG: f64 = PI / 180.0;
+
+/// A `skyfunc` as a generator defines it: its brightness toward a direction.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SkyFunc {
+    /// `!gensky`'s (skybright.cal).
+    Gensky(Gensky),
+    /// `!gendaylit`'s (perezlum.cal).
+    Gendaylit(Gendaylit),
+}
+
+impl SkyFunc {
+    /// The brightness toward `d` (unit, world: z up), W/(sr·m²).
+    pub fn brightness(&self, d: DVec3) -> f64 {
+        match self {
+            SkyFunc::Gensky(g) => g.brightness(d),
+            SkyFunc::Gendaylit(g) => g.brightness(d),
+        }
+    }
+}
+
+/// The solid angle of a cone of full angle `angle_degrees` (a `source`'s fourth real), sr.
+pub fn cone_solid_angle(angle_degrees: f64) -> f64 {
+    2.0 * PI * (1.0 - (0.5 * angle_degrees.min(360.0) * DEG).cos())
+}
+
+/// An equirectangular map (Mitsuba's convention, `opticks_core::light::environment`, map +y
+/// being world +z) of `radiance(d)` for the directions d within `half_angle` of `axis`, zero
+/// elsewhere: `width` × `height` texels, the rows at polar angles πj/(height − 1).
+pub fn rasterise(
+    width: usize,
+    height: usize,
+    axis: DVec3,
+    half_angle: f64,
+    radiance: impl Fn(DVec3) -> f64,
+) -> Vec<f64> {
+    let cos_limit = half_angle.min(PI).cos() - 1e-9;
+    let mut texels = Vec::with_capacity(width * height);
+    for j in 0..height {
+        let theta = PI * j as f64 / (height - 1) as f64;
+        for i in 0..width {
+            let phi = 2.0 * PI * (i as f64 + 0.5) / width as f64;
+            let d = map_to_world(phi, theta);
+            texels.push(if d.dot(axis) >= cos_limit { radiance(d) } else { 0.0 });
+        }
+    }
+    texels
+}
+
+/// The world direction (z up) of the map's (φ, θ): the map's d = (sin φ sin θ, cos θ,
+/// −cos φ sin θ) under [`MAP_TO_WORLD`].
+pub fn map_to_world(phi: f64, theta: f64) -> DVec3 {
+    DVec3::new(phi.sin() * theta.sin(), phi.cos() * theta.sin(), theta.cos())
+}
+
+/// The rotation from the map's frame (+y up) to Radiance's world (+z up): x → x, y → z,
+/// z → −y.
+pub const MAP_TO_WORLD: glam::Mat3 = glam::Mat3::from_cols(
+    glam::Vec3::new(1.0, 0.0, 0.0),
+    glam::Vec3::new(0.0, 0.0, 1.0),
+    glam::Vec3::new(0.0, -1.0, 0.0),
+);
+
+#[cfg(test)]
+mod daylight_tests;
+#[cfg(test)]
+mod tests;
