@@ -354,20 +354,49 @@ fn partition(prims: &mut [u32], left: impl Fn(u32) -> bool) -> usize {
     k
 }
 
+/// The first way a built tree breaks the invariants [`validate`] checks.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(super) enum Invalid {
+    /// A node lies deeper than the traversal's stack allows.
+    #[error("node {node} at depth {depth} > {MAX_DEPTH}")]
+    TooDeep { node: usize, depth: usize },
+    /// A node is the child of two lanes.
+    #[error("node {node} reached twice")]
+    NodeTwice { node: usize },
+    /// A leaf's triangle range runs past the triangles.
+    #[error("node {node}: leaf {first}+{count} out of range")]
+    LeafOutOfRange { node: usize, first: usize, count: usize },
+    /// A triangle slot belongs to two leaves.
+    #[error("triangle slot {slot} in two leaves")]
+    SlotTwice { slot: usize },
+    /// A triangle's box pokes out of its leaf's box.
+    #[error("node {node}: triangle slot {slot} outside its leaf's box")]
+    SlotOutsideLeaf { node: usize, slot: usize },
+    /// A child index points backwards or past the nodes (children follow their parents).
+    #[error("node {node}: child {child} out of order")]
+    ChildOutOfOrder { node: usize, child: usize },
+    /// A child's boxes are not inside the box its parent keeps for it.
+    #[error("node {node}: child {child}'s boxes outside its box")]
+    ChildOutsideParent { node: usize, child: usize },
+    /// A triangle slot belongs to no leaf.
+    #[error("triangle slot {slot} in no leaf")]
+    SlotInNoLeaf { slot: usize },
+}
+
 /// Checks the built tree completely (release builds too): every triangle slot in exactly one
 /// leaf, every node reached once, every child box inside its parent's, every triangle inside
 /// its leaf's box, no node deeper than [`MAX_DEPTH`]. `boxes` are the triangles' boxes in leaf
 /// order. Returns the first violation found.
-pub(super) fn validate(nodes: &[Node], boxes: &[Aabb]) -> Result<(), String> {
+pub(super) fn validate(nodes: &[Node], boxes: &[Aabb]) -> Result<(), Invalid> {
     let mut seen_slot = vec![false; boxes.len()];
     let mut seen_node = vec![false; nodes.len()];
     let mut stack = vec![(0usize, 0usize)];
     while let Some((i, depth)) = stack.pop() {
         if depth > MAX_DEPTH {
-            return Err(format!("node {i} at depth {depth} > {MAX_DEPTH}"));
+            return Err(Invalid::TooDeep { node: i, depth });
         }
         if std::mem::replace(&mut seen_node[i], true) {
-            return Err(format!("node {i} reached twice"));
+            return Err(Invalid::NodeTwice { node: i });
         }
         let n = &nodes[i];
         for lane in 0..WIDTH {
@@ -375,30 +404,30 @@ pub(super) fn validate(nodes: &[Node], boxes: &[Aabb]) -> Result<(), String> {
             let (first, count) = (n.first[lane] as usize, n.count[lane] as usize);
             if count > 0 {
                 let Some(slots) = boxes.get(first..first + count) else {
-                    return Err(format!("node {i}: leaf {first}+{count} out of range"));
+                    return Err(Invalid::LeafOutOfRange { node: i, first, count });
                 };
                 for (s, b) in slots.iter().enumerate() {
                     if std::mem::replace(&mut seen_slot[first + s], true) {
-                        return Err(format!("triangle slot {} in two leaves", first + s));
+                        return Err(Invalid::SlotTwice { slot: first + s });
                     }
                     if !bounds.contains(b) {
-                        return Err(format!("node {i}: triangle slot {} outside its leaf's box", first + s));
+                        return Err(Invalid::SlotOutsideLeaf { node: i, slot: first + s });
                     }
                 }
             } else if n.first[lane] != EMPTY {
                 if first <= i || first >= nodes.len() {
-                    return Err(format!("node {i}: child {first} out of order"));
+                    return Err(Invalid::ChildOutOfOrder { node: i, child: first });
                 }
                 let c = &nodes[first];
                 if !(0..WIDTH).all(|l| bounds.contains(&c.bounds(l))) {
-                    return Err(format!("node {i}: child {first}'s boxes outside its box"));
+                    return Err(Invalid::ChildOutsideParent { node: i, child: first });
                 }
                 stack.push((first, depth + 1));
             }
         }
     }
     match seen_slot.iter().position(|s| !s) {
-        Some(s) => Err(format!("triangle slot {s} in no leaf")),
+        Some(slot) => Err(Invalid::SlotInNoLeaf { slot }),
         None => Ok(()),
     }
 }

@@ -151,17 +151,27 @@ mod tests {
     use crate::scene::cornell_box;
     use crate::trace::trace_block;
 
+    /// Why [`upgrade`] failed: no plan, or a chunk the plan does not reproduce.
+    #[derive(Debug, thiserror::Error)]
+    enum Failed {
+        /// The dataset has no upgrade plan.
+        #[error(transparent)]
+        Plan(#[from] UpgradeError),
+        /// Chunk `0`'s re-trace differs from the stored chunk.
+        #[error("chunk {0} does not re-trace")]
+        Chunk(usize),
+    }
+
     /// Re-traces `data` by its upgrade plan, checking every chunk.
-    fn upgrade(data: &Traced, scene: &Scene) -> Result<Traced, String> {
-        let (header, blocks) = upgrade_plan(&data.header, scene, Heuristic::Power, data.chunks.len())
-            .map_err(|e| e.to_string())?;
+    fn upgrade(data: &Traced, scene: &Scene) -> Result<Traced, Failed> {
+        let (header, blocks) = upgrade_plan(&data.header, scene, Heuristic::Power, data.chunks.len())?;
         let mut chunks = Vec::new();
         for (i, (b, old)) in blocks.iter().zip(&data.chunks).enumerate() {
             let l = b.block.light;
             let c =
                 trace_block(scene, &b.settings, l.scene_light, l.table_index, b.block.index, b.block.paths);
             if (c.light, c.paths, &c.samples) != (old.light, old.paths, &old.samples) {
-                return Err(format!("chunk {i} does not re-trace"));
+                return Err(Failed::Chunk(i));
             }
             chunks.push(c);
         }
@@ -207,11 +217,12 @@ mod tests {
         swapped.header = header;
         swapped.chunks.iter_mut().for_each(|c| c.light = 1 - c.light);
         let e = upgrade(&without_records(&swapped), &two).unwrap_err();
-        assert!(e.contains("does not re-trace"), "{e}");
+        assert!(matches!(e, Failed::Chunk(_)), "{e}");
         // Too few chunks for the passes.
         let mut cut = old.clone();
         cut.chunks.pop();
         let e = upgrade(&cut, &two).unwrap_err();
-        assert!(e.contains("but the dataset has"), "{e}");
+        assert!(matches!(e, Failed::Plan(UpgradeError::ChunkCount { .. })), "{e}");
+        assert!(e.to_string().contains("but the dataset has"), "{e}");
     }
 }

@@ -27,6 +27,18 @@ pub(super) struct Bound {
 /// Per material, the textures in place of its parameters (empty for an untextured material).
 pub(super) type MaterialTextures = Vec<Vec<Bound>>;
 
+/// Why a mesh attribute cannot feed a texture of a material: one of its meshes lacks it, or
+/// has the wrong channel count for the parameter.
+#[derive(Debug, thiserror::Error)]
+enum AttributeError {
+    /// A mesh of the material has no attribute of that name.
+    #[error("mesh '{mesh}' ({at}) has no attribute \"{name}\"")]
+    Missing { mesh: String, at: super::Source, name: String },
+    /// A roughness texture's attribute has more than one channel.
+    #[error("attribute \"{name}\" of mesh '{mesh}' has {channels} channels; a roughness needs one")]
+    NotSingle { name: String, mesh: String, channels: u8 },
+}
+
 /// The smallest and largest value (per channel) of mesh attribute `name` times `scale` over the
 /// meshes of material `material`, each of which must have it (with one channel if `single`).
 fn attribute_range(
@@ -35,17 +47,16 @@ fn attribute_range(
     name: &str,
     scale: f32,
     single: bool,
-) -> Result<(Rgb, Rgb), String> {
+) -> Result<(Rgb, Rgb), AttributeError> {
     let (mut lo, mut hi) = (Rgb::splat(f32::INFINITY), Rgb::splat(f32::NEG_INFINITY));
     for mesh in desc.meshes.iter().filter(|m| m.material == material) {
         let Some(a) = mesh.attributes.iter().find(|a| a.name == name) else {
-            return Err(format!("mesh '{}' ({}) has no attribute \"{name}\"", mesh.name, mesh.source));
+            let (mesh, at) = (mesh.name.clone(), mesh.source.clone());
+            return Err(AttributeError::Missing { mesh, at, name: name.into() });
         };
         if single && a.channels != 1 {
-            return Err(format!(
-                "attribute \"{name}\" of mesh '{}' has {} channels; a roughness needs one",
-                mesh.name, a.channels
-            ));
+            let (name, mesh) = (name.into(), mesh.name.clone());
+            return Err(AttributeError::NotSingle { name, mesh, channels: a.channels });
         }
         for v in &a.values {
             lo = lo.min(*v * scale);
@@ -79,7 +90,7 @@ pub(super) fn bind(
         let range = match &*b.texture {
             Texture::MeshAttribute(a) => {
                 let (lo, hi) = attribute_range(desc, b.material, &a.name, a.scale, !b.slot.is_colour())
-                    .map_err(|e| bad(m.name.clone(), e))?;
+                    .map_err(|e| bad(m.name.clone(), e.to_string()))?;
                 (lo, hi)
             }
             t if b.slot.is_colour() => (Rgb::ZERO, t.max_value()),

@@ -29,20 +29,47 @@ const LIGHT_RECORD_MIN: usize = 4 + 16 + 12 + 8;
 /// Bytes of an object record (format 4) besides its name: kind, name length, hash.
 const OBJECT_RECORD_MIN: usize = 1 + 4 + 16;
 
+/// Why a header cannot be written: a count or length beyond its 32-bit field, or a value the
+/// format cannot hold. The writer reports it as [`DatasetError::InvalidInput`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub(crate) enum Unwritable {
+    /// More than 2^32 of something the header counts ("passes", "lights", …).
+    #[error("more than 2^32 {0}")]
+    TooMany(&'static str),
+    /// The label does not fit its 32-bit length.
+    #[error("label longer than 4 GiB")]
+    LongLabel,
+    /// Light `0`'s name does not fit its 32-bit length.
+    #[error("light {0}: name longer than 4 GiB")]
+    LongLightName(usize),
+    /// Object `0`'s name does not fit its 32-bit length.
+    #[error("object {0}: name longer than 4 GiB")]
+    LongObjectName(usize),
+    /// The whole header does not fit its 32-bit length.
+    #[error("header longer than 4 GiB")]
+    LongHeader,
+    /// A pass has MIS records but sampling signature 0, which the file reads as "no records".
+    #[error("a pass with MIS records has sampling signature 0")]
+    ZeroSignature,
+    /// A light's power is negative or not finite.
+    #[error("light {light} ({name:?}) has invalid power {power:?}")]
+    BadPower { light: usize, name: String, power: [f32; 3] },
+}
+
 pub(crate) const fn align_up(n: usize) -> usize {
     n.div_ceil(ALIGN) * ALIGN
 }
 
 /// Serialises the header: fields, zero padding, and the CRC-32 of everything before it in the
 /// last 4 bytes, the whole a multiple of [`ALIGN`] long.
-pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
+pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, Unwritable> {
     let mut b = Vec::with_capacity(256);
     b.extend_from_slice(&MAGIC);
     b.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
     b.extend_from_slice(&0u32.to_le_bytes()); // header length, patched below
     b.extend_from_slice(&h.fingerprint.geometry);
     b.extend_from_slice(&h.fingerprint.lights);
-    let passes = u32::try_from(h.trace.passes.len()).map_err(|_| "more than 2^32 passes".to_string())?;
+    let passes = u32::try_from(h.trace.passes.len()).map_err(|_| Unwritable::TooMany("passes"))?;
     b.extend_from_slice(&passes.to_le_bytes());
     for p in &h.trace.passes {
         b.extend_from_slice(&p.seed.to_le_bytes());
@@ -58,27 +85,26 @@ pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
         ]);
         let signature = match p.mis {
             Some(m) if m.signature == 0 => {
-                return Err("a pass with MIS records has sampling signature 0".into());
+                return Err(Unwritable::ZeroSignature);
             }
             Some(m) => m.signature,
             None => 0,
         };
         b.extend_from_slice(&signature.to_le_bytes());
-        let planned =
-            u32::try_from(p.planned.len()).map_err(|_| "more than 2^32 planned lights".to_string())?;
+        let planned = u32::try_from(p.planned.len()).map_err(|_| Unwritable::TooMany("planned lights"))?;
         b.extend_from_slice(&planned.to_le_bytes());
         for &(light, paths) in &p.planned {
             b.extend_from_slice(&light.to_le_bytes());
             b.extend_from_slice(&paths.to_le_bytes());
         }
     }
-    let label_len = u32::try_from(h.label.len()).map_err(|_| "label longer than 4 GiB".to_string())?;
+    let label_len = u32::try_from(h.label.len()).map_err(|_| Unwritable::LongLabel)?;
     b.extend_from_slice(&label_len.to_le_bytes());
     b.extend_from_slice(h.label.as_bytes());
-    let n = u32::try_from(h.table.lights.len()).map_err(|_| "more than 2^32 lights".to_string())?;
+    let n = u32::try_from(h.table.lights.len()).map_err(|_| Unwritable::TooMany("lights"))?;
     b.extend_from_slice(&n.to_le_bytes());
     for (k, l) in h.table.lights.iter().enumerate() {
-        let len = u32::try_from(l.name.len()).map_err(|_| format!("light {k}: name longer than 4 GiB"))?;
+        let len = u32::try_from(l.name.len()).map_err(|_| Unwritable::LongLightName(k))?;
         b.extend_from_slice(&len.to_le_bytes());
         b.extend_from_slice(l.name.as_bytes());
         b.extend_from_slice(&l.shape);
@@ -87,17 +113,17 @@ pub(crate) fn encode_header(h: &DatasetHeader) -> Result<Vec<u8>, String> {
         }
         b.extend_from_slice(&l.paths.to_le_bytes());
     }
-    let n = u32::try_from(h.objects.len()).map_err(|_| "more than 2^32 scene objects".to_string())?;
+    let n = u32::try_from(h.objects.len()).map_err(|_| Unwritable::TooMany("scene objects"))?;
     b.extend_from_slice(&n.to_le_bytes());
     for (i, o) in h.objects.iter().enumerate() {
-        let len = u32::try_from(o.name.len()).map_err(|_| format!("object {i}: name longer than 4 GiB"))?;
+        let len = u32::try_from(o.name.len()).map_err(|_| Unwritable::LongObjectName(i))?;
         b.push(object_code(o.kind));
         b.extend_from_slice(&len.to_le_bytes());
         b.extend_from_slice(o.name.as_bytes());
         b.extend_from_slice(&o.hash);
     }
     let total = align_up(b.len() + 4);
-    let total32 = u32::try_from(total).map_err(|_| "header longer than 4 GiB".to_string())?;
+    let total32 = u32::try_from(total).map_err(|_| Unwritable::LongHeader)?;
     b[12..16].copy_from_slice(&total32.to_le_bytes());
     b.resize(total - 4, 0);
     let crc = crc32fast::hash(&b);

@@ -2,7 +2,7 @@
 
 use super::DatasetError;
 use super::format::{
-    ChunkHeader, Trailer, encode_header, encode_record_block, validate_records, validate_samples,
+    ChunkHeader, Trailer, Unwritable, encode_header, encode_record_block, validate_records, validate_samples,
 };
 use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, MAX_PATHS, TraceInfo};
 use std::fs::File;
@@ -85,8 +85,8 @@ impl DatasetWriter {
                 "dataset files are little endian; big-endian hosts are not supported".into(),
             ));
         }
-        check_table(&header.table).map_err(invalid)?;
-        let bytes = encode_header(header).map_err(invalid)?;
+        check_table(&header.table).map_err(|e| invalid(e.to_string()))?;
+        let bytes = encode_header(header).map_err(|e| invalid(e.to_string()))?;
         if path.file_name().is_none() {
             return Err(invalid("the path has no file name".into()));
         }
@@ -225,7 +225,7 @@ impl DatasetWriter {
         if self.failed {
             return Err(invalid("an earlier write failed; the dataset is incomplete".into()));
         }
-        check_table(table).map_err(invalid)?;
+        check_table(table).map_err(|e| invalid(e.to_string()))?;
         let old = &self.header.table.lights;
         if table.lights.len() != old.len() || table.lights.iter().zip(old).any(|(a, b)| a.name != b.name) {
             let names = |t: &LightTable| t.lights.iter().map(|l| l.name.clone()).collect::<Vec<_>>();
@@ -265,7 +265,7 @@ impl DatasetWriter {
         }
         self.header.table = table.clone();
         self.header.trace = trace.clone();
-        let head = encode_header(&self.header).map_err(invalid)?;
+        let head = encode_header(&self.header).map_err(|e| invalid(e.to_string()))?;
         if head.len() != self.header_len {
             return Err(invalid("the final header does not fit the space of the first".into()));
         }
@@ -350,11 +350,12 @@ impl Drop for DatasetWriter {
     }
 }
 
-fn check_table(t: &LightTable) -> Result<(), String> {
+/// Refuses a table with a light whose power is negative or not finite.
+fn check_table(t: &LightTable) -> Result<(), Unwritable> {
     for (k, l) in t.lights.iter().enumerate() {
-        let p = l.power.to_array();
-        if !p.iter().all(|x| x.is_finite() && *x >= 0.0) {
-            return Err(format!("light {k} ({:?}) has invalid power {p:?}", l.name));
+        let power = l.power.to_array();
+        if !power.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            return Err(Unwritable::BadPower { light: k, name: l.name.clone(), power });
         }
     }
     Ok(())

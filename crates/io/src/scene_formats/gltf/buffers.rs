@@ -5,7 +5,9 @@
 //! percent-escapes (`urlencoding::decode(..).unwrap()`), its I/O errors do not say which file is
 //! missing, and it drags in JPEG/PNG decoders for textures Opticks ignores. Its accessor iterators
 //! are not used either: they `debug_assert!` that the accessor's type matches the one asked for,
-//! which malformed files break. Every read here is checked and ends in an error message instead.
+//! which malformed files break. Every read here is checked and ends in an error instead: a
+//! [`BufferError`] for a buffer's data, a [`ReadError`] for a buffer view's or an accessor's
+//! bytes, a [`Base64Error`] for a `data:` URI.
 
 use ::gltf::accessor::{Accessor, DataType, Dimensions};
 use ::gltf::buffer::Source;
@@ -23,6 +25,122 @@ pub enum BufferError {
     },
     /// Anything else (bad URI, bad base64, missing BIN chunk, too short), as a message.
     Other(String),
+}
+
+/// Why the bytes of a buffer view or an accessor cannot be read.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ReadError {
+    /// A buffer view names a buffer the document does not have.
+    #[error("buffer view refers to a missing buffer")]
+    MissingBuffer,
+    /// A buffer view's offset plus length overflows.
+    #[error("buffer view is too large")]
+    ViewTooLarge,
+    /// A buffer view's bytes run past its buffer.
+    #[error("buffer view {view} (bytes {start}..{end}) lies outside buffer {buffer} ({len} bytes)")]
+    ViewOutside {
+        /// The buffer view.
+        view: usize,
+        /// Its first byte in the buffer.
+        start: usize,
+        /// One past its last byte.
+        end: usize,
+        /// The buffer.
+        buffer: usize,
+        /// The buffer's length.
+        len: usize,
+    },
+    /// The accessor is sparse.
+    #[error("sparse accessors are not supported")]
+    Sparse,
+    /// An accessor without a buffer view (all zeros) with more elements than are allowed.
+    #[error("accessor {accessor} has no buffer view and {count} elements")]
+    ViewlessTooLong {
+        /// The accessor.
+        accessor: usize,
+        /// Its element count.
+        count: usize,
+    },
+    /// A buffer view's stride is smaller than the accessor's elements.
+    #[error("byteStride {stride} is smaller than the element size {element}")]
+    StrideTooSmall {
+        /// The view's byte stride.
+        stride: usize,
+        /// The element size in bytes.
+        element: usize,
+    },
+    /// The accessor's extent overflows.
+    #[error("accessor is too large")]
+    AccessorTooLarge,
+    /// An accessor's bytes run past its buffer view.
+    #[error("accessor {accessor} needs bytes {start}..{end} of buffer view {view}, which has {len} bytes")]
+    AccessorOutside {
+        /// The accessor.
+        accessor: usize,
+        /// Its first byte in the view.
+        start: usize,
+        /// One past its last byte.
+        end: usize,
+        /// The buffer view.
+        view: usize,
+        /// The view's length.
+        len: usize,
+    },
+    /// A position accessor is not `VEC3` of `FLOAT`.
+    #[error(
+        "accessor {accessor} is {dimensions:?} of {data_type:?}; positions must be Vec3 of F32 (quantized positions are not supported)"
+    )]
+    NotPositions {
+        /// The accessor.
+        accessor: usize,
+        /// Its type.
+        dimensions: Dimensions,
+        /// Its component type.
+        data_type: DataType,
+    },
+    /// A texture-coordinate accessor is not `VEC2` of `FLOAT` or of normalized bytes or shorts.
+    #[error(
+        "accessor {accessor} is {dimensions:?} of {data_type:?}{}; texture coordinates must be Vec2 of F32, or of normalized U8 or U16",
+        if *normalized { " (normalized)" } else { "" }
+    )]
+    NotTexCoords {
+        /// The accessor.
+        accessor: usize,
+        /// Its type.
+        dimensions: Dimensions,
+        /// Its component type.
+        data_type: DataType,
+        /// Whether it is normalized.
+        normalized: bool,
+    },
+    /// An index accessor is not scalars of unsigned bytes, shorts or ints.
+    #[error(
+        "index accessor {accessor} is {dimensions:?} of {data_type:?}; indices must be scalars of U8, U16 or U32"
+    )]
+    NotIndices {
+        /// The accessor.
+        accessor: usize,
+        /// Its type.
+        dimensions: Dimensions,
+        /// Its component type.
+        data_type: DataType,
+    },
+}
+
+/// Why base64 text does not decode.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum Base64Error {
+    /// A character outside the base64 alphabets.
+    #[error("invalid base64 character {character:?} at offset {offset}")]
+    InvalidCharacter {
+        /// The character.
+        character: char,
+        /// Its byte offset in the text.
+        offset: usize,
+    },
+    /// The text stops one character into a byte.
+    #[error("truncated base64 data")]
+    Truncated,
 }
 
 /// Loads the data of every buffer of `doc`, in index order.
@@ -75,22 +193,23 @@ pub fn read_uri(uri: &str, folder: &Path) -> Result<Vec<u8>, BufferError> {
 }
 
 /// The bytes of buffer view `view`, bounds-checked (an image stored in a buffer).
-pub fn view_bytes<'a>(view: &::gltf::buffer::View<'_>, buffers: &'a [Vec<u8>]) -> Result<&'a [u8], String> {
-    let data = buffers.get(view.buffer().index()).ok_or("buffer view refers to a missing buffer")?;
-    let end = view.offset().checked_add(view.length()).ok_or("buffer view is too large")?;
-    data.get(view.offset()..end).ok_or_else(|| {
-        format!(
-            "buffer view {} (bytes {}..{end}) lies outside buffer {} ({} bytes)",
-            view.index(),
-            view.offset(),
-            view.buffer().index(),
-            data.len()
-        )
+pub fn view_bytes<'a>(
+    view: &::gltf::buffer::View<'_>,
+    buffers: &'a [Vec<u8>],
+) -> Result<&'a [u8], ReadError> {
+    let data = buffers.get(view.buffer().index()).ok_or(ReadError::MissingBuffer)?;
+    let end = view.offset().checked_add(view.length()).ok_or(ReadError::ViewTooLarge)?;
+    data.get(view.offset()..end).ok_or_else(|| ReadError::ViewOutside {
+        view: view.index(),
+        start: view.offset(),
+        end,
+        buffer: view.buffer().index(),
+        len: data.len(),
     })
 }
 
 /// Standard base64 (RFC 4648, `+/`, optional `=` padding; whitespace is not allowed).
-pub fn decode_base64(s: &str) -> Result<Vec<u8>, String> {
+pub fn decode_base64(s: &str) -> Result<Vec<u8>, Base64Error> {
     let s = s.trim_end_matches('=');
     let mut out = Vec::with_capacity(s.len() * 3 / 4);
     let mut acc = 0u32;
@@ -102,7 +221,7 @@ pub fn decode_base64(s: &str) -> Result<Vec<u8>, String> {
             b'0'..=b'9' => c - b'0' + 52,
             b'+' | b'-' => 62,
             b'/' | b'_' => 63,
-            _ => return Err(format!("invalid base64 character {:?} at offset {pos}", c as char)),
+            _ => return Err(Base64Error::InvalidCharacter { character: c as char, offset: pos }),
         };
         acc = (acc << 6) | v as u32;
         bits += 6;
@@ -113,7 +232,7 @@ pub fn decode_base64(s: &str) -> Result<Vec<u8>, String> {
         }
     }
     if bits >= 6 {
-        return Err("truncated base64 data".into());
+        return Err(Base64Error::Truncated);
     }
     Ok(out)
 }
@@ -146,22 +265,22 @@ fn elements<'a>(
     acc: &Accessor<'_>,
     buffers: &'a [Vec<u8>],
     elem_size: usize,
-) -> Result<Option<(&'a [u8], usize)>, String> {
+) -> Result<Option<(&'a [u8], usize)>, ReadError> {
     if acc.sparse().is_some() {
-        return Err("sparse accessors are not supported".into());
+        return Err(ReadError::Sparse);
     }
     let Some(view) = acc.view() else {
         // All zeros; refuse absurd counts rather than allocate them.
         return if acc.count() <= MAX_VIEWLESS_COUNT {
             Ok(None)
         } else {
-            Err(format!("accessor {} has no buffer view and {} elements", acc.index(), acc.count()))
+            Err(ReadError::ViewlessTooLong { accessor: acc.index(), count: acc.count() })
         };
     };
     let view_data = view_bytes(&view, buffers)?;
     let stride = view.stride().unwrap_or(elem_size);
     if stride < elem_size {
-        return Err(format!("byteStride {stride} is smaller than the element size {elem_size}"));
+        return Err(ReadError::StrideTooSmall { stride, element: elem_size });
     }
     let count = acc.count();
     if count == 0 {
@@ -171,28 +290,25 @@ fn elements<'a>(
         .checked_mul(stride)
         .and_then(|x| x.checked_add(elem_size))
         .and_then(|x| x.checked_add(acc.offset()))
-        .ok_or("accessor is too large")?;
-    let bytes = view_data.get(acc.offset()..end).ok_or_else(|| {
-        format!(
-            "accessor {} needs bytes {}..{end} of buffer view {}, which has {} bytes",
-            acc.index(),
-            acc.offset(),
-            view.index(),
-            view_data.len()
-        )
+        .ok_or(ReadError::AccessorTooLarge)?;
+    let bytes = view_data.get(acc.offset()..end).ok_or_else(|| ReadError::AccessorOutside {
+        accessor: acc.index(),
+        start: acc.offset(),
+        end,
+        view: view.index(),
+        len: view_data.len(),
     })?;
     Ok(Some((bytes, stride)))
 }
 
 /// Reads a `VEC3`/`FLOAT` accessor.
-pub fn read_vec3(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 3]>, String> {
+pub fn read_vec3(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 3]>, ReadError> {
     if acc.dimensions() != Dimensions::Vec3 || acc.data_type() != DataType::F32 {
-        return Err(format!(
-            "accessor {} is {:?} of {:?}; positions must be Vec3 of F32 (quantized positions are not supported)",
-            acc.index(),
-            acc.dimensions(),
-            acc.data_type()
-        ));
+        return Err(ReadError::NotPositions {
+            accessor: acc.index(),
+            dimensions: acc.dimensions(),
+            data_type: acc.data_type(),
+        });
     }
     let count = acc.count();
     let Some((bytes, stride)) = elements(acc, buffers, 12)? else { return Ok(vec![[0.0; 3]; count]) };
@@ -202,17 +318,13 @@ pub fn read_vec3(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 3]
 
 /// Reads a `VEC2` texture-coordinate accessor: `FLOAT`, or normalized `UNSIGNED_BYTE` /
 /// `UNSIGNED_SHORT` (divided by 255 or 65535, as glTF's `TEXCOORD_n` allows).
-pub fn read_vec2(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 2]>, String> {
+pub fn read_vec2(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 2]>, ReadError> {
     let size = match (acc.dimensions(), acc.data_type(), acc.normalized()) {
         (Dimensions::Vec2, DataType::F32, _) => 4,
         (Dimensions::Vec2, DataType::U8, true) => 1,
         (Dimensions::Vec2, DataType::U16, true) => 2,
-        (d, t, n) => {
-            return Err(format!(
-                "accessor {} is {d:?} of {t:?}{}; texture coordinates must be Vec2 of F32, or of normalized U8 or U16",
-                acc.index(),
-                if n { " (normalized)" } else { "" }
-            ));
+        (dimensions, data_type, normalized) => {
+            return Err(ReadError::NotTexCoords { accessor: acc.index(), dimensions, data_type, normalized });
         }
     };
     let count = acc.count();
@@ -226,16 +338,13 @@ pub fn read_vec2(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<[f32; 2]
 }
 
 /// Reads a `SCALAR` index accessor of unsigned bytes, shorts or ints.
-pub fn read_indices(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, String> {
+pub fn read_indices(acc: &Accessor<'_>, buffers: &[Vec<u8>]) -> Result<Vec<u32>, ReadError> {
     let size = match (acc.dimensions(), acc.data_type()) {
         (Dimensions::Scalar, DataType::U8) => 1,
         (Dimensions::Scalar, DataType::U16) => 2,
         (Dimensions::Scalar, DataType::U32) => 4,
-        (d, t) => {
-            return Err(format!(
-                "index accessor {} is {d:?} of {t:?}; indices must be scalars of U8, U16 or U32",
-                acc.index()
-            ));
+        (dimensions, data_type) => {
+            return Err(ReadError::NotIndices { accessor: acc.index(), dimensions, data_type });
         }
     };
     let count = acc.count();
@@ -263,8 +372,21 @@ mod tests {
         assert_eq!(decode_base64("Zm8=").unwrap(), b"fo");
         assert_eq!(decode_base64("Zm9v").unwrap(), b"foo");
         assert_eq!(decode_base64("Zm9vYmFy").unwrap(), b"foobar");
-        assert!(decode_base64("Zm9v!").is_err());
-        assert!(decode_base64("Z").is_err());
+        assert_eq!(decode_base64("Zm9v!"), Err(Base64Error::InvalidCharacter { character: '!', offset: 4 }));
+        assert_eq!(decode_base64("Z"), Err(Base64Error::Truncated));
+    }
+
+    #[test]
+    fn accessor_type_messages_say_what_was_found() {
+        let e = |normalized| ReadError::NotTexCoords {
+            accessor: 3,
+            dimensions: Dimensions::Vec3,
+            data_type: DataType::U8,
+            normalized,
+        };
+        let tail = "; texture coordinates must be Vec2 of F32, or of normalized U8 or U16";
+        assert_eq!(e(true).to_string(), format!("accessor 3 is Vec3 of U8 (normalized){tail}"));
+        assert_eq!(e(false).to_string(), format!("accessor 3 is Vec3 of U8{tail}"));
     }
 
     #[test]

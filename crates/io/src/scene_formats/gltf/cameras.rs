@@ -7,7 +7,7 @@ use crate::scene_formats::SceneFileError;
 use ::gltf::camera::Projection;
 use opticks_core::math::{Mat4, Vec3};
 use opticks_core::scene::{CameraDesc, CameraKind};
-use opticks_core::sensor::Sensor;
+use opticks_core::sensor::{CameraError, Sensor};
 
 /// Image height (and width without `aspectRatio`) of a glTF camera, pixels.
 pub const DEFAULT_IMAGE_HEIGHT: u32 = 512;
@@ -65,10 +65,21 @@ pub(super) fn choose_camera(
     Ok(chosen)
 }
 
+/// Why a glTF camera is not one Opticks can render through.
+#[derive(Debug, thiserror::Error)]
+enum ConvertError {
+    /// An orthographic camera's half extents are not positive.
+    #[error("orthographic xmag {xmag} and ymag {ymag} must be positive")]
+    Orthographic { xmag: f32, ymag: f32 },
+    /// The core's camera checks refuse the camera.
+    #[error(transparent)]
+    Camera(#[from] CameraError),
+}
+
 /// The camera `cam` at the world matrix `m`: it looks down its local −Z with +Y up; the image is
 /// [`DEFAULT_IMAGE_HEIGHT`] pixels high and the projection gives its width. The core's camera
 /// checks (field of view, axes, extent) apply.
-fn convert(cam: &::gltf::Camera<'_>, m: Mat4) -> Result<CameraDesc, String> {
+fn convert(cam: &::gltf::Camera<'_>, m: Mat4) -> Result<CameraDesc, ConvertError> {
     let height = DEFAULT_IMAGE_HEIGHT;
     let (width, fov_x_degrees, kind) = match cam.projection() {
         Projection::Perspective(p) => {
@@ -81,7 +92,7 @@ fn convert(cam: &::gltf::Camera<'_>, m: Mat4) -> Result<CameraDesc, String> {
             // xmag, ymag: half the view's width and height.
             let (xmag, ymag) = (o.xmag().abs(), o.ymag().abs());
             if !(xmag.is_finite() && ymag.is_finite() && xmag > 0.0 && ymag > 0.0) {
-                return Err(format!("orthographic xmag {xmag} and ymag {ymag} must be positive"));
+                return Err(ConvertError::Orthographic { xmag, ymag });
             }
             let width = ((height as f32 * xmag / ymag).round() as u32).max(1);
             (width, 45.0, CameraKind::Orthographic { half_width: xmag, half_height: ymag })
@@ -91,7 +102,7 @@ fn convert(cam: &::gltf::Camera<'_>, m: Mat4) -> Result<CameraDesc, String> {
     let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
     let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
     let camera = CameraDesc { eye, target: eye + forward, up, fov_x_degrees, width, height, kind };
-    Sensor::new(&camera).map_err(|e| e.to_string())?;
+    Sensor::new(&camera)?;
     Ok(camera)
 }
 

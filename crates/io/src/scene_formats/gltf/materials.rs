@@ -49,16 +49,52 @@
 //! `doubleSided` materials.
 
 use super::Report;
-use super::textures::{Images, TextureUse};
+use super::textures::{ImageError, Images, TextureUse};
 use crate::scene_formats::SceneFileError;
 use opticks_core::bsdf::{
     Bsdf, Lambert, Material, MaterialError, ModifiedPhong, RoughDielectric, SmoothDielectric, ThinDielectric,
 };
+use opticks_core::light::LightError;
 use opticks_core::light::check::check_emission;
 use opticks_core::math::{Rgb, Vec2};
 use opticks_core::scene::SceneDescription;
-use opticks_core::texture::{Bitmap, ColourSlot, Texture, TextureBinding, UvTransform};
+use opticks_core::texture::{Bitmap, ColourSlot, Texture, TextureBinding, TextureError, UvTransform};
 use std::sync::Arc;
+
+/// Why a glTF material cannot be converted: a value out of its range, an unreadable image, or
+/// a texture or glass the core refuses. The messages name the glTF property.
+#[derive(Debug, thiserror::Error)]
+pub enum ConvertError {
+    /// A base colour, metallic or roughness factor that is negative or not finite.
+    #[error("{0} must be finite and non-negative")]
+    Factor(&'static str),
+    /// An index of refraction `KHR_materials_ior` does not allow.
+    #[error(
+        "KHR_materials_ior: ior {0} is invalid (the extension allows a finite value ≥ 1, or 0 for a Fresnel term of 1)"
+    )]
+    Ior(f32),
+    /// `KHR_materials_specular` factors that give a non-finite F0.
+    #[error("KHR_materials_specular factors must be finite")]
+    Specular,
+    /// A texture's image cannot be had.
+    #[error(transparent)]
+    Image(#[from] ImageError),
+    /// The metallic-roughness texture is not a valid bitmap.
+    #[error("metallicRoughnessTexture: {0}")]
+    MetallicRoughnessTexture(TextureError),
+    /// The baked base-colour texture is not a valid bitmap.
+    #[error("baseColorTexture: {0}")]
+    BaseColorTexture(TextureError),
+    /// The emitted radiance is negative or not finite.
+    #[error("emissiveFactor × emissiveStrength: {0}")]
+    Emission(LightError),
+    /// A `transmissionFactor` outside [0, 1].
+    #[error("KHR_materials_transmission: transmissionFactor {0} is not in [0, 1]")]
+    TransmissionFactor(f32),
+    /// The glass the transmission extension describes is one the core refuses.
+    #[error("KHR_materials_transmission: {0}")]
+    Transmission(MaterialError),
+}
 
 /// A converted glTF material.
 #[derive(Clone, Debug, PartialEq)]
@@ -194,8 +230,12 @@ impl<'a> MaterialTable<'a> {
 }
 
 /// Converts one glTF material (see the module docs), its textures decoded from `images`.
-/// Errors are messages for non-finite or negative values and unreadable images.
-pub fn convert(mat: &::gltf::Material<'_>, name: &str, images: &mut Images<'_>) -> Result<Converted, String> {
+/// Errors are non-finite or negative values and unreadable images ([`ConvertError`]).
+pub fn convert(
+    mat: &::gltf::Material<'_>,
+    name: &str,
+    images: &mut Images<'_>,
+) -> Result<Converted, ConvertError> {
     let mut notes = Vec::new();
     let pbr = mat.pbr_metallic_roughness();
     let [r, g, b, _] = pbr.base_color_factor();
@@ -207,16 +247,14 @@ pub fn convert(mat: &::gltf::Material<'_>, name: &str, images: &mut Images<'_>) 
         ("roughnessFactor", roughness),
     ] {
         if !v.is_finite() || v < 0.0 {
-            return Err(format!("{what} must be finite and non-negative"));
+            return Err(ConvertError::Factor(what));
         }
     }
     // KHR_materials_ior allows ior ≥ 1 and the special value 0, "the Fresnel term evaluates to
     // 1": ((0 − 1)/(0 + 1))² = 1 gives that F0. Anything else breaks the schema.
     let ior = mat.ior().unwrap_or(1.5);
     if !(ior == 0.0 || (ior.is_finite() && ior >= 1.0)) {
-        return Err(format!(
-            "KHR_materials_ior: ior {ior} is invalid (the extension allows a finite value ≥ 1, or 0 for a Fresnel term of 1)"
-        ));
+        return Err(ConvertError::Ior(ior));
     }
     let f0_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
     let f0 = match mat.specular() {
@@ -230,7 +268,7 @@ pub fn convert(mat: &::gltf::Material<'_>, name: &str, images: &mut Images<'_>) 
         None => Rgb::splat(f0_ior),
     };
     if !f0.is_finite() {
-        return Err("KHR_materials_specular factors must be finite".into());
+        return Err(ConvertError::Specular);
     }
     if base.max_element() > 1.0 {
         notes.push("baseColorFactor above 1 clamped to 1".into());
@@ -281,7 +319,7 @@ pub fn convert(mat: &::gltf::Material<'_>, name: &str, images: &mut Images<'_>) 
     let [er, eg, eb] = mat.emissive_factor();
     let strength = mat.emissive_strength().unwrap_or(1.0);
     let radiance = Rgb::new(er, eg, eb) * strength;
-    check_emission(radiance).map_err(|e| format!("emissiveFactor × emissiveStrength: {e}"))?;
+    check_emission(radiance).map_err(ConvertError::Emission)?;
     let emission = if radiance.max_element() <= 0.0 {
         None
     } else if mat.emissive_texture().is_some() {
@@ -317,7 +355,7 @@ fn textured_colours(
     f0: Rgb,
     images: &mut Images<'_>,
     notes: &mut Vec<String>,
-) -> Result<Textured, String> {
+) -> Result<Textured, ConvertError> {
     let base_use = pbr.base_color_texture().map(|i| TextureUse::of(&i, notes, "baseColorTexture"));
     let mr_use =
         pbr.metallic_roughness_texture().map(|i| TextureUse::of(&i, notes, "metallicRoughnessTexture"));
@@ -337,7 +375,7 @@ fn textured_colours(
                 u.wrap,
                 UvTransform::IDENTITY,
             )
-            .map_err(|e| format!("metallicRoughnessTexture: {e}"))?;
+            .map_err(ConvertError::MetallicRoughnessTexture)?;
             Some((u.clone(), bitmap))
         }
         None => None,
@@ -402,12 +440,12 @@ fn textured_colours(
         );
         (kd, ks) = bake(false);
     }
-    let colour = |texels: Vec<Rgb>| -> Result<Colour, String> {
+    let colour = |texels: Vec<Rgb>| -> Result<Colour, ConvertError> {
         if texels.iter().all(|&c| c == texels[0]) {
             return Ok(Colour::Constant(texels[0]));
         }
         let bitmap = Bitmap::new(w, h, texels, carrier.filter, carrier.wrap, carrier.to_uv)
-            .map_err(|e| format!("baseColorTexture: {e}"))?;
+            .map_err(ConvertError::BaseColorTexture)?;
         Ok(Colour::Map(Arc::new(Texture::Bitmap(bitmap))))
     };
     Ok(Textured::Maps {
@@ -425,11 +463,11 @@ fn transmission(
     roughness: f32,
     ior: f32,
     notes: &mut Vec<String>,
-) -> Result<Option<Bsdf>, String> {
+) -> Result<Option<Bsdf>, ConvertError> {
     let Some(t) = mat.transmission() else { return Ok(None) };
     let factor = t.transmission_factor();
     if !(factor.is_finite() && (0.0..=1.0).contains(&factor)) {
-        return Err(format!("KHR_materials_transmission: transmissionFactor {factor} is not in [0, 1]"));
+        return Err(ConvertError::TransmissionFactor(factor));
     }
     if t.transmission_texture().is_some() {
         notes.push("transmissionTexture is not supported; transmissionFactor is used".into());
@@ -451,7 +489,7 @@ fn transmission(
     {
         notes.push("KHR_materials_volume attenuation is not supported; the glass is clear".into());
     }
-    let err = |e: MaterialError| format!("KHR_materials_transmission: {e}");
+    let err = ConvertError::Transmission;
     let r = roughness.clamp(0.0, 1.0);
     Ok(Some(if thickness <= 0.0 {
         if r > 0.0 {

@@ -113,9 +113,10 @@ impl Report {
         FileLocation { file: self.path.clone(), line, column }
     }
 
-    /// The error `message` at `element` of the file.
-    fn invalid(&self, element: impl Into<String>, message: impl Into<String>) -> SceneFileError {
-        SceneFileError::Invalid { at: self.at(0, 0), element: element.into(), message: message.into() }
+    /// The error `message` (a text, or one of the loader's typed errors) at `element` of the
+    /// file.
+    fn invalid(&self, element: impl Into<String>, message: impl std::fmt::Display) -> SceneFileError {
+        SceneFileError::Invalid { at: self.at(0, 0), element: element.into(), message: message.to_string() }
     }
 
     /// Records the warning `message` at `element` of the file.

@@ -42,26 +42,39 @@ pub(super) fn scene_roots<'a>(
     })
 }
 
+/// No scene of the document has the name or index asked for; `scenes` lists those it has
+/// (index, and quoted name if any).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+struct NoSuchScene {
+    scenes: Vec<String>,
+}
+
+impl std::fmt::Display for NoSuchScene {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.scenes.is_empty() {
+            write!(f, "no scene of that name or index: the file has no scenes")
+        } else {
+            write!(f, "no scene of that name or index (the file's scenes: {})", self.scenes.join(", "))
+        }
+    }
+}
+
 /// The scene `wanted` names: a scene's `name`, else its index. The error lists the scenes.
-fn choose_scene<'a>(doc: &'a ::gltf::Document, wanted: &str) -> Result<::gltf::Scene<'a>, String> {
+fn choose_scene<'a>(doc: &'a ::gltf::Document, wanted: &str) -> Result<::gltf::Scene<'a>, NoSuchScene> {
     if let Some(s) = doc.scenes().find(|s| s.name() == Some(wanted)) {
         return Ok(s);
     }
     if let Some(s) = wanted.parse::<usize>().ok().and_then(|i| doc.scenes().nth(i)) {
         return Ok(s);
     }
-    let list: Vec<String> = doc
+    let scenes = doc
         .scenes()
         .map(|s| match s.name() {
             Some(n) => format!("{} ({n:?})", s.index()),
             None => s.index().to_string(),
         })
         .collect();
-    Err(if list.is_empty() {
-        "no scene of that name or index: the file has no scenes".to_string()
-    } else {
-        format!("no scene of that name or index (the file's scenes: {})", list.join(", "))
-    })
+    Err(NoSuchScene { scenes })
 }
 
 /// Every node under `roots` with its world matrix, in node-index order. A node reached twice

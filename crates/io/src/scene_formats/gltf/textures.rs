@@ -19,12 +19,91 @@
 //! glTF's UV origin is the image's top-left corner with v growing downwards, which is the
 //! convention of the core's bitmaps (row 0 at v = 0): coordinates are used as they are.
 
-use super::buffers::{self, BufferError};
-use crate::texture_file::{TextureImage, decode_texture_within};
+use super::buffers::{self, BufferError, ReadError};
+use crate::texture_file::{TextureError, TextureImage, decode_texture_within};
 use ::gltf::texture::{MagFilter, WrappingMode};
 use opticks_core::texture::{FilterType, UvTransform, WrapMode};
 use std::collections::HashMap;
 use std::path::Path;
+
+/// An image of the document as messages name it: its index, and its name if it has one.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ImageName {
+    /// The image's index.
+    pub index: usize,
+    /// Its `name`, if any.
+    pub name: Option<String>,
+}
+
+impl std::fmt::Display for ImageName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.name {
+            Some(n) => write!(f, "image {} ({n:?})", self.index),
+            None => write!(f, "image {}", self.index),
+        }
+    }
+}
+
+/// Why an image of the document cannot be had.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// The document has no image of that index.
+    #[error("image {index} does not exist (the file has {count})")]
+    Missing {
+        /// The index asked for.
+        index: usize,
+        /// The document's image count.
+        count: usize,
+    },
+    /// The image's `bufferView` does not exist.
+    #[error("{image}: buffer view {view} does not exist")]
+    MissingView {
+        /// The image.
+        image: ImageName,
+        /// The buffer view it names.
+        view: usize,
+    },
+    /// The image's buffer view cannot be read.
+    #[error("{image}: {error}")]
+    View {
+        /// The image.
+        image: ImageName,
+        /// Why.
+        error: ReadError,
+    },
+    /// The image's file cannot be read.
+    #[error("{image}: cannot read image file {}: {error}", path.display())]
+    File {
+        /// The image.
+        image: ImageName,
+        /// The file as resolved.
+        path: std::path::PathBuf,
+        /// The operating system's reason.
+        error: std::io::Error,
+    },
+    /// The image's `uri` cannot be resolved to data (a bad URI or `data:` payload).
+    #[error("{image}: {message}")]
+    Uri {
+        /// The image.
+        image: ImageName,
+        /// What is wrong with the URI.
+        message: String,
+    },
+    /// The image has neither a `bufferView` nor a `uri`.
+    #[error("{image} has neither a bufferView nor a uri")]
+    NoData {
+        /// The image.
+        image: ImageName,
+    },
+    /// The image's bytes do not decode (or are too large).
+    #[error("{image}: {error}")]
+    Decode {
+        /// The image.
+        image: ImageName,
+        /// Why.
+        error: TextureError,
+    },
+}
 
 /// The decoded images of a document, by (image index, raw).
 pub struct Images<'a> {
@@ -104,38 +183,40 @@ impl<'a> Images<'a> {
 
     /// Image `index`, decoded (sRGB to linear unless `raw`); the error names the image and,
     /// for a file, its path.
-    pub fn get(&mut self, index: usize, raw: bool) -> Result<std::sync::Arc<TextureImage>, String> {
+    pub fn get(&mut self, index: usize, raw: bool) -> Result<std::sync::Arc<TextureImage>, ImageError> {
         if let Some(t) = self.decoded.get(&(index, raw)) {
             return Ok(t.clone());
         }
-        let json = self.doc.as_json().images.get(index).ok_or_else(|| {
-            format!("image {index} does not exist (the file has {})", self.doc.images().len())
-        })?;
-        let what = match &json.name {
-            Some(n) => format!("image {index} ({n:?})"),
-            None => format!("image {index}"),
-        };
+        let json = self
+            .doc
+            .as_json()
+            .images
+            .get(index)
+            .ok_or_else(|| ImageError::Missing { index, count: self.doc.images().len() })?;
+        let name = || ImageName { index, name: json.name.clone() };
         let bytes: std::borrow::Cow<'_, [u8]> = match (&json.buffer_view, &json.uri) {
             (Some(view), _) => {
                 let view = self
                     .doc
                     .views()
                     .nth(view.value())
-                    .ok_or_else(|| format!("{what}: buffer view {} does not exist", view.value()))?;
-                buffers::view_bytes(&view, self.buffers).map_err(|e| format!("{what}: {e}"))?.into()
+                    .ok_or_else(|| ImageError::MissingView { image: name(), view: view.value() })?;
+                buffers::view_bytes(&view, self.buffers)
+                    .map_err(|error| ImageError::View { image: name(), error })?
+                    .into()
             }
             (None, Some(uri)) => buffers::read_uri(uri, self.folder)
                 .map_err(|e| match e {
                     BufferError::File { path, source } => {
-                        format!("{what}: cannot read image file {}: {source}", path.display())
+                        ImageError::File { image: name(), path, error: source }
                     }
-                    BufferError::Other(m) => format!("{what}: {m}"),
+                    BufferError::Other(message) => ImageError::Uri { image: name(), message },
                 })?
                 .into(),
-            (None, None) => return Err(format!("{what} has neither a bufferView nor a uri")),
+            (None, None) => return Err(ImageError::NoData { image: name() }),
         };
-        let image =
-            decode_texture_within(&bytes, raw, self.max_texels).map_err(|e| format!("{what}: {e}"))?;
+        let image = decode_texture_within(&bytes, raw, self.max_texels)
+            .map_err(|error| ImageError::Decode { image: name(), error })?;
         let image = std::sync::Arc::new(image);
         self.decoded.insert((index, raw), image.clone());
         Ok(image)

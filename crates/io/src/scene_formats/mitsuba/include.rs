@@ -88,11 +88,11 @@ impl Expander {
     /// The value of attribute `attr` of `e` with the parameters known so far substituted.
     fn value(&self, e: &Element, attr: &str) -> Result<String> {
         let raw = e.raw_required(attr)?;
-        xml::substitute(raw, &self.vars).map_err(|var| {
+        xml::substitute(raw, &self.vars).map_err(|undefined| {
             e.attr_err(
                 attr,
                 format!(
-                    "undefined parameter ${var} in attribute `{attr}` (declare it with a <default> \
+                    "{undefined} in attribute `{attr}` (declare it with a <default> \
                      before this element, or define it when loading)"
                 ),
             )

@@ -105,14 +105,14 @@ pub fn instance<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> Result
 
 #[cfg(test)]
 mod tests {
-    use crate::scene_formats::LoadOptions;
     use crate::scene_formats::mitsuba::parse;
+    use crate::scene_formats::{LoadOptions, SceneFileError};
     use opticks_core::math::Vec3;
     use std::path::Path;
 
-    fn load(body: &str) -> Result<crate::scene_formats::LoadedScene, String> {
+    fn load(body: &str) -> Result<crate::scene_formats::LoadedScene, SceneFileError> {
         let text = format!("<scene version=\"3.0.0\">{body}</scene>");
-        parse(&text, Path::new("inst.xml"), &LoadOptions::default()).map_err(|e| e.to_string())
+        parse(&text, Path::new("inst.xml"), &LoadOptions::default())
     }
 
     const GROUP: &str = r#"<shape type="shapegroup" id="g">
@@ -173,7 +173,7 @@ mod tests {
             ),
         ];
         for (body, needle) in cases {
-            let e = load(body).unwrap_err();
+            let e = load(body).unwrap_err().to_string();
             assert!(e.contains(needle) && e.starts_with("inst.xml:1:"), "{body}: {e}");
         }
         // A group no instance uses: a warning, and nothing in the scene.

@@ -271,7 +271,7 @@ fn spectrum_colour(e: &Element, emitter: bool, unbounded: bool) -> Result<DVec3>
             }
             return Ok(if emitter { spectrum::uniform_emission(v[0]) } else { DVec3::splat(v[0]) });
         }
-        (Some(s), None) => spectrum::parse_pairs(s).map_err(|m| e.attr_err("value", m))?,
+        (Some(s), None) => spectrum::parse_pairs(s).map_err(|m| e.attr_err("value", m.to_string()))?,
         (None, Some(file)) => {
             let path = e.resolve(file);
             // Through `input_file`: a device (`/dev/zero`) or a FIFO is refused before it is read.
@@ -279,9 +279,9 @@ fn spectrum_colour(e: &Element, emitter: bool, unbounded: bool) -> Result<DVec3>
                 e.attr_err("filename", format!("cannot read spectrum file {}: {err}", path.display()))
             })?;
             spectrum::parse_spd(&text)
-                .map_err(|(line, m)| e.attr_err("filename", format!("{}:{line}: {m}", path.display())))?
+                .map_err(|m| e.attr_err("filename", format!("{}:{}: {m}", path.display(), m.line)))?
         }
     };
-    spectrum::check(&w).map_err(|m| e.err(m))?;
+    spectrum::check(&w).map_err(|m| e.err(m.to_string()))?;
     Ok(spectrum::to_srgb(&w, &v, !(emitter || unbounded), !emitter))
 }

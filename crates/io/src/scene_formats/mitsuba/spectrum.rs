@@ -69,9 +69,38 @@ fn node(w: f64) -> [f64; 4] {
     std::array::from_fn(|c| (1.0 - f) * NODES[i0][c] as f64 + f * NODES[i0 + 1][c] as f64)
 }
 
-/// The wavelength–value pairs of a `.spd` file's text (`λ v` per line, `#` comments, blank lines);
-/// `Err((line, message))`.
-pub fn parse_spd(text: &str) -> Result<(Vec<f64>, Vec<f64>), (u32, String)> {
+/// Why a tabulated spectrum is refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpectrumError {
+    /// An item of a `value="λ:v, …"` list is not two finite numbers joined by `:`.
+    #[error("\"{0}\" is not wavelength:value")]
+    NotAPair(String),
+    /// Fewer than two samples.
+    #[error("a spectrum needs at least two wavelength:value pairs")]
+    TooFew,
+    /// A wavelength not above the one before it.
+    #[error("wavelengths must increase: {next} nm follows {previous} nm")]
+    NotIncreasing {
+        /// The earlier wavelength (nm).
+        previous: f64,
+        /// The one after it (nm).
+        next: f64,
+    },
+}
+
+/// A line of a `.spd` file that is not two finite numbers (the message leaves the file's path and
+/// the line number to the caller).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("expected \"wavelength value\", found \"{found}\"")]
+pub struct BadSpdLine {
+    /// 1-based line number.
+    pub line: u32,
+    /// The line, comment and surrounding blanks removed.
+    pub found: String,
+}
+
+/// The wavelength–value pairs of a `.spd` file's text (`λ v` per line, `#` comments, blank lines).
+pub fn parse_spd(text: &str) -> Result<(Vec<f64>, Vec<f64>), BadSpdLine> {
     let (mut w, mut v) = (Vec::new(), Vec::new());
     for (i, line) in text.lines().enumerate() {
         let line = line.split('#').next().unwrap_or("").trim();
@@ -85,21 +114,21 @@ pub fn parse_spd(text: &str) -> Result<(Vec<f64>, Vec<f64>), (u32, String)> {
                 w.push(a);
                 v.push(b);
             }
-            _ => return Err((i as u32 + 1, format!("expected \"wavelength value\", found \"{line}\""))),
+            _ => return Err(BadSpdLine { line: i as u32 + 1, found: line.to_string() }),
         }
     }
     Ok((w, v))
 }
 
 /// The pairs of a `value="λ:v, λ:v, …"` attribute.
-pub fn parse_pairs(text: &str) -> Result<(Vec<f64>, Vec<f64>), String> {
+pub fn parse_pairs(text: &str) -> Result<(Vec<f64>, Vec<f64>), SpectrumError> {
     let (mut w, mut v) = (Vec::new(), Vec::new());
     for pair in text.split(|c: char| c == ',' || c.is_whitespace()).filter(|t| !t.is_empty()) {
         let parsed = pair
             .split_once(':')
             .and_then(|(a, b)| Some((a.trim().parse::<f64>().ok()?, b.trim().parse::<f64>().ok()?)))
             .filter(|(a, b)| a.is_finite() && b.is_finite());
-        let Some((a, b)) = parsed else { return Err(format!("\"{pair}\" is not wavelength:value")) };
+        let Some((a, b)) = parsed else { return Err(SpectrumError::NotAPair(pair.to_string())) };
         w.push(a);
         v.push(b);
     }
@@ -107,16 +136,12 @@ pub fn parse_pairs(text: &str) -> Result<(Vec<f64>, Vec<f64>), String> {
 }
 
 /// An error unless the wavelengths are at least two and strictly increasing.
-pub fn check(wavelengths: &[f64]) -> Result<(), String> {
+pub fn check(wavelengths: &[f64]) -> Result<(), SpectrumError> {
     if wavelengths.len() < 2 {
-        return Err("a spectrum needs at least two wavelength:value pairs".into());
+        return Err(SpectrumError::TooFew);
     }
     if let Some(i) = (1..wavelengths.len()).find(|&i| wavelengths[i] <= wavelengths[i - 1]) {
-        return Err(format!(
-            "wavelengths must increase: {} nm follows {} nm",
-            wavelengths[i],
-            wavelengths[i - 1]
-        ));
+        return Err(SpectrumError::NotIncreasing { previous: wavelengths[i - 1], next: wavelengths[i] });
     }
     Ok(())
 }
@@ -149,11 +174,14 @@ mod tests {
             parse_pairs("400:0.5, 500:1,600:2").unwrap(),
             (vec![400.0, 500.0, 600.0], vec![0.5, 1.0, 2.0])
         );
-        assert!(parse_pairs("400:0.5, 500").unwrap_err().contains("\"500\" is not wavelength:value"));
+        assert_eq!(parse_pairs("400:0.5, 500").unwrap_err(), SpectrumError::NotAPair("500".into()));
+        assert_eq!(parse_pairs("400:0.5, 500").unwrap_err().to_string(), "\"500\" is not wavelength:value");
         assert_eq!(parse_spd("# c\n400 1\n\n500 2 # x\n").unwrap(), (vec![400.0, 500.0], vec![1.0, 2.0]));
-        assert_eq!(parse_spd("400 1\n500 x\n").unwrap_err().0, 2);
-        assert!(
-            check(&[400.0]).is_err() && check(&[500.0, 400.0]).unwrap_err().contains("400 nm follows 500 nm")
+        assert_eq!(parse_spd("400 1\n500 x\n").unwrap_err(), BadSpdLine { line: 2, found: "500 x".into() });
+        assert_eq!(check(&[400.0]), Err(SpectrumError::TooFew));
+        assert_eq!(
+            check(&[500.0, 400.0]).unwrap_err().to_string(),
+            "wavelengths must increase: 400 nm follows 500 nm"
         );
     }
 }

@@ -72,10 +72,18 @@ pub struct Attribute {
     pub name: String,
     /// Its value as written (after XML entity decoding).
     pub raw: String,
-    /// Its value with `$name` parameters substituted, or the name of the undefined parameter.
-    pub value: std::result::Result<String, String>,
+    /// Its value with `$name` parameters substituted, or the first undefined parameter.
+    pub value: std::result::Result<String, UndefinedParameter>,
     /// Where its value starts.
     pub at: FileLocation,
+}
+
+/// A `$name` in an attribute that neither a `<default>` nor the caller gives a value.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("undefined parameter ${name}")]
+pub struct UndefinedParameter {
+    /// The parameter's name (without the `$`).
+    pub name: String,
 }
 
 /// Parses `text` (the file `path`) into records; `options` gives parameter values overriding
@@ -180,11 +188,12 @@ impl Element {
         let Some(a) = self.attribute(name) else { return Ok(None) };
         match &a.value {
             Ok(v) => Ok(Some(v)),
-            Err(var) => Err(self.attr_err(
+            Err(undefined) => Err(self.attr_err(
                 name,
                 format!(
-                    "undefined parameter ${var} in attribute `{name}` (declare it with \
-                     <default name=\"{var}\" value=\"...\"/> or define it when loading)"
+                    "{undefined} in attribute `{name}` (declare it with \
+                     <default name=\"{}\" value=\"...\"/> or define it when loading)",
+                    undefined.name
                 ),
             )),
         }
@@ -316,7 +325,10 @@ fn substitute_attributes(e: &mut Element, vars: &HashMap<String, String>) {
 
 /// `raw` with each `$name` (letters, digits, `_`) replaced by its value; a `$` not followed by
 /// a name stays. `Err` names the first undefined parameter.
-pub fn substitute(raw: &str, vars: &HashMap<String, String>) -> std::result::Result<String, String> {
+pub fn substitute(
+    raw: &str,
+    vars: &HashMap<String, String>,
+) -> std::result::Result<String, UndefinedParameter> {
     let mut out = String::with_capacity(raw.len());
     let mut rest = raw;
     while let Some(i) = rest.find('$') {
@@ -327,7 +339,7 @@ pub fn substitute(raw: &str, vars: &HashMap<String, String>) -> std::result::Res
             out.push('$');
         } else {
             let var = &after[..len];
-            out.push_str(vars.get(var).ok_or_else(|| var.to_string())?);
+            out.push_str(vars.get(var).ok_or_else(|| UndefinedParameter { name: var.to_string() })?);
         }
         rest = &after[len..];
     }
@@ -436,7 +448,7 @@ mod tests {
         assert_eq!(substitute("$a_1$w-$", &vars), Ok("x32-$".into()));
         assert_eq!(substitute("$ $$w", &vars), Ok("$ $32".into()));
         assert_eq!(substitute("no parameters", &vars), Ok("no parameters".into()));
-        assert_eq!(substitute("$w$nope$also", &vars), Err("nope".into()));
+        assert_eq!(substitute("$w$nope$also", &vars), Err(UndefinedParameter { name: "nope".into() }));
     }
 
     #[test]
@@ -446,7 +458,7 @@ mod tests {
                    <shape type=\"$v\" id=\"s\"/>\n</scene>";
         let d = doc(xml, &[]).unwrap();
         let depth = &d.root.children[1].children[0];
-        assert_eq!(depth.attributes[1].value, Err("nope".into()));
+        assert_eq!(depth.attributes[1].value, Err(UndefinedParameter { name: "nope".into() }));
         let e = depth.attr("value").unwrap_err().to_string();
         assert!(
             e.starts_with("d/s.xml:3:58: <integer name=\"max_depth\">: undefined parameter $nope"),

@@ -218,7 +218,7 @@ impl Builder {
                 format!("shell syntax ('{c}') is not supported in an !xform line: \"!{text}\""),
             ));
         }
-        let x = xform::parse(&words[1..]).map_err(|m| err(&here, &element, m))?;
+        let x = xform::parse(&words[1..]).map_err(|e| err(&here, &element, e.to_string()))?;
         let inner = Frame {
             transform: frame.transform.then_after(&x.transform),
             prefix: match (&frame.prefix, &x.prefix) {

@@ -260,6 +260,34 @@ pub fn parse_real(s: &str) -> Option<f64> {
     s.parse::<f64>().ok().filter(|v| plain && v.is_finite())
 }
 
+/// Why an option of a command (`xform -t`, a view's `-vp`) lacks its number.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum NumberError {
+    /// The words end before the number.
+    #[error("{option} needs a number")]
+    Missing {
+        /// The option.
+        option: String,
+    },
+    /// The word is not a finite real ([`parse_real`]).
+    #[error("{option}: \"{word}\" is not a number")]
+    NotANumber {
+        /// The option.
+        option: String,
+        /// The word found.
+        word: String,
+    },
+}
+
+/// Word `i` of `words` as the number `option` takes ([`parse_real`]).
+pub fn option_number(words: &[impl AsRef<str>], i: usize, option: &str) -> Result<f64, NumberError> {
+    let Some(word) = words.get(i).map(AsRef::as_ref) else {
+        return Err(NumberError::Missing { option: option.to_string() });
+    };
+    parse_real(word)
+        .ok_or_else(|| NumberError::NotANumber { option: option.to_string(), word: word.to_string() })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,26 +6,70 @@
 //! centre is inside a room (surfaces all around facing it), else from outside, south-west and
 //! above, as an overview ([`default_view`]).
 
-use super::lexer::parse_real;
+use super::lexer::{NumberError, option_number};
 use opticks_core::math::Vec3;
 use opticks_core::scene::{CameraDesc, CameraKind, SceneDescription};
 
 /// The image width of a Radiance view (its height follows `-vv`); `--size` overrides both.
 pub const WIDTH: u32 = 512;
 
+/// Why a Radiance view is not a camera Opticks has.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ViewError {
+    /// An option's number is missing or not a number.
+    #[error(transparent)]
+    Number(#[from] NumberError),
+    /// `-vo`, `-va`, `-vs` or `-vl` other than 0.
+    #[error("{option} other than 0 (clipping planes, view shift and lift) is not supported")]
+    NonZero {
+        /// The option.
+        option: String,
+    },
+    /// A view type other than `-vtv` and `-vtl`.
+    #[error(
+        "view type {option} is not supported (-vtv perspective and -vtl parallel are; fisheyes, cylindrical and planisphere views are not)"
+    )]
+    ViewType {
+        /// The option (`-vth`, …).
+        option: String,
+    },
+    /// An option this reader does not know.
+    #[error("unsupported view option \"{option}\" (supported: -vtv, -vtl, -vp, -vd, -vu, -vh, -vv)")]
+    Unsupported {
+        /// The option.
+        option: String,
+    },
+    /// `-vd` zero or along `-vu`.
+    #[error("the view direction -vd must be non-zero and not along the up vector -vu")]
+    Direction,
+    /// A perspective view's angles outside (0, 180).
+    #[error("a perspective view's -vh {vh} and -vv {vv} must be between 0 and 180 degrees")]
+    Angles {
+        /// `-vh`, degrees.
+        vh: f64,
+        /// `-vv`, degrees.
+        vv: f64,
+    },
+    /// A parallel view's extents not positive.
+    #[error("a parallel view's -vh {vh} and -vv {vv} (its width and height) must be positive")]
+    Extents {
+        /// `-vh`, the width.
+        vh: f64,
+        /// `-vv`, the height.
+        vv: f64,
+    },
+}
+
 /// A Radiance view (`-vt`, `-vp`, `-vd`, `-vu`, `-vh`, `-vv`; `-vo`, `-va`, `-vs`, `-vl` only
 /// at 0) as a camera. The first word may be a program name (`rvu`, `rpict`), as in view files
 /// Radiance writes; words may span lines.
-pub fn parse_view(text: &str) -> Result<CameraDesc, String> {
+pub fn parse_view(text: &str) -> Result<CameraDesc, ViewError> {
     let words: Vec<&str> = text.split_whitespace().collect();
     let mut i = usize::from(words.first().is_some_and(|w| !w.starts_with('-')));
     let (mut kind, mut vp, mut vd, mut vu) = ('v', [0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
     let (mut vh, mut vv) = (45.0, 45.0);
-    let number = |i: usize, o: &str| -> Result<f64, String> {
-        let w = words.get(i).ok_or_else(|| format!("{o} needs a number"))?;
-        parse_real(w).ok_or_else(|| format!("{o}: \"{w}\" is not a number"))
-    };
-    let vector = |i: usize, o: &str| -> Result<[f64; 3], String> {
+    let number = |i: usize, o: &str| option_number(&words, i, o);
+    let vector = |i: usize, o: &str| -> Result<[f64; 3], NumberError> {
         Ok([number(i, o)?, number(i + 1, o)?, number(i + 2, o)?])
     };
     while i < words.len() {
@@ -46,46 +90,36 @@ pub fn parse_view(text: &str) -> Result<CameraDesc, String> {
             }
             "-vo" | "-va" | "-vs" | "-vl" => {
                 if number(i + 1, o)? != 0.0 {
-                    return Err(format!(
-                        "{o} other than 0 (clipping planes, view shift and lift) is not supported"
-                    ));
+                    return Err(ViewError::NonZero { option: o.to_string() });
                 }
                 i += 2;
             }
             _ if o.starts_with("-vt") && o.len() == 4 => {
                 kind = o.as_bytes()[3] as char;
                 if kind != 'v' && kind != 'l' {
-                    return Err(format!(
-                        "view type {o} is not supported (-vtv perspective and -vtl parallel are; fisheyes, cylindrical and planisphere views are not)"
-                    ));
+                    return Err(ViewError::ViewType { option: o.to_string() });
                 }
                 i += 1;
             }
             _ => {
-                return Err(format!(
-                    "unsupported view option \"{o}\" (supported: -vtv, -vtl, -vp, -vd, -vu, -vh, -vv)"
-                ));
+                return Err(ViewError::Unsupported { option: o.to_string() });
             }
         }
     }
     let v = |a: [f64; 3]| Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32);
     let (eye, dir, up) = (v(vp), v(vd), v(vu));
     if dir.length() == 0.0 || dir.cross(up).length() == 0.0 {
-        return Err("the view direction -vd must be non-zero and not along the up vector -vu".into());
+        return Err(ViewError::Direction);
     }
     let (height, kind, fov) = if kind == 'v' {
         if !(vh > 0.0 && vh < 180.0 && vv > 0.0 && vv < 180.0) {
-            return Err(format!(
-                "a perspective view's -vh {vh} and -vv {vv} must be between 0 and 180 degrees"
-            ));
+            return Err(ViewError::Angles { vh, vv });
         }
         let ratio = (vv.to_radians() / 2.0).tan() / (vh.to_radians() / 2.0).tan();
         (WIDTH as f64 * ratio, CameraKind::Perspective, vh)
     } else {
         if !(vh > 0.0 && vv > 0.0) {
-            return Err(format!(
-                "a parallel view's -vh {vh} and -vv {vv} (its width and height) must be positive"
-            ));
+            return Err(ViewError::Extents { vh, vv });
         }
         let kind = CameraKind::Orthographic { half_width: (vh / 2.0) as f32, half_height: (vv / 2.0) as f32 };
         (WIDTH as f64 * vv / vh, kind, 45.0)
@@ -182,10 +216,14 @@ mod tests {
         let l = parse_view("-vtl -vh 4 -vv 2").unwrap();
         assert_eq!(l.kind, CameraKind::Orthographic { half_width: 2.0, half_height: 1.0 });
         assert_eq!(l.height, 256);
-        assert!(parse_view("-vta").unwrap_err().contains("not supported"));
-        assert!(parse_view("-vs 0.1").unwrap_err().contains("-vs"));
-        assert!(parse_view("-vf x.vf").unwrap_err().contains("unsupported view option \"-vf\""));
-        assert!(parse_view("-vd 0 0 1").unwrap_err().contains("up vector"));
-        assert!(parse_view("-vp 1 2").unwrap_err().contains("-vp needs a number"));
+        let e = |s: &str| parse_view(s).unwrap_err();
+        assert!(e("-vta").to_string().starts_with("view type -vta is not supported"));
+        assert_eq!(e("-vs 0.1"), ViewError::NonZero { option: "-vs".into() });
+        assert!(e("-vf x.vf").to_string().starts_with("unsupported view option \"-vf\""));
+        assert_eq!(e("-vd 0 0 1"), ViewError::Direction);
+        assert!(e("-vd 0 0 1").to_string().contains("up vector"));
+        assert_eq!(e("-vp 1 2").to_string(), "-vp needs a number");
+        assert_eq!(e("-vh x").to_string(), "-vh: \"x\" is not a number");
+        assert_eq!(e("-vh 180"), ViewError::Angles { vh: 180.0, vv: 45.0 });
     }
 }

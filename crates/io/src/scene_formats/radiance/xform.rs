@@ -4,7 +4,42 @@
 //! every primitive stays the same kind of primitive with transformed parameters, as `xform`
 //! itself writes them.
 
+use super::lexer::{NumberError, option_number};
 use glam::{DMat3, DVec3};
+
+/// Why `xform`'s arguments cannot be read.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum XformError {
+    /// An option's number is missing or not a number.
+    #[error(transparent)]
+    Number(#[from] NumberError),
+    /// `-s 0`.
+    #[error("-s 0 collapses the scene to a point")]
+    ZeroScale,
+    /// `-n` or `-m` is the last word.
+    #[error("{option} needs a name")]
+    MissingName {
+        /// The option.
+        option: String,
+    },
+    /// An option this reader does not do.
+    #[error(
+        "unsupported xform option {option} (supported: -t, -rx, -ry, -rz, -s, -mx, -my, -mz, -n, -m, -I, -e, -c; arrays -a and -i, and -f, are not)"
+    )]
+    Unsupported {
+        /// The option.
+        option: String,
+    },
+    /// No file after the options: `xform` would read standard input.
+    #[error("xform without a file would read standard input: name the file to include")]
+    NoFile,
+    /// An option after the first file.
+    #[error("option {option} after the first file")]
+    OptionAfterFile {
+        /// The option.
+        option: String,
+    },
+}
 
 /// A similarity transform x ↦ s·R·x + t, R orthogonal (a mirror when its determinant is −1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -69,8 +104,8 @@ pub struct Xform {
 }
 
 /// Reads `xform`'s arguments (the words after `xform`). An unknown option, a missing or bad
-/// number, or no file (standard input) is an error message.
-pub fn parse(args: &[String]) -> Result<Xform, String> {
+/// number, or no file (standard input) is an error.
+pub fn parse(args: &[String]) -> Result<Xform, XformError> {
     let mut x = Xform {
         transform: Similarity::default(),
         prefix: None,
@@ -79,10 +114,7 @@ pub fn parse(args: &[String]) -> Result<Xform, String> {
         files: Vec::new(),
     };
     let mut i = 0;
-    let number = |i: usize, option: &str| -> Result<f64, String> {
-        let Some(w) = args.get(i) else { return Err(format!("{option} needs a number")) };
-        super::lexer::parse_real(w).ok_or_else(|| format!("{option}: \"{w}\" is not a number"))
-    };
+    let number = |i: usize, option: &str| option_number(args, i, option);
     while i < args.len() {
         let a = args[i].as_str();
         if !a.starts_with('-') || a == "-" {
@@ -108,7 +140,7 @@ pub fn parse(args: &[String]) -> Result<Xform, String> {
             "-s" => {
                 let s = number(i + 1, a)?;
                 if s == 0.0 {
-                    return Err("-s 0 collapses the scene to a point".into());
+                    return Err(XformError::ZeroScale);
                 }
                 *t = t.then(DMat3::from_diagonal(DVec3::splat(s)), DVec3::ZERO, s.abs());
                 i += 2;
@@ -123,7 +155,9 @@ pub fn parse(args: &[String]) -> Result<Xform, String> {
                 i += 1;
             }
             "-n" | "-m" => {
-                let Some(name) = args.get(i + 1) else { return Err(format!("{a} needs a name")) };
+                let Some(name) = args.get(i + 1) else {
+                    return Err(XformError::MissingName { option: a.to_string() });
+                };
                 let slot = if a == "-n" { &mut x.prefix } else { &mut x.modifier };
                 *slot = Some(match (a, slot.take()) {
                     // Repeated -n options nest, as xform's do; the first -m wins.
@@ -141,18 +175,16 @@ pub fn parse(args: &[String]) -> Result<Xform, String> {
             // read (and refused unless they are xform) either way.
             "-e" | "-c" => i += 1,
             _ => {
-                return Err(format!(
-                    "unsupported xform option {a} (supported: -t, -rx, -ry, -rz, -s, -mx, -my, -mz, -n, -m, -I, -e, -c; arrays -a and -i, and -f, are not)"
-                ));
+                return Err(XformError::Unsupported { option: a.to_string() });
             }
         }
     }
     x.files = args[i..].to_vec();
     if x.files.is_empty() {
-        return Err("xform without a file would read standard input: name the file to include".into());
+        return Err(XformError::NoFile);
     }
     if let Some(f) = x.files.iter().find(|f| f.starts_with('-')) {
-        return Err(format!("option {f} after the first file"));
+        return Err(XformError::OptionAfterFile { option: f.clone() });
     }
     Ok(x)
 }
@@ -185,10 +217,13 @@ mod tests {
 
     #[test]
     fn refuses_what_it_does_not_do() {
-        assert!(parse(&args("-a 3 -t 1 0 0 a.rad")).unwrap_err().contains("unsupported xform option -a"));
-        assert!(parse(&args("-i 2 a.rad")).unwrap_err().contains("-i"));
-        assert!(parse(&args("-t 1 0")).unwrap_err().contains("-t needs a number"));
-        assert!(parse(&args("-rx x a.rad")).unwrap_err().contains("not a number"));
-        assert!(parse(&args("-t 1 2 3")).unwrap_err().contains("standard input"));
+        let e = |s: &str| parse(&args(s)).unwrap_err();
+        assert!(e("-a 3 -t 1 0 0 a.rad").to_string().starts_with("unsupported xform option -a (supported:"));
+        assert_eq!(e("-i 2 a.rad"), XformError::Unsupported { option: "-i".into() });
+        assert_eq!(e("-t 1 0").to_string(), "-t needs a number");
+        assert_eq!(e("-rx x a.rad").to_string(), "-rx: \"x\" is not a number");
+        assert_eq!(e("-t 1 2 3"), XformError::NoFile);
+        assert_eq!(e("-s 0 a.rad"), XformError::ZeroScale);
+        assert_eq!(e("a.rad -t 1 2 3").to_string(), "option -t after the first file");
     }
 }

@@ -320,7 +320,7 @@ impl Converter {
             None => {
                 let mut notes = Vec::new();
                 let local = match geometry::geometry(g, &mut notes) {
-                    Err(msg) => return Err(self.invalid(g, msg)),
+                    Err(e) => return Err(self.invalid(g, e.to_string())),
                     Ok(Geometry::Skipped(msg)) => {
                         self.warn_once(g, "geometry", msg);
                         None

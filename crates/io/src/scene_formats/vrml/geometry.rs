@@ -65,9 +65,63 @@ pub enum Geometry {
     Skipped(String),
 }
 
+/// Why a geometry node's content is invalid.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum GeometryError {
+    /// An `IndexedFaceSet`'s `coord` is another node type.
+    #[error("coord must be a Coordinate node, not `{0}`")]
+    NotCoordinate(String),
+    /// A `coordIndex` entry past the points (or negative other than the `-1` separator).
+    #[error(
+        "coordIndex[{position}] = {index} is out of range: the Coordinate node has {points} points (0..{})",
+        points.saturating_sub(1)
+    )]
+    CoordIndex {
+        /// Position in `coordIndex`.
+        position: usize,
+        /// The index found.
+        index: i32,
+        /// The Coordinate node's point count.
+        points: usize,
+    },
+    /// An `IndexedFaceSet`'s `normal` is another node type.
+    #[error("normal must be a Normal node, not `{0}`")]
+    NotNormal(String),
+    /// A normal index (from `normalIndex`, `coordIndex` or the face number) past the vectors.
+    #[error("{field}[{position}] = {index} is out of range: the Normal node has {vectors} vectors")]
+    NormalIndex {
+        /// Where the index comes from: "normalIndex", "coordIndex" or "face".
+        field: &'static str,
+        /// Position in that field (the face number for "face").
+        position: usize,
+        /// The index found.
+        index: i32,
+        /// The Normal node's vector count.
+        vectors: usize,
+    },
+    /// An `ElevationGrid` with a negative dimension.
+    #[error("xDimension {x} and zDimension {z} must not be negative")]
+    NegativeDimension {
+        /// `xDimension`.
+        x: i32,
+        /// `zDimension`.
+        z: i32,
+    },
+    /// An `ElevationGrid` whose heights are not one per grid point.
+    #[error("height has {heights} values, xDimension × zDimension = {x} × {z}")]
+    HeightCount {
+        /// Values in `height`.
+        heights: usize,
+        /// `xDimension`.
+        x: usize,
+        /// `zDimension`.
+        z: usize,
+    },
+}
+
 /// Triangulates geometry node `g`; `warn` collects messages about it. Errors are invalid
 /// content (an index out of range, a height count that does not match the grid).
-pub fn geometry(g: &Node, warn: &mut Vec<String>) -> Result<Geometry, String> {
+pub fn geometry(g: &Node, warn: &mut Vec<String>) -> Result<Geometry, GeometryError> {
     let mesh = match g.type_name.as_str() {
         "IndexedFaceSet" => indexed_face_set(g, warn)?,
         "ElevationGrid" => elevation_grid(g)?,
@@ -96,13 +150,13 @@ pub fn geometry(g: &Node, warn: &mut Vec<String>) -> Result<Geometry, String> {
     Ok(Geometry::Mesh(mesh))
 }
 
-fn indexed_face_set(g: &Node, warn: &mut Vec<String>) -> Result<LocalMesh, String> {
+fn indexed_face_set(g: &Node, warn: &mut Vec<String>) -> Result<LocalMesh, GeometryError> {
     let points: Vec<Vec3> = match g.node("coord") {
         Some(c) if c.type_name == "Coordinate" => match c.get("point") {
             Some(FieldValue::Vec3s(p)) => p.iter().map(|&p| Vec3::from(p)).collect(),
             _ => Vec::new(),
         },
-        Some(c) => return Err(format!("coord must be a Coordinate node, not `{}`", c.type_name)),
+        Some(c) => return Err(GeometryError::NotCoordinate(c.type_name.clone())),
         None => Vec::new(),
     };
     let index: &[i32] = match g.get("coordIndex") {
@@ -125,10 +179,7 @@ fn indexed_face_set(g: &Node, warn: &mut Vec<String>) -> Result<LocalMesh, Strin
         if i == -1 {
             flush(&mut poly, &mut triangles);
         } else if i < 0 || i as usize >= n {
-            return Err(format!(
-                "coordIndex[{k}] = {i} is out of range: the Coordinate node has {n} points (0..{})",
-                n.saturating_sub(1)
-            ));
+            return Err(GeometryError::CoordIndex { position: k, index: i, points: n });
         } else {
             poly.push(i as u32);
         }
@@ -163,7 +214,7 @@ fn corner_normals(
     points: &[Vec3],
     ccw: bool,
     warn: &mut Vec<String>,
-) -> Result<Option<Vec<Option<Vec3>>>, String> {
+) -> Result<Option<Vec<Option<Vec3>>>, GeometryError> {
     let faces: Vec<std::ops::Range<usize>> = {
         let mut out = Vec::new();
         let mut start = 0;
@@ -181,7 +232,7 @@ fn corner_normals(
     let mut normals = vec![None; index.len()];
     if let Some(node) = g.node("normal") {
         if node.type_name != "Normal" {
-            return Err(format!("normal must be a Normal node, not `{}`", node.type_name));
+            return Err(GeometryError::NotNormal(node.type_name.clone()));
         }
         let vector: Vec<Vec3> = match node.get("vector") {
             Some(FieldValue::Vec3s(v)) => v.iter().map(|&v| Vec3::from(v)).collect(),
@@ -191,11 +242,13 @@ fn corner_normals(
             Some(FieldValue::Ints(v)) => v,
             _ => &[],
         };
-        let pick = |what: &str, k: usize, i: i32| -> Result<Vec3, String> {
-            usize::try_from(i).ok().and_then(|i| vector.get(i).copied()).ok_or_else(|| {
-                format!("{what}[{k}] = {i} is out of range: the Normal node has {} vectors", vector.len())
-            })
-        };
+        let pick =
+            |field: &'static str, k: usize, i: i32| -> Result<Vec3, GeometryError> {
+                usize::try_from(i)
+                    .ok()
+                    .and_then(|i| vector.get(i).copied())
+                    .ok_or(GeometryError::NormalIndex { field, position: k, index: i, vectors: vector.len() })
+            };
         let per_vertex = g.bool("normalPerVertex", true);
         for (f, face) in faces.iter().enumerate() {
             for k in face.clone() {
@@ -318,7 +371,7 @@ fn triangles_per_face(index: &[i32], points: &[Vec3]) -> Vec<(usize, usize)> {
     out
 }
 
-fn elevation_grid(g: &Node) -> Result<LocalMesh, String> {
+fn elevation_grid(g: &Node) -> Result<LocalMesh, GeometryError> {
     let (nx, nz) = (g.int("xDimension", 0), g.int("zDimension", 0));
     let (dx, dz) = (g.float("xSpacing", 1.0), g.float("zSpacing", 1.0));
     let heights: &[f32] = match g.get("height") {
@@ -326,11 +379,11 @@ fn elevation_grid(g: &Node) -> Result<LocalMesh, String> {
         _ => &[],
     };
     if nx < 0 || nz < 0 {
-        return Err(format!("xDimension {nx} and zDimension {nz} must not be negative"));
+        return Err(GeometryError::NegativeDimension { x: nx, z: nz });
     }
     let (nx, nz) = (nx as usize, nz as usize);
     if nx.checked_mul(nz) != Some(heights.len()) {
-        return Err(format!("height has {} values, xDimension × zDimension = {nx} × {nz}", heights.len()));
+        return Err(GeometryError::HeightCount { heights: heights.len(), x: nx, z: nz });
     }
     let mut positions = Vec::with_capacity(heights.len());
     for j in 0..nz {
@@ -546,6 +599,22 @@ mod tests {
         let (a, out) = area_and_outward(&cone);
         let exact = PI * (1.0 + 5f32.sqrt());
         assert!(out && (a / exact - 1.0).abs() < 3e-3, "{a} vs {exact}");
+    }
+
+    #[test]
+    fn index_errors_read_as_they_always_did() {
+        let e = GeometryError::CoordIndex { position: 4, index: 7, points: 3 };
+        assert_eq!(
+            e.to_string(),
+            "coordIndex[4] = 7 is out of range: the Coordinate node has 3 points (0..2)"
+        );
+        let e = GeometryError::CoordIndex { position: 0, index: 0, points: 0 };
+        assert_eq!(
+            e.to_string(),
+            "coordIndex[0] = 0 is out of range: the Coordinate node has 0 points (0..0)"
+        );
+        let e = GeometryError::NormalIndex { field: "face", position: 2, index: 2, vectors: 1 };
+        assert_eq!(e.to_string(), "face[2] = 2 is out of range: the Normal node has 1 vectors");
     }
 
     #[test]
