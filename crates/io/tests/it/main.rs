@@ -6,6 +6,7 @@
 //! (`vrml_bomb_memory.rs`).
 
 mod dataset_file;
+mod front_end;
 mod fuzz_regressions;
 mod gltf;
 mod hostile_readers;
