@@ -7,7 +7,7 @@
 //! is renormalised; a resumed pass is bit for bit the uninterrupted one — are unit tests of the
 //! core functions that implement them (`crates/core/src/dataset/`), and writing, interrupting
 //! and resuming a dataset file is tested with the job that does it
-//! (`crates/io/src/dataset_job.rs`). Small path counts: these tests check behaviour, not noise.
+//! (`crates/io/src/dataset_job/`). Small path counts: these tests check behaviour, not noise.
 
 use crate::cli_run;
 use opticks_testkit as common;
