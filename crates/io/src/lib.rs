@@ -21,6 +21,7 @@
 //! * [`ies`]: IES LM-63 photometric files → `opticks_core::light::IesProfile`;
 //! * [`heatmap`]: heat-map PNGs of meter readings (colour bar, numbered axes);
 //! * [`meter_table`]: a meter's reading as the CSV table `measure` writes;
+//! * [`daylight`]: the daylight factor under a CIE overcast sky (what it is relative to, when);
 //! * [`meter_points`]: the points an illuminance meter reads at (`x,y,z,nx,ny,nz` lines);
 //! * [`light_cache`]: the bidirectional estimator's light vertex cache over a dataset file;
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios);
@@ -35,6 +36,7 @@ pub mod dataset_file;
 pub mod dataset_info;
 pub mod dataset_job;
 pub mod dataset_lock;
+pub mod daylight;
 pub mod heatmap;
 pub mod ies;
 pub mod image_file;

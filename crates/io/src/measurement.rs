@@ -9,7 +9,15 @@
 //! Defaults are the command line's: 10×10 cells; the `samples` estimator on a mesh (on scene
 //! geometry it is several times cheaper and less noisy) and `connections` elsewhere, with one
 //! connection per stored sample, 256 direct-light points per cell and seed 0.
+//!
+//! **Daylight factor.** Whenever the lights on are a CIE overcast sky alone
+//! ([`crate::daylight`]), [`Request::daylight`] gives the basis and the reading comes with the
+//! daylight factor per target (CSV columns `DF_percent`, `SE_DF_percent`, appended) and its
+//! range in the summary; otherwise none, with a note when the scene has such a sky but other
+//! lights are on. [`Request::daylight_factor`] makes the DF a requirement: a dataset that
+//! cannot give one is then refused before any work, saying why.
 
+use crate::daylight::{DaylightBasis, DaylightError, daylight_basis};
 use crate::heatmap::{HeatmapError, encode_heatmap};
 use crate::opened::LitDataset;
 use opticks_core::math::Vec3;
@@ -73,6 +81,9 @@ pub struct Request {
     pub seed: Option<u64>,
     /// Whether a heat map is wanted (planes only).
     pub heatmap: bool,
+    /// Whether the daylight factor is required (an error if the dataset cannot give one; it
+    /// is reported anyway whenever it can).
+    pub daylight_factor: bool,
 }
 
 /// A measurement that cannot be made as asked.
@@ -103,6 +114,9 @@ pub enum RequestError {
     /// The meter cannot be placed.
     #[error(transparent)]
     Meter(#[from] MeterError),
+    /// The daylight factor was required and the dataset, as lit, gives none.
+    #[error(transparent)]
+    Daylight(#[from] DaylightError),
 }
 
 impl Request {
@@ -169,6 +183,21 @@ impl Request {
         Ok((layout, warning))
     }
 
+    /// The daylight factor's basis, if the dataset as lit gives one ([`crate::daylight`]), and
+    /// a note when it gives none though its scene has a CIE overcast sky (other lights on).
+    /// Refused ([`RequestError::Daylight`]) when [`Request::daylight_factor`] requires one.
+    pub fn daylight(
+        &self,
+        data: &LitDataset,
+    ) -> Result<(Option<DaylightBasis>, Option<String>), RequestError> {
+        match daylight_basis(data) {
+            Ok(basis) => Ok((Some(basis), None)),
+            Err(e) if self.daylight_factor => Err(e.into()),
+            Err(e) if e.worth_a_note() => Ok((None, Some(format!("{e} (no DF columns)")))),
+            Err(_) => Ok((None, None)),
+        }
+    }
+
     /// The estimator with its settings, for [`crate::opened::OpenedDataset::measure`].
     pub fn settings(&self) -> Result<meter::MeterEstimator, RequestError> {
         Ok(match self.check()? {
@@ -190,12 +219,14 @@ pub struct Measured<'a> {
     pub reading: &'a Reading,
     /// The estimator it was read with.
     pub estimator: Estimator,
+    /// The daylight factor's basis, if reported ([`Request::daylight`]).
+    pub daylight: Option<&'a DaylightBasis>,
 }
 
 impl Measured<'_> {
     /// The CSV table ([`crate::meter_table::csv`]).
     pub fn csv(&self) -> String {
-        crate::meter_table::csv(self.layout, self.reading)
+        crate::meter_table::csv(self.layout, self.reading, self.daylight.map(|d| d.horizontal_lux))
     }
 
     /// The PNG heat map of the illuminance (lux) for `path`, if the meter is a plane.
@@ -223,7 +254,8 @@ impl Measured<'_> {
     }
 
     /// The summary: what was measured, mean irradiance and the range of illuminance, then the
-    /// relative standard errors if any target was lit. `written` names the outputs.
+    /// relative standard errors if any target was lit, and the daylight factor's range if
+    /// reported. `written` names the outputs.
     pub fn summary(&self, written: &str) -> Vec<String> {
         let n = self.reading.value.len().max(1) as f64;
         let mut mean = [0.0f64; 3];
@@ -258,6 +290,18 @@ impl Measured<'_> {
                 100.0 * rel_max,
                 100.0 * rel_mean,
                 self.estimator.name()
+            ));
+        }
+        if let Some(d) = self.daylight {
+            let df: Vec<f64> = self.reading.value.iter().map(|v| d.percent(v[3])).collect();
+            let (lo, hi) =
+                df.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+            let mean = df.iter().sum::<f64>() / df.len().max(1) as f64;
+            lines.push(format!(
+                "daylight factor under the CIE overcast sky ({}; E_v,h = {:.4e} lux in the open): DF min {lo:.3} %, \
+                 mean {mean:.3} %, max {hi:.3} %",
+                d.skies.join(", "),
+                d.horizontal_lux
             ));
         }
         lines

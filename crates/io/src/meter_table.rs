@@ -2,22 +2,34 @@
 //! spreadsheet, pandas or Radiance's tools read. Columns: planes `i,j` (cell along u and v) and
 //! `x,y,z` (cell centre, m); points `point,x,y,z,nx,ny,nz`; then per cell or point the
 //! irradiance `E_R,E_G,E_B` (W/m²), the illuminance `E_v_lux`, and their standard errors
-//! `SE_R,SE_G,SE_B,SE_v_lux`.
+//! `SE_R,SE_G,SE_B,SE_v_lux`; under a CIE overcast sky alone (`crate::daylight`), last, the
+//! daylight factor `DF_percent` (100 × E_v / E_v,h) and its standard error `SE_DF_percent`.
 
 use opticks_core::sensor::meter::{MeterLayout, Reading};
 use std::fmt::Write;
 
 /// The CSV table of `reading` over `layout`: a header line, then one line per cell (row by
-/// row, i fastest) or point, values in `{:e}` so they round-trip exactly.
-pub fn csv(layout: &MeterLayout, r: &Reading) -> String {
+/// row, i fastest) or point, values in `{:e}` so they round-trip exactly. With a horizontal
+/// illuminance `daylight` (E_v,h, lux), the daylight factor columns too.
+pub fn csv(layout: &MeterLayout, r: &Reading, daylight: Option<f64>) -> String {
     let values = |k: usize| {
         let (v, e) = (r.value[k], r.std_error[k]);
-        format!("{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}", v[0], v[1], v[2], v[3], e[0], e[1], e[2], e[3])
+        let mut s = format!(
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e},{:e}",
+            v[0], v[1], v[2], v[3], e[0], e[1], e[2], e[3]
+        );
+        if let Some(h) = daylight {
+            let _ = write!(s, ",{:e},{:e}", 100.0 * v[3] / h, 100.0 * e[3] / h);
+        }
+        s
     };
+    let df = if daylight.is_some() { ",DF_percent,SE_DF_percent" } else { "" };
     let mut csv = String::new();
     match layout {
         MeterLayout::Grid(m) => {
-            csv += "i,j,x,y,z,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux\n";
+            csv += "i,j,x,y,z,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux";
+            csv += df;
+            csv += "\n";
             for j in 0..m.ny {
                 for i in 0..m.nx {
                     let c = m.cell_centre(i, j);
@@ -27,7 +39,9 @@ pub fn csv(layout: &MeterLayout, r: &Reading) -> String {
             }
         }
         MeterLayout::Points(points) => {
-            csv += "point,x,y,z,nx,ny,nz,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux\n";
+            csv += "point,x,y,z,nx,ny,nz,E_R,E_G,E_B,E_v_lux,SE_R,SE_G,SE_B,SE_v_lux";
+            csv += df;
+            csv += "\n";
             for (k, p) in points.iter().enumerate() {
                 let (c, n) = (p.position, p.normal);
                 let _ = writeln!(csv, "{k},{},{},{},{},{},{},{}", c.x, c.y, c.z, n.x, n.y, n.z, values(k));
@@ -48,10 +62,15 @@ mod tests {
         let p = |x: f32| MeterPoint { position: Vec3::new(x, 0.0, 0.0), normal: Vec3::Y };
         let layout = MeterLayout::Points(vec![p(0.0), p(1.5)]);
         let reading = Reading { value: vec![[1.0, 2.0, 3.0, 4.0]; 2], std_error: vec![[0.5; 4]; 2] };
-        let text = csv(&layout, &reading);
+        let text = csv(&layout, &reading, None);
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 3);
-        assert!(lines[0].starts_with("point,x,y,z,nx,ny,nz,E_R"));
+        assert!(lines[0].starts_with("point,x,y,z,nx,ny,nz,E_R") && lines[0].ends_with("SE_v_lux"));
         assert_eq!(lines[2], "1,1.5,0,0,0,1,0,1e0,2e0,3e0,4e0,5e-1,5e-1,5e-1,5e-1");
+        // Under an overcast sky of E_v,h = 8 lux: DF 50 % ± 6.25 %, appended.
+        let text = csv(&layout, &reading, Some(8.0));
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[0].ends_with(",SE_v_lux,DF_percent,SE_DF_percent"));
+        assert_eq!(lines[2], "1,1.5,0,0,0,1,0,1e0,2e0,3e0,4e0,5e-1,5e-1,5e-1,5e-1,5e1,6.25e0");
     }
 }

@@ -331,6 +331,12 @@ impl LitDataset {
         &self.lighting.flux_per_path
     }
 
+    /// Per table light, the factor `--light` scales multiplied its scene power by (1 unless
+    /// scaled): what a quantity computed from the scene's light itself must be multiplied by.
+    pub fn light_factors(&self) -> &[Rgb] {
+        &self.lighting.factors
+    }
+
     /// The kept chunks as the bidirectional estimator's light vertex cache (each verified),
     /// read into memory on the first call and kept for the next ones (a walkthrough's frames).
     pub fn cache_chunks(&self) -> Result<Vec<CacheChunk<'_>>, DatasetError> {

@@ -20,6 +20,14 @@
 //! `--plane` and `--points` `connections`, unless `--estimator` says otherwise
 //! (`opticks_core::sensor::meter`).
 //!
+//! Daylight factor: when the lights on (after `--light`) are a CIE overcast sky alone — the
+//! environment light(s) of a Radiance `!gensky … -c`, its ground dome allowed — the CSV has two
+//! more columns, last, `DF_percent` (DF = 100 × E_v / E_v,h, E_v,h the horizontal illuminance the
+//! sky gives in the open without ground, computed from the sky light itself) and
+//! `SE_DF_percent`, and the summary gives DF's range (`opticks_io::daylight`). With a sun or
+//! another light on too there are none, and a note says so. `--daylight-factor` requires them:
+//! a dataset that cannot give a DF is refused, saying why.
+//!
 //! Orientation: only light arriving from the meter's front is counted — the side its normal
 //! n = u × v faces (for `--surface`, the side the mesh's triangles face; for points, their
 //! normal). The summary line states the normal; a meter lit only from behind reads 0, with a
@@ -91,6 +99,13 @@ pub struct Args {
     /// Also write a heat-map PNG (.png) of the illuminance (lux); planes only.
     #[arg(long)]
     png: Option<PathBuf>,
+    /// Require the daylight factor: refuse a dataset whose lights on are not a CIE overcast
+    /// sky (`!gensky … -c`) alone. Without it, DF_percent and SE_DF_percent columns (DF = 100 ×
+    /// E_v / E_v,h, E_v,h the sky's horizontal illuminance in the open, no ground) are added
+    /// whenever that holds; a sun or other light on (switch it off with --light NAME=0) means
+    /// none.
+    #[arg(long)]
+    daylight_factor: bool,
     #[command(flatten)]
     threads: ThreadArgs,
 }
@@ -142,6 +157,7 @@ pub fn run(a: Args) -> Result<()> {
         direct_samples: a.direct_samples,
         seed: a.seed,
         heatmap: a.png.is_some(),
+        daylight_factor: a.daylight_factor,
     };
     let estimator = request.check()?;
     let mut outputs = vec![(a.output.as_path(), OutputKind::Csv)];
@@ -161,15 +177,18 @@ pub fn run(a: Args) -> Result<()> {
     };
     let (layout, warning) = request.layout(&data).map_err(plane)?;
     warning.iter().for_each(|w| output::warning(w));
-    // Per cell: its lux value and its CSV line (about 120 characters).
-    super::check_film_fits("a meter", (layout.len() as u32, 1), 8 + 128)?;
+    let (daylight, note) = request.daylight(&data).context("--daylight-factor")?;
+    note.iter().for_each(|n| output::note(n));
+    // Per cell: its lux value and its CSV line (about 120 characters, 150 with DF).
+    let line = if daylight.is_some() { 160 } else { 128 };
+    super::check_film_fits("a meter", (layout.len() as u32, 1), 8 + line)?;
     let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
     let progress = |n: usize| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64);
     let reading = data.measure(&layout, request.settings()?, progress, crate::interrupt::requested)?;
     pb.finish_and_clear();
-    let measured = Measured { layout: &layout, reading: &reading, estimator };
+    let measured = Measured { layout: &layout, reading: &reading, estimator, daylight: daylight.as_ref() };
     let front = format!("meter's front ({})", measured.side());
     super::warn_if_black(measured.is_black(), data.samples(), &front, data.flux_per_path());
 

@@ -33,6 +33,7 @@ fn furnace(rho: f32, sky: Rgb) -> SceneDescription {
             source: Source::default(),
             radiance: EnvironmentRadiance::Constant(sky),
             to_world: Mat3::IDENTITY,
+            sky: None,
         }],
         camera: Some(CameraDesc {
             eye: Vec3::new(0.0, 0.0, 4.0),

@@ -9,6 +9,7 @@ mod caustics;
 mod cli;
 mod cli_run;
 mod dataset_product;
+mod daylight;
 mod environment;
 mod fingerprints;
 mod guarantees;

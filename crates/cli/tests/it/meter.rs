@@ -132,6 +132,7 @@ fn plane_in_the_air_under_a_constant_sky() {
             source: Default::default(),
             radiance: opticks_core::scene::EnvironmentRadiance::Constant(Rgb::splat(l)),
             to_world: opticks_core::math::Mat3::IDENTITY,
+            sky: None,
         }],
         ..Default::default()
     };

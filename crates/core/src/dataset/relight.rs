@@ -23,6 +23,10 @@ pub struct LightScale {
 pub struct Lighting {
     /// Φ_k/N_k per light of the dataset's table (zero for lights that are off or gone).
     pub flux_per_path: Vec<Rgb>,
+    /// Per light of the table, the factor the caller's scales multiply its scene power by (1
+    /// unless scaled, 0 switched off): what a quantity computed from the scene's light itself
+    /// (a sky's horizontal illuminance) must be multiplied by to stay consistent.
+    pub factors: Vec<Rgb>,
     /// Things the user should know (a light relit by the scene file, a light no longer in it).
     pub notes: Vec<String>,
 }
@@ -118,7 +122,7 @@ pub fn lighting(table: &LightTable, scene: &Scene, scales: &[LightScale]) -> Res
             return Err(LightingError::NotTraced(scene.lights[i].name().to_string()));
         }
     }
-    Ok(Lighting { flux_per_path, notes })
+    Ok(Lighting { flux_per_path, factors, notes })
 }
 
 /// "1.8, 1.8, 1.8": an RGB triple for messages.
@@ -144,13 +148,18 @@ mod tests {
         let plain = lighting(table, &scene, &[]).unwrap();
         assert_eq!(
             plain,
-            Lighting { flux_per_path: vec![table.flux_per_path(0), table.flux_per_path(1)], notes: vec![] }
+            Lighting {
+                flux_per_path: vec![table.flux_per_path(0), table.flux_per_path(1)],
+                factors: vec![Rgb::ONE; 2],
+                notes: vec![]
+            }
         );
         let tint = Rgb::new(3.0, 0.5, 0.0);
         let by_name =
             lighting(table, &scene, &[scale("bulb", tint), scale("light", Rgb::splat(2.0))]).unwrap();
         let by_index = lighting(table, &scene, &[scale("1", tint), scale("0", Rgb::splat(2.0))]).unwrap();
         assert_eq!(by_name, by_index);
+        assert_eq!(by_name.factors, [Rgb::splat(2.0), tint]);
         let (phi, n) = (|k: usize| table.lights[k].power, |k: usize| table.lights[k].paths as f32);
         assert_eq!(by_name.flux_per_path, [phi(0) * 2.0 / n(0), phi(1) * tint / n(1)]);
         // One scale per light: a second (by name or by index) is refused, not multiplied in.

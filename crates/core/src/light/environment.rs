@@ -197,6 +197,36 @@ impl LatLong {
         self.integral
     }
 
+    /// ∫ L(ω) cos θ dω over the map's upper hemisphere (θ < π/2 from its pole, +y) per channel:
+    /// the irradiance of an unobstructed plane facing the pole. Exact for the bilinear
+    /// interpolant, as [`LatLong::integral`]: per row of cells, the top and bottom texel rows
+    /// weigh ∫ sin θ cos θ (1 − t) dθ and ∫ sin θ cos θ t dθ over the row's part above the
+    /// horizon, in closed form.
+    pub fn pole_irradiance(&self) -> Rgb {
+        let (w, rows) = (self.width, self.height - 1);
+        let dphi = 2.0 * PI64 / w as f64;
+        let mut sum = glam::DVec3::ZERO;
+        for j in 0..rows {
+            let (t0, t1) = self.row_angles(j);
+            let te = t1.min(0.5 * PI64);
+            if te <= t0 {
+                break;
+            }
+            // A = ∫ sin θ cos θ dθ, B = ∫ (θ − θ₀) sin θ cos θ dθ over [θ₀, θₑ].
+            let a = ((2.0 * t0).cos() - (2.0 * te).cos()) / 4.0;
+            let b = -(te - t0) * (2.0 * te).cos() / 4.0 + ((2.0 * te).sin() - (2.0 * t0).sin()) / 8.0;
+            let bottom_w = b / (t1 - t0);
+            let top_w = a - bottom_w;
+            for i in 0..w {
+                let i1 = (i + 1) % w;
+                let top = (self.texel(i, j) + self.texel(i1, j)).as_dvec3() * 0.5;
+                let bottom = (self.texel(i, j + 1) + self.texel(i1, j + 1)).as_dvec3() * 0.5;
+                sum += (top * top_w + bottom * bottom_w) * dphi;
+            }
+        }
+        Rgb::new(sum.x as f32, sum.y as f32, sum.z as f32) * self.scale
+    }
+
     /// L at map coordinates (u, v): Mitsuba's bilinear lookup (module docs), scaled.
     pub fn eval_uv(&self, u: f32, v: f32) -> Rgb {
         let (w, h) = (self.width, self.height);
@@ -307,6 +337,23 @@ impl EnvironmentLight {
         match &self.radiance {
             EnvRadiance::Constant(c) => *c * (4.0 * std::f32::consts::PI),
             EnvRadiance::Map(m) => m.integral(),
+        }
+    }
+
+    /// The world direction of the map's pole, to_world·ŷ (a Radiance sky's zenith).
+    #[inline]
+    pub fn pole(&self) -> Vec3 {
+        self.to_world * Vec3::Y
+    }
+
+    /// ∫ L(ω) (ω·z) dω over the hemisphere around the pole z = [`EnvironmentLight::pole`], per
+    /// channel: the irradiance this environment alone gives an unobstructed plane facing its
+    /// pole (for a sky, the horizontal irradiance in the open, no ground). Exact: π·L for a
+    /// constant, [`LatLong::pole_irradiance`] for a map.
+    pub fn pole_irradiance(&self) -> Rgb {
+        match &self.radiance {
+            EnvRadiance::Constant(c) => *c * std::f32::consts::PI,
+            EnvRadiance::Map(m) => m.pole_irradiance(),
         }
     }
 

@@ -254,6 +254,20 @@ pub struct EnvironmentLightDesc {
     pub radiance: EnvironmentRadiance,
     /// The map's frame in the world: a rotation (world = R·map).
     pub to_world: glam::Mat3,
+    /// The daylight sky it is, when a sky generator made it (Radiance's `!gensky`,
+    /// `!gendaylit`): the daylight factor is defined under one model only.
+    pub sky: Option<SkyModel>,
+}
+
+/// The sky model of an environment light a sky generator made; its zenith is the map's pole
+/// (`to_world`·ŷ).
+#[derive(Clone, Debug, PartialEq)]
+pub enum SkyModel {
+    /// The CIE standard overcast sky, luminance ∝ (1 + 2 cos θ)/3 above the horizon (Moon and
+    /// Spencer's; `gensky -c`), with its ground below: the sky of the daylight factor.
+    CieOvercast,
+    /// Another model, in words for messages ("a CIE clear sky (gensky +s)").
+    Other(String),
 }
 
 /// Everything a loader produces.

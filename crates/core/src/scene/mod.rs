@@ -34,7 +34,7 @@ pub use camera_path::{CameraKey, CameraPath, CameraPathError};
 pub use demo::{CORNELL_LIGHT_RADIANCE, cornell_box};
 pub use description::{
     AreaEmission, CameraDesc, CameraKind, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance,
-    MeshAttribute, MeshDesc, PointLightDesc, SceneDescription, Source,
+    MeshAttribute, MeshDesc, PointLightDesc, SceneDescription, SkyModel, Source,
 };
 pub use error::SceneError;
 pub use fingerprint::Fingerprint;

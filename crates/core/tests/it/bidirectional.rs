@@ -124,6 +124,7 @@ fn weights_scene() -> SceneDescription {
                 file: None,
             },
             to_world: opticks_core::math::Mat3::from_rotation_x(0.4),
+            sky: None,
         }],
         camera: Some(CameraDesc {
             eye: Vec3::new(0.1, 0.2, 3.2),

@@ -115,6 +115,40 @@ fn integral_and_power_are_exact() {
     );
 }
 
+/// The irradiance facing the pole, cell by cell in closed form, against a fine midpoint
+/// quadrature of L(ω)·cos θ over the world hemisphere around [`EnvironmentLight::pole`] — a
+/// map whose horizon falls inside a row of cells (4 rows: θ = 0, π/3, 2π/3, π) and one whose
+/// horizon is a row boundary; a constant and a uniform map give π·L.
+#[test]
+fn pole_irradiance_is_exact() {
+    for (map, to_world) in
+        [(LatLong::new(5, 4, &test_map(), 1.0).unwrap(), mitsuba_rotation()), (sun_map(), Mat3::IDENTITY)]
+    {
+        let env = light(EnvRadiance::Map(map), to_world);
+        let frame = Frame::from_normal(env.pole());
+        let (nphi, ntheta) = (2048, 1024);
+        let mut sum = glam::DVec3::ZERO;
+        for j in 0..ntheta {
+            let theta = (j as f64 + 0.5) * 0.5 * PI64 / ntheta as f64;
+            for i in 0..nphi {
+                let phi = (i as f64 + 0.5) * 2.0 * PI64 / nphi as f64;
+                let (st, ct) = (theta.sin() as f32, theta.cos() as f32);
+                let d = frame.s * (st * phi.cos() as f32) + frame.t * (st * phi.sin() as f32) + frame.n * ct;
+                sum += env.radiance(d.normalize()).as_dvec3() * (theta.sin() * theta.cos());
+            }
+        }
+        let quadrature = sum * (2.0 * PI64 / nphi as f64) * (0.5 * PI64 / ntheta as f64);
+        let exact = env.pole_irradiance().as_dvec3();
+        assert!(((exact - quadrature) / quadrature).abs().max_element() < 2e-3, "{exact} vs {quadrature}");
+    }
+    let c = Rgb::new(1.0, 2.0, 3.0);
+    let want = c * std::f32::consts::PI;
+    let uniform = LatLong::new(8, 9, &[c; 72], 1.0).unwrap();
+    assert!((uniform.pole_irradiance() - want).abs().max_element() < 1e-5 * want.max_element());
+    let constant = light(EnvRadiance::Constant(c), Mat3::IDENTITY);
+    assert!((constant.pole_irradiance() - want).abs().max_element() < 1e-6 * want.max_element());
+}
+
 /// χ² of the map's direction sampling against its pdf (which the harness also integrates to
 /// 1 over the sphere), for a map with a sun and a rotated frame, and for a constant.
 #[test]

@@ -45,6 +45,7 @@ fn glossy_box() -> Scene {
         source: Source::default(),
         radiance: EnvironmentRadiance::Map { width, height, texels, scale: 1.0, file: None },
         to_world: glam::Mat3::from_axis_angle(Vec3::new(1.0, 0.5, 0.2).normalize(), 1.1),
+        sky: None,
     });
     Scene::build(&d).unwrap()
 }

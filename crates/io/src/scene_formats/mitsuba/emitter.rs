@@ -262,6 +262,7 @@ fn constant<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> 
         source: Builder::source(e),
         radiance: EnvironmentRadiance::Constant(radiance),
         to_world: Mat3::IDENTITY,
+        sky: None,
     });
     Ok(())
 }
@@ -300,6 +301,7 @@ fn envmap<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Re
             file: Some(path.canonicalize().unwrap_or(path)),
         },
         to_world,
+        sky: None,
     });
     Ok(())
 }

@@ -167,6 +167,7 @@ impl Builder {
                 file: None,
             },
             to_world: sky::MAP_TO_WORLD,
+            sky: sky.as_ref().map(|g| g.model()),
         });
         Ok(())
     }

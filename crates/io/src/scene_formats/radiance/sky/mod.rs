@@ -83,6 +83,21 @@ impl SkyFunc {
             SkyFunc::Gendaylit(g) => g.brightness(d),
         }
     }
+
+    /// The sky's model, which the daylight factor asks for (`opticks_io::measurement`).
+    pub fn model(&self) -> opticks_core::scene::SkyModel {
+        use opticks_core::scene::SkyModel;
+        let other = |s: &str| SkyModel::Other(s.into());
+        match self {
+            SkyFunc::Gensky(g) => match g.sky {
+                gensky::SkyType::Overcast => SkyModel::CieOvercast,
+                gensky::SkyType::Clear => other("a CIE clear sky (gensky +s or -s)"),
+                gensky::SkyType::Uniform => other("a uniform sky (gensky -u)"),
+                gensky::SkyType::Intermediate => other("a CIE intermediate sky (gensky +i or -i)"),
+            },
+            SkyFunc::Gendaylit(_) => other("a Perez all-weather sky (gendaylit)"),
+        }
+    }
 }
 
 /// The solid angle of a cone of full angle `angle_degrees` (a `source`'s fourth real), sr.
