@@ -4,6 +4,12 @@
 //! irradiance `E_R,E_G,E_B` (W/m²), the illuminance `E_v_lux`, and their standard errors
 //! `SE_R,SE_G,SE_B,SE_v_lux`; under a CIE overcast sky alone (`crate::daylight`), last, the
 //! daylight factor `DF_percent` (100 × E_v / E_v,h) and its standard error `SE_DF_percent`.
+//!
+//! Standard errors come from the dataset's independent chunks (`NaN` where a light has a single
+//! chunk). The photometric column is E_v = 683 lm/W · (0.2126·E_R + 0.7152·E_G + 0.0722·E_B)
+//! (`opticks_core::sensor::meter::lux`): the Rec. 709 luminance weights with the 555 nm luminous
+//! efficacy, an approximation — exact only if the RGB channels were radiometric quantities with
+//! the spectral shapes the weights assume.
 
 use opticks_core::sensor::meter::{MeterLayout, Reading};
 use std::fmt::Write;

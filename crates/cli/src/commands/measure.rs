@@ -3,38 +3,14 @@
 //! air) or at points read from a file, with a standard error per cell; written as CSV and, for
 //! planes, optionally as a heat-map PNG.
 //!
-//! CSV columns, planes: `i,j` (cell along u and v), `x,y,z` (cell centre, m); points: `point`
-//! (its index in the file, from 0), `x,y,z`, `nx,ny,nz` (the unit normal); then `E_R,E_G,E_B`
-//! (irradiance, W/m² per RGB channel), `E_v_lux`, and their standard errors
-//! `SE_R,SE_G,SE_B,SE_v_lux` (from the dataset's independent chunks; `NaN` where a light has a
-//! single chunk). The photometric column uses E_v = 683 lm/W · (0.2126·E_R + 0.7152·E_G +
-//! 0.0722·E_B) (`opticks_core::sensor::meter::lux`): the Rec. 709 luminance weights with the
-//! 555 nm luminous efficacy, an approximation — exact only if the RGB channels were radiometric
-//! quantities with the spectral shapes the weights assume. The PNG shows E_v.
-//!
-//! Estimators (`--estimator`): `connections` works anywhere — every stored sample connected to
-//! `--connections` uniform points of the meter, plus the direct light of point and directional
-//! lights gathered at `--direct-samples` points per cell; `samples` counts the samples that
-//! landed on the meter and so only reads meters on scene geometry, where it is several times
-//! cheaper and less noisy (measured in docs/guide.md, "Sensors"). `--surface` uses `samples`,
-//! `--plane` and `--points` `connections`, unless `--estimator` says otherwise
-//! (`opticks_core::sensor::meter`).
-//!
-//! Daylight factor: when the lights on (after `--light`) are a CIE overcast sky alone — the
-//! environment light(s) of a Radiance `!gensky … -c`, its ground dome allowed — the CSV has two
-//! more columns, last, `DF_percent` (DF = 100 × E_v / E_v,h, E_v,h the horizontal illuminance the
-//! sky gives in the open without ground, computed from the sky light itself) and
-//! `SE_DF_percent`, and the summary gives DF's range (`opticks_io::daylight`). With a sun or
-//! another light on too there are none, and a note says so. `--daylight-factor` requires them:
-//! a dataset that cannot give a DF is refused, saying why.
-//!
-//! Orientation: only light arriving from the meter's front is counted — the side its normal
-//! n = u × v faces (for `--surface`, the side the mesh's triangles face; for points, their
-//! normal). The summary line states the normal; a meter lit only from behind reads 0, with a
-//! warning.
-//!
-//! The scene is resolved and checked against the dataset as `opticks render` does. Every output
-//! and the points file are checked before the dataset is read; outputs are written all or none.
+//! What is measured and how — the places, the two estimators and their defaults, the daylight
+//! factor under a CIE overcast sky — is `opticks_io::measurement`'s (and `opticks_io::daylight`);
+//! the CSV's columns and the photometric rule are `opticks_io::meter_table`'s. Only light
+//! arriving from the meter's front is counted, the side its normal n = u × v faces (a mesh's
+//! triangles' side; points' normals): the summary states it, and a meter lit only from behind
+//! reads 0, with a warning. This verb parses the options, checks every output and the points
+//! file before the dataset is read, shows progress, writes the outputs all or none and prints
+//! the summary.
 
 use super::{DatasetArgs, ThreadArgs};
 use crate::camera_args::parse_vec3;
