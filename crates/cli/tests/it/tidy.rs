@@ -85,3 +85,23 @@ fn dataset_and_trace_never_import_from_sensor() {
         .collect();
     assert!(offenders.is_empty(), "dataset/trace import from sensor: {offenders:#?}");
 }
+
+/// Issue 24's sizes: no library or binary source file over 800 lines (a file that long holds
+/// more than one job), and the CLI under 3,000 lines (it parses, calls the libraries and
+/// prints; what a second front end needs lives in them).
+#[test]
+fn source_files_and_the_cli_stay_small() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mut files = Vec::new();
+    files_with_extension(&root.join("crates"), "rs", &mut files);
+    let lines = |f: &Path| std::fs::read_to_string(f).unwrap().lines().count();
+    let sources: Vec<_> = files.iter().filter(|f| f.components().all(|c| c.as_os_str() != "tests")).collect();
+    let long: Vec<_> = (sources.iter())
+        .filter(|f| lines(f) > 800)
+        .map(|f| format!("{} ({} lines)", f.strip_prefix(&root).unwrap_or(f).display(), lines(f)))
+        .collect();
+    assert!(long.is_empty(), "source files over 800 lines: {long:#?}");
+    let cli = root.join("crates/cli/src");
+    let cli_lines: usize = sources.iter().filter(|f| f.starts_with(&cli)).map(|f| lines(f)).sum();
+    assert!(cli_lines > 1000 && cli_lines < 3000, "the CLI has {cli_lines} lines");
+}
