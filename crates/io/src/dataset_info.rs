@@ -11,7 +11,7 @@ use crate::dataset_file::DatasetReader;
 use crate::memory::readable_bytes;
 use crate::opened::{OpenError, OpenedDataset};
 use crate::scene_ref::{self, RecordedScene};
-use opticks_core::dataset::{Choice, DatasetHeader, mis_compatibility};
+use opticks_core::dataset::{Choice, DatasetHeader, MisUnavailable, mis_compatibility};
 use opticks_core::scene::{ObjectHash, ObjectKind};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -159,7 +159,7 @@ pub struct DatasetInfo {
     pub lights: Vec<LightInfo>,
     /// Why the bidirectional estimator cannot weight it, if it cannot; else its MIS heuristic.
     #[serde(skip)]
-    pub mis: Result<&'static str, String>,
+    pub mis: Result<&'static str, MisUnavailable>,
     /// Where the scene is recorded and which copy is found (readable lines).
     #[serde(skip)]
     pub scene_lines: Vec<String>,
@@ -218,7 +218,7 @@ impl DatasetInfo {
             .map(|l| LightInfo { name: l.name.clone(), paths: l.paths, power_w: l.power.to_array() })
             .collect();
         let objects = h.objects.iter().map(ObjectInfo::from).collect();
-        let mis = mis_compatibility(h).map(|m| Some(m.heuristic).name()).map_err(|e| e.to_string());
+        let mis = mis_compatibility(h).map(|m| Some(m.heuristic).name());
         DatasetInfo {
             dataset: dataset.to_owned(),
             checked,

@@ -1,6 +1,7 @@
 //! Errors of the dataset file. Every message names the file, and every error about the file's
 //! contents names the byte offset where reading went wrong.
 
+use opticks_core::dataset::MisRecord;
 use std::path::PathBuf;
 
 /// What can go wrong reading or writing a dataset file.
@@ -114,7 +115,7 @@ pub enum DatasetError {
         /// Sample index within the chunk.
         index: usize,
         /// What is wrong.
-        detail: String,
+        detail: SampleFault,
     },
     /// A MIS record decodes but cannot be valid (a negative or NaN quantity, a class that
     /// disagrees with its sample's emission flag).
@@ -129,7 +130,7 @@ pub enum DatasetError {
         /// Record (= sample) index within the chunk.
         index: usize,
         /// What is wrong.
-        detail: String,
+        detail: RecordFault,
     },
     /// The MIS records of a chunk that has none were asked for.
     #[error(
@@ -189,4 +190,46 @@ impl DatasetError {
 fn hex(b: &[u8]) -> String {
     let s: Vec<String> = b.iter().map(|x| format!("{x:02x}")).collect();
     if s.is_empty() { "nothing (empty file)".into() } else { s.join(" ") }
+}
+
+/// What is wrong with a sample that decodes (or is given to the writer) but cannot be valid.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SampleFault {
+    /// Its position is not finite, or its β is not finite and non-negative (the message names
+    /// the position if it is at fault, else β).
+    #[error(
+        "non-finite or negative {}: position {position:?}, β {beta:?}",
+        if position.iter().all(|x| x.is_finite()) { "β" } else { "position" }
+    )]
+    NonFinite {
+        /// The sample's position.
+        position: [f32; 3],
+        /// The sample's β.
+        beta: [f32; 3],
+    },
+    /// It names a triangle beyond the scene's.
+    #[error("triangle {triangle} does not exist: the scene has {triangles} triangles")]
+    NoSuchTriangle {
+        /// The triangle it names.
+        triangle: u32,
+        /// The scene's triangle count.
+        triangles: u32,
+    },
+}
+
+/// What is wrong with a MIS record that decodes (or is given to the writer) but cannot be
+/// valid.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum RecordFault {
+    /// A quantity is negative or NaN ([`MisRecord::is_valid`]).
+    #[error("negative or NaN MIS quantity: {0:?}")]
+    Quantity(MisRecord),
+    /// The record is of the emitter-hit class, but its sample is a reflection vertex.
+    #[error("MIS record of an emission vertex, but its sample is a reflection vertex")]
+    HitOnReflection,
+    /// The sample is an emission vertex, but its record is not of the emitter-hit class.
+    #[error("the sample is an emission vertex, but its MIS record is not one")]
+    EmissionWithoutHit,
 }

@@ -1,5 +1,6 @@
 //! Byte layout of the header, chunk headers and end record (see `docs/dataset-format.md`).
 
+use super::error::{RecordFault, SampleFault};
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMAT_VERSION};
 use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
 use opticks_core::dataset::{DatasetHeader, Directions, PassMis, Roulette, Selection, TraceInfo, TracePass};
@@ -601,26 +602,34 @@ impl Trailer {
     }
 }
 
+/// The first bad sample or record of a chunk ([`validate_samples`], [`validate_records`]): its
+/// index in the chunk and what is wrong with it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Invalid<F> {
+    /// Index within the chunk.
+    pub(crate) index: usize,
+    /// What is wrong.
+    pub(crate) fault: F,
+}
+
 /// Checks what a checksum cannot: that every sample is physically possible (finite position,
 /// finite non-negative β) and, given the scene's triangle count, names an existing triangle.
 /// Returns the index of the first bad sample and what is wrong.
-pub(crate) fn validate_samples(samples: &[Sample], triangles: Option<u32>) -> Result<(), (usize, String)> {
-    for (i, s) in samples.iter().enumerate() {
+pub(crate) fn validate_samples(
+    samples: &[Sample],
+    triangles: Option<u32>,
+) -> Result<(), Invalid<SampleFault>> {
+    for (index, s) in samples.iter().enumerate() {
         let ok_pos = s.position.iter().all(|x| x.is_finite());
         // `x >= 0.0` is false for NaN; -0.0 passes, as it should.
         let ok_beta = s.beta.iter().all(|x| *x >= 0.0 && *x < f32::INFINITY);
         if !(ok_pos && ok_beta) {
-            let what = if ok_pos { "β" } else { "position" };
-            return Err((
-                i,
-                format!("non-finite or negative {what}: position {:?}, β {:?}", s.position, s.beta),
-            ));
+            let fault = SampleFault::NonFinite { position: s.position, beta: s.beta };
+            return Err(Invalid { index, fault });
         }
         if let Some(n) = triangles.filter(|&n| s.triangle() >= n) {
-            return Err((
-                i,
-                format!("triangle {} does not exist: the scene has {n} triangles", s.triangle()),
-            ));
+            let fault = SampleFault::NoSuchTriangle { triangle: s.triangle(), triangles: n };
+            return Err(Invalid { index, fault });
         }
     }
     Ok(())
@@ -630,22 +639,19 @@ pub(crate) fn validate_samples(samples: &[Sample], triangles: Option<u32>) -> Re
 /// ([`MisRecord::is_valid`]: each field ≥ 0 or +∞) and that its class agrees with its sample
 /// (the emitter-hit class exactly on emission samples). Returns the index of the first bad
 /// record and what is wrong.
-pub(crate) fn validate_records(samples: &[Sample], records: &[MisRecord]) -> Result<(), (usize, String)> {
-    for (i, (s, r)) in samples.iter().zip(records).enumerate() {
+pub(crate) fn validate_records(
+    samples: &[Sample],
+    records: &[MisRecord],
+) -> Result<(), Invalid<RecordFault>> {
+    for (index, (s, r)) in samples.iter().zip(records).enumerate() {
         if !r.is_valid() {
-            return Err((i, format!("negative or NaN MIS quantity: {r:?}")));
+            return Err(Invalid { index, fault: RecordFault::Quantity(*r) });
         }
         // The class does not depend on the heuristic.
         let hit = LightVertexMis::from_record(*r, Heuristic::Power).class() == VcmClass::Hit;
         if hit != s.is_emission() {
-            return Err((
-                i,
-                if hit {
-                    "MIS record of an emission vertex, but its sample is a reflection vertex".into()
-                } else {
-                    "the sample is an emission vertex, but its MIS record is not one".into()
-                },
-            ));
+            let fault = if hit { RecordFault::HitOnReflection } else { RecordFault::EmissionWithoutHit };
+            return Err(Invalid { index, fault });
         }
     }
     Ok(())

@@ -30,7 +30,7 @@ mod format;
 mod reader;
 mod writer;
 
-pub use error::DatasetError;
+pub use error::{DatasetError, RecordFault, SampleFault};
 pub use reader::{DatasetReader, read_all};
 pub use writer::{DatasetSummary, DatasetWriter};
 

@@ -8,7 +8,7 @@
 //! independent of the dataset's size.
 
 use super::format::{ChunkHeader, ChunkHeaderError, Trailer, decode_header, record_block_len};
-use super::format::{validate_records, validate_samples};
+use super::format::{Invalid, validate_records, validate_samples};
 use super::{CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, TRAILER_LEN};
 use opticks_core::dataset::{Chunk, DatasetHeader, MAX_PATHS, MisRecord, Sample};
 use rayon::prelude::*;
@@ -146,7 +146,7 @@ impl DatasetReader {
                 computed,
             });
         }
-        if let Err((k, detail)) = validate_samples(samples, self.triangles) {
+        if let Err(Invalid { index: k, fault: detail }) = validate_samples(samples, self.triangles) {
             return Err(DatasetError::InvalidSample {
                 path: self.path.clone(),
                 offset: (start + k * size_of::<Sample>()) as u64,
@@ -212,7 +212,7 @@ impl DatasetReader {
         }
         records.resize(e.count, bytemuck::Zeroable::zeroed());
         bytemuck::cast_slice_mut::<MisRecord, u8>(records).copy_from_slice(&block[..records_len]);
-        if let Err((k, detail)) = validate_records(samples, records) {
+        if let Err(Invalid { index: k, fault: detail }) = validate_records(samples, records) {
             return Err(DatasetError::InvalidRecord {
                 path: self.path.clone(),
                 offset: (start + k * size_of::<MisRecord>()) as u64,

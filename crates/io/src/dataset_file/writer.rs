@@ -2,7 +2,8 @@
 
 use super::DatasetError;
 use super::format::{
-    ChunkHeader, Trailer, Unwritable, encode_header, encode_record_block, validate_records, validate_samples,
+    ChunkHeader, Invalid, Trailer, Unwritable, encode_header, encode_record_block, validate_records,
+    validate_samples,
 };
 use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, MAX_PATHS, TraceInfo};
 use std::fs::File;
@@ -140,7 +141,7 @@ impl DatasetWriter {
                 chunk.light
             )));
         };
-        if let Err((i, what)) = validate_samples(&chunk.samples, None) {
+        if let Err(Invalid { index: i, fault: what }) = validate_samples(&chunk.samples, None) {
             return Err(invalid(format!("sample {i} of a chunk of light {}: {what}", chunk.light)));
         }
         if u32::try_from(chunk.samples.len()).is_err() {
@@ -155,7 +156,7 @@ impl DatasetWriter {
                 chunk.records.len()
             )));
         }
-        if let Err((i, what)) = validate_records(&chunk.samples, &chunk.records) {
+        if let Err(Invalid { index: i, fault: what }) = validate_records(&chunk.samples, &chunk.records) {
             return Err(invalid(format!("MIS record {i} of a chunk of light {}: {what}", chunk.light)));
         }
         let payload: &[u8] = bytemuck::cast_slice(&chunk.samples);

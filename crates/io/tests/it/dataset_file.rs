@@ -669,7 +669,7 @@ fn non_finite_beta_is_detected_even_with_a_valid_checksum() {
     let path = dir.path().join("nan.opds");
     let e =
         expect_err(&path, &b, &format!("invalid sample 1 of chunk 0 at byte {s1}: non-finite or negative β"));
-    assert!(matches!(e, DatasetError::InvalidSample { .. }));
+    assert!(matches!(e, DatasetError::InvalidSample { index: 1, detail: SampleFault::NonFinite { .. }, .. }));
     // The header and index are fine: other chunks still read.
     let r = DatasetReader::open(&path).unwrap();
     assert!(r.chunk(0).is_err());
@@ -923,7 +923,7 @@ fn invalid_mis_records_are_refused_and_detected() {
     b[block + 16 + 8..block + 16 + 12].copy_from_slice(&f32::NAN.to_le_bytes());
     refresh(&mut b);
     let e = expect_err(&path, &b, &format!("invalid MIS record 1 of chunk 0 at byte {}", block + 16));
-    assert!(matches!(e, DatasetError::InvalidRecord { .. }));
+    assert!(matches!(e, DatasetError::InvalidRecord { index: 1, detail: RecordFault::Quantity(_), .. }));
     let mut b = bytes.clone();
     b[block + 32] = 1;
     refresh(&mut b);

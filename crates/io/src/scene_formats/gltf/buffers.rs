@@ -13,18 +13,46 @@ use ::gltf::accessor::{Accessor, DataType, Dimensions};
 use ::gltf::buffer::Source;
 use std::path::{Path, PathBuf};
 
-/// Why a buffer could not be loaded.
-#[derive(Debug)]
+/// Why a buffer's (or an image's `uri`'s) data could not be loaded.
+#[derive(Debug, thiserror::Error)]
 pub enum BufferError {
     /// An external buffer file cannot be read.
+    #[error("cannot read buffer file {}: {source}", path.display())]
     File {
         /// The file as resolved.
         path: PathBuf,
         /// The operating system's reason.
         source: std::io::Error,
     },
-    /// Anything else (bad URI, bad base64, missing BIN chunk, too short), as a message.
-    Other(String),
+    /// The buffer is the GLB binary chunk, and the file has none.
+    #[error("refers to the GLB binary chunk, but the file has none")]
+    NoBinChunk,
+    /// The data is shorter than the buffer's `byteLength`.
+    #[error("has {len} bytes, but byteLength says {byte_length}")]
+    TooShort {
+        /// Bytes found.
+        len: usize,
+        /// The buffer's `byteLength`.
+        byte_length: usize,
+    },
+    /// A `data:` URI without `;base64,`.
+    #[error("data: URI is not base64-encoded")]
+    NotBase64,
+    /// A `data:` URI whose base64 text does not decode.
+    #[error("data: URI: {0}")]
+    Base64(Base64Error),
+    /// A URI of a scheme other than `data:` and `file:`.
+    #[error("unsupported URI scheme in {uri:?}")]
+    UnsupportedScheme {
+        /// The URI.
+        uri: String,
+    },
+    /// A file URI with a malformed percent-escape.
+    #[error("malformed percent-escape in URI {uri:?}")]
+    PercentEscape {
+        /// The URI.
+        uri: String,
+    },
 }
 
 /// Why the bytes of a buffer view or an accessor cannot be read.
@@ -153,20 +181,11 @@ pub fn load_buffers(
     for buffer in doc.buffers() {
         let i = buffer.index();
         let data = match buffer.source() {
-            Source::Bin => blob.map(<[u8]>::to_vec).ok_or_else(|| {
-                (i, BufferError::Other("refers to the GLB binary chunk, but the file has none".into()))
-            })?,
+            Source::Bin => blob.map(<[u8]>::to_vec).ok_or((i, BufferError::NoBinChunk))?,
             Source::Uri(uri) => read_uri(uri, folder).map_err(|e| (i, e))?,
         };
         if data.len() < buffer.length() {
-            return Err((
-                i,
-                BufferError::Other(format!(
-                    "has {} bytes, but byteLength says {}",
-                    data.len(),
-                    buffer.length()
-                )),
-            ));
+            return Err((i, BufferError::TooShort { len: data.len(), byte_length: buffer.length() }));
         }
         out.push(data);
     }
@@ -178,15 +197,14 @@ pub fn load_buffers(
 pub fn read_uri(uri: &str, folder: &Path) -> Result<Vec<u8>, BufferError> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let Some((_, b64)) = rest.split_once(";base64,") else {
-            return Err(BufferError::Other("data: URI is not base64-encoded".into()));
+            return Err(BufferError::NotBase64);
         };
-        decode_base64(b64).map_err(|m| BufferError::Other(format!("data: URI: {m}")))
+        decode_base64(b64).map_err(BufferError::Base64)
     } else if uri.contains(':') && !uri.starts_with("file:") {
-        Err(BufferError::Other(format!("unsupported URI scheme in {uri:?}")))
+        Err(BufferError::UnsupportedScheme { uri: uri.to_string() })
     } else {
         let rel = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:")).unwrap_or(uri);
-        let rel = percent_decode(rel)
-            .ok_or_else(|| BufferError::Other(format!("malformed percent-escape in URI {uri:?}")))?;
+        let rel = percent_decode(rel).ok_or_else(|| BufferError::PercentEscape { uri: uri.to_string() })?;
         let path = folder.join(rel);
         crate::input_file::read(&path).map_err(|source| BufferError::File { path, source })
     }
@@ -387,6 +405,22 @@ mod tests {
         let tail = "; texture coordinates must be Vec2 of F32, or of normalized U8 or U16";
         assert_eq!(e(true).to_string(), format!("accessor 3 is Vec3 of U8 (normalized){tail}"));
         assert_eq!(e(false).to_string(), format!("accessor 3 is Vec3 of U8{tail}"));
+    }
+
+    #[test]
+    fn uri_errors_are_typed_and_say_what_is_wrong() {
+        let e = |uri: &str| read_uri(uri, Path::new("")).unwrap_err();
+        let cases = [
+            ("data:application/octet-stream,AAAA", "data: URI is not base64-encoded"),
+            ("data:application/octet-stream;base64,Z", "data: URI: truncated base64 data"),
+            ("http://example.com/a.bin", "unsupported URI scheme in \"http://example.com/a.bin\""),
+            ("a%2.bin", "malformed percent-escape in URI \"a%2.bin\""),
+        ];
+        for (uri, text) in cases {
+            assert_eq!(e(uri).to_string(), text, "{uri}");
+        }
+        assert!(matches!(e("data:x;base64,Z"), BufferError::Base64(Base64Error::Truncated)));
+        assert!(matches!(e("a%zz.bin"), BufferError::PercentEscape { uri } if uri == "a%zz.bin"));
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! `extensionsRequired` it lists that Opticks does not support reported.
 
 use super::Report;
-use super::buffers::{self, BufferError};
+use super::buffers;
 use crate::scene_formats::SceneFileError;
 use std::path::Path;
 
@@ -33,15 +33,8 @@ pub(super) fn open(path: &Path, report: &Report) -> Result<GltfFile, SceneFileEr
         .map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
     let gltf = parse(&data, report)?;
     let folder = path.parent().unwrap_or(Path::new(""));
-    let buffers = buffers::load_buffers(&gltf.document, gltf.blob.as_deref(), folder).map_err(|(i, e)| {
-        let element = format!("buffer {i}");
-        match e {
-            BufferError::File { path: file, source } => {
-                report.invalid(element, format!("cannot read buffer file {}: {source}", file.display()))
-            }
-            BufferError::Other(m) => report.invalid(element, m),
-        }
-    })?;
+    let buffers = buffers::load_buffers(&gltf.document, gltf.blob.as_deref(), folder)
+        .map_err(|(i, e)| report.invalid(format!("buffer {i}"), e))?;
     Ok(GltfFile { gltf, buffers })
 }
 

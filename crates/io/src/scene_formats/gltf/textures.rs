@@ -82,12 +82,12 @@ pub enum ImageError {
         error: std::io::Error,
     },
     /// The image's `uri` cannot be resolved to data (a bad URI or `data:` payload).
-    #[error("{image}: {message}")]
+    #[error("{image}: {error}")]
     Uri {
         /// The image.
         image: ImageName,
-        /// What is wrong with the URI.
-        message: String,
+        /// What is wrong with the URI (never [`BufferError::File`], which is [`ImageError::File`]).
+        error: BufferError,
     },
     /// The image has neither a `bufferView` nor a `uri`.
     #[error("{image} has neither a bufferView nor a uri")]
@@ -210,7 +210,7 @@ impl<'a> Images<'a> {
                     BufferError::File { path, source } => {
                         ImageError::File { image: name(), path, error: source }
                     }
-                    BufferError::Other(message) => ImageError::Uri { image: name(), message },
+                    error => ImageError::Uri { image: name(), error },
                 })?
                 .into(),
             (None, None) => return Err(ImageError::NoData { image: name() }),

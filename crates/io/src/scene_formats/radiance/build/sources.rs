@@ -26,7 +26,7 @@ impl Builder {
         frame: &Frame,
     ) -> Result<(), SceneFileError> {
         let element = format!("!{program}");
-        let bad = |m: String| err(here, &element, format!("{m}: \"!{text}\""));
+        let bad = |e: sky::SkyArgsError| err(here, &element, format!("{e}: \"!{text}\""));
         let (g, warnings, sun, disc) = if program == "gensky" {
             let g = sky::gensky(&words[1..]).map_err(bad)?;
             let (w, s) = (g.warnings.clone(), g.solar.map(|s| (s, g.sun_dir)));

@@ -275,7 +275,7 @@ fn bad_lines_are_errors() {
     ] {
         let args: Vec<String> = cmd.split_whitespace().map(str::to_string).collect();
         let e = gendaylit(&args).expect_err(cmd);
-        assert!(e.contains(says), "{cmd}: {e}");
+        assert!(e.to_string().contains(says), "{cmd}: {e}");
     }
 }
 

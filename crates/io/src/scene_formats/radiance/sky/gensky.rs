@@ -1,6 +1,7 @@
 //! gensky (`src/gen/gensky.c` 2.31): its options, levels and `skybright.cal`'s CIE skies.
 
 use super::sun::{DEG, Site, When, number, parse_when, sun_direction};
+use super::{GENSKY_USAGE, SkyArgsError};
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -55,9 +56,9 @@ pub struct Gensky {
 
 /// Reads gensky's arguments (`args` without the program name) and computes the sky as gensky
 /// does. Errors are gensky's (bad month, unknown option, …).
-pub fn gensky(args: &[String]) -> Result<Gensky, String> {
+pub fn gensky(args: &[String]) -> Result<Gensky, SkyArgsError> {
     if args.len() < 3 {
-        return Err("usage: gensky month day hour [options] | -ang altitude azimuth [options]".into());
+        return Err(SkyArgsError::Usage { usage: GENSKY_USAGE });
     }
     let mut site = Site::DEFAULT;
     let when = parse_when(args, true)?;
@@ -73,7 +74,7 @@ pub fn gensky(args: &[String]) -> Result<Gensky, String> {
         let a = args[i].as_str();
         let (sign, letter) = match (a.chars().next(), a.chars().nth(1)) {
             (Some(s @ ('-' | '+')), Some(l)) if a.len() == 2 => (s, l),
-            _ => return Err(format!("bad option: {a}")),
+            _ => return Err(SkyArgsError::BadOption { option: a.to_string() }),
         };
         match letter {
             's' | 'i' => {
@@ -100,7 +101,7 @@ pub fn gensky(args: &[String]) -> Result<Gensky, String> {
                     }
                 }
             }
-            _ => return Err(format!("unknown option: {a}")),
+            _ => return Err(SkyArgsError::UnknownOption { option: a.to_string() }),
         }
         i += 1;
     }
@@ -108,10 +109,10 @@ pub fn gensky(args: &[String]) -> Result<Gensky, String> {
         site.meridian = m * DEG;
     }
     if !(0.0..=1.0).contains(&rho) {
-        return Err(format!("-g {rho}: a ground reflectance is in [0, 1]"));
+        return Err(SkyArgsError::GroundReflectance { value: rho });
     }
     if zenith < 0.0 || solar < 0.0 {
-        return Err("-b/-B and -r/-R take values ≥ 0".into());
+        return Err(SkyArgsError::NegativeLevel);
     }
     let mut warnings = Vec::new();
     if let When::Date { solar, .. } = when {

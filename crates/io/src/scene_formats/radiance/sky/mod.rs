@@ -66,6 +66,117 @@ use std::f64::consts::PI;
 
 const DEG: f64 = PI / 180.0;
 
+/// gensky's usage line.
+const GENSKY_USAGE: &str = "gensky month day hour [options] | -ang altitude azimuth [options]";
+/// gendaylit's usage line.
+const GENDAYLIT_USAGE: &str = "gendaylit month day hour [-y year] | -ang altitude azimuth, then -P epsilon delta, -W|-L|-G direct diffuse or -E global [options]";
+
+/// Why [`gensky`] or [`gendaylit`] refuses its arguments: the programs' own complaints, and
+/// what this reading of them does not support.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SkyArgsError {
+    /// Fewer than three arguments: the program's usage line.
+    #[error("usage: {usage}")]
+    Usage {
+        /// The usage line.
+        usage: &'static str,
+    },
+    /// An option's value is missing.
+    #[error("{option} needs a value")]
+    MissingValue {
+        /// The option.
+        option: String,
+    },
+    /// An option's value is not a finite number.
+    #[error("{option}: \"{word}\" is not a number")]
+    NotANumber {
+        /// The option.
+        option: String,
+        /// The word found.
+        word: String,
+    },
+    /// The month is not an integer in 1–12.
+    #[error("bad month")]
+    BadMonth {
+        /// The word found.
+        word: String,
+    },
+    /// The day is not an integer in 1–31.
+    #[error("bad day")]
+    BadDay {
+        /// The word found.
+        word: String,
+    },
+    /// gendaylit's hour is not a number in [0, 24).
+    #[error("bad hour: {word} (a number in [0, 24), + first for solar time)")]
+    BadHour {
+        /// The word found.
+        word: String,
+    },
+    /// gensky's hour is not `h`, `h.frac` or `h:mm` (with an optional `+` or time zone).
+    #[error("bad time format: {word}")]
+    BadTime {
+        /// The word found.
+        word: String,
+    },
+    /// gensky's hour is solar time (`+` first) and names a time zone.
+    #[error("bad time format: {word} (solar time takes no time zone)")]
+    SolarTimeWithZone {
+        /// The word found.
+        word: String,
+    },
+    /// gensky's hour names a time zone gensky does not know.
+    #[error("unknown time zone: {zone} (known: {})", sun::zone_names())]
+    UnknownZone {
+        /// The zone as written.
+        zone: String,
+    },
+    /// An argument after the first three is not an option (a sign and one letter).
+    #[error("bad option: {option}")]
+    BadOption {
+        /// The argument.
+        option: String,
+    },
+    /// An option the program does not have.
+    #[error("unknown option: {option}")]
+    UnknownOption {
+        /// The option.
+        option: String,
+    },
+    /// `-g` outside [0, 1].
+    #[error("-g {value}: a ground reflectance is in [0, 1]")]
+    GroundReflectance {
+        /// The value given.
+        value: f64,
+    },
+    /// gensky's `-b`/`-B` or `-r`/`-R` is negative.
+    #[error("-b/-B and -r/-R take values ≥ 0")]
+    NegativeLevel,
+    /// gendaylit's `-O` is not 0, 1 or 2.
+    #[error("-O {value}: the output is 0 (visible watts), 1 (solar watts) or 2 (lumens)")]
+    OutputUnit {
+        /// The value given.
+        value: f64,
+    },
+    /// gendaylit's `-C` or `-l` (the coloured sky of `perezlum_c.cal`), not supported.
+    #[error("{option}: gendaylit's coloured sky (perezlum_c.cal) is not supported")]
+    ColouredSky {
+        /// The option.
+        option: String,
+    },
+    /// gendaylit's `-i` (a time interval), not supported.
+    #[error("{option}: gendaylit's time interval is not supported")]
+    TimeInterval {
+        /// The option.
+        option: String,
+    },
+    /// gendaylit without `-W`, `-L`, `-G`, `-P` or `-E`.
+    #[error(
+        "the sky's levels are missing: give -W direct diffuse (W/m²), -L (lux), -G, -P epsilon delta or -E global"
+    )]
+    MissingLevels,
+}
+
 /// A `skyfunc` as a generator defines it: its brightness toward a direction.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SkyFunc {

@@ -6,6 +6,7 @@
 //! of Perez, Ineichen, Seals, Michalsky & Stewart, Solar Energy 44(5) 1990, Table 4.
 
 use super::sun::{DEG, Site, When, day_of_year, declination, number, parse_when, sun_direction};
+use super::{GENDAYLIT_USAGE, SkyArgsError};
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -145,9 +146,9 @@ struct Levels {
 
 /// Reads gendaylit's arguments (`args` without the program name) and computes the sky as
 /// gendaylit does.
-pub fn gendaylit(args: &[String]) -> Result<Gendaylit, String> {
+pub fn gendaylit(args: &[String]) -> Result<Gendaylit, SkyArgsError> {
     if args.len() < 3 {
-        return Err("usage: gendaylit month day hour [-y year] | -ang altitude azimuth, then -P epsilon delta, -W|-L|-G direct diffuse or -E global [options]".into());
+        return Err(SkyArgsError::Usage { usage: GENDAYLIT_USAGE });
     }
     let mut site = Site::DEFAULT;
     let when = parse_when(args, false)?;
@@ -160,7 +161,7 @@ pub fn gendaylit(args: &[String]) -> Result<Gendaylit, String> {
         let a = args[i].as_str();
         let (sign, letter) = match (a.chars().next(), a.chars().nth(1)) {
             (Some(s @ ('-' | '+')), Some(l)) if a.len() == 2 => (s, l),
-            _ => return Err(format!("bad option: {a}")),
+            _ => return Err(SkyArgsError::BadOption { option: a.to_string() }),
         };
         let mut value = |name: &str| {
             i += 1;
@@ -189,11 +190,7 @@ pub fn gendaylit(args: &[String]) -> Result<Gendaylit, String> {
                     0.0 => 0,
                     1.0 => 1,
                     2.0 => 2,
-                    _ => {
-                        return Err(format!(
-                            "-O {o}: the output is 0 (visible watts), 1 (solar watts) or 2 (lumens)"
-                        ));
-                    }
+                    _ => return Err(SkyArgsError::OutputUnit { value: o }),
                 };
             }
             'R' | 't' | 'b' => {
@@ -201,18 +198,18 @@ pub fn gendaylit(args: &[String]) -> Result<Gendaylit, String> {
                 warnings.push(format!("{a} is read and ignored by gendaylit"));
             }
             'C' | 'l' => {
-                return Err(format!("{a}: gendaylit's coloured sky (perezlum_c.cal) is not supported"));
+                return Err(SkyArgsError::ColouredSky { option: a.to_string() });
             }
-            'i' => return Err(format!("{a}: gendaylit's time interval is not supported")),
-            _ => return Err(format!("unknown option: {a}")),
+            'i' => return Err(SkyArgsError::TimeInterval { option: a.to_string() }),
+            _ => return Err(SkyArgsError::UnknownOption { option: a.to_string() }),
         }
         i += 1;
     }
     let Some((input, v1, v2)) = input else {
-        return Err("the sky's levels are missing: give -W direct diffuse (W/m²), -L (lux), -G, -P epsilon delta or -E global".into());
+        return Err(SkyArgsError::MissingLevels);
     };
     if !(0.0..=1.0).contains(&rho) {
-        return Err(format!("-g {rho}: a ground reflectance is in [0, 1]"));
+        return Err(SkyArgsError::GroundReflectance { value: rho });
     }
     let water = (0.07 * dew_point - 0.075).exp();
     if let When::Date { solar: false, .. } = when

@@ -1,6 +1,7 @@
 //! What gensky and gendaylit share (Radiance's `sun.c` 2.7 and the two programs' first
 //! arguments): the site, the day and hour or the sun's angles, and the sun's position.
 
+use super::SkyArgsError;
 use glam::DVec3;
 use std::f64::consts::PI;
 
@@ -37,39 +38,42 @@ const ZONES: &[(&str, f64)] = &[
     ("NZDT", -195.0),
 ];
 
+/// gensky's time zones, separated by spaces.
+pub(super) fn zone_names() -> String {
+    ZONES.iter().map(|(z, _)| *z).collect::<Vec<_>>().join(" ")
+}
+
 /// An hour `h`, `h.frac`, `h:mm`, optionally `+` first (solar time) or a time zone after:
 /// (hour, solar time?, the zone's meridian in degrees).
-pub(super) fn parse_hour(s: &str) -> Result<(f64, bool, Option<f64>), String> {
+pub(super) fn parse_hour(s: &str) -> Result<(f64, bool, Option<f64>), SkyArgsError> {
     let (solar, rest) = match s.strip_prefix('+') {
         Some(r) => (true, r),
         None => (false, s),
     };
+    let bad = || SkyArgsError::BadTime { word: s.to_string() };
     let end = rest.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(rest.len());
     let (time, zone) = rest.split_at(end);
     let hour = match time.split_once(':') {
         Some((h, m)) => {
-            let h: u32 = h.parse().map_err(|_| format!("bad time format: {s}"))?;
-            let m: u32 = m.parse().map_err(|_| format!("bad time format: {s}"))?;
+            let h: u32 = h.parse().map_err(|_| bad())?;
+            let m: u32 = m.parse().map_err(|_| bad())?;
             h as f64 + m as f64 / 60.0
         }
-        None => time.parse::<f64>().map_err(|_| format!("bad time format: {s}"))?,
+        None => time.parse::<f64>().map_err(|_| bad())?,
     };
     if !hour.is_finite() {
-        return Err(format!("bad time format: {s}"));
+        return Err(bad());
     }
     if zone.is_empty() {
         return Ok((hour, solar, None));
     }
     if solar {
-        return Err(format!("bad time format: {s} (solar time takes no time zone)"));
+        return Err(SkyArgsError::SolarTimeWithZone { word: s.to_string() });
     }
     let upper = zone.to_ascii_uppercase();
     match ZONES.iter().find(|(z, _)| *z == upper) {
         Some((_, m)) => Ok((hour, false, Some(*m))),
-        None => Err(format!(
-            "unknown time zone: {zone} (known: {})",
-            ZONES.iter().map(|(z, _)| *z).collect::<Vec<_>>().join(" ")
-        )),
+        None => Err(SkyArgsError::UnknownZone { zone: zone.to_string() }),
     }
 }
 
@@ -130,12 +134,13 @@ impl Site {
     }
 }
 
-pub(super) fn number(args: &[String], i: usize, option: &str) -> Result<f64, String> {
-    let s = args.get(i).ok_or_else(|| format!("{option} needs a value"))?;
+/// Argument `i` as the number `option` takes.
+pub(super) fn number(args: &[String], i: usize, option: &str) -> Result<f64, SkyArgsError> {
+    let s = args.get(i).ok_or_else(|| SkyArgsError::MissingValue { option: option.to_string() })?;
     s.parse::<f64>()
         .ok()
         .filter(|v| v.is_finite())
-        .ok_or_else(|| format!("{option}: \"{s}\" is not a number"))
+        .ok_or_else(|| SkyArgsError::NotANumber { option: option.to_string(), word: s.to_string() })
 }
 
 /// The first arguments of both generators: a date and hour, or the sun's angles.
@@ -150,18 +155,19 @@ pub(super) enum When {
 /// Reads `month day hour` or `-ang altitude azimuth` (the first three arguments). `zones`:
 /// whether the hour may be `h:mm` or carry a time zone (gensky's), else it is a number in
 /// [0, 24), `+` first for solar time (gendaylit's).
-pub(super) fn parse_when(args: &[String], zones: bool) -> Result<When, String> {
+pub(super) fn parse_when(args: &[String], zones: bool) -> Result<When, SkyArgsError> {
     if args[0] == "-ang" {
         return Ok(When::Angles(number(args, 1, "-ang")? * DEG, number(args, 2, "-ang")? * DEG));
     }
-    let month: u32 = args[0].parse().ok().filter(|m| (1..=12).contains(m)).ok_or("bad month")?;
-    let day: u32 = args[1].parse().ok().filter(|d| (1..=31).contains(d)).ok_or("bad day")?;
+    let month: u32 = (args[0].parse().ok().filter(|m| (1..=12).contains(m)))
+        .ok_or_else(|| SkyArgsError::BadMonth { word: args[0].clone() })?;
+    let day: u32 = (args[1].parse().ok().filter(|d| (1..=31).contains(d)))
+        .ok_or_else(|| SkyArgsError::BadDay { word: args[1].clone() })?;
     let (hour, solar, zone) = if zones {
         parse_hour(&args[2])?
     } else {
         let h = args[2].parse::<f64>().ok().filter(|h| (0.0..24.0).contains(h));
-        let h =
-            h.ok_or_else(|| format!("bad hour: {} (a number in [0, 24), + first for solar time)", args[2]))?;
+        let h = h.ok_or_else(|| SkyArgsError::BadHour { word: args[2].clone() })?;
         (h, args[2].starts_with('+'), None)
     };
     Ok(When::Date { month, day, hour, solar, zone })

@@ -291,3 +291,49 @@ fn rasterisation_error_of_the_horizontal_irradiance() {
         assert!(rel.abs() < 1e-3, "{cmd}: {rel}");
     }
 }
+
+/// gensky's refusals, typed and word for word (the texts the `.rad` reader wraps with the file,
+/// line and the line itself).
+#[test]
+fn bad_lines_are_typed_errors_with_gensky_s_words() {
+    let zones = "YST YDT PST PDT MST MDT CST CDT EST EDT AST ADT NST NDT GMT BST CET CEST EET EEST GST GDT IST IDT JST NZST NZDT";
+    for (cmd, want, text) in [
+        (
+            "3 21",
+            SkyArgsError::Usage { usage: GENSKY_USAGE },
+            "usage: gensky month day hour [options] | -ang altitude azimuth [options]".to_string(),
+        ),
+        ("13 21 12", SkyArgsError::BadMonth { word: "13".into() }, "bad month".into()),
+        ("3 0 12", SkyArgsError::BadDay { word: "0".into() }, "bad day".into()),
+        ("3 21 12:x", SkyArgsError::BadTime { word: "12:x".into() }, "bad time format: 12:x".into()),
+        (
+            "3 21 +12EST",
+            SkyArgsError::SolarTimeWithZone { word: "+12EST".into() },
+            "bad time format: +12EST (solar time takes no time zone)".into(),
+        ),
+        (
+            "3 21 12XYZ",
+            SkyArgsError::UnknownZone { zone: "XYZ".into() },
+            format!("unknown time zone: XYZ (known: {zones})"),
+        ),
+        ("3 21 12 -t", SkyArgsError::MissingValue { option: "-t".into() }, "-t needs a value".into()),
+        (
+            "3 21 12 -t x",
+            SkyArgsError::NotANumber { option: "-t".into(), word: "x".into() },
+            "-t: \"x\" is not a number".into(),
+        ),
+        ("3 21 12 foo", SkyArgsError::BadOption { option: "foo".into() }, "bad option: foo".into()),
+        ("3 21 12 -q", SkyArgsError::UnknownOption { option: "-q".into() }, "unknown option: -q".into()),
+        (
+            "3 21 12 -g 1.5",
+            SkyArgsError::GroundReflectance { value: 1.5 },
+            "-g 1.5: a ground reflectance is in [0, 1]".into(),
+        ),
+        ("3 21 12 -b -1", SkyArgsError::NegativeLevel, "-b/-B and -r/-R take values ≥ 0".into()),
+    ] {
+        let args: Vec<String> = cmd.split_whitespace().map(str::to_string).collect();
+        let e = gensky(&args).expect_err(cmd);
+        assert_eq!(e, want, "{cmd}");
+        assert_eq!(e.to_string(), text, "{cmd}");
+    }
+}
