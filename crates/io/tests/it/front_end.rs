@@ -58,12 +58,14 @@ fn a_second_front_end_needs_only_the_libraries() {
         direct_samples: None,
         seed: None,
         heatmap: false,
+        daylight_factor: false,
     };
     assert_eq!(request.check().unwrap(), Estimator::Samples, "a mesh's default");
     let (layout, warning) = request.layout(&data).unwrap();
     assert!(warning.is_none());
     let reading = data.measure(&layout, request.settings().unwrap(), |_| {}, || false).unwrap();
-    let measured = Measured { layout: &layout, reading: &reading, estimator: Estimator::Samples };
+    let measured =
+        Measured { layout: &layout, reading: &reading, estimator: Estimator::Samples, daylight: None };
     assert!(!measured.is_black());
     assert_eq!(measured.csv().lines().count(), 1 + 4, "a header and four cells");
     assert!(
