@@ -38,7 +38,7 @@ fn a_second_front_end_needs_only_the_libraries() {
     // every pixel exactly (relighting never re-traces).
     let render_with = |scales: &[LightScale]| {
         let data = OpenedDataset::open(&output, None, &LoadOptions::default()).unwrap().lit(scales).unwrap();
-        let camera = Sensor::new(&data.description().camera.clone().unwrap()).unwrap();
+        let camera = Sensor::new(&data.description().camera.unwrap()).unwrap();
         let film = render(data.scene(), &camera, data.count(), |i| data.batch(i), |_| {}).unwrap();
         (data, film)
     };
