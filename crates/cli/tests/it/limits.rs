@@ -307,9 +307,10 @@ fn every_option_of_every_verb_is_accounted_for() {
                 "seed",
                 "output",
                 "png",
+                "daylight-factor",
                 "threads",
             ],
-        ), // meter, sensors, limits
+        ), // meter, sensors, limits, daylight
         ("upgrade", &["scene", "camera", "gltf-scene", "output", "overwrite", "mis-records", "threads"]), // cli, guarantees
     ];
     let dir = tempfile::tempdir().unwrap();
