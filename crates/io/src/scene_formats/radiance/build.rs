@@ -28,12 +28,8 @@ pub const MAX_FILES: usize = 10_000;
 /// At most this many triangles in the scene (a sphere is 16 384).
 pub const MAX_TRIANGLES: usize = 50_000_000;
 
-/// The size of the equirectangular map a sky `source` is rasterised into: 0.7° texels, whose
-/// bilinear interpolant's horizontal irradiance is within 10⁻³ of the analytic sky's (measured,
-/// `sky::tests::rasterisation_error_of_the_horizontal_irradiance`); about 4.7 MB a light.
-pub const SKY_MAP_WIDTH: usize = 512;
-/// Rows of the sky map (odd: the horizon is a row).
-pub const SKY_MAP_HEIGHT: usize = 257;
+pub use super::sky::{SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
+
 /// A `source` narrower than this (full angle, degrees) with a constant radiance is a
 /// directional light (gensky's sun is 0.5°); a wider one an environment light of its cone.
 pub const DIRECTIONAL_SOURCE_DEGREES: f64 = 5.0;

@@ -18,7 +18,7 @@
 
 mod build;
 mod lexer;
-mod sky;
+pub mod sky;
 mod view;
 mod xform;
 

@@ -3,7 +3,7 @@
 use super::{Builder, DIRECTIONAL_SOURCE_DEGREES, Frame, Modifier, SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
 use crate::scene_formats::radiance::err;
 use crate::scene_formats::radiance::lexer::Primitive;
-use crate::scene_formats::radiance::sky::{self, SkyFunc};
+use crate::scene_formats::radiance::sky;
 use crate::scene_formats::{FileLocation, SceneFileError};
 use glam::DVec3;
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
@@ -27,29 +27,22 @@ impl Builder {
     ) -> Result<(), SceneFileError> {
         let element = format!("!{program}");
         let bad = |e: sky::SkyArgsError| err(here, &element, format!("{e}: \"!{text}\""));
-        let (g, warnings, sun, disc) = if program == "gensky" {
-            let g = sky::gensky(&words[1..]).map_err(bad)?;
-            let (w, s) = (g.warnings.clone(), g.solar.map(|s| (s, g.sun_dir)));
-            (SkyFunc::Gensky(g), w, s, sky::SUN_DIAMETER_DEGREES)
-        } else {
-            let g = sky::gendaylit(&words[1..]).map_err(bad)?;
-            let (w, s) = (g.warnings.clone(), g.solar.map(|s| (s, g.sun_dir)));
-            (SkyFunc::Gendaylit(g), w, s, sky::GENDAYLIT_SUN_DIAMETER_DEGREES)
-        };
-        for w in &warnings {
+        let generator = sky::Generator::named(program).expect("called for the sky generators only");
+        let g = sky::generate(generator, &words[1..]).map_err(bad)?;
+        for w in &g.warnings {
             self.warnings.push(format!("{here}: {element}: {w}"));
         }
-        if let Some((solar, sun_dir)) = sun {
-            let rgb = Rgb::splat(solar as f32);
+        if let Some(sun) = g.sun {
+            let rgb = Rgb::splat(sun.radiance as f32);
             let black = Bsdf::Lambert(Lambert::new(Rgb::ZERO).expect("black is a reflectance"));
             let material = Material { name: "solar".into(), bsdf: black, two_sided: false };
             self.modifiers.push(Modifier::Material { material, emission: Some(rgb), index: None });
             self.names.insert("solar".into(), self.modifiers.len() - 1);
-            if solar > 0.0 {
-                self.add_sun(path, here, frame, "sun", sun_dir, rgb, disc)?;
+            if sun.radiance > 0.0 {
+                self.add_sun(path, here, frame, "sun", sun.toward, rgb, sun.diameter_degrees)?;
             }
         }
-        self.modifiers.push(Modifier::Sky(Box::new(g)));
+        self.modifiers.push(Modifier::Sky(Box::new(g.func)));
         self.names.insert("skyfunc".into(), self.modifiers.len() - 1);
         Ok(())
     }
@@ -68,11 +61,7 @@ impl Builder {
         angle: f64,
     ) -> Result<(), SceneFileError> {
         let name = self.light_name(frame, name);
-        let omega = if angle == sky::SUN_DIAMETER_DEGREES {
-            sky::SUN_SOLID_ANGLE
-        } else {
-            sky::cone_solid_angle(angle)
-        };
+        let omega = sky::disc_solid_angle(angle);
         let d = DirectionalLightDesc::new(
             name.clone(),
             Source { file: path.display().to_string(), line: here.line },
