@@ -445,3 +445,69 @@ fn the_example_room_loads_and_builds() {
     let scene = Scene::build(d).unwrap();
     assert_eq!(scene.dropped_triangles, 0);
 }
+
+/// Issue 27: a sky in either format. `<emitter type="gensky">` (and `gendaylit`) in Mitsuba XML
+/// carries the sky a `.rad` file's `!gensky` line and its sky and ground domes describe: the
+/// same radiance toward every texel (the domes' maps summed: their shared horizon row counts
+/// once) and the same sun; `to_world` turns Radiance's z-up frame into the scene's.
+#[test]
+fn a_mitsuba_sky_emitter_is_the_rad_files_sky() {
+    use opticks_core::scene::EnvironmentRadiance;
+    let domes = "skyfunc glow sky_glow 0 0 4 1 1 1 0\nsky_glow source sky 0 0 4 0 0 1 180\n\
+                 skyfunc glow ground_glow 0 0 4 1 1 1 0\nground_glow source ground 0 0 4 0 0 -1 180\n";
+    let texels = |r: &EnvironmentRadiance| match r {
+        EnvironmentRadiance::Map { texels, .. } => texels.clone(),
+        _ => panic!("a sky is a map"),
+    };
+    for (program, args) in
+        [("gensky", "3 21 12 +s -a 52 -o 0 -m 0"), ("gendaylit", "-ang 40 20 -W 600 120 -O 1")]
+    {
+        let rad = load_ok(&[("a.rad", format!("!{program} {args}\n{domes}").as_bytes())]).description;
+        let xml = format!(
+            "<scene version=\"3.0.0\"><emitter type=\"{program}\" id=\"day\">\
+             <string name=\"arguments\" value=\"{args}\"/></emitter></scene>"
+        );
+        let xml = load_ok(&[("a.xml", xml.as_bytes())]).description;
+        let (sky, ground) = (&rad.environment_lights[0], &rad.environment_lights[1]);
+        let one = &xml.environment_lights[0];
+        assert_eq!(
+            (one.name.as_str(), one.to_world, one.sky.clone()),
+            ("day", sky.to_world, sky.sky.clone())
+        );
+        let (a, b, c) = (texels(&sky.radiance), texels(&ground.radiance), texels(&one.radiance));
+        let mut horizon = 0;
+        for ((a, b), c) in a.iter().zip(&b).zip(&c) {
+            let sum = *a + *b;
+            assert!(
+                (sum - *c).abs().max_element() <= 1e-6 * c.max_element().max(1e-3),
+                "{program}: {sum} vs {c}"
+            );
+            horizon += usize::from(*a != Rgb::ZERO && *b != Rgb::ZERO);
+        }
+        assert_eq!(horizon, 512, "{program}: the domes share the horizon row only");
+        let (sun, xsun) = (&rad.directional_lights[0], &xml.directional_lights[0]);
+        assert_eq!(
+            (xsun.name.as_str(), xsun.direction, xsun.irradiance),
+            ("day.sun", sun.direction, sun.irradiance)
+        );
+    }
+
+    // A y-up scene: the zenith and the sun turn with to_world.
+    let xml = "<scene version=\"3.0.0\"><emitter type=\"gensky\" id=\"s\">\
+               <string name=\"arguments\" value=\"-ang 30 0 +s\"/>\
+               <transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/></transform></emitter></scene>";
+    let d = load_ok(&[("y.xml", xml.as_bytes())]).description;
+    let pole = d.environment_lights[0].to_world * Vec3::Y;
+    assert!((pole - Vec3::Y).length() < 1e-6, "the zenith is the scene's +y: {pole}");
+    let toward_sun = -d.directional_lights[0].direction;
+    assert!((toward_sun.y - 0.5).abs() < 1e-6, "the sun 30° above the scene's horizon: {toward_sun}");
+
+    // Bad input is an error at the element; nested in a shape, it is refused as the other skies.
+    let e = error_of(&[(
+        "b.xml",
+        b"<scene version=\"3.0.0\">\n<emitter type=\"gensky\">\n<string name=\"arguments\" value=\"3 21 12 -a\"/>\n</emitter></scene>",
+    )]);
+    assert!(e.contains("b.xml:3:") && e.contains("gensky"), "{e}");
+    let e = error_of(&[("c.xml", b"<scene version=\"3.0.0\"><emitter type=\"gendaylit\"/></scene>")]);
+    assert!(e.contains("arguments"), "{e}");
+}

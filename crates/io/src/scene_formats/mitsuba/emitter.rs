@@ -1,5 +1,6 @@
 //! `<emitter>` elements: the area emitter of a shape, and the top-level point, spot, IES,
-//! directional and environment (`constant`, `envmap`) lights. [`TOP_EMITTERS`] maps each supported top-level type to its builder (which
+//! directional and environment (`constant`, `envmap`; the Radiance skies `gensky`, `gendaylit` in
+//! `sky.rs`) lights. [`TOP_EMITTERS`] maps each supported top-level type to its builder (which
 //! adds the light to the scene) and [`SHAPE_EMITTERS`] names the ones a shape holds; adding an
 //! emitter type is an entry there and its function.
 //!
@@ -41,11 +42,13 @@ const TOP_EMITTERS: &[(&str, BuildEmitter)] = &[
     ("ies", ies),
     ("constant", constant),
     ("envmap", envmap),
+    ("gensky", super::sky::gensky),
+    ("gendaylit", super::sky::gendaylit),
 ];
 
 /// The top-level emitters that light the scene from infinity (named in the error of one
 /// nested in a shape).
-const INFINITE_EMITTERS: &[&str] = &["constant", "envmap", "directional"];
+const INFINITE_EMITTERS: &[&str] = &["constant", "envmap", "directional", "gensky", "gendaylit"];
 
 /// The emitter types supported inside a `<shape>`.
 const SHAPE_EMITTERS: &[&str] = &["area"];
@@ -309,7 +312,7 @@ fn envmap<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Re
 /// The rotation of an environment's `to_world` (its 3 × 3 part must be orthonormal: Mitsuba's
 /// lookup of a scaled or sheared frame is not a map of directions; a `<rotate>` with an axis
 /// that is not unit length is one, since Mitsuba does not normalise it).
-fn environment_frame(t: &Transform, tnode: &Element) -> Result<Mat3> {
+pub(super) fn environment_frame(t: &Transform, tnode: &Element) -> Result<Mat3> {
     let m = DMat3::from_mat4(t.matrix);
     let orthonormal = (m.transpose() * m - DMat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
     if !orthonormal {

@@ -45,6 +45,7 @@ mod medium;
 mod properties;
 mod sensor;
 mod shape;
+mod sky;
 mod spectrum;
 mod texture;
 mod transform;

@@ -1,0 +1,91 @@
+//! `<emitter type="gensky">` and `<emitter type="gendaylit">`: Opticks extensions that carry a
+//! Radiance daylight sky in Mitsuba XML, so either format can hold one (Mitsuba 3 has no CIE or
+//! Perez sky). The generator's arguments are those of its command line, interpreted exactly as
+//! the `.rad` reader interprets a `!gensky`/`!gendaylit` line (`radiance::sky`, never run):
+//!
+//! ```xml
+//! <emitter type="gensky" id="sky">
+//!     <string name="arguments" value="3 21 12 +s -a 52 -o 0 -m 0"/>
+//!     <!-- Radiance's frame is x east, y north, z up; this turns it to a y-up scene. -->
+//!     <transform name="to_world"><rotate x="1" angle="-90"/></transform>
+//! </emitter>
+//! ```
+//!
+//! The sky and its ground (the generator's `skyfunc` over the whole sphere, as Radiance's sky
+//! and ground domes together) is one environment light named by the emitter's `id`; the sun,
+//! when the generator writes one, a directional light `<id>.sun` whose irradiance is its disc's
+//! radiance × the disc's solid angle. `to_world` is a rotation from Radiance's frame into the
+//! scene's (identity: the scene's z is up). Values keep Radiance's units, W/(sr·m²) as its
+//! generators write them.
+
+use super::Result;
+use super::build::Builder;
+use super::properties::Props;
+use super::xml::Element;
+use crate::scene_formats::radiance::sky::{self, Generator, SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
+use glam::DVec3;
+use opticks_core::math::{Mat3, Rgb};
+use opticks_core::scene::{DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance};
+use std::f64::consts::PI;
+
+/// `gensky`.
+pub fn gensky<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    generated(b, e, ty, name, Generator::Gensky)
+}
+
+/// `gendaylit`.
+pub fn gendaylit<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    generated(b, e, ty, name, Generator::Gendaylit)
+}
+
+fn generated<'d>(
+    b: &mut Builder<'d>,
+    e: &'d Element,
+    ty: &str,
+    name: String,
+    generator: Generator,
+) -> Result<()> {
+    let mut p = Props::of(e)?;
+    if let Some(c) = p.objects().first() {
+        return Err(c.err(format!("unsupported element inside a {ty} emitter")));
+    }
+    let (arguments, anode) = p.string("arguments")?.ok_or_else(|| {
+        e.err(format!(
+            "a {ty} emitter needs its command line's arguments: <string name=\"arguments\" value=\"…\"/>"
+        ))
+    })?;
+    let rotation = match p.transform("to_world")? {
+        Some((t, tnode)) => super::emitter::environment_frame(&t, tnode)?,
+        None => Mat3::IDENTITY,
+    };
+    b.finish(&p);
+    let words: Vec<String> = arguments.split_whitespace().map(str::to_string).collect();
+    let g = sky::generate(generator, &words)
+        .map_err(|m| anode.attr_err("value", format!("{ty} {arguments}: {m}")))?;
+    for w in &g.warnings {
+        b.warn(e, format!("{ty}: {w}"));
+    }
+    let texels = sky::rasterise(SKY_MAP_WIDTH, SKY_MAP_HEIGHT, DVec3::Z, PI, |d| g.func.brightness(d));
+    b.desc.environment_lights.push(EnvironmentLightDesc {
+        name: name.clone(),
+        source: Builder::source(e),
+        radiance: EnvironmentRadiance::Map {
+            width: SKY_MAP_WIDTH,
+            height: SKY_MAP_HEIGHT,
+            texels: texels.into_iter().map(|v| Rgb::splat(v as f32)).collect(),
+            scale: 1.0,
+            file: None,
+        },
+        to_world: rotation * sky::MAP_TO_WORLD,
+        sky: Some(g.func.model()),
+    });
+    if let Some(sun) = g.sun.filter(|s| s.radiance > 0.0) {
+        let irradiance = Rgb::splat((sun.radiance * sky::disc_solid_angle(sun.diameter_degrees)) as f32);
+        let direction = -(rotation.as_dmat3() * sun.toward);
+        let light =
+            DirectionalLightDesc::new(format!("{name}.sun"), Builder::source(e), direction, irradiance)
+                .map_err(|m| e.err(m.to_string()))?;
+        b.desc.directional_lights.push(light);
+    }
+    Ok(())
+}
