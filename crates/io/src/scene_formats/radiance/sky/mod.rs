@@ -267,13 +267,20 @@ pub fn generate(generator: Generator, args: &[String]) -> Result<Generated, SkyA
     Ok(match generator {
         Generator::Gensky => {
             let g = gensky(args)?;
-            let sun = g.solar.map(|radiance| Sun { radiance, toward: g.sun_dir, diameter_degrees: SUN_DIAMETER_DEGREES });
+            let sun = g.solar.map(|radiance| Sun {
+                radiance,
+                toward: g.sun_dir,
+                diameter_degrees: SUN_DIAMETER_DEGREES,
+            });
             Generated { warnings: g.warnings.clone(), sun, func: SkyFunc::Gensky(g) }
         }
         Generator::Gendaylit => {
             let g = gendaylit(args)?;
-            let sun = (g.solar)
-                .map(|radiance| Sun { radiance, toward: g.sun_dir, diameter_degrees: GENDAYLIT_SUN_DIAMETER_DEGREES });
+            let sun = (g.solar).map(|radiance| Sun {
+                radiance,
+                toward: g.sun_dir,
+                diameter_degrees: GENDAYLIT_SUN_DIAMETER_DEGREES,
+            });
             Generated { warnings: g.warnings.clone(), sun, func: SkyFunc::Gendaylit(g) }
         }
     })
@@ -282,7 +289,11 @@ pub fn generate(generator: Generator, args: &[String]) -> Result<Generated, SkyA
 /// The solid angle of a sun disc of full angle `diameter_degrees` as Radiance counts it:
 /// gensky's 0.5° sun as its `-R` conversion does ([`SUN_SOLID_ANGLE`]), any other disc exactly.
 pub fn disc_solid_angle(diameter_degrees: f64) -> f64 {
-    if diameter_degrees == SUN_DIAMETER_DEGREES { SUN_SOLID_ANGLE } else { cone_solid_angle(diameter_degrees) }
+    if diameter_degrees == SUN_DIAMETER_DEGREES {
+        SUN_SOLID_ANGLE
+    } else {
+        cone_solid_angle(diameter_degrees)
+    }
 }
 
 /// The solid angle of a cone of full angle `angle_degrees` (a `source`'s fourth real), sr.
