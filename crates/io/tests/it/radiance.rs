@@ -4,7 +4,7 @@
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraKind, MeshDesc, Scene};
+use opticks_core::scene::{CameraKind, MeshDesc, Photometry, Scene};
 use opticks_io::scene_formats::{LoadOptions, load_scene, load_scene_with};
 use opticks_testkit::files::{error_of, load_ok, testdata};
 
@@ -444,4 +444,18 @@ fn the_example_room_loads_and_builds() {
     assert!(matches!(d.materials[window.material].bsdf, Bsdf::ThinDielectric(_)));
     let scene = Scene::build(d).unwrap();
     assert_eq!(scene.dropped_triangles, 0);
+}
+
+/// Photometry is the format's: a `.rad` scene's description and built scene carry Radiance's
+/// rule (179 lm/W, its primaries), the other formats' the default (683 lm/W, Rec. 709).
+#[test]
+fn a_radiance_scene_carries_radiances_photometry() {
+    let rad = load_scene(&testdata("radiance/photometry.rad")).unwrap().description;
+    assert_eq!(rad.photometry, Photometry::RADIANCE);
+    assert_eq!(Scene::build(&rad).unwrap().photometry, Photometry::RADIANCE);
+    assert_eq!(one("grey sphere s 0 0 4 0 0 0 1\n").description.photometry, Photometry::RADIANCE);
+    for other in ["scenes/cornell/scene.xml", "obj/cornell.obj", "gltf/cornell.gltf"] {
+        let d = load_scene(&testdata(other)).unwrap().description;
+        assert_eq!(d.photometry, Photometry::REC709_683, "{other}");
+    }
 }
