@@ -2,7 +2,7 @@
 //! rectangle on a surface or in the air, or points — in how many cells, with which estimator and
 //! its settings. [`Request::check`] refuses, before any work, the combinations that cannot mean
 //! anything; [`Request::layout`] places the meter in an opened dataset's scene; the reading
-//! ([`crate::opened::OpenedDataset::measure`]) then comes back as a [`Measured`], which gives the
+//! ([`crate::opened::LitDataset::measure`]) then comes back as a [`Measured`], which gives the
 //! CSV table ([`crate::meter_table`]), the heat map ([`crate::heatmap`]) and the summary a front
 //! end prints.
 //!
@@ -199,7 +199,7 @@ impl Request {
         }
     }
 
-    /// The estimator with its settings, for [`crate::opened::OpenedDataset::measure`].
+    /// The estimator with its settings, for [`crate::opened::LitDataset::measure`].
     pub fn settings(&self) -> Result<meter::MeterEstimator, RequestError> {
         Ok(match self.check()? {
             Estimator::Samples => meter::MeterEstimator::Samples,
