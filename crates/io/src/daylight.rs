@@ -15,15 +15,16 @@
 //! ∫ L(ω) cos θ dω over the hemisphere above the horizon of its environment map
 //! (`opticks_core::light::EnvironmentLight::pole_irradiance`, exact for the rasterised sky the
 //! renderer samples, so a horizontal point in the open reads DF = 100 % up to noise), times
-//! its `--light` factor, summed, in lux (`opticks_core::sensor::meter::lux`). Relighting the
-//! sky therefore leaves DF unchanged: numerator and denominator scale together. The standard
+//! its `--light` factor, summed, in lux by the scene's photometric rule (`opticks_core::scene::
+//! Photometry`: Radiance's 179 lm/W for a `.rad` scene, as the meter's E_v, so that DF is a
+//! ratio of like quantities). Relighting the sky therefore leaves DF unchanged: numerator and
+//! denominator scale together. The standard
 //! error of DF is that of E_v over the same (exact) E_v,h.
 
 use crate::opened::LitDataset;
 use opticks_core::light::Light;
 use opticks_core::math::Rgb;
 use opticks_core::scene::SkyModel;
-use opticks_core::sensor::meter::lux;
 
 /// What a daylight factor is a percentage of.
 #[derive(Clone, Debug, PartialEq)]
@@ -115,6 +116,7 @@ pub fn daylight_basis(data: &LitDataset) -> Result<DaylightBasis, DaylightError>
     let mut dome = false;
     let flux = data.flux_per_path();
     let factors = data.light_factors();
+    let lux = |e: Rgb| data.scene().photometry.lux(rgb(e));
     for (k, name) in data.light_names().into_iter().enumerate() {
         if flux[k].max_element() <= 0.0 {
             continue;
@@ -131,7 +133,7 @@ pub fn daylight_basis(data: &LitDataset) -> Result<DaylightBasis, DaylightError>
                 let e = env.pole_irradiance() * factors[k];
                 // A dome above the horizon gives about half its ∫L dω (7/12 for the overcast
                 // sky); a ground dome only the sliver its horizon texels interpolate into.
-                dome |= lux(rgb(e)) > 0.1 * lux(rgb(env.integral() * factors[k]));
+                dome |= lux(e) > 0.1 * lux(env.integral() * factors[k]);
                 horizontal += e;
                 skies.push(name.to_string());
             }
@@ -157,7 +159,7 @@ pub fn daylight_basis(data: &LitDataset) -> Result<DaylightBasis, DaylightError>
     if !dome {
         return Err(DaylightError::GroundOnly(skies));
     }
-    Ok(DaylightBasis { horizontal_lux: lux(rgb(horizontal)), skies })
+    Ok(DaylightBasis { horizontal_lux: lux(horizontal), skies })
 }
 
 fn rgb(c: Rgb) -> [f64; 3] {

@@ -2,7 +2,7 @@
 //! rectangle on a surface or in the air, or points — in how many cells, with which estimator and
 //! its settings. [`Request::check`] refuses, before any work, the combinations that cannot mean
 //! anything; [`Request::layout`] places the meter in an opened dataset's scene; the reading
-//! ([`crate::opened::OpenedDataset::measure`]) then comes back as a [`Measured`], which gives the
+//! ([`crate::opened::LitDataset::measure`]) then comes back as a [`Measured`], which gives the
 //! CSV table ([`crate::meter_table`]), the heat map ([`crate::heatmap`]) and the summary a front
 //! end prints.
 //!
@@ -21,6 +21,7 @@ use crate::daylight::{DaylightBasis, DaylightError, daylight_basis};
 use crate::heatmap::{HeatmapError, encode_heatmap};
 use crate::opened::LitDataset;
 use opticks_core::math::Vec3;
+use opticks_core::scene::Photometry;
 use opticks_core::sensor::IlluminanceMeter;
 use opticks_core::sensor::meter::{self, ConnectedSettings, MeterError, MeterLayout, MeterPoint, Reading};
 use std::path::Path;
@@ -198,7 +199,7 @@ impl Request {
         }
     }
 
-    /// The estimator with its settings, for [`crate::opened::OpenedDataset::measure`].
+    /// The estimator with its settings, for [`crate::opened::LitDataset::measure`].
     pub fn settings(&self) -> Result<meter::MeterEstimator, RequestError> {
         Ok(match self.check()? {
             Estimator::Samples => meter::MeterEstimator::Samples,
@@ -221,6 +222,8 @@ pub struct Measured<'a> {
     pub estimator: Estimator,
     /// The daylight factor's basis, if reported ([`Request::daylight`]).
     pub daylight: Option<&'a DaylightBasis>,
+    /// The rule the E_v values were read by: the scene's (`opticks_core::scene::Scene::photometry`).
+    pub photometry: Photometry,
 }
 
 impl Measured<'_> {
@@ -234,7 +237,7 @@ impl Measured<'_> {
         let MeterLayout::Grid(m) = self.layout else { return Ok(None) };
         let lux: Vec<f64> = self.reading.value.iter().map(|v| v[3]).collect();
         let (u, v) = (m.u.length() as f64, m.v.length() as f64);
-        encode_heatmap(path, &lux, m.nx, m.ny, u, v, "E (lux)").map(Some)
+        encode_heatmap(path, &lux, m.nx, m.ny, u, v, &heatmap_title(self.photometry)).map(Some)
     }
 
     /// Whether nothing reached the meter's front.
@@ -279,8 +282,8 @@ impl Measured<'_> {
             MeterLayout::Points(p) => format!("{} points, each facing its normal", p.len()),
         };
         let mut lines = vec![format!(
-            "{what}: mean E = {:.5e},{:.5e},{:.5e} W/m², E_v {min:.4e}..{max:.4e} lux → {written}",
-            mean[0], mean[1], mean[2]
+            "{what}: mean E = {:.5e},{:.5e},{:.5e} W/m², E_v {min:.4e}..{max:.4e} lux ({}) → {written}",
+            mean[0], mean[1], mean[2], self.photometry.name
         )];
         let (rel_max, rel_mean, lit) = self.reading.relative_error();
         if lit > 0 {
@@ -310,5 +313,26 @@ impl Measured<'_> {
     /// Whether some standard errors are unknown (a light with a single chunk of paths).
     pub fn errors_unknown(&self) -> bool {
         self.reading.relative_error().0.is_nan()
+    }
+}
+
+/// The heat map's title: "E (lux)" by the default rule, with the efficacy after it by another
+/// ("E (lux) 179 lm/W" for a Radiance scene; the map's font has no comma).
+fn heatmap_title(photometry: Photometry) -> String {
+    if photometry == Photometry::REC709_683 {
+        "E (lux)".into()
+    } else {
+        format!("E (lux) {} lm/W", photometry.efficacy)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_heat_map_title_names_a_rule_other_than_the_default() {
+        assert_eq!(heatmap_title(Photometry::REC709_683), "E (lux)");
+        assert_eq!(heatmap_title(Photometry::RADIANCE), "E (lux) 179 lm/W");
     }
 }

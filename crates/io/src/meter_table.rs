@@ -6,10 +6,13 @@
 //! daylight factor `DF_percent` (100 × E_v / E_v,h) and its standard error `SE_DF_percent`.
 //!
 //! Standard errors come from the dataset's independent chunks (`NaN` where a light has a single
-//! chunk). The photometric column is E_v = 683 lm/W · (0.2126·E_R + 0.7152·E_G + 0.0722·E_B)
-//! (`opticks_core::sensor::meter::lux`): the Rec. 709 luminance weights with the 555 nm luminous
-//! efficacy, an approximation — exact only if the RGB channels were radiometric quantities with
-//! the spectral shapes the weights assume.
+//! chunk). The photometric column E_v is by the scene's rule (`opticks_core::scene::
+//! Photometry`, computed in the meter's tally): for Radiance `.rad` scenes Radiance's,
+//! 179 lm/W · (0.2651·E_R + 0.6701·E_G + 0.0648·E_B), what `rtrace -I` gives in lux; for every
+//! other format 683 lm/W · (0.2126·E_R + 0.7152·E_G + 0.0722·E_B), the Rec. 709 luminance
+//! weights with the 555 nm luminous efficacy. Either is an approximation, exact only if the
+//! RGB channels were radiometric quantities with the spectral shapes the weights assume. The
+//! summary names the rule; the columns are the same.
 
 use opticks_core::sensor::meter::{MeterLayout, Reading};
 use std::fmt::Write;

@@ -367,7 +367,8 @@ impl LitDataset {
         Ok(())
     }
 
-    /// Reads a meter over the kept chunks: irradiance per target with its standard error.
+    /// Reads a meter over the kept chunks: irradiance per target with its standard error, E_v
+    /// by the scene's photometric rule (`opticks_core::scene::Photometry`).
     /// `progress(n)` counts samples read; `stop` is asked between batches and ends the reading
     /// with [`MeasureError::Interrupted`].
     pub fn measure(
@@ -386,7 +387,7 @@ impl LitDataset {
         };
         let reading = match (layout, estimator) {
             (MeterLayout::Grid(meter), MeterEstimator::Samples) => {
-                read_samples(meter, &groups, batch, progress)?
+                read_samples(meter, self.scene().photometry, &groups, batch, progress)?
             }
             (MeterLayout::Points(_), MeterEstimator::Samples) => return Err(MeasureError::SamplesAtPoints),
             (_, MeterEstimator::Connections(settings)) => {

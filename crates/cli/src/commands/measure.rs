@@ -164,7 +164,13 @@ pub fn run(a: Args) -> Result<()> {
     let progress = |n: usize| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64);
     let reading = data.measure(&layout, request.settings()?, progress, crate::interrupt::requested)?;
     pb.finish_and_clear();
-    let measured = Measured { layout: &layout, reading: &reading, estimator, daylight: daylight.as_ref() };
+    let measured = Measured {
+        layout: &layout,
+        reading: &reading,
+        estimator,
+        daylight: daylight.as_ref(),
+        photometry: data.scene().photometry,
+    };
     let front = format!("meter's front ({})", measured.side());
     super::warn_if_black(measured.is_black(), data.samples(), &front, data.flux_per_path());
 

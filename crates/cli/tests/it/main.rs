@@ -18,6 +18,7 @@ mod lights;
 mod limits;
 mod meter;
 mod mitsuba_scenes;
+mod photometry;
 mod reference_scenes;
 mod scene_formats;
 mod sensors;

@@ -20,7 +20,7 @@
 use super::attributes::AttributeTable;
 use super::meshes::{self, Flat, NO_LIGHT, NO_SHADING, NO_UV};
 use super::textures::{self, MaterialTextures};
-use super::{CameraDesc, Fingerprint, ObjectHash, SceneDescription, SceneError, hashes, lights};
+use super::{CameraDesc, Fingerprint, ObjectHash, Photometry, SceneDescription, SceneError, hashes, lights};
 use crate::accel::Accel;
 use crate::bsdf::Material;
 use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
@@ -57,6 +57,8 @@ pub struct Scene {
     pub light_shapes: Vec<[u8; 16]>,
     /// The scene file's camera, if any.
     pub camera: Option<CameraDesc>,
+    /// How its RGB values become lux ([`SceneDescription::photometry`]; no fingerprint covers it).
+    pub photometry: Photometry,
     /// Content hashes.
     pub fingerprint: Fingerprint,
     /// The geometry hash as format-version-1 datasets recorded it (which also covered which
@@ -121,6 +123,7 @@ impl Scene {
             lights,
             light_shapes: hashes.light_shapes,
             camera: desc.camera,
+            photometry: desc.photometry,
             fingerprint: hashes.fingerprint,
             geometry_v1: hashes.geometry_v1,
             objects: hashes.objects,

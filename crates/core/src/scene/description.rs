@@ -8,6 +8,7 @@ use crate::bsdf::Material;
 use crate::light::check::{LightError, check_emission, unit_axis};
 use crate::light::{EmissionProfile, axis_frame};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
+use crate::scene::Photometry;
 use crate::texture::TextureBinding;
 use glam::DVec3;
 
@@ -287,4 +288,8 @@ pub struct SceneDescription {
     pub camera: Option<CameraDesc>,
     /// Textures in place of materials' colour parameters (none: every colour is constant).
     pub textures: Vec<TextureBinding>,
+    /// How its RGB values become lux: its format's rule ([`Photometry::RADIANCE`] for `.rad`,
+    /// [`Photometry::REC709_683`] otherwise). Not part of any fingerprint: it changes no light
+    /// path, only what a meter reports in lux.
+    pub photometry: Photometry,
 }

@@ -12,6 +12,7 @@
 //! | `hashes.rs` | stage 5: the fingerprints of the built scene |
 //! | `fingerprint.rs` | [`Fingerprint`] and the hashing primitives |
 //! | `objects.rs` | per-mesh and per-material hashes ([`ObjectHash`]) and what differs between two lists of them |
+//! | `photometry.rs` | [`Photometry`]: how the scene's RGB becomes lux (its format's rule) |
 //! | `error.rs` | [`SceneError`] |
 //! | `camera_path.rs` | walkthrough camera paths |
 //! | `demo.rs` | the built-in Cornell box |
@@ -27,6 +28,7 @@ mod hashes;
 mod lights;
 mod meshes;
 mod objects;
+mod photometry;
 mod textures;
 
 pub use build::Scene;
@@ -39,3 +41,4 @@ pub use description::{
 pub use error::SceneError;
 pub use fingerprint::Fingerprint;
 pub use objects::{Change, ObjectChanges, ObjectHash, ObjectKind, object_changes};
+pub use photometry::Photometry;

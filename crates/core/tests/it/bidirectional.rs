@@ -136,6 +136,7 @@ fn weights_scene() -> SceneDescription {
             kind: CameraKind::Perspective,
         }),
         textures: Vec::new(),
+        photometry: Default::default(),
     }
 }
 

@@ -64,8 +64,13 @@ fn a_second_front_end_needs_only_the_libraries() {
     let (layout, warning) = request.layout(&data).unwrap();
     assert!(warning.is_none());
     let reading = data.measure(&layout, request.settings().unwrap(), |_| {}, || false).unwrap();
-    let measured =
-        Measured { layout: &layout, reading: &reading, estimator: Estimator::Samples, daylight: None };
+    let measured = Measured {
+        layout: &layout,
+        reading: &reading,
+        estimator: Estimator::Samples,
+        daylight: None,
+        photometry: data.scene().photometry,
+    };
     assert!(!measured.is_black());
     assert_eq!(measured.csv().lines().count(), 1 + 4, "a header and four cells");
     assert!(

@@ -4,7 +4,7 @@
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{CameraKind, MeshDesc, Scene};
+use opticks_core::scene::{CameraKind, MeshDesc, Photometry, Scene};
 use opticks_io::scene_formats::{LoadOptions, load_scene, load_scene_with};
 use opticks_testkit::files::{error_of, load_ok, testdata};
 
@@ -510,4 +510,17 @@ fn a_mitsuba_sky_emitter_is_the_rad_files_sky() {
     assert!(e.contains("b.xml:3:") && e.contains("gensky"), "{e}");
     let e = error_of(&[("c.xml", b"<scene version=\"3.0.0\"><emitter type=\"gendaylit\"/></scene>")]);
     assert!(e.contains("arguments"), "{e}");
+
+/// Photometry is the format's: a `.rad` scene's description and built scene carry Radiance's
+/// rule (179 lm/W, its primaries), the other formats' the default (683 lm/W, Rec. 709).
+#[test]
+fn a_radiance_scene_carries_radiances_photometry() {
+    let rad = load_scene(&testdata("radiance/photometry.rad")).unwrap().description;
+    assert_eq!(rad.photometry, Photometry::RADIANCE);
+    assert_eq!(Scene::build(&rad).unwrap().photometry, Photometry::RADIANCE);
+    assert_eq!(one("grey sphere s 0 0 4 0 0 0 1\n").description.photometry, Photometry::RADIANCE);
+    for other in ["scenes/cornell/scene.xml", "obj/cornell.obj", "gltf/cornell.gltf"] {
+        let d = load_scene(&testdata(other)).unwrap().description;
+        assert_eq!(d.photometry, Photometry::REC709_683, "{other}");
+    }
 }

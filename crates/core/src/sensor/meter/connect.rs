@@ -39,7 +39,7 @@
 //! count.
 
 use super::layout::{MeterDraw, MeterLayout};
-use super::tally::{Group, Reading, Scratch, lux, tally_groups};
+use super::tally::{Group, Reading, Scratch, tally_groups};
 use crate::dataset::Sample;
 use crate::film::SplatTarget;
 use crate::light::Light;
@@ -75,9 +75,10 @@ impl Default for ConnectedSettings {
 /// Reads the meter `layout` from `groups.len()` batches (batch i is chunk i of the dataset, of
 /// light and path count `groups[i]`) on all cores: the connected stored samples plus the direct
 /// light of the point and directional `lights` that are on. The value per target is in W/m²
-/// (and lux), with its standard error. `Ok(None)` once `stop` said so: the batches check it
-/// themselves (the caller's `batch`); the direct light asks it every [`DIRECT_STOP_DRAWS`]
-/// points of a target, so `direct_samples` never delays an interrupt.
+/// (and lux, by the scene's rule, [`Scene::photometry`]), with its standard error. `Ok(None)`
+/// once `stop` said so: the batches check it themselves (the caller's `batch`); the direct
+/// light asks it every [`DIRECT_STOP_DRAWS`] points of a target, so `direct_samples` never
+/// delays an interrupt.
 #[allow(clippy::too_many_arguments)]
 pub fn read_connected<B: AsBatch, E: Send>(
     scene: &Scene,
@@ -89,9 +90,16 @@ pub fn read_connected<B: AsBatch, E: Send>(
     progress: impl Fn(usize) + Sync,
     stop: impl Fn() -> bool + Sync,
 ) -> Result<Option<Reading>, E> {
-    let mut reading = tally_groups(layout.len(), groups, batch, progress, |i, samples, flux, scratch| {
-        splat_connected(scene, layout, settings, i as u64, samples, flux, scratch)
-    })?;
+    let mut reading = tally_groups(
+        layout.len(),
+        scene.photometry,
+        groups,
+        batch,
+        progress,
+        |i, samples, flux, scratch| {
+            splat_connected(scene, layout, settings, i as u64, samples, flux, scratch)
+        },
+    )?;
     let Some(direct) = direct_light(scene, lights, layout, settings, stop) else { return Ok(None) };
     reading.add_independent(&direct);
     Ok(Some(reading))
@@ -179,7 +187,7 @@ fn direct_light(
                 let d = layout.draw_in(t, rng.next_2d());
                 let e = delta.iter().fold(Rgb::ZERO, |e, &i| e + direct_from(scene, lights, i, &d, &mut rng));
                 let e = [e.x as f64, e.y as f64, e.z as f64];
-                let x = [e[0], e[1], e[2], lux(e)];
+                let x = [e[0], e[1], e[2], scene.photometry.lux(e)];
                 for c in 0..4 {
                     sum[c] += x[c];
                     sq[c] += x[c] * x[c];

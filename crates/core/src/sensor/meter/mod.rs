@@ -260,15 +260,17 @@ impl IlluminanceMeter {
 }
 
 /// The stored-samples estimator with standard errors: irradiance per cell of a meter on scene
-/// geometry from `groups.len()` batches (batch i is chunk i, of light and paths `groups[i]`).
+/// geometry from `groups.len()` batches (batch i is chunk i, of light and paths `groups[i]`),
+/// E_v by the scene's `photometry` ([`crate::scene::Scene::photometry`]).
 pub fn read_samples<B: super::AsBatch, E: Send>(
     meter: &IlluminanceMeter,
+    photometry: crate::scene::Photometry,
     groups: &[Group],
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Reading, E> {
     let cells = meter.nx as usize * meter.ny as usize;
-    tally::tally_groups(cells, groups, batch, progress, |_, samples, flux_per_path, scratch| {
+    tally::tally_groups(cells, photometry, groups, batch, progress, |_, samples, flux_per_path, scratch| {
         meter.splat(SampleBatch { flux_per_path, samples }, scratch)
     })
 }

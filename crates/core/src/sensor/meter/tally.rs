@@ -15,22 +15,24 @@
 //! contributions of variance σ², so E[(X_c − n_c·μ)²] = n_c·σ²·(1 − n_c/N), whose sum over c
 //! is σ²·(N − Q/N), and Var(Σ X_c) = N·σ². With equal chunks (m of n paths) this is m times the
 //! chunks' sample variance. A light with a single chunk gives no variance estimate: its targets
-//! that it lit get NaN. The channels are R, G, B and E_v in lux ([`lux`]). The chunks are cut into a
+//! that it lit get NaN. The channels are R, G, B and E_v in lux, by the scene's photometric rule
+//! ([`Photometry`]), applied to each path's contribution as it is tallied, so that E_v's
+//! standard error is that of the lux themselves. The chunks are cut into a
 //! fixed number of runs whose tallies are summed in order, so a reading is the same bit for bit
 //! whatever the thread count.
 
 use crate::dataset::Sample;
 use crate::film::SplatTarget;
-use crate::light::LUMENS_PER_WATT;
 use crate::math::Rgb;
+use crate::scene::Photometry;
 use rayon::prelude::*;
 
-/// The photometric illuminance (lux) of an RGB irradiance (W/m²): 683 lm/W times the Rec. 709
-/// luminance weights 0.2126, 0.7152, 0.0722 — an approximation, exact only if the channels were
-/// radiometric quantities with the spectral shapes the weights assume.
+/// The photometric illuminance (lux) of an RGB irradiance (W/m²) by the default rule,
+/// [`Photometry::REC709_683`] (683 lm/W times the Rec. 709 luminance weights); a scene's own
+/// rule is its [`crate::scene::SceneDescription::photometry`], which the meters use.
 #[inline]
 pub fn lux(e: [f64; 3]) -> f64 {
-    f64::from(LUMENS_PER_WATT) * (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2])
+    Photometry::REC709_683.lux(e)
 }
 
 /// One independent group of paths: a chunk, its light (table index) and its path count n_c.
@@ -89,14 +91,15 @@ impl Reading {
 /// One chunk's contributions, row by target; only the touched targets are folded and cleared.
 #[derive(Clone, Debug)]
 pub struct Scratch {
+    photometry: Photometry,
     cells: Vec<[f64; 4]>,
     touched: Vec<u32>,
     marked: Vec<bool>,
 }
 
 impl Scratch {
-    fn new(n: usize) -> Self {
-        Scratch { cells: vec![[0.0; 4]; n], touched: Vec::new(), marked: vec![false; n] }
+    fn new(n: usize, photometry: Photometry) -> Self {
+        Scratch { photometry, cells: vec![[0.0; 4]; n], touched: Vec::new(), marked: vec![false; n] }
     }
 }
 
@@ -112,7 +115,7 @@ impl SplatTarget for Scratch {
         for k in 0..3 {
             c[k] += rgb[k];
         }
-        c[3] += lux(rgb);
+        c[3] += self.photometry.lux(rgb);
     }
 }
 
@@ -224,9 +227,10 @@ const RUNS: usize = 32;
 /// Reads `groups.len()` batches (batch i is group i: one chunk, fetched from memory or a file)
 /// on all cores: `add(i, samples, flux per path, scratch)` puts batch i's contribution to every
 /// target into the scratch row, and the result is the sum with its standard error. `targets`
-/// is the number of cells or points.
+/// is the number of cells or points, `photometry` the rule of the E_v channel.
 pub(crate) fn tally_groups<B: super::super::AsBatch, E: Send>(
     targets: usize,
+    photometry: Photometry,
     groups: &[Group],
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
@@ -245,7 +249,7 @@ pub(crate) fn tally_groups<B: super::super::AsBatch, E: Send>(
             .into_par_iter()
             .map(|r| {
                 let mut tally = Tally::new(targets, lights);
-                let mut scratch = Scratch::new(targets);
+                let mut scratch = Scratch::new(targets, photometry);
                 let first = (r * run_len).min(count);
                 for (i, &group) in groups.iter().enumerate().take(((r + 1) * run_len).min(count)).skip(first)
                 {
@@ -283,6 +287,7 @@ mod tests {
         for rep in 0..reps {
             let r = tally_groups(
                 2,
+                Photometry::default(),
                 &groups,
                 |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
                 |_| {},
@@ -322,6 +327,7 @@ mod tests {
             pool.install(|| {
                 tally_groups(
                     4,
+                    Photometry::default(),
                     &groups,
                     |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
                     |_| {},
@@ -343,6 +349,7 @@ mod tests {
         let groups = [Group { light: 0, paths: 10 }];
         let r = tally_groups(
             2,
+            Photometry::default(),
             &groups,
             |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
             |_| {},
@@ -353,5 +360,35 @@ mod tests {
         assert!(r.std_error[1][0].is_nan());
         assert!(r.relative_error().0.is_nan());
         assert_eq!(r.value[1][3], lux([1.0; 3]));
+    }
+
+    /// E_v follows the rule it is given: a white irradiance E reads 683·E lux by default and
+    /// 179·E by Radiance's; a coloured one the rule's weights; R, G, B are untouched.
+    #[test]
+    fn the_lux_channel_uses_the_scenes_rule() {
+        let groups = [Group { light: 0, paths: 10 }, Group { light: 0, paths: 10 }];
+        let read = |photometry: Photometry, e: Rgb| {
+            tally_groups(
+                1,
+                photometry,
+                &groups,
+                |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
+                |_| {},
+                |i, _, _, s| s.splat(0, e * (i + 1) as f32),
+            )
+            .unwrap()
+        };
+        let white = Rgb::splat(2.0);
+        let (ours, radiance) = (read(Photometry::REC709_683, white), read(Photometry::RADIANCE, white));
+        assert!((ours.value[0][3] / (683.0 * 6.0) - 1.0).abs() < 1e-12, "{:?}", ours.value);
+        assert!((radiance.value[0][3] / (179.0 * 6.0) - 1.0).abs() < 1e-8, "{:?}", radiance.value);
+        assert_eq!(ours.value[0][..3], radiance.value[0][..3]);
+        // The standard error of E_v scales with the rule: chunk values 179·2 and 179·4 lux.
+        assert!((radiance.std_error[0][3] / ours.std_error[0][3] - 179.0 / 683.0).abs() < 1e-8);
+        let red = Rgb::new(1.0, 0.0, 0.0);
+        assert!(
+            (read(Photometry::RADIANCE, red).value[0][3] - 179.0 * 0.2651058201058201 * 3.0).abs() < 1e-9
+        );
+        assert_eq!(read(Photometry::REC709_683, red).value[0][3], 683.0 * 0.2126 + 683.0 * 0.2126 * 2.0);
     }
 }

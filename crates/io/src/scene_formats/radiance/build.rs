@@ -15,7 +15,7 @@ use opticks_core::bsdf::{
     ThinDielectric,
 };
 use opticks_core::math::{Rgb, Vec3};
-use opticks_core::scene::{AreaEmission, MeshDesc, SceneDescription, Source};
+use opticks_core::scene::{AreaEmission, MeshDesc, Photometry, SceneDescription, Source};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -128,7 +128,8 @@ struct Builder {
 /// Reads `path` and everything it includes into a scene (no camera: see [`super::view`]).
 pub fn build(path: &Path) -> Result<LoadedScene, SceneFileError> {
     let mut b = Builder {
-        desc: SceneDescription::default(),
+        // Radiance's numbers are "visible watts": lux by its own rule (179 lm/W, its primaries).
+        desc: SceneDescription { photometry: Photometry::RADIANCE, ..Default::default() },
         warnings: Vec::new(),
         modifiers: Vec::new(),
         names: HashMap::new(),
