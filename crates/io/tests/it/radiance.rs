@@ -510,6 +510,7 @@ fn a_mitsuba_sky_emitter_is_the_rad_files_sky() {
     assert!(e.contains("b.xml:3:") && e.contains("gensky"), "{e}");
     let e = error_of(&[("c.xml", b"<scene version=\"3.0.0\"><emitter type=\"gendaylit\"/></scene>")]);
     assert!(e.contains("arguments"), "{e}");
+}
 
 /// Photometry is the format's: a `.rad` scene's description and built scene carry Radiance's
 /// rule (179 lm/W, its primaries), the other formats' the default (683 lm/W, Rec. 709).
