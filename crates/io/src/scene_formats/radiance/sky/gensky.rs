@@ -1,6 +1,6 @@
 //! gensky (`src/gen/gensky.c` 2.31): its options, levels and `skybright.cal`'s CIE skies.
 
-use super::sun::{DEG, Site, When, number, parse_when, sun_direction};
+use super::sun::{DEG, Site, When, number, option_word, parse_when, sun_direction};
 use super::{GENSKY_USAGE, SkyArgsError};
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -72,10 +72,7 @@ pub fn gensky(args: &[String]) -> Result<Gensky, SkyArgsError> {
     let mut i = 3;
     while i < args.len() {
         let a = args[i].as_str();
-        let (sign, letter) = match (a.chars().next(), a.chars().nth(1)) {
-            (Some(s @ ('-' | '+')), Some(l)) if a.len() == 2 => (s, l),
-            _ => return Err(SkyArgsError::BadOption { option: a.to_string() }),
-        };
+        let (sign, letter) = option_word(a)?;
         match letter {
             's' | 'i' => {
                 sky = if letter == 's' { SkyType::Clear } else { SkyType::Intermediate };

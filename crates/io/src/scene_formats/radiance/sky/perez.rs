@@ -5,7 +5,7 @@
 //! Solar Energy 50(3) 1993, Table 1 (the coefficient table below), with the luminous efficacies
 //! of Perez, Ineichen, Seals, Michalsky & Stewart, Solar Energy 44(5) 1990, Table 4.
 
-use super::sun::{DEG, Site, When, day_of_year, declination, number, parse_when, sun_direction};
+use super::sun::{DEG, Site, When, day_of_year, declination, number, option_word, parse_when, sun_direction};
 use super::{GENDAYLIT_USAGE, SkyArgsError};
 use glam::DVec3;
 use std::f64::consts::PI;
@@ -159,10 +159,7 @@ pub fn gendaylit(args: &[String]) -> Result<Gendaylit, SkyArgsError> {
     let mut i = 3;
     while i < args.len() {
         let a = args[i].as_str();
-        let (sign, letter) = match (a.chars().next(), a.chars().nth(1)) {
-            (Some(s @ ('-' | '+')), Some(l)) if a.len() == 2 => (s, l),
-            _ => return Err(SkyArgsError::BadOption { option: a.to_string() }),
-        };
+        let (sign, letter) = option_word(a)?;
         let mut value = |name: &str| {
             i += 1;
             number(args, i, name)

@@ -134,6 +134,15 @@ impl Site {
     }
 }
 
+/// A generator's option word, `-x` or `+x`: its sign and letter (gensky's and gendaylit's
+/// options are all one letter).
+pub(super) fn option_word(a: &str) -> Result<(char, char), SkyArgsError> {
+    match (a.chars().next(), a.chars().nth(1)) {
+        (Some(s @ ('-' | '+')), Some(l)) if a.len() == 2 => Ok((s, l)),
+        _ => Err(SkyArgsError::BadOption { option: a.to_string() }),
+    }
+}
+
 /// Argument `i` as the number `option` takes.
 pub(super) fn number(args: &[String], i: usize, option: &str) -> Result<f64, SkyArgsError> {
     let s = args.get(i).ok_or_else(|| SkyArgsError::MissingValue { option: option.to_string() })?;
