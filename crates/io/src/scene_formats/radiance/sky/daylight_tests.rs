@@ -7,6 +7,7 @@
 #![allow(clippy::approx_constant, clippy::needless_range_loop)] // gendaylit's digits, as printed
 
 use super::cie::{CieGeneralSky, SkyModel};
+use super::tests::horizontal;
 use super::*;
 
 fn run(cmd: &str) -> Gendaylit {
@@ -200,20 +201,6 @@ fn brightness_is_perezlum_cal_s() {
         let d = DVec3::from_array(d);
         close(&format!("skybright toward {d}"), g.brightness(d), want, 2e-6 * want);
     }
-}
-
-/// ∫ f(d) cos θ dω over the upper hemisphere, midpoint rule in (cos θ, φ).
-fn horizontal(f: impl Fn(DVec3) -> f64, n: usize) -> f64 {
-    let mut sum = 0.0;
-    for a in 0..n {
-        let mu = (a as f64 + 0.5) / n as f64;
-        let s = (1.0 - mu * mu).sqrt();
-        for b in 0..2 * n {
-            let phi = PI * (b as f64 + 0.5) / n as f64;
-            sum += f(DVec3::new(s * phi.cos(), s * phi.sin(), mu)) * mu;
-        }
-    }
-    sum * (1.0 / n as f64) * (PI / n as f64)
 }
 
 /// With `-O 1` (solar watts) gendaylit scales the sky so that its horizontal diffuse

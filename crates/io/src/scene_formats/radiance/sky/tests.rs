@@ -188,8 +188,9 @@ fn sun_position_at_the_solstice_noon() {
     close("altitude (Michalsky)", g.altitude, 90.0 - 40.015 + 23.44, 0.02);
 }
 
-/// ∫ f(d) cos θ dω over the upper hemisphere, midpoint rule in (cos θ, φ).
-fn horizontal(f: impl Fn(DVec3) -> f64, n: usize) -> f64 {
+/// ∫ f(d) cos θ dω over the upper hemisphere, midpoint rule in (cos θ, φ) (the daylight
+/// tests' too).
+pub(super) fn horizontal(f: impl Fn(DVec3) -> f64, n: usize) -> f64 {
     let mut sum = 0.0;
     for a in 0..n {
         let mu = (a as f64 + 0.5) / n as f64;
