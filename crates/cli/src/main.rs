@@ -133,21 +133,10 @@ fn run(command: Command) -> ExitCode {
     }
 }
 
-/// The error and its causes joined by ": ", leaving out a cause whose text the message before
-/// it already ends with (library errors that show their source in their own message, as most
-/// `thiserror` types here do, would otherwise print it twice).
+/// The error and its causes as one line ([`opticks_io::error_chain`]: a cause the message
+/// before it already ends with is said once).
 fn error_chain(e: &anyhow::Error) -> String {
-    let mut text = String::new();
-    for cause in e.chain() {
-        let part = cause.to_string();
-        if text.is_empty() {
-            text = part;
-        } else if !text.ends_with(&part) {
-            text.push_str(": ");
-            text.push_str(&part);
-        }
-    }
-    text
+    opticks_io::error_chain(e.as_ref())
 }
 
 #[cfg(test)]

@@ -174,16 +174,18 @@ impl DatasetInfo {
     #[allow(clippy::result_large_err)] // once per run, as `OpenedDataset::open`
     pub fn read(dataset: &Path) -> Result<DatasetInfo, OpenError> {
         crate::output_paths::check_input_file(dataset, "a dataset").map_err(OpenError::Unreadable)?;
-        let mut reader = DatasetReader::open(dataset)?;
-        let mut warnings = Vec::new();
-        let checked = match OpenedDataset::open(dataset, None, &Default::default()) {
+        // Opened against its scene, the dataset's reader checks every sample's triangle; if the
+        // scene cannot be had, a reader of the file alone still checks the rest.
+        let (reader, checked, warnings) = match OpenedDataset::open(dataset, None, &Default::default()) {
             Ok(opened) => {
                 let triangles = opened.scene.triangles.len();
-                reader.check_triangles(triangles);
-                warnings = opened.warnings;
-                format!("every sample checked against its scene's {triangles} triangles")
+                let checked = format!("every sample checked against its scene's {triangles} triangles");
+                (opened.reader, checked, opened.warnings)
             }
-            Err(e) => format!("samples not checked against the scene: {}", chain(&e)),
+            Err(e) => {
+                let checked = format!("samples not checked against the scene: {}", crate::error_chain(&e));
+                (DatasetReader::open(dataset)?, checked, Vec::new())
+            }
         };
         reader.verify()?;
         Ok(Self::of(dataset, &reader, checked, warnings))
@@ -289,17 +291,6 @@ impl DatasetInfo {
         }
         out
     }
-}
-
-/// An error with its causes, `: `-separated.
-fn chain(e: &dyn std::error::Error) -> String {
-    let mut text = e.to_string();
-    let mut source = e.source();
-    while let Some(s) = source {
-        text.push_str(&format!(": {s}"));
-        source = s.source();
-    }
-    text
 }
 
 /// `12 meshes and 6 materials hashed (a refusal names which changed)`, or that an older

@@ -57,3 +57,20 @@ pub mod video;
 pub use scene_formats::{
     FileLocation, LoadLimits, LoadOptions, LoadedScene, SceneFileError, load_scene, load_scene_with,
 };
+
+/// An error and its causes joined by ": ", leaving out a cause whose text the message before it
+/// already ends with (errors that show their source in their own message, as most `thiserror`
+/// types here do, would otherwise say it twice): how a front end words a library error.
+pub fn error_chain(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(cause) = source {
+        let part = cause.to_string();
+        if !text.ends_with(&part) {
+            text.push_str(": ");
+            text.push_str(&part);
+        }
+        source = cause.source();
+    }
+    text
+}
