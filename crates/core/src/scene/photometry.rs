@@ -69,7 +69,7 @@ mod tests {
         for (p, lm) in [(Photometry::REC709_683, 683.0), (Photometry::RADIANCE, 179.0)] {
             assert!((p.lux([2.0; 3]) / (2.0 * lm) - 1.0).abs() < 1e-8, "{}", p.name);
         }
-        // The default rule is the formula `meter::lux` had before rules were the scene's, bit
+        // The default rule is the formula the meter's lux had before rules were the scene's, bit
         // for bit, so the other formats' E_v columns are unchanged.
         let mut rng = crate::sampling::RandomStream::new(5, &[]);
         for _ in 0..1000 {

@@ -34,7 +34,7 @@ mod tally;
 
 pub use connect::{ConnectedSettings, DIRECT_STOP_DRAWS, read_connected};
 pub use layout::{MeterDraw, MeterLayout, MeterPoint};
-pub use tally::{Group, Reading, lux};
+pub use tally::{Group, Reading};
 
 /// How a meter reads a dataset (module docs): every stored sample connected to points of the
 /// meter, which reads anywhere, or the samples that landed on it, which reads only a grid on

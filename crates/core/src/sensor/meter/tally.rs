@@ -27,14 +27,6 @@ use crate::math::Rgb;
 use crate::scene::Photometry;
 use rayon::prelude::*;
 
-/// The photometric illuminance (lux) of an RGB irradiance (W/m²) by the default rule,
-/// [`Photometry::REC709_683`] (683 lm/W times the Rec. 709 luminance weights); a scene's own
-/// rule is its [`crate::scene::SceneDescription::photometry`], which the meters use.
-#[inline]
-pub fn lux(e: [f64; 3]) -> f64 {
-    Photometry::REC709_683.lux(e)
-}
-
 /// One independent group of paths: a chunk, its light (table index) and its path count n_c.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Group {
@@ -359,7 +351,7 @@ mod tests {
         assert_eq!(r.std_error[0], [0.0; 4]);
         assert!(r.std_error[1][0].is_nan());
         assert!(r.relative_error().0.is_nan());
-        assert_eq!(r.value[1][3], lux([1.0; 3]));
+        assert_eq!(r.value[1][3], Photometry::default().lux([1.0; 3]));
     }
 
     /// E_v follows the rule it is given: a white irradiance E reads 683·E lux by default and
