@@ -347,7 +347,7 @@ fn point_or_to_world<'d>(p: &mut Props<'d>, name: &str) -> Result<Placement<'d>>
 }
 
 /// An error unless the emitter of type `ty` has no nested elements.
-fn no_objects(p: &Props, ty: &str) -> Result<()> {
+pub(super) fn no_objects(p: &Props, ty: &str) -> Result<()> {
     match p.objects().first() {
         Some(c) => Err(c.err(format!("unsupported element inside a {ty} emitter"))),
         None => Ok(()),

@@ -22,10 +22,10 @@ use super::Result;
 use super::build::Builder;
 use super::properties::Props;
 use super::xml::Element;
-use crate::scene_formats::radiance::sky::{self, Generator, SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
+use crate::scene_formats::radiance::sky::{self, Generator};
 use glam::DVec3;
 use opticks_core::math::{Mat3, Rgb};
-use opticks_core::scene::{DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance};
+use opticks_core::scene::{DirectionalLightDesc, EnvironmentLightDesc};
 use std::f64::consts::PI;
 
 /// `gensky`.
@@ -46,9 +46,7 @@ fn generated<'d>(
     generator: Generator,
 ) -> Result<()> {
     let mut p = Props::of(e)?;
-    if let Some(c) = p.objects().first() {
-        return Err(c.err(format!("unsupported element inside a {ty} emitter")));
-    }
+    super::emitter::no_objects(&p, ty)?;
     let (arguments, anode) = p.string("arguments")?.ok_or_else(|| {
         e.err(format!(
             "a {ty} emitter needs its command line's arguments: <string name=\"arguments\" value=\"…\"/>"
@@ -65,17 +63,10 @@ fn generated<'d>(
     for w in &g.warnings {
         b.warn(e, format!("{ty}: {w}"));
     }
-    let texels = sky::rasterise(SKY_MAP_WIDTH, SKY_MAP_HEIGHT, DVec3::Z, PI, |d| g.func.brightness(d));
     b.desc.environment_lights.push(EnvironmentLightDesc {
         name: name.clone(),
         source: Builder::source(e),
-        radiance: EnvironmentRadiance::Map {
-            width: SKY_MAP_WIDTH,
-            height: SKY_MAP_HEIGHT,
-            texels: texels.into_iter().map(|v| Rgb::splat(v as f32)).collect(),
-            scale: 1.0,
-            file: None,
-        },
+        radiance: sky::sky_map(DVec3::Z, PI, Rgb::ONE, |d| g.func.brightness(d)),
         to_world: rotation * sky::MAP_TO_WORLD,
         sky: Some(g.func.model()),
     });

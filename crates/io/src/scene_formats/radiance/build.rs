@@ -5,7 +5,7 @@
 
 use super::err;
 use super::lexer::{self, Primitive, Record};
-use super::sky::SkyFunc;
+use super::sky::{self, SkyFunc};
 use super::xform::{self, Similarity};
 use crate::scene_formats::vrml::triangulate::triangulate;
 use crate::scene_formats::{FileLocation, LoadedScene, SceneFileError, tessellate};
@@ -27,8 +27,6 @@ pub const MAX_INCLUDE_DEPTH: usize = 16;
 pub const MAX_FILES: usize = 10_000;
 /// At most this many triangles in the scene (a sphere is 16 384).
 pub const MAX_TRIANGLES: usize = 50_000_000;
-
-pub use super::sky::{SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
 
 /// A `source` narrower than this (full angle, degrees) with a constant radiance is a
 /// directional light (gensky's sun is 0.5°); a wider one an environment light of its cone.
@@ -195,9 +193,11 @@ impl Builder {
     ) -> Result<(), SceneFileError> {
         let program = words.first().map_or("", |w| w.rsplit('/').next().unwrap_or(w));
         let element = format!("!{program}");
+        if let Some(generator) = sky::Generator::named(program) {
+            return self.sky(path, generator, words, text, &here, frame);
+        }
         match program {
             "xform" => {}
-            "gensky" | "gendaylit" => return self.sky(path, program, words, text, &here, frame),
             _ => {
                 return Err(err(
                     &here,

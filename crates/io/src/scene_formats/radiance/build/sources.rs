@@ -1,6 +1,6 @@
 //! The sky generators' lines and the `source` primitive: Radiance's lights at infinity.
 
-use super::{Builder, DIRECTIONAL_SOURCE_DEGREES, Frame, Modifier, SKY_MAP_HEIGHT, SKY_MAP_WIDTH};
+use super::{Builder, DIRECTIONAL_SOURCE_DEGREES, Frame, Modifier};
 use crate::scene_formats::radiance::err;
 use crate::scene_formats::radiance::lexer::Primitive;
 use crate::scene_formats::radiance::sky;
@@ -8,7 +8,7 @@ use crate::scene_formats::{FileLocation, SceneFileError};
 use glam::DVec3;
 use opticks_core::bsdf::{Bsdf, Lambert, Material};
 use opticks_core::math::Rgb;
-use opticks_core::scene::{DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, Source};
+use opticks_core::scene::{DirectionalLightDesc, EnvironmentLightDesc, Source};
 use std::path::Path;
 
 impl Builder {
@@ -19,15 +19,14 @@ impl Builder {
     pub(super) fn sky(
         &mut self,
         path: &Path,
-        program: &str,
+        generator: sky::Generator,
         words: &[String],
         text: &str,
         here: &FileLocation,
         frame: &Frame,
     ) -> Result<(), SceneFileError> {
-        let element = format!("!{program}");
+        let element = format!("!{}", generator.name());
         let bad = |e: sky::SkyArgsError| err(here, &element, format!("{e}: \"!{text}\""));
-        let generator = sky::Generator::named(program).expect("called for the sky generators only");
         let g = sky::generate(generator, &words[1..]).map_err(bad)?;
         for w in &g.warnings {
             self.warnings.push(format!("{here}: {element}: {w}"));
@@ -140,21 +139,14 @@ impl Builder {
             );
         }
         let half = (0.5 * angle).to_radians();
-        let texels = sky::rasterise(SKY_MAP_WIDTH, SKY_MAP_HEIGHT, axis, half, |d| match &sky {
+        let radiance = sky::sky_map(axis, half, rgb, |d| match &sky {
             Some(g) => g.brightness(d),
             None => 1.0,
         });
-        let texels: Vec<Rgb> = texels.into_iter().map(|v| rgb * v as f32).collect();
         self.desc.environment_lights.push(EnvironmentLightDesc {
             name: self.light_name(frame, &p.ident.text),
             source: Source { file: path.display().to_string(), line: p.modifier.line },
-            radiance: EnvironmentRadiance::Map {
-                width: SKY_MAP_WIDTH,
-                height: SKY_MAP_HEIGHT,
-                texels,
-                scale: 1.0,
-                file: None,
-            },
+            radiance,
             to_world: sky::MAP_TO_WORLD,
             sky: sky.as_ref().map(|g| g.model()),
         });

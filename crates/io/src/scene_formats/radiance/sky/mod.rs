@@ -236,6 +236,14 @@ impl Generator {
             _ => None,
         }
     }
+
+    /// Its program name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Generator::Gensky => "gensky",
+            Generator::Gendaylit => "gendaylit",
+        }
+    }
 }
 
 /// A sun as a generator writes it: Radiance's `solar` light on a `source` disc.
@@ -332,6 +340,25 @@ pub fn rasterise(
         }
     }
     texels
+}
+
+/// A sky, or one of its domes, as an environment light's radiance: `rgb` × `radiance(d)` within
+/// `half_angle` of `axis` ([`rasterise`]), in a [`SKY_MAP_WIDTH`] × [`SKY_MAP_HEIGHT`] map whose
+/// frame is [`MAP_TO_WORLD`].
+pub fn sky_map(
+    axis: DVec3,
+    half_angle: f64,
+    rgb: opticks_core::math::Rgb,
+    radiance: impl Fn(DVec3) -> f64,
+) -> opticks_core::scene::EnvironmentRadiance {
+    let texels = rasterise(SKY_MAP_WIDTH, SKY_MAP_HEIGHT, axis, half_angle, radiance);
+    opticks_core::scene::EnvironmentRadiance::Map {
+        width: SKY_MAP_WIDTH,
+        height: SKY_MAP_HEIGHT,
+        texels: texels.into_iter().map(|v| rgb * v as f32).collect(),
+        scale: 1.0,
+        file: None,
+    }
 }
 
 /// The world direction (z up) of the map's (φ, θ): the map's d = (sin φ sin θ, cos θ,

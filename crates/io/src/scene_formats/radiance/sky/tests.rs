@@ -273,7 +273,7 @@ fn rasterisation_error_of_the_horizontal_irradiance() {
     use opticks_core::math::Rgb;
     for cmd in ["-ang 45 30 -s -B 100", "-ang 10 30 -s -B 100", "3 21 12 -c -B 100", "-ang 30 0 -i -B 100"] {
         let g = run(cmd);
-        let (w, h) = (super::super::build::SKY_MAP_WIDTH, super::super::build::SKY_MAP_HEIGHT);
+        let (w, h) = (super::SKY_MAP_WIDTH, super::SKY_MAP_HEIGHT);
         let texels: Vec<Rgb> = rasterise(w, h, DVec3::Z, PI / 2.0, |d| g.brightness(d))
             .into_iter()
             .map(|v| Rgb::splat(v as f32))
