@@ -12,7 +12,6 @@ mod camera_args;
 #[cfg(feature = "mpi")]
 mod cluster;
 mod commands;
-mod count_arg;
 mod interrupt;
 mod output;
 mod progress;

@@ -40,7 +40,7 @@ pub struct DefineArgs {
         long,
         value_name = "N",
         allow_hyphen_values = true,
-        value_parser = crate::count_arg::parse_count,
+        value_parser = opticks_io::count_text::parse_count,
         default_value_t = opticks_io::texture_file::MAX_TEXELS
     )]
     max_texels: u64,
@@ -51,7 +51,7 @@ pub struct DefineArgs {
         long,
         value_name = "N",
         allow_hyphen_values = true,
-        value_parser = crate::count_arg::parse_count,
+        value_parser = opticks_io::count_text::parse_count,
         default_value_t = opticks_io::scene_formats::serialized::MAX_EXPANSION
     )]
     max_mesh_expansion: u64,

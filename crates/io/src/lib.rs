@@ -27,11 +27,13 @@
 //! * [`compare`]: the image comparison the project is judged by (relative MSE, mean ratios);
 //! * [`input_file`]: how every reader opens its files (regular files only, bounded by their size);
 //! * [`memory`]: the memory available, checked before a large film is allocated;
+//! * [`count_text`]: counts as people write them (`4M`, `1e6`, `4,000,000`), exactly;
 //! * [`cluster_wire`]: the messages of a cluster (MPI) job as bytes — jobs, blocks, chunks.
 
 pub mod camera_path_file;
 pub mod cluster_wire;
 pub mod compare;
+pub mod count_text;
 pub mod dataset_file;
 pub mod dataset_info;
 pub mod dataset_job;

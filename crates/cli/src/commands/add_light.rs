@@ -28,7 +28,7 @@ pub struct Args {
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     /// Paths for the new light (default: its fair share, N·Φ_new/ΣΦ of the lights already traced).
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_count)]
+    #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_count)]
     paths: Option<u64>,
     #[command(flatten)]
     pub(crate) extend: ExtendArgs,

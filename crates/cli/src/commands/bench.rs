@@ -18,7 +18,7 @@ pub struct Args {
     #[arg(default_value = "builtin:cornell", value_parser = crate::scene_arg::parse_scene)]
     scene: opticks_io::scene_source::SceneRef,
     /// Light paths per run; e.g. 4194304, 4M, 4e6.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_count, default_value_t = 4_194_304)]
+    #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_count, default_value_t = 4_194_304)]
     paths: u64,
     /// Random seed of the traced paths (the same default as `trace`).
     #[arg(long, default_value_t = 0)]

@@ -26,7 +26,7 @@ pub struct Args {
     #[arg(short, long, default_value = DEFAULT_OUTPUT)]
     output: PathBuf,
     /// Light paths to trace; e.g. 4000000, 4M, 4e6.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_count, default_value = "4M")]
+    #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_count, default_value = "4M")]
     paths: u64,
     /// Random seed.
     #[arg(long, default_value_t = 0)]

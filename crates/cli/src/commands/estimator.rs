@@ -34,7 +34,7 @@ pub struct EstimatorArgs {
     #[arg(long, value_enum, default_value_t = Estimator::Light)]
     pub estimator: Estimator,
     /// Bidirectional: camera paths per pixel (default 16); e.g. 64, 1k, 1e6.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_spp)]
+    #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_spp)]
     spp: Option<u32>,
     /// Bidirectional: dataset vertices each camera vertex connects to (n_c; default 1, at most
     /// 1024).

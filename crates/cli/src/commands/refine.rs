@@ -22,7 +22,7 @@ pub struct Args {
     /// Dataset to refine.
     dataset: PathBuf,
     /// Light paths to add, over all lights (split in proportion to their power); e.g. 4M, 4e6.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_count)]
+    #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_count)]
     paths: u64,
     /// Scene file (default: the one recorded in the dataset); the result records it.
     #[arg(long, value_parser = crate::scene_arg::parse_scene)]

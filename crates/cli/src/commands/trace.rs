@@ -26,7 +26,7 @@ pub struct Args {
     scene: opticks_io::scene_source::SceneRef,
     /// Light paths to trace, over all lights (split in proportion to their power); e.g.
     /// 4000000, 4_000_000, 4M, 4e6.
-    #[arg(long, allow_hyphen_values = true, value_parser = crate::count_arg::parse_count, default_value = "4M")]
+    #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_count, default_value = "4M")]
     paths: u64,
     /// Output dataset file (.opds).
     #[arg(short, long)]

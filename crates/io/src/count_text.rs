@@ -1,17 +1,38 @@
-//! Counts on the command line (`--paths`): `4000000`, `4_000_000`, `4,000,000`, `4M`, `2.5k`,
+//! Counts as people write them (the command line's `--paths`, `--spp`): `4000000`, `4_000_000`, `4,000,000`, `4M`, `2.5k`,
 //! `1e6`, `1.5e6`. Suffixes k, M, G, T are powers of 1000. The value must be a whole number of
 //! at least 1 that fits 64 bits; it is computed exactly (no floating point), so `1e6` is
 //! 1000000 and `1.0000001e6` is refused as not whole. A negative count is refused as such (the
-//! options take hyphen values so that `-5` reaches this parser instead of clap's advice to write
-//! `-- -5`). [`parse_spp`] reads camera paths per pixel the same way, up to 32 bits.
+//! command line's options take hyphen values so that `-5` reaches this parser instead of clap's
+//! advice to write `-- -5`). [`parse_spp`] reads camera paths per pixel the same way, up to 32 bits.
 
-use anyhow::{Result, bail};
+/// A text that is not a count.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum CountError {
+    /// It starts with a minus sign.
+    #[error("'{0}': a count must be positive (at least 1)")]
+    Negative(String),
+    /// Not digits, a point, an exponent and a suffix.
+    #[error("'{0}' is not a count (e.g. 4000000, 4M, 4e6)")]
+    NotACount(String),
+    /// A fraction is left.
+    #[error("'{0}' is not a whole number")]
+    NotWhole(String),
+    /// It is 0.
+    #[error("'{0}': the count must be at least 1")]
+    Zero(String),
+    /// Beyond 64 bits.
+    #[error("'{0}' is more than a 64-bit count ({max})", max = u64::MAX)]
+    TooBig(String),
+    /// Beyond 32 bits, for camera paths per pixel.
+    #[error("'{0}': at most {max} camera paths per pixel", max = u32::MAX)]
+    TooManyPerPixel(String),
+}
 
 /// Parses a count (see the module documentation).
-pub fn parse_count(s: &str) -> Result<u64> {
+pub fn parse_count(s: &str) -> Result<u64, CountError> {
     let t: String = s.trim().chars().filter(|c| *c != '_' && *c != ',').collect();
     if t.starts_with('-') {
-        bail!("'{s}': a count must be positive (at least 1)");
+        return Err(CountError::Negative(s.into()));
     }
     let (number, suffix) = match t.char_indices().last() {
         Some((i, c)) if "kKMGT".contains(c) => (
@@ -28,7 +49,7 @@ pub fn parse_count(s: &str) -> Result<u64> {
     let (mantissa, exponent) = match number.split_once(['e', 'E']) {
         Some((m, e)) => match e.parse::<i32>() {
             Ok(e) => (m, e),
-            Err(_) => bail!("'{s}' is not a count (e.g. 4000000, 4M, 4e6)"),
+            Err(_) => return Err(CountError::NotACount(s.into())),
         },
         None => (number, 0),
     };
@@ -36,12 +57,12 @@ pub fn parse_count(s: &str) -> Result<u64> {
     if whole.is_empty() && fraction.is_empty()
         || !whole.chars().chain(fraction.chars()).all(|c| c.is_ascii_digit())
     {
-        bail!("'{s}' is not a count (e.g. 4000000, 4M, 4e6)");
+        return Err(CountError::NotACount(s.into()));
     }
     let digits: String = format!("{whole}{fraction}");
     let digits = digits.trim_start_matches('0');
     let scale = exponent as i64 + suffix - fraction.len() as i64;
-    let too_big = || anyhow::anyhow!("'{s}' is more than a 64-bit count ({})", u64::MAX);
+    let too_big = || CountError::TooBig(s.into());
     let value: u128 = if digits.is_empty() {
         0
     } else if scale >= 0 {
@@ -53,7 +74,7 @@ pub fn parse_count(s: &str) -> Result<u64> {
         let cut = (-scale) as usize;
         let (int, rest) = if digits.len() > cut { digits.split_at(digits.len() - cut) } else { ("", digits) };
         if rest.chars().any(|c| c != '0') {
-            bail!("'{s}' is not a whole number");
+            return Err(CountError::NotWhole(s.into()));
         }
         if int.len() > 20 {
             return Err(too_big());
@@ -61,16 +82,16 @@ pub fn parse_count(s: &str) -> Result<u64> {
         if int.is_empty() { 0 } else { int.parse::<u128>().map_err(|_| too_big())? }
     };
     if value == 0 {
-        bail!("'{s}': the count must be at least 1");
+        return Err(CountError::Zero(s.into()));
     }
     u64::try_from(value).map_err(|_| too_big())
 }
 
 /// Parses camera paths per pixel (`--spp`): a count as [`parse_count`] reads it, at most
 /// `u32::MAX`.
-pub fn parse_spp(s: &str) -> Result<u32> {
+pub fn parse_spp(s: &str) -> Result<u32, CountError> {
     let n = parse_count(s)?;
-    u32::try_from(n).map_err(|_| anyhow::anyhow!("'{s}': at most {} camera paths per pixel", u32::MAX))
+    u32::try_from(n).map_err(|_| CountError::TooManyPerPixel(s.into()))
 }
 
 #[cfg(test)]
