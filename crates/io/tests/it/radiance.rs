@@ -603,6 +603,103 @@ fn a_mitsuba_sky_emitter_is_the_rad_files_sky() {
     assert!(e.contains("arguments"), "{e}");
 }
 
+/// `<emitter type="ciesky">`: a CIE general sky whose map is the type's closed form
+/// (`CieGeneralSky` evaluated directly) texel for texel, scaled by gensky's `-b`/`-B`, with the
+/// sun gensky's `-R` states and the ground ρ·E/π; bad types and arguments are errors at the
+/// element.
+#[test]
+fn a_ciesky_emitter_is_the_cie_general_sky() {
+    use opticks_core::scene::{EnvironmentRadiance, SkyModel as Recorded};
+    use opticks_io::scene_formats::radiance::sky::map_to_world;
+    use opticks_io::scene_formats::radiance::{CieGeneralSky, SkyModel};
+    let deg = std::f64::consts::PI / 180.0;
+    let xml = |n: i64, args: &str| {
+        format!(
+            "<scene version=\"3.0.0\">\n<emitter type=\"ciesky\" id=\"sky\">\n<integer name=\"type\" value=\"{n}\"/>\n\
+             <string name=\"arguments\" value=\"{args}\"/>\n</emitter></scene>"
+        )
+    };
+    // Type 1 (overcast, steep gradation) at -B 100 without a sun; type 12 (clear) at -b 20 with
+    // a sun of 500 W/m² on the horizontal, its position from a date and a site as gensky's.
+    for (n, args) in [(1, "-ang 40 20 -B 100"), (12, "3 21 12 -a 52 -o 0 -m 0 -b 20 -R 500")] {
+        let d = load_ok(&[("a.xml", xml(n, args).as_bytes())]).description;
+        let light = &d.environment_lights[0];
+        assert_eq!(light.name, "sky");
+        assert_eq!(light.sky, Some(Recorded::Other(format!("a CIE general sky of type {n} (ciesky)"))));
+        let EnvironmentRadiance::Map { width, height, texels, .. } = &light.radiance else {
+            panic!("a sky is a map")
+        };
+        let model = SkyModel::CieGeneral(CieGeneralSky::new(n as u8).unwrap());
+        let toward_sun = match d.directional_lights.first() {
+            Some(sun) => {
+                assert_eq!((n, sun.name.as_str()), (12, "sky.sun"));
+                -sun.direction.as_dvec3()
+            }
+            None => {
+                glam::DVec3::new(-(20.0 * deg).sin(), -(20.0 * deg).cos(), 0.0) * (40.0 * deg).cos()
+                    + glam::DVec3::Z * (40.0 * deg).sin()
+            }
+        };
+        if n == 12 {
+            let sun = &d.directional_lights[0];
+            let horizontal = sun.irradiance.x as f64 * toward_sun.z;
+            assert!(
+                (horizontal / 500.0 - 1.0).abs() < 1e-5,
+                "-R is the sun's horizontal irradiance: {horizontal}"
+            );
+        }
+        let zenith = texels[0].x as f64;
+        let expected = if n == 1 { model.zenith_for(100.0, toward_sun) } else { 20.0 };
+        assert!((zenith / expected - 1.0).abs() < 1e-5, "type {n}: zenith {zenith} vs {expected}");
+        for j in 0..*height {
+            let theta = std::f64::consts::PI * j as f64 / (*height - 1) as f64;
+            for i in 0..*width {
+                let phi = 2.0 * std::f64::consts::PI * (i as f64 + 0.5) / *width as f64;
+                let dir = map_to_world(phi, theta);
+                let t = texels[j * width + i];
+                assert!(t.x == t.y && t.y == t.z, "a grey sky");
+                if dir.z > 0.0 {
+                    // Relative: the sun's direction is read back as f32, and the circumsolar
+                    // peak is steep.
+                    let closed = zenith * model.relative_luminance(dir, toward_sun);
+                    assert!(
+                        (t.x as f64 - closed).abs() <= 1e-5 * closed.max(zenith),
+                        "type {n} at ({i}, {j}): {} vs {closed}",
+                        t.x
+                    );
+                }
+            }
+        }
+        // The gradation: toward the horizon (θ = 85°, far from the sun's azimuth for type 1,
+        // whose indicatrix is flat) the sky is φ(85°)/φ(0) of the zenith.
+        if n == 1 {
+            let t = CieGeneralSky::new(1).unwrap();
+            let d = glam::DVec3::new((85.0 * deg).sin(), 0.0, (85.0 * deg).cos());
+            let ratio = model.relative_luminance(d, toward_sun);
+            assert!((ratio - t.gradation(85.0 * deg) / t.gradation(0.0)).abs() < 1e-12);
+            assert!(ratio < 0.4 && t.gradation(0.0) > 2.9, "the overcast's darker horizon: {ratio}");
+            // Below: the ground, ρ = 0.2 of the 100 W/m² on the horizontal, over π.
+            let ground = texels[(height - 1) * width].x as f64;
+            assert!((ground / (0.2 * 100.0 / std::f64::consts::PI) - 1.0).abs() < 1e-3, "ground {ground}");
+        }
+    }
+    for (n, args, at, what) in [
+        (0, "-ang 40 20 -B 100", "a.xml:3:", "CIE general sky type 0: the types are 1 to 15"),
+        (16, "-ang 40 20 -B 100", "a.xml:3:", "CIE general sky type 16"),
+        (3, "-ang 40 20", "a.xml:4:", "the sky's level is missing: give -b"),
+        (3, "-ang 40 20 -B 100 -c", "a.xml:4:", "-c: gensky's sky options"),
+        (3, "13 21 12 -B 100", "a.xml:4:", "bad month"),
+    ] {
+        let e = error_of(&[("a.xml", xml(n, args).as_bytes())]);
+        assert!(e.starts_with(&format!("TMP/{at}")) && e.contains(what), "{e}");
+    }
+    let e = error_of(&[(
+        "a.xml",
+        b"<scene version=\"3.0.0\">\n<emitter type=\"ciesky\">\n<string name=\"arguments\" value=\"-ang 40 20 -B 1\"/>\n</emitter></scene>",
+    )]);
+    assert!(e.starts_with("TMP/a.xml:2:") && e.contains("needs its CIE general sky type"), "{e}");
+}
+
 /// Photometry is the format's: a `.rad` scene's description and built scene carry Radiance's
 /// rule (179 lm/W, its primaries), the other formats' the default (683 lm/W, Rec. 709).
 #[test]
