@@ -1,6 +1,7 @@
 //! The Radiance scene loader through the public API: errors with file:line:column, each
-//! surface's geometry, each material's mapping, `!xform` includes with their transforms, include
-//! cycles, commands and unknown primitives refused, views, and the example room.
+//! surface's geometry, `mesh` primitives from their `.obj`, each material's mapping, `!xform`
+//! includes with their transforms, include cycles, commands and unknown primitives refused,
+//! views, and the example room.
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::math::{Rgb, Vec3};
@@ -245,7 +246,6 @@ fn unknown_and_unsupported_primitives_are_refused_naming_file_line_and_primitive
     for (text, what) in [
         ("void brightfunc skyfunc 2 skybright skybright.cal 0 0\n", "brightfunc is a pattern"),
         ("void texfunc wave 4 dx dy dz wave.cal 0 0\n", "texfunc is a texture"),
-        ("grey mesh m 1 chair.rtm 0 0\n", "mesh is a surface"),
         ("grey instance i 1 chair.oct 0 0\n", "instance is a surface"),
         ("grey source sun 0 0 4 0 0 1 0.5\n", "emits nothing: a source takes a light or glow"),
         ("void spotlight s 0 0 7 1 1 1 30 0 0 -1\n", "spotlight is a material"),
@@ -380,6 +380,97 @@ fn xform_includes_relative_to_the_including_file_transformed() {
     assert!((b - a).cross(c - a).dot(a) < 0.0, "-I makes the sphere a bubble");
 }
 
+/// The corners of every triangle of `d`, each triangle's rotated to start at its least corner
+/// (the winding kept), sorted: the same set for the same triangles facing the same way.
+fn corners(d: &opticks_core::scene::SceneDescription) -> Vec<[[i64; 3]; 3]> {
+    let key = |p: Vec3| p.to_array().map(|x| (x * 1e4).round() as i64);
+    let mut out: Vec<[[i64; 3]; 3]> = d
+        .meshes
+        .iter()
+        .flat_map(|m| m.triangles.iter().map(|t| t.map(|i| key(m.positions[i as usize]))))
+        .map(|mut t| {
+            let least = (0..3).min_by_key(|&i| t[i]).unwrap();
+            t.rotate_left(least);
+            t
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// A light for scenes that must build.
+const LAMP: &str = "void light l 0 0 3 1 1 1\nl polygon lamp 0 0 9 0 0 5 0 1 5 1 0 5\n";
+
+#[test]
+fn a_mesh_is_its_obj_triangles_transformed_as_polygons_are() {
+    // A quad and a triangle; the .obj's material is ignored (the mesh's modifier wins).
+    let obj: &[u8] =
+        b"mtllib none.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0\nusemtl other\nf 1 2 3 4\nf 2 5 3\n";
+    // The same as polygons: the quad as the two triangles of its fan (OBJ's, which a polygon's
+    // ear clipping may cut along the other diagonal).
+    let polygons: &[u8] =
+        b"grey polygon q1 0 0 9 0 0 0 1 0 0 1 1 0\ngrey polygon q2 0 0 9 0 0 0 1 1 0 0 1 0\n\
+        grey polygon t 0 0 9 1 0 0 2 0 0 1 1 0\n";
+    // The mesh's own transform (a mirror among it), and one under an !xform: the mesh's
+    // transform first, then the include's.
+    let meshed = load_ok(&[
+        (
+            "a.rad",
+            format!(
+                "{MAT}grey mesh m 8 parts/shape.obj -rz 90 -t 1 2 3 -mx 0 0\n!xform -s 2 parts/b.rad\n{LAMP}"
+            )
+            .as_bytes(),
+        ),
+        ("parts/b.rad", b"grey mesh n 5 shape.obj -t 0 0 1 0 0\n"),
+        ("parts/shape.obj", obj),
+    ]);
+    let written = load_ok(&[
+        (
+            "a.rad",
+            format!("{MAT}!xform -rz 90 -t 1 2 3 -mx p.rad\n!xform -t 0 0 1 -s 2 p.rad\n{LAMP}").as_bytes(),
+        ),
+        ("p.rad", polygons),
+    ]);
+    let (m, w) = (&meshed.description, &written.description);
+    assert_eq!(m.meshes.len(), 3);
+    assert_eq!(m.meshes[..2].iter().map(|m| m.triangles.len()).sum::<usize>(), 6);
+    assert_eq!(corners(m), corners(w), "the same triangles, facing the same way");
+    assert!(m.meshes.iter().all(|x| x.normals.is_empty()), "an .obj without vn is faceted");
+    assert_eq!(m.materials[0].name, "grey");
+    assert_eq!((m.meshes[0].source.line, m.meshes[1].source.line), (5, 1));
+    let (a, b) = (Scene::build(m).unwrap(), Scene::build(w).unwrap());
+    opticks_testkit::files::assert_same_scene(&a, &b);
+}
+
+#[test]
+fn a_mesh_without_its_obj_is_an_error_naming_the_line() {
+    let e = error_of(&[("a.rad", format!("{MAT}\ngrey mesh chair 1 chair.rtm 0 0\n").as_bytes())]);
+    assert!(
+        e.starts_with("TMP/a.rad:6:1: mesh chair: chair.rtm is obj2mesh's compiled mesh")
+            && e.contains("name the .obj file it was made from instead"),
+        "{e}"
+    );
+    let e = error_of(&[("a.rad", format!("{MAT}\ngrey mesh chair 1 sub/chair.obj 0 0\n").as_bytes())]);
+    assert!(e.starts_with("TMP/a.rad:6:1: mesh chair: cannot read mesh file TMP/sub/chair.obj: "), "{e}");
+    let e = error_of(&[
+        ("a.rad", format!("{MAT}grey mesh chair 1 chair.obj 0 0\n").as_bytes()),
+        ("chair.obj", b"v 0 0 0\nv 1 0 0\nf 1 2 3\n"),
+    ]);
+    assert!(e.starts_with("TMP/chair.obj:3:") && e.ends_with("(mesh of mesh chair at TMP/a.rad:5:1)"), "{e}");
+    let obj: (&str, &[u8]) = ("c.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    for (text, what) in [
+        ("void mesh m 1 c.obj 0 0\n", "a void mesh takes the .obj's own materials"),
+        ("grey mesh m 3 c.obj -n x 0 0\n", "its transform: \"-n\" is not a transform option"),
+        ("grey mesh m 2 c.obj -t 0 0\n", "its transform: -t needs a number"),
+        ("grey mesh m 1 c.obj 0 1 1\n", "mesh takes 1 or more string arguments"),
+        ("grey mesh m 0 0 0\n", "mesh takes 1 or more string arguments"),
+        ("grey mesh m 1 c.ply 0 0\n", "a mesh is read from a Wavefront .obj file"),
+    ] {
+        let e = error_of(&[("a.rad", format!("{MAT}{text}").as_bytes()), obj]);
+        assert!(e.starts_with("TMP/a.rad:5:1: mesh m: ") && e.contains(what), "{e}");
+    }
+}
+
 #[test]
 fn include_cycles_and_depth_are_bounded() {
     let e = error_of(&[("a.rad", b"!xform b.rad\n"), ("b.rad", b"\n!xform -t 1 0 0 a.rad\n")]);
@@ -510,6 +601,103 @@ fn a_mitsuba_sky_emitter_is_the_rad_files_sky() {
     assert!(e.contains("b.xml:3:") && e.contains("gensky"), "{e}");
     let e = error_of(&[("c.xml", b"<scene version=\"3.0.0\"><emitter type=\"gendaylit\"/></scene>")]);
     assert!(e.contains("arguments"), "{e}");
+}
+
+/// `<emitter type="ciesky">`: a CIE general sky whose map is the type's closed form
+/// (`CieGeneralSky` evaluated directly) texel for texel, scaled by gensky's `-b`/`-B`, with the
+/// sun gensky's `-R` states and the ground ρ·E/π; bad types and arguments are errors at the
+/// element.
+#[test]
+fn a_ciesky_emitter_is_the_cie_general_sky() {
+    use opticks_core::scene::{EnvironmentRadiance, SkyModel as Recorded};
+    use opticks_io::scene_formats::radiance::sky::map_to_world;
+    use opticks_io::scene_formats::radiance::{CieGeneralSky, SkyModel};
+    let deg = std::f64::consts::PI / 180.0;
+    let xml = |n: i64, args: &str| {
+        format!(
+            "<scene version=\"3.0.0\">\n<emitter type=\"ciesky\" id=\"sky\">\n<integer name=\"type\" value=\"{n}\"/>\n\
+             <string name=\"arguments\" value=\"{args}\"/>\n</emitter></scene>"
+        )
+    };
+    // Type 1 (overcast, steep gradation) at -B 100 without a sun; type 12 (clear) at -b 20 with
+    // a sun of 500 W/m² on the horizontal, its position from a date and a site as gensky's.
+    for (n, args) in [(1, "-ang 40 20 -B 100"), (12, "3 21 12 -a 52 -o 0 -m 0 -b 20 -R 500")] {
+        let d = load_ok(&[("a.xml", xml(n, args).as_bytes())]).description;
+        let light = &d.environment_lights[0];
+        assert_eq!(light.name, "sky");
+        assert_eq!(light.sky, Some(Recorded::Other(format!("a CIE general sky of type {n} (ciesky)"))));
+        let EnvironmentRadiance::Map { width, height, texels, .. } = &light.radiance else {
+            panic!("a sky is a map")
+        };
+        let model = SkyModel::CieGeneral(CieGeneralSky::new(n as u8).unwrap());
+        let toward_sun = match d.directional_lights.first() {
+            Some(sun) => {
+                assert_eq!((n, sun.name.as_str()), (12, "sky.sun"));
+                -sun.direction.as_dvec3()
+            }
+            None => {
+                glam::DVec3::new(-(20.0 * deg).sin(), -(20.0 * deg).cos(), 0.0) * (40.0 * deg).cos()
+                    + glam::DVec3::Z * (40.0 * deg).sin()
+            }
+        };
+        if n == 12 {
+            let sun = &d.directional_lights[0];
+            let horizontal = sun.irradiance.x as f64 * toward_sun.z;
+            assert!(
+                (horizontal / 500.0 - 1.0).abs() < 1e-5,
+                "-R is the sun's horizontal irradiance: {horizontal}"
+            );
+        }
+        let zenith = texels[0].x as f64;
+        let expected = if n == 1 { model.zenith_for(100.0, toward_sun) } else { 20.0 };
+        assert!((zenith / expected - 1.0).abs() < 1e-5, "type {n}: zenith {zenith} vs {expected}");
+        for j in 0..*height {
+            let theta = std::f64::consts::PI * j as f64 / (*height - 1) as f64;
+            for i in 0..*width {
+                let phi = 2.0 * std::f64::consts::PI * (i as f64 + 0.5) / *width as f64;
+                let dir = map_to_world(phi, theta);
+                let t = texels[j * width + i];
+                assert!(t.x == t.y && t.y == t.z, "a grey sky");
+                if dir.z > 0.0 {
+                    // Relative: the sun's direction is read back as f32, and the circumsolar
+                    // peak is steep.
+                    let closed = zenith * model.relative_luminance(dir, toward_sun);
+                    assert!(
+                        (t.x as f64 - closed).abs() <= 1e-5 * closed.max(zenith),
+                        "type {n} at ({i}, {j}): {} vs {closed}",
+                        t.x
+                    );
+                }
+            }
+        }
+        // The gradation: toward the horizon (θ = 85°, far from the sun's azimuth for type 1,
+        // whose indicatrix is flat) the sky is φ(85°)/φ(0) of the zenith.
+        if n == 1 {
+            let t = CieGeneralSky::new(1).unwrap();
+            let d = glam::DVec3::new((85.0 * deg).sin(), 0.0, (85.0 * deg).cos());
+            let ratio = model.relative_luminance(d, toward_sun);
+            assert!((ratio - t.gradation(85.0 * deg) / t.gradation(0.0)).abs() < 1e-12);
+            assert!(ratio < 0.4 && t.gradation(0.0) > 2.9, "the overcast's darker horizon: {ratio}");
+            // Below: the ground, ρ = 0.2 of the 100 W/m² on the horizontal, over π.
+            let ground = texels[(height - 1) * width].x as f64;
+            assert!((ground / (0.2 * 100.0 / std::f64::consts::PI) - 1.0).abs() < 1e-3, "ground {ground}");
+        }
+    }
+    for (n, args, at, what) in [
+        (0, "-ang 40 20 -B 100", "a.xml:3:", "CIE general sky type 0: the types are 1 to 15"),
+        (16, "-ang 40 20 -B 100", "a.xml:3:", "CIE general sky type 16"),
+        (3, "-ang 40 20", "a.xml:4:", "the sky's level is missing: give -b"),
+        (3, "-ang 40 20 -B 100 -c", "a.xml:4:", "-c: gensky's sky options"),
+        (3, "13 21 12 -B 100", "a.xml:4:", "bad month"),
+    ] {
+        let e = error_of(&[("a.xml", xml(n, args).as_bytes())]);
+        assert!(e.starts_with(&format!("TMP/{at}")) && e.contains(what), "{e}");
+    }
+    let e = error_of(&[(
+        "a.xml",
+        b"<scene version=\"3.0.0\">\n<emitter type=\"ciesky\">\n<string name=\"arguments\" value=\"-ang 40 20 -B 1\"/>\n</emitter></scene>",
+    )]);
+    assert!(e.starts_with("TMP/a.xml:2:") && e.contains("needs its CIE general sky type"), "{e}");
 }
 
 /// Photometry is the format's: a `.rad` scene's description and built scene carry Radiance's

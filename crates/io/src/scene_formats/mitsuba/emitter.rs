@@ -1,6 +1,6 @@
 //! `<emitter>` elements: the area emitter of a shape, and the top-level point, spot, IES,
-//! directional and environment (`constant`, `envmap`; the Radiance skies `gensky`, `gendaylit` in
-//! `sky.rs`) lights. [`TOP_EMITTERS`] maps each supported top-level type to its builder (which
+//! directional and environment (`constant`, `envmap`; the Radiance skies `gensky`, `gendaylit`
+//! and the CIE general skies `ciesky` in `sky.rs`) lights. [`TOP_EMITTERS`] maps each supported top-level type to its builder (which
 //! adds the light to the scene) and [`SHAPE_EMITTERS`] names the ones a shape holds; adding an
 //! emitter type is an entry there and its function.
 //!
@@ -44,11 +44,12 @@ const TOP_EMITTERS: &[(&str, BuildEmitter)] = &[
     ("envmap", envmap),
     ("gensky", super::sky::gensky),
     ("gendaylit", super::sky::gendaylit),
+    ("ciesky", super::sky::ciesky),
 ];
 
 /// The top-level emitters that light the scene from infinity (named in the error of one
 /// nested in a shape).
-const INFINITE_EMITTERS: &[&str] = &["constant", "envmap", "directional", "gensky", "gendaylit"];
+const INFINITE_EMITTERS: &[&str] = &["constant", "envmap", "directional", "gensky", "gendaylit", "ciesky"];
 
 /// The emitter types supported inside a `<shape>`.
 const SHAPE_EMITTERS: &[&str] = &["area"];

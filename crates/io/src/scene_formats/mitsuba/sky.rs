@@ -1,7 +1,9 @@
-//! `<emitter type="gensky">` and `<emitter type="gendaylit">`: Opticks extensions that carry a
-//! Radiance daylight sky in Mitsuba XML, so either format can hold one (Mitsuba 3 has no CIE or
-//! Perez sky). The generator's arguments are those of its command line, interpreted exactly as
-//! the `.rad` reader interprets a `!gensky`/`!gendaylit` line (`radiance::sky`, never run):
+//! `<emitter type="gensky">`, `<emitter type="gendaylit">` and `<emitter type="ciesky">`:
+//! Opticks extensions that carry a Radiance daylight sky in Mitsuba XML, so either format can
+//! hold one (Mitsuba 3 has no CIE or Perez sky), and the CIE general skies, which no Radiance
+//! generator writes. The generator's arguments are those of its command line, interpreted
+//! exactly as the `.rad` reader interprets a `!gensky`/`!gendaylit` line (`radiance::sky`,
+//! never run):
 //!
 //! ```xml
 //! <emitter type="gensky" id="sky">
@@ -17,11 +19,24 @@
 //! radiance × the disc's solid angle. `to_world` is a rotation from Radiance's frame into the
 //! scene's (identity: the scene's z is up). Values keep Radiance's units, W/(sr·m²) as its
 //! generators write them.
+//!
+//! `ciesky` is one of the 15 CIE general skies (ISO 15469 / CIE S 011), `<integer name="type"
+//! value="1…15"/>`, under the same `arguments` and `to_world` read by the same code: gensky's
+//! sun position and site options, its `-b`/`-B` level (one required) and, for a sun, `-r`/`-R`
+//! (`radiance::sky::ciesky`):
+//!
+//! ```xml
+//! <emitter type="ciesky" id="sky">
+//!     <integer name="type" value="12"/>
+//!     <string name="arguments" value="3 21 12 -a 52 -o 0 -m 0 -B 100 -R 500"/>
+//! </emitter>
+//! ```
 
 use super::Result;
 use super::build::Builder;
 use super::properties::Props;
 use super::xml::Element;
+use crate::scene_formats::radiance::CieGeneralSky;
 use crate::scene_formats::radiance::sky::{self, Generator};
 use glam::DVec3;
 use opticks_core::math::{Mat3, Rgb};
@@ -38,6 +53,28 @@ pub fn gendaylit<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String
     generated(b, e, ty, name, Generator::Gendaylit)
 }
 
+/// `ciesky`: the type, then the arguments as gensky's element reads them.
+pub fn ciesky<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
+    let mut p = Props::of(e)?;
+    super::emitter::no_objects(&p, ty)?;
+    let (n, tnode) = p.int("type")?.ok_or_else(|| {
+        e.err(format!(
+            "a {ty} emitter needs its CIE general sky type (ISO 15469 / CIE S 011): <integer name=\"type\" value=\"1…15\"/>"
+        ))
+    })?;
+    let model = u8::try_from(n).ok().and_then(CieGeneralSky::new).ok_or_else(|| {
+        tnode.attr_err(
+            "value",
+            format!("CIE general sky type {n}: the types are 1 to 15 (ISO 15469 / CIE S 011)"),
+        )
+    })?;
+    let (arguments, anode, rotation) = arguments(b, p, e, ty)?;
+    let words: Vec<String> = arguments.split_whitespace().map(str::to_string).collect();
+    let g =
+        sky::ciesky(model, &words).map_err(|m| anode.attr_err("value", format!("{ty} {arguments}: {m}")))?;
+    add(b, e, ty, name, rotation, g)
+}
+
 fn generated<'d>(
     b: &mut Builder<'d>,
     e: &'d Element,
@@ -45,8 +82,23 @@ fn generated<'d>(
     name: String,
     generator: Generator,
 ) -> Result<()> {
-    let mut p = Props::of(e)?;
+    let p = Props::of(e)?;
     super::emitter::no_objects(&p, ty)?;
+    let (arguments, anode, rotation) = arguments(b, p, e, ty)?;
+    let words: Vec<String> = arguments.split_whitespace().map(str::to_string).collect();
+    let g = sky::generate(generator, &words)
+        .map_err(|m| anode.attr_err("value", format!("{ty} {arguments}: {m}")))?;
+    add(b, e, ty, name, rotation, g)
+}
+
+/// The `arguments` string (required) and its element, and `to_world`'s rotation; the last of
+/// `p` read.
+fn arguments<'d>(
+    b: &mut Builder<'d>,
+    mut p: Props<'d>,
+    e: &'d Element,
+    ty: &str,
+) -> Result<(String, &'d Element, Mat3)> {
     let (arguments, anode) = p.string("arguments")?.ok_or_else(|| {
         e.err(format!(
             "a {ty} emitter needs its command line's arguments: <string name=\"arguments\" value=\"…\"/>"
@@ -57,9 +109,18 @@ fn generated<'d>(
         None => Mat3::IDENTITY,
     };
     b.finish(&p);
-    let words: Vec<String> = arguments.split_whitespace().map(str::to_string).collect();
-    let g = sky::generate(generator, &words)
-        .map_err(|m| anode.attr_err("value", format!("{ty} {arguments}: {m}")))?;
+    Ok((arguments, anode, rotation))
+}
+
+/// The sky (with its ground) as the environment light `name`, its sun as `<name>.sun`.
+fn add(
+    b: &mut Builder<'_>,
+    e: &Element,
+    ty: &str,
+    name: String,
+    rotation: Mat3,
+    g: sky::Generated,
+) -> Result<()> {
     for w in &g.warnings {
         b.warn(e, format!("{ty}: {w}"));
     }

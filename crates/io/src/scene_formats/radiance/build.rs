@@ -1,6 +1,6 @@
 //! Radiance records → the scene: modifiers defined and resolved, surfaces tessellated into
-//! meshes, `!xform` includes followed (transformed, depth and cycles bounded), every other
-//! command refused. The mapping of each primitive and material is the manual's
+//! meshes (`mesh` primitives read from their `.obj` files: `build/mesh.rs`), `!xform` includes
+//! followed (transformed, depth and cycles bounded), every other command refused. The mapping of each primitive and material is the manual's
 //! (`docs/scene-formats.md`, "Radiance").
 
 use super::err;
@@ -19,6 +19,7 @@ use opticks_core::scene::{AreaEmission, MeshDesc, Photometry, SceneDescription, 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+mod mesh;
 mod sources;
 
 /// Includes nest at most this deep.
@@ -39,7 +40,7 @@ const MATERIALS: &[&str] =
 const SURFACES: &[&str] = &["polygon", "sphere", "bubble", "cone", "cup", "cylinder", "tube", "ring"];
 /// Radiance's other primitive types, by what they are (each refused naming it).
 const UNSUPPORTED: &[(&str, &[&str])] = &[
-    ("a surface", &["mesh", "instance"]),
+    ("a surface", &["instance"]),
     (
         "a material",
         &[
@@ -278,6 +279,9 @@ impl Builder {
         if SURFACES.contains(&kind) {
             return self.surface(path, p, &here, frame);
         }
+        if kind == "mesh" {
+            return self.mesh(path, p, &here, frame);
+        }
         if kind == "source" {
             return self.source(path, p, &here, frame);
         }
@@ -289,7 +293,7 @@ impl Builder {
             &here,
             &p.describe(),
             format!(
-                "{message} (supported: the surfaces {} and the materials {}, with void and alias)",
+                "{message} (supported: the surfaces {}, mesh (of a .obj file) and the materials {}, with void and alias)",
                 SURFACES.join(", "),
                 MATERIALS.join(", ")
             ),
@@ -619,6 +623,23 @@ impl Builder {
         if inward && kind != "polygon" && kind != "ring" {
             tessellate::flip(&mut mesh);
         }
+        self.add_surface(path, p, here, frame, modifier, resolved, mesh)
+    }
+
+    /// Surface `p`'s triangles (transformed) as a mesh of the material its modifier (`modifier`,
+    /// resolved to `resolved`) stands for; none for an invisible one.
+    #[allow(clippy::too_many_arguments)]
+    fn add_surface(
+        &mut self,
+        path: &Path,
+        p: &Primitive,
+        here: &FileLocation,
+        frame: &Frame,
+        modifier: &str,
+        resolved: Option<usize>,
+        mesh: tessellate::Tessellation,
+    ) -> Result<(), SceneFileError> {
+        let bad = |m: String| err(here, &p.describe(), m);
         let Some(i) = resolved else {
             self.void_surfaces += 1;
             return Ok(());

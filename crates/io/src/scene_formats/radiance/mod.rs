@@ -9,7 +9,7 @@
 //! |---|---|
 //! | `lexer.rs` | text → located records: primitives (`modifier type identifier` and the three argument lists) and `!command` lines |
 //! | `xform.rs` | an `xform` command's arguments → a similarity transform, the renaming options and the files (read, never run) |
-//! | `build.rs` | records → [`SceneDescription`](opticks_core::scene::SceneDescription): modifiers resolved as Radiance resolves them (latest definition, `void`, `alias`), materials mapped to the core's, surfaces tessellated ([`super::tessellate`]), includes followed |
+//! | `build.rs` | records → [`SceneDescription`](opticks_core::scene::SceneDescription): modifiers resolved as Radiance resolves them (latest definition, `void`, `alias`), materials mapped to the core's, surfaces tessellated ([`super::tessellate`]), `mesh` primitives read from their `.obj` files (`build/mesh.rs`, through [`super::obj`]), includes followed |
 //! | `sky/` | `!gensky` and `!gendaylit` interpreted: the sun's position, the CIE and Perez skies' brightness (`skybright.cal`, `perezlum.cal`), the levels; rasterised into environment lights by `build/sources.rs`; the CIE general skies as an API |
 //! | `view.rs` | `--camera`'s Radiance view (a view file or `-vp …` options) → the camera; without one, a view of the bounding box |
 //!

@@ -2,7 +2,8 @@
 //! what it includes, and the files. Transforms are Radiance's: each applies after the ones
 //! before it, and they preserve shape (rotations, translations, a uniform scale, mirrors), so
 //! every primitive stays the same kind of primitive with transformed parameters, as `xform`
-//! itself writes them.
+//! itself writes them. [`parse_transform`] reads the same options where a primitive carries its
+//! own transform (`mesh`), so that both compose alike.
 
 use super::lexer::{NumberError, option_number};
 use glam::{DMat3, DVec3};
@@ -33,6 +34,12 @@ pub enum XformError {
     /// No file after the options: `xform` would read standard input.
     #[error("xform without a file would read standard input: name the file to include")]
     NoFile,
+    /// A word of a primitive's transform that is not a transform option.
+    #[error("\"{word}\" is not a transform option (a transform takes -t, -rx, -ry, -rz, -s, -mx, -my, -mz)")]
+    NotTransform {
+        /// The word.
+        word: String,
+    },
     /// An option after the first file.
     #[error("option {option} after the first file")]
     OptionAfterFile {
@@ -114,46 +121,16 @@ pub fn parse(args: &[String]) -> Result<Xform, XformError> {
         files: Vec::new(),
     };
     let mut i = 0;
-    let number = |i: usize, option: &str| option_number(args, i, option);
     while i < args.len() {
         let a = args[i].as_str();
         if !a.starts_with('-') || a == "-" {
             break;
         }
-        let t = &mut x.transform;
+        if let Some(next) = transform_option(args, i, &mut x.transform)? {
+            i = next;
+            continue;
+        }
         match a {
-            "-t" => {
-                let v = DVec3::new(number(i + 1, a)?, number(i + 2, a)?, number(i + 3, a)?);
-                *t = t.then(DMat3::IDENTITY, v, 1.0);
-                i += 4;
-            }
-            "-rx" | "-ry" | "-rz" => {
-                let angle = number(i + 1, a)?.to_radians();
-                let r = match a {
-                    "-rx" => DMat3::from_rotation_x(angle),
-                    "-ry" => DMat3::from_rotation_y(angle),
-                    _ => DMat3::from_rotation_z(angle),
-                };
-                *t = t.then(r, DVec3::ZERO, 1.0);
-                i += 2;
-            }
-            "-s" => {
-                let s = number(i + 1, a)?;
-                if s == 0.0 {
-                    return Err(XformError::ZeroScale);
-                }
-                *t = t.then(DMat3::from_diagonal(DVec3::splat(s)), DVec3::ZERO, s.abs());
-                i += 2;
-            }
-            "-mx" | "-my" | "-mz" => {
-                let d = match a {
-                    "-mx" => DVec3::new(-1.0, 1.0, 1.0),
-                    "-my" => DVec3::new(1.0, -1.0, 1.0),
-                    _ => DVec3::new(1.0, 1.0, -1.0),
-                };
-                *t = t.then(DMat3::from_diagonal(d), DVec3::ZERO, 1.0);
-                i += 1;
-            }
             "-n" | "-m" => {
                 let Some(name) = args.get(i + 1) else {
                     return Err(XformError::MissingName { option: a.to_string() });
@@ -187,6 +164,65 @@ pub fn parse(args: &[String]) -> Result<Xform, XformError> {
         return Err(XformError::OptionAfterFile { option: f.clone() });
     }
     Ok(x)
+}
+
+/// A transform alone, as a `mesh` (or `instance`) primitive's string arguments after its file
+/// give it (Radiance's `xf` arguments): the options `-t`, `-rx`, `-ry`, `-rz`, `-s`, `-mx`,
+/// `-my`, `-mz`, composed exactly as in an `xform` line; none is the identity. Anything else
+/// (a file, `-n`, `-m`, `-I`, an array) is an error.
+pub fn parse_transform(args: &[String]) -> Result<Similarity, XformError> {
+    let mut t = Similarity::default();
+    let mut i = 0;
+    while i < args.len() {
+        match transform_option(args, i, &mut t)? {
+            Some(next) => i = next,
+            None => return Err(XformError::NotTransform { word: args[i].clone() }),
+        }
+    }
+    Ok(t)
+}
+
+/// If `args[i]` is a transform option, applies it (after `t`) and returns the index of the word
+/// after its numbers; `None` for any other word. The one reading of the transform options, for
+/// `xform` lines and primitives' transforms alike.
+fn transform_option(args: &[String], i: usize, t: &mut Similarity) -> Result<Option<usize>, XformError> {
+    let a = args[i].as_str();
+    let number = |i: usize| option_number(args, i, a);
+    Ok(Some(match a {
+        "-t" => {
+            let v = DVec3::new(number(i + 1)?, number(i + 2)?, number(i + 3)?);
+            *t = t.then(DMat3::IDENTITY, v, 1.0);
+            i + 4
+        }
+        "-rx" | "-ry" | "-rz" => {
+            let angle = number(i + 1)?.to_radians();
+            let r = match a {
+                "-rx" => DMat3::from_rotation_x(angle),
+                "-ry" => DMat3::from_rotation_y(angle),
+                _ => DMat3::from_rotation_z(angle),
+            };
+            *t = t.then(r, DVec3::ZERO, 1.0);
+            i + 2
+        }
+        "-s" => {
+            let s = number(i + 1)?;
+            if s == 0.0 {
+                return Err(XformError::ZeroScale);
+            }
+            *t = t.then(DMat3::from_diagonal(DVec3::splat(s)), DVec3::ZERO, s.abs());
+            i + 2
+        }
+        "-mx" | "-my" | "-mz" => {
+            let d = match a {
+                "-mx" => DVec3::new(-1.0, 1.0, 1.0),
+                "-my" => DVec3::new(1.0, -1.0, 1.0),
+                _ => DVec3::new(1.0, 1.0, -1.0),
+            };
+            *t = t.then(DMat3::from_diagonal(d), DVec3::ZERO, 1.0);
+            i + 1
+        }
+        _ => return Ok(None),
+    }))
 }
 
 #[cfg(test)]
@@ -225,5 +261,16 @@ mod tests {
         assert_eq!(e("-t 1 2 3"), XformError::NoFile);
         assert_eq!(e("-s 0 a.rad"), XformError::ZeroScale);
         assert_eq!(e("a.rad -t 1 2 3").to_string(), "option -t after the first file");
+    }
+
+    #[test]
+    fn a_primitives_transform_is_read_as_xforms() {
+        let t = parse_transform(&args("-rz 90 -t 1 0 0 -s 2")).unwrap();
+        assert_eq!(t, parse(&args("-rz 90 -t 1 0 0 -s 2 a.rad")).unwrap().transform);
+        assert_eq!(parse_transform(&[]).unwrap(), Similarity::default());
+        let e = |s: &str| parse_transform(&args(s)).unwrap_err();
+        assert_eq!(e("-t 1 0 0 a.rad"), XformError::NotTransform { word: "a.rad".into() });
+        assert_eq!(e("-n x"), XformError::NotTransform { word: "-n".into() });
+        assert_eq!(e("-s 0"), XformError::ZeroScale);
     }
 }

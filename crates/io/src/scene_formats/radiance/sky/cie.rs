@@ -1,7 +1,7 @@
 //! The CIE general skies (ISO 15469:2004 / CIE S 011/E:2003) and the Perez all-weather sky as
-//! relative luminance distributions, for front ends that describe a sky by its model (a later
-//! Mitsuba XML extension element): Radiance's own files reach skies only through `!gensky` and
-//! `!gendaylit`, and no Radiance syntax is invented for these.
+//! relative luminance distributions, for front ends that describe a sky by its model (Mitsuba
+//! XML's `<emitter type="ciesky">`, through `ciesky.rs`): Radiance's own files reach skies only
+//! through `!gensky` and `!gendaylit`, and no Radiance syntax is invented for these.
 //!
 //! A general sky's luminance relative to the zenith's is L/L_z = f(χ)·φ(Z) / (f(Z_s)·φ(0)):
 //! gradation φ(Z) = 1 + a·exp(b/cos Z) (φ = 1 at the horizon), indicatrix

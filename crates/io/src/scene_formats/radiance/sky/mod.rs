@@ -1,7 +1,8 @@
 //! Radiance's sky generators interpreted, never run: `!gensky` (the CIE clear, intermediate,
 //! overcast and uniform skies of `skybright.cal`) and `!gendaylit` (the Perez all-weather sky of
 //! `perezlum.cal`), each a `skyfunc` brightness and a `solar` source; and, for front ends
-//! other than Radiance's, the CIE general skies ([`cie`]).
+//! other than Radiance's, the CIE general skies ([`cie`]), which Mitsuba XML's `ciesky` emitter
+//! places and scales with gensky's arguments ([`ciesky()`]).
 //!
 //! Written from the formulas of Radiance's own sources (LBNL-ETA/Radiance, as Radiance 6 and
 //! pyradiance 1.3.1 ship them), not from their code:
@@ -12,6 +13,7 @@
 //! | `gensky.rs` | `src/gen/gensky.c` 2.31, `src/gen/skybright.cal` 2.7 |
 //! | `perez.rs` | `src/gen/gendaylit.c` 2.6 (2021-01-29, with the dew point; RCS 2.21), `lib/perezlum.cal` 1.2 |
 //! | `cie.rs` | ISO 15469:2004 / CIE S 011/E:2003, the 15 general skies |
+//! | `ciesky.rs` | a general sky under gensky's arguments (`sun.rs`'s sun, `-b`/`-B`, `-r`/`-R`) |
 //!
 //! * **Sun position** (`sun.c`). Day of the year J (no leap years), solar declination
 //!   δ = 0.4093·sin(2π(J − 81)/365), solar time t = hour + 0.170·sin(4π(J − 80)/373)
@@ -52,12 +54,14 @@
 //! * **gendaylit's sky** (`perezlum.cal`): A1·(1 + a e^{b/max(D_z, 0.01)})(1 + c e^{dγ} + e cos²γ),
 //!   blended toward the ground as gensky's.
 
+mod ciesky;
 mod gensky;
 mod perez;
 mod sun;
 
 pub mod cie;
 
+pub use ciesky::{CieSky, ciesky};
 pub use gensky::{Gensky, SUN_DIAMETER_DEGREES, SUN_SOLID_ANGLE, gensky};
 pub use perez::{Gendaylit, SUN_DIAMETER_DEGREES as GENDAYLIT_SUN_DIAMETER_DEGREES, gendaylit};
 
@@ -170,6 +174,19 @@ pub enum SkyArgsError {
         /// The option.
         option: String,
     },
+    /// One of gensky's sky options where the CIE type chooses the sky (`ciesky`).
+    #[error(
+        "{option}: gensky's sky options (+s/-s, +i/-i, -c, -u, -t) do not apply: the CIE type chooses the sky (give -r or -R for a sun)"
+    )]
+    SkyTypeOption {
+        /// The option.
+        option: String,
+    },
+    /// A CIE general sky without `-b` or `-B`.
+    #[error(
+        "the sky's level is missing: give -b zenith radiance (W/(sr·m²)) or -B horizontal diffuse irradiance (W/m²)"
+    )]
+    MissingZenithLevel,
     /// gendaylit without `-W`, `-L`, `-G`, `-P` or `-E`.
     #[error(
         "the sky's levels are missing: give -W direct diffuse (W/m²), -L (lux), -G, -P epsilon delta or -E global"
@@ -184,6 +201,8 @@ pub enum SkyFunc {
     Gensky(Gensky),
     /// `!gendaylit`'s (perezlum.cal).
     Gendaylit(Gendaylit),
+    /// A CIE general sky (Mitsuba XML's `ciesky`; no Radiance line makes one).
+    Cie(CieSky),
 }
 
 impl SkyFunc {
@@ -192,6 +211,7 @@ impl SkyFunc {
         match self {
             SkyFunc::Gensky(g) => g.brightness(d),
             SkyFunc::Gendaylit(g) => g.brightness(d),
+            SkyFunc::Cie(c) => c.brightness(d),
         }
     }
 
@@ -207,6 +227,9 @@ impl SkyFunc {
                 gensky::SkyType::Intermediate => other("a CIE intermediate sky (gensky +i or -i)"),
             },
             SkyFunc::Gendaylit(_) => other("a Perez all-weather sky (gendaylit)"),
+            SkyFunc::Cie(c) => {
+                SkyModel::Other(format!("a CIE general sky of type {} (ciesky)", c.model.number()))
+            }
         }
     }
 }
