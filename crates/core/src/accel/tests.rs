@@ -408,8 +408,9 @@ fn validation_catches_broken_trees() {
 fn queries_that_outgrow_the_small_stack_answer_as_with_the_full_stack() {
     fn answers<const SMALL: usize>(accel: &Accel, ray: &Ray, shadow: &Ray) -> (Option<(u32, u32)>, bool) {
         let (q, qs) = (Query::new(ray), Query::new(shadow));
-        let hit = accel.closest::<true, SMALL>(&q, ray.t_max).map(|(t, slot)| (t.to_bits(), slot));
-        (hit, accel.any_hit::<true, SMALL>(&qs, shadow.t_max))
+        let hit =
+            accel.closest::<true, SMALL>(&q, ray.t_max, &|_, _| true).map(|(t, slot)| (t.to_bits(), slot));
+        (hit, accel.any_hit::<true, SMALL>(&qs, shadow.t_max, &|_, _| true))
     }
     fn overflows<const SMALL: usize>(accel: &Accel, ray: &Ray) -> bool {
         let mut t_max = ray.t_max;
@@ -458,4 +459,43 @@ fn a_parallel_build_is_the_single_threaded_tree() {
     assert!(one.nodes.len() > 1000);
     assert_eq!(format!("{:?}", one.nodes), format!("{:?}", many.nodes));
     assert_eq!((one.order, one.depth, one.work), (many.order, many.depth, many.work));
+}
+
+/// A filtered query (a masked surface the ray passes through) answers as brute force over the
+/// accepted triangles only: the traversal goes on behind a rejected hit, and a rejected
+/// blocker does not block. Here every other triangle of a random soup is rejected.
+#[test]
+fn filtered_queries_skip_exactly_the_rejected_hits() {
+    let mut rng = Rng::new(77);
+    let mut corner = || Vec3::new(rng.f(), rng.f(), rng.f()) * 10.0;
+    let soup: Vec<[Vec3; 3]> = (0..600)
+        .map(|_| {
+            let a = corner();
+            [a, a + (corner() - Vec3::splat(5.0)) * 0.3, a + (corner() - Vec3::splat(5.0)) * 0.3]
+        })
+        .collect();
+    let accel = Accel::build(&soup);
+    let accepted: Vec<Tri> = soup.iter().step_by(2).map(Tri::new).collect();
+    let accept = |prim: u32, _t: f32| prim.is_multiple_of(2);
+    let mut rng = Rng::new(78);
+    let (mut hits, mut skipped) = (0, 0);
+    for _ in 0..4000 {
+        let origin = Vec3::new(rng.f(), rng.f(), rng.f()) * 12.0 - Vec3::splat(1.0);
+        let ray = Ray { origin, dir: rng.direction(), t_max: 4.0 + 20.0 * rng.f() };
+        let (want_t, want_blocked) = brute_force(&accepted, &ray);
+        let got = accel.intersect_where(&ray, accept);
+        match got {
+            Some((t, prim)) => {
+                assert_eq!(t.to_bits(), want_t.to_bits(), "{ray:?}");
+                assert!(prim.is_multiple_of(2));
+                hits += 1;
+            }
+            None => assert!(!(want_t < ray.t_max), "{ray:?}: missed {want_t}"),
+        }
+        assert_eq!(accel.occluded_where(&ray, accept), want_blocked, "{ray:?}");
+        if accel.intersect(&ray).is_some_and(|(_, p)| p % 2 == 1) {
+            skipped += 1;
+        }
+    }
+    assert!(hits > 500 && skipped > 500, "the test must see both: {hits} hits, {skipped} skipped");
 }

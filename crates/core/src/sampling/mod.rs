@@ -7,3 +7,4 @@ mod rng;
 pub mod warp;
 
 pub use rng::RandomStream;
+pub(crate) use rng::mix;

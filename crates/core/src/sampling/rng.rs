@@ -11,9 +11,11 @@ pub struct RandomStream {
     rng: Pcg32,
 }
 
-/// SplitMix64 finaliser: decorrelates the key words that name a stream.
+/// SplitMix64 finaliser: decorrelates the key words that name a stream (and the bits of the
+/// values hashed where a decision must follow from its inputs alone: a splat's aperture point,
+/// a masked surface's pass).
 #[inline]
-fn mix(mut z: u64) -> u64 {
+pub(crate) fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^ (z >> 31)

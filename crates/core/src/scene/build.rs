@@ -26,6 +26,7 @@ use crate::bsdf::Material;
 use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
+use crate::sampling::mix;
 
 /// A validated, ray-traceable scene.
 #[derive(Debug)]
@@ -45,6 +46,11 @@ pub struct Scene {
     uvs: Vec<[Vec2; 3]>,
     /// Per material: the textures in place of its parameters (empty: untextured).
     textures: MaterialTextures,
+    /// Per material, its opacity texture's index in `textures` (a masked surface: Mitsuba's
+    /// `mask`), if any.
+    opacity_of: Vec<Option<u8>>,
+    /// Whether any material is masked: only then do ray queries ask [`Scene::meets`].
+    masked: bool,
     /// The meshes' attributes that `mesh_attribute` textures read, one table per name.
     attributes: Vec<AttributeTable>,
     /// Materials.
@@ -108,7 +114,10 @@ impl Scene {
         let textures = textures::bind(desc, &flat.attributes)?;
         let hashes = hashes::fingerprints(&desc.materials, &textures, &flat, &lights, &ranges);
         let accel = Accel::build(&flat.vertices);
+        let opacity_of = textures::opacities(&textures);
         Ok(Scene {
+            masked: opacity_of.iter().any(Option::is_some),
+            opacity_of,
             normals: flat.triangles.iter().map(Triangle::normal).collect(),
             triangles: flat.triangles,
             shading_of: flat.shading_of,
@@ -133,18 +142,52 @@ impl Scene {
         })
     }
 
-    /// Closest surface hit along `ray`.
+    /// Closest surface hit along `ray` (a masked surface only where [`Scene::meets`] says
+    /// the ray meets it).
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
-        let (t, prim) = self.accel.intersect(ray)?;
+        let (t, prim) = match self.masked {
+            false => self.accel.intersect(ray)?,
+            true => self.accel.intersect_where(ray, |prim, t| self.meets(ray, prim, t))?,
+        };
         let position = self.triangles[prim as usize].snap(ray.origin + t * ray.dir);
         Some(Hit { t, prim, position, normal: self.normals[prim as usize] })
     }
 
-    /// Whether the segment from `ray.origin` of length `ray.t_max` is blocked.
+    /// Whether the segment from `ray.origin` of length `ray.t_max` is blocked (by a masked
+    /// surface only where [`Scene::meets`] says the ray meets it).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
-        self.accel.occluded(ray)
+        match self.masked {
+            false => self.accel.occluded(ray),
+            true => self.accel.occluded_where(ray, |prim, t| self.meets(ray, prim, t)),
+        }
+    }
+
+    /// Whether `ray` meets triangle `prim`, which it crosses at distance `t`: always, unless
+    /// the triangle's material is masked (Mitsuba's `mask`, opacity α at the crossing): then
+    /// with probability α, decided by a hash of the ray and the triangle — stochastic
+    /// transparency. Every estimator then sees the surface with probability α and what lies
+    /// behind it with 1 − α, the expectation of Mitsuba's α·f + (1 − α)·(straight through); and
+    /// since shadow rays and connections pass too, the light estimator sees through the mask
+    /// (Mitsuba's null lobe is a delta its light tracer cannot connect through). The hash makes
+    /// the answer a function of the query alone, as the traversal needs (it may ask twice).
+    #[inline]
+    fn meets(&self, ray: &Ray, prim: u32, t: f32) -> bool {
+        let m = self.material_of[prim as usize] as usize;
+        let Some(k) = self.opacity_of[m] else { return true };
+        let b = self.triangles[prim as usize].barycentrics(ray.origin + t * ray.dir);
+        let uv = self.uv_of_barycentrics(prim, b);
+        let alpha = textures::opacity_at(&self.textures[m][k as usize], &self.attributes, prim, b, uv);
+        if alpha >= 1.0 {
+            return true;
+        }
+        let (o, d) = (ray.origin.to_array().map(f32::to_bits), ray.dir.to_array().map(f32::to_bits));
+        let a = o[0] as u64 | (o[1] as u64) << 32;
+        let c = o[2] as u64 | (d[0] as u64) << 32;
+        let e = d[1] as u64 | (d[2] as u64) << 32;
+        let h = mix(mix(mix(a ^ 0x6d61_736b) ^ c) ^ e ^ prim as u64);
+        ((h >> 40) as f32 * (1.0 / 16_777_216.0)) < alpha
     }
 
     /// Unit geometric normal of triangle `prim`.

@@ -100,7 +100,14 @@ pub(super) fn bind(
             }
         };
         let (lo, hi) = range;
-        if b.slot.is_colour() {
+        if b.slot == ColourSlot::Opacity {
+            if !(lo.x >= 0.0 && hi.x <= 1.0) {
+                return Err(bad(
+                    m.name.clone(),
+                    format!("the opacity's values {}..{} are not in [0, 1]", lo.x, hi.x),
+                ));
+            }
+        } else if b.slot.is_colour() {
             if lo.min_element() < 0.0 {
                 return Err(bad(m.name.clone(), format!("the texture's smallest value {lo} is negative")));
             }
@@ -159,6 +166,29 @@ pub(super) fn bind(
     Ok(out)
 }
 
+/// Per material, the index in its list of its [`ColourSlot::Opacity`] texture (a masked
+/// surface, Mitsuba's `mask`), if it has one.
+pub(super) fn opacities(textures: &MaterialTextures) -> Vec<Option<u8>> {
+    textures
+        .iter()
+        .map(|list| list.iter().position(|b| b.slot == ColourSlot::Opacity).map(|k| k as u8))
+        .collect()
+}
+
+/// The opacity of `bound` (an [`opacities`] entry) at triangle `prim`'s point of barycentrics
+/// (b1, b2) and texture coordinates `uv`, in [0, 1].
+#[inline]
+pub(super) fn opacity_at(
+    bound: &Bound,
+    tables: &[AttributeTable],
+    prim: u32,
+    (b1, b2): (f32, f32),
+    uv: Vec2,
+) -> f32 {
+    let attribute = bound.attribute.map_or(Rgb::ZERO, |k| tables[k].at(prim, b1, b2));
+    bound.texture.eval_1(uv, attribute).clamp(0.0, 1.0)
+}
+
 /// `material` with its textured parameters evaluated at triangle `prim`'s point of barycentrics
 /// (b1, b2) and texture coordinates `uv` (a copy without a name: nothing allocated).
 #[inline]
@@ -171,7 +201,7 @@ pub(super) fn resolve(
     uv: Vec2,
 ) -> Material {
     let mut bsdf = material.bsdf.clone();
-    for b in textures {
+    for b in textures.iter().filter(|b| b.slot != ColourSlot::Opacity) {
         let attribute = b.attribute.map_or(Rgb::ZERO, |k| tables[k].at(prim, b1, b2));
         if b.slot.is_colour() {
             set_colour(&mut bsdf, b.slot, b.texture.eval(uv, attribute));

@@ -57,6 +57,7 @@ use crate::dataset::Sample;
 use crate::film::{Film, SharedFilm, SplatTarget, private_films};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
+use crate::sampling::mix;
 use crate::scene::{CameraDesc, CameraKind, Scene};
 use rayon::prelude::*;
 
@@ -201,14 +202,6 @@ impl Sensor {
     pub(crate) fn samples_aperture(&self) -> bool {
         matches!(self, Sensor::ThinLens(t) if t.radius > 0.0)
     }
-}
-
-/// SplitMix64 finaliser.
-#[inline]
-fn mix(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 /// Two uniform numbers in [0,1)² derived from the bits of a sample alone (reproducible

@@ -287,6 +287,8 @@ fn check_transform(t: &UvTransform) -> Result<(), TextureError> {
 /// The closed set of textures.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Texture {
+    /// One value everywhere (a constant `opacity`: every channel the same).
+    Constant(f32),
     /// An image.
     Bitmap(Bitmap),
     /// Two colours in squares.
@@ -302,6 +304,7 @@ impl Texture {
     #[inline]
     pub fn eval(&self, uv: Vec2, attribute: Rgb) -> Rgb {
         match self {
+            Texture::Constant(v) => Rgb::splat(*v),
             Texture::Bitmap(b) => b.eval(uv),
             Texture::Checkerboard(c) => c.eval(uv),
             Texture::MeshAttribute(m) => attribute * m.scale,
@@ -315,6 +318,7 @@ impl Texture {
     #[inline]
     pub fn eval_1(&self, uv: Vec2, attribute: Rgb) -> f32 {
         match self {
+            Texture::Constant(v) => *v,
             Texture::Bitmap(b) => luminance(b.eval(uv)),
             Texture::Checkerboard(c) => c.eval_1(uv),
             Texture::MeshAttribute(m) => attribute.x * m.scale,
@@ -325,6 +329,7 @@ impl Texture {
     /// the meshes hold, the scale (the scene bounds the values).
     pub fn max_value(&self) -> Rgb {
         match self {
+            Texture::Constant(v) => Rgb::splat(*v),
             Texture::Bitmap(b) => b.max_value(),
             Texture::Checkerboard(c) => c.color0.max(c.color1),
             Texture::MeshAttribute(m) => Rgb::splat(m.scale),
@@ -335,6 +340,7 @@ impl Texture {
     /// attribute, whose values the meshes hold: the scale, twice).
     pub fn range_1(&self) -> (f32, f32) {
         match self {
+            Texture::Constant(v) => (*v, *v),
             Texture::Bitmap(b) => b.luminance_range(),
             Texture::Checkerboard(c) => {
                 let (a, b) = (c.color0.element_sum() / 3.0, c.color1.element_sum() / 3.0);
@@ -357,6 +363,8 @@ impl Texture {
     pub fn fingerprint_with(&self, sink: &mut dyn FnMut(&[f32])) {
         let t = |t: &UvTransform| t.0.concat();
         let w = match self {
+            // A tag no other texture's first word is.
+            Texture::Constant(v) => vec![3.0, *v],
             Texture::Bitmap(b) => {
                 let mut w = vec![0.0, b.width as f32, b.height as f32];
                 w.push(match b.filter {
@@ -412,6 +420,9 @@ pub enum ColourSlot {
     AlphaU,
     /// `alpha_v`: the roughness along the bitangent.
     AlphaV,
+    /// `opacity` of Mitsuba's `mask`: not a BSDF parameter but the probability that a ray meets
+    /// the surface at all (`crate::scene`'s masked intersection); a float (`eval_1`) in [0, 1].
+    Opacity,
 }
 
 impl ColourSlot {
@@ -425,12 +436,14 @@ impl ColourSlot {
             ColourSlot::Alpha => "alpha",
             ColourSlot::AlphaU => "alpha_u",
             ColourSlot::AlphaV => "alpha_v",
+            ColourSlot::Opacity => "opacity",
         }
     }
 
-    /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`]).
+    /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`], or the
+    /// [`ColourSlot::Opacity`] of a masked surface).
     pub fn is_colour(self) -> bool {
-        !matches!(self, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV)
+        !matches!(self, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV | ColourSlot::Opacity)
     }
 }
 

@@ -381,3 +381,47 @@ fn the_texel_limit_is_the_callers_for_textures_and_environment_maps() {
         assert!(load_in(&dir, body).is_ok(), "the default limit admits it");
     }
 }
+
+/// `mask`: its opacity (a float, default 0.5, or a texture) is bound as the material's
+/// [`ColourSlot::Opacity`] beside the nested BSDF's own textures, `twosided` passes through
+/// either way round, an opacity of 1 masks nothing; a bad mask is a located error.
+#[test]
+fn masks_bind_their_opacity_and_bad_ones_are_located() {
+    let s = scene(&format!(
+        r#"<shape type="rectangle"><bsdf type="mask"><bsdf type="diffuse">{CHECKER}</bsdf></bsdf></shape>
+        <shape type="rectangle"><bsdf type="mask"><float name="opacity" value="0.3"/>
+            <bsdf type="twosided"><bsdf type="diffuse"/></bsdf></bsdf></shape>
+        <shape type="rectangle"><bsdf type="mask">
+            <texture type="checkerboard" name="opacity"><rgb name="color0" value="1"/><rgb name="color1" value="0"/></texture>
+            <bsdf type="diffuse"/></bsdf></shape>
+        <shape type="rectangle"><bsdf type="mask"><float name="opacity" value="1"/><bsdf type="diffuse"/></bsdf></shape>
+        <emitter type="point"><point name="position" x="0" y="0" z="1"/></emitter>"#
+    ));
+    let d = &s.description;
+    let opacity = |m: usize| -> Vec<f32> {
+        d.textures
+            .iter()
+            .filter(|t| t.material == m && t.slot == ColourSlot::Opacity)
+            .map(|t| t.texture.eval_1(Vec2::new(0.1, 0.1), Rgb::ZERO))
+            .collect()
+    };
+    let material = |shape: usize| d.meshes[shape].material;
+    assert_eq!(opacity(material(0)), [0.5], "Mitsuba's default");
+    assert!(d.textures.iter().any(|t| t.material == material(0) && t.slot == ColourSlot::Reflectance));
+    assert_eq!(opacity(material(1)), [0.3]);
+    assert!(d.materials[material(1)].two_sided);
+    assert_eq!(opacity(material(2)).len(), 1);
+    assert!(opacity(material(3)).is_empty(), "opacity 1: nothing masked");
+    Scene::build(d).unwrap();
+
+    let e = err(
+        r#"<shape type="rectangle"><bsdf type="mask"><float name="opacity" value="1.5"/><bsdf type="diffuse"/></bsdf></shape>"#,
+    );
+    assert!(e.starts_with("dir/test.xml:2:") && e.contains("opacity must lie in [0, 1]"), "{e}");
+    let e = err(r#"<shape type="rectangle"><bsdf type="mask"/></shape>"#);
+    assert!(e.contains("a mask BSDF needs one nested <bsdf> or <ref>"), "{e}");
+    let e = err(
+        r#"<shape type="rectangle"><bsdf type="mask"><bsdf type="mask"><bsdf type="diffuse"/></bsdf></bsdf></shape>"#,
+    );
+    assert!(e.contains("a mask inside a mask"), "{e}");
+}

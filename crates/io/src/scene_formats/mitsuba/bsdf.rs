@@ -60,6 +60,7 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "plastic", extension: false, build: plastic },
     BsdfType { name: "roughplastic", extension: false, build: roughplastic },
     BsdfType { name: "blendbsdf", extension: false, build: blendbsdf },
+    BsdfType { name: "mask", extension: false, build: mask },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
@@ -211,28 +212,33 @@ fn phong<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) ->
     Ok((Bsdf::ModifiedPhong(phong), false))
 }
 
-/// `twosided` around one nested BSDF (not a dielectric, not another `twosided`).
-fn twosided<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+/// The one BSDF nested in a `what` BSDF (`e`, properties `p`): a `<bsdf>` or a `<ref>`.
+fn one_nested<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>, what: &str) -> Result<ParsedBsdf> {
     let inner = p.objects();
     match inner.len() {
-        0 => return Err(e.err("a twosided BSDF needs one nested <bsdf> or <ref>")),
+        0 => return Err(e.err(format!("a {what} BSDF needs one nested <bsdf> or <ref>"))),
         1 => {}
-        _ => {
+        _ if what == "twosided" => {
             return Err(
                 inner[1].err("twosided with different front and back BSDFs is not supported (give one BSDF)")
             );
         }
+        _ => return Err(inner[1].err(format!("a {what} BSDF takes one nested BSDF"))),
     }
     let c = inner[0];
-    let nested = match c.tag.as_str() {
-        "bsdf" => bsdf(b, c)?,
-        "ref" => bsdf_ref(b, c)?,
+    match c.tag.as_str() {
+        "bsdf" => bsdf(b, c),
+        "ref" => bsdf_ref(b, c),
         other => {
-            return Err(c.err(format!(
-                "unsupported element <{other}> inside a twosided BSDF (supported: bsdf, ref)"
-            )));
+            Err(c.err(format!("unsupported element <{other}> inside a {what} BSDF (supported: bsdf, ref)")))
         }
-    };
+    }
+}
+
+/// `twosided` around one nested BSDF (not a dielectric, not another `twosided`).
+fn twosided<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    let nested = one_nested(b, e, p, "twosided")?;
+    let c = p.objects()[0];
     if nested.two_sided {
         return Err(c.err("a twosided BSDF cannot wrap another twosided BSDF"));
     }
@@ -244,6 +250,22 @@ fn twosided<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>)
     }
     b.bsdf_textures.extend(nested.textures);
     Ok((nested.bsdf, true))
+}
+
+/// `mask` (Mitsuba 3's opacity mask) around one nested BSDF: a ray meets the surface with
+/// probability `opacity` (a float, default 0.5, or a texture) and then scatters by the nested
+/// BSDF, else passes straight through — in expectation Mitsuba's α·f + (1 − α)·(null), done as
+/// stochastic transparency in the scene's ray queries (core `Scene`'s masked intersection), so
+/// shadow rays and the light estimator's splats pass through the open parts too.
+fn mask<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    // The opacity first: a texture given as it is one of the nested objects.
+    super::texture::opacity(b, p, e)?;
+    let nested = one_nested(b, e, p, "mask")?;
+    if nested.textures.iter().any(|(slot, _)| *slot == ColourSlot::Opacity) {
+        return Err(p.objects()[0].err("a mask inside a mask is not supported (give one opacity)"));
+    }
+    b.bsdf_textures.extend(nested.textures);
+    Ok((nested.bsdf, nested.two_sided))
 }
 
 /// `conductor`, `roughconductor`, `dielectric`, `roughdielectric` (Mitsuba 3's parameters and

@@ -6,7 +6,8 @@
 //! values, [`attribute_names`] tells a shape which of its file's attributes to keep), with
 //! Mitsuba's parameters and defaults.
 //!
-//! A BSDF builder reads a colour through [`colour`] and a roughness through [`roughness`]: a
+//! A BSDF builder reads a colour through [`colour`], a roughness through [`roughness`] and a
+//! `mask`'s opacity through [`opacity`]: a
 //! constant as before, or a texture, which is recorded on the [`super::bsdf::ParsedBsdf`] and
 //! given to the core's constructor as its largest value (so the constructor's range checks hold
 //! at every point, and report at the texture's element; a mesh attribute's values are the
@@ -76,6 +77,30 @@ pub fn roughness<'d>(
     }
     b.bsdf_textures.push((slot, texture));
     Ok(Some((hi.clamp(MIN_TEXTURED_ALPHA, MAX_ALPHA) as f64, e)))
+}
+
+/// The `opacity` of a `mask` BSDF whose properties are `p`: a `<float>` (default 0.5, as
+/// Mitsuba's), or a texture (its `eval_1`: a bitmap's luminance) nested in it or referred to,
+/// recorded as [`ColourSlot::Opacity`] unless it is 1 everywhere (then nothing is masked).
+/// Values outside [0, 1] are an error at their element.
+pub fn opacity<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, at: &'d Element) -> Result<()> {
+    let (texture, e) = match p.take_object("opacity") {
+        Some(e) => (parameter_texture(b, p, "opacity", e)?, e),
+        None => {
+            let (v, e) = p.float("opacity")?.unwrap_or((0.5, at));
+            (Arc::new(Texture::Constant(v as f32)), e)
+        }
+    };
+    let (lo, hi) = texture.range_1();
+    if !(lo >= 0.0 && hi <= 1.0) {
+        return Err(e.err(format!(
+            "an opacity must lie in [0, 1] (Mitsuba's eval_1: a bitmap's luminance, a colour's mean);              this one's values are {lo}..{hi}"
+        )));
+    }
+    if lo < 1.0 {
+        b.bsdf_textures.push((ColourSlot::Opacity, texture));
+    }
+    Ok(())
 }
 
 /// The texture `e` (a `<texture>` or a `<ref>` to one) given as parameter `name`, which must not
