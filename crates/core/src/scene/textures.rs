@@ -9,7 +9,7 @@ use super::attributes::AttributeTable;
 use super::{SceneDescription, SceneError};
 use crate::bsdf::{Bsdf, MAX_ALPHA, Material, ModifiedPhong, check_unit_colour};
 use crate::math::{Rgb, Vec2};
-use crate::texture::{ColourSlot, MIN_TEXTURED_ALPHA, Texture, set_colour, set_roughness};
+use crate::texture::{ColourSlot, MIN_TEXTURED_ALPHA, Texture, set_colour, set_roughness, set_weight};
 use std::sync::Arc;
 
 /// A texture bound to a parameter of a material, ready to evaluate.
@@ -100,12 +100,15 @@ pub(super) fn bind(
             }
         };
         let (lo, hi) = range;
-        if b.slot == ColourSlot::Opacity {
+        if matches!(b.slot, ColourSlot::Opacity | ColourSlot::Weight) {
             if !(lo.x >= 0.0 && hi.x <= 1.0) {
                 return Err(bad(
                     m.name.clone(),
-                    format!("the opacity's values {}..{} are not in [0, 1]", lo.x, hi.x),
+                    format!("the texture's values {}..{} are not in [0, 1]", lo.x, hi.x),
                 ));
+            }
+            if b.slot == ColourSlot::Weight && !set_weight(&mut m.bsdf.clone(), hi.x) {
+                return Err(bad(m.name.clone(), "this material is not a blend".into()));
             }
         } else if b.slot.is_colour() {
             if lo.min_element() < 0.0 {
@@ -205,6 +208,8 @@ pub(super) fn resolve(
         let attribute = b.attribute.map_or(Rgb::ZERO, |k| tables[k].at(prim, b1, b2));
         if b.slot.is_colour() {
             set_colour(&mut bsdf, b.slot, b.texture.eval(uv, attribute));
+        } else if b.slot == ColourSlot::Weight {
+            set_weight(&mut bsdf, b.texture.eval_1(uv, attribute).clamp(0.0, 1.0));
         } else {
             let alpha = b.texture.eval_1(uv, attribute).clamp(MIN_TEXTURED_ALPHA, MAX_ALPHA);
             set_roughness(&mut bsdf, b.slot, alpha);

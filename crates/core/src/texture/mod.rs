@@ -420,6 +420,8 @@ pub enum ColourSlot {
     AlphaU,
     /// `alpha_v`: the roughness along the bitangent.
     AlphaV,
+    /// `weight` of `blendbsdf`: the share of its second BSDF, a float (`eval_1`) in [0, 1].
+    Weight,
     /// `opacity` of Mitsuba's `mask`: not a BSDF parameter but the probability that a ray meets
     /// the surface at all (`crate::scene`'s masked intersection); a float (`eval_1`) in [0, 1].
     Opacity,
@@ -436,14 +438,23 @@ impl ColourSlot {
             ColourSlot::Alpha => "alpha",
             ColourSlot::AlphaU => "alpha_u",
             ColourSlot::AlphaV => "alpha_v",
+            ColourSlot::Weight => "weight",
             ColourSlot::Opacity => "opacity",
         }
     }
 
-    /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`], or the
-    /// [`ColourSlot::Opacity`] of a masked surface).
+    /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`], a blend's
+    /// [`ColourSlot::Weight`], set by [`set_weight`], or the [`ColourSlot::Opacity`] of a masked
+    /// surface).
     pub fn is_colour(self) -> bool {
-        !matches!(self, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV | ColourSlot::Opacity)
+        !matches!(
+            self,
+            ColourSlot::Alpha
+                | ColourSlot::AlphaU
+                | ColourSlot::AlphaV
+                | ColourSlot::Weight
+                | ColourSlot::Opacity
+        )
     }
 }
 
@@ -466,6 +477,18 @@ pub fn set_roughness(bsdf: &mut Bsdf, slot: ColourSlot, alpha: f32) -> bool {
         _ => return false,
     }
     true
+}
+
+/// Sets the weight of `bsdf`, a blend, to `w` (in [0, 1], the caller's to keep); false (and
+/// `bsdf` unchanged) if it is not a blend.
+pub fn set_weight(bsdf: &mut Bsdf, w: f32) -> bool {
+    match bsdf {
+        Bsdf::Blend(b) => {
+            b.weight = w;
+            true
+        }
+        _ => false,
+    }
 }
 
 /// Sets the colour `slot` of `bsdf` to `c`; false (and `bsdf` unchanged) if the BSDF has no

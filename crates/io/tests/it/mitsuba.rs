@@ -625,8 +625,8 @@ fn blendbsdf_blends_two_nested_bsdfs() {
             "invalid material: a blend of two BSDFs that both have delta lobes is not supported",
         ),
         (
-            r#"<texture type="checkerboard" name="weight"/><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
-            "dir/test.xml:2:43: <texture type=\"checkerboard\" name=\"weight\">: a texture as the weight",
+            r#"<texture type="checkerboard" name="weight"><rgb name="color0" value="1.5"/></texture><bsdf type="diffuse"/><bsdf type="diffuse"/>"#,
+            "dir/test.xml:2:43: <texture type=\"checkerboard\" name=\"weight\">: weight must lie in [0, 1]",
         ),
         (
             r#"<float name="weight" value="0.5"/><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf><bsdf type="diffuse"/>"#,

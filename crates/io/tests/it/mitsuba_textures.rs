@@ -425,3 +425,44 @@ fn masks_bind_their_opacity_and_bad_ones_are_located() {
     );
     assert!(e.contains("a mask inside a mask"), "{e}");
 }
+
+/// A `blendbsdf` weight given as a texture is bound as [`ColourSlot::Weight`], the blend built
+/// with its largest value, and the scene blends by the texture's value at each point: here a
+/// checkerboard of weights 0.2 and 0.9 over a diffuse red and a diffuse blue.
+#[test]
+fn a_textured_blend_weight_varies_over_the_surface() {
+    let s = scene(
+        r#"<shape type="rectangle"><bsdf type="blendbsdf">
+            <texture type="checkerboard" name="weight"><rgb name="color0" value="0.2"/><rgb name="color1" value="0.9"/></texture>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0, 0"/></bsdf>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0, 0, 0.8"/></bsdf>
+        </bsdf></shape>
+        <emitter type="point"><point name="position" x="0" y="0" z="1"/></emitter>"#,
+    );
+    let d = &s.description;
+    assert!(d.textures.iter().any(|t| t.slot == ColourSlot::Weight));
+    let Bsdf::Blend(b) = &d.materials[d.meshes[0].material].bsdf else { panic!("a blend") };
+    assert!((b.weight - 0.9).abs() < 1e-6, "built with the largest weight: {}", b.weight);
+    let scene = Scene::build(d).unwrap();
+    let weight_at = |x: f32, y: f32| {
+        let p = opticks_core::math::Vec3::new(x, y, 0.0);
+        let prim = (0..scene.triangles.len() as u32)
+            .find(|&t| {
+                let (b1, b2) = scene.triangles[t as usize].barycentrics(p);
+                b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0
+            })
+            .unwrap();
+        let mut resolved = None;
+        match &scene.material_at(prim, p, &mut resolved).bsdf {
+            Bsdf::Blend(b) => b.weight,
+            _ => panic!("a blend"),
+        }
+    };
+    let mut seen = [weight_at(-0.5, -0.5), weight_at(0.5, -0.5)];
+    seen.sort_by(f32::total_cmp);
+    assert!((seen[0] - 0.2).abs() < 1e-6 && (seen[1] - 0.9).abs() < 1e-6, "{seen:?}");
+    let e = err(r#"<shape type="rectangle"><bsdf type="blendbsdf">
+            <texture type="checkerboard" name="weight"><rgb name="color0" value="1.5"/></texture>
+            <bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf></shape>"#);
+    assert!(e.contains("weight must lie in [0, 1]"), "{e}");
+}

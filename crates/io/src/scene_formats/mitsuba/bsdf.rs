@@ -412,14 +412,11 @@ fn roughplastic<'d>(
 }
 
 /// `blendbsdf`: (1 − weight)·first + weight·second (Mitsuba 3's), `weight` a number in [0, 1]
-/// (required, as Mitsuba's; a texture is not supported yet), two nested BSDFs (`<bsdf>` or
-/// `<ref>`) without textures, both one-sided or both `twosided`.
+/// or a texture (its eval_1; required, as Mitsuba's), two nested BSDFs (`<bsdf>` or `<ref>`)
+/// without textures, both one-sided or both `twosided`.
 fn blendbsdf<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
-    if let Some(t) = p.take_object("weight") {
-        return Err(t.err("a texture as the weight of a blendbsdf is not supported yet (give a <float>)"));
-    }
-    let Some((weight, wnode)) = p.float("weight")? else {
-        return Err(e.err("a blendbsdf needs its weight (<float name=\"weight\">, in [0, 1])"));
+    let Some((weight, wnode)) = super::texture::weight(b, p)? else {
+        return Err(e.err("a blendbsdf needs its weight (<float name=\"weight\"> in [0, 1], or a texture)"));
     };
     let inner = p.objects().to_vec();
     if inner.len() != 2 {

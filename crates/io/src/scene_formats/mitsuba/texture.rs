@@ -84,23 +84,50 @@ pub fn roughness<'d>(
 /// recorded as [`ColourSlot::Opacity`] unless it is 1 everywhere (then nothing is masked).
 /// Values outside [0, 1] are an error at their element.
 pub fn opacity<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, at: &'d Element) -> Result<()> {
-    let (texture, e) = match p.take_object("opacity") {
-        Some(e) => (parameter_texture(b, p, "opacity", e)?, e),
+    let texture = match p.take_object("opacity") {
+        Some(e) => unit_texture(b, p, "opacity", e)?,
         None => {
             let (v, e) = p.float("opacity")?.unwrap_or((0.5, at));
-            (Arc::new(Texture::Constant(v as f32)), e)
+            if !(0.0..=1.0).contains(&v) {
+                return Err(e.err(format!("an opacity must lie in [0, 1], not {v}")));
+            }
+            Arc::new(Texture::Constant(v as f32))
         }
     };
-    let (lo, hi) = texture.range_1();
-    if !(lo >= 0.0 && hi <= 1.0) {
-        return Err(e.err(format!(
-            "an opacity must lie in [0, 1] (Mitsuba's eval_1: a bitmap's luminance, a colour's mean);              this one's values are {lo}..{hi}"
-        )));
-    }
-    if lo < 1.0 {
+    if texture.range_1().0 < 1.0 {
         b.bsdf_textures.push((ColourSlot::Opacity, texture));
     }
     Ok(())
+}
+
+/// The `weight` of a `blendbsdf` whose properties are `p`, if given: a `<float>`, or a texture
+/// (its `eval_1`) nested in it or referred to, recorded as [`ColourSlot::Weight`] and returned
+/// as its largest value (what the blend is built with; the scene evaluates it at each hit).
+pub fn weight<'d>(b: &mut Builder<'d>, p: &mut Props<'d>) -> Result<Option<(f64, &'d Element)>> {
+    let Some(e) = p.take_object("weight") else { return p.float("weight") };
+    let texture = unit_texture(b, p, "weight", e)?;
+    let hi = texture.range_1().1;
+    b.bsdf_textures.push((ColourSlot::Weight, texture));
+    Ok(Some((hi as f64, e)))
+}
+
+/// The texture `e` given as the float parameter `name`, whose `eval_1` must lie in [0, 1] (an
+/// error at `e` otherwise).
+fn unit_texture<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Props<'d>,
+    name: &str,
+    e: &'d Element,
+) -> Result<Arc<Texture>> {
+    let texture = parameter_texture(b, p, name, e)?;
+    let (lo, hi) = texture.range_1();
+    if !(lo >= 0.0 && hi <= 1.0) {
+        return Err(e.err(format!(
+            "{name} must lie in [0, 1] (Mitsuba's eval_1: a bitmap's luminance, a colour's mean); \
+             this texture's values are {lo}..{hi}"
+        )));
+    }
+    Ok(texture)
 }
 
 /// The texture `e` (a `<texture>` or a `<ref>` to one) given as parameter `name`, which must not
