@@ -408,9 +408,8 @@ fn validation_catches_broken_trees() {
 fn queries_that_outgrow_the_small_stack_answer_as_with_the_full_stack() {
     fn answers<const SMALL: usize>(accel: &Accel, ray: &Ray, shadow: &Ray) -> (Option<(u32, u32)>, bool) {
         let (q, qs) = (Query::new(ray), Query::new(shadow));
-        let hit =
-            accel.closest::<true, SMALL>(&q, ray.t_max, &|_, _| true).map(|(t, slot)| (t.to_bits(), slot));
-        (hit, accel.any_hit::<true, SMALL>(&qs, shadow.t_max, &|_, _| true))
+        let hit = accel.closest::<true, SMALL>(&q, ray.t_max).map(|(t, slot)| (t.to_bits(), slot));
+        (hit, accel.any_hit::<true, SMALL>(&qs, shadow.t_max))
     }
     fn overflows<const SMALL: usize>(accel: &Accel, ray: &Ray) -> bool {
         let mut t_max = ray.t_max;

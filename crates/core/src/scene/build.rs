@@ -148,7 +148,7 @@ impl Scene {
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
         let (t, prim) = match self.masked {
             false => self.accel.intersect(ray)?,
-            true => self.accel.intersect_where(ray, |prim, t| self.meets(ray, prim, t))?,
+            true => self.intersect_masked(ray)?,
         };
         let position = self.triangles[prim as usize].snap(ray.origin + t * ray.dir);
         Some(Hit { t, prim, position, normal: self.normals[prim as usize] })
@@ -160,8 +160,20 @@ impl Scene {
     pub fn occluded(&self, ray: &Ray) -> bool {
         match self.masked {
             false => self.accel.occluded(ray),
-            true => self.accel.occluded_where(ray, |prim, t| self.meets(ray, prim, t)),
+            true => self.occluded_masked(ray),
         }
+    }
+
+    /// The masked scene's closest hit (out of line: unmasked scenes' queries stay small).
+    #[inline(never)]
+    fn intersect_masked(&self, ray: &Ray) -> Option<(f32, u32)> {
+        self.accel.intersect_where(ray, |prim, t| self.meets(ray, prim, t))
+    }
+
+    /// The masked scene's occlusion (out of line, as [`Scene::intersect_masked`]).
+    #[inline(never)]
+    fn occluded_masked(&self, ray: &Ray) -> bool {
+        self.accel.occluded_where(ray, |prim, t| self.meets(ray, prim, t))
     }
 
     /// Whether `ray` meets triangle `prim`, which it crosses at distance `t`: always, unless
