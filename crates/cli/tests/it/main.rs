@@ -6,6 +6,7 @@
 mod analytic;
 mod bidirectional_references;
 mod caustics;
+mod cie171;
 mod cli;
 mod cli_run;
 mod dataset_product;

@@ -1,0 +1,628 @@
+#!/usr/bin/env python3
+"""CIE 171:2006 test cases (issue 27): scenes with closed-form illuminance, measured by Opticks
+with its default settings and, when pyradiance is installed, by Radiance's `rtrace -I`; writes
+docs/validation-cie171.md. The one command that regenerates the report:
+
+    /tmp/prvenv/bin/python tools/validation/cie171.py            # from the repository root
+
+(any Python 3.9+; without pyradiance the Radiance columns say "not run"). Options: --opticks
+(default target/release/opticks), --work (datasets and CSVs, default target/cie171), --doc,
+--no-radiance, --scenes-only (write testdata/cie171/ and stop).
+
+The scenes and points files are written to testdata/cie171/ (committed: the Rust test
+crates/cli/tests/it/cie171.rs reads the same files; rerunning this script rewrites them byte for
+byte). Cases:
+
+* 5.2 point source: an isotropic point source of I cd above a black horizontal floor;
+  E = I cos³θ / h² at points of the floor.
+* 5.3 area sources: a Lambertian rectangle and a Lambertian disc of luminance L parallel to a
+  black floor; E = L × (π × the point-to-surface configuration factor), closed forms below.
+* 5.4 / 5.6 flux conservation and diffuse reflection: a closed cube with Lambertian walls of
+  reflectance ρ and the point source at its centre; the mean irradiance of the walls is
+  Φ / (A (1 − ρ)) (every wall alike, by symmetry).
+
+Opticks reads the point-source scenes as Mitsuba XML (its `point` emitter is a true point
+source, which a Radiance file cannot express) and the area-source scenes as the same `.rad` files
+Radiance reads. Radiance's point source is a `light` sphere of radius RSPHERE whose intensity
+L π r² is I.
+"""
+import argparse
+import math
+import os
+import pathlib
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SCENES = ROOT / "testdata/cie171"
+
+RADIANCE_EFFICACY = 179.0  # lm/W, Radiance's WHTEFFICACY: a .rad scene's lux
+OPTICKS_EFFICACY = 683.0  # lm/W, a Mitsuba scene's lux (white light: the weights sum to 1)
+
+# 5.2 point source
+POINT_I = 1000.0  # cd
+POINT_H = 3.0  # m above the floor's centre
+FLOOR_HALF = 2.0  # the floor is 4 m × 4 m, centred on the origin, z = 0
+POINT_XY = [(0, 0), (0.5, 0), (1, 0), (1.5, 0), (2, 0), (1, 1), (2, 1), (2, 2)]
+RSPHERE = 0.01  # m, Radiance's stand-in for the point source
+
+# 5.3 area sources
+AREA_L = 1000.0  # cd/m²
+AREA_H = 2.0  # m
+RECT = (-1.0, 1.0, -0.5, 0.5)  # x0, x1, y0, y1: 2 m × 1 m
+RECT_XY = [(0, 0), (0.5, 0.25), (1, 0.5), (1, 0), (0, 0.5), (1.5, 0), (2, 0), (0, 2), (1.5, 1.5), (2, 2)]
+DISC_R = 0.5  # m
+DISC_XY = [(0, 0), (0.25, 0), (0.5, 0), (0.5, 0.5), (1, 0), (2, 0), (1.5, 1.5), (2, 2)]
+
+# 5.4 / 5.6 closed box
+BOX_SIDE = 3.0  # m: x, y in [-1.5, 1.5], z in [0, 3]; the source at its centre
+BOX_I = 1000.0  # cd
+BOX_RHOS = [0.0, 0.5, 0.8, 0.95]
+BOX_PATHS = "1M"  # a path of the ρ = 0.95 box has ~20 vertices: 1 M paths is a 1 GB dataset
+BOX_WALLS = ["floor", "ceiling", "wall_xm", "wall_xp", "wall_ym", "wall_yp"]
+RSPHERE_BOX = 0.005  # m: Radiance's source sphere absorbs what hits it (6·10⁻⁵ of each bounce at 0.95)
+GL_ORDER = 6  # Gauss-Legendre points per side for Radiance's mean over the floor
+
+
+# ---------------------------------------------------------------- closed forms
+
+
+def e_point(x, y, i=POINT_I, h=POINT_H):
+    """E (lux) at (x, y, 0) from an isotropic point source of i cd at (0, 0, h): I cos³θ / h²."""
+    d2 = x * x + y * y + h * h
+    return i * h / d2**1.5
+
+
+def corner(x, y, h):
+    """π × the configuration factor from a point to a parallel rectangle [0, x] × [0, y] at height
+    h (signed x, y: the formula is odd in each), so that E = L × corner(...)."""
+    X, Y = x / h, y / h
+    sx, sy = math.sqrt(1 + X * X), math.sqrt(1 + Y * Y)
+    return 0.5 * (X / sx * math.atan(Y / sx) + Y / sy * math.atan(X / sy))
+
+
+def e_rect(px, py, lum=AREA_L, h=AREA_H, rect=RECT):
+    """E (lux) at (px, py, 0) under a Lambertian rectangle of luminance lum at height h, by
+    superposition of the four corner rectangles."""
+    x0, x1, y0, y1 = rect
+    return lum * (corner(x1 - px, y1 - py, h) - corner(x0 - px, y1 - py, h)
+                  - corner(x1 - px, y0 - py, h) + corner(x0 - px, y0 - py, h))
+
+
+def e_disc(px, py, lum=AREA_L, h=AREA_H, r=DISC_R):
+    """E (lux) at (px, py, 0) under a Lambertian disc of radius r centred above the origin at
+    height h: π L × ½ [1 − (h² + a² − r²) / √((h² + a² + r²)² − 4 a² r²)], a the offset;
+    π L r² / (h² + r²) on the axis."""
+    a2 = px * px + py * py
+    return math.pi * lum * 0.5 * (1 - (h * h + a2 - r * r) / math.sqrt((h * h + a2 + r * r) ** 2 - 4 * a2 * r * r))
+
+
+def e_box(rho, i=BOX_I, side=BOX_SIDE):
+    """Mean irradiance (lux) of the walls of a closed cube with a source of Φ = 4π i lm inside:
+    Φ / (A (1 − ρ)), A = 6 side²."""
+    return 4 * math.pi * i / (6 * side * side * (1 - rho))
+
+
+# ---------------------------------------------------------------- scenes
+
+
+HEADER = "generated by tools/validation/cie171.py (CIE 171:2006 test cases); do not edit"
+
+
+def fmt(v):
+    return repr(float(v))
+
+
+def points_csv(xy, z=0.0, normal=(0, 0, 1)):
+    lines = [f"# {HEADER}", "x,y,z,nx,ny,nz"]
+    lines += [f"{x},{y},{z},{normal[0]},{normal[1]},{normal[2]}" for x, y in xy]
+    return "\n".join(lines) + "\n"
+
+
+def black_floor_rad():
+    h = FLOOR_HALF
+    return ("void plastic black 0 0 5 0 0 0 0 0\n"
+            f"black polygon floor 0 0 12 {-h} {-h} 0 {h} {-h} 0 {h} {h} 0 {-h} {h} 0\n")
+
+
+def point_xml():
+    w = POINT_I / OPTICKS_EFFICACY
+    return f"""<?xml version="1.0" encoding="utf-8"?>
+<!-- {HEADER}.
+     5.2 point source: {POINT_I:g} cd ({fmt(w)} W/sr white, 683 lm/W) {POINT_H:g} m above the centre of a
+     black 4 m x 4 m floor (z up). -->
+<scene version="3.0.0">
+    <shape type="rectangle" id="floor">
+        <transform name="to_world"><scale value="{FLOOR_HALF:g}"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0"/></bsdf>
+    </shape>
+    <emitter type="point" id="source">
+        <point name="position" x="0" y="0" z="{POINT_H:g}"/>
+        <rgb name="intensity" value="{fmt(w)}"/>
+    </emitter>
+</scene>
+"""
+
+
+def sphere_light(name, centre, r, intensity_cd):
+    """A Radiance `light` sphere of intensity_cd: radiance I / (179 π r²) W/(sr·m²)."""
+    lw = intensity_cd / (RADIANCE_EFFICACY * math.pi * r * r)
+    x, y, z = centre
+    return (f"void light {name}_light 0 0 3 {fmt(lw)} {fmt(lw)} {fmt(lw)}\n"
+            f"{name}_light sphere {name} 0 0 4 {x:g} {y:g} {z:g} {r:g}\n")
+
+
+def point_rad():
+    return (f"# {HEADER}.\n# 5.2 point source for Radiance: a {RSPHERE:g} m `light` sphere of {POINT_I:g} cd,"
+            f" {POINT_H:g} m above a black floor.\n"
+            + sphere_light("source", (0, 0, POINT_H), RSPHERE, POINT_I) + black_floor_rad())
+
+
+def area_light(name):
+    lw = AREA_L / RADIANCE_EFFICACY
+    return f"void light {name}_light 0 0 3 {fmt(lw)} {fmt(lw)} {fmt(lw)}\n"
+
+
+def rect_rad():
+    x0, x1, y0, y1 = RECT
+    h = AREA_H
+    # Clockwise seen from above: the front (right-hand rule) faces down, to the floor.
+    verts = f"{x0:g} {y0:g} {h:g} {x0:g} {y1:g} {h:g} {x1:g} {y1:g} {h:g} {x1:g} {y0:g} {h:g}"
+    return (f"# {HEADER}.\n# 5.3 area source: a Lambertian {x1 - x0:g} m x {y1 - y0:g} m rectangle of"
+            f" {AREA_L:g} cd/m² facing down, {h:g} m above a black floor.\n"
+            + area_light("panel") + f"panel_light polygon panel 0 0 12 {verts}\n" + black_floor_rad())
+
+
+def disc_rad():
+    return (f"# {HEADER}.\n# 5.3 area source: a Lambertian disc of radius {DISC_R:g} m and {AREA_L:g} cd/m²"
+            f" facing down, {AREA_H:g} m above a black floor.\n"
+            + area_light("disc") + f"disc_light ring disc 0 0 8 0 0 {AREA_H:g} 0 0 -1 0 {DISC_R:g}\n"
+            + black_floor_rad())
+
+
+# The walls, facing into the box: (name, Mitsuba rectangle transform, Radiance polygon vertices).
+def box_walls():
+    s = BOX_SIDE / 2
+    t = BOX_SIDE
+    return [
+        ("floor", "", f"{-s} {-s} 0 {s} {-s} 0 {s} {s} 0 {-s} {s} 0"),
+        ("ceiling", '<rotate x="1" angle="180"/>', f"{-s} {-s} {t} {-s} {s} {t} {s} {s} {t} {s} {-s} {t}"),
+        ("wall_xm", '<rotate y="1" angle="90"/>', f"{-s} {-s} 0 {-s} {s} 0 {-s} {s} {t} {-s} {-s} {t}"),
+        ("wall_xp", '<rotate y="1" angle="-90"/>', f"{s} {-s} 0 {s} {-s} {t} {s} {s} {t} {s} {s} 0"),
+        ("wall_ym", '<rotate x="1" angle="-90"/>', f"{-s} {-s} 0 {-s} {-s} {t} {s} {-s} {t} {s} {-s} 0"),
+        ("wall_yp", '<rotate x="1" angle="90"/>', f"{-s} {s} 0 {s} {s} 0 {s} {s} {t} {-s} {s} {t}"),
+    ]
+
+
+def box_offset(name):
+    s = BOX_SIDE / 2
+    return {"floor": (0, 0, 0), "ceiling": (0, 0, 2 * s), "wall_xm": (-s, 0, s), "wall_xp": (s, 0, s),
+            "wall_ym": (0, -s, s), "wall_yp": (0, s, s)}[name]
+
+
+def rho_tag(rho):
+    return f"{round(rho * 100):02d}"
+
+
+def box_xml(rho):
+    w = BOX_I / OPTICKS_EFFICACY
+    s = BOX_SIDE / 2
+    shapes = []
+    for name, rot, _ in box_walls():
+        ox, oy, oz = box_offset(name)
+        shapes.append(f"""    <shape type="rectangle" id="{name}">
+        <transform name="to_world"><scale value="{s:g}"/>{rot}<translate x="{ox:g}" y="{oy:g}" z="{oz:g}"/></transform>
+        <ref id="wall"/>
+    </shape>""")
+    return f"""<?xml version="1.0" encoding="utf-8"?>
+<!-- {HEADER}.
+     5.4 / 5.6: a closed {BOX_SIDE:g} m cube (z up, floor at z = 0) of Lambertian walls of reflectance {rho:g},
+     facing in, and a {BOX_I:g} cd isotropic point source at its centre. -->
+<scene version="3.0.0">
+    <bsdf type="diffuse" id="wall"><rgb name="reflectance" value="{rho:g}"/></bsdf>
+{chr(10).join(shapes)}
+    <emitter type="point" id="source">
+        <point name="position" x="0" y="0" z="{s:g}"/>
+        <rgb name="intensity" value="{fmt(w)}"/>
+    </emitter>
+</scene>
+"""
+
+
+def box_rad(rho):
+    out = [f"# {HEADER}.",
+           f"# 5.4 / 5.6 for Radiance: a closed {BOX_SIDE:g} m cube of Lambertian walls of reflectance {rho:g},"
+           f" a {RSPHERE_BOX:g} m `light` sphere of {BOX_I:g} cd at its centre.",
+           sphere_light("source", (0, 0, BOX_SIDE / 2), RSPHERE_BOX, BOX_I).rstrip("\n"),
+           f"void plastic wall 0 0 5 {rho:g} {rho:g} {rho:g} 0 0"]
+    out += [f"wall polygon {name} 0 0 12 {verts}" for name, _, verts in box_walls()]
+    return "\n".join(out) + "\n"
+
+
+def gauss_legendre(n):
+    """Nodes and weights on [-1, 1] (Newton on the Legendre polynomial)."""
+    nodes, weights = [], []
+    for k in range(1, n + 1):
+        x = math.cos(math.pi * (k - 0.25) / (n + 0.5))
+        for _ in range(100):
+            p0, p1 = 1.0, x
+            for j in range(2, n + 1):
+                p0, p1 = p1, ((2 * j - 1) * x * p1 - (j - 1) * p0) / j
+            dp = n * (x * p1 - p0) / (x * x - 1)
+            dx = p1 / dp
+            x -= dx
+            if abs(dx) < 1e-15:
+                break
+        nodes.append(x)
+        weights.append(2 / ((1 - x * x) * dp * dp))
+    return nodes, weights
+
+
+def box_floor_points():
+    """Gauss-Legendre points of the floor (x, y, weight): Radiance's area mean is Σ w E / Σ w."""
+    nodes, weights = gauss_legendre(GL_ORDER)
+    s = BOX_SIDE / 2
+    return [(s * a, s * b, wa * wb) for a, wa in zip(nodes, weights) for b, wb in zip(nodes, weights)]
+
+
+def write_scenes(folder=SCENES):
+    folder.mkdir(parents=True, exist_ok=True)
+    files = {
+        "point.xml": point_xml(),
+        "point.rad": point_rad(),
+        "point.csv": points_csv(POINT_XY),
+        "rect.rad": rect_rad(),
+        "rect.csv": points_csv(RECT_XY),
+        "disc.rad": disc_rad(),
+        "disc.csv": points_csv(DISC_XY),
+        "box-floor-gl.csv": points_csv([(x, y) for x, y, _ in box_floor_points()]),
+    }
+    for rho in BOX_RHOS:
+        files[f"box-{rho_tag(rho)}.xml"] = box_xml(rho)
+        files[f"box-{rho_tag(rho)}.rad"] = box_rad(rho)
+    for name, text in files.items():
+        (folder / name).write_text(text)
+    return files
+
+
+# ---------------------------------------------------------------- running
+
+
+def read_points(path):
+    out = []
+    for line in pathlib.Path(path).read_text().splitlines():
+        line = line.split("#")[0].strip()
+        if not line or line.startswith("x"):
+            continue
+        out.append([float(v) for v in line.replace(",", " ").split()])
+    return out
+
+
+def read_measure(path):
+    """`opticks measure` CSV → list of dicts of floats."""
+    lines = pathlib.Path(path).read_text().splitlines()
+    head = lines[0].split(",")
+    return [dict(zip(head, map(float, line.split(",")))) for line in lines[1:] if line.strip()]
+
+
+class Opticks:
+    def __init__(self, exe, work):
+        self.exe = str(exe)
+        self.work = work
+
+    def run(self, args):
+        t = time.perf_counter()
+        subprocess.run([self.exe, *args], cwd=self.work, check=True, stdout=subprocess.DEVNULL)
+        return time.perf_counter() - t
+
+    def trace(self, scene, name, paths=None):
+        args = ["trace", str(scene), "-o", f"{name}.opds", "--overwrite", "--quiet"]
+        if paths:
+            args += ["--paths", paths]
+        return self.run(args)
+
+    def measure_points(self, name, points):
+        t = self.run(["measure", f"{name}.opds", "--points", str(points), "-o", f"{name}.csv", "--quiet"])
+        return read_measure(self.work / f"{name}.csv"), t
+
+    def measure_surface(self, name, surface):
+        out = f"{name}-{surface}.csv"
+        t = self.run(["measure", f"{name}.opds", "--surface", surface, "--cells", "1x1", "-o", out, "--quiet"])
+        (row,) = read_measure(self.work / out)
+        return row, t
+
+    def remove(self, name):
+        (self.work / f"{name}.opds").unlink(missing_ok=True)
+
+
+class Radiance:
+    """pyradiance's oconv and rtrace; lux = 179 × (0.2651 R + 0.6701 G + 0.0648 B), and the
+    scenes are grey, so lux = 179 × G."""
+
+    def __init__(self):
+        import pyradiance  # noqa: F401 (only to find the binaries)
+
+        pkg = pathlib.Path(pyradiance.__file__).parent
+        self.env = dict(os.environ, PATH=f"{pkg / 'bin'}:{os.environ['PATH']}", RAYPATH=f".:{pkg / 'lib'}")
+        self.version = subprocess.run(["rtrace", "-version"], env=self.env, capture_output=True,
+                                      text=True).stdout.strip() or f"pyradiance {pyradiance.__version__}"
+
+    def irradiance(self, scene, points, options):
+        """(lux per point, seconds for oconv + rtrace, the rtrace command)."""
+        with tempfile.TemporaryDirectory() as tmp:
+            octree = pathlib.Path(tmp) / "scene.oct"
+            t = time.perf_counter()
+            with open(octree, "wb") as f:
+                subprocess.run(["oconv", "-f", scene.name], cwd=scene.parent, env=self.env, stdout=f, check=True)
+            rays = "".join(" ".join(map(str, p)) + "\n" for p in points)
+            cmd = ["rtrace", "-h", "-I", "-ov", *options, str(octree)]
+            out = subprocess.run(cmd, input=rays, capture_output=True, text=True, env=self.env, check=True)
+            seconds = time.perf_counter() - t
+        rgb = [[float(v) for v in line.split()] for line in out.stdout.splitlines() if line.strip()]
+        lux = [RADIANCE_EFFICACY * (0.2651058 * r + 0.6701058 * g + 0.0647884 * b) for r, g, b in rgb]
+        return lux, seconds, "rtrace -h -I -ov " + " ".join(options)
+
+
+RADIANCE_DIRECT = ["-ab", "0", "-dj", "0", "-ds", "0.01", "-dt", "0", "-dc", "1", "-lw", "1e-6"]
+
+
+RADIANCE_BOX_REPEATS = 2000  # rtrace runs per floor point in the box
+
+
+def radiance_box_options(rho):
+    """Radiance as a path tracer: -aa 0 -ad 1 (one ambient ray per bounce, no cache), enough
+    ambient bounces that the truncated ρ^(ab+1) is below 10⁻⁴, Russian roulette past -lw."""
+    ab = 0 if rho == 0 else math.ceil(math.log(1e-4) / math.log(rho)) - 1
+    return ["-ab", str(ab), "-ad", "1", "-as", "0", "-aa", "0", "-lr", "0", "-lw", "1e-7",
+            "-dj", "0", "-ds", "0.01", "-dt", "0", "-dc", "1"]
+
+
+# ---------------------------------------------------------------- report
+
+
+def pct(a, b):
+    return 100.0 * (a / b - 1.0)
+
+
+def table(rows, radiance):
+    head = "| point (x, y) m | analytic lux | Opticks lux ± SE | diff % | SE % |"
+    rule = "|---|---:|---:|---:|---:|"
+    if radiance is not None:
+        head += " Radiance lux | diff % |"
+        rule += "---:|---:|"
+    out = [head, rule]
+    for k, (label, ana, e, se) in enumerate(rows):
+        line = f"| {label} | {ana:.3f} | {e:.3f} ± {se:.3f} | {pct(e, ana):+.3f} | {100 * se / ana:.3f} |"
+        if radiance is not None:
+            line += f" {radiance[k]:.3f} | {pct(radiance[k], ana):+.3f} |"
+        out.append(line)
+    return "\n".join(out)
+
+
+def summary(rows, radiance):
+    worst = max(abs(pct(e, a)) for _, a, e, _ in rows)
+    worst_se = max(100 * se / a for _, a, _, se in rows)
+    within = "within 1 %" if worst < 1 else "**not within 1 %**"
+    text = f"Opticks: max |diff| {worst:.3f} % ({within}), largest SE {worst_se:.3f} %"
+    if radiance is not None:
+        rworst = max(abs(pct(r, a)) for r, (_, a, _, _) in zip(radiance, rows))
+        rwithin = "within 1 %" if rworst < 1 else "**not within 1 %**"
+        text += f"; Radiance: max |diff| {rworst:.3f} % ({rwithin})"
+    return text + "."
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--opticks", default=str(ROOT / "target/release/opticks"))
+    ap.add_argument("--work", default=str(ROOT / "target/cie171"))
+    ap.add_argument("--doc", default=str(ROOT / "docs/validation-cie171.md"))
+    ap.add_argument("--no-radiance", action="store_true")
+    ap.add_argument("--scenes-only", action="store_true")
+    args = ap.parse_args()
+
+    write_scenes()
+    if args.scenes_only:
+        return
+    work = pathlib.Path(args.work)
+    work.mkdir(parents=True, exist_ok=True)
+    opticks = Opticks(pathlib.Path(args.opticks).resolve(), work)
+    version = subprocess.run([opticks.exe, "--version"], capture_output=True, text=True).stdout.strip()
+    radiance = None
+    if not args.no_radiance:
+        try:
+            radiance = Radiance()
+        except ImportError:
+            print("pyradiance not installed: Radiance not run", file=sys.stderr)
+
+    sections = []
+    verdicts = []
+
+    def direct_case(title, tag, scene, rad_scene, points_file, analytic, prose, rel=""):
+        print(f"{title} …", file=sys.stderr)
+        t_trace = opticks.trace(SCENES / scene, tag)
+        meas, t_measure = opticks.measure_points(tag, SCENES / points_file)
+        opticks.remove(tag)
+        pts = read_points(SCENES / points_file)
+        rows = [(f"({p[0]:g}, {p[1]:g})", analytic(p[0], p[1]), m["E_v_lux"], m["SE_v_lux"])
+                for p, m in zip(pts, meas)]
+        rlux = rtext = None
+        if radiance is not None:
+            rlux, rsec, rcmd = radiance.irradiance(SCENES / rad_scene, pts, RADIANCE_DIRECT)
+            rtext = f"Radiance `{rcmd}` on `testdata/cie171/{rad_scene}`: {rsec:.2f} s (oconv + rtrace)."
+        verdicts.append((title, rows, rlux))
+        body = [f"## {title}", "", prose, "",
+                f"Opticks: `opticks trace testdata/cie171/{scene}` (default settings: 4 M paths) and "
+                f"`opticks measure --points testdata/cie171/{points_file}` (default settings: the "
+                f"connections estimator); trace {t_trace:.2f} s, measure {t_measure:.2f} s.{rel}"]
+        if rtext:
+            body.append("")
+            body.append(rtext)
+        body += ["", table(rows, rlux), "", summary(rows, rlux), ""]
+        sections.append("\n".join(body))
+
+    x0, x1, y0, y1 = RECT
+    direct_case(
+        "5.2 Point source", "point", "point.xml", "point.rad", "point.csv", e_point,
+        f"An isotropic point source of I = {POINT_I:g} cd, h = {POINT_H:g} m above the centre of a "
+        f"{2 * FLOOR_HALF:g} m × {2 * FLOOR_HALF:g} m black floor (z up, the floor's centre at the "
+        "origin); points on the floor facing up. Closed form E = I cos³θ / h² (θ from the nadir). "
+        f"Opticks reads Mitsuba XML (`<emitter type=\"point\">`, {POINT_I:g}/683 W/sr of white "
+        "light, so that its 683 lm/W lux are the candela's); Radiance has no point source and "
+        f"reads a `light` sphere of radius {RSPHERE:g} m and radiance I / (179 π r²) "
+        "(`point.rad`). The point light's direct light at a point is exact in Opticks (a shadow "
+        "ray, no sampling): its SE is 0.",
+        " The dataset is not needed for the direct light of a point source (the floor is black).")
+    direct_case(
+        "5.3 Area source: rectangle", "rect", "rect.rad", "rect.rad", "rect.csv", e_rect,
+        f"A Lambertian rectangle [{x0:g}, {x1:g}] × [{y0:g}, {y1:g}] m of luminance L = {AREA_L:g} "
+        f"cd/m², facing down, h = {AREA_H:g} m above a black 4 m × 4 m floor; points on the "
+        "floor facing up, under the centre, a corner and the edges of the source and off its "
+        "side. Closed form, for a point under a corner of a parallel rectangle of sides a, b: "
+        "E = (L/2) [X/√(1+X²) atan(Y/√(1+X²)) + Y/√(1+Y²) atan(X/√(1+Y²))], X = a/h, Y = b/h, "
+        "combined over the four corners by superposition (signed sides). Both programs read the "
+        "same `.rad` file (Radiance's photometry: L = 1000/179 W/(sr·m²)).")
+    direct_case(
+        "5.3 Area source: disc", "disc", "disc.rad", "disc.rad", "disc.csv", e_disc,
+        f"A Lambertian disc of radius R = {DISC_R:g} m and luminance L = {AREA_L:g} cd/m² "
+        f"(a Radiance `ring`), facing down, centred h = {AREA_H:g} m above the floor's centre; "
+        "points at offsets a from the axis. Closed form E = π L · ½ [1 − (h² + a² − R²) / "
+        "√((h² + a² + R²)² − 4a²R²)] (π L R² / (h² + R²) on the axis). Opticks tessellates the "
+        "ring into a 128-gon of the disc's exact area; Radiance's ring is exact.")
+
+    # 5.4 / 5.6 the box
+    print("5.4 / 5.6 box …", file=sys.stderr)
+    box_rows_all = []
+    box_lines = []
+    for rho in BOX_RHOS:
+        tag = f"box-{rho_tag(rho)}"
+        t_trace = opticks.trace(SCENES / f"{tag}.xml", tag, BOX_PATHS)
+        ana = e_box(rho)
+        walls, t_measure = [], 0.0
+        for w in BOX_WALLS:
+            row, t = opticks.measure_surface(tag, w)
+            walls.append(row)
+            t_measure += t
+        opticks.remove(tag)
+        mean = sum(r["E_v_lux"] for r in walls) / len(walls)
+        se_bound = sum(r["SE_v_lux"] for r in walls) / len(walls)
+        worst = max(walls, key=lambda r: abs(r["E_v_lux"] / ana - 1))
+        rmean = rtext = None
+        if radiance is not None:
+            gl = box_floor_points()
+            reps = 1 if rho == 0 else RADIANCE_BOX_REPEATS
+            pts = [(x, y, 0, 0, 0, 1) for x, y, _ in gl for _ in range(reps)]
+            opts = radiance_box_options(rho)
+            rlux, rsec, rcmd = radiance.irradiance(SCENES / f"{tag}.rad", pts, opts)
+            wsum = sum(w for _, _, w in gl)
+            means = [sum(w * rlux[i * reps + k] for i, (_, _, w) in enumerate(gl)) / wsum for k in range(reps)]
+            rmean = statistics.fmean(means)
+            rse = statistics.stdev(means) / math.sqrt(reps) if reps > 1 else 0.0
+            rtext = (rmean, rse, rsec, rcmd)
+        box_rows_all.append((rho, ana, walls, mean, se_bound, worst, t_trace, t_measure, rtext))
+        box_lines.append((f"ρ = {rho:g}", ana, mean, se_bound))
+    radiance_box = [r[8][0] for r in box_rows_all] if radiance is not None else None
+    verdicts.append(("5.4 / 5.6 Closed box", box_lines, radiance_box))
+
+    body = ["## 5.4 / 5.6 Flux conservation and diffuse reflection: a closed box", "",
+            f"A closed cube of side {BOX_SIDE:g} m (x, y ∈ [−{BOX_SIDE / 2:g}, {BOX_SIDE / 2:g}] m, "
+            f"z ∈ [0, {BOX_SIDE:g}] m) of Lambertian walls of reflectance ρ facing in, with an "
+            f"isotropic point source of {BOX_I:g} cd (Φ = 4π·{BOX_I:g} lm) at its centre. The mean "
+            "irradiance of the walls is E = Φ / (A (1 − ρ)), A = 6 s² (the integrating-sphere "
+            "relation: every lumen emitted is received once directly and then ρ, ρ², … times "
+            "again); with the source at the centre every wall has the same mean. Opticks reads "
+            f"Mitsuba XML (`box-NN.xml`, a point emitter), traced with {BOX_PATHS} paths (a path "
+            "in the ρ = 0.95 box has about 20 vertices, 4 M paths would be a 4 GB dataset; "
+            "otherwise default settings), and measures each wall's mean with "
+            "`opticks measure --surface WALL --cells 1x1` (default estimator for a surface: the "
+            "samples that landed on it). The mean of the six walls' SEs bounds the SE of their "
+            "mean (the walls share paths).",
+            "",
+            "**A small bias found here.** At ρ = 0 every path's flux lands on exactly one wall, "
+            "so the six walls' mean is Φ / A exactly, whatever the noise of each wall; it reads "
+            "+0.021 % (1 M paths) and +0.023 % (4 M, 250 k). The surface meter takes a sample "
+            "as its own when it lies within a tolerance of its plane (10⁻⁴ of the two edges' "
+            "length, 0.6 mm here) inside its half-open rectangle "
+            "(`IlluminanceMeter::locate`, `crates/core/src/sensor/meter/mod.rs`), so a sample on "
+            "an adjacent perpendicular wall within 0.6 mm of the shared edge, lit from the "
+            "meter's side, is counted by both walls: strips of 3 m × 0.6 mm along two edges "
+            "per wall at about 0.56 × the mean irradiance give +2.2·10⁻⁴, the excess "
+            "measured. It is far below the 1 % target and the per-wall noise here, but it is a "
+            "bias of every `--surface` reading in a concave corner; the sample's triangle (stored "
+            "with it) would settle membership exactly.",
+            ""]
+    if radiance is not None:
+        body += [f"Radiance reads `box-NN.rad` (the source a `light` sphere of radius {RSPHERE_BOX:g} m, "
+                 "which absorbs the light that reaches it: 6·10⁻⁵ of each bounce), `rtrace -I` at "
+                 f"{GL_ORDER} × {GL_ORDER} Gauss-Legendre points of the floor, their weighted mean "
+                 "the floor's mean. Deep interreflection defeats Radiance's ambient cache (with "
+                 "`-ad 512 -as 128 -aa 0.1 -ar 64`, ρ = 0.5 took 1.3 s at -ab 2, 5.6 s at -ab 3 and "
+                 "about 4× more per further bounce, while -ab 3 still misses ρ⁴ = 6 % of the light), "
+                 "so it runs as a path tracer: `-aa 0 -ad 1 -as 0` (one ambient ray per bounce), "
+                 "-ab such that the truncated part ρ^(ab+1) is below 10⁻⁴, "
+                 f"{RADIANCE_BOX_REPEATS} runs per point (the direct part is deterministic, "
+                 "`-dj 0`); SE from the spread of the runs' floor means.", ""]
+    head = "| ρ | analytic lux | Opticks mean of walls ± SE | diff % | worst wall diff % | trace s | measure s |"
+    rule = "|---|---:|---:|---:|---:|---:|---:|"
+    if radiance is not None:
+        head += " Radiance floor mean ± SE | diff % | Radiance s | Radiance -ab |"
+        rule += "---:|---:|---:|---:|"
+    body += [head, rule]
+    for rho, ana, walls, mean, se_bound, worst, t_trace, t_measure, rtext in box_rows_all:
+        line = (f"| {rho:g} | {ana:.3f} | {mean:.3f} ± {se_bound:.3f} | {pct(mean, ana):+.3f} | "
+                f"{pct(worst['E_v_lux'], ana):+.3f} | {t_trace:.2f} | {t_measure:.2f} |")
+        if rtext is not None:
+            rmean, rse, rsec, rcmd = rtext
+            ab = rcmd.split("-ab ")[1].split()[0]
+            line += f" {rmean:.3f} ± {rse:.3f} | {pct(rmean, ana):+.3f} | {rsec:.1f} | {ab} |"
+        body.append(line)
+    body.append("")
+    body.append("Per wall (Opticks lux ± SE):")
+    body.append("")
+    body.append("| ρ | " + " | ".join(BOX_WALLS) + " |")
+    body.append("|---|" + "---:|" * len(BOX_WALLS))
+    for rho, ana, walls, *_ in box_rows_all:
+        body.append(f"| {rho:g} | " + " | ".join(f"{w['E_v_lux']:.2f} ± {w['SE_v_lux']:.2f}" for w in walls) + " |")
+    if radiance is not None:
+        body += ["", "Radiance commands: " + "; ".join(f"ρ = {r[0]:g}: `{r[8][3]}`" for r in box_rows_all)]
+    body += ["", summary(box_lines, radiance_box), ""]
+    sections.append("\n".join(body))
+
+    # Overview
+    overview = ["| case | Opticks max \\|diff\\| % | largest SE % | within 1 % | Radiance max \\|diff\\| % |",
+                "|---|---:|---:|---|---:|"]
+    for title, rows, rlux in verdicts:
+        worst = max(abs(pct(e, a)) for _, a, e, _ in rows)
+        wse = max(100 * se / a for _, a, _, se in rows)
+        rw = f"{max(abs(pct(r, a)) for r, (_, a, _, _) in zip(rlux, rows)):.3f}" if rlux else "not run"
+        overview.append(f"| {title} | {worst:.3f} | {wse:.3f} | {'yes' if worst < 1 else '**no**'} | {rw} |")
+
+    doc = ["# CIE 171:2006 test cases", "",
+           "*Generated by `tools/validation/cie171.py` — do not edit by hand; rerun it:* "
+           "`python3 tools/validation/cie171.py` *from the repository root (with pyradiance "
+           "installed for the Radiance columns).*", "",
+           "CIE 171:2006, *Test cases to assess the accuracy of lighting computer programs*, "
+           "defines scenes whose illuminance has a closed form. These are its first cases, each "
+           "measured by Opticks with **default settings** (nothing tuned) and by Radiance's "
+           "`rtrace -I` beside it. The geometry follows each case's principle (a point source "
+           "over a plane, a Lambertian rectangle and disc parallel to it, a closed box of "
+           "diffuse walls) with dimensions chosen here, not the publication's: the closed forms "
+           "are the same whatever the dimensions. The scene files are in `testdata/cie171/`; "
+           "`crates/cli/tests/it/cie171.rs` runs the same cases at fewer paths and asserts every "
+           "point within max(1 %, 4 SE) of the closed form.", "",
+           f"Run: {time.strftime('%Y-%m-%d')}, {version}, {platform.machine()}, "
+           f"{os.cpu_count()} cores; Radiance: {radiance.version if radiance else 'not run'}. "
+           "Times are wall-clock seconds of the whole command (loading the scene and writing "
+           "files included). Illuminance in lux: Opticks's `E_v_lux` column (683 lm/W for the "
+           "XML scenes, 179 lm/W for the `.rad` scenes, each scene's source given in that "
+           "rule's units), SE its `SE_v_lux`; diff % = 100 (value / analytic − 1).", "",
+           "## Summary", "", *overview, "", *sections]
+    pathlib.Path(args.doc).write_text("\n".join(doc).rstrip("\n") + "\n")
+    print(f"wrote {args.doc}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
