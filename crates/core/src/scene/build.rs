@@ -142,7 +142,7 @@ impl Scene {
         })
     }
 
-    /// Closest surface hit along `ray` (a masked surface only where [`Scene::meets`] says
+    /// Closest surface hit along `ray` (a masked surface only where `Scene::meets` says
     /// the ray meets it).
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<Hit> {
@@ -155,7 +155,7 @@ impl Scene {
     }
 
     /// Whether the segment from `ray.origin` of length `ray.t_max` is blocked (by a masked
-    /// surface only where [`Scene::meets`] says the ray meets it).
+    /// surface only where `Scene::meets` says the ray meets it).
     #[inline]
     pub fn occluded(&self, ray: &Ray) -> bool {
         match self.masked {
