@@ -655,19 +655,16 @@ DAYLIGHT_NOTES = (
     "The cases are CIE 171's 5.9–5.12 in principle (the sky component through a roof and a façade "
     "opening, open and glazed); 5.13 and 5.14 are not here. The 2 % target is the issue's for "
     "daylight.\n\n"
-    "**A bias of the surface meter found here.** The `samples` estimator takes as a meter's own "
-    "every stored sample within its plane's tolerance (10⁻⁴ of its two edges' length) inside its "
-    "half-open rectangle — on the rectangle's two closed edges that includes the samples on a "
-    "perpendicular surface meeting it there, on either side. Measuring this room's whole 6 m × 6 m "
-    "floor (`--surface floor --cells 6x6`, the uniform roof case traced with 16 M paths), the "
-    "outside of the west and south walls (lit by the whole sky, about π L/2 = 1571 lux) within "
-    "1.2 mm of the floor's plane is counted in the cells along x = −3 and y = −3: +1.9 lux a 1 m "
-    "cell, +4.7 % of the 40.46 lux of a corner cell, twice that in the corner: measured "
-    "+11.0 ± 2.6 % in the corner cell, +4.0 and +7.8 % in the two corner cells on one of those "
-    "edges, −0.5 % in the opposite corner. A closed black 10 m × 10 m × 1 m box under the same "
-    "sky (no opening, 16 M paths) reads 2.3–3.8 lux in the 1 m cells along those two edges and "
-    "7.0 lux in their corner, where it must read 0. The glazed cases measure a patch of its own to "
-    "stay clear of it; the sample's triangle, stored with it, would settle membership exactly.")
+    "**A bias of the surface meter found here, and fixed.** The `samples` estimator took as a "
+    "meter's own every stored sample within its plane's tolerance (10⁻⁴ of its two edges' length) "
+    "inside its rectangle — on its closed edges that included the samples on a perpendicular "
+    "surface meeting it there, on either side. Measuring this room's whole 6 m × 6 m floor, the "
+    "outside of the west and south walls (lit by the whole sky) within 1.2 mm of the floor's plane "
+    "was counted in the cells along two edges: +11.0 ± 2.6 % in the corner cell; a closed black "
+    "box under the sky read 2.3–7.0 lux at its edges where it must read 0. The meter now counts "
+    "only the samples of surfaces parallel to it (the stored triangle's normal, core "
+    "`IlluminanceMeter::splat_on`) and, on a `--surface`, within that surface's own deviation from "
+    "its plane. The glazed cases still measure a patch of their own away from the walls.")
 
 
 def main():
@@ -796,18 +793,15 @@ def main():
             "samples that landed on it). The mean of the six walls' SEs bounds the SE of their "
             "mean (the walls share paths).",
             "",
-            "**A small bias found here.** At ρ = 0 every path's flux lands on exactly one wall, "
-            "so the six walls' mean is Φ / A exactly, whatever the noise of each wall; it reads "
-            "+0.021 % (1 M paths) and +0.023 % (4 M, 250 k). The surface meter takes a sample "
-            "as its own when it lies within a tolerance of its plane (10⁻⁴ of the two edges' "
-            "length, 0.6 mm here) inside its half-open rectangle "
-            "(`IlluminanceMeter::locate`, `crates/core/src/sensor/meter/mod.rs`), so a sample on "
-            "an adjacent perpendicular wall within 0.6 mm of the shared edge, lit from the "
-            "meter's side, is counted by both walls: strips of 3 m × 0.6 mm along two edges "
-            "per wall at about 0.56 × the mean irradiance give +2.2·10⁻⁴, the excess "
-            "measured. It is far below the 1 % target and the per-wall noise here, but it is a "
-            "bias of every `--surface` reading in a concave corner; the sample's triangle (stored "
-            "with it) would settle membership exactly.",
+            "**A small bias found here, and fixed.** At ρ = 0 every path's flux lands on exactly "
+            "one wall, so the six walls' mean is Φ / A exactly, whatever the noise of each wall; "
+            "it read +0.021 % (1 M paths) and +0.023 % (4 M): the surface meter took a sample as "
+            "its own within 10⁻⁴ of the edges' length (0.6 mm here) of its plane, so a sample on "
+            "an adjacent wall within 0.6 mm of the shared edge was counted by both walls (strips "
+            "of 3 m × 0.6 mm along two edges per wall at about 0.56 × the mean irradiance: "
+            "+2.2·10⁻⁴, the excess measured). A meter now counts only the samples of surfaces "
+            "parallel to it (the stored triangle's normal) within its surface's own deviation "
+            "from its plane (core `IlluminanceMeter::splat_on`, `on_mesh`).",
             ""]
     if radiance is not None:
         body += [f"Radiance reads `box-NN.rad` (the source a `light` sphere of radius {RSPHERE_BOX:g} m, "

@@ -387,7 +387,7 @@ impl LitDataset {
         };
         let reading = match (layout, estimator) {
             (MeterLayout::Grid(meter), MeterEstimator::Samples) => {
-                read_samples(meter, self.scene().photometry, &groups, batch, progress)?
+                read_samples(meter, self.scene(), &groups, batch, progress)?
             }
             (MeterLayout::Points(_), MeterEstimator::Samples) => return Err(MeasureError::SamplesAtPoints),
             (_, MeterEstimator::Connections(settings)) => {

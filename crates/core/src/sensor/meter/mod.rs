@@ -48,10 +48,15 @@ pub enum MeterEstimator {
 }
 
 use super::{SampleBatch, Splatter, accumulate};
+use crate::dataset::Sample;
 use crate::film::{Film, SplatTarget};
 use crate::geometry::Ray;
 use crate::math::Vec3;
 use crate::scene::{Scene, SceneDescription};
+
+/// cos of the largest angle (0.8°) between a sample's surface and the meter for the sample to be
+/// the meter's ([`IlluminanceMeter::splat_on`]).
+const PARALLEL_COS: f32 = 0.9999;
 
 /// Why a meter cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -251,12 +256,34 @@ impl IlluminanceMeter {
 
     /// Adds the irradiance of a batch's samples to `film` (nx × ny).
     pub fn splat(&self, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
+        self.splat_where(batch, film, |_| true)
+    }
+
+    /// [`IlluminanceMeter::splat`] counting only the samples whose triangle of `scene` lies
+    /// parallel to the meter (within 0.8°): a sample of a surface meeting the meter's plane at
+    /// an angle — a wall at a floor's edge, inside or outside — lies within the meter's band
+    /// near the shared edge but is not the meter's light (it read +11 % in a corner cell of a
+    /// floor under the sky, the outside of the walls counted).
+    pub fn splat_on(&self, scene: &Scene, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
+        self.splat_where(batch, film, |s| scene.normal(s.triangle()).dot(self.normal).abs() > PARALLEL_COS)
+    }
+
+    /// The splat loop, counting only the samples `keep` keeps.
+    fn splat_where(
+        &self,
+        batch: SampleBatch<'_>,
+        film: &mut impl SplatTarget,
+        keep: impl Fn(&Sample) -> bool,
+    ) {
         let scale = batch.flux_per_path / self.cell_area();
         for s in batch.samples {
             if s.is_emission() {
                 continue;
             }
             let Some(cell) = self.locate(s.position()) else { continue };
+            if !keep(s) {
+                continue;
+            }
             if s.from_dir().dot(self.normal) <= 0.0 {
                 continue;
             }
@@ -267,18 +294,27 @@ impl IlluminanceMeter {
 
 /// The stored-samples estimator with standard errors: irradiance per cell of a meter on scene
 /// geometry from `groups.len()` batches (batch i is chunk i, of light and paths `groups[i]`),
-/// E_v by the scene's `photometry` ([`crate::scene::Scene::photometry`]).
+/// counting the samples of `scene`'s surfaces parallel to the meter
+/// ([`IlluminanceMeter::splat_on`]), E_v by the scene's photometry
+/// ([`crate::scene::Scene::photometry`]).
 pub fn read_samples<B: super::AsBatch, E: Send>(
     meter: &IlluminanceMeter,
-    photometry: crate::scene::Photometry,
+    scene: &Scene,
     groups: &[Group],
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Reading, E> {
     let cells = meter.nx as usize * meter.ny as usize;
-    tally::tally_groups(cells, photometry, groups, batch, progress, |_, samples, flux_per_path, scratch| {
-        meter.splat(SampleBatch { flux_per_path, samples }, scratch)
-    })
+    tally::tally_groups(
+        cells,
+        scene.photometry,
+        groups,
+        batch,
+        progress,
+        |_, samples, flux_per_path, scratch| {
+            meter.splat_on(scene, SampleBatch { flux_per_path, samples }, scratch)
+        },
+    )
 }
 
 /// Irradiance per cell (W/m², RGB) from `count` batches, on all cores (the stored-samples
@@ -355,6 +391,40 @@ mod tests {
         assert_eq!(floor.locate(on_wall), None);
         let rounded = Vec3::new(1.0, f32::EPSILON * 2.0, -1.0);
         assert_eq!(floor.locate(rounded), Some(0));
+    }
+
+    /// With the scene, a meter counts only the samples of surfaces parallel to it: on the
+    /// Cornell floor, a sample of the left wall 0.1 mm above the floor's edge (inside the
+    /// plane meter's band) is the wall's, not the floor's; a floor sample is the floor's.
+    #[test]
+    fn with_the_scene_a_meter_counts_its_own_surfaces_samples_only() {
+        let scene = Scene::build(&crate::scene::cornell_box()).unwrap();
+        let tri =
+            |n: Vec3| (0..scene.triangles.len() as u32).find(|&t| scene.normal(t).dot(n) > 0.999).unwrap();
+        let (floor_tri, wall_tri) = (tri(Vec3::Y), tri(Vec3::X));
+        // The floor is y = −1 over x, z ∈ [−1, 1]; the left wall x = −1 faces +x.
+        let m =
+            IlluminanceMeter::new(Vec3::new(-1.0, -1.0, 1.0), 2.0 * Vec3::X, -2.0 * Vec3::Z, 1, 1).unwrap();
+        let on_floor = Sample::scattered(Vec3::new(0.0, -1.0, 0.0), Vec3::Y, floor_tri, Rgb::ONE);
+        let on_wall = Sample::scattered(
+            Vec3::new(-1.0, -1.0 + 1e-4, 0.0),
+            Vec3::new(1.0, 1.0, 0.0).normalize(),
+            wall_tri,
+            Rgb::ONE,
+        );
+        let count = |on: bool, samples: &[Sample]| {
+            let mut film = Film::new(1, 1);
+            let batch = SampleBatch { flux_per_path: Rgb::ONE, samples };
+            if on {
+                m.splat_on(&scene, batch, &mut film)
+            } else {
+                m.splat(batch, &mut film)
+            }
+            film.pixels[0][0] * m.cell_area() as f64
+        };
+        assert_eq!(count(false, &[on_floor, on_wall]), 2.0, "the band alone takes both");
+        assert_eq!(count(true, &[on_floor, on_wall]), 1.0);
+        assert_eq!(count(true, &[on_wall]), 0.0);
     }
 
     #[test]
