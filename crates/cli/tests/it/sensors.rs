@@ -62,15 +62,24 @@ fn cell_mean(n: u32, i: u32, j: u32, e: &dyn Fn(f64, f64) -> f64) -> f64 {
 
 /// Measures, and the standard error of each cell (red channel) from the sum of squared
 /// contributions (paths are independent and each puts at most one sample in a cell here).
-fn measure_with_error(meter: &IlluminanceMeter, table: &LightTable, chunks: &[Chunk]) -> (Film, Vec<f64>) {
-    let film = measure(meter, chunks.len(), |i| batch(table, chunks, i), |_| {}).unwrap();
+fn measure_with_error(
+    meter: &IlluminanceMeter,
+    scene: &Scene,
+    table: &LightTable,
+    chunks: &[Chunk],
+) -> (Film, Vec<f64>) {
+    let film = measure(meter, scene, chunks.len(), |i| batch(table, chunks, i), |_| {}).unwrap();
     let mut sq = vec![0.0f64; film.pixels.len()];
     let mut one = Film::new(meter.nx, meter.ny);
     for c in chunks {
         let flux = table.flux_per_path(c.light as usize);
         for s in &c.samples {
             one.pixels.iter_mut().for_each(|p| *p = [0.0; 3]);
-            meter.splat(SampleBatch { flux_per_path: flux, samples: std::slice::from_ref(s) }, &mut one);
+            meter.splat_on(
+                scene,
+                SampleBatch { flux_per_path: flux, samples: std::slice::from_ref(s) },
+                &mut one,
+            );
             for (q, p) in sq.iter_mut().zip(&one.pixels) {
                 *q += p[0] * p[0];
             }
@@ -112,7 +121,7 @@ fn meter_matches_point_light_inverse_square_law() {
     let scene = Scene::build(&desc).unwrap();
     let (table, chunks) = trace_chunks(&scene, 4_000_000, 21);
     let meter = floor_meter(4);
-    let (film, err) = measure_with_error(&meter, &table, &chunks);
+    let (film, err) = measure_with_error(&meter, &scene, &table, &chunks);
     let e = |x: f64, z: f64| {
         let d2 = (x - light.x as f64).powi(2) + (light.y as f64).powi(2) + (z - light.z as f64).powi(2);
         intensity as f64 * light.y as f64 / (d2 * d2.sqrt())
@@ -121,7 +130,7 @@ fn meter_matches_point_light_inverse_square_law() {
     check_cells("point light 4x4", &film, &err, &expected, 2);
     // Larger cells, same paths: every one is measured to better than 0.25 %.
     let meter = floor_meter(2);
-    let (film, err) = measure_with_error(&meter, &table, &chunks);
+    let (film, err) = measure_with_error(&meter, &scene, &table, &chunks);
     let expected: Vec<f64> = (0..4).map(|k| cell_mean(2, k % 2, k / 2, &e)).collect();
     check_cells("point light 2x2", &film, &err, &expected, 4);
 }
@@ -148,7 +157,7 @@ fn meter_matches_parallel_rectangle_emitter() {
     }
     let (table, chunks) = trace_chunks(&scene, 3_000_000, 22);
     let meter = floor_meter(4);
-    let (film, err) = measure_with_error(&meter, &table, &chunks);
+    let (film, err) = measure_with_error(&meter, &scene, &table, &chunks);
     let expected: Vec<f64> = (0..16).map(|k| cell_mean(4, k % 4, k / 4, &e)).collect();
     check_cells("rectangle", &film, &err, &expected, 4);
 }
@@ -185,7 +194,7 @@ fn meter_agrees_with_the_camera_on_a_lambertian_floor() {
     let cam = Pinhole::new(&cam_desc).unwrap();
     let (table, chunks) = trace_chunks(&scene, 2_000_000, 23);
     let meter = floor_meter(4);
-    let e = measure(&meter, chunks.len(), |i| batch(&table, &chunks, i), |_| {}).unwrap();
+    let e = measure(&meter, &scene, chunks.len(), |i| batch(&table, &chunks, i), |_| {}).unwrap();
     let film = render_chunks(&scene, &Sensor::from(cam), &table, &chunks);
     let mut sums = [0.0f64; 16];
     let mut counts = vec![0usize; 16];
@@ -468,7 +477,7 @@ fn meter_lux_matches_a_lamp_given_in_lumens() {
     let scene = Scene::build(&desc).unwrap();
     let (table, chunks) = trace_chunks(&scene, 4_000_000, 22);
     let meter = floor_meter(2);
-    let (film, err) = measure_with_error(&meter, &table, &chunks);
+    let (film, err) = measure_with_error(&meter, &scene, &table, &chunks);
     let lux: Vec<f64> =
         film.pixels.iter().map(|e| 683.0 * (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2])).collect();
     let e_v = |x: f64, z: f64| {

@@ -219,7 +219,7 @@ fn second_bounce_matches_the_camera_side_radiance() {
     )
     .unwrap();
     let (table, chunks) = trace_chunks(&scene_, 4_000_000, 21);
-    let got = measure(&meter, chunks.len(), |i| batch(&table, &chunks, i), |_| {}).unwrap();
+    let got = measure(&meter, &scene_, chunks.len(), |i| batch(&table, &chunks, i), |_| {}).unwrap();
 
     // Irradiance at y from the plane, by the midpoint rule on a 240×240 grid.
     let irradiance = |y: Vec3, adjoint: bool| {

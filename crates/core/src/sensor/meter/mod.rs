@@ -318,20 +318,28 @@ pub fn read_samples<B: super::AsBatch, E: Send>(
 }
 
 /// Irradiance per cell (W/m², RGB) from `count` batches, on all cores (the stored-samples
-/// estimator without errors).
+/// estimator without errors), counting the samples of `scene`'s surfaces parallel to the meter
+/// as [`read_samples`] does ([`IlluminanceMeter::splat_on`]).
 pub fn measure<B: super::AsBatch, E: Send>(
     meter: &IlluminanceMeter,
+    scene: &Scene,
     count: usize,
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
-    accumulate((meter.nx, meter.ny), count, batch, progress, meter)
+    accumulate((meter.nx, meter.ny), count, batch, progress, &OnScene { meter, scene })
 }
 
-impl Splatter for IlluminanceMeter {
+/// A meter counting the samples of a scene's surfaces parallel to it, as [`accumulate`] runs it.
+struct OnScene<'a> {
+    meter: &'a IlluminanceMeter,
+    scene: &'a Scene,
+}
+
+impl Splatter for OnScene<'_> {
     #[inline]
     fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T) {
-        self.splat(batch, film)
+        self.meter.splat_on(self.scene, batch, film)
     }
 }
 
