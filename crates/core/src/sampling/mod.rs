@@ -7,4 +7,4 @@ mod rng;
 pub mod warp;
 
 pub use rng::RandomStream;
-pub(crate) use rng::mix;
+pub(crate) use rng::{mix, unit_from_hash};

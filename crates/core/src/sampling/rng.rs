@@ -21,6 +21,12 @@ pub(crate) fn mix(mut z: u64) -> u64 {
     z ^ (z >> 31)
 }
 
+/// A uniform number in [0, 1) from the top 24 bits of a hash (every float of that grid exact).
+#[inline]
+pub(crate) fn unit_from_hash(h: u64) -> f32 {
+    (h >> 40) as f32 * (1.0 / 16_777_216.0)
+}
+
 impl RandomStream {
     /// The stream named by a seed and a key (e.g. the light index and the block index).
     /// Distinct keys give independent PCG streams.

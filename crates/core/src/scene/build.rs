@@ -26,7 +26,7 @@ use crate::bsdf::Material;
 use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
-use crate::sampling::mix;
+use crate::sampling::{mix, unit_from_hash};
 
 /// A validated, ray-traceable scene.
 #[derive(Debug)]
@@ -199,7 +199,7 @@ impl Scene {
         let c = o[2] as u64 | (d[0] as u64) << 32;
         let e = d[1] as u64 | (d[2] as u64) << 32;
         let h = mix(mix(mix(a ^ 0x6d61_736b) ^ c) ^ e ^ prim as u64);
-        ((h >> 40) as f32 * (1.0 / 16_777_216.0)) < alpha
+        unit_from_hash(h) < alpha
     }
 
     /// Unit geometric normal of triangle `prim`.

@@ -57,7 +57,7 @@ use crate::dataset::Sample;
 use crate::film::{Film, SharedFilm, SplatTarget, private_films};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
-use crate::sampling::mix;
+use crate::sampling::{mix, unit_from_hash};
 use crate::scene::{CameraDesc, CameraKind, Scene};
 use rayon::prelude::*;
 
@@ -213,8 +213,7 @@ pub fn sample_hash_2d(s: &Sample) -> Vec2 {
     let b = (p[2].to_bits() as u64) | ((s.prim as u64) << 32);
     let c = (s.from_dir as u64) | ((s.beta[0].to_bits() as u64) << 32);
     let h = mix(mix(mix(a ^ 0x6f70_7469_6373_6c73) ^ b) ^ c);
-    let to_unit = |v: u64| (v >> 40) as f32 * (1.0 / 16_777_216.0);
-    Vec2::new(to_unit(h), to_unit(h << 24))
+    Vec2::new(unit_from_hash(h), unit_from_hash(h << 24))
 }
 
 /// A stored sample connected to a sensor: the pixel, the BSDF (or emission) factor f toward
