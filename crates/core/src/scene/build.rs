@@ -202,6 +202,12 @@ impl Scene {
         unit_from_hash(h) < alpha
     }
 
+    /// Whether triangle `prim`'s material is masked (rays may pass it: [`Scene::occluded`]).
+    #[inline]
+    pub fn is_masked(&self, prim: u32) -> bool {
+        self.masked && self.opacity_of[self.material_of[prim as usize] as usize].is_some()
+    }
+
     /// Unit geometric normal of triangle `prim`.
     #[inline]
     pub fn normal(&self, prim: u32) -> Vec3 {

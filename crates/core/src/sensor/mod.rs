@@ -44,6 +44,7 @@ mod pinhole;
 mod runs;
 mod thin_lens;
 pub mod view;
+mod visibility;
 
 pub use blind_spots::delta_fraction;
 pub use equirect::Equirectangular;
@@ -52,6 +53,7 @@ pub use orthographic::Orthographic;
 pub use pinhole::{CameraError, MAX_IMAGE_SIDE, Pinhole, check_fov, check_image_size};
 pub use runs::{RunFold, batches_per_run, render_runs, run_count};
 pub use thin_lens::{LensError, ThinLens, check_lens};
+pub use visibility::{Seen, VisibilityBuffer};
 
 use crate::dataset::Sample;
 use crate::film::{Film, SharedFilm, SplatTarget, private_films};
@@ -197,6 +199,15 @@ impl Sensor {
         }
     }
 
+    /// The [`VisibilityBuffer`] of this sensor in `scene`, for the sensors that have one (a
+    /// pinhole: every connection ends at its eye).
+    pub fn visibility(&self, scene: &Scene) -> Option<VisibilityBuffer> {
+        match self {
+            Sensor::Pinhole(p) => VisibilityBuffer::build(scene, p),
+            _ => None,
+        }
+    }
+
     /// Whether [`Sensor::connect`] uses its random numbers.
     #[inline]
     pub(crate) fn samples_aperture(&self) -> bool {
@@ -239,18 +250,27 @@ pub(crate) struct SampleConnection {
 }
 
 /// Connects stored sample `s` to `sensor` (aperture point from the sample's hash when
-/// `random`): `None` when it projects outside the image, its f is 0, or the sensor cannot see it.
-/// With `REVERSE`, also [`SampleConnection::pdf_rev`], from the shading point that gives f (the
-/// bidirectional splat's MIS weight needs both).
+/// `random`): `None` when it projects outside the image, its f is 0, or the sensor cannot see it
+/// — asked of the sensor's `visibility` buffer first, the shadow ray traced only where it does
+/// not know ([`Seen::Unknown`]; the answers are the same). With `REVERSE`, also
+/// [`SampleConnection::pdf_rev`], from the shading point that gives f (the bidirectional
+/// splat's MIS weight needs both).
 #[inline]
 pub(crate) fn connect_sample<const REVERSE: bool>(
     scene: &Scene,
     sensor: &Sensor,
+    visibility: Option<&VisibilityBuffer>,
     s: &Sample,
     random: bool,
 ) -> Option<SampleConnection> {
     let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-    connect_to::<REVERSE>(scene, s, sensor.connect(s.position(), u)?)
+    let conn = sensor.connect(s.position(), u)?;
+    let trace = match visibility.map_or(Seen::Unknown, |v| v.seen(s.position(), s.triangle())) {
+        Seen::Hidden => return None,
+        Seen::Visible => false,
+        Seen::Unknown => true,
+    };
+    connect_with::<REVERSE>(scene, s, conn, trace)
 }
 
 /// Connects stored sample `s` to the sensor point `conn.point` (the rest of `conn` is passed
@@ -263,6 +283,18 @@ pub(crate) fn connect_to<const REVERSE: bool>(
     scene: &Scene,
     s: &Sample,
     conn: Connection,
+) -> Option<SampleConnection> {
+    connect_with::<REVERSE>(scene, s, conn, true)
+}
+
+/// [`connect_to`], tracing the shadow ray only if `trace` (else the caller knows the point is
+/// visible).
+#[inline]
+fn connect_with<const REVERSE: bool>(
+    scene: &Scene,
+    s: &Sample,
+    conn: Connection,
+    trace: bool,
 ) -> Option<SampleConnection> {
     let x = s.position();
     let to_c = conn.point - x;
@@ -291,24 +323,39 @@ pub(crate) fn connect_to<const REVERSE: bool>(
         }
         (f, if REVERSE { p.pdf(&toward, &from) } else { 0.0 })
     };
-    let origin = offset_ray_origin(x, n, wc);
-    let to_c = conn.point - origin;
-    let t = to_c.length();
-    if scene.occluded(&Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) }) {
+    if trace && !sees(scene, x, n, wc, conn.point) {
         return None;
     }
     Some(SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev })
 }
 
-/// Adds the contribution of `batch` to `film` as seen by `sensor` — the one splat loop every
-/// image-forming sensor shares.
-pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
+/// The shadow ray of a connection: whether nothing blocks the segment from surface point `x`
+/// (geometric normal `n`, unit direction `wc` toward `point`) to `point`.
+#[inline]
+pub(crate) fn sees(scene: &Scene, x: Vec3, n: Vec3, wc: Vec3, point: Vec3) -> bool {
+    let origin = offset_ray_origin(x, n, wc);
+    let to_c = point - origin;
+    let t = to_c.length();
+    !scene.occluded(&Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) })
+}
+
+/// Adds the contribution of `batch` to `film` as seen by `sensor` (with its `visibility`
+/// buffer, [`Sensor::visibility`], if it has one) — the one splat loop every image-forming
+/// sensor shares.
+pub fn splat(
+    scene: &Scene,
+    sensor: &Sensor,
+    visibility: Option<&VisibilityBuffer>,
+    batch: SampleBatch<'_>,
+    film: &mut impl SplatTarget,
+) {
     if batch.flux_per_path == Rgb::ZERO {
         return;
     }
     let random = sensor.samples_aperture();
     for s in batch.samples {
-        let Some(SampleConnection { conn, f, cos_x, .. }) = connect_sample::<false>(scene, sensor, s, random)
+        let Some(SampleConnection { conn, f, cos_x, .. }) =
+            connect_sample::<false>(scene, sensor, visibility, s, random)
         else {
             continue;
         };
@@ -375,12 +422,20 @@ fn accumulate_in<B: AsBatch, E: Send>(
 struct SensorSplat<'a> {
     scene: &'a Scene,
     sensor: &'a Sensor,
+    visibility: Option<VisibilityBuffer>,
+}
+
+impl<'a> SensorSplat<'a> {
+    /// The splat loop of `sensor` in `scene`, with its visibility buffer.
+    fn new(scene: &'a Scene, sensor: &'a Sensor) -> Self {
+        SensorSplat { scene, sensor, visibility: sensor.visibility(scene) }
+    }
 }
 
 impl Splatter for SensorSplat<'_> {
     #[inline]
     fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T) {
-        splat(self.scene, self.sensor, batch, film)
+        splat(self.scene, self.sensor, self.visibility.as_ref(), batch, film)
     }
 }
 
@@ -393,7 +448,7 @@ pub fn render<B: AsBatch, E: Send>(
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
-    accumulate((sensor.width(), sensor.height()), count, batch, progress, &SensorSplat { scene, sensor })
+    accumulate((sensor.width(), sensor.height()), count, batch, progress, &SensorSplat::new(scene, sensor))
 }
 
 #[cfg(test)]
@@ -436,7 +491,7 @@ mod tests {
                 samples: &c.samples,
             })
         };
-        let splatter = SensorSplat { scene: &scene, sensor: &sensor };
+        let splatter = SensorSplat::new(&scene, &sensor);
         let dims = (sensor.width(), sensor.height());
         let private = accumulate_in(dims, chunks.len(), batch, |_| {}, &splatter, true).unwrap();
         let shared = accumulate_in(dims, chunks.len(), batch, |_| {}, &splatter, false).unwrap();

@@ -88,7 +88,7 @@ pub fn render_runs<B: AsBatch, E: Send>(
     done: impl FnMut(usize, Film) -> Result<(), E>,
 ) -> Result<(), E> {
     let size = (sensor.width(), sensor.height());
-    splat_runs(size, count, runs, batch, progress, &SensorSplat { scene, sensor }, done)
+    splat_runs(size, count, runs, batch, progress, &SensorSplat::new(scene, sensor), done)
 }
 
 /// The sum of run films, added strictly in run order (f64 addition is not associative, so the

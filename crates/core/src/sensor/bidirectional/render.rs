@@ -207,6 +207,7 @@ impl<'a> Renderer<'a> {
             return Some(total);
         }
         let ctx = self.context();
+        let visibility = self.sensor.visibility(self.scene);
         let chunks = self.cache.chunks();
         let run_len = chunks.len().div_ceil(SPLAT_RUNS).max(1);
         let runs: Vec<usize> = (0..chunks.len().div_ceil(run_len)).collect();
@@ -220,7 +221,7 @@ impl<'a> Renderer<'a> {
                     if stop() {
                         return false;
                     }
-                    splat_chunk(&ctx, &self.sensor, c, acc);
+                    splat_chunk(&ctx, &self.sensor, visibility.as_ref(), c, acc);
                     progress(c.samples.len());
                 }
                 acc.film();

@@ -12,17 +12,24 @@ use super::{ConnectionEnd, Counts, cache::CacheChunk, weight_light_trace};
 use crate::dataset::{LightVertexMis, MisRecord, Sample};
 use crate::film::SplatTarget;
 use crate::math::Vec3;
-use crate::sensor::{Sensor, connect_sample};
+use crate::sensor::{Sensor, VisibilityBuffer, connect_sample};
 
-/// Adds the MIS-weighted splats of `chunk`'s samples to `film`.
-pub fn splat_chunk(ctx: &Context, sensor: &Sensor, chunk: &CacheChunk<'_>, film: &mut impl SplatTarget) {
+/// Adds the MIS-weighted splats of `chunk`'s samples to `film` (with the sensor's `visibility`
+/// buffer, if it has one: `Sensor::visibility`).
+pub fn splat_chunk(
+    ctx: &Context,
+    sensor: &Sensor,
+    visibility: Option<&VisibilityBuffer>,
+    chunk: &CacheChunk<'_>,
+    film: &mut impl SplatTarget,
+) {
     let k = chunk.light as usize;
     let Some(light) = ctx.lights.of_table(k) else { return };
     let flux = ctx.flux_per_path[k];
     let random = sensor.samples_aperture();
     for (s, record) in chunk.samples.iter().zip(chunk.records) {
         // One shading point at the sample for f and the reverse density.
-        let Some(c) = connect_sample::<true>(ctx.scene, sensor, s, random) else {
+        let Some(c) = connect_sample::<true>(ctx.scene, sensor, visibility, s, random) else {
             continue;
         };
         let end = ConnectionEnd { cos: c.cos_x.abs(), pdf_fwd_w: 0.0, pdf_rev_w: c.pdf_rev };
