@@ -3,7 +3,7 @@
 
 What it runs
     For each reference scene (default: the Cornell box, bunny-box, rough, caustics, ring,
-    mirror-glass): `opticks_bidirectional.py SCENE --paths PATHS --spp SPP --mitsuba-spp MSPP`,
+    mirror-glass, room — the furnished room of testdata/mitsuba/room/make_scene.py): `opticks_bidirectional.py SCENE --paths PATHS --spp SPP --mitsuba-spp MSPP`,
     i.e. Mitsuba 3's `path` at MSPP spp (its second run timed), then `opticks trace` of PATHS
     light paths and, from that dataset, the light estimator and the bidirectional one at SPP
     camera paths per pixel. Every image is compared with the scene's reference (relMSE as
@@ -33,7 +33,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 SCENES = ['testdata/scenes/cornell/scene.xml'] + [
-    f'testdata/mitsuba/{n}/scene.xml' for n in ['bunny-box', 'rough', 'caustics', 'ring', 'mirror-glass']]
+    f'testdata/mitsuba/{n}/scene.xml' for n in ['bunny-box', 'rough', 'caustics', 'ring', 'mirror-glass', 'room']]
 
 
 def lines(cmd):

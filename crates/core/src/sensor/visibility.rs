@@ -370,7 +370,7 @@ mod tests {
     /// shadow ray's; returns the share it knew.
     fn agrees_with_shadow_rays(scene: &Scene, camera: &Pinhole, points: usize, seed: u64) -> f64 {
         let Some(buffer) = VisibilityBuffer::build(scene, camera) else { return 0.0 };
-        let mut rng = RandomStream::new(seed, &[0x7669_73]);
+        let mut rng = RandomStream::new(seed, &[0x0076_6973]);
         let (mut known, mut tried) = (0usize, 0usize);
         for _ in 0..points {
             let t = ((rng.next_f32() * scene.triangles.len() as f32) as usize).min(scene.triangles.len() - 1);
@@ -501,7 +501,16 @@ mod tests {
         let buffer = sensor.visibility(&scene).unwrap();
         let settings = crate::trace::TraceSettings { paths: 20_000, seed: 5, ..Default::default() };
         let mut chunks = Vec::new();
-        let table = crate::trace::trace(&scene, &settings, |c| Ok::<_, ()>(chunks.push(c)), |_| {}).unwrap();
+        let table = crate::trace::trace(
+            &scene,
+            &settings,
+            |c| {
+                chunks.push(c);
+                Ok::<_, ()>(())
+            },
+            |_| {},
+        )
+        .unwrap();
         let (mut with, mut without) =
             (Film::new(sensor.width(), sensor.height()), Film::new(sensor.width(), sensor.height()));
         for c in &chunks {
