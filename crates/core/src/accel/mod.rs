@@ -216,6 +216,8 @@ pub struct Accel {
     tris: Vec<Tri>,
     /// Leaf slot → scene triangle index.
     order: Vec<u32>,
+    /// Scene triangle index → leaf slot (the inverse of `order`).
+    slot_of: Vec<u32>,
     /// Depth of the deepest node (the root is at 0).
     depth: usize,
     /// Triangle visits the build made.
@@ -258,7 +260,11 @@ impl Accel {
             }
         };
         let tris = built.order.iter().map(|&i| Tri::new(&triangles[i as usize])).collect();
-        Accel { nodes, tris, order: built.order, depth, build_work: built.work }
+        let mut slot_of = vec![0u32; built.order.len()];
+        for (slot, &i) in built.order.iter().enumerate() {
+            slot_of[i as usize] = slot as u32;
+        }
+        Accel { nodes, tris, order: built.order, slot_of, depth, build_work: built.work }
     }
 
     /// Closest hit along `ray` within [0, t_max): distance and scene triangle index.
@@ -271,6 +277,19 @@ impl Accel {
             self.closest::<false, SMALL_STACK>(&q, ray.t_max)
         };
         hit.map(|(t, slot)| (t, self.order[slot as usize]))
+    }
+
+    /// The distance along `ray` to scene triangle `prim` alone, within [0, t_max), by the same
+    /// test as [`Accel::intersect`]: when `prim` is the closest hit, the same distance.
+    #[inline]
+    pub fn intersect_one(&self, ray: &Ray, prim: u32) -> Option<f32> {
+        let slot = *self.slot_of.get(prim as usize)?;
+        let t = self.tris[slot as usize].intersect(
+            Vec3A::from(ray.origin),
+            Vec3A::from(ray.dir) + Vec3A::ZERO,
+            ray.t_max,
+        );
+        (t < ray.t_max).then_some(t)
     }
 
     /// Whether anything blocks the open segment (0, t_max) of `ray`.

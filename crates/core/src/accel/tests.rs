@@ -498,3 +498,38 @@ fn filtered_queries_skip_exactly_the_rejected_hits() {
     }
     assert!(hits > 500 && skipped > 500, "the test must see both: {hits} hits, {skipped} skipped");
 }
+
+/// `intersect_one` on the closest hit's triangle gives the closest hit's distance, bit for bit
+/// (the visibility buffer's first hits rely on it), and misses a triangle the ray misses.
+#[test]
+fn one_triangle_test_gives_the_traversals_distance() {
+    let mut rng = Rng::new(77);
+    let tris: Vec<[Vec3; 3]> = (0..2000)
+        .map(|_| {
+            let c = rng.point(Vec3::splat(-5.0), Vec3::splat(5.0));
+            rng.triangle(c, 0.8)
+        })
+        .collect();
+    let accel = Accel::build(&tris);
+    let (mut hits, mut misses) = (0, 0);
+    for _ in 0..20_000 {
+        let ray = Ray {
+            origin: rng.point(Vec3::splat(-6.0), Vec3::splat(6.0)),
+            dir: rng.unit(),
+            t_max: f32::INFINITY,
+        };
+        if let Some((t, prim)) = accel.intersect(&ray) {
+            assert_eq!(accel.intersect_one(&ray, prim), Some(t));
+            hits += 1;
+        }
+        let other = rng.index(tris.len()) as u32;
+        if accel.intersect_one(&ray, other).is_none() {
+            misses += 1;
+        }
+    }
+    assert!(hits > 1000 && misses > 1000, "hits {hits}, misses {misses}");
+    assert_eq!(
+        accel.intersect_one(&Ray { origin: Vec3::ZERO, dir: Vec3::X, t_max: 1.0 }, tris.len() as u32),
+        None
+    );
+}

@@ -154,6 +154,17 @@ impl Scene {
         Some(Hit { t, prim, position, normal: self.normals[prim as usize] })
     }
 
+    /// The hit of `ray` on triangle `prim`, which the caller knows to be its closest (a
+    /// [`crate::sensor::VisibilityBuffer`]'s front triangle): the same hit as
+    /// [`Scene::intersect`]'s, for one triangle test instead of a traversal (the traversal if
+    /// the ray misses `prim` after all).
+    #[inline]
+    pub fn intersect_front(&self, ray: &Ray, prim: u32) -> Option<Hit> {
+        let Some(t) = self.accel.intersect_one(ray, prim) else { return self.intersect(ray) };
+        let position = self.triangles[prim as usize].snap(ray.origin + t * ray.dir);
+        Some(Hit { t, prim, position, normal: self.normals[prim as usize] })
+    }
+
     /// Whether the segment from `ray.origin` of length `ray.t_max` is blocked (by a masked
     /// surface only where `Scene::meets` says the ray meets it).
     #[inline]

@@ -137,6 +137,29 @@ impl VisibilityBuffer {
         }
     }
 
+    /// The triangle a ray from `origin` along `dir` hits first, if the buffer knows it: `origin`
+    /// must be the eye itself (a camera path's first ray), and the ray's pixel must hold a front
+    /// triangle (everything else along it lies behind).
+    #[inline]
+    pub fn front(&self, origin: Vec3, dir: Vec3) -> Option<u32> {
+        let c = &self.camera;
+        if origin != c.eye {
+            return None;
+        }
+        let z = dir.dot(c.forward);
+        if !(z > 0.0) {
+            return None;
+        }
+        let sx = 0.5 * (dir.dot(c.right) / (z * c.tan_x) + 1.0);
+        let sy = 0.5 * (1.0 - dir.dot(c.up) / (z * c.tan_y));
+        let (px, py) = (sx * c.width as f32, sy * c.height as f32);
+        if !(px >= 0.0 && py >= 0.0 && px < c.width as f32 && py < c.height as f32) {
+            return None;
+        }
+        let t = self.front[py as usize * c.width as usize + px as usize];
+        (t != NONE).then_some(t)
+    }
+
     /// The share of pixels whose answers are known (for reports and tests).
     pub fn known_fraction(&self) -> f64 {
         self.front.iter().filter(|&&t| t != NONE).count() as f64 / self.front.len().max(1) as f64

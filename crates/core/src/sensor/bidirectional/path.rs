@@ -45,8 +45,14 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
     let mut radiance = Rgb::ZERO;
     // The first connections' cache reads start now, each later vertex's at the one before.
     let mut ahead = DrawsAhead::begin(ctx, rng);
+    // The first hit from the eye is the visibility buffer's front triangle where it knows one.
+    let mut front = ctx.visibility.and_then(|v| v.front(ray.origin, ray.dir));
     loop {
-        let Some(hit) = scene.intersect(&ray) else {
+        let hit = match front.take() {
+            Some(t) => scene.intersect_front(&ray, t),
+            None => scene.intersect(&ray),
+        };
+        let Some(hit) = hit else {
             // Left the scene: the environments' emitter hit (s = 0), weighted on the segment's
             // state (an environment's x₀ is a direction: no hit conversion).
             if ctx.lights.has_environment() {

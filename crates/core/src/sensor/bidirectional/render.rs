@@ -37,7 +37,7 @@ use crate::film::{Accumulator, Film};
 use crate::math::Rgb;
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
-use crate::sensor::Sensor;
+use crate::sensor::{Sensor, VisibilityBuffer};
 use rayon::prelude::*;
 
 /// The options of a bidirectional render.
@@ -99,6 +99,8 @@ pub struct Renderer<'a> {
     /// ([`Allocation`]); `None`: `counts.light_trace` everywhere.
     pixel_light_trace: Option<Vec<f64>>,
     settings: Settings,
+    /// The sensor's visibility buffer (the splats' shadow rays, the camera paths' first hits).
+    visibility: Option<VisibilityBuffer>,
 }
 
 impl<'a> Renderer<'a> {
@@ -130,6 +132,7 @@ impl<'a> Renderer<'a> {
         };
         Renderer {
             scene,
+            visibility: sensor.visibility(scene),
             sensor,
             cache,
             lights,
@@ -182,6 +185,7 @@ impl<'a> Renderer<'a> {
     pub fn context(&self) -> Context<'_> {
         Context {
             scene: self.scene,
+            visibility: self.visibility.as_ref(),
             lights: &self.lights,
             cache: &self.cache,
             set: None,
@@ -207,7 +211,6 @@ impl<'a> Renderer<'a> {
             return Some(total);
         }
         let ctx = self.context();
-        let visibility = self.sensor.visibility(self.scene);
         let chunks = self.cache.chunks();
         let run_len = chunks.len().div_ceil(SPLAT_RUNS).max(1);
         let runs: Vec<usize> = (0..chunks.len().div_ceil(run_len)).collect();
@@ -221,7 +224,7 @@ impl<'a> Renderer<'a> {
                     if stop() {
                         return false;
                     }
-                    splat_chunk(&ctx, &self.sensor, visibility.as_ref(), c, acc);
+                    splat_chunk(&ctx, &self.sensor, ctx.visibility, c, acc);
                     progress(c.samples.len());
                 }
                 acc.film();

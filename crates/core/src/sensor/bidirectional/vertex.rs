@@ -25,6 +25,9 @@ use crate::trace::light_direction_pdf_at;
 pub struct Context<'a> {
     /// The scene.
     pub scene: &'a Scene,
+    /// The sensor's visibility buffer, if it has one (`crate::sensor::VisibilityBuffer`): a
+    /// camera path's first hit where it knows it.
+    pub visibility: Option<&'a crate::sensor::VisibilityBuffer>,
     /// The lights that are on.
     pub lights: &'a RenderLights,
     /// The light half.
