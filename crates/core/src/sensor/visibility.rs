@@ -79,6 +79,11 @@ impl VisibilityBuffer {
             }
             let Some(poly) = raster.polygon(tri.v0, tri.v0 + tri.e1, tri.v0 + tri.e2)? else { continue };
             let Some(plane) = poly.plane else { continue };
+            if poly.hi[0] - poly.lo[0] < 1.0 + 2.0 * MARGIN_PX
+                || poly.hi[1] - poly.lo[1] < 1.0 + 2.0 * MARGIN_PX
+            {
+                continue; // too small to cover a footprint
+            }
             raster.rows(&poly, |j, _, covered| {
                 for i in covered {
                     let p = j * w + i;
@@ -168,8 +173,12 @@ impl VisibilityBuffer {
 
 /// A triangle in camera space, clipped in front of the eye and projected to pixel coordinates.
 struct Polygon {
-    /// Vertices in pixel coordinates (x right, y down), at most 4, convex, in order.
-    points: Vec<[f64; 2]>,
+    /// Vertices in pixel coordinates (x right, y down), convex, in order: the first `n` of 4.
+    corners: [[f64; 2]; 4],
+    n: usize,
+    /// Its bounding box: x from `lo[0]` to `hi[0]`, y from `lo[1]` to `hi[1]`.
+    lo: [f64; 2],
+    hi: [f64; 2],
     /// The inverse depth 1/z as an affine function of the pixel point (a, b, c: a·x + b·y + c),
     /// or `None` when the triangle's plane passes through the eye (seen edge-on).
     plane: Option<[f64; 3]>,
@@ -243,32 +252,47 @@ impl Raster {
         };
         let (a, b, c) = (cam(a), cam(b), cam(c));
         // Clip against z ≥ z_clip (Sutherland–Hodgman, one plane).
-        let mut clipped: Vec<[f64; 3]> = Vec::with_capacity(4);
+        let (mut clipped, mut count) = ([[0.0f64; 3]; 4], 0);
         let tri = [a, b, c];
         for k in 0..3 {
             let (p, q) = (tri[k], tri[(k + 1) % 3]);
             let (pin, qin) = (p[2] >= self.z_clip, q[2] >= self.z_clip);
             if pin {
-                clipped.push(p);
+                clipped[count] = p;
+                count += 1;
             }
             if pin != qin {
                 let s = (self.z_clip - p[2]) / (q[2] - p[2]);
-                clipped.push([p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), self.z_clip]);
+                clipped[count] = [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), self.z_clip];
+                count += 1;
             }
         }
-        if clipped.len() < 3 {
+        if count < 3 {
             let in_front = a[2] > 0.0 || b[2] > 0.0 || c[2] > 0.0;
             return if in_front { None } else { Some(None) };
         }
-        let points = clipped
-            .iter()
-            .map(|p| {
-                [
-                    0.5 * self.size[0] as f64 + p[0] / p[2] * self.scale[0],
-                    0.5 * self.size[1] as f64 - p[1] / p[2] * self.scale[1],
-                ]
-            })
-            .collect();
+        let (mut corners, mut lo, mut hi) = ([[0.0f64; 2]; 4], [f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for k in 0..count {
+            let p = clipped[k];
+            let q = [
+                0.5 * self.size[0] as f64 + p[0] / p[2] * self.scale[0],
+                0.5 * self.size[1] as f64 - p[1] / p[2] * self.scale[1],
+            ];
+            corners[k] = q;
+            for a in 0..2 {
+                lo[a] = lo[a].min(q[a]);
+                hi[a] = hi[a].max(q[a]);
+            }
+        }
+        // Nothing of it near the image: no footprint can meet it.
+        let reach = MARGIN_PX + 1.0;
+        if hi[0] < -reach
+            || hi[1] < -reach
+            || lo[0] > self.size[0] as f64 + reach
+            || lo[1] > self.size[1] as f64 + reach
+        {
+            return Some(None);
+        }
         // The plane n·P = d in camera space; along the ray through pixel point (x, y),
         // P = z·((x − W/2)/sx, (H/2 − y)/sy, 1), so 1/z = n·that / d, affine in (x, y).
         let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
@@ -283,7 +307,7 @@ impl Raster {
             let c0 = n[2] / d - ax * 0.5 * self.size[0] as f64 - ay * 0.5 * self.size[1] as f64;
             [ax, ay, c0]
         });
-        Some(Some(Polygon { points, plane }))
+        Some(Some(Polygon { corners, n: count, lo, hi, plane }))
     }
 
     /// The least and greatest inverse depth of `plane` over pixel (i, j)'s footprint (an affine
@@ -307,24 +331,31 @@ impl Raster {
     ) -> Option<()> {
         let m = MARGIN_PX;
         let (w, h) = (self.size[0] as f64, self.size[1] as f64);
-        let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for p in &poly.points {
-            y_lo = y_lo.min(p[1]);
-            y_hi = y_hi.max(p[1]);
-        }
-        if !(y_lo.is_finite() && y_hi.is_finite()) {
+        let (y_lo, y_hi) = (poly.lo[1], poly.hi[1]);
+        if !(y_lo.is_finite() && y_hi.is_finite() && poly.lo[0].is_finite() && poly.hi[0].is_finite()) {
             return None;
+        }
+        let points = &poly.corners[..poly.n];
+        let col = |x: f64| x.clamp(0.0, w) as usize;
+        let row = |y: f64| y.clamp(0.0, h) as usize;
+        if poly.hi[0] - poly.lo[0] < 1.0 + 2.0 * m && poly.hi[1] - poly.lo[1] < 1.0 + 2.0 * m {
+            // Smaller than a footprint (most triangles of a fine mesh): it covers none, and the
+            // footprints its bounding box meets stand for those it meets.
+            let meets = col((poly.lo[0] - 1.0 - m).ceil())..col((poly.hi[0] + m).floor() + 1.0);
+            for j in row((y_lo - 1.0 - m).ceil())..row((y_hi + m).floor() + 1.0) {
+                each(j, meets.clone(), 0..0);
+            }
+            return Some(());
         }
         let j0 = (y_lo - m - 1.0).floor().clamp(0.0, h) as usize;
         let j1 = (y_hi + m + 1.0).floor().clamp(0.0, h) as usize; // exclusive after clamping
-        let col = |x: f64| x.clamp(0.0, w) as usize;
         for j in j0..j1.min(self.size[1]) {
             let (top, bottom) = (j as f64 - m, j as f64 + 1.0 + m);
             // Columns whose grown square meets the polygon: its x extent within the band.
-            let Some((x_lo, x_hi)) = band_extent(&poly.points, top, bottom) else { continue };
+            let Some((x_lo, x_hi)) = band_extent(points, top, bottom) else { continue };
             let meets = col((x_lo - 1.0 - m).ceil())..col((x_hi + m).floor() + 1.0);
             // Columns whose grown square lies inside: both of the band's edges' chords contain it.
-            let covered = match (chord(&poly.points, top), chord(&poly.points, bottom)) {
+            let covered = match (chord(points, top), chord(points, bottom)) {
                 (Some((l0, r0)), Some((l1, r1))) => {
                     let (l, r) = (l0.max(l1), r0.min(r1));
                     let tol = 1e-9 * (w + h);
