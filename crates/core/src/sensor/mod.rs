@@ -30,7 +30,8 @@
 //!
 //! The [`meter`] module holds the illuminance meter: on scene geometry it needs no connection
 //! (a stored sample already *is* flux arriving at a surface); anywhere else it connects the
-//! samples to itself through the same `connect_to` as the cameras.
+//! samples to itself through the cameras' connection, whose shadow ray there crosses thin
+//! window panes (`connect_through_panes`).
 //!
 //! [`view`] turns the scene camera and a front end's overrides into the sensor a view is
 //! rendered through.
@@ -255,15 +256,37 @@ pub(crate) fn connect_sample<const REVERSE: bool>(
 
 /// Connects stored sample `s` to the sensor point `conn.point` (the rest of `conn` is passed
 /// through): f toward it (or the emission factor), cos θ_x, and the shadow ray. `None` when
-/// f is 0, an emitter is seen from behind, or the point is hidden. Shared by the cameras and
-/// the connected illuminance meter ([`meter`]). With `REVERSE`, also the reverse density
-/// ([`SampleConnection::pdf_rev`]).
+/// f is 0, an emitter is seen from behind, or the point is hidden: every camera's connection
+/// (the connected illuminance meter's is `connect_through_panes`). With `REVERSE`, also the
+/// reverse density ([`SampleConnection::pdf_rev`]).
 #[inline]
 pub(crate) fn connect_to<const REVERSE: bool>(
     scene: &Scene,
     s: &Sample,
     conn: Connection,
 ) -> Option<SampleConnection> {
+    let (c, ray) = connection::<REVERSE>(scene, s, conn)?;
+    (!scene.occluded(&ray)).then_some(c)
+}
+
+/// `connect_to` whose shadow ray crosses thin panes ([`Scene::shadow_transmittance`]): `f`
+/// is then f times the panes' straight-through transmittance, per channel. The connected
+/// illuminance meter's ([`meter`]; `meter/connect.rs` says why this is unbiased); the cameras
+/// keep `connect_to`, as their bidirectional weights assume that a pane blocks.
+#[inline]
+pub(crate) fn connect_through_panes(scene: &Scene, s: &Sample, conn: Connection) -> Option<SampleConnection> {
+    let (c, ray) = connection::<false>(scene, s, conn)?;
+    let t = scene.shadow_transmittance(&ray)?;
+    Some(SampleConnection { f: c.f * t, ..c })
+}
+
+/// `connect_to` up to its shadow ray, which it returns untraced.
+#[inline]
+fn connection<const REVERSE: bool>(
+    scene: &Scene,
+    s: &Sample,
+    conn: Connection,
+) -> Option<(SampleConnection, Ray)> {
     let x = s.position();
     let to_c = conn.point - x;
     let d = to_c.length();
@@ -294,10 +317,8 @@ pub(crate) fn connect_to<const REVERSE: bool>(
     let origin = offset_ray_origin(x, n, wc);
     let to_c = conn.point - origin;
     let t = to_c.length();
-    if scene.occluded(&Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) }) {
-        return None;
-    }
-    Some(SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev })
+    let ray = Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) };
+    Some((SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev }, ray))
 }
 
 /// Adds the contribution of `batch` to `film` as seen by `sensor` — the one splat loop every
