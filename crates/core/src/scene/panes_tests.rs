@@ -1,3 +1,7 @@
+//! `Scene::shadow_transmittance` on stacks of horizontal squares: one pane's T at the crossing
+//! angle (per channel, either face, unbounded rays), panes multiplying, and the segment blocked
+//! by a mirror, an opaque surface or more than `MAX_PANES` panes.
+
 use super::*;
 use crate::bsdf::{Bsdf, Lambert, Material, SmoothConductor, ThinDielectric};
 use crate::math::Vec3;
