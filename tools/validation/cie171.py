@@ -920,8 +920,9 @@ def main():
         f"A pane (`glass` of transmissivity 1, index {GLASS_N:g}) fills the opening; the sky is gensky's "
         "CIE overcast sky. The meter's shadow rays pass thin panes (core `ThinDielectric`: Radiance's "
         "`glass`, Mitsuba's `thindielectric`) with the pane's straight-through transmittance "
-        "(docs/daylight.md), so these points read as the open openings' do, with the same "
-        "`--direct-samples`. Opticks's pane transmits T(θ) = (1 − r)/(1 + r), r the unpolarised "
+        "(docs/estimator.md §5; up to 8 panes on a line of sight), so these points read as the open "
+        "openings' do, with the same `--direct-samples` — and the same seed, so the same sky directions: "
+        "their deviations from the quadrature repeat the open overcast case's, scaled by T. Opticks's pane transmits T(θ) = (1 − r)/(1 + r), r the unpolarised "
         f"Fresnel reflectance at n = {GLASS_N:g} (0.918 at normal incidence), which the quadrature "
         "integrates.")
 
