@@ -83,12 +83,7 @@ ROOF_XY = [(0, 0), (0.5, 0.25), (1, 0.5), (1, 0), (0, 0.5), (2, 0), (0, 2), (2, 
 FACADE_OPENING = (-1.0, 1.0, 1.0, 2.0)  # x0, x1, z0, z1 in the north wall y = ROOM_HALF
 FACADE_XY = [(0, 2), (0, 1), (0, 0), (1, 1), (-1, 2), (2, 0), (0, -2), (-2, -2)]
 GLASS_N = 1.52  # the pane's index (Radiance's glass default), transmissivity 1
-PATCH = (-1.5, 1.5, -1.0, 1.0)  # the measured floor patch of the glazed roof case
-PATCH_CELLS = (6, 4)
-FACADE_PATCH = (-1.0, 1.0, 0.0, 2.5)  # the measured floor patch of the glazed façade case
-FACADE_PATCH_CELLS = (4, 5)
 DAYLIGHT_DIRECT = "1000000"  # `measure --direct-samples` for the sky at a point (default 256)
-GLAZED_PATHS = "32M"  # trace paths for the glazed cases, measured by the samples on the floor
 GENSKY_GROUND = 0.2 * 0.777778  # gensky -c's ground brightness over the zenith's (ρ = 0.2)
 
 
@@ -231,36 +226,17 @@ def e_quadrature(px, py, kind, sky, pane=no_pane, order=48, lum=SKY_LZ):
     return lum * area * total
 
 
-def cell_mean(fn, cell, order=6):
-    """The mean of fn(x, y) over the cell (x0, x1, y0, y1), Gauss-Legendre order²."""
-    x0, x1, y0, y1 = cell
-    nodes = gl01(order)
-    return sum(wa * wb * fn(x0 + a * (x1 - x0), y0 + b * (y1 - y0)) for a, wa in nodes for b, wb in nodes)
-
-
-def patch_cells(patch, cells):
-    """The meter's cells in its CSV order (i fastest): (i, j, (x0, x1, y0, y1))."""
-    x0, x1, y0, y1 = patch
-    nx, ny = cells
-    dx, dy = (x1 - x0) / nx, (y1 - y0) / ny
-    return [(i, j, (x0 + i * dx, x0 + (i + 1) * dx, y0 + j * dy, y0 + (j + 1) * dy))
-            for j in range(ny) for i in range(nx)]
-
-
 def check_quadrature():
     """The closed forms against the quadrature, and the quadrature's convergence: the largest
     relative differences (closed forms vs order 48; order 48 vs 96 for the overcast sky and the
-    pane; a cell mean of order 6 vs 10)."""
+    pane)."""
     closed = max(max(abs(e_roof_uniform(x, y) / e_quadrature(x, y, "roof", sky_uniform) - 1) for x, y in ROOF_XY),
                  max(abs(e_facade_uniform(x, y) / e_quadrature(x, y, "facade", sky_uniform) - 1)
                      for x, y in FACADE_XY))
     conv = max(abs(e_quadrature(x, y, k, sky_gensky_overcast, t_pane_opticks)
                    / e_quadrature(x, y, k, sky_gensky_overcast, t_pane_opticks, order=96) - 1)
                for k, pts in (("roof", ROOF_XY), ("facade", FACADE_XY)) for x, y in pts)
-    fn = lambda x, y: e_quadrature(x, y, "roof", sky_gensky_overcast, t_pane_opticks, order=24)  # noqa: E731
-    cell = patch_cells(PATCH, PATCH_CELLS)[0][2]
-    cells = abs(cell_mean(fn, cell) / cell_mean(fn, cell, order=10) - 1)
-    return closed, conv, cells
+    return closed, conv
 
 
 # ---------------------------------------------------------------- scenes
@@ -440,10 +416,9 @@ def quad(name, pts, mat="black"):
     return f"{mat} polygon {name} 0 0 12 " + " ".join(f"{v:g}" for p in pts for v in p)
 
 
-def room_rad(kind, sky, glazed=False, patch=None):
+def room_rad(kind, sky, glazed=False):
     """The closed black room with its opening (`kind` roof or facade), optionally glazed, under
-    `sky`; the floor split around the measured patch if given. Polygons are counter-clockwise
-    seen from inside the room (the floor's normal up, for the surface meter)."""
+    `sky`. Polygons are counter-clockwise seen from inside the room (the floor's normal up)."""
     s, h = ROOM_HALF, ROOM_H
     out = [f"# {HEADER}.",
            f"# 5.9–5.12 sky component: a closed black {2 * s:g} m x {2 * s:g} m x {h:g} m room, an opening in its"
@@ -452,15 +427,7 @@ def room_rad(kind, sky, glazed=False, patch=None):
            sky_rad(sky).rstrip("\n"), "void plastic black 0 0 5 0 0 0 0 0"]
     if glazed:
         out.append("void glass pane_glass 0 0 3 1 1 1")
-    if patch:
-        px0, px1, py0, py1 = patch
-        out += [quad("patch", [(px0, py0, 0), (px1, py0, 0), (px1, py1, 0), (px0, py1, 0)]),
-                quad("floor_s", [(-s, -s, 0), (s, -s, 0), (s, py0, 0), (-s, py0, 0)]),
-                quad("floor_n", [(-s, py1, 0), (s, py1, 0), (s, s, 0), (-s, s, 0)]),
-                quad("floor_w", [(-s, py0, 0), (px0, py0, 0), (px0, py1, 0), (-s, py1, 0)]),
-                quad("floor_e", [(px1, py0, 0), (s, py0, 0), (s, py1, 0), (px1, py1, 0)])]
-    else:
-        out.append(quad("floor", [(-s, -s, 0), (s, -s, 0), (s, s, 0), (-s, s, 0)]))
+    out.append(quad("floor", [(-s, -s, 0), (s, -s, 0), (s, s, 0), (-s, s, 0)]))
     out += [quad("south", [(-s, -s, 0), (-s, -s, h), (s, -s, h), (s, -s, 0)]),
             quad("west", [(-s, -s, 0), (-s, s, 0), (-s, s, h), (-s, -s, h)]),
             quad("east", [(s, -s, 0), (s, -s, h), (s, s, h), (s, s, 0)])]
@@ -509,8 +476,7 @@ def write_scenes(folder=SCENES):
     files["sky-roof.csv"] = points_csv(ROOF_XY)
     files["sky-facade.csv"] = points_csv(FACADE_XY)
     for stem, kind, sky, glazed in DAYLIGHT_SCENES:
-        patch = (PATCH if kind == "roof" else FACADE_PATCH) if glazed else None
-        files[f"{stem}.rad"] = room_rad(kind, sky, glazed, patch)
+        files[f"{stem}.rad"] = room_rad(kind, sky, glazed)
     for rho in BOX_RHOS:
         files[f"box-{rho_tag(rho)}.xml"] = box_xml(rho)
         files[f"box-{rho_tag(rho)}.rad"] = box_rad(rho)
@@ -664,7 +630,7 @@ DAYLIGHT_NOTES = (
     "box under the sky read 2.3–7.0 lux at its edges where it must read 0. The meter now counts "
     "only the samples of surfaces parallel to it (the stored triangle's normal, core "
     "`IlluminanceMeter::splat_on`) and, on a `--surface`, within that surface's own deviation from "
-    "its plane. The glazed cases still measure a patch of their own away from the walls.")
+    "its plane.")
 
 
 def main():
@@ -841,7 +807,7 @@ def main():
     sections.append("\n".join(body))
 
     # 5.9–5.12 sky component
-    closed_q, conv_q, cell_q = check_quadrature()
+    closed_q, conv_q = check_quadrature()
     sky_prose = (
         f"A closed room x, y ∈ [−{ROOM_HALF:g}, {ROOM_HALF:g}] m, z ∈ [0, {ROOM_H:g}] m, every surface "
         "black (`plastic` of reflectance 0: only the sky component counts), under a sky dome "
@@ -882,7 +848,7 @@ def main():
         "strata: in an earlier run of this script the façade's uniform-sky points (−2, −2) and "
         "(0, −2) read +13.2 % and −5.4 % (these tables are one run).")
 
-    def daylight_points(title, stem, points_file, analytic, prose):
+    def daylight_points(title, stem, points_file, analytic, prose, radiance_note=None):
         print(f"{title} …", file=sys.stderr)
         t_trace = opticks.trace(SCENES / f"{stem}.rad", stem)
         extra = ["--direct-samples", DAYLIGHT_DIRECT]
@@ -902,6 +868,8 @@ def main():
         if radiance is not None:
             rlux, rsec, rcmd = radiance.irradiance(SCENES / f"{stem}.rad", pts, RADIANCE_SKY)
             rtext = f"Radiance `{rcmd}` on `testdata/cie171/{stem}.rad`: {rsec:.2f} s (oconv + rtrace)."
+            if radiance_note:
+                rtext += " " + radiance_note(pts, rows)
         verdicts.append((title, rows, rlux, 2))
         body = [f"## {title}", "", prose, "",
                 f"Opticks: `opticks trace testdata/cie171/{stem}.rad` (default settings) and `opticks measure "
@@ -948,68 +916,37 @@ def main():
         if eh:
             ehs.append(eh)
 
-    def glazed_case(title, stem, kind, patch, cells, text):
-        print(f"{title} …", file=sys.stderr)
-        t_trace = opticks.trace(SCENES / f"{stem}.rad", stem, GLAZED_PATHS)
-        grid = f"{cells[0]}x{cells[1]}"
-        meas, t_measure = opticks.measure_surface(stem, "patch", grid)
-        opticks.remove(stem)
-        fn = lambda x, y: e_quadrature(x, y, kind, sky_gensky_overcast, t_pane_opticks, order=24)  # noqa: E731
-        fn_rad = lambda x, y: e_quadrature(x, y, kind, sky_gensky_overcast, t_pane_radiance, order=24)  # noqa: E731
-        cl = patch_cells(patch, cells)
-        rows = [(f"[{c[0]:g}, {c[1]:g}] × [{c[2]:g}, {c[3]:g}]", cell_mean(fn, c), m["E_v_lux"], m["SE_v_lux"])
-                for (_, _, c), m in zip(cl, meas)]
-        rad_model = max(abs(pct(cell_mean(fn_rad, c), a)) for (_, _, c), (_, a, _, _) in zip(cl, rows))
-        rlux = rtext = None
-        if radiance is not None:
-            nodes = gl01(3)
-            pts = [(c[0] + a * (c[1] - c[0]), c[2] + b * (c[3] - c[2]), 0, 0, 0, 1)
-                   for _, _, c in cl for a, _ in nodes for b, _ in nodes]
-            lux, rsec, rcmd = radiance.irradiance(SCENES / f"{stem}.rad", pts, RADIANCE_SKY)
-            wts = [wa * wb for _, wa in nodes for _, wb in nodes]
-            rlux = [sum(w * lux[9 * k + q] for q, w in enumerate(wts)) for k in range(len(cl))]
-            rtext = (f"Radiance `{rcmd}` on `testdata/cie171/{stem}.rad`, each cell's mean from 3 × 3 "
-                     f"Gauss-Legendre points: {rsec:.2f} s (oconv + rtrace). Radiance's pane transmits per "
-                     "polarisation ((1 − r_s)/(1 + r_s) + (1 − r_p)/(1 + r_p))/2, Opticks's with the "
-                     "unpolarised r: the closed form of Radiance's own pane differs from the column's by up "
-                     f"to {rad_model:.2f} % in these cells.")
-        verdicts.append((title, rows, rlux, 2))
-        body = [f"## {title}", "", text, "",
-                f"Opticks: `opticks trace testdata/cie171/{stem}.rad --paths {GLAZED_PATHS}` and `opticks "
-                f"measure --surface patch --cells {grid}` (the samples estimator, default for a surface); "
-                f"trace {t_trace:.2f} s, measure {t_measure:.2f} s."]
-        if rtext:
-            body += ["", rtext]
-        mdiff = statistics.fmean(pct(e, a) for _, a, e, _ in rows)
-        mz2 = statistics.fmean(((e - a) / se) ** 2 for _, a, e, se in rows)
-        body += ["", table(rows, rlux).replace("| point (x, y) m |", "| cell x × y m |"), "",
-                 summary(rows, rlux, 2)[:-1] + f"; over the {len(rows)} cells Opticks's mean diff is "
-                 f"{mdiff:+.3f} % and its mean squared z-score {mz2:.2f} (1 for noise alone): the cells "
-                 "miss 2 % by their noise, SE 1.4–2.8 % at this path count.", ""]
-        sections.append("\n".join(body))
-
     pane_text = (
         f"A pane (`glass` of transmissivity 1, index {GLASS_N:g}) fills the opening; the sky is gensky's "
-        "CIE overcast sky. The shadow rays of the meter's `connections` estimator stop at a pane (no "
-        "connection passes a delta surface), so a point behind glazing reads no direct sky light "
-        "with it: these cases read the **cell means** of a floor patch with the `samples` estimator "
-        "(the light that the traced paths brought through the pane), at GLAZED paths (default "
-        "4 M: SE 2–4 % a cell), against the closed form's mean over each cell (Gauss-Legendre 6² "
-        f"points a cell, order 24² over the opening; against 10² points within {cell_q:.0e}). "
-        "Opticks's pane (core `ThinDielectric`) transmits T(θ) = (1 − r)/(1 + r), r the unpolarised "
-        "Fresnel reflectance at n = 1.52 (0.918 at normal incidence), which the closed form "
-        "integrates. The patch is a polygon of its own, away from the walls (the surface meter "
-        "takes as its own the samples of any surface within its plane's tolerance at its edges: "
-        "see the note at the end).").replace("GLAZED", GLAZED_PATHS)
-    px0, px1, py0, py1 = PATCH
-    glazed_case("5.11 Sky component: glazed roof opening, CIE overcast sky", "sky-roof-glazed", "roof", PATCH,
-                PATCH_CELLS, roof_text.replace("unglazed, zero-thickness", "glazed") + " " + pane_text
-                + f" The patch: [{px0:g}, {px1:g}] × [{py0:g}, {py1:g}] m.")
-    qx0, qx1, qy0, qy1 = FACADE_PATCH
-    glazed_case("5.12 Sky component: glazed façade opening, CIE overcast sky", "sky-facade-glazed", "facade",
-                FACADE_PATCH, FACADE_PATCH_CELLS,
-                facade_text.replace("unglazed, zero-thickness", "glazed") + " " + pane_text
-                + f" The patch: [{qx0:g}, {qx1:g}] × [{qy0:g}, {qy1:g}] m.")
+        "CIE overcast sky. The meter's shadow rays pass thin panes (core `ThinDielectric`: Radiance's "
+        "`glass`, Mitsuba's `thindielectric`) with the pane's straight-through transmittance "
+        "(docs/estimator.md §5; up to 8 panes on a line of sight), so these points read as the open "
+        "openings' do, with the same `--direct-samples` — and the same seed, so the same sky directions: "
+        "their deviations from the quadrature repeat the open overcast case's, scaled by T. Opticks's pane transmits T(θ) = (1 − r)/(1 + r), r the unpolarised "
+        f"Fresnel reflectance at n = {GLASS_N:g} (0.918 at normal incidence), which the quadrature "
+        "integrates.")
+
+    def radiance_pane_note(kind):
+        def note(pts, rows):
+            fn_rad = lambda x, y: e_quadrature(x, y, kind, sky_gensky_overcast, t_pane_radiance)  # noqa: E731
+            worst = max(abs(pct(fn_rad(p[0], p[1]), a)) for p, (_, a, _, _) in zip(pts, rows))
+            return ("Radiance's pane transmits per polarisation ((1 − r_s)/(1 + r_s) + (1 − r_p)/(1 + r_p))/2, "
+                    "Opticks's with the unpolarised r: the closed form of Radiance's own pane differs from "
+                    f"the column's by up to {worst:.2f} % at these points.")
+        return note
+
+    for title, stem, pfile, kind, text in [
+        ("5.11 Sky component: glazed roof opening, CIE overcast sky", "sky-roof-glazed", "sky-roof.csv", "roof",
+         roof_text.replace("unglazed, zero-thickness", "glazed")),
+        ("5.12 Sky component: glazed façade opening, CIE overcast sky", "sky-facade-glazed", "sky-facade.csv",
+         "facade", facade_text.replace("unglazed, zero-thickness", "glazed")),
+    ]:
+        fn = (lambda k: lambda x, y: e_quadrature(x, y, k, sky_gensky_overcast, t_pane_opticks))(kind)
+        se_d, eh = daylight_points(title, stem, pfile, fn, text + " " + pane_text + " Quadrature.",
+                                   radiance_pane_note(kind))
+        ses += se_d
+        if eh:
+            ehs.append(eh)
     intro = ["## 5.9–5.12 Daylight: the sky component", "",
              sky_prose.replace("DIFF_CIE", f"{min(diff_cie):+.2f} to {max(diff_cie):+.2f} %")
              .replace("EH_GENSKY", f"{EH_GENSKY:.2f}")

@@ -17,7 +17,9 @@ use opticks_core::math::{Rgb, Vec3};
 use opticks_core::scene::{MeshDesc, Scene, SceneDescription};
 use opticks_core::sensor::IlluminanceMeter;
 use opticks_core::sensor::bidirectional::RenderLights;
-use opticks_core::sensor::meter::{ConnectedSettings, Group, MeterLayout, Reading, read_connected};
+use opticks_core::sensor::meter::{
+    ConnectedSettings, Group, MeterLayout, MeterPoint, Reading, read_connected,
+};
 
 /// A black floor y = 0, half-size 50.
 fn black_floor() -> MeshDesc {
@@ -160,6 +162,67 @@ fn plane_in_the_air_under_an_area_light() {
     let e = |x: f64, z: f64| panel_irradiance(l as f64, (h - y) as f64, half as f64, x, z);
     let expected: Vec<f64> = (0..36).map(|t| cell_mean(6, t, &e)).collect();
     check("area light", &got, &expected, &[0.0; 36]);
+}
+
+/// The area light of `plane_in_the_air_under_an_area_light` 2 m up, seen through a horizontal
+/// pane at 1 m (the floor black: only the connected emission vertices carry light): a tinted
+/// filter (a thin sheet of index 1: no reflection, T = its tint at every angle, per channel)
+/// reads the closed form times the tint within its stated error, its channels in the tint's
+/// ratios; clear glass (n = 1.52) over points under a small panel (every connection within 6°
+/// of the normal, where T stays within 10⁻⁴ of T(0) = (1 − r)/(1 + r)) reads the closed form
+/// times T(0). Shadow rays that stopped at the pane read 0.
+#[test]
+fn stored_samples_reach_the_meter_through_a_pane() {
+    use opticks_core::bsdf::{Bsdf, Material, ThinDielectric};
+    let with_pane = |half: f32, pane: ThinDielectric| {
+        let mut desc = panel_over_black_floor(1.5, 2.0, half);
+        desc.materials.push(Material {
+            name: "pane".into(),
+            bsdf: Bsdf::ThinDielectric(pane),
+            two_sided: false,
+        });
+        let s = 3.0;
+        let q = [Vec3::new(-s, 1.0, -s), Vec3::new(-s, 1.0, s), Vec3::new(s, 1.0, s), Vec3::new(s, 1.0, -s)];
+        desc.meshes.push(quad("pane", q, 1, None));
+        Scene::build(&desc).unwrap()
+    };
+    let tint = Rgb::new(0.8, 0.5, 0.2);
+    let scene = with_pane(0.5, ThinDielectric::new(1.0, 1.0, Rgb::ONE, tint).unwrap());
+    let (table, chunks) = trace_chunks(&scene, 1_000_000, 6);
+    let y = 0.2;
+    let got = read(&scene, &table, &chunks, &MeterLayout::Grid(plane(y, 6, true)));
+    let e = |x: f64, z: f64| tint.x as f64 * panel_irradiance(1.5, (2.0 - y) as f64, 0.5, x, z);
+    let expected: Vec<f64> = (0..36).map(|t| cell_mean(6, t, &e)).collect();
+    check("tinted filter", &got, &expected, &[0.0; 36]);
+    for v in &got.value {
+        for (c, t) in [(1, tint.y), (2, tint.z)] {
+            assert!((v[c] / v[0] - (t / tint.x) as f64).abs() < 1e-4, "channels in the tint's ratios: {v:?}");
+        }
+    }
+
+    let (n, half) = (1.52f64, 0.1f32);
+    let clear = with_pane(half, ThinDielectric::new(n as f32, 1.0, Rgb::ONE, Rgb::ONE).unwrap());
+    let (table, chunks) = trace_chunks(&clear, 1_000_000, 7);
+    let points: Vec<MeterPoint> = (0..36)
+        .map(|k| Vec3::new(-0.05 + 0.02 * (k % 6) as f32, y, -0.05 + 0.02 * (k / 6) as f32 + 0.003))
+        .map(|p| MeterPoint::new(p, Vec3::Y).unwrap())
+        .collect();
+    let got = read(&clear, &table, &chunks, &MeterLayout::points(points.clone()).unwrap());
+    let r = ((n - 1.0) / (n + 1.0)).powi(2);
+    let t0 = (1.0 - r) / (1.0 + r);
+    let expected: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            t0 * panel_irradiance(
+                1.5,
+                (2.0 - y) as f64,
+                half as f64,
+                p.position.x as f64,
+                p.position.z as f64,
+            )
+        })
+        .collect();
+    check("clear glass", &got, &expected, &[0.0; 36]);
 }
 
 /// Inside the closed furnace room, planes in the air at y = 0.5 facing the light and facing the

@@ -210,6 +210,26 @@ impl Bsdf {
         }
     }
 
+    /// The weight of a straight-through delta lobe (ω_o = −ω_i, no deflection) for light
+    /// arriving from local `wi`: `Some` for a thin sheet (its (1 − R)·`specular_transmittance`,
+    /// [`ThinDielectric::transmittance`]; 0 in the tangent plane), `None` for every BSDF without
+    /// such a lobe. Only a surface with `Some` here may be crossed by a shadow ray
+    /// ([`crate::scene::Scene::shadow_transmittance`]).
+    #[inline]
+    pub fn straight_through(&self, wi: Vec3) -> Option<Rgb> {
+        match self {
+            Bsdf::ThinDielectric(b) if wi.z != 0.0 => Some(b.transmittance(wi.z)),
+            Bsdf::ThinDielectric(_) => Some(Rgb::ZERO),
+            _ => None,
+        }
+    }
+
+    /// Whether [`Bsdf::straight_through`] answers `Some` (a thin sheet: a window pane).
+    #[inline]
+    pub fn is_pane(&self) -> bool {
+        matches!(self, Bsdf::ThinDielectric(_))
+    }
+
     /// Whether light crosses the surface (dielectrics): such BSDFs are oriented and accept light
     /// from both sides.
     #[inline]

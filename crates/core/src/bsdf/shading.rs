@@ -229,6 +229,18 @@ impl<'m> ShadingPoint<'m> {
         crate::sampling::warp::UNIFORM_HEMISPHERE_PDF
     }
 
+    /// The weight of the straight-through delta lobe (ω_o = −ω_i) for light arriving from
+    /// `wi`: [`super::Bsdf::straight_through`] at the shading-frame cosine, `None` for a material
+    /// without that lobe. [`ShadingPoint::sample`] gives the lobe this weight times its
+    /// probability in both modes: the pair (ω_i, −ω_i) is a transmission for both normals
+    /// (the leak guard passes unless a cosine is 0) and the importance factor
+    /// |ω_i·n_s|·|ω_o·n_g| / (|ω_i·n_g|·|ω_o·n_s|) is 1.
+    #[inline]
+    pub fn straight_through(&self, wi: &Direction) -> Option<Rgb> {
+        let t = self.material.bsdf.straight_through(wi.local)?;
+        Some(if wi.cos_g == 0.0 { Rgb::ZERO } else { t })
+    }
+
     /// Samples a world direction given `wi` ([`Material::sample_world`]).
     #[inline]
     pub fn sample(&self, wi: &Direction, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {

@@ -48,6 +48,15 @@ impl ThinDielectric {
         r * 2.0 / (1.0 + r)
     }
 
+    /// T = (1 − R)·`specular_transmittance` for light arriving at cos θ = `cos_i` (either face):
+    /// the straight-through lobe's weight, its probability 1 − R in [`ThinDielectric::sample`]
+    /// times that sample's weight — with R's sum over the internal reflections, what a shadow
+    /// ray crossing the sheet carries ([`crate::scene::Scene::shadow_transmittance`]).
+    #[inline]
+    pub fn transmittance(&self, cos_i: f32) -> Rgb {
+        self.specular_transmittance * (1.0 - self.reflectance(cos_i))
+    }
+
     /// The probability with which [`ThinDielectric::sample`] given `wi` picks the lobe leading
     /// to `wo`: R for the reflection (same side), 1 − R for the transmission.
     #[inline]
@@ -121,6 +130,26 @@ mod tests {
         let s = tinted.sample(Vec3::Z, 0.99).unwrap();
         assert_eq!((s.wo, s.weight), (-Vec3::Z, Rgb::new(1.0, 0.5, 0.0)));
         assert!(tinted.sample(Vec3::X, 0.5).is_none());
+    }
+
+    /// The straight-through weight is the transmission lobe's probability times its sample
+    /// weight (so 1 − R of the series above for a white sheet), the same on both faces, per
+    /// channel, and 0 at grazing incidence.
+    #[test]
+    fn transmittance_is_the_straight_lobe_weight() {
+        let tinted = ThinDielectric::new(1.52, 1.0, Rgb::ONE, Rgb::new(1.0, 0.5, 0.0)).unwrap();
+        for deg in [0.0, 30.0, 60.0, 85.0] {
+            let wi = incident(deg);
+            let s = tinted.sample(wi, 1.0 - 1e-7).unwrap();
+            assert_eq!(s.wo, -wi);
+            let t = tinted.transmittance(wi.z);
+            assert_eq!(t, s.weight * tinted.lobe_probability(wi, -wi), "{deg}");
+            assert_eq!(tinted.transmittance(-wi.z), t);
+            let r = fresnel::dielectric(wi.z, 1.52).0 as f64;
+            assert!((t.x as f64 - (1.0 - r) / (1.0 + r)).abs() < 1e-6, "{deg}: {t:?}");
+            assert_eq!(t.z, 0.0);
+        }
+        assert_eq!(tinted.transmittance(0.0), Rgb::ZERO);
     }
 
     #[test]

@@ -51,6 +51,9 @@ pub struct Scene {
     opacity_of: Vec<Option<u8>>,
     /// Whether any material is masked: only then do ray queries ask [`Scene::meets`].
     masked: bool,
+    /// Whether any triangle's material is a thin pane: only then does
+    /// [`Scene::shadow_transmittance`] look past the first hit (`super::panes`).
+    pub(super) panes: bool,
     /// The meshes' attributes that `mesh_attribute` textures read, one table per name.
     attributes: Vec<AttributeTable>,
     /// Materials.
@@ -78,7 +81,7 @@ pub struct Scene {
     /// Finite triangles that were dropped because their area overflows `f32` (too large for
     /// single precision, not degenerate).
     pub oversized_triangles: usize,
-    accel: Accel,
+    pub(super) accel: Accel,
 }
 
 impl Scene {
@@ -117,6 +120,7 @@ impl Scene {
         let opacity_of = textures::opacities(&textures);
         Ok(Scene {
             masked: opacity_of.iter().any(Option::is_some),
+            panes: flat.material_of.iter().any(|&m| desc.materials[m as usize].bsdf.is_pane()),
             opacity_of,
             normals: flat.triangles.iter().map(Triangle::normal).collect(),
             triangles: flat.triangles,
@@ -196,7 +200,7 @@ impl Scene {
     /// (Mitsuba's null lobe is a delta its light tracer cannot connect through). The hash makes
     /// the answer a function of the query alone, as the traversal needs (it may ask twice).
     #[inline]
-    fn meets(&self, ray: &Ray, prim: u32, t: f32) -> bool {
+    pub(super) fn meets(&self, ray: &Ray, prim: u32, t: f32) -> bool {
         let m = self.material_of[prim as usize] as usize;
         let Some(k) = self.opacity_of[m] else { return true };
         let b = self.triangles[prim as usize].barycentrics(ray.origin + t * ray.dir);

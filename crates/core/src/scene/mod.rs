@@ -12,6 +12,7 @@
 //! | `hashes.rs` | stage 5: the fingerprints of the built scene |
 //! | `fingerprint.rs` | [`Fingerprint`] and the hashing primitives |
 //! | `objects.rs` | per-mesh and per-material hashes ([`ObjectHash`]) and what differs between two lists of them |
+//! | `panes.rs` | shadow rays through thin panes ([`Scene::shadow_transmittance`], the illuminance meter's) |
 //! | `photometry.rs` | [`Photometry`]: how the scene's RGB becomes lux (its format's rule) |
 //! | `error.rs` | [`SceneError`] |
 //! | `camera_path.rs` | walkthrough camera paths |
@@ -28,6 +29,7 @@ mod hashes;
 mod lights;
 mod meshes;
 mod objects;
+mod panes;
 mod photometry;
 mod textures;
 
@@ -41,4 +43,5 @@ pub use description::{
 pub use error::SceneError;
 pub use fingerprint::Fingerprint;
 pub use objects::{Change, ObjectChanges, ObjectHash, ObjectKind, object_changes};
+pub use panes::MAX_PANES;
 pub use photometry::Photometry;

@@ -30,7 +30,8 @@
 //!
 //! The [`meter`] module holds the illuminance meter: on scene geometry it needs no connection
 //! (a stored sample already *is* flux arriving at a surface); anywhere else it connects the
-//! samples to itself through the same `connect_to` as the cameras.
+//! samples to itself through the cameras' connection, whose shadow ray there crosses thin
+//! window panes (`connect_through_panes`).
 //!
 //! [`view`] turns the scene camera and a front end's overrides into the sensor a view is
 //! rendered through.
@@ -270,32 +271,32 @@ pub(crate) fn connect_sample<const REVERSE: bool>(
         Seen::Visible => false,
         Seen::Unknown => true,
     };
-    connect_with::<REVERSE>(scene, s, conn, trace)
+    let (c, ray) = connection::<REVERSE>(scene, s, conn)?;
+    (!trace || !scene.occluded(&ray)).then_some(c)
 }
 
-/// Connects stored sample `s` to the sensor point `conn.point` (the rest of `conn` is passed
-/// through): f toward it (or the emission factor), cos θ_x, and the shadow ray. `None` when
-/// f is 0, an emitter is seen from behind, or the point is hidden. Shared by the cameras and
-/// the connected illuminance meter ([`meter`]). With `REVERSE`, also the reverse density
-/// ([`SampleConnection::pdf_rev`]).
+/// A stored sample's connection to the sensor point `conn.point` (the rest of `conn` passed
+/// through) — f toward it (or the emission factor), cos θ_x — whose shadow ray crosses thin
+/// panes ([`Scene::shadow_transmittance`]): `f`
+/// is then f times the panes' straight-through transmittance, per channel. The connected
+/// illuminance meter's ([`meter`]; `meter/connect.rs` says why this is unbiased); the cameras
+/// keep [`connect_sample`]'s shadow ray, as their bidirectional weights assume that a pane
+/// blocks. `None` when f is 0, an emitter is seen from behind, or something else blocks.
 #[inline]
-pub(crate) fn connect_to<const REVERSE: bool>(
+pub(crate) fn connect_through_panes(scene: &Scene, s: &Sample, conn: Connection) -> Option<SampleConnection> {
+    let (c, ray) = connection::<false>(scene, s, conn)?;
+    let t = scene.shadow_transmittance(&ray)?;
+    Some(SampleConnection { f: c.f * t, ..c })
+}
+
+/// A sample's connection to `conn.point` up to its shadow ray, which it returns untraced (with
+/// `REVERSE`, also the reverse density, [`SampleConnection::pdf_rev`]).
+#[inline]
+fn connection<const REVERSE: bool>(
     scene: &Scene,
     s: &Sample,
     conn: Connection,
-) -> Option<SampleConnection> {
-    connect_with::<REVERSE>(scene, s, conn, true)
-}
-
-/// [`connect_to`], tracing the shadow ray only if `trace` (else the caller knows the point is
-/// visible).
-#[inline]
-fn connect_with<const REVERSE: bool>(
-    scene: &Scene,
-    s: &Sample,
-    conn: Connection,
-    trace: bool,
-) -> Option<SampleConnection> {
+) -> Option<(SampleConnection, Ray)> {
     let x = s.position();
     let to_c = conn.point - x;
     let d = to_c.length();
@@ -323,20 +324,24 @@ fn connect_with<const REVERSE: bool>(
         }
         (f, if REVERSE { p.pdf(&toward, &from) } else { 0.0 })
     };
-    if trace && !sees(scene, x, n, wc, conn.point) {
-        return None;
-    }
-    Some(SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev })
+    let ray = shadow_ray(x, n, wc, conn.point);
+    Some((SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev }, ray))
 }
 
-/// The shadow ray of a connection: whether nothing blocks the segment from surface point `x`
-/// (geometric normal `n`, unit direction `wc` toward `point`) to `point`.
+/// The shadow ray of a connection from surface point `x` (geometric normal `n`, unit direction
+/// `wc` toward `point`) to `point`: from x pushed off its surface, ending just short of `point`.
 #[inline]
-pub(crate) fn sees(scene: &Scene, x: Vec3, n: Vec3, wc: Vec3, point: Vec3) -> bool {
+fn shadow_ray(x: Vec3, n: Vec3, wc: Vec3, point: Vec3) -> Ray {
     let origin = offset_ray_origin(x, n, wc);
     let to_c = point - origin;
     let t = to_c.length();
-    !scene.occluded(&Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) })
+    Ray { origin, dir: to_c / t, t_max: t * (1.0 - 1e-5) }
+}
+
+/// Whether nothing blocks a connection's shadow ray ([`shadow_ray`]'s arguments).
+#[cfg(test)]
+pub(crate) fn sees(scene: &Scene, x: Vec3, n: Vec3, wc: Vec3, point: Vec3) -> bool {
+    !scene.occluded(&shadow_ray(x, n, wc, point))
 }
 
 /// Adds the contribution of `batch` to `film` as seen by `sensor` (with its `visibility`

@@ -45,5 +45,5 @@ pub use path::{camera_path, scatter_mis};
 pub use progressive::Progressive;
 pub use render::{MAX_CONNECTIONS, Renderer, STOP_WORK, Settings, combine};
 pub use splat::{light_trace_weight, splat_chunk};
-pub(crate) use vertex::visible;
+pub(crate) use vertex::shadow_ray;
 pub use vertex::{Context, DrawsAhead, Receiver, connect, connect_ahead, connection_weight, nee, nee_weight};

@@ -148,25 +148,32 @@ pub(super) fn transmittance(sigma: Rgb, d: f32) -> Rgb {
 }
 
 /// Whether the segment from `a` (geometric normal `na`) toward `b` along unit `dir`, `d` long,
-/// is unblocked; `nb` is `b`'s normal if it lies on a surface. Also the illuminance meter's
-/// shadow ray (`crate::sensor::meter`).
+/// is unblocked; `nb` is `b`'s normal if it lies on a surface.
 #[inline]
 pub(crate) fn visible(scene: &Scene, a: Vec3, na: Vec3, dir: Vec3, d: f32, b: Option<(Vec3, Vec3)>) -> bool {
+    shadow_ray(a, na, dir, d, b).is_some_and(|ray| !scene.occluded(&ray))
+}
+
+/// The shadow ray of [`visible`]'s segment: from `a` offset off its surface, ending just short
+/// of `b` (offset off its surface too if `b` is given with its normal), unbounded when `d` is
+/// infinite; `None` for a segment of no length. Also the illuminance meter's, which asks
+/// [`Scene::shadow_transmittance`] of it (`crate::sensor::meter`).
+#[inline]
+pub(crate) fn shadow_ray(a: Vec3, na: Vec3, dir: Vec3, d: f32, b: Option<(Vec3, Vec3)>) -> Option<Ray> {
     let origin = offset_ray_origin(a, na, dir);
-    let ray = match b {
+    Some(match b {
         _ if d.is_infinite() => Ray { origin, dir, t_max: f32::INFINITY },
         Some((b, nb)) => {
             let end = offset_ray_origin(b, nb, -dir);
             let v = end - origin;
             let t = v.length();
             if !(t > 0.0) {
-                return false;
+                return None;
             }
             Ray { origin, dir: v / t, t_max: t * (1.0 - 1e-5) }
         }
         None => Ray { origin, dir, t_max: d * (1.0 - 1e-5) },
-    };
-    !scene.occluded(&ray)
+    })
 }
 
 /// Next-event estimation (s = 1) at `r`, whose camera subpath is in state `camera`: one light

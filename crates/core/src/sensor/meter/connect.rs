@@ -10,13 +10,14 @@
 //! cell it lands in; for points, a uniform pick), and adds to p's target
 //!
 //! ```text
-//! ΔE_T = (Φ_k/N_k) · β · f(x; ω_in → ω_p) · |cos θ_x| · cos θ_p / d² · V(x, p) · T / n_c
+//! ΔE_T = (Φ_k/N_k) · β · f(x; ω_in → ω_p) · |cos θ_x| · cos θ_p / d² · τ(x, p) · T / n_c
 //! ```
 //!
 //! with T the number of targets: p lands in a given cell with probability 1/T, at density
 //! 1/A_T there, so E[ΔE_T] is the cell's mean irradiance from x; for a point, δ(p) with
 //! probability 1/T. f is the BSDF in light-flow order, or for an emission vertex the emission
-//! factor f_e(ω_p)/cos θ (one-sided) — exactly the camera's [`crate::sensor::connect_to`].
+//! factor f_e(ω_p)/cos θ (one-sided) — exactly the camera's connection (`connect_sample`'s). τ is
+//! the segment's transmittance (below: 1 or 0, but for window panes).
 //! θ_p is measured from the meter's normal; light from behind (cos θ_p ≤ 0) is not counted.
 //! A vertex on a surface lying in the meter's own plane (a meter on a floor, the floor's
 //! samples) contributes exactly 0 (both cosines vanish) and is skipped, which also keeps
@@ -26,12 +27,31 @@
 //! vertex (a delta position or direction, or a direction at infinity), so it is estimated at
 //! the meter: per target, `direct_samples` uniform points of the cell (one for a point when
 //! no environment is on: it is exact), each gathering from every such light that is on
-//! I(ω)·cos θ_p/d²·V (point), E·cos θ_p·V (directional) or L(ω)·cos θ_p·V/p(ω) for one
-//! direction ω drawn with the environment's own sampling (unbiased for ∫L cos θ_p V dω), relit.
+//! I(ω)·cos θ_p/d²·τ (point), E·cos θ_p·τ (directional) or L(ω)·cos θ_p·τ/p(ω) for one
+//! direction ω drawn with the environment's own sampling (unbiased for ∫L cos θ_p τ dω), relit.
 //! Their standard error is the points' spread. Area lights need no such term: their emission
 //! vertices above carry their direct light, with the emission distribution — the same
 //! density per connection as sampling the light from the meter (both draw the pair (p, y₀)
 //! uniformly over meter × light).
+//!
+//! **Shadow rays through glazing.** τ is [`Scene::shadow_transmittance`]: 0 where a surface
+//! blocks the segment, else the product of the straight-through transmittance T(θ) of the thin
+//! dielectric panes it crosses (`ThinDielectric`: Radiance's `glass`, Mitsuba's
+//! `thindielectric`; per channel, with the pane's internal reflections), so a meter behind a
+//! window reads the sky, the sun and the outside surfaces through it. Past
+//! [`crate::scene::MAX_PANES`] panes on one segment it counts as blocked (a bound on the work,
+//! documented there). Mirrors, refracting dielectrics, opaque and masked surfaces keep the
+//! ordinary visibility. Why this is unbiased and counts nothing twice: a pane does not deflect
+//! what it transmits (its transmission is a Dirac delta at ω_o = −ω_i), so a light path whose
+//! last segments cross panes on their way to p is the straight segment x → p itself, with the
+//! panes' delta transmissions as its throughput — the very path the connection (or the direct
+//! term) already samples, at the same density; τ is its missing factor, where a blocking V
+//! scored such paths 0. No other part of the meter produces paths whose last segment crosses
+//! a pane toward the meter: the light tracer stores no vertex on a delta surface (a path
+//! passing a pane is stored at its next non-delta vertex, never at the pane), and the meter
+//! gathers nothing but these connections and the direct term. Each path is therefore counted
+//! by exactly one strategy, with weight 1 — no MIS is involved. (The cameras' estimators keep
+//! the blocking V: their bidirectional weights assume it.)
 //!
 //! Both parts are unbiased; every contribution scales with its light's Φ_k/N_k, so relighting,
 //! switching lights off, merged and extended datasets stay exact. Random numbers come from
@@ -46,8 +66,8 @@ use crate::light::Light;
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
-use crate::sensor::bidirectional::{RenderLights, visible};
-use crate::sensor::{AsBatch, Connection, connect_to};
+use crate::sensor::bidirectional::{RenderLights, shadow_ray};
+use crate::sensor::{AsBatch, Connection, connect_through_panes};
 use rayon::prelude::*;
 
 /// Stream keys of the two parts (the seed's other streams are the tracer's and the renderer's).
@@ -135,7 +155,7 @@ fn splat_connected(
     }
 }
 
-/// β·f·|cos θ_x|·cos θ_p/d²·V of sample `s` (at `x`, geometric normal `n_x`) toward the drawn
+/// β·f·|cos θ_x|·cos θ_p/d²·τ of sample `s` (at `x`, geometric normal `n_x`) toward the drawn
 /// meter point `d`; `None` when it adds nothing.
 #[inline]
 fn connect_one(
@@ -153,7 +173,7 @@ fn connect_one(
     if h <= layout.tolerance(d) && n_x.dot(d.normal).abs() > 1.0 - 1e-6 {
         return None; // on a surface in the meter's plane: both cosines are 0
     }
-    let c = connect_to::<false>(scene, s, Connection { pixel: d.target, point: d.position, weight: 0.0 })?;
+    let c = connect_through_panes(scene, s, Connection { pixel: d.target, point: d.position, weight: 0.0 })?;
     let cos_p = h / c.dist2.sqrt();
     Some(s.beta() * c.f * (c.cos_x.abs() * cos_p / c.dist2))
 }
@@ -209,8 +229,8 @@ fn direct_light(
 }
 
 /// The irradiance at `d` from light `i` of `lights` (a point, directional or environment
-/// light; an environment's direction drawn from `rng`): what it sends (relit) times cos θ_p,
-/// if unblocked.
+/// light; an environment's direction drawn from `rng`): what it sends (relit) times cos θ_p
+/// and the panes' transmittance τ, 0 if blocked.
 #[inline]
 fn direct_from(scene: &Scene, lights: &RenderLights, i: usize, d: &MeterDraw, rng: &mut RandomStream) -> Rgb {
     let lp = match &scene.lights[lights.lights()[i].scene_index] {
@@ -222,40 +242,64 @@ fn direct_from(scene: &Scene, lights: &RenderLights, i: usize, d: &MeterDraw, rn
     };
     let Some(lp) = lp else { return Rgb::ZERO };
     let cos = d.normal.dot(lp.dir);
-    if !(cos > 0.0) || !visible(scene, d.position, d.normal, lp.dir, lp.distance, None) {
+    if !(cos > 0.0) {
         return Rgb::ZERO;
     }
+    let ray = shadow_ray(d.position, d.normal, lp.dir, lp.distance, None);
+    let Some(tau) = ray.and_then(|ray| scene.shadow_transmittance(&ray)) else { return Rgb::ZERO };
     // `radiance` is divided by NEE's pick probability; here every light is gathered.
-    lp.radiance * (lp.pick * cos)
+    lp.radiance * tau * (lp.pick * cos)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::{Bsdf, Lambert, Material};
+    use crate::bsdf::{Bsdf, Lambert, Material, SmoothConductor, ThinDielectric};
     use crate::scene::{MeshDesc, PointLightDesc, SceneDescription};
     use crate::sensor::IlluminanceMeter;
     use crate::sensor::meter::MeterPoint;
 
     /// A black floor at y = 0 and a point light "bulb" of intensity 3 at height 1.
     fn bulb_over_floor() -> Scene {
+        bulb_over_floor_and(&[])
+    }
+
+    /// A horizontal 10 m square at height `y` of material `material`, centred on the y axis.
+    fn square(y: f32, material: usize) -> MeshDesc {
+        MeshDesc {
+            name: format!("square at {y}"),
+            positions: vec![
+                Vec3::new(-5.0, y, -5.0),
+                Vec3::new(-5.0, y, 5.0),
+                Vec3::new(5.0, y, 5.0),
+                Vec3::new(5.0, y, -5.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            material,
+            ..Default::default()
+        }
+    }
+
+    /// The pane materials of [`bulb_over_floor_and`]: 1 clear glass (n = 1.52), 2 tinted glass.
+    fn pane(material: usize) -> ThinDielectric {
+        let tint = if material == 2 { Rgb::new(0.9, 0.6, 0.3) } else { Rgb::ONE };
+        ThinDielectric::new(1.52, 1.0, Rgb::ONE, tint).unwrap()
+    }
+
+    /// [`bulb_over_floor`] with horizontal squares at the heights and of the materials
+    /// `sheets` gives: 0 black, 1 clear glass, 2 tinted glass, 3 a mirror.
+    fn bulb_over_floor_and(sheets: &[(f32, usize)]) -> Scene {
+        let m = |name: &str, bsdf| Material { name: name.into(), bsdf, two_sided: false };
+        let mut meshes = vec![square(0.0, 0)];
+        meshes.extend(sheets.iter().map(|&(y, material)| square(y, material)));
         let desc = SceneDescription {
-            materials: vec![Material {
-                name: "black".into(),
-                bsdf: Bsdf::Lambert(Lambert::new(Rgb::ZERO).unwrap()),
-                two_sided: false,
-            }],
-            meshes: vec![MeshDesc {
-                name: "floor".into(),
-                positions: vec![
-                    Vec3::new(-5.0, 0.0, -5.0),
-                    Vec3::new(-5.0, 0.0, 5.0),
-                    Vec3::new(5.0, 0.0, 5.0),
-                    Vec3::new(5.0, 0.0, -5.0),
-                ],
-                triangles: vec![[0, 1, 2], [0, 2, 3]],
-                ..Default::default()
-            }],
+            materials: vec![
+                m("black", Bsdf::Lambert(Lambert::new(Rgb::ZERO).unwrap())),
+                m("clear", Bsdf::ThinDielectric(pane(1))),
+                m("tinted", Bsdf::ThinDielectric(pane(2))),
+                m("mirror", Bsdf::SmoothConductor(SmoothConductor::new(Rgb::ONE, None).unwrap())),
+            ],
+            meshes,
             point_lights: vec![PointLightDesc {
                 name: "bulb".into(),
                 position: Vec3::new(0.0, 1.0, 0.0),
@@ -331,6 +375,81 @@ mod tests {
         let (v, se) = (g.value[0][0], g.std_error[0][0]);
         assert!(se > 0.0 && se < 0.01 * v, "{v} ± {se}");
         assert!((v - mean).abs() < 4.0 * se, "{v} ± {se} vs {mean}");
+    }
+
+    /// Reads meter `points` in `scene` lit by its bulb alone (no stored samples).
+    fn read_bulb(scene: &Scene, points: &MeterLayout) -> Reading {
+        let power = Rgb::splat(3.0 * 4.0 * std::f32::consts::PI);
+        let lights = RenderLights::new(scene, &["bulb"], &[power / 100.0], &[100]);
+        read_connected(
+            scene,
+            &lights,
+            points,
+            ConnectedSettings::default(),
+            &[Group { light: 0, paths: 100 }],
+            |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
+            |_| {},
+            || false,
+        )
+        .unwrap()
+        .unwrap()
+    }
+
+    /// The bulb seen through horizontal panes between it (height 1) and meter points at height
+    /// 0.5: each point reads I·cos θ/d² times the panes' straight-through T at θ (they are
+    /// parallel to the meter, so θ is the meter's angle too), per channel, exactly (SE 0).
+    /// Two panes multiply, a mirror blocks, MAX_PANES panes pass and one more blocks.
+    #[test]
+    fn the_point_light_is_seen_through_panes() {
+        let xs = [0.0f32, 0.3, 0.5, 1.2];
+        let points = MeterLayout::points(
+            xs.iter().map(|&x| MeterPoint::new(Vec3::new(x, 0.5, 0.13), Vec3::Y).unwrap()).collect(),
+        )
+        .unwrap();
+        // (I·cos θ/d², cos θ) at each point.
+        let bare: Vec<(f32, f32)> = xs
+            .iter()
+            .map(|&x| {
+                let d2 = x * x + 0.25 + 0.13 * 0.13;
+                let cos = 0.5 / d2.sqrt();
+                (3.0 * cos / d2, cos)
+            })
+            .collect();
+        let expect = |what: &str, r: &Reading, through: &dyn Fn(f32) -> Rgb| {
+            for (t, &(e, cos)) in bare.iter().enumerate() {
+                let want = through(cos) * e;
+                for c in 0..3 {
+                    let got = r.value[t][c];
+                    assert!(
+                        (got - want[c] as f64).abs() <= 1e-5 * e as f64,
+                        "{what} {t}.{c}: {got} vs {}",
+                        want[c]
+                    );
+                }
+                assert_eq!(r.std_error[t], [0.0; 4], "{what}");
+            }
+        };
+        expect("no pane", &read_bulb(&bulb_over_floor(), &points), &|_| Rgb::ONE);
+        let clear = read_bulb(&bulb_over_floor_and(&[(0.75, 1)]), &points);
+        expect("clear", &clear, &|cos| pane(1).transmittance(cos));
+        let ratio = clear.value[0][0] / bare[0].0 as f64;
+        assert!(ratio > 0.91 && ratio < 0.92, "clear glass near normal incidence passes ≈ 0.918: {ratio}");
+        expect("tinted", &read_bulb(&bulb_over_floor_and(&[(0.75, 2)]), &points), &|cos| {
+            pane(2).transmittance(cos)
+        });
+        expect("two", &read_bulb(&bulb_over_floor_and(&[(0.6, 1), (0.8, 2)]), &points), &|cos| {
+            pane(1).transmittance(cos) * pane(2).transmittance(cos)
+        });
+        for sheets in [&[(0.75, 3)][..], &[(0.6, 1), (0.8, 3)], &[(0.6, 3), (0.8, 1)], &[(0.6, 0), (0.8, 1)]]
+        {
+            let r = read_bulb(&bulb_over_floor_and(sheets), &points);
+            assert!(r.value.iter().all(|v| *v == [0.0; 4]), "{sheets:?}: {:?}", r.value);
+        }
+        let stack = |n: usize| (0..n).map(|k| (0.55 + 0.4 * k as f32 / n as f32, 1)).collect::<Vec<_>>();
+        let most = read_bulb(&bulb_over_floor_and(&stack(crate::scene::MAX_PANES)), &points);
+        expect("MAX_PANES", &most, &|cos| pane(1).transmittance(cos).powf(crate::scene::MAX_PANES as f32));
+        let more = read_bulb(&bulb_over_floor_and(&stack(crate::scene::MAX_PANES + 1)), &points);
+        assert!(more.value.iter().all(|v| *v == [0.0; 4]), "past MAX_PANES: {:?}", more.value);
     }
 
     /// The direct light asks whether to stop every DIRECT_STOP_DRAWS points of a target, so a
