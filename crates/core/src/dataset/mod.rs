@@ -43,7 +43,7 @@ mod scene_check;
 mod subset;
 mod table;
 #[cfg(test)]
-mod testing;
+pub(crate) mod testing;
 mod upgrade;
 
 pub use choice::Choice;

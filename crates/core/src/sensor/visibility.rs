@@ -553,23 +553,11 @@ mod tests {
         let scene = Scene::build(&desc).unwrap();
         let sensor: Sensor = Pinhole::new(&desc.camera.unwrap()).unwrap().into();
         let buffer = sensor.visibility(&scene).unwrap();
-        let settings = crate::trace::TraceSettings { paths: 20_000, seed: 5, ..Default::default() };
-        let mut chunks = Vec::new();
-        let table = crate::trace::trace(
-            &scene,
-            &settings,
-            |c| {
-                chunks.push(c);
-                Ok::<_, ()>(())
-            },
-            |_| {},
-        )
-        .unwrap();
-        let (mut with, mut without) =
-            (Film::new(sensor.width(), sensor.height()), Film::new(sensor.width(), sensor.height()));
-        for c in &chunks {
-            let batch =
-                SampleBatch { flux_per_path: table.flux_per_path(c.light as usize), samples: &c.samples };
+        let traced = crate::dataset::testing::trace_into(&scene, 20_000, 5);
+        let (w, h) = (sensor.width(), sensor.height());
+        let (mut with, mut without) = (Film::new(w, h), Film::new(w, h));
+        for c in &traced.chunks {
+            let batch = SampleBatch { flux_per_path: Rgb::ONE, samples: &c.samples };
             splat(&scene, &sensor, Some(&buffer), batch, &mut with);
             splat(&scene, &sensor, None, batch, &mut without);
         }
