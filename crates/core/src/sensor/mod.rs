@@ -41,6 +41,7 @@ mod equirect;
 pub mod meter;
 mod orthographic;
 mod pinhole;
+pub mod raster;
 mod runs;
 mod thin_lens;
 pub mod view;
@@ -50,6 +51,7 @@ pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure};
 pub use orthographic::Orthographic;
 pub use pinhole::{CameraError, MAX_IMAGE_SIDE, Pinhole, check_fov, check_image_size};
+pub use raster::{Crop, FilmSpec, Filter, Raster};
 pub use runs::{RunFold, batches_per_run, render_runs, run_count};
 pub use thin_lens::{LensError, ThinLens, check_lens};
 
@@ -127,6 +129,19 @@ pub struct Connection {
     pub weight: f32,
 }
 
+/// Where a point lands on a sensor's film for a filtered splat: full-film coordinates
+/// (s_x, s_y), not clipped to the film (a filter reaches beyond it), the aperture point and W
+/// (as in [`Connection`], for the pixel-sized box of the full film).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilmHit {
+    /// Full-film coordinates (s_x, s_y), \[0,1\]² on the film.
+    pub film: (f32, f32),
+    /// The point on the sensor's aperture.
+    pub point: Vec3,
+    /// W, as in [`Connection::weight`].
+    pub weight: f32,
+}
+
 impl From<Pinhole> for Sensor {
     fn from(p: Pinhole) -> Self {
         Sensor::Pinhole(p)
@@ -165,24 +180,25 @@ impl Sensor {
         })
     }
 
-    /// Image width in pixels (the camera's).
-    pub fn width(&self) -> u32 {
+    /// The pixels the sensor writes (its crop window) and its reconstruction filter.
+    #[inline]
+    pub fn raster(&self) -> &Raster {
         match self {
-            Sensor::Pinhole(p) => p.width,
-            Sensor::ThinLens(t) => t.pinhole.width,
-            Sensor::Orthographic(o) => o.width,
-            Sensor::Equirectangular(e) => e.width,
+            Sensor::Pinhole(p) => &p.raster,
+            Sensor::ThinLens(t) => &t.pinhole.raster,
+            Sensor::Orthographic(o) => &o.raster,
+            Sensor::Equirectangular(e) => &e.raster,
         }
     }
 
-    /// Image height in pixels (the camera's).
+    /// Image width in pixels (the crop window's; the whole film's without one).
+    pub fn width(&self) -> u32 {
+        self.raster().width()
+    }
+
+    /// Image height in pixels (the crop window's).
     pub fn height(&self) -> u32 {
-        match self {
-            Sensor::Pinhole(p) => p.height,
-            Sensor::ThinLens(t) => t.pinhole.height,
-            Sensor::Orthographic(o) => o.height,
-            Sensor::Equirectangular(e) => e.height,
-        }
+        self.raster().height()
     }
 
     /// Connects the surface point `x` to the sensor, using `u` ∈ [0,1)² if the sensor samples
@@ -194,6 +210,19 @@ impl Sensor {
             Sensor::ThinLens(t) => t.connect(x, u),
             Sensor::Orthographic(o) => o.connect(x),
             Sensor::Equirectangular(e) => e.connect(x),
+        }
+    }
+
+    /// Where `x` lands on the full film, unclipped, for a filtered splat (`u` as in
+    /// [`Sensor::connect`]); `None` behind the sensor. The equirectangular camera (box only)
+    /// has none.
+    #[inline]
+    pub fn film_hit(&self, x: Vec3, u: Vec2) -> Option<FilmHit> {
+        match self {
+            Sensor::Pinhole(p) => p.film_hit(x),
+            Sensor::ThinLens(t) => t.film_hit(x, u),
+            Sensor::Orthographic(o) => o.film_hit(x),
+            Sensor::Equirectangular(_) => None,
         }
     }
 
@@ -307,12 +336,45 @@ pub fn splat(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut 
         return;
     }
     let random = sensor.samples_aperture();
+    if !sensor.raster().is_box() {
+        return splat_filtered(scene, sensor, batch, film);
+    }
     for s in batch.samples {
         let Some(SampleConnection { conn, f, cos_x, .. }) = connect_sample::<false>(scene, sensor, s, random)
         else {
             continue;
         };
         film.splat(conn.pixel, batch.flux_per_path * s.beta() * f * (cos_x.abs() * conn.weight));
+    }
+}
+
+/// A sample connected to a filtered sensor: the connection (its `pixel` unused) and the pixels
+/// it reaches with their filter weights; `None` as [`connect_sample`], or when no pixel of the
+/// image is within the filter's radius (before the shadow ray).
+#[inline]
+pub(crate) fn connect_filtered<const REVERSE: bool>(
+    scene: &Scene,
+    sensor: &Sensor,
+    s: &Sample,
+    random: bool,
+) -> Option<(SampleConnection, raster::Footprint)> {
+    let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
+    let hit = sensor.film_hit(s.position(), u)?;
+    let footprint = sensor.raster().footprint(hit.film.0, hit.film.1)?;
+    let conn = Connection { pixel: 0, point: hit.point, weight: hit.weight };
+    Some((connect_to::<REVERSE>(scene, s, conn)?, footprint))
+}
+
+/// [`splat`] through a filter: one shadow ray, then the value times f̂(s − c_p) into each
+/// pixel p within the filter's radius (`raster.rs`).
+fn splat_filtered(scene: &Scene, sensor: &Sensor, batch: SampleBatch<'_>, film: &mut impl SplatTarget) {
+    let random = sensor.samples_aperture();
+    for s in batch.samples {
+        let Some((c, footprint)) = connect_filtered::<false>(scene, sensor, s, random) else {
+            continue;
+        };
+        let v = batch.flux_per_path * s.beta() * c.f * (c.cos_x.abs() * c.conn.weight);
+        footprint.for_each(|pixel, w| film.splat(pixel, v * w));
     }
 }
 

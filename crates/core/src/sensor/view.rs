@@ -196,6 +196,7 @@ impl View {
                 width: 512,
                 height: 512,
                 kind: CameraKind::Perspective,
+                film: Default::default(),
             })
         });
         let Some(mut c) = base else { return Err(ViewError::NoCamera) };
@@ -223,6 +224,7 @@ mod tests {
             width: 8,
             height: 4,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         }
     }
 

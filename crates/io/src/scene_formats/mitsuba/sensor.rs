@@ -148,6 +148,7 @@ fn projective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>, lens: b
         width,
         height,
         kind,
+        film: Default::default(),
     })
 }
 
@@ -173,6 +174,7 @@ fn orthographic<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Re
         width,
         height,
         kind: CameraKind::Orthographic { half_width: half_width as f32, half_height: half_height as f32 },
+        film: Default::default(),
     })
 }
 
