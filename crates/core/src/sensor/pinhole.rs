@@ -120,8 +120,23 @@ impl Pinhole {
     /// `None` when the point is behind the camera or outside the image.
     #[inline]
     pub fn project(&self, p: Vec3) -> Option<(usize, f32)> {
-        let (sx, sy, cos_c) = self.film_of(p)?;
-        Some((self.raster.box_pixel(sx, sy)?, cos_c))
+        let v = p - self.eye;
+        let z = v.dot(self.forward);
+        if z <= 0.0 {
+            return None;
+        }
+        let (sx, sy) = self.film_xy(v, z);
+        // cos θ_c only for points in the image (most splats' points are not).
+        let pixel = self.raster.box_pixel(sx, sy)?;
+        Some((pixel, z / v.length()))
+    }
+
+    /// Film coordinates of the offset `v` from the eye at depth `z` > 0 along the axis.
+    #[inline]
+    fn film_xy(&self, v: Vec3, z: f32) -> (f32, f32) {
+        let x = v.dot(self.right) / (z * self.tan_x); // in [-1, 1] across the image
+        let y = v.dot(self.up) / (z * self.tan_y);
+        (0.5 * (x + 1.0), 0.5 * (1.0 - y))
     }
 
     /// The full film's coordinates (s_x, s_y) of a world point, within the film or beyond it,
@@ -133,9 +148,8 @@ impl Pinhole {
         if z <= 0.0 {
             return None;
         }
-        let x = v.dot(self.right) / (z * self.tan_x); // in [-1, 1] across the image
-        let y = v.dot(self.up) / (z * self.tan_y);
-        Some((0.5 * (x + 1.0), 0.5 * (1.0 - y), z / v.length()))
+        let (sx, sy) = self.film_xy(v, z);
+        Some((sx, sy, z / v.length()))
     }
 
     /// The primary ray direction through film point (sx, sy) (for tests and path tracers).

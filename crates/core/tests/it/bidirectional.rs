@@ -229,7 +229,7 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
                     let centre = |f: f32, d: i32| f.floor() + 0.5 + d as f32;
                     let d = Vec2::new(fx - centre(fx, di), fy - centre(fy, dj));
                     let f = r.weight(d);
-                    if !(f > 0.0) {
+                    if f <= 0.0 {
                         continue;
                     }
                     (hit.point, f)
