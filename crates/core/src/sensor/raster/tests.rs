@@ -1,3 +1,7 @@
+//! Tests of the raster: each filter's sampling density against its normalised closed form (a χ²
+//! test, and one that must fail for a wrong sampler), the gaussian's inverse CDF, the splat
+//! weights' sums, footprints clipped to the crop window, and the refusal of bad crops and filters.
+
 use super::*;
 use crate::sampling::RandomStream;
 
