@@ -179,6 +179,7 @@ pub fn furnace_view(fov_x_degrees: f32, width: u32, height: u32) -> CameraDesc {
         width,
         height,
         kind: CameraKind::Perspective,
+        film: Default::default(),
     }
 }
 

@@ -145,6 +145,7 @@ fn point_light_over_plane(material: Material, brdf: &dyn Fn([f64; 3], [f64; 3]) 
         width: 48,
         height: 40,
         kind: CameraKind::Perspective,
+        film: Default::default(),
     };
     let desc = SceneDescription {
         materials: vec![material],
@@ -337,6 +338,7 @@ pub(crate) fn panel_view(eye: Vec3) -> Pinhole {
         width: 32,
         height: 32,
         kind: CameraKind::Perspective,
+        film: Default::default(),
     };
     Pinhole::new(&desc).unwrap()
 }

@@ -43,6 +43,7 @@ fn furnace(rho: f32, sky: Rgb) -> SceneDescription {
             width: 48,
             height: 48,
             kind: Default::default(),
+            film: Default::default(),
         }),
         ..Default::default()
     }

@@ -117,3 +117,59 @@ fn films_that_cannot_fit_are_refused_before_any_work() {
     let e = fails(&["trace", "v.wrl", "--paths", "100", "-o", "v.opds"], d);
     assert!(e.contains("v.wrl:") && e.contains("2147483647x2147483647 must be between"), "{e}");
 }
+
+/// Issue 12: a Mitsuba film's crop window and reconstruction filter are checked where the file
+/// gives them — a window outside the film, a negative or empty size, an unknown filter, a
+/// stddev that is not a finite positive number — each refused with the file and line, never a
+/// panic.
+#[test]
+fn bad_crops_and_filters_are_refused_with_file_and_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = |film: &str| {
+        format!(
+            "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n<film type=\"hdrfilm\">\n\
+             <integer name=\"width\" value=\"32\"/><integer name=\"height\" value=\"24\"/>\n{film}\n</film>\n\
+             </sensor>\n<shape type=\"rectangle\"><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/>\
+             </emitter></shape>\n</scene>\n"
+        )
+    };
+    let cases = [
+        (
+            "<integer name=\"crop_offset_x\" value=\"30\"/><integer name=\"crop_width\" value=\"8\"/>",
+            "crop window",
+        ),
+        ("<integer name=\"crop_offset_y\" value=\"-2\"/>", "crop_offset_y -2 must be a non-negative integer"),
+        ("<integer name=\"crop_width\" value=\"-8\"/>", "crop_width -8 must be a non-negative integer"),
+        ("<integer name=\"crop_height\" value=\"0\"/>", "must be at least 1x1"),
+        ("<integer name=\"crop_offset_x\" value=\"4\"/>", "lie within the 32x24 film"),
+        ("<rfilter type=\"mitchell\"/>", "unsupported reconstruction filter \"mitchell\""),
+        (
+            "<rfilter type=\"gaussian\"><float name=\"stddev\" value=\"nan\"/></rfilter>",
+            "\"nan\" is not a finite number",
+        ),
+        (
+            "<rfilter type=\"gaussian\"><float name=\"stddev\" value=\"1e30\"/></rfilter>",
+            "radius of at most 16 pixels",
+        ),
+        ("<rfilter type=\"gaussian\"><float name=\"stddev\" value=\"-1\"/></rfilter>", "gaussian stddev -1"),
+        ("<rfilter type=\"tent\"><float name=\"radius\" value=\"0\"/></rfilter>", "tent radius 0"),
+        ("<rfilter type=\"box\"/><rfilter type=\"tent\"/>", "one <rfilter>"),
+    ];
+    for (k, (film, message)) in cases.iter().enumerate() {
+        let path = dir.path().join(format!("bad{k}.xml"));
+        std::fs::write(&path, scene(film)).unwrap();
+        let e = match opticks_io::scene_formats::load_scene(&path) {
+            Ok(_) => panic!("{film}: accepted"),
+            Err(e) => format!("{e:#}"),
+        };
+        assert!(e.contains(&format!("bad{k}.xml:5:")) && e.contains(message), "{film}: {e}");
+    }
+    // A good one loads: the crop is the image, the filter the file's.
+    let path = dir.path().join("good.xml");
+    let film = "<integer name=\"crop_offset_x\" value=\"4\"/><integer name=\"crop_width\" value=\"20\"/>\
+                <rfilter type=\"tent\"/>";
+    std::fs::write(&path, scene(film)).unwrap();
+    let loaded = opticks_io::scene_formats::load_scene(&path).unwrap();
+    let sensor = opticks_core::sensor::Sensor::new(&loaded.description.camera.unwrap()).unwrap();
+    assert_eq!((sensor.width(), sensor.height()), (20, 24));
+}

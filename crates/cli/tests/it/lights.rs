@@ -635,6 +635,7 @@ fn camera_sees_profiled_emitter_radiance() {
                 width: 8,
                 height: 8,
                 kind: CameraKind::Perspective,
+                film: Default::default(),
             }),
             ..Default::default()
         };

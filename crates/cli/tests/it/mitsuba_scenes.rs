@@ -56,6 +56,8 @@
 //! than above, because defocus moves light only locally. Measured on mutated scene files: the
 //! thin lens focused 10% (5%) nearer fails at 7.6σ (5.7σ), `fov_axis` x for y at 13.5σ, the
 //! orthographic film's height taken without the aspect at 67σ, the film 5% wider at 16σ.
+//! `cameras/scene-filter.xml` (a 96 × 72 film cropped to 64 × 48, the gaussian filter): the
+//! same check against a Mitsuba `path` reference of the crop window.
 //! `textures2` (64 × 48, 393,216 paths): roughness and mesh attributes as textures — a rough
 //! conductor sphere whose `alpha` is a raw grey `bitmap` (eval_1: its luminance), a rough
 //! conductor floor whose `alpha` is a `checkerboard` (eval_1: a colour's mean, the squares of
@@ -79,7 +81,7 @@ use opticks_testkit as common;
 
 use common::regions::{self, Estimate};
 use opticks_core::scene::Scene;
-use opticks_core::sensor::{Pinhole, Sensor};
+use opticks_core::sensor::{Filter, Pinhole, Sensor};
 use opticks_core::trace::TraceSettings;
 use opticks_io::compare::compare;
 use std::path::PathBuf;
@@ -193,6 +195,18 @@ fn mitsuba_thinlens_matches_mitsuba() {
 fn mitsuba_orthographic_matches_mitsuba() {
     let s = check_path_reference("cameras", "scene-ortho.xml", "reference-ortho", 1 << 20, 1);
     assert!(matches!(s, Sensor::Orthographic(_)));
+}
+
+/// A 96 × 72 film cropped to its 64 × 48 window at (20, 10), through Mitsuba's default gaussian
+/// filter (σ ½ pixel): the crop keeps the full film's projection, the filter blurs by Mitsuba's
+/// definition (`sample_border`, so that its edge pixels weigh the plane as Opticks's do).
+#[test]
+fn mitsuba_crop_and_gaussian_filter_match_mitsuba() {
+    let s = check_path_reference("cameras", "scene-filter.xml", "reference-filter", 1 << 20, 1);
+    assert_eq!((s.width(), s.height()), (64, 48));
+    let r = s.raster();
+    assert_eq!((r.full_width, r.full_height, r.window.x, r.window.y), (96, 72, 20, 10));
+    assert_eq!(r.filter, Filter::Gaussian { stddev: 0.5 });
 }
 
 #[test]

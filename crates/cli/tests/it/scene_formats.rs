@@ -143,6 +143,7 @@ fn ctmconv_icosphere_renders_lit_from_above() {
         width: 40,
         height: 40,
         kind: CameraKind::Perspective,
+        film: Default::default(),
     });
     let scene = Scene::build(&d).unwrap();
     let img = trace_and_render(&scene, &camera(&scene), 200_000, 6).to_rgb_f32();

@@ -176,6 +176,7 @@ fn meter_agrees_with_the_camera_on_a_lambertian_floor() {
         width: 64,
         height: 64,
         kind: CameraKind::Perspective,
+        film: Default::default(),
     };
     let desc = SceneDescription {
         materials: vec![lambert("grey", rho, false)],

@@ -83,6 +83,7 @@ impl CameraPath {
                 width,
                 height,
                 kind: CameraKind::Perspective,
+                film: Default::default(),
             };
         }
         let (a, b) = (k[i], k[i + 1]);
@@ -97,6 +98,7 @@ impl CameraPath {
             width,
             height,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         }
     }
 }

@@ -92,6 +92,7 @@ pub fn cornell_box() -> SceneDescription {
             width: 256,
             height: 256,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         }),
         ..Default::default()
     }

@@ -30,6 +30,8 @@ pub struct CameraDesc {
     pub height: u32,
     /// The kind of camera.
     pub kind: CameraKind,
+    /// The film's crop window and reconstruction filter (default: the whole film, box).
+    pub film: crate::sensor::FilmSpec,
 }
 
 /// How a scene file's camera forms its image ([`crate::sensor::Sensor::new`] builds the sensor).

@@ -10,7 +10,7 @@
 //! W = 1/(Ω_j · d²)
 //! ```
 
-use super::{CameraError, Connection, Pinhole};
+use super::{CameraError, Connection, Pinhole, Raster};
 use crate::math::Vec3;
 use crate::scene::CameraDesc;
 use std::f32::consts::{PI, TAU};
@@ -30,12 +30,21 @@ pub struct Equirectangular {
     pub width: u32,
     /// Height in pixels (180° of latitude).
     pub height: u32,
+    /// The pixels written (a crop window); its filter is the box.
+    pub raster: Raster,
 }
 
 impl Equirectangular {
     /// From a camera description (its field of view is ignored: the camera sees everything).
     pub fn new(d: &CameraDesc) -> Result<Self, CameraError> {
         let p = Pinhole::new(&CameraDesc { fov_x_degrees: 90.0, ..*d })?;
+        if !p.raster.is_box() {
+            // Its pixels are not squares of the film's measure: a filter over (longitude,
+            // latitude) would need importance of its own.
+            return Err(CameraError::Filter(
+                "the equirectangular camera takes only the box reconstruction filter".into(),
+            ));
+        }
         Ok(Equirectangular {
             eye: p.eye,
             forward: p.forward,
@@ -43,6 +52,7 @@ impl Equirectangular {
             up: p.up,
             width: d.width,
             height: d.height,
+            raster: p.raster,
         })
     }
 
@@ -74,8 +84,9 @@ impl Equirectangular {
         let sy = 0.5 - lat / PI;
         let i = ((sx * self.width as f32).max(0.0) as u32).min(self.width - 1);
         let j = ((sy * self.height as f32).max(0.0) as u32).min(self.height - 1);
+        let pixel = self.raster.window_pixel(i, j)?;
         let weight = 1.0 / (self.pixel_solid_angle(j) * d2);
-        Some(Connection { pixel: j as usize * self.width as usize + i as usize, point: self.eye, weight })
+        Some(Connection { pixel, point: self.eye, weight })
     }
 }
 
@@ -94,6 +105,7 @@ mod tests {
             width: 40,
             height: 20,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         })
         .unwrap();
         let total: f32 = (0..20).map(|j| e.pixel_solid_angle(j) * 40.0).sum();

@@ -42,6 +42,7 @@ mod equirect;
 pub mod meter;
 mod orthographic;
 mod pinhole;
+pub mod raster;
 mod runs;
 mod thin_lens;
 pub mod view;
@@ -52,6 +53,7 @@ pub use equirect::Equirectangular;
 pub use meter::{IlluminanceMeter, MeterError, measure};
 pub use orthographic::Orthographic;
 pub use pinhole::{CameraError, MAX_IMAGE_SIDE, Pinhole, check_fov, check_image_size};
+pub use raster::{Crop, FilmSpec, Filter, Raster};
 pub use runs::{RunFold, batches_per_run, render_runs, run_count};
 pub use thin_lens::{LensError, ThinLens, check_lens};
 pub use visibility::{Seen, VisibilityBuffer};
@@ -130,6 +132,19 @@ pub struct Connection {
     pub weight: f32,
 }
 
+/// Where a point lands on a sensor's film for a filtered splat: full-film coordinates
+/// (s_x, s_y), not clipped to the film (a filter reaches beyond it), the aperture point and W
+/// (as in [`Connection`], for the pixel-sized box of the full film).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilmHit {
+    /// Full-film coordinates (s_x, s_y), \[0,1\]² on the film.
+    pub film: (f32, f32),
+    /// The point on the sensor's aperture.
+    pub point: Vec3,
+    /// W, as in [`Connection::weight`].
+    pub weight: f32,
+}
+
 impl From<Pinhole> for Sensor {
     fn from(p: Pinhole) -> Self {
         Sensor::Pinhole(p)
@@ -168,24 +183,25 @@ impl Sensor {
         })
     }
 
-    /// Image width in pixels (the camera's).
-    pub fn width(&self) -> u32 {
+    /// The pixels the sensor writes (its crop window) and its reconstruction filter.
+    #[inline]
+    pub fn raster(&self) -> &Raster {
         match self {
-            Sensor::Pinhole(p) => p.width,
-            Sensor::ThinLens(t) => t.pinhole.width,
-            Sensor::Orthographic(o) => o.width,
-            Sensor::Equirectangular(e) => e.width,
+            Sensor::Pinhole(p) => &p.raster,
+            Sensor::ThinLens(t) => &t.pinhole.raster,
+            Sensor::Orthographic(o) => &o.raster,
+            Sensor::Equirectangular(e) => &e.raster,
         }
     }
 
-    /// Image height in pixels (the camera's).
+    /// Image width in pixels (the crop window's; the whole film's without one).
+    pub fn width(&self) -> u32 {
+        self.raster().width()
+    }
+
+    /// Image height in pixels (the crop window's).
     pub fn height(&self) -> u32 {
-        match self {
-            Sensor::Pinhole(p) => p.height,
-            Sensor::ThinLens(t) => t.pinhole.height,
-            Sensor::Orthographic(o) => o.height,
-            Sensor::Equirectangular(e) => e.height,
-        }
+        self.raster().height()
     }
 
     /// Connects the surface point `x` to the sensor, using `u` ∈ [0,1)² if the sensor samples
@@ -206,6 +222,19 @@ impl Sensor {
         match self {
             Sensor::Pinhole(p) => VisibilityBuffer::build(scene, p),
             _ => None,
+        }
+    }
+
+    /// Where `x` lands on the full film, unclipped, for a filtered splat (`u` as in
+    /// [`Sensor::connect`]); `None` behind the sensor. The equirectangular camera (box only)
+    /// has none.
+    #[inline]
+    pub fn film_hit(&self, x: Vec3, u: Vec2) -> Option<FilmHit> {
+        match self {
+            Sensor::Pinhole(p) => p.film_hit(x),
+            Sensor::ThinLens(t) => t.film_hit(x, u),
+            Sensor::Orthographic(o) => o.film_hit(x),
+            Sensor::Equirectangular(_) => None,
         }
     }
 
@@ -265,7 +294,18 @@ pub(crate) fn connect_sample<const REVERSE: bool>(
     random: bool,
 ) -> Option<SampleConnection> {
     let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-    let conn = sensor.connect(s.position(), u)?;
+    connect_seen::<REVERSE>(scene, visibility, s, sensor.connect(s.position(), u)?)
+}
+
+/// A sample's connection to the sensor point of `conn`, its visibility asked of `visibility`
+/// first and traced only where the buffer does not know.
+#[inline]
+fn connect_seen<const REVERSE: bool>(
+    scene: &Scene,
+    visibility: Option<&VisibilityBuffer>,
+    s: &Sample,
+    conn: Connection,
+) -> Option<SampleConnection> {
     let trace = match visibility.map_or(Seen::Unknown, |v| v.seen(s.position(), s.triangle())) {
         Seen::Hidden => return None,
         Seen::Visible => false,
@@ -358,6 +398,9 @@ pub fn splat(
         return;
     }
     let random = sensor.samples_aperture();
+    if !sensor.raster().is_box() {
+        return splat_filtered(scene, sensor, visibility, batch, film);
+    }
     for s in batch.samples {
         let Some(SampleConnection { conn, f, cos_x, .. }) =
             connect_sample::<false>(scene, sensor, visibility, s, random)
@@ -365,6 +408,43 @@ pub fn splat(
             continue;
         };
         film.splat(conn.pixel, batch.flux_per_path * s.beta() * f * (cos_x.abs() * conn.weight));
+    }
+}
+
+/// A sample connected to a filtered sensor: the connection (its `pixel` unused) and the pixels
+/// it reaches with their filter weights; `None` as [`connect_sample`], or when no pixel of the
+/// image is within the filter's radius (before the shadow ray).
+#[inline]
+pub(crate) fn connect_filtered<const REVERSE: bool>(
+    scene: &Scene,
+    sensor: &Sensor,
+    visibility: Option<&VisibilityBuffer>,
+    s: &Sample,
+    random: bool,
+) -> Option<(SampleConnection, raster::Footprint)> {
+    let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
+    let hit = sensor.film_hit(s.position(), u)?;
+    let footprint = sensor.raster().footprint(hit.film.0, hit.film.1)?;
+    let conn = Connection { pixel: 0, point: hit.point, weight: hit.weight };
+    Some((connect_seen::<REVERSE>(scene, visibility, s, conn)?, footprint))
+}
+
+/// [`splat`] through a filter: one shadow ray, then the value times f̂(s − c_p) into each
+/// pixel p within the filter's radius (`raster.rs`).
+fn splat_filtered(
+    scene: &Scene,
+    sensor: &Sensor,
+    visibility: Option<&VisibilityBuffer>,
+    batch: SampleBatch<'_>,
+    film: &mut impl SplatTarget,
+) {
+    let random = sensor.samples_aperture();
+    for s in batch.samples {
+        let Some((c, footprint)) = connect_filtered::<false>(scene, sensor, visibility, s, random) else {
+            continue;
+        };
+        let v = batch.flux_per_path * s.beta() * c.f * (c.cos_x.abs() * c.conn.weight);
+        footprint.for_each(|pixel, w| film.splat(pixel, v * w));
     }
 }
 

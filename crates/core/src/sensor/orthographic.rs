@@ -20,7 +20,7 @@
 //! direction, and its rays reach x₁ with area density p_A·|cos θ₁|, p_A = 1/(4h_x·h_y) over the
 //! whole film — `bidirectional/camera.rs`).
 
-use super::{CameraError, Connection, Pinhole};
+use super::{CameraError, Connection, FilmHit, Pinhole, Raster};
 use crate::math::Vec3;
 use crate::scene::{CameraDesc, CameraKind};
 
@@ -39,10 +39,12 @@ pub struct Orthographic {
     pub half_width: f32,
     /// Half the film's height, metres.
     pub half_height: f32,
-    /// Width in pixels.
+    /// Width in pixels of the full film (the image is the raster's window).
     pub width: u32,
-    /// Height in pixels.
+    /// Height in pixels of the full film.
     pub height: u32,
+    /// The pixels written and the reconstruction filter.
+    pub raster: Raster,
 }
 
 impl Orthographic {
@@ -63,6 +65,7 @@ impl Orthographic {
             half_height,
             width: d.width,
             height: d.height,
+            raster: p.raster,
         })
     }
 
@@ -83,6 +86,14 @@ impl Orthographic {
     /// Connects `x` to its projection on the film.
     #[inline]
     pub(super) fn connect(&self, x: Vec3) -> Option<Connection> {
+        let hit = self.film_hit(x)?;
+        let pixel = self.raster.box_pixel(hit.film.0, hit.film.1)?;
+        Some(Connection { pixel, point: hit.point, weight: hit.weight })
+    }
+
+    /// Connects `x` to its projection on the film plane, within the film or beyond it.
+    #[inline]
+    pub(super) fn film_hit(&self, x: Vec3) -> Option<FilmHit> {
         let v = x - self.origin;
         let z = v.dot(self.forward);
         if !(z > 0.0) {
@@ -90,16 +101,7 @@ impl Orthographic {
         }
         let sx = 0.5 * (1.0 + v.dot(self.right) / self.half_width);
         let sy = 0.5 * (1.0 - v.dot(self.up) / self.half_height);
-        if !(0.0..1.0).contains(&sx) || !(0.0..1.0).contains(&sy) {
-            return None;
-        }
-        let i = ((sx * self.width as f32) as u32).min(self.width - 1);
-        let j = ((sy * self.height as f32) as u32).min(self.height - 1);
-        Some(Connection {
-            pixel: j as usize * self.width as usize + i as usize,
-            point: x - z * self.forward,
-            weight: 1.0 / self.pixel_area(),
-        })
+        Some(FilmHit { film: (sx, sy), point: x - z * self.forward, weight: 1.0 / self.pixel_area() })
     }
 }
 
@@ -116,6 +118,7 @@ mod tests {
             width: 40,
             height: 20,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         };
         Orthographic::new(&d, 2.0, 1.0).unwrap()
     }
@@ -149,6 +152,7 @@ mod tests {
             width: 4,
             height: 4,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         };
         assert!(Orthographic::new(&d, 1.0, 1.0).is_ok());
         for (w, h) in [(0.0, 1.0), (1.0, -1.0), (f32::NAN, 1.0), (1.0, f32::INFINITY)] {

@@ -6,7 +6,7 @@
 //! dω = cos³θ_c·dA, so W_e = 1/(a·cos³θ_c) per unit solid angle, and a point x at distance d
 //! subtends dω = |cos θ_x|·dA_x/d²: W = 1/(d²·a·cos³θ_c).
 
-use super::Connection;
+use super::{Connection, FilmHit, Raster};
 use crate::math::Vec3;
 use crate::scene::CameraDesc;
 
@@ -27,10 +27,12 @@ pub struct Pinhole {
     pub tan_x: f32,
     /// tan(fov_y / 2) = tan_x · H / W.
     pub tan_y: f32,
-    /// Width in pixels.
+    /// Width in pixels of the full film (the projection's; the image is the raster's window).
     pub width: u32,
-    /// Height in pixels.
+    /// Height in pixels of the full film.
     pub height: u32,
+    /// The pixels written and the reconstruction filter.
+    pub raster: Raster,
 }
 
 /// Why a camera cannot be built.
@@ -50,6 +52,22 @@ pub enum CameraError {
     /// An orthographic film whose width or height (metres) is not a finite number > 0.
     #[error("orthographic film of {0} × {1} m: each side must be a finite number > 0")]
     FilmExtent(f32, f32),
+    /// A crop window that is empty or leaves the film.
+    #[error(
+        "crop window of {}x{} pixels at ({}, {}) must be at least 1x1 and lie within the {width}x{height} film",
+        crop.width, crop.height, crop.x, crop.y
+    )]
+    Crop {
+        /// The window.
+        crop: super::Crop,
+        /// The film's width.
+        width: u32,
+        /// The film's height.
+        height: u32,
+    },
+    /// A reconstruction filter Opticks cannot use (or a camera that takes only the box).
+    #[error("{0}")]
+    Filter(String),
     /// A thin lens's aperture or focus distance.
     #[error(transparent)]
     Lens(#[from] super::LensError),
@@ -87,7 +105,8 @@ impl Pinhole {
         let up = right.cross(forward);
         let tan_x = (d.fov_x_degrees.to_radians() * 0.5).tan();
         let tan_y = tan_x * d.height as f32 / d.width as f32;
-        Ok(Pinhole { eye: d.eye, forward, right, up, tan_x, tan_y, width: d.width, height: d.height })
+        let raster = Raster::new(d.width, d.height, d.film)?;
+        Ok(Pinhole { eye: d.eye, forward, right, up, tan_x, tan_y, width: d.width, height: d.height, raster })
     }
 
     /// Area of one pixel on the image plane at unit distance.
@@ -96,9 +115,9 @@ impl Pinhole {
         (2.0 * self.tan_x / self.width as f32) * (2.0 * self.tan_y / self.height as f32)
     }
 
-    /// Projects a world point. Returns the pixel index (row-major, row 0 on top) and
-    /// cos θ_c (between the camera axis and the direction to the point), or `None` when the
-    /// point is behind the camera or outside the image.
+    /// Projects a world point. Returns the image pixel index (row-major in the raster's window,
+    /// row 0 on top) and cos θ_c (between the camera axis and the direction to the point), or
+    /// `None` when the point is behind the camera or outside the image.
     #[inline]
     pub fn project(&self, p: Vec3) -> Option<(usize, f32)> {
         let v = p - self.eye;
@@ -106,17 +125,31 @@ impl Pinhole {
         if z <= 0.0 {
             return None;
         }
+        let (sx, sy) = self.film_xy(v, z);
+        // cos θ_c only for points in the image (most splats' points are not).
+        let pixel = self.raster.box_pixel(sx, sy)?;
+        Some((pixel, z / v.length()))
+    }
+
+    /// Film coordinates of the offset `v` from the eye at depth `z` > 0 along the axis.
+    #[inline]
+    fn film_xy(&self, v: Vec3, z: f32) -> (f32, f32) {
         let x = v.dot(self.right) / (z * self.tan_x); // in [-1, 1] across the image
         let y = v.dot(self.up) / (z * self.tan_y);
-        let sx = 0.5 * (x + 1.0);
-        let sy = 0.5 * (1.0 - y);
-        if !(0.0..1.0).contains(&sx) || !(0.0..1.0).contains(&sy) {
+        (0.5 * (x + 1.0), 0.5 * (1.0 - y))
+    }
+
+    /// The full film's coordinates (s_x, s_y) of a world point, within the film or beyond it,
+    /// and cos θ_c; `None` behind the camera.
+    #[inline]
+    pub fn film_of(&self, p: Vec3) -> Option<(f32, f32, f32)> {
+        let v = p - self.eye;
+        let z = v.dot(self.forward);
+        if z <= 0.0 {
             return None;
         }
-        let i = ((sx * self.width as f32) as u32).min(self.width - 1);
-        let j = ((sy * self.height as f32) as u32).min(self.height - 1);
-        let cos_c = z / v.length();
-        Some((j as usize * self.width as usize + i as usize, cos_c))
+        let (sx, sy) = self.film_xy(v, z);
+        Some((sx, sy, z / v.length()))
     }
 
     /// The primary ray direction through film point (sx, sy) (for tests and path tracers).
@@ -135,6 +168,15 @@ impl Pinhole {
         let weight = 1.0 / (self.pixel_area() * d2 * cos_c * cos_c * cos_c);
         Some(Connection { pixel, point: self.eye, weight })
     }
+
+    /// Connects `x` to the pinhole for a filtered splat: its film coordinates, unclipped.
+    #[inline]
+    pub(super) fn film_hit(&self, x: Vec3) -> Option<FilmHit> {
+        let (sx, sy, cos_c) = self.film_of(x)?;
+        let d2 = (self.eye - x).length_squared();
+        let weight = 1.0 / (self.pixel_area() * d2 * cos_c * cos_c * cos_c);
+        Some(FilmHit { film: (sx, sy), point: self.eye, weight })
+    }
 }
 
 #[cfg(test)]
@@ -151,6 +193,7 @@ mod tests {
             width: 256,
             height: 128,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         })
         .unwrap()
     }
@@ -180,6 +223,7 @@ mod tests {
             width: 4,
             height: 4,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         };
         assert!(Pinhole::new(&good).is_ok());
         assert!(Pinhole::new(&CameraDesc { up: Vec3::Z, ..good }).is_err());

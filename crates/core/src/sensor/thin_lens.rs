@@ -18,7 +18,7 @@
 //! — the pinhole's factor, with d and θ measured from the lens point c. The pixel is the one
 //! p_F projects into. With r = 0 the camera is exactly the pinhole.
 
-use super::{Connection, Pinhole};
+use super::{Connection, FilmHit, Pinhole};
 use crate::math::{Vec2, Vec3};
 use crate::sampling::warp::square_to_concentric_disk;
 
@@ -90,6 +90,27 @@ impl ThinLens {
         let weight = 1.0 / (p.pixel_area() * d2 * cos * cos * cos);
         Some(Connection { pixel, point: c, weight })
     }
+
+    /// [`ThinLens::connect`] for a filtered splat: the film coordinates of x's image through
+    /// the lens point, unclipped.
+    #[inline]
+    pub(super) fn film_hit(&self, x: Vec3, u: Vec2) -> Option<FilmHit> {
+        let p = &self.pinhole;
+        if self.radius == 0.0 {
+            return p.film_hit(x);
+        }
+        let c = self.lens_point(u);
+        let v = x - c;
+        let z = v.dot(p.forward);
+        if z <= 0.0 {
+            return None;
+        }
+        let (sx, sy, _) = p.film_of(c + v * (self.focus_distance / z))?;
+        let d2 = v.length_squared();
+        let cos = z / d2.sqrt();
+        let weight = 1.0 / (p.pixel_area() * d2 * cos * cos * cos);
+        Some(FilmHit { film: (sx, sy), point: c, weight })
+    }
 }
 
 #[cfg(test)]
@@ -106,6 +127,7 @@ mod tests {
             width: 64,
             height: 48,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         })
         .unwrap();
         ThinLens::new(p, radius, 3.0).unwrap()

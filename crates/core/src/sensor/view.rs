@@ -145,9 +145,10 @@ impl View {
         }
         match projection {
             Projection::Equirect => {
-                if self.size.is_none() {
+                if self.size.is_none() && desc.width != 2 * desc.height {
                     desc.height = (desc.width / 2).max(1);
                     desc.width = 2 * desc.height;
+                    desc.film.crop = None; // a new film (`resolve_desc`)
                 }
                 Ok(Equirectangular::new(&desc).map_err(ViewError::Camera)?.into())
             }
@@ -184,7 +185,8 @@ impl View {
         }
     }
 
-    /// The camera description: the scene's camera with any overrides applied.
+    /// The camera description: the scene's camera with any overrides applied (a new `--size`
+    /// drops the file's crop window, given in pixels of the file's film).
     pub fn resolve_desc(&self, scene_camera: Option<CameraDesc>) -> Result<CameraDesc, ViewError> {
         let base = scene_camera.or_else(|| {
             let (eye, target) = (self.eye?, self.target?);
@@ -196,6 +198,7 @@ impl View {
                 width: 512,
                 height: 512,
                 kind: CameraKind::Perspective,
+                film: Default::default(),
             })
         });
         let Some(mut c) = base else { return Err(ViewError::NoCamera) };
@@ -203,8 +206,10 @@ impl View {
         c.target = self.target.unwrap_or(c.target);
         c.up = self.up.unwrap_or(c.up);
         c.fov_x_degrees = self.fov.unwrap_or(c.fov_x_degrees);
-        if let Some((w, h)) = self.size {
+        if let Some((w, h)) = self.size.filter(|&s| s != (c.width, c.height)) {
+            // A new film: the file's crop window was in pixels of its own.
             (c.width, c.height) = (w, h);
+            c.film.crop = None;
         }
         Ok(c)
     }
@@ -223,6 +228,7 @@ mod tests {
             width: 8,
             height: 4,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         }
     }
 

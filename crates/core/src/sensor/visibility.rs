@@ -510,6 +510,7 @@ mod tests {
             width,
             height,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         };
         Pinhole::new(&d).unwrap()
     }

@@ -17,7 +17,7 @@ use opticks_core::dataset::{
 };
 use opticks_core::geometry::{Ray, offset_ray_origin};
 use opticks_core::light::Light;
-use opticks_core::math::{Rgb, Vec3};
+use opticks_core::math::{Rgb, Vec2, Vec3};
 use opticks_core::sampling::RandomStream;
 use opticks_core::scene::{
     CameraDesc, CameraKind, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, Scene,
@@ -27,7 +27,7 @@ use opticks_core::sensor::bidirectional::{
     CacheChunk, CachedVertex, CameraVertexMis, Context, Receiver, Renderer, Settings, connection_weight,
     image_pdf, light_trace_weight, nee_weight, scatter_mis, weight_emitter_hit,
 };
-use opticks_core::sensor::{Equirectangular, Orthographic, Sensor, ThinLens};
+use opticks_core::sensor::{Equirectangular, FilmSpec, Filter, Orthographic, Pinhole, Sensor, ThinLens};
 
 /// The emissive furnace (every wall emits L_e, albedo ρ): radiance L_e/(1 − ρ) everywhere, with
 /// the camera half alone (emitter hits and NEE, every bounce order, roulette).
@@ -134,6 +134,7 @@ fn weights_scene() -> SceneDescription {
             width: 40,
             height: 30,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         }),
         textures: Vec::new(),
         photometry: Default::default(),
@@ -171,6 +172,8 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
     let names: Vec<&str> = table.lights.iter().map(|l| l.name.as_str()).collect();
     let flux: Vec<Rgb> = (0..names.len()).map(|k| table.flux_per_path(k)).collect();
     let pinhole = camera(&scene);
+    let filter = Filter::Gaussian { stddev: 0.7 };
+    let filtered = CameraDesc { film: FilmSpec { crop: None, filter }, ..desc.camera.unwrap() };
     let sensors = [
         Sensor::Pinhole(pinhole),
         Sensor::ThinLens(ThinLens::new(pinhole, 0.08, 3.0).unwrap()),
@@ -179,6 +182,8 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
                 .unwrap(),
         ),
         Sensor::Orthographic(Orthographic::new(&desc.camera.unwrap(), 0.6, 0.45).unwrap()),
+        // A gaussian filter: every strategy's camera-side density carries the pixel's f̂.
+        Sensor::ThinLens(ThinLens::new(Pinhole::new(&filtered).unwrap(), 0.08, 3.0).unwrap()),
     ];
     let mut rng = RandomStream::new(99, &[]);
     let (mut checked, mut errors, mut strategies_seen) = (0, Vec::new(), [0usize; 4]);
@@ -211,8 +216,24 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
                 }
                 let last = ends[(rng.next_f32() * ends.len() as f32) as usize % ends.len()];
                 let y = &vertices[last];
-                let Some(conn) = sensor.connect(y.position, rng.next_2d()) else { continue };
-                let c = conn.point;
+                let u = rng.next_2d();
+                let (c, filter) = if sensor.raster().is_box() {
+                    let Some(conn) = sensor.connect(y.position, u) else { continue };
+                    (conn.point, 1.0)
+                } else {
+                    // The weight of one pixel near the splat's film point: f̂ at its offset.
+                    let Some(hit) = sensor.film_hit(y.position, u) else { continue };
+                    let r = sensor.raster();
+                    let (fx, fy) = (hit.film.0 * r.full_width as f32, hit.film.1 * r.full_height as f32);
+                    let (di, dj) = ((rng.next_f32() * 3.0) as i32 - 1, (rng.next_f32() * 3.0) as i32 - 1);
+                    let centre = |f: f32, d: i32| f.floor() + 0.5 + d as f32;
+                    let d = Vec2::new(fx - centre(fx, di), fy - centre(fy, dj));
+                    let f = r.weight(d);
+                    if f <= 0.0 {
+                        continue;
+                    }
+                    (hit.point, f)
+                };
                 let v = (c - y.position).normalize();
                 if scene.occluded(&Ray {
                     origin: offset_ray_origin(y.position, scene.normal(y.prim), v),
@@ -228,7 +249,7 @@ fn weights_of_every_strategy_sum_to_one_through_the_renderer() {
                     k as u32,
                     &x0,
                     &vertices[..=last],
-                    c,
+                    (c, filter),
                     &mut strategies_seen,
                 );
                 errors.push((sum - 1.0).abs());
@@ -359,7 +380,8 @@ fn light_path(
 }
 
 /// The sum of the weights of every strategy of the full path x₀ (`start`), `vertices`, camera
-/// point `c`, through the renderer's functions; counts which strategies were possible.
+/// point `c` (with f̂ of the pixel the weights are for: 1 for the box), through the renderer's
+/// functions; counts which strategies were possible.
 #[allow(clippy::too_many_arguments)]
 fn strategy_weights(
     ctx: &Context,
@@ -368,17 +390,18 @@ fn strategy_weights(
     light: u32,
     start: &Start,
     vertices: &[PathVertex],
-    c: Vec3,
+    (c, filter): (Vec3, f32),
     seen: &mut [usize; 4],
 ) -> f64 {
     let k = vertices.len(); // x₁ … x_k are vertices[0 .. k]; the camera is x_{k+1}
     let sample = |v: &PathVertex| Sample::scattered(v.position, v.from, v.prim, Rgb::ONE);
     let last = &vertices[k - 1];
-    let mut sum = light_trace_weight(ctx, sensor, light, &sample(last), last.record, c) as f64;
+    let mut sum = light_trace_weight(ctx, sensor, light, &sample(last), last.record, c, filter) as f64;
     seen[3] += 1;
     // The camera side, from the camera down to x₁ (and x₀ on an area light).
     let dir_to = |a: Vec3, b: Vec3| (b - a).normalize();
-    let mut cam = CameraVertexMis::at_camera(image_pdf(sensor, dir_to(c, last.position)), ctx.heuristic);
+    let pdf = image_pdf(sensor, dir_to(c, last.position)).scaled(filter);
+    let mut cam = CameraVertexMis::at_camera(pdf, ctx.heuristic);
     let mut next = c; // the camera-side neighbour of the current vertex
     for i in (0..k).rev() {
         let v = &vertices[i];

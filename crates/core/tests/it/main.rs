@@ -3,5 +3,6 @@
 //! estimator that need nothing but the core and the shared helpers of `opticks-testkit`.
 
 mod bidirectional;
+mod filters;
 mod materials;
 mod shading_normals;

@@ -160,6 +160,7 @@ fn mirror_floored_box_renders_finite_positive_images() {
         width: 32,
         height: 32,
         kind: CameraKind::Perspective,
+        film: Default::default(),
     };
     let rough = Bsdf::RoughDielectric(RoughDielectric::new(1.5, 1.0, 0.2, Rgb::ONE, Rgb::ONE).unwrap());
     let build = |floor: Bsdf| {

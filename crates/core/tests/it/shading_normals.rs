@@ -61,6 +61,7 @@ fn bent_normals_match_the_camera_side_radiance() {
         width: 48,
         height: 40,
         kind: CameraKind::Perspective,
+        film: Default::default(),
     };
     let scene_ = Scene::build(&scene(bent_plane(true), light, cam_desc)).unwrap();
     assert!(scene_.has_shading_normals());

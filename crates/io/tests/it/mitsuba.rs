@@ -907,14 +907,39 @@ fn ignored_features_are_warnings() {
     let s = scene(
         r#"<integrator type="path"><integer name="max_depth" value="5"/></integrator>
                <sensor type="perspective"><float name="fov" value="45"/><float name="near_clip" value="0.1"/>
-                 <film type="hdrfilm"><rfilter type="gaussian"/></film></sensor>
+                 <film type="hdrfilm"></film></sensor>
                <shape type="rectangle"><float name="bogus" value="1"/></shape>"#,
     );
     let w = s.warnings.join("\n");
     assert_eq!(s.warnings.len(), 3, "{w}");
     assert!(w.contains("dir/test.xml:2:25: <integer name=\"max_depth\">: max_depth = 5 is ignored"), "{w}");
-    assert!(w.contains("<rfilter type=\"gaussian\">: reconstruction filter"), "{w}");
+    assert!(w.contains("<film type=\"hdrfilm\">: no <rfilter>: Opticks uses the box filter"), "{w}");
     assert!(w.contains("<float name=\"bogus\">: parameter `bogus` is not supported"), "{w}");
+}
+
+/// Issue 12: the film's crop window and filter reach the camera (no warnings).
+#[test]
+fn crop_and_filters_are_read() {
+    let s = scene(
+        r#"<sensor type="perspective"><float name="fov" value="45"/>
+                 <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/>
+                   <integer name="crop_offset_x" value="2"/><integer name="crop_offset_y" value="3"/>
+                   <integer name="crop_width" value="10"/><integer name="crop_height" value="20"/>
+                   <rfilter type="gaussian"><float name="stddev" value="0.7"/></rfilter></film></sensor>
+               <shape type="rectangle"/>"#,
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let c = s.description.camera.unwrap();
+    assert_eq!((c.width, c.height), (40, 30));
+    let crop = opticks_core::sensor::Crop { x: 2, y: 3, width: 10, height: 20 };
+    assert_eq!(c.film.crop, Some(crop));
+    assert_eq!(c.film.filter, opticks_core::sensor::Filter::Gaussian { stddev: 0.7 });
+    let tent = scene(
+        r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="tent"/></film></sensor>
+               <shape type="rectangle"/>"#,
+    );
+    let c = tent.description.camera.unwrap();
+    assert_eq!((c.film.crop, c.film.filter), (None, opticks_core::sensor::Filter::Tent { radius: 1.0 }));
 }
 
 #[test]

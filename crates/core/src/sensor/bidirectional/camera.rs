@@ -4,7 +4,12 @@
 //! splat's MIS weight needs ([`image_pdf`]).
 //!
 //! Every camera samples its film point uniformly over the pixel's square of (s_x, s_y) (the box
-//! filter of docs/estimator.md §6), and the thin lens its lens point uniformly on the aperture
+//! filter of docs/estimator.md §6) or, with another reconstruction filter, from the normalised
+//! filter f̂ around the pixel's centre (`crate::sensor::raster`): the pixel's importance and
+//! the ray's density then both carry f̂, so the throughput below is unchanged and the density is
+//! the one below times f̂ (the density of the pixel's rays; the splat's MIS weight takes the same
+//! factor for each pixel it reaches). The crop window only moves the pixels on the full film,
+//! whose projection stays the camera's. The thin lens its lens point uniformly on the aperture
 //! as its splat does (`ThinLens::connect` with a hashed point), so the lens density cancels in
 //! every weight. The image-wide density is the per-pixel density divided by W·H:
 //!
@@ -38,41 +43,47 @@ pub struct CameraRay {
     pub throughput: f32,
 }
 
-/// The ray of pixel (`i`, `j`) through its film point `u_film` ∈ [0,1)² (relative to the
-/// pixel's corner), from the lens point `u_lens` ∈ [0,1)² (thin lens only).
+/// The ray of image pixel (`i`, `j`) (of the crop window) through its film point `u_film` ∈
+/// [0,1)² (relative to the pixel's corner for the box, the filter's sample otherwise), from the
+/// lens point `u_lens` ∈ [0,1)² (thin lens only).
 #[inline]
 pub fn camera_ray(sensor: &Sensor, i: u32, j: u32, u_film: Vec2, u_lens: Vec2) -> CameraRay {
-    let (w, h) = (sensor.width() as f32, sensor.height() as f32);
-    let (sx, sy) = ((i as f32 + u_film.x) / w, (j as f32 + u_film.y) / h);
+    let raster = sensor.raster();
+    let (w, h) = (raster.full_width as f32, raster.full_height as f32);
+    let (sx, sy, filter) = if raster.is_box() {
+        let (x, y) = (raster.window.x + i, raster.window.y + j);
+        ((x as f32 + u_film.x) / w, (y as f32 + u_film.y) / h, 1.0)
+    } else {
+        let d = raster.filter.sample(u_film);
+        let (sx, sy) = raster.film_point(i, j, d);
+        (sx, sy, raster.weight(d))
+    };
+    let image_pdf = |dir| image_pdf(sensor, dir).scaled(filter);
     match sensor {
         Sensor::Pinhole(p) => {
             let dir = p.direction(sx, sy);
-            CameraRay { origin: p.eye, dir, pdf: image_pdf(sensor, dir), throughput: 1.0 }
+            CameraRay { origin: p.eye, dir, pdf: image_pdf(dir), throughput: 1.0 }
         }
         Sensor::ThinLens(t) => {
             let p = &t.pinhole;
             let towards = p.direction(sx, sy);
             if t.radius == 0.0 {
-                return CameraRay {
-                    origin: p.eye,
-                    dir: towards,
-                    pdf: image_pdf(sensor, towards),
-                    throughput: 1.0,
-                };
+                return CameraRay { origin: p.eye, dir: towards, pdf: image_pdf(towards), throughput: 1.0 };
             }
             let focus = p.eye + towards * (t.focus_distance / towards.dot(p.forward));
             let origin = t.lens_point(u_lens);
             let dir = (focus - origin).normalize();
-            CameraRay { origin, dir, pdf: image_pdf(sensor, dir), throughput: 1.0 }
+            CameraRay { origin, dir, pdf: image_pdf(dir), throughput: 1.0 }
         }
         Sensor::Orthographic(o) => {
             let dir = o.forward;
-            CameraRay { origin: o.film_point(sx, sy), dir, pdf: image_pdf(sensor, dir), throughput: 1.0 }
+            CameraRay { origin: o.film_point(sx, sy), dir, pdf: image_pdf(dir), throughput: 1.0 }
         }
         Sensor::Equirectangular(e) => {
+            // Box only (`Equirectangular::new`): the pixel's full-film row gives Ω_j.
             let dir = e.direction(sx, sy);
-            let pdf = image_pdf(sensor, dir);
-            let omega = e.pixel_solid_angle(j);
+            let pdf = image_pdf(dir);
+            let omega = e.pixel_solid_angle(raster.window.y + j);
             let CameraPdf::Solid(pdf_w) = pdf else { unreachable!("a point camera") };
             let throughput = 1.0 / (pdf_w * w * h * omega);
             CameraRay { origin: e.eye, dir, pdf, throughput }
@@ -120,6 +131,7 @@ mod tests {
             width: 24,
             height: 16,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         }
     }
 

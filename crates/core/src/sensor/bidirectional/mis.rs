@@ -87,6 +87,18 @@ pub enum CameraPdf {
 }
 
 impl CameraPdf {
+    /// The density times `k`: a filtered pixel's density is the image-wide one times the
+    /// normalised filter f̂ at the ray's offset from the pixel's centre (`crate::sensor::raster`;
+    /// 1 for the box).
+    #[inline]
+    #[must_use]
+    pub fn scaled(self, k: f32) -> Self {
+        match self {
+            CameraPdf::Solid(p) => CameraPdf::Solid(p * k),
+            CameraPdf::Area(p) => CameraPdf::Area(p * k),
+        }
+    }
+
     /// The area density of a point at |cos θ| = `cos`, `dist2` from the camera point.
     #[inline]
     fn of_point(self, cos: f32, dist2: f32) -> f64 {

@@ -101,7 +101,16 @@ fn convert(cam: &::gltf::Camera<'_>, m: Mat4) -> Result<CameraDesc, ConvertError
     let eye = m.transform_point3(Vec3::ZERO);
     let forward = m.transform_vector3(-Vec3::Z).normalize_or_zero();
     let up = m.transform_vector3(Vec3::Y).normalize_or_zero();
-    let camera = CameraDesc { eye, target: eye + forward, up, fov_x_degrees, width, height, kind };
+    let camera = CameraDesc {
+        eye,
+        target: eye + forward,
+        up,
+        fov_x_degrees,
+        width,
+        height,
+        kind,
+        film: Default::default(),
+    };
     Sensor::new(&camera)?;
     Ok(camera)
 }

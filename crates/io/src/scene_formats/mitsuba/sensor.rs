@@ -9,6 +9,12 @@
 //! ([`fov_to_x`]). The `orthographic` camera's film is [-1, 1] × [-1/aspect, 1/aspect] of local
 //! x and y at its near plane (aspect = width/height), mapped by `to_world`, whose scale
 //! therefore sizes the film ([`orthographic_film`]).
+//!
+//! The `<film>` gives the image size, a crop window and the reconstruction filter
+//! ([`FilmSpec`]); every projection is the full film's, the image the crop window's, as in
+//! Mitsuba. A film without `<rfilter>` keeps Opticks's box filter (with a warning; Mitsuba's
+//! default is the gaussian): the box is the exact pixel average and the fast path, and
+//! every image rendered from such files so far stays the same.
 
 use super::Result;
 use super::build::Builder;
@@ -17,7 +23,9 @@ use super::transform::Transform;
 use super::xml::Element;
 use glam::{DMat3, DVec3};
 use opticks_core::scene::{CameraDesc, CameraKind};
-use opticks_core::sensor::{MAX_IMAGE_SIDE, check_fov, check_image_size, check_lens};
+use opticks_core::sensor::{
+    Crop, FilmSpec, Filter, MAX_IMAGE_SIDE, Raster, check_fov, check_image_size, check_lens,
+};
 
 /// A sensor builder: the `<sensor>` element and its properties.
 type BuildSensor = for<'d> fn(&mut Builder<'d>, &'d Element, Props<'d>) -> Result<CameraDesc>;
@@ -42,13 +50,14 @@ pub fn sensor<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<CameraDesc> {
     build(b, e, Props::of(e)?)
 }
 
-/// The sensor's nested objects: its `<film>` (the image size) and samplers, inline or by
-/// `<ref>`.
-fn film_of<'d>(b: &mut Builder<'d>, p: &Props<'d>) -> Result<(u32, u32)> {
+/// The sensor's nested objects: its `<film>` (the image size, crop and filter) and samplers,
+/// inline or by `<ref>`.
+fn film_of<'d>(b: &mut Builder<'d>, p: &Props<'d>) -> Result<(u32, u32, FilmSpec)> {
     let (mut width, mut height) = DEFAULT_FILM;
+    let mut spec = FilmSpec::default();
     for &c in p.objects() {
         match c.tag.as_str() {
-            "film" => (width, height) = film(b, c)?,
+            "film" => (width, height, spec) = film(b, c)?,
             "sampler" => {}
             // A reference to a top-level sampler (Mitsuba accepts a <ref> wherever an object
             // goes); films are read inline only.
@@ -75,7 +84,7 @@ fn film_of<'d>(b: &mut Builder<'d>, p: &Props<'d>) -> Result<(u32, u32)> {
             }
         }
     }
-    Ok((width, height))
+    Ok((width, height, spec))
 }
 
 fn perspective<'d>(b: &mut Builder<'d>, e: &'d Element, p: Props<'d>) -> Result<CameraDesc> {
@@ -92,7 +101,7 @@ fn thinlens<'d>(b: &mut Builder<'d>, e: &'d Element, p: Props<'d>) -> Result<Cam
 /// The perspective cameras: the field of view (`fov` with `fov_axis`, or `focal_length`),
 /// `to_world`, and for the thin lens its aperture and focus.
 fn projective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>, lens: bool) -> Result<CameraDesc> {
-    let (width, height) = film_of(b, &p)?;
+    let (width, height, film) = film_of(b, &p)?;
     let fov = p.float("fov")?;
     let focal = p.string("focal_length")?;
     let axis = p.string("fov_axis")?;
@@ -148,13 +157,14 @@ fn projective<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>, lens: b
         width,
         height,
         kind,
+        film,
     })
 }
 
 /// `orthographic`: parallel rays along `to_world`'s local +z from its film
 /// ([`orthographic_film`]), which starts at the near plane as Mitsuba's rays do.
 fn orthographic<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Result<CameraDesc> {
-    let (width, height) = film_of(b, &p)?;
+    let (width, height, film) = film_of(b, &p)?;
     let (near, nnode) = p.float_or("near_clip", DEFAULT_CLIP.0)?;
     if !(near.is_finite() && near > 0.0) {
         return Err(nnode.err(format!("near_clip {near} must be a finite number > 0 (as in Mitsuba)")));
@@ -173,6 +183,7 @@ fn orthographic<'d>(b: &mut Builder<'d>, e: &'d Element, mut p: Props<'d>) -> Re
         width,
         height,
         kind: CameraKind::Orthographic { half_width: half_width as f32, half_height: half_height as f32 },
+        film,
     })
 }
 
@@ -246,9 +257,10 @@ fn check_camera_frame(b: &mut Builder, t: &Transform, tnode: &Element) -> Result
     Ok(())
 }
 
-/// `<film type="hdrfilm">`: the image size; the reconstruction filter is checked against the
-/// box filter Opticks uses.
-fn film<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<(u32, u32)> {
+/// `<film type="hdrfilm">`: the image size, the crop window (`crop_offset_x`, `crop_offset_y`,
+/// `crop_width`, `crop_height`: pixels of the full film; the size defaults to the film's, and the
+/// window must lie within it, as in Mitsuba) and the `<rfilter>` ([`rfilter`]).
+fn film<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<(u32, u32, FilmSpec)> {
     let ty = e.required("type")?;
     if ty != "hdrfilm" {
         return Err(e.err(format!("unsupported film type \"{ty}\" (supported: hdrfilm)")));
@@ -263,6 +275,15 @@ fn film<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<(u32, u32)> {
             })?;
         }
     }
+    let mut crop = [0, 0, size[0], size[1]];
+    let mut crop_node = None;
+    for (k, name) in ["crop_offset_x", "crop_offset_y", "crop_width", "crop_height"].iter().enumerate() {
+        if let Some((v, node)) = p.int(name)? {
+            crop[k] = u32::try_from(v)
+                .map_err(|_| node.err(format!("{name} {v} must be a non-negative integer (pixels)")))?;
+            crop_node = Some(node);
+        }
+    }
     p.ignore(&[
         "pixel_format",
         "component_format",
@@ -271,19 +292,11 @@ fn film<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<(u32, u32)> {
         "high_quality_edges",
         "sample_border",
     ]);
-    let mut filter_seen = false;
+    let mut filter = None;
     for &c in p.objects() {
         match c.tag.as_str() {
-            "rfilter" => {
-                filter_seen = true;
-                let ty = c.required("type")?;
-                if ty != "box" {
-                    b.warn(
-                        c,
-                        format!("reconstruction filter \"{ty}\" is not supported; Opticks uses a box filter"),
-                    );
-                }
-            }
+            "rfilter" if filter.is_some() => return Err(c.err("a <film> takes one <rfilter>")),
+            "rfilter" => filter = Some(rfilter(b, c)?),
             other => {
                 return Err(
                     c.err(format!("unsupported element <{other}> inside <film> (supported: rfilter)"))
@@ -291,11 +304,46 @@ fn film<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<(u32, u32)> {
             }
         }
     }
-    if !filter_seen {
-        b.warn(e, "no <rfilter>: Mitsuba's default is \"gaussian\", Opticks always uses a box filter");
+    if filter.is_none() {
+        b.warn(
+            e,
+            "no <rfilter>: Opticks uses the box filter (Mitsuba's default is \"gaussian\"; \
+             add <rfilter type=\"gaussian\"/> for Mitsuba's image)",
+        );
     }
+    let crop = crop_node.map(|_| Crop { x: crop[0], y: crop[1], width: crop[2], height: crop[3] });
+    let spec = FilmSpec { crop, filter: filter.unwrap_or_default() };
+    // The core's rule for the window, checked here where the file gives it.
+    Raster::new(size[0], size[1], spec).map_err(|err| crop_node.unwrap_or(e).err(err.to_string()))?;
     b.finish(&p);
-    Ok((size[0], size[1]))
+    Ok((size[0], size[1], spec))
+}
+
+/// `<rfilter>`: `box`, `tent` (`radius`, default 1 pixel) or `gaussian` (`stddev`, default ½
+/// pixel), Mitsuba's filters and defaults; others are refused.
+fn rfilter<'d>(b: &mut Builder<'d>, c: &'d Element) -> Result<Filter> {
+    let ty = c.required("type")?;
+    let mut p = Props::of(c)?;
+    let (filter, node) = match ty {
+        "box" => (Filter::Box, c),
+        "tent" => {
+            let (radius, node) = p.float_or("radius", 1.0)?;
+            (Filter::Tent { radius: radius as f32 }, node)
+        }
+        "gaussian" => {
+            let (stddev, node) = p.float_or("stddev", 0.5)?;
+            (Filter::Gaussian { stddev: stddev as f32 }, node)
+        }
+        other => {
+            return Err(c.attr_err(
+                "type",
+                format!("unsupported reconstruction filter \"{other}\" (supported: box, tent, gaussian)"),
+            ));
+        }
+    };
+    filter.check().map_err(|err| node.err(err.to_string()))?;
+    b.finish(&p);
+    Ok(filter)
 }
 
 /// The horizontal full angle (degrees) for a full angle `fov` along `axis`, as Mitsuba's

@@ -133,6 +133,7 @@ pub fn parse_view(text: &str) -> Result<CameraDesc, ViewError> {
         width: WIDTH,
         height,
         kind,
+        film: Default::default(),
     })
 }
 
@@ -155,6 +156,7 @@ pub fn default_view(desc: &SceneDescription) -> Option<CameraDesc> {
         width: WIDTH,
         height: WIDTH,
         kind: CameraKind::Perspective,
+        film: Default::default(),
     };
     if enclosed(desc, centre) {
         return Some(camera(centre, centre + Vec3::Y, 90.0));

@@ -83,6 +83,7 @@ impl Converter {
             width,
             height,
             kind: CameraKind::Perspective,
+            film: Default::default(),
         };
         // The core's camera checks (image size, field of view, axes), reported at the node.
         Pinhole::new(&camera).map_err(|e| self.invalid(n, e.to_string()))?;
