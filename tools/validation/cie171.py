@@ -1117,8 +1117,8 @@ def main():
            "`python3 tools/validation/cie171.py` *from the repository root (with pyradiance "
            "installed for the Radiance columns).*", "",
            "CIE 171:2006, *Test cases to assess the accuracy of lighting computer programs*, "
-           "defines scenes whose illuminance has a closed form. These are its first cases and its "
-           "daylight cases (the sky component through openings), each "
+           "defines scenes whose illuminance has a closed form. These are its first cases, the "
+           "directional transmittance of glass (5.5) and its daylight cases (the sky component through openings), each "
            "measured by Opticks with **default settings** (nothing tuned) and by Radiance's "
            "`rtrace -I` beside it. The geometry follows each case's principle (a point source "
            "over a plane, a Lambertian rectangle and disc parallel to it, a closed box of "
