@@ -938,12 +938,14 @@ def main():
             "radiance times its solid angle is E_n, the pane a `glass` polygon (the finite disc spreads "
             "cos θ by less than 10⁻⁴ at 85°).",
             "",
-            "**A leak found here, not fixed in this case.** A point at the origin under normal "
-            "incidence read E_n (1000 lux), neither the pane's 918 nor, with the pane made an opaque "
-            "black sheet, 0: its shadow ray runs exactly along the diagonal shared by the rectangle's "
-            "two triangles (the line y = x at the pane) and hits neither. The points are therefore all "
-            "off that line at every angle (y > x, the source tilted toward +x); the leak is a "
-            "separate defect of the ray–triangle test on shared edges.",
+            "**A leak found here, and fixed.** A point at the origin under normal incidence read E_n "
+            "(1000 lux), neither the pane's 918 nor, with the pane made an opaque black sheet, 0: its "
+            "shadow ray ran exactly along the diagonal shared by the rectangle's two triangles (the "
+            "line y = x at the pane) and hit neither. The ray–triangle test (obvhs's) counted a −0.0 "
+            "barycentric as outside, and a ray meeting the back of both triangles on their shared edge "
+            "computes −0 in both; it now counts a zero of either sign as inside (core test "
+            "`rays_through_a_shared_edge_hit_from_both_sides`; datasets unchanged for a seed). The "
+            "case's points were chosen off that line (y > x) while the leak stood, and stay there.",
             "",
             f"Opticks: `opticks trace testdata/cie171/pane-NN.xml` (default settings: 4 M paths) and "
             f"`opticks measure --points testdata/cie171/pane.csv` (default settings); "

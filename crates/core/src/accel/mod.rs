@@ -129,8 +129,11 @@ impl Tri {
         Tri { v0, e1, e2, ng: e1.cross(e2) }
     }
 
-    /// Distance to the hit in [0, t_max], or infinity: Möller–Trumbore exactly as obvhs 0.4's
-    /// `RtTriangle::intersect` computes it (a `-0.0` barycentric counts as outside).
+    /// Distance to the hit in [0, t_max], or infinity: Möller–Trumbore as obvhs 0.4's
+    /// `RtTriangle::intersect` computes it, but with a zero barycentric of either sign inside
+    /// (obvhs tests the sign bit, so a `-0.0` counted as outside: a ray meeting the back of two
+    /// triangles exactly on their shared edge, where both compute −0, passed between them — a
+    /// leak CIE 171's case 5.5 found along a square's diagonal).
     #[inline(always)]
     fn intersect(&self, o: Vec3A, d: Vec3A, t_max: f32) -> f32 {
         let c = self.v0 - o;
@@ -139,8 +142,7 @@ impl Tri {
         let u = r.dot(self.e2) * inv_det;
         let v = r.dot(self.e1) * inv_det;
         let w = 1.0 - u - v;
-        let signs = u.to_bits() | v.to_bits() | w.to_bits();
-        if inv_det != 0.0 && signs & 0x8000_0000 == 0 {
+        if inv_det != 0.0 && u >= 0.0 && v >= 0.0 && w >= 0.0 {
             let t = self.ng.dot(c) * inv_det;
             if t >= 0.0 && t <= t_max {
                 return t;

@@ -533,3 +533,22 @@ fn one_triangle_test_gives_the_traversals_distance() {
         None
     );
 }
+
+/// No light leaks through the edge two triangles share: rays straight through a square's
+/// diagonal, from either side, hit it (obvhs's sign-bit test let the back side's −0 pass).
+#[test]
+fn rays_through_a_shared_edge_hit_from_both_sides() {
+    let accel = Accel::build(&quad(0.0));
+    for k in 0..=20 {
+        let s = -1.0 + 0.1 * k as f32;
+        for (y, dir) in [(1.0f32, -Vec3::Y), (-1.0, Vec3::Y)] {
+            let ray = Ray { origin: Vec3::new(s, y, s), dir, t_max: f32::INFINITY };
+            let hit = accel.intersect(&ray);
+            assert!(
+                hit.is_some_and(|(t, _)| (t - 1.0).abs() < 1e-6),
+                "through ({s}, {s}) from y = {y}: {hit:?}"
+            );
+            assert!(accel.occluded(&Ray { t_max: 2.0, ..ray }));
+        }
+    }
+}
