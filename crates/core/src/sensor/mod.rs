@@ -311,8 +311,8 @@ fn connect_seen<const REVERSE: bool>(
         Seen::Visible => false,
         Seen::Unknown => true,
     };
-    let (c, ray) = connection::<REVERSE>(scene, s, conn)?;
-    (!trace || !scene.occluded(&ray)).then_some(c)
+    let (c, [x, n]) = connection::<REVERSE>(scene, s, conn)?;
+    (!trace || !scene.occluded(&shadow_ray(x, n, c.to_sensor, c.conn.point))).then_some(c)
 }
 
 /// A stored sample's connection to the sensor point `conn.point` (the rest of `conn` passed
@@ -324,19 +324,20 @@ fn connect_seen<const REVERSE: bool>(
 /// blocks. `None` when f is 0, an emitter is seen from behind, or something else blocks.
 #[inline]
 pub(crate) fn connect_through_panes(scene: &Scene, s: &Sample, conn: Connection) -> Option<SampleConnection> {
-    let (c, ray) = connection::<false>(scene, s, conn)?;
-    let t = scene.shadow_transmittance(&ray)?;
+    let (c, [x, n]) = connection::<false>(scene, s, conn)?;
+    let t = scene.shadow_transmittance(&shadow_ray(x, n, c.to_sensor, c.conn.point))?;
     Some(SampleConnection { f: c.f * t, ..c })
 }
 
-/// A sample's connection to `conn.point` up to its shadow ray, which it returns untraced (with
-/// `REVERSE`, also the reverse density, [`SampleConnection::pdf_rev`]).
+/// A sample's connection to `conn.point` up to its shadow ray, with the sample's position and
+/// geometric normal for that ray ([`shadow_ray`]), made only if it is traced (with `REVERSE`,
+/// also the reverse density, [`SampleConnection::pdf_rev`]).
 #[inline]
 fn connection<const REVERSE: bool>(
     scene: &Scene,
     s: &Sample,
     conn: Connection,
-) -> Option<(SampleConnection, Ray)> {
+) -> Option<(SampleConnection, [Vec3; 2])> {
     let x = s.position();
     let to_c = conn.point - x;
     let d = to_c.length();
@@ -364,8 +365,7 @@ fn connection<const REVERSE: bool>(
         }
         (f, if REVERSE { p.pdf(&toward, &from) } else { 0.0 })
     };
-    let ray = shadow_ray(x, n, wc, conn.point);
-    Some((SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev }, ray))
+    Some((SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev }, [x, n]))
 }
 
 /// The shadow ray of a connection from surface point `x` (geometric normal `n`, unit direction
