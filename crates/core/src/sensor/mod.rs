@@ -281,8 +281,9 @@ pub(crate) struct SampleConnection {
 
 /// Connects stored sample `s` to `sensor` (aperture point from the sample's hash when
 /// `random`): `None` when it projects outside the image, its f is 0, or the sensor cannot see it
-/// — asked of the sensor's `visibility` buffer first, the shadow ray traced only where it does
-/// not know ([`Seen::Unknown`]; the answers are the same). With `REVERSE`, also
+/// — asked of the sensor's own `visibility` buffer first (at the pixel the connection found),
+/// the shadow ray traced only where it does not know ([`Seen::Unknown`]; the answers are the
+/// same). With `REVERSE`, also
 /// [`SampleConnection::pdf_rev`], from the shading point that gives f (the bidirectional
 /// splat's MIS weight needs both).
 #[inline]
@@ -294,19 +295,21 @@ pub(crate) fn connect_sample<const REVERSE: bool>(
     random: bool,
 ) -> Option<SampleConnection> {
     let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-    connect_seen::<REVERSE>(scene, visibility, s, sensor.connect(s.position(), u)?)
+    let conn = sensor.connect(s.position(), u)?;
+    let seen = visibility.map_or(Seen::Unknown, |v| v.seen_at(conn.pixel, s.triangle()));
+    connect_seen::<REVERSE>(scene, seen, s, conn)
 }
 
-/// A sample's connection to the sensor point of `conn`, its visibility asked of `visibility`
-/// first and traced only where the buffer does not know.
+/// A sample's connection to the sensor point of `conn`, what the visibility buffer said of it
+/// being `seen`: the shadow ray is traced only where the buffer did not know.
 #[inline]
 fn connect_seen<const REVERSE: bool>(
     scene: &Scene,
-    visibility: Option<&VisibilityBuffer>,
+    seen: Seen,
     s: &Sample,
     conn: Connection,
 ) -> Option<SampleConnection> {
-    let trace = match visibility.map_or(Seen::Unknown, |v| v.seen(s.position(), s.triangle())) {
+    let trace = match seen {
         Seen::Hidden => return None,
         Seen::Visible => false,
         Seen::Unknown => true,
@@ -397,10 +400,10 @@ pub fn splat(
     if batch.flux_per_path == Rgb::ZERO {
         return;
     }
-    let random = sensor.samples_aperture();
     if !sensor.raster().is_box() {
         return splat_filtered(scene, sensor, visibility, batch, film);
     }
+    let random = sensor.samples_aperture();
     for s in batch.samples {
         let Some(SampleConnection { conn, f, cos_x, .. }) =
             connect_sample::<false>(scene, sensor, visibility, s, random)
@@ -426,7 +429,8 @@ pub(crate) fn connect_filtered<const REVERSE: bool>(
     let hit = sensor.film_hit(s.position(), u)?;
     let footprint = sensor.raster().footprint(hit.film.0, hit.film.1)?;
     let conn = Connection { pixel: 0, point: hit.point, weight: hit.weight };
-    Some((connect_seen::<REVERSE>(scene, visibility, s, conn)?, footprint))
+    let seen = visibility.map_or(Seen::Unknown, |v| v.seen(s.position(), s.triangle()));
+    Some((connect_seen::<REVERSE>(scene, seen, s, conn)?, footprint))
 }
 
 /// [`splat`] through a filter: one shadow ray, then the value times f̂(s − c_p) into each

@@ -68,8 +68,8 @@ impl VisibilityBuffer {
     /// The buffer of `camera` in `scene`, or `None` when it could not know anything (the eye
     /// inside the scene's geometry's reach of float error).
     pub fn build(scene: &Scene, camera: &Pinhole) -> Option<VisibilityBuffer> {
-        let raster = Raster::new(scene, camera)?;
-        let (w, h) = (camera.width as usize, camera.height as usize);
+        let raster = Projection::new(scene, camera)?;
+        let (w, h) = (raster.size[0], raster.size[1]);
         let mut front = vec![NONE; w * h];
         let mut front_inv_z = vec![0.0f64; w * h];
         // Pass 1: per pixel the nearest unmasked triangle covering its footprint.
@@ -123,22 +123,20 @@ impl VisibilityBuffer {
     /// triangle).
     #[inline]
     pub fn seen(&self, x: Vec3, prim: u32) -> Seen {
-        let c = &self.camera;
-        let v = x - c.eye;
-        let z = v.dot(c.forward);
-        if !(z > 0.0) {
-            return Seen::Unknown;
+        match self.pixel(x - self.camera.eye) {
+            Some(p) => self.seen_at(p, prim),
+            None => Seen::Unknown,
         }
-        let sx = 0.5 * (v.dot(c.right) / (z * c.tan_x) + 1.0);
-        let sy = 0.5 * (1.0 - v.dot(c.up) / (z * c.tan_y));
-        let (px, py) = (sx * c.width as f32, sy * c.height as f32);
-        if !(px >= 0.0 && py >= 0.0 && px < c.width as f32 && py < c.height as f32) {
-            return Seen::Unknown;
-        }
-        match self.front[py as usize * c.width as usize + px as usize] {
-            NONE => Seen::Unknown,
-            t if t == prim => Seen::Visible,
-            _ => Seen::Hidden,
+    }
+
+    /// [`VisibilityBuffer::seen`] for a point already projected to image pixel `pixel`
+    /// (row-major in the image, as the pinhole's box connection gives it).
+    #[inline]
+    pub fn seen_at(&self, pixel: usize, prim: u32) -> Seen {
+        match self.front.get(pixel) {
+            Some(&t) if t == prim => Seen::Visible,
+            Some(&t) if t != NONE => Seen::Hidden,
+            _ => Seen::Unknown,
         }
     }
 
@@ -147,22 +145,31 @@ impl VisibilityBuffer {
     /// triangle (everything else along it lies behind).
     #[inline]
     pub fn front(&self, origin: Vec3, dir: Vec3) -> Option<u32> {
-        let c = &self.camera;
-        if origin != c.eye {
+        if origin != self.camera.eye {
             return None;
         }
-        let z = dir.dot(c.forward);
+        let t = self.front[self.pixel(dir)?];
+        (t != NONE).then_some(t)
+    }
+
+    /// The image pixel that offset `v` from the eye (a point's, or a direction) projects to,
+    /// by the pinhole's own arithmetic; `None` behind the eye or outside the image.
+    #[inline]
+    fn pixel(&self, v: Vec3) -> Option<usize> {
+        let c = &self.camera;
+        let z = v.dot(c.forward);
         if !(z > 0.0) {
             return None;
         }
-        let sx = 0.5 * (dir.dot(c.right) / (z * c.tan_x) + 1.0);
-        let sy = 0.5 * (1.0 - dir.dot(c.up) / (z * c.tan_y));
-        let (px, py) = (sx * c.width as f32, sy * c.height as f32);
-        if !(px >= 0.0 && py >= 0.0 && px < c.width as f32 && py < c.height as f32) {
+        let sx = 0.5 * (v.dot(c.right) / (z * c.tan_x) + 1.0);
+        let sy = 0.5 * (1.0 - v.dot(c.up) / (z * c.tan_y));
+        let window = c.raster.window;
+        let px = sx * c.width as f32 - window.x as f32;
+        let py = sy * c.height as f32 - window.y as f32;
+        if !(px >= 0.0 && py >= 0.0 && px < window.width as f32 && py < window.height as f32) {
             return None;
         }
-        let t = self.front[py as usize * c.width as usize + px as usize];
-        (t != NONE).then_some(t)
+        Some(py as usize * window.width as usize + px as usize)
     }
 
     /// The share of pixels whose answers are known (for reports and tests).
@@ -184,12 +191,17 @@ struct Polygon {
     plane: Option<[f64; 3]>,
 }
 
-/// The camera's projection in f64, with the margins of the module docs.
-struct Raster {
+/// The camera's projection onto the image's pixels in f64, with the margins of the module
+/// docs (not `crate::sensor::Raster`, the film's window and filter).
+struct Projection {
     eye: [f64; 3],
     axes: [[f64; 3]; 3], // right, up, forward
     /// Pixels per unit of x/z and of y/z.
     scale: [f64; 2],
+    /// Where the view axis meets the image, in the image's pixel coordinates (the full film's
+    /// centre, moved by the crop window's corner).
+    center: [f64; 2],
+    /// The image (the crop window): the buffer's pixels are the image's.
     size: [usize; 2],
     /// Triangles are clipped at this depth; one wholly in front of it (but in front of the eye)
     /// makes the buffer give up.
@@ -200,8 +212,8 @@ struct Raster {
     inv_z_near: f64,
 }
 
-impl Raster {
-    fn new(scene: &Scene, c: &Pinhole) -> Option<Raster> {
+impl Projection {
+    fn new(scene: &Scene, c: &Pinhole) -> Option<Projection> {
         let f = |v: Vec3| [v.x as f64, v.y as f64, v.z as f64];
         let eye = f(c.eye);
         let axes = [f(c.right), f(c.up), f(c.forward)];
@@ -222,11 +234,13 @@ impl Raster {
         // A push moves the projection by at most push·scale·(1 + |x/z| + |y/z|)/z pixels.
         let spread = 1.0 + c.tan_x as f64 + c.tan_y as f64;
         let z_near = 2.0 * push * scale[0].max(scale[1]) * spread / MARGIN_PX;
-        Some(Raster {
+        let window = c.raster.window;
+        Some(Projection {
             eye,
             axes,
             scale,
-            size: [c.width as usize, c.height as usize],
+            center: [0.5 * c.width as f64 - window.x as f64, 0.5 * c.height as f64 - window.y as f64],
+            size: [window.width as usize, window.height as usize],
             z_clip: z_near * 1e-3,
             push,
             inv_z_near: 1.0 / z_near,
@@ -274,10 +288,8 @@ impl Raster {
         let (mut corners, mut lo, mut hi) = ([[0.0f64; 2]; 4], [f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
         for k in 0..count {
             let p = clipped[k];
-            let q = [
-                0.5 * self.size[0] as f64 + p[0] / p[2] * self.scale[0],
-                0.5 * self.size[1] as f64 - p[1] / p[2] * self.scale[1],
-            ];
+            let q =
+                [self.center[0] + p[0] / p[2] * self.scale[0], self.center[1] - p[1] / p[2] * self.scale[1]];
             corners[k] = q;
             for a in 0..2 {
                 lo[a] = lo[a].min(q[a]);
@@ -294,7 +306,8 @@ impl Raster {
             return Some(None);
         }
         // The plane n·P = d in camera space; along the ray through pixel point (x, y),
-        // P = z·((x − W/2)/sx, (H/2 − y)/sy, 1), so 1/z = n·that / d, affine in (x, y).
+        // P = z·((x − c_x)/sx, (c_y − y)/sy, 1) (c the centre), so 1/z = n·that / d, affine in
+        // (x, y).
         let e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
         let e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
         let n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
@@ -304,7 +317,7 @@ impl Raster {
             [a, b, c].iter().map(|p| (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt()).fold(0.0, f64::max);
         let plane = (d.abs() > 1e-9 * scale_n * reach).then(|| {
             let (ax, ay) = (n[0] / (self.scale[0] * d), -n[1] / (self.scale[1] * d));
-            let c0 = n[2] / d - ax * 0.5 * self.size[0] as f64 - ay * 0.5 * self.size[1] as f64;
+            let c0 = n[2] / d - ax * self.center[0] - ay * self.center[1];
             [ax, ay, c0]
         });
         Some(Some(Polygon { corners, n: count, lo, hi, plane }))
@@ -547,22 +560,34 @@ mod tests {
         assert!(known / 24.0 > 0.02, "the buffer knew {} of the points on average", known / 24.0);
     }
 
-    /// The light estimator's image with the buffer is the one without it, bit for bit.
+    /// The light estimator's image with the buffer is the one without it, bit for bit, on the
+    /// whole film and in a crop window (the buffer's pixels are the window's), box-filtered (the
+    /// pixel the connection found) and gaussian-filtered (the buffer's own projection).
     #[test]
     fn splats_with_the_buffer_are_the_same_image() {
+        use crate::sensor::{Crop, FilmSpec, Filter};
         let desc = cornell_box();
         let scene = Scene::build(&desc).unwrap();
-        let sensor: Sensor = Pinhole::new(&desc.camera.unwrap()).unwrap().into();
-        let buffer = sensor.visibility(&scene).unwrap();
         let traced = crate::dataset::testing::trace_into(&scene, 20_000, 5);
-        let (w, h) = (sensor.width(), sensor.height());
-        let (mut with, mut without) = (Film::new(w, h), Film::new(w, h));
-        for c in &traced.chunks {
-            let batch = SampleBatch { flux_per_path: Rgb::ONE, samples: &c.samples };
-            splat(&scene, &sensor, Some(&buffer), batch, &mut with);
-            splat(&scene, &sensor, None, batch, &mut without);
+        let crop = Some(Crop { x: 37, y: 90, width: 150, height: 101 });
+        let films = [
+            FilmSpec::default(),
+            FilmSpec { crop, ..Default::default() },
+            FilmSpec { crop, filter: Filter::Gaussian { stddev: 0.5 } },
+        ];
+        for film in films {
+            let camera = CameraDesc { film, ..desc.camera.unwrap() };
+            let sensor: Sensor = Pinhole::new(&camera).unwrap().into();
+            let buffer = sensor.visibility(&scene).unwrap();
+            let (w, h) = (sensor.width(), sensor.height());
+            let (mut with, mut without) = (Film::new(w, h), Film::new(w, h));
+            for c in &traced.chunks {
+                let batch = SampleBatch { flux_per_path: Rgb::ONE, samples: &c.samples };
+                splat(&scene, &sensor, Some(&buffer), batch, &mut with);
+                splat(&scene, &sensor, None, batch, &mut without);
+            }
+            assert!(with.mean()[0] > 0.0, "{film:?}");
+            assert_eq!(with.pixels, without.pixels, "{film:?}");
         }
-        assert!(with.mean()[0] > 0.0);
-        assert_eq!(with.pixels, without.pixels);
     }
 }

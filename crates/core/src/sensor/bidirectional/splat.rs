@@ -23,13 +23,13 @@ pub fn splat_chunk(
     chunk: &CacheChunk<'_>,
     film: &mut impl SplatTarget,
 ) {
+    if !sensor.raster().is_box() {
+        return splat_chunk_filtered(ctx, sensor, visibility, chunk, film);
+    }
     let k = chunk.light as usize;
     let Some(light) = ctx.lights.of_table(k) else { return };
     let flux = ctx.flux_per_path[k];
     let random = sensor.samples_aperture();
-    if !sensor.raster().is_box() {
-        return splat_chunk_filtered(ctx, sensor, visibility, chunk, film);
-    }
     for (s, record) in chunk.samples.iter().zip(chunk.records) {
         // One shading point at the sample for f and the reverse density.
         let Some(c) = connect_sample::<true>(ctx.scene, sensor, visibility, s, random) else {
