@@ -429,7 +429,7 @@ pub(crate) fn connect_filtered<const REVERSE: bool>(
     let hit = sensor.film_hit(s.position(), u)?;
     let footprint = sensor.raster().footprint(hit.film.0, hit.film.1)?;
     let conn = Connection { pixel: 0, point: hit.point, weight: hit.weight };
-    let seen = visibility.map_or(Seen::Unknown, |v| v.seen(s.position(), s.triangle()));
+    let seen = visibility.map_or(Seen::Unknown, |v| v.seen_on_film(hit.film, s.triangle()));
     Some((connect_seen::<REVERSE>(scene, seen, s, conn)?, footprint))
 }
 

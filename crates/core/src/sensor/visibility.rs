@@ -129,6 +129,16 @@ impl VisibilityBuffer {
         }
     }
 
+    /// [`VisibilityBuffer::seen`] for a point already projected to full-film coordinates
+    /// (s_x, s_y) (as the pinhole's filtered connection gives them, `Sensor::film_hit`).
+    #[inline]
+    pub fn seen_on_film(&self, (sx, sy): (f32, f32), prim: u32) -> Seen {
+        match self.film_pixel(sx, sy) {
+            Some(p) => self.seen_at(p, prim),
+            None => Seen::Unknown,
+        }
+    }
+
     /// [`VisibilityBuffer::seen`] for a point already projected to image pixel `pixel`
     /// (row-major in the image, as the pinhole's box connection gives it).
     #[inline]
@@ -163,6 +173,13 @@ impl VisibilityBuffer {
         }
         let sx = 0.5 * (v.dot(c.right) / (z * c.tan_x) + 1.0);
         let sy = 0.5 * (1.0 - v.dot(c.up) / (z * c.tan_y));
+        self.film_pixel(sx, sy)
+    }
+
+    /// The image pixel of full-film coordinates (s_x, s_y); `None` outside the image.
+    #[inline]
+    fn film_pixel(&self, sx: f32, sy: f32) -> Option<usize> {
+        let c = &self.camera;
         let window = c.raster.window;
         let px = sx * c.width as f32 - window.x as f32;
         let py = sy * c.height as f32 - window.y as f32;
