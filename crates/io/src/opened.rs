@@ -21,13 +21,14 @@ use opticks_core::dataset::{
 use opticks_core::math::Rgb;
 use opticks_core::scene::{Scene, SceneDescription, SceneError};
 use opticks_core::sensor::OwnedBatch;
-use opticks_core::sensor::Sensor;
 use opticks_core::sensor::bidirectional::CacheChunk;
-use opticks_core::sensor::bidirectional::run::{self, Run, RunEvent, RunPlan};
+use opticks_core::sensor::bidirectional::cameras_needed;
+use opticks_core::sensor::bidirectional::run::{self, Coverage, Run, RunEvent, RunPlan};
 use opticks_core::sensor::bidirectional::{RenderLights, Settings};
 use opticks_core::sensor::meter::{
     Group, MeterEstimator, MeterLayout, Reading, read_connected, read_samples,
 };
+use opticks_core::sensor::{Sensor, render};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -424,6 +425,11 @@ impl LitDataset {
         let path = || self.reader().path().to_path_buf();
         let mis = mis_compatibility(self.reader().header())
             .map_err(|source| BidirectionalError::Mis { path: path(), source })?;
+        if plan.coverage == Coverage::WhereNeeded
+            && cameras_needed(self.scene(), &camera).is_some_and(|needed| !needed.contains(&true))
+        {
+            return self.render_splats_alone(camera, event, stop);
+        }
         let chunks = self.cache_chunks()?;
         if !chunks.iter().all(|c| c.records.len() == c.samples.len()) {
             return Err(BidirectionalError::MissingRecords(path()));
@@ -432,5 +438,26 @@ impl LitDataset {
         let names = self.light_names();
         run::render(self.scene(), camera, chunks, &names, self.flux_per_path(), settings, plan, event, stop)
             .ok_or(BidirectionalError::Interrupted)
+    }
+
+    /// The bidirectional render when no pixel needs camera paths ([`cameras_needed`]): every
+    /// splat then weighs 1, so the image is the light estimator's, and it is rendered as that
+    /// one is — streamed chunk by chunk, without the light vertex cache (the same estimate the
+    /// cache would give, without reading the whole dataset into memory first).
+    fn render_splats_alone(
+        &self,
+        camera: Sensor,
+        event: impl Fn(RunEvent) + Sync,
+        stop: impl Fn() -> bool + Sync,
+    ) -> Result<Run, BidirectionalError> {
+        event(RunEvent::SplatStart(self.samples()));
+        let batch = |i| {
+            if stop() {
+                return Err(BidirectionalError::Interrupted);
+            }
+            Ok(self.batch(i)?)
+        };
+        let film = render(self.scene(), &camera, self.count(), batch, |n| event(RunEvent::Splatted(n)))?;
+        Ok(Run { film, passes: 0, spp: 0, error: None, interrupted: false, camera_pixels: 0 })
     }
 }

@@ -10,7 +10,7 @@ use clap::ValueEnum;
 use opticks_core::dataset::MisUnavailable;
 use opticks_core::sensor::Sensor;
 use opticks_core::sensor::bidirectional::MAX_CONNECTIONS;
-use opticks_core::sensor::bidirectional::run::{Run, RunEvent, RunPlan};
+use opticks_core::sensor::bidirectional::run::{Coverage, Run, RunEvent, RunPlan};
 use opticks_io::opened::{BidirectionalError, LitDataset};
 use std::time::{Duration, Instant};
 
@@ -43,6 +43,20 @@ pub struct EstimatorArgs {
     /// Bidirectional: seed of the camera paths' random streams (default 0).
     #[arg(long = "camera-seed")]
     seed: Option<u64>,
+    /// Bidirectional: which pixels get camera paths — `where-needed` (the default: those through
+    /// which a surface other than a diffuse one, or the sky, may be seen; the others are the
+    /// light estimator's pixels, unbiased and cheaper) or `everywhere`.
+    #[arg(long, value_enum)]
+    coverage: Option<CoverageArg>,
+}
+
+/// `--coverage`: which pixels get camera paths.
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CoverageArg {
+    /// Only the pixels the light-tracing splats cannot render alone.
+    WhereNeeded,
+    /// Every pixel.
+    Everywhere,
 }
 
 impl EstimatorArgs {
@@ -64,6 +78,7 @@ impl EstimatorArgs {
                 (self.spp.is_some(), "--spp"),
                 (self.connections.is_some(), "--connections"),
                 (self.seed.is_some(), "--camera-seed"),
+                (self.coverage.is_some(), "--coverage"),
             ]
             .into_iter()
             .filter_map(|(given, name)| given.then_some(name))
@@ -95,7 +110,11 @@ impl EstimatorArgs {
     ) -> Result<Run> {
         let start = Instant::now();
         let deadline = time.map(|t| start + t);
-        let plan = RunPlan { spp: self.spp(), deadline, first_pass: pass };
+        let coverage = match self.coverage {
+            Some(CoverageArg::Everywhere) => Coverage::Everywhere,
+            Some(CoverageArg::WhereNeeded) | None => Coverage::WhereNeeded,
+        };
+        let plan = RunPlan { spp: self.spp(), deadline, first_pass: pass, coverage };
         let bar = std::sync::Mutex::new(indicatif::ProgressBar::hidden());
         let show = |new: indicatif::ProgressBar| {
             let mut b = bar.lock().unwrap_or_else(|e| e.into_inner());

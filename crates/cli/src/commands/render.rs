@@ -92,9 +92,10 @@ pub fn run(a: Args) -> Result<()> {
         let error =
             run.error.map_or(String::new(), |e| format!(", estimated relative error {:.2}%", 100.0 * e));
         output::result(&format!(
-            "rendered bidirectionally: {} samples and {} camera paths per pixel ({} passes, {} connections) at {}x{} in {:.2} s{error} → {}",
+            "rendered bidirectionally: {} samples and {} camera paths per pixel in {:.1} % of the pixels ({} passes, {} connections) at {}x{} in {:.2} s{error} → {}",
             data.samples(),
             run.spp,
+            100.0 * run.camera_pixels as f64 / (camera.width() as f64 * camera.height() as f64),
             run.passes,
             a.estimator.connections(),
             camera.width(),

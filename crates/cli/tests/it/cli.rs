@@ -331,11 +331,18 @@ fn render_and_walk_with_the_bidirectional_estimator() {
     let d = dir.path();
     let scene = scene_file("cornell", "scene.xml");
     stdout(&["trace", scene.to_str().unwrap(), "--paths", "200000", "-o", "c.opds"], d);
-    let out = stdout(&["render", "c.opds", "-o", "b.exr", "--estimator", "bidirectional", "--spp", "4"], d);
-    assert!(out.contains("bidirectionally") && out.contains("4 camera paths per pixel"), "{out}");
+    let everywhere = ["--estimator", "bidirectional", "--coverage", "everywhere"];
+    let out = stdout(&[&["render", "c.opds", "-o", "b.exr", "--spp", "4"][..], &everywhere[..]].concat(), d);
+    assert!(out.contains("bidirectionally") && out.contains("4 camera paths per pixel in 100.0 %"), "{out}");
     let (w, h, rgb) = read_exr_rgb(&d.join("b.exr")).unwrap();
     assert_eq!((w, h), (256, 256));
     assert_mean_close(&rgb, "cornell", 0.02);
+    // By default only pixels that may see something but a diffuse surface get camera paths: in
+    // the diffuse Cornell box none, and the image is the light estimator's, bit for bit.
+    let out = stdout(&["render", "c.opds", "-o", "n.exr", "--estimator", "bidirectional"], d);
+    assert!(out.contains("in 0.0 % of the pixels"), "{out}");
+    stdout(&["render", "c.opds", "-o", "l.exr"], d);
+    assert_eq!(read_exr_rgb(&d.join("n.exr")).unwrap(), read_exr_rgb(&d.join("l.exr")).unwrap());
     let out = stdout(
         &[
             "render",
@@ -344,6 +351,8 @@ fn render_and_walk_with_the_bidirectional_estimator() {
             "t.exr",
             "--estimator",
             "bidirectional",
+            "--coverage",
+            "everywhere",
             "--spp",
             "1",
             "--time",

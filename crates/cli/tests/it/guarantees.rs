@@ -584,7 +584,18 @@ fn an_interrupted_bidirectional_render_writes_the_passes_it_completed() {
     ok(&["trace", "builtin:cornell", "--paths", "20000", "-o", "c.opds"], d);
     // The signal must come after the first pass: wait longer each time it came before.
     for wait in [2, 5, 12] {
-        let args = ["render", "c.opds", "--estimator", "bidirectional", "--time", "120", "--size", "32x24"];
+        let args = [
+            "render",
+            "c.opds",
+            "--estimator",
+            "bidirectional",
+            "--coverage",
+            "everywhere",
+            "--time",
+            "120",
+            "--size",
+            "32x24",
+        ];
         let child = start(&[&args[..], &["-o", "r.exr"]].concat(), d);
         std::thread::sleep(Duration::from_secs(wait));
         signal(&child, "-INT");

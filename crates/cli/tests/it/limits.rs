@@ -26,7 +26,8 @@ fn a_bidirectional_render_of_a_billion_paths_per_pixel_stops_on_sigint() {
     let d = dir.path();
     let cornell = scene_file("cornell", "scene.xml");
     stdout(&["trace", cornell.to_str().unwrap(), "--paths", "20000", "-o", "data.opds"], d);
-    let render = ["render", "data.opds", "-o", "x.png", "--estimator", "bidirectional"];
+    let render =
+        ["render", "data.opds", "-o", "x.png", "--estimator", "bidirectional", "--coverage", "everywhere"];
     let mut child = start(&[&render[..], &["--spp", "1000000000", "--size", "16x16"]].concat(), d);
     std::thread::sleep(std::time::Duration::from_millis(1500));
     signal(&child, "-INT");
@@ -253,6 +254,7 @@ fn every_option_of_every_verb_is_accounted_for() {
                 "spp",
                 "connections",
                 "camera-seed",
+                "coverage",
                 "time",
             ],
         ), // cli, limits, guarantees
@@ -286,6 +288,7 @@ fn every_option_of_every_verb_is_accounted_for() {
                 "spp",
                 "connections",
                 "camera-seed",
+                "coverage",
             ],
         ), // dataset_product, limits
         ("info", &["json"]),                 // cli

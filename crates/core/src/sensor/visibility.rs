@@ -189,6 +189,54 @@ impl VisibilityBuffer {
         Some(py as usize * window.width as usize + px as usize)
     }
 
+    /// Per image pixel, whether a camera ray through its square grown by `grow` whole pixels
+    /// (and the buffer's margin) may first meet a triangle `t` with `flagged(t)` — conservatively:
+    /// every such triangle flags every pixel whose footprint its projection meets, whether or not
+    /// something hides it — or, when `escapes`, whether it may leave the scene (no triangle known
+    /// to cover the footprint). So an unflagged pixel's camera rays all first hit triangles that
+    /// are not flagged (`bidirectional::allocation`). `None` when the buffer cannot tell (a
+    /// flagged triangle between the eye and its clipping depth).
+    pub fn pixels_meeting(
+        &self,
+        scene: &Scene,
+        flagged: impl Fn(u32) -> bool,
+        grow: usize,
+        escapes: bool,
+    ) -> Option<Vec<bool>> {
+        let raster = Projection::new(scene, &self.camera)?;
+        let (w, h) = (raster.size[0], raster.size[1]);
+        let mut flags: Vec<bool> = self.front.iter().map(|&t| escapes && t == NONE).collect();
+        for (t, tri) in scene.triangles.iter().enumerate() {
+            if !flagged(t as u32) {
+                continue;
+            }
+            let Some(poly) = raster.polygon(tri.v0, tri.v0 + tri.e1, tri.v0 + tri.e2)? else { continue };
+            raster.rows(&poly, |j, meets, _| {
+                for i in meets {
+                    flags[j * w + i] = true;
+                }
+            })?;
+        }
+        if grow > 0 {
+            // Dilate by `grow` pixels: rows, then columns (a square's maximum is separable).
+            let mut rows = vec![false; w * h];
+            for j in 0..h {
+                for i in 0..w {
+                    rows[j * w + i] = flags[j * w + i.saturating_sub(grow)..j * w + (i + grow + 1).min(w)]
+                        .iter()
+                        .any(|&f| f);
+                }
+            }
+            for j in 0..h {
+                for i in 0..w {
+                    flags[j * w + i] =
+                        (j.saturating_sub(grow)..(j + grow + 1).min(h)).any(|k| rows[k * w + i]);
+                }
+            }
+        }
+        Some(flags)
+    }
+
     /// The share of pixels whose answers are known (for reports and tests).
     pub fn known_fraction(&self) -> f64 {
         self.front.iter().filter(|&&t| t != NONE).count() as f64 / self.front.len().max(1) as f64

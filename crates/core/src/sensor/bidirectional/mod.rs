@@ -33,7 +33,7 @@ pub mod run;
 mod splat;
 mod vertex;
 
-pub use allocation::Allocation;
+pub use allocation::{Allocation, cameras_needed};
 pub use cache::{CANDIDATES, CacheChunk, CachedVertex, LightCache, PendingDraw, RecordMismatch};
 pub use camera::{CameraRay, camera_ray, image_pdf};
 pub use lights::{LightPoint, RenderLight, RenderLights};

@@ -157,13 +157,31 @@ impl<'a> Renderer<'a> {
         allocation: &Allocation,
         passes: u64,
     ) -> Self {
-        let pixels = sensor.width() as usize * sensor.height() as usize;
-        let planned = allocation.total(pixels) * passes.max(1);
-        let mut r = Renderer::new(scene, sensor, chunks, names, flux_per_path, settings, planned);
-        if r.cache.has_records() {
-            r.pixel_light_trace = allocation.light_trace_counts(r.lights.total_paths(), pixels, passes);
-        }
+        let mut r = Renderer::new(scene, sensor, chunks, names, flux_per_path, settings, 1);
+        r.plan(allocation, passes);
         r
+    }
+
+    /// Plans the render to take `passes` camera passes of `allocation`'s camera paths per pixel
+    /// (before any pass: the counts are constants of the render, module docs).
+    pub fn plan(&mut self, allocation: &Allocation, passes: u64) {
+        let pixels = self.sensor.width() as usize * self.sensor.height() as usize;
+        let planned = allocation.total(pixels) * passes.max(1);
+        if self.cache.has_records() {
+            self.counts = Counts::new(
+                self.settings.connections,
+                self.lights.total_paths(),
+                self.cache.vertices(),
+                planned.max(1),
+            );
+            self.pixel_light_trace = allocation.light_trace_counts(self.lights.total_paths(), pixels, passes);
+        }
+    }
+
+    /// Per pixel, whether it needs camera paths ([`super::cameras_needed`]); `None`: all do.
+    pub fn cameras_needed(&self) -> Option<Vec<bool>> {
+        let buffer = self.visibility.as_ref()?;
+        super::allocation::needed_with(self.scene, &self.sensor, buffer)
     }
 
     /// The render's counts (c_conn = n_c·N/|Y|, c_LT = N/M).

@@ -4,6 +4,10 @@
 //! interruption go through callbacks, so the command line's bars, a binding's callback and a
 //! server's status all drive the same loop.
 //!
+//! Which pixels get camera paths is decided first ([`Coverage`]; by default only those the
+//! splats alone cannot render unbiased, `allocation` module docs); with none, the render is its
+//! splat pass alone.
+//!
 //! With a deadline, M (the camera paths the render will take, which the MIS weights of the
 //! light-tracing strategy need before the first pass) is planned from a pilot pass of one path
 //! per pixel; any constant M is unbiased (`docs/bidirectional.md` §10.2), so the plan only
@@ -25,6 +29,20 @@ pub struct RunPlan {
     pub deadline: Option<Instant>,
     /// The first pass's number, which names its random streams (a walkthrough's frame).
     pub first_pass: u64,
+    /// Which pixels get the camera paths.
+    pub coverage: Coverage,
+}
+
+/// Which pixels a render gives camera paths.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Coverage {
+    /// Only those the light-tracing splats alone cannot render unbiased: any surface but a
+    /// diffuse one, or the sky, may be seen through them (`allocation` module docs). The others
+    /// are the light estimator's pixels.
+    #[default]
+    WhereNeeded,
+    /// Every pixel.
+    Everywhere,
 }
 
 /// What a render reports while it runs.
@@ -56,13 +74,15 @@ pub struct Run {
     pub film: Film,
     /// Camera passes.
     pub passes: u64,
-    /// Camera paths per pixel in all.
+    /// Camera paths in all per pixel that gets any ([`Run::camera_pixels`]).
     pub spp: u64,
     /// The running estimate of the relative error (after two passes).
     pub error: Option<f64>,
     /// `stop` ended the render before its plan was done: the image is that of the passes
     /// completed (an unbiased estimate, as any number of passes is; §10.2).
     pub interrupted: bool,
+    /// Pixels given camera paths ([`Coverage`]); the others are the splats' alone.
+    pub camera_pixels: u64,
 }
 
 /// Renders the light vertex cache `chunks` (lights `names`, their flux per path
@@ -82,25 +102,41 @@ pub fn render(
     stop: impl Fn() -> bool + Sync,
 ) -> Option<Run> {
     let (w, h) = (camera.width(), camera.height());
-    let per_pass = w as u64 * h as u64 * plan.spp as u64;
-    let planned = match plan.deadline {
-        None => per_pass,
+    let mut renderer = Renderer::new(scene, camera, chunks, names, flux_per_path, settings, 1);
+    let needed = match plan.coverage {
+        Coverage::WhereNeeded => renderer.cameras_needed(),
+        Coverage::Everywhere => None,
+    };
+    let spp = Allocation::where_needed(needed.as_deref(), plan.spp);
+    let per_pass = spp.total(w as usize * h as usize);
+    let passes = match plan.deadline {
+        _ if per_pass == 0 => 0, // every pixel is the splats'
+        None => 1,
         Some(deadline) => {
-            let pilot =
-                Renderer::new(scene, camera, chunks.clone(), names, flux_per_path, settings, per_pass);
+            // A pilot pass of one path per pixel that gets any, timed, plans the passes.
+            let one = Allocation::where_needed(needed.as_deref(), 1);
+            renderer.plan(&one, 1);
             let t0 = Instant::now();
-            pilot.camera_pass(u64::MAX, &Allocation::Uniform(1), |_| {}, &stop)?;
+            renderer.camera_pass(u64::MAX, &one, |_| {}, &stop)?;
             let per_spp = t0.elapsed().as_secs_f64().max(1e-6);
             let left = deadline.saturating_duration_since(Instant::now()).as_secs_f64();
-            let passes = (left / (per_spp * plan.spp as f64)).floor().max(1.0);
-            per_pass * passes as u64
+            (left / (per_spp * plan.spp as f64)).floor().max(1.0) as u64
         }
     };
-    let renderer = Renderer::new(scene, camera, chunks, names, flux_per_path, settings, planned);
+    renderer.plan(&spp, passes);
     progress(RunEvent::SplatStart(renderer.cache().chunks().iter().map(|c| c.samples.len() as u64).sum()));
     let splat = renderer.splat_pass(|n| progress(RunEvent::Splatted(n)), &stop)?;
+    if per_pass == 0 {
+        return Some(Run {
+            film: splat,
+            passes: 0,
+            spp: 0,
+            error: None,
+            interrupted: false,
+            camera_pixels: 0,
+        });
+    }
     progress(RunEvent::CameraStart(w as u64 * h as u64));
-    let spp = Allocation::Uniform(plan.spp);
     let mut acc = Progressive::new(w, h, spp.clone());
     let mut interrupted = false;
     match plan.deadline {
@@ -124,7 +160,7 @@ pub fn render(
                 pass += 1;
                 progress(RunEvent::Pass {
                     passes: acc.passes(),
-                    spp: acc.spp(),
+                    spp: acc.passes() * plan.spp as u64,
                     error: acc.relative_error(),
                 });
                 if Instant::now() >= deadline {
@@ -133,6 +169,8 @@ pub fn render(
             }
         }
     }
-    let (passes, spp, error) = (acc.passes(), acc.spp(), acc.relative_error());
-    Some(Run { film: acc.image(&splat), passes, spp, error, interrupted })
+    let (passes, error) = (acc.passes(), acc.relative_error());
+    let spp = passes * plan.spp as u64;
+    let camera_pixels = needed.map_or(w as u64 * h as u64, |n| n.iter().filter(|&&x| x).count() as u64);
+    Some(Run { film: acc.image(&splat), passes, spp, error, interrupted, camera_pixels })
 }

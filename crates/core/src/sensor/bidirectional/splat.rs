@@ -88,6 +88,9 @@ fn weight_at_sensor(
     dist2: f32,
     filter: f32,
 ) -> f32 {
+    if counts.light_trace == f64::INFINITY {
+        return 1.0; // a pixel without camera paths: the splat is its only strategy
+    }
     let state = LightVertexMis::from_record(record, ctx.heuristic);
     weight_light_trace(&state, at_light, image_pdf(sensor, -to_sensor).scaled(filter), dist2, pick, counts)
 }
