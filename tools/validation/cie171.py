@@ -95,7 +95,7 @@ ROOF_XY = [(0, 0), (0.5, 0.25), (1, 0.5), (1, 0), (0, 0.5), (2, 0), (0, 2), (2, 
 FACADE_OPENING = (-1.0, 1.0, 1.0, 2.0)  # x0, x1, z0, z1 in the north wall y = ROOM_HALF
 FACADE_XY = [(0, 2), (0, 1), (0, 0), (1, 1), (-1, 2), (2, 0), (0, -2), (-2, -2)]
 GLASS_N = 1.52  # the pane's index (Radiance's glass default), transmissivity 1
-DAYLIGHT_DIRECT = "1000000"  # `measure --direct-samples` for the sky at a point (default 256)
+DAYLIGHT_FIXED = "256"  # a fixed `measure --direct-samples`, beside the default (auto)
 GENSKY_GROUND = 0.2 * 0.777778  # gensky -c's ground brightness over the zenith's (ρ = 0.2)
 
 
@@ -983,13 +983,19 @@ def main():
         "EH_OPTICKS lux (its environment map's own).")
     sky_prose_points = (
         "**Opticks's sky at a point.** The meter's `connections` estimator gathers a sky's "
-        "direct light at a point from `--direct-samples` directions drawn from the whole sky "
-        "(∝ its luminance), of which only the few through the opening count: with the default "
-        "256 a point's SE is SE_DEFAULT % (0 where none of them passed: the point reads 0 ± 0) "
-        "— far from the 2 % target, by noise alone (the dataset adds nothing here: the room is "
-        "black). These cases therefore read with "
-        f"`--direct-samples {DAYLIGHT_DIRECT}` (the only setting changed; the trace is the "
-        "default 4 M paths, unused at the points). The texel size of the sky map (512 × 257, "
+        "direct light at a point with a visibility-guided sampler (`sensor/meter/sky.rs`): a pilot "
+        "of 8192 directions (2 in each of 64 × 64 equal-area cells of the hemisphere above the "
+        "point), whose samples are discarded, learns where the sky is seen — here, through the "
+        "opening; the fresh directions are drawn 85 % from that guide and 15 % from the sky's own "
+        "sampling over the whole sphere, whose density is positive wherever the sky is, so the "
+        "estimate stays unbiased wherever the guide is wrong; and as many are drawn as the pilot "
+        "predicts for an SE of 0.5 % (256 to 2^20 a point). These cases therefore read with "
+        "default settings (the trace is the default 4 M paths, unused at the points: the room is "
+        "black). Before this sampler the default 256 directions came from the whole sky (∝ its "
+        "luminance), of which only the few through the opening counted: a point's SE was 0–104 % "
+        "and these cases needed `--direct-samples 1000000`. A fixed count still works: with "
+        f"`--direct-samples {DAYLIGHT_FIXED}` (that many guided directions) a point's SE is "
+        "SE_FIXED %. The texel size of the sky map (512 × 257, "
         "0.7°) does not matter for the uniform sky (constant) and little for the overcast sky "
         "(smooth; bilinear).\n\n"
         "**Radiance under a sky** sees the glow only through its ambient sampling (`-ab 1`), a "
@@ -1001,12 +1007,12 @@ def main():
     def daylight_points(title, stem, points_file, analytic, prose, radiance_note=None):
         print(f"{title} …", file=sys.stderr)
         t_trace = opticks.trace(SCENES / f"{stem}.rad", stem)
-        extra = ["--direct-samples", DAYLIGHT_DIRECT]
+        extra = []
         overcast = "overcast" in stem
         if overcast:
             extra.append("--daylight-factor")
         meas, t_measure = opticks.measure_points(stem, SCENES / points_file, extra)
-        default, _ = opticks.measure_points(stem, SCENES / points_file)
+        default, _ = opticks.measure_points(stem, SCENES / points_file, ["--direct-samples", DAYLIGHT_FIXED])
         opticks.remove(stem)
         pts = read_points(SCENES / points_file)
         rows = [(f"({p[0]:g}, {p[1]:g})", analytic(p[0], p[1]), m["E_v_lux"], m["SE_v_lux"])
@@ -1023,9 +1029,10 @@ def main():
         verdicts.append((title, rows, rlux, 2))
         body = [f"## {title}", "", prose, "",
                 f"Opticks: `opticks trace testdata/cie171/{stem}.rad` (default settings) and `opticks measure "
-                f"--points testdata/cie171/{points_file} --direct-samples {DAYLIGHT_DIRECT}"
-                f"{' --daylight-factor' if overcast else ''}`; trace {t_trace:.2f} s, measure {t_measure:.2f} s. "
-                f"With default measure settings (256 directions): SE {min(se_default):.1f}–{max(se_default):.1f} %, "
+                f"--points testdata/cie171/{points_file}"
+                f"{' --daylight-factor' if overcast else ''}` (default settings); trace {t_trace:.2f} s, "
+                f"measure {t_measure:.2f} s. With `--direct-samples {DAYLIGHT_FIXED}` ({DAYLIGHT_FIXED} guided "
+                f"directions): SE {min(se_default):.1f}–{max(se_default):.1f} %, "
                 f"diff {min(diff_default):+.1f} to {max(diff_default):+.1f} %."]
         if overcast:
             body[-1] += (f" Daylight factor: Opticks's E_v,h {eh:.2f} lux, so DF = E / E_v,h; e.g. at "
@@ -1071,8 +1078,8 @@ def main():
         "CIE overcast sky. The meter's shadow rays pass thin panes (core `ThinDielectric`: Radiance's "
         "`glass`, Mitsuba's `thindielectric`) with the pane's straight-through transmittance "
         "(docs/estimator.md §5; up to 8 panes on a line of sight), so these points read as the open "
-        "openings' do, with the same `--direct-samples` — and the same seed, so the same sky directions: "
-        "their deviations from the quadrature repeat the open overcast case's, scaled by T. Opticks's pane transmits T(θ) = (1 − r)/(1 + r), r the unpolarised "
+        "openings' do, with the same default settings (the pilot finds the light the pane lets through, "
+        "so the directions and their number differ from the open case's). Opticks's pane transmits T(θ) = (1 − r)/(1 + r), r the unpolarised "
         f"Fresnel reflectance at n = {GLASS_N:g} (0.918 at normal incidence), which the quadrature "
         "integrates.")
 
@@ -1101,7 +1108,7 @@ def main():
              sky_prose.replace("DIFF_CIE", f"{min(diff_cie):+.2f} to {max(diff_cie):+.2f} %")
              .replace("EH_GENSKY", f"{EH_GENSKY:.2f}")
              .replace("EH_OPTICKS", f"{statistics.fmean(ehs):.2f}" if ehs else "not read"), "",
-             sky_prose_points.replace("SE_DEFAULT", f"{min(ses):.0f}–{max(ses):.0f}"), "",
+             sky_prose_points.replace("SE_FIXED", f"{min(ses):.0f}–{max(ses):.0f}"), "",
              DAYLIGHT_NOTES, ""]
     sections.insert(daylight_start, "\n".join(intro))
 

@@ -8,7 +8,9 @@
 //!
 //! Defaults are the command line's: 10×10 cells; the `samples` estimator on a mesh (on scene
 //! geometry it is several times cheaper and less noisy) and `connections` elsewhere, with one
-//! connection per stored sample, 256 direct-light points per cell and seed 0.
+//! connection per stored sample, 256 direct-light points per cell for point and directional
+//! lights, an environment's direct light by its guided sampler to an SE of 0.5 %
+//! (`direct_samples` `None`; `opticks_core::sensor::meter`'s `sky.rs`) and seed 0.
 //!
 //! **Daylight factor.** Whenever the lights on are a CIE overcast sky alone
 //! ([`crate::daylight`]), [`Request::daylight`] gives the basis and the reading comes with the
@@ -76,7 +78,9 @@ pub struct Request {
     pub estimator: Option<Estimator>,
     /// Connections: meter points each stored sample is connected to.
     pub connections: Option<u32>,
-    /// Connections: points per cell gathering the direct light of point and directional lights.
+    /// Connections: points per cell gathering the direct light of point and directional lights,
+    /// and directions per target for environments; `None`: the defaults (256 points; as many
+    /// directions as the sky's pilot asks for).
     pub direct_samples: Option<u32>,
     /// Connections: seed of the meter's random streams.
     pub seed: Option<u64>,
@@ -205,7 +209,7 @@ impl Request {
             Estimator::Samples => meter::MeterEstimator::Samples,
             Estimator::Connections => meter::MeterEstimator::Connections(ConnectedSettings {
                 connections: self.connections.unwrap_or(1),
-                direct_samples: self.direct_samples.unwrap_or(256),
+                direct_samples: self.direct_samples,
                 seed: self.seed.unwrap_or(0),
             }),
         })

@@ -62,10 +62,13 @@ pub struct Args {
     /// Connections: meter points each stored sample is connected to [default: 1].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     connections: Option<u32>,
-    /// Connections: points per cell at which the direct light of point and directional lights
-    /// is gathered [default: 256].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=1_000_000))]
-    direct_samples: Option<u32>,
+    /// Connections: how the direct light of point, directional and environment lights is
+    /// gathered. `auto` (the default): point and directional lights at 256 points per cell; an
+    /// environment (sky) from directions its own pilot learns to aim where the sky is seen
+    /// (through openings), as many as give the sky's light a standard error of 0.5 % (256 to
+    /// 2^20 a point or cell). N (2 to 1000000): N points per cell and N sky directions each.
+    #[arg(long, value_name = "auto|N", value_parser = parse_direct_samples)]
+    direct_samples: Option<DirectSamples>,
     /// Connections: seed of the meter's random streams [default: 0].
     #[arg(long)]
     seed: Option<u64>,
@@ -84,6 +87,21 @@ pub struct Args {
     daylight_factor: bool,
     #[command(flatten)]
     threads: ThreadArgs,
+}
+
+/// `--direct-samples`: `auto` (the defaults) or a count.
+#[derive(Clone, Copy, Debug)]
+struct DirectSamples(Option<u32>);
+
+/// Parses `--direct-samples auto|N` (N from 2 to 1000000).
+fn parse_direct_samples(s: &str) -> Result<DirectSamples> {
+    if s.trim().eq_ignore_ascii_case("auto") {
+        return Ok(DirectSamples(None));
+    }
+    match s.trim().parse::<u32>() {
+        Ok(n) if (2..=1_000_000).contains(&n) => Ok(DirectSamples(Some(n))),
+        _ => bail!("'{s}' must be auto or a count from 2 to 1000000"),
+    }
 }
 
 /// Parses "NXxNY" cell counts (1..=65536 in all).
@@ -130,7 +148,7 @@ pub fn run(a: Args) -> Result<()> {
             MeterEstimator::Samples => Estimator::Samples,
         }),
         connections: a.connections,
-        direct_samples: a.direct_samples,
+        direct_samples: a.direct_samples.and_then(|d| d.0),
         seed: a.seed,
         heatmap: a.png.is_some(),
         daylight_factor: a.daylight_factor,

@@ -25,14 +25,17 @@
 //!
 //! **Direct light of point, directional and environment lights.** They store no emission
 //! vertex (a delta position or direction, or a direction at infinity), so it is estimated at
-//! the meter: per target, `direct_samples` uniform points of the cell (one for a point when
-//! no environment is on: it is exact), each gathering from every such light that is on
-//! I(ω)·cos θ_p/d²·τ (point), E·cos θ_p·τ (directional) or L(ω)·cos θ_p·τ/p(ω) for one
-//! direction ω drawn with the environment's own sampling (unbiased for ∫L cos θ_p τ dω), relit.
-//! Their standard error is the points' spread. Area lights need no such term: their emission
-//! vertices above carry their direct light, with the emission distribution — the same
-//! density per connection as sampling the light from the meter (both draw the pair (p, y₀)
-//! uniformly over meter × light).
+//! the meter, per target. Point and directional lights: `direct_samples` uniform points of the
+//! cell (256 by default; one for a point, which is exact), each gathering from every such light
+//! that is on I(ω)·cos θ_p/d²·τ (point) or E·cos θ_p·τ (directional), relit; their standard
+//! error is the points' spread. Environments (a sky): a pilot learns where from the target the
+//! sky is seen and the fresh directions are drawn from a defensive mixture of that guide and
+//! the environment's own sampling, as many as a standard error of 0.5 % needs by default
+//! (`sky.rs`, which also shows why this is unbiased) — through a small opening, directions
+//! drawn from the whole sky rarely pass. The two estimates are independent and add. Area lights
+//! need no such term: their emission vertices above carry their direct light, with the
+//! emission distribution — the same density per connection as sampling the light from the
+//! meter (both draw the pair (p, y₀) uniformly over meter × light).
 //!
 //! **Shadow rays through glazing.** τ is [`Scene::shadow_transmittance`]: 0 where a surface
 //! blocks the segment, else the product of the straight-through transmittance T(θ) of the thin
@@ -59,6 +62,7 @@
 //! count.
 
 use super::layout::{MeterDraw, MeterLayout};
+use super::sky::{self, Moments, Sky};
 use super::tally::{Group, Reading, Scratch, tally_groups};
 use crate::dataset::Sample;
 use crate::film::SplatTarget;
@@ -79,26 +83,28 @@ const DIRECT_STREAM: u64 = 0x6d65_7465_7264_6972;
 pub struct ConnectedSettings {
     /// n_c, meter points each stored sample connects to (≥ 1).
     pub connections: u32,
-    /// Points per cell for the direct light of point and directional lights (≥ 2; points use
-    /// one, which is exact).
-    pub direct_samples: u32,
+    /// `None` (the default): the direct light of point and directional lights from
+    /// [`DEFAULT_DIRECT_POINTS`] points per cell, the environments' from as many guided
+    /// directions as their pilot asks for (`sky.rs`). `Some(n)`: n points per cell (≥ 2; points
+    /// use one, which is exact) and exactly n guided directions per target for environments.
+    pub direct_samples: Option<u32>,
     /// Names the random streams.
     pub seed: u64,
 }
 
 impl Default for ConnectedSettings {
     fn default() -> Self {
-        ConnectedSettings { connections: 1, direct_samples: 256, seed: 0 }
+        ConnectedSettings { connections: 1, direct_samples: None, seed: 0 }
     }
 }
 
 /// Reads the meter `layout` from `groups.len()` batches (batch i is chunk i of the dataset, of
 /// light and path count `groups[i]`) on all cores: the connected stored samples plus the direct
-/// light of the point and directional `lights` that are on. The value per target is in W/m²
+/// light of the point, directional and environment `lights` that are on. The value per target is in W/m²
 /// (and lux, by the scene's rule, [`Scene::photometry`]), with its standard error. `Ok(None)`
 /// once `stop` said so: the batches check it themselves (the caller's `batch`); the direct
-/// light asks it every [`DIRECT_STOP_DRAWS`] points of a target, so `direct_samples` never
-/// delays an interrupt.
+/// light asks it every [`DIRECT_STOP_DRAWS`] points or sky directions of a target (pilot
+/// included), so no sample count delays an interrupt.
 #[allow(clippy::too_many_arguments)]
 pub fn read_connected<B: AsBatch, E: Send>(
     scene: &Scene,
@@ -124,6 +130,9 @@ pub fn read_connected<B: AsBatch, E: Send>(
     reading.add_independent(&direct);
     Ok(Some(reading))
 }
+
+/// Points per cell for the direct light of point and directional lights by default.
+pub const DEFAULT_DIRECT_POINTS: u32 = 256;
 
 /// Direct-light points drawn between two questions to `stop` (a millisecond or so of one core).
 pub const DIRECT_STOP_DRAWS: u32 = 1 << 10;
@@ -178,7 +187,10 @@ fn connect_one(
     Some(s.beta() * c.f * (c.cos_x.abs() * cos_p / c.dist2))
 }
 
-/// The direct light of the point, directional and environment lights that are on, per target.
+/// The direct light of the point, directional and environment lights that are on, per target:
+/// the point and directional lights' from `direct_samples` points of a cell (256 by default; one
+/// at a point, which is exact), the environments' from their guided sampler (`sky.rs`), the two
+/// independent estimates added.
 fn direct_light(
     scene: &Scene,
     lights: &RenderLights,
@@ -187,38 +199,40 @@ fn direct_light(
     stop: impl Fn() -> bool + Sync,
 ) -> Option<Reading> {
     let delta: Vec<usize> = (0..lights.lights().len())
-        .filter(|&i| !matches!(scene.lights[lights.lights()[i].scene_index], Light::Area(_)))
+        .filter(|&i| {
+            !matches!(scene.lights[lights.lights()[i].scene_index], Light::Area(_) | Light::Environment(_))
+        })
         .collect();
-    if delta.is_empty() {
+    let sky = Sky::new(scene, lights);
+    if delta.is_empty() && sky.is_none() {
         return Some(Reading::zero(layout.len()));
     }
-    let environment =
-        delta.iter().any(|&i| matches!(scene.lights[lights.lights()[i].scene_index], Light::Environment(_)));
-    let m = if layout.is_point() && !environment { 1 } else { settings.direct_samples.max(2) };
+    let m =
+        if layout.is_point() { 1 } else { settings.direct_samples.unwrap_or(DEFAULT_DIRECT_POINTS).max(2) };
+    let cap = sky::sample_cap(layout.len());
+    let stop: &(dyn Fn() -> bool + Sync) = &stop;
     let per_target: Vec<([f64; 4], [f64; 4])> = (0..layout.len())
         .into_par_iter()
         .map(|t| {
-            let mut rng = RandomStream::new(settings.seed, &[DIRECT_STREAM, t as u64]);
-            let (mut sum, mut sq) = ([0.0f64; 4], [0.0f64; 4]);
-            for k in 0..m {
-                if k % DIRECT_STOP_DRAWS == 0 && stop() {
-                    return None;
+            let (mut mean, mut se) = ([0.0f64; 4], [0.0f64; 4]);
+            if !delta.is_empty() {
+                let mut rng = RandomStream::new(settings.seed, &[DIRECT_STREAM, t as u64]);
+                let mut moments = Moments::default();
+                for k in 0..m {
+                    if k % DIRECT_STOP_DRAWS == 0 && stop() {
+                        return None;
+                    }
+                    let d = layout.draw_in(t, rng.next_2d());
+                    let e = delta.iter().fold(Rgb::ZERO, |e, &i| e + direct_from(scene, lights, i, &d));
+                    moments.add(e, &scene.photometry);
                 }
-                let d = layout.draw_in(t, rng.next_2d());
-                let e = delta.iter().fold(Rgb::ZERO, |e, &i| e + direct_from(scene, lights, i, &d, &mut rng));
-                let e = [e.x as f64, e.y as f64, e.z as f64];
-                let x = [e[0], e[1], e[2], scene.photometry.lux(e)];
-                for c in 0..4 {
-                    sum[c] += x[c];
-                    sq[c] += x[c] * x[c];
-                }
+                (mean, se) = moments.finish();
             }
-            let mf = m as f64;
-            let mean = sum.map(|s| s / mf);
-            let mut se = [0.0; 4];
-            if m > 1 {
+            if let Some(sky) = &sky {
+                let (v, s) = sky.target(layout, t, settings.direct_samples, cap, settings.seed, stop)?;
                 for c in 0..4 {
-                    se[c] = ((sq[c] - mf * mean[c] * mean[c]).max(0.0) / (mf - 1.0) / mf).sqrt();
+                    mean[c] += v[c];
+                    se[c] = se[c].hypot(s[c]);
                 }
             }
             Some((mean, se))
@@ -228,19 +242,11 @@ fn direct_light(
     Some(Reading { value, std_error })
 }
 
-/// The irradiance at `d` from light `i` of `lights` (a point, directional or environment
-/// light; an environment's direction drawn from `rng`): what it sends (relit) times cos θ_p
-/// and the panes' transmittance τ, 0 if blocked.
+/// The irradiance at `d` from light `i` of `lights` (a point or directional light): what it
+/// sends (relit) times cos θ_p and the panes' transmittance τ, 0 if blocked.
 #[inline]
-fn direct_from(scene: &Scene, lights: &RenderLights, i: usize, d: &MeterDraw, rng: &mut RandomStream) -> Rgb {
-    let lp = match &scene.lights[lights.lights()[i].scene_index] {
-        Light::Environment(env) => {
-            let (omega, pdf) = env.sample_direction(rng.next_2d());
-            lights.from_environment(scene, i, omega, pdf)
-        }
-        _ => lights.toward(scene, i, Vec3::ZERO, None, d.position),
-    };
-    let Some(lp) = lp else { return Rgb::ZERO };
+fn direct_from(scene: &Scene, lights: &RenderLights, i: usize, d: &MeterDraw) -> Rgb {
+    let Some(lp) = lights.toward(scene, i, Vec3::ZERO, None, d.position) else { return Rgb::ZERO };
     let cos = d.normal.dot(lp.dir);
     if !(cos > 0.0) {
         return Rgb::ZERO;
@@ -351,7 +357,7 @@ mod tests {
             &scene,
             &lights,
             &grid,
-            ConnectedSettings { direct_samples: 256, ..Default::default() },
+            ConnectedSettings { direct_samples: Some(256), ..Default::default() },
             &groups,
             |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
             |_| {},
@@ -465,7 +471,7 @@ mod tests {
         );
         let asked = std::sync::atomic::AtomicU64::new(0);
         let stop = || asked.fetch_add(1, std::sync::atomic::Ordering::Relaxed) >= 1;
-        let settings = ConnectedSettings { direct_samples: 1 << 20, ..Default::default() };
+        let settings = ConnectedSettings { direct_samples: Some(1 << 20), ..Default::default() };
         let r = read_connected(
             &scene,
             &lights,

@@ -5,7 +5,8 @@
 //!   list of points ([`MeterPoint`]), or on a surface. Every stored sample (scattered vertices
 //!   and area lights' emission points) is connected to a uniform point of the meter, the light
 //!   tracer's t = 1 strategy with the meter as a sensor of cosine importance; the point and
-//!   directional lights, which store no emission vertex, add their direct light at the meter.
+//!   directional lights, which store no emission vertex, add their direct light at the meter,
+//!   and so do environments, by a visibility-guided sampler (`sky.rs`).
 //! * **Stored samples** ([`read_samples`], and [`measure`] without the errors): only for a meter
 //!   lying *on* scene geometry. No connection is needed: a stored sample on a surface *is* the
 //!   flux Φ_k·β/N_k arriving there (docs/estimator.md §2), so
@@ -30,9 +31,10 @@
 
 mod connect;
 mod layout;
+mod sky;
 mod tally;
 
-pub use connect::{ConnectedSettings, DIRECT_STOP_DRAWS, read_connected};
+pub use connect::{ConnectedSettings, DEFAULT_DIRECT_POINTS, DIRECT_STOP_DRAWS, read_connected};
 pub use layout::{MeterDraw, MeterLayout, MeterPoint};
 pub use tally::{Group, Reading};
 
