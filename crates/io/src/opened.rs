@@ -22,9 +22,9 @@ use opticks_core::math::Rgb;
 use opticks_core::scene::{Scene, SceneDescription, SceneError};
 use opticks_core::sensor::OwnedBatch;
 use opticks_core::sensor::bidirectional::CacheChunk;
-use opticks_core::sensor::bidirectional::cameras_needed;
 use opticks_core::sensor::bidirectional::run::{self, Coverage, Run, RunEvent, RunPlan};
 use opticks_core::sensor::bidirectional::{RenderLights, Settings};
+use opticks_core::sensor::bidirectional::{cameras_needed, pilot};
 use opticks_core::sensor::meter::{
     Group, MeterEstimator, MeterLayout, Reading, read_connected, read_samples,
 };
@@ -411,33 +411,73 @@ impl LitDataset {
     /// Renders through `camera` with the bidirectional estimator (`opticks_core::sensor::
     /// bidirectional::run`): the kept chunks as its light vertex cache, weighted with the
     /// heuristic and direction rule the dataset's records were traced for; `connections` (n_c)
-    /// cache vertices per camera vertex, camera streams named by `seed`, passes as `plan` says.
+    /// cache vertices per camera vertex, camera streams named by `seed`, passes as `plan` says,
+    /// camera paths in the pixels `coverage` chooses (with none, the light estimator's image,
+    /// streamed without reading the cache).
     /// `event` follows the run; `stop` ends it ([`BidirectionalError::Interrupted`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn render_bidirectional(
         &self,
         camera: Sensor,
         connections: u32,
         seed: u64,
         plan: RunPlan,
+        coverage: Coverage,
         event: impl Fn(RunEvent) + Sync,
         stop: impl Fn() -> bool + Sync,
     ) -> Result<Run, BidirectionalError> {
         let path = || self.reader().path().to_path_buf();
         let mis = mis_compatibility(self.reader().header())
             .map_err(|source| BidirectionalError::Mis { path: path(), source })?;
-        if plan.coverage == Coverage::WhereNeeded
-            && cameras_needed(self.scene(), &camera).is_some_and(|needed| !needed.contains(&true))
-        {
+        let settings = Settings { connections, seed, heuristic: mis.heuristic, directions: mis.directions };
+        let names = self.light_names();
+        let cameras = match coverage {
+            Coverage::Everywhere => None,
+            Coverage::WhereNeeded => cameras_needed(self.scene(), &camera),
+            Coverage::Auto => match cameras_needed(self.scene(), &camera) {
+                None => None,
+                Some(needed) => {
+                    let groups = self.groups();
+                    let pilot_plan = pilot::Plan { spp: plan.spp, connections, samples: self.samples() };
+                    let batch = |i| self.batch(i);
+                    let flux = self.flux_per_path();
+                    let chosen = pilot::choose(
+                        self.scene(),
+                        &camera,
+                        &needed,
+                        &groups,
+                        batch,
+                        &names,
+                        flux,
+                        settings,
+                        pilot_plan,
+                        &stop,
+                    )?;
+                    Some(chosen.ok_or(BidirectionalError::Interrupted)?)
+                }
+            },
+        };
+        if cameras.as_ref().is_some_and(|c| !c.contains(&true)) {
             return self.render_splats_alone(camera, event, stop);
         }
         let chunks = self.cache_chunks()?;
         if !chunks.iter().all(|c| c.records.len() == c.samples.len()) {
             return Err(BidirectionalError::MissingRecords(path()));
         }
-        let settings = Settings { connections, seed, heuristic: mis.heuristic, directions: mis.directions };
-        let names = self.light_names();
-        run::render(self.scene(), camera, chunks, &names, self.flux_per_path(), settings, plan, event, stop)
-            .ok_or(BidirectionalError::Interrupted)
+        let flux = self.flux_per_path();
+        run::render(
+            self.scene(),
+            camera,
+            chunks,
+            &names,
+            flux,
+            settings,
+            plan,
+            cameras.as_deref(),
+            event,
+            stop,
+        )
+        .ok_or(BidirectionalError::Interrupted)
     }
 
     /// The bidirectional render when no pixel needs camera paths ([`cameras_needed`]): every

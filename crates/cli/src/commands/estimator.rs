@@ -43,9 +43,10 @@ pub struct EstimatorArgs {
     /// Bidirectional: seed of the camera paths' random streams (default 0).
     #[arg(long = "camera-seed")]
     seed: Option<u64>,
-    /// Bidirectional: which pixels get camera paths — `where-needed` (the default: those through
-    /// which a surface other than a diffuse one, or the sky, may be seen; the others are the
-    /// light estimator's pixels, unbiased and cheaper) or `everywhere`.
+    /// Bidirectional: which pixels get camera paths — `auto` (the default: those through which
+    /// something other than a diffuse surface, or the sky, may be seen, and the image tiles where
+    /// a short pilot finds them worth their time), `where-needed` (the former alone; the others
+    /// are the light estimator's pixels, unbiased) or `everywhere`.
     #[arg(long, value_enum)]
     coverage: Option<CoverageArg>,
 }
@@ -53,6 +54,8 @@ pub struct EstimatorArgs {
 /// `--coverage`: which pixels get camera paths.
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CoverageArg {
+    /// The pixels the splats cannot render alone, and where a pilot finds camera paths pay.
+    Auto,
     /// Only the pixels the light-tracing splats cannot render alone.
     WhereNeeded,
     /// Every pixel.
@@ -112,9 +115,10 @@ impl EstimatorArgs {
         let deadline = time.map(|t| start + t);
         let coverage = match self.coverage {
             Some(CoverageArg::Everywhere) => Coverage::Everywhere,
-            Some(CoverageArg::WhereNeeded) | None => Coverage::WhereNeeded,
+            Some(CoverageArg::WhereNeeded) => Coverage::WhereNeeded,
+            Some(CoverageArg::Auto) | None => Coverage::Auto,
         };
-        let plan = RunPlan { spp: self.spp(), deadline, first_pass: pass, coverage };
+        let plan = RunPlan { spp: self.spp(), deadline, first_pass: pass };
         let bar = std::sync::Mutex::new(indicatif::ProgressBar::hidden());
         let show = |new: indicatif::ProgressBar| {
             let mut b = bar.lock().unwrap_or_else(|e| e.into_inner());
@@ -145,6 +149,7 @@ impl EstimatorArgs {
             self.connections(),
             self.seed.unwrap_or(0),
             plan,
+            coverage,
             event,
             crate::interrupt::requested,
         );

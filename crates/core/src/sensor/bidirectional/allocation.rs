@@ -15,7 +15,7 @@
 //! whenever the path's vertex next to the camera is stored, i.e. not on a delta surface (the
 //! tracer keeps every non-delta vertex; emission points of area lights included) and not at
 //! infinity (an environment seen directly). [`cameras_needed`] proves it per pixel from the
-//! geometry alone, before any pass ([`VisibilityBuffer::pixels_meeting`]): a pixel needs camera
+//! geometry alone, before any pass ([`crate::sensor::VisibilityBuffer::pixels_meeting`]): a pixel needs camera
 //! paths if the projection of any triangle whose material is not one the splats suffice for
 //! ([`splats_suffice`]: diffuse, or a rough plastic of broad lobe; and unmasked) meets the
 //! footprint of its camera rays (the pixel grown by the filter's radius), hidden or not, or —
@@ -31,7 +31,7 @@
 use crate::bsdf::Bsdf;
 use crate::light::Light;
 use crate::scene::Scene;
-use crate::sensor::{Sensor, VisibilityBuffer};
+use crate::sensor::Sensor;
 
 /// Microfacet roughness from which a rough plastic's coating counts as broad enough for the
 /// splats alone (a heuristic of efficiency, not of correctness: module docs).
@@ -51,11 +51,7 @@ pub fn splats_suffice(bsdf: &Bsdf) -> bool {
 /// Per pixel of `sensor`'s image, whether it needs camera paths (module docs); `None` when it
 /// cannot be proven for any pixel (no visibility buffer), i.e. every pixel does.
 pub fn cameras_needed(scene: &Scene, sensor: &Sensor) -> Option<Vec<bool>> {
-    needed_with(scene, sensor, &sensor.visibility(scene)?)
-}
-
-/// [`cameras_needed`] with the sensor's visibility buffer already built.
-pub(super) fn needed_with(scene: &Scene, sensor: &Sensor, buffer: &VisibilityBuffer) -> Option<Vec<bool>> {
+    let buffer = sensor.visibility(scene)?;
     let diffuse = |t: u32| !scene.is_masked(t) && splats_suffice(&scene.material(t).bsdf);
     let escapes = scene.lights.iter().any(|l| matches!(l, Light::Environment(_)));
     // Camera rays of a pixel start within its filter's radius of its centre.

@@ -27,6 +27,7 @@ mod camera;
 mod lights;
 pub mod mis;
 mod path;
+pub mod pilot;
 mod progressive;
 mod render;
 pub mod run;

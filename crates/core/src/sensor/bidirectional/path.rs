@@ -33,7 +33,23 @@ const DELTA_RUN_SURVIVAL: f32 = 0.95;
 
 /// The radiance estimate of one camera path through pixel (`i`, `j`): every camera strategy,
 /// MIS-weighted (the light-tracing splat of the same pixel is added separately).
+#[inline]
 pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut RandomStream) -> Rgb {
+    camera_path_rays(ctx, sensor, i, j, rng).0
+}
+
+/// [`camera_path`], and the rays it asked for: one per segment traced, plus, at each non-delta
+/// vertex, NEE's shadow ray and n_c connections' (asked for, whether or not a draw needed its ray)
+/// — the cost measure of the allocation pilot (`pilot.rs`), which must not depend on a clock.
+pub(super) fn camera_path_rays(
+    ctx: &Context,
+    sensor: &Sensor,
+    i: u32,
+    j: u32,
+    rng: &mut RandomStream,
+) -> (Rgb, u32) {
+    let gather_rays = 1 + ctx.connections;
+    let mut rays = 0u32;
     let (u_film, u_lens) = (rng.next_2d(), rng.next_2d());
     let start = camera_ray(sensor, i, j, u_film, u_lens);
     let scene = ctx.scene;
@@ -48,6 +64,7 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
     // The first hit from the eye is the visibility buffer's front triangle where it knows one.
     let mut front = ctx.visibility.and_then(|v| v.front(ray.origin, ray.dir));
     loop {
+        rays = rays.saturating_add(1);
         let hit = match front.take() {
             Some(t) => scene.intersect_front(&ray, t),
             None => scene.intersect(&ray),
@@ -87,6 +104,7 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
         }
         let delta = material.bsdf.is_delta();
         if !delta {
+            rays = rays.saturating_add(gather_rays);
             let gathered = nee(ctx, &r, &mis, rng) + connect_ahead(ctx, &r, &mis, rng, &mut ahead);
             radiance += throughput * gathered;
         }
@@ -124,7 +142,7 @@ pub fn camera_path(ctx: &Context, sensor: &Sensor, i: u32, j: u32, rng: &mut Ran
             t_max: f32::INFINITY,
         };
     }
-    radiance
+    (radiance, rays)
 }
 
 /// What the environments that are on send back along a camera ray leaving the scene along

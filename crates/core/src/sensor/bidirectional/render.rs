@@ -178,12 +178,6 @@ impl<'a> Renderer<'a> {
         }
     }
 
-    /// Per pixel, whether it needs camera paths ([`super::cameras_needed`]); `None`: all do.
-    pub fn cameras_needed(&self) -> Option<Vec<bool>> {
-        let buffer = self.visibility.as_ref()?;
-        super::allocation::needed_with(self.scene, &self.sensor, buffer)
-    }
-
     /// The render's counts (c_conn = n_c·N/|Y|, c_LT = N/M).
     pub fn counts(&self) -> Counts {
         self.counts

@@ -4,9 +4,9 @@
 //! interruption go through callbacks, so the command line's bars, a binding's callback and a
 //! server's status all drive the same loop.
 //!
-//! Which pixels get camera paths is decided first ([`Coverage`]; by default only those the
-//! splats alone cannot render unbiased, `allocation` module docs); with none, the render is its
-//! splat pass alone.
+//! Which pixels get camera paths is the caller's ([`Coverage`]: by default those the splats
+//! alone cannot render unbiased, `allocation` module docs, and those a pilot finds worth it,
+//! `pilot`); with none, the render is its splat pass alone.
 //!
 //! With a deadline, M (the camera paths the render will take, which the MIS weights of the
 //! light-tracing strategy need before the first pass) is planned from a pilot pass of one path
@@ -29,17 +29,18 @@ pub struct RunPlan {
     pub deadline: Option<Instant>,
     /// The first pass's number, which names its random streams (a walkthrough's frame).
     pub first_pass: u64,
-    /// Which pixels get the camera paths.
-    pub coverage: Coverage,
 }
 
-/// Which pixels a render gives camera paths.
+/// Which pixels a render gives camera paths (a front end decides, before [`render`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Coverage {
-    /// Only those the light-tracing splats alone cannot render unbiased: any surface but a
-    /// diffuse one, or the sky, may be seen through them (`allocation` module docs). The others
-    /// are the light estimator's pixels.
+    /// Those of [`Coverage::WhereNeeded`], and the image tiles of the others where a pilot finds
+    /// camera paths worth their work ([`super::pilot`]).
     #[default]
+    Auto,
+    /// Only those the light-tracing splats alone cannot render unbiased: any surface but a
+    /// diffuse one, or the sky, may be seen through them ([`super::cameras_needed`]). The
+    /// others are the light estimator's pixels.
     WhereNeeded,
     /// Every pixel.
     Everywhere,
@@ -86,7 +87,8 @@ pub struct Run {
 }
 
 /// Renders the light vertex cache `chunks` (lights `names`, their flux per path
-/// `flux_per_path`) of `scene` through `camera` as `plan` says. Once `stop` returns true, the
+/// `flux_per_path`) of `scene` through `camera` as `plan` says, camera paths in the pixels
+/// `cameras` marks (`None`: in every pixel; with none marked, the splat pass alone). Once `stop` returns true, the
 /// passes completed make the image ([`Run::interrupted`]), or, before the first is complete,
 /// there is none (`None`).
 #[allow(clippy::too_many_arguments)]
@@ -98,15 +100,13 @@ pub fn render(
     flux_per_path: &[Rgb],
     settings: Settings,
     plan: RunPlan,
+    cameras: Option<&[bool]>,
     progress: impl Fn(RunEvent) + Sync,
     stop: impl Fn() -> bool + Sync,
 ) -> Option<Run> {
     let (w, h) = (camera.width(), camera.height());
     let mut renderer = Renderer::new(scene, camera, chunks, names, flux_per_path, settings, 1);
-    let needed = match plan.coverage {
-        Coverage::WhereNeeded => renderer.cameras_needed(),
-        Coverage::Everywhere => None,
-    };
+    let needed = cameras.map(|c| c.to_vec());
     let spp = Allocation::where_needed(needed.as_deref(), plan.spp);
     let per_pass = spp.total(w as usize * h as usize);
     let passes = match plan.deadline {
