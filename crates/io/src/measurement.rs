@@ -79,9 +79,10 @@ pub struct Request {
     /// Connections: meter points each stored sample is connected to.
     pub connections: Option<u32>,
     /// Connections: points per cell gathering the direct light of point and directional lights,
-    /// and directions per target for environments; `None`: the defaults (256 points; as many
-    /// directions as the sky's pilot asks for).
-    pub direct_samples: Option<u32>,
+    /// and directions per target for environments; `None` (not given) or
+    /// [`DirectSamples::Auto`]: the defaults (256 points; as many directions as the sky's pilot
+    /// asks for). Given at all, even as `Auto`, it is refused with the samples estimator.
+    pub direct_samples: Option<DirectSamples>,
     /// Connections: seed of the meter's random streams.
     pub seed: Option<u64>,
     /// Whether a heat map is wanted (planes only).
@@ -89,6 +90,25 @@ pub struct Request {
     /// Whether the daylight factor is required (an error if the dataset cannot give one; it
     /// is reported anyway whenever it can).
     pub daylight_factor: bool,
+}
+
+/// `--direct-samples` as given: `auto` (the defaults, by name) or a count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DirectSamples {
+    /// The defaults.
+    Auto,
+    /// This many points per cell and sky directions per target.
+    Count(u32),
+}
+
+impl DirectSamples {
+    /// The count, `None` for the defaults.
+    pub fn count(self) -> Option<u32> {
+        match self {
+            DirectSamples::Auto => None,
+            DirectSamples::Count(n) => Some(n),
+        }
+    }
 }
 
 /// A measurement that cannot be made as asked.
@@ -209,7 +229,7 @@ impl Request {
             Estimator::Samples => meter::MeterEstimator::Samples,
             Estimator::Connections => meter::MeterEstimator::Connections(ConnectedSettings {
                 connections: self.connections.unwrap_or(1),
-                direct_samples: self.direct_samples,
+                direct_samples: self.direct_samples.and_then(DirectSamples::count),
                 seed: self.seed.unwrap_or(0),
             }),
         })

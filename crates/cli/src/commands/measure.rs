@@ -18,7 +18,7 @@ use crate::output;
 use crate::progress;
 use anyhow::{Context, Result, bail};
 use opticks_core::math::Vec3;
-use opticks_io::measurement::{Estimator, Measured, Place, Request};
+use opticks_io::measurement::{DirectSamples, Estimator, Measured, Place, Request};
 use opticks_io::output_paths::{OutputKind, check_outputs};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -89,17 +89,13 @@ pub struct Args {
     threads: ThreadArgs,
 }
 
-/// `--direct-samples`: `auto` (the defaults) or a count.
-#[derive(Clone, Copy, Debug)]
-struct DirectSamples(Option<u32>);
-
 /// Parses `--direct-samples auto|N` (N from 2 to 1000000).
 fn parse_direct_samples(s: &str) -> Result<DirectSamples> {
     if s.trim().eq_ignore_ascii_case("auto") {
-        return Ok(DirectSamples(None));
+        return Ok(DirectSamples::Auto);
     }
     match s.trim().parse::<u32>() {
-        Ok(n) if (2..=1_000_000).contains(&n) => Ok(DirectSamples(Some(n))),
+        Ok(n) if (2..=1_000_000).contains(&n) => Ok(DirectSamples::Count(n)),
         _ => bail!("'{s}' must be auto or a count from 2 to 1000000"),
     }
 }
@@ -148,7 +144,7 @@ pub fn run(a: Args) -> Result<()> {
             MeterEstimator::Samples => Estimator::Samples,
         }),
         connections: a.connections,
-        direct_samples: a.direct_samples.and_then(|d| d.0),
+        direct_samples: a.direct_samples,
         seed: a.seed,
         heatmap: a.png.is_some(),
         daylight_factor: a.daylight_factor,

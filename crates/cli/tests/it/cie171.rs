@@ -4,7 +4,8 @@
 //! against their closed forms, at fewer paths than the report. Every point must be within
 //! max(1 %, 4 SE) of the closed form (SE: the reading's own standard error), so a source 2 %
 //! too bright or too dim fails (the point source's direct light has SE 0: 1 % is the bound).
-//! The daylight cases (5.9–5.12, the sky component through openings) use max(2 %, 4 SE).
+//! 5.7 (an obstruction) and 5.8 (the reflected component, read from 5.4's box) are electric-light
+//! cases too. The daylight cases (5.9–5.12, the sky component through openings) use max(2 %, 4 SE).
 //!
 //! The closed forms are written out here independently of the script; the geometry constants
 //! below are the script's (a change there that is not made here fails these tests).
@@ -22,6 +23,10 @@ const AREA_L: f64 = 1000.0;
 const AREA_H: f64 = 2.0;
 const RECT: [f64; 4] = [-1.0, 1.0, -0.5, 0.5];
 const DISC_R: f64 = 0.5;
+/// 5.7: an opaque black rectangle [0.1, 0.7] × [−0.3, 0.9] parallel to 5.3's rectangle, at
+/// h_o = 1.2 m.
+const OBSTACLE: [f64; 4] = [0.1, 0.7, -0.3, 0.9];
+const OBSTACLE_H: f64 = 1.2;
 /// 5.4 / 5.6: a 3 m cube, 1000 cd at its centre.
 const BOX_SIDE: f64 = 3.0;
 const BOX_I: f64 = 1000.0;
@@ -44,6 +49,24 @@ fn e_rect(px: f64, py: f64) -> f64 {
     let [x0, x1, y0, y1] = RECT;
     let c = |x: f64, y: f64| corner(x - px, y - py, AREA_H);
     AREA_L * (c(x1, y1) - c(x0, y1) - c(x1, y0) + c(x0, y0))
+}
+
+/// The rectangle `rect` seen from (px, py, 0) under the source plane h: the corner superposition.
+fn e_rect_part(px: f64, py: f64, rect: [f64; 4]) -> f64 {
+    let [x0, x1, y0, y1] = rect;
+    let c = |x: f64, y: f64| corner(x - px, y - py, AREA_H);
+    AREA_L * (c(x1, y1) - c(x0, y1) - c(x1, y0) + c(x0, y0))
+}
+
+/// 5.7: the source less the part of it the obstacle hides from (px, py, 0) — the obstacle's
+/// projection from the point onto the source's plane (scaled by h / h_o about it) ∩ the source.
+fn e_obstructed(px: f64, py: f64) -> f64 {
+    let k = AREA_H / OBSTACLE_H;
+    let [x0, x1, y0, y1] = OBSTACLE;
+    let (sx0, sx1) = ((px + (x0 - px) * k).max(RECT[0]), (px + (x1 - px) * k).min(RECT[1]));
+    let (sy0, sy1) = ((py + (y0 - py) * k).max(RECT[2]), (py + (y1 - py) * k).min(RECT[3]));
+    let hidden = if sx0 < sx1 && sy0 < sy1 { e_rect_part(px, py, [sx0, sx1, sy0, sy1]) } else { 0.0 };
+    e_rect(px, py) - hidden
 }
 
 fn e_disc(px: f64, py: f64) -> f64 {
@@ -108,8 +131,22 @@ fn cie171_5_3_lambertian_disc_parallel_to_the_plane() {
     assert_eq!(points_case("cie171/disc.rad", "cie171/disc.csv", "1M", e_disc), 8);
 }
 
+/// 5.7: 5.3's rectangle with an opaque black rectangle between it and the floor; points in its
+/// penumbra (one out of it). Ignoring the obstacle reads +1 % to +144 % there; a point in the
+/// penumbra a shadow ray wrongly blocked reads far less.
+#[test]
+fn cie171_5_7_internal_obstruction() {
+    // The obstacle shades: at the origin it hides 40 % of the source.
+    assert!(e_obstructed(0.0, 0.0) < 0.6 * e_rect(0.0, 0.0));
+    assert_eq!(e_obstructed(-1.5, 0.0), e_rect(-1.5, 0.0), "out of the penumbra");
+    assert_eq!(points_case("cie171/obstruct.rad", "cie171/obstruct.csv", "1M", e_obstructed), 9);
+}
+
 /// Every wall's mean irradiance (`--surface WALL --cells 1x1`, the samples estimator) and the
-/// mean of the six against Φ / (A (1 − ρ)), ρ = 0, 0.5, 0.8, 0.95.
+/// mean of the six against Φ / (A (1 − ρ)), ρ = 0, 0.5, 0.8, 0.95; and 5.8, the internally
+/// reflected component, the six walls' mean less the direct Φ / A (exact: a sixth of Φ lands on
+/// each wall directly), against ρ Φ / (A (1 − ρ)) for ρ > 0 within max(1 %, 4 SE) of it — a
+/// tighter test than the total's at ρ = 0.5, where it is half of it.
 #[test]
 fn cie171_5_4_closed_box_keeps_the_flux() {
     for (rho, tag) in [(0.0, "00"), (0.5, "50"), (0.8, "80"), (0.95, "95")] {
@@ -126,6 +163,10 @@ fn cie171_5_4_closed_box_keeps_the_flux() {
         }
         // The walls share paths: the mean of their SEs bounds the SE of their mean.
         check(&format!("box ρ = {rho}, mean of the walls"), sum / 6.0, se_sum / 6.0, e_box(rho));
+        if rho > 0.0 {
+            let reflected = sum / 6.0 - e_box(0.0);
+            check(&format!("5.8 ρ = {rho}, reflected component"), reflected, se_sum / 6.0, rho * e_box(rho));
+        }
     }
 }
 

@@ -88,8 +88,11 @@ fn options_that_would_do_nothing_are_refused() {
     }
     let e = fails(&["render", "c.opds", "-o", "x.png", "--focus-distance", "3"], d);
     assert!(e.contains("--focus-distance") && e.contains("--lens-radius"), "{e}");
-    // The meter's connection settings with the samples estimator, which has none.
-    for (option, value) in [("--connections", "2"), ("--direct-samples", "8"), ("--seed", "3")] {
+    // The meter's connection settings with the samples estimator, which has none — also
+    // `--direct-samples auto`, which names the defaults but is still given.
+    for (option, value) in
+        [("--connections", "2"), ("--direct-samples", "8"), ("--direct-samples", "auto"), ("--seed", "3")]
+    {
         let e = fails(&["measure", "c.opds", "--surface", "red_wall", "-o", "m.csv", option, value], d);
         assert!(e.contains(option) && e.contains("--estimator connections"), "{e}");
     }
@@ -122,6 +125,10 @@ fn options_that_would_do_nothing_are_refused() {
         ],
         d,
     );
+    // The samples estimator without the flag (its default), and `auto` where it applies.
+    ok(&["measure", "c.opds", "--surface", "red_wall", "--cells", "2x2", "-o", "m.csv"], d);
+    let plane = ["--plane", "-1,1,-1,2,0,0,0,0,2", "--cells", "2x2", "-o", "n.csv"];
+    ok(&[&["measure", "c.opds", "--direct-samples", "auto"][..], &plane].concat(), d);
 }
 
 /// Messages name the option at fault and read the way counts are written: `--spp` takes

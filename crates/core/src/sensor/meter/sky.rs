@@ -14,11 +14,17 @@
 //! the unit square under the concentric cosine map (Shirley–Chiu disk, lifted by Malley's
 //! method), cut into [`SIDE`]² equal bins: a uniform point of the square maps to a direction of
 //! solid-angle density cos θ/π, so each bin holds 1/[`BINS`] of it. The pilot traces
-//! [`PILOT_PER_BIN`] jittered directions in every bin (from a uniform point of the cell for a
-//! cell) and gives bin b the weight w_b = mean of luminance(L'·τ) there (∝ the bin's share of
-//! ∫f, since each bin has the same ∫cos θ/π), then at least [`SPREAD`] times its largest
-//! neighbour's ([`dilate`]: a bin the opening covers in part may be missed by its few pilot
-//! directions). The guide draws bin b with P(b) = w_b/Σw and a
+//! [`PILOT_PER_BIN`] jittered directions in every bin of a pilot grid (from a uniform point of
+//! the cell for a cell) and gives pilot bin b the weight w_b = mean of luminance(L'·τ) there (∝
+//! the bin's share of ∫f, since each bin has the same ∫cos θ/π), then at least [`SPREAD`] times
+//! its largest neighbour's ([`dilate`]: a bin the opening covers in part may be missed by its few
+//! pilot directions); each guide bin takes its pilot bin's weight. The pilot grid is the guide's
+//! ([`SIDE`]², 8192 directions a target) unless the meter has many targets: over a whole meter
+//! the pilot traces at most [`PILOT_BUDGET`] directions, the grid's side halving (32, 16, then
+//! the floor [`MIN_PILOT_SIDE`]) until its targets fit ([`pilot_side`]; with
+//! [`super::MAX_TARGETS`] targets at the floor, exactly the budget). A 100 × 100-cell plane's
+//! pilot is 16² bins (512 directions a cell, 5.1 M in all, not 82 M); its guide is coarser,
+//! which costs variance, never bias (below). The guide draws bin b with P(b) = w_b/Σw and a
 //! uniform square point in it, so its solid-angle density is
 //!
 //! ```text
@@ -60,8 +66,12 @@ use std::f64::consts::{FRAC_1_PI, PI};
 pub(super) const SIDE: usize = 64;
 /// Bins of the guide.
 pub(super) const BINS: usize = SIDE * SIDE;
-/// Pilot directions per bin.
+/// Pilot directions per bin (of the pilot grid, [`pilot_side`]).
 pub(super) const PILOT_PER_BIN: usize = 2;
+/// Most pilot directions of a whole meter (unless every target is at [`MIN_PILOT_SIDE`]).
+pub(super) const PILOT_BUDGET: u64 = 1 << 23;
+/// Fewest pilot bins along each side of the square: a coarser guide would barely aim.
+pub(super) const MIN_PILOT_SIDE: usize = 8;
 /// The share of its largest neighbour's weight a bin takes at least ([`dilate`]).
 pub(super) const SPREAD: f64 = 0.5;
 /// The defensive mixture's weight of the environments' own sampling.
@@ -206,17 +216,17 @@ impl Guide {
 /// directions; its neighbour inside the opening did, and so it is still drawn often enough —
 /// left to the defensive component alone, such a sliver costs far more variance than the
 /// ring of bins the spread adds.
-fn dilate(weights: &[f64]) -> Vec<f64> {
+fn dilate(weights: &[f64], side: usize) -> Vec<f64> {
     let at = |i: isize, j: isize| {
-        if (0..SIDE as isize).contains(&i) && (0..SIDE as isize).contains(&j) {
-            weights[j as usize * SIDE + i as usize]
+        if (0..side as isize).contains(&i) && (0..side as isize).contains(&j) {
+            weights[j as usize * side + i as usize]
         } else {
             0.0
         }
     };
-    (0..BINS)
+    (0..side * side)
         .map(|b| {
-            let (i, j) = ((b % SIDE) as isize, (b / SIDE) as isize);
+            let (i, j) = ((b % side) as isize, (b / side) as isize);
             let mut most = 0.0f64;
             for (di, dj) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
                 most = most.max(at(i + di, j + dj));
@@ -224,6 +234,24 @@ fn dilate(weights: &[f64]) -> Vec<f64> {
             weights[b].max(SPREAD * most)
         })
         .collect()
+}
+
+/// The pilot grid's side for a meter of `targets` targets: [`SIDE`] halved until the meter's
+/// pilot, PILOT_PER_BIN·side² directions a target, fits [`PILOT_BUDGET`], at least
+/// [`MIN_PILOT_SIDE`] (module docs, 1).
+pub(super) fn pilot_side(targets: usize) -> usize {
+    let mut side = SIDE;
+    while side > MIN_PILOT_SIDE && (PILOT_PER_BIN * side * side) as u64 * targets as u64 > PILOT_BUDGET {
+        side /= 2;
+    }
+    side
+}
+
+/// Guide bin weights (SIDE², row-major) from a pilot grid's (`side`², SIDE a multiple of it):
+/// each guide bin takes the weight of the pilot bin it lies in.
+fn refine(weights: &[f64], side: usize) -> Vec<f64> {
+    let k = SIDE / side;
+    (0..BINS).map(|b| weights[(b / SIDE / k) * side + (b % SIDE) / k]).collect()
 }
 
 /// The environments that are on, as the meter's direct term sees them.
@@ -296,43 +324,49 @@ impl<'a> Sky<'a> {
         (omega, (own as f64 + others) / k as f64)
     }
 
-    /// The pilot of target `t` (module docs, 1 and 3): the mixture and the predicted number of
-    /// samples for the target relative SE; `None` once `stop` said so.
+    /// The pilot of target `t` on a pilot grid of `side`² bins (module docs, 1 and 3): the
+    /// mixture, the predicted number of samples for the target relative SE and the directions
+    /// the pilot traced; `None` once `stop` said so.
     fn pilot(
         &self,
         layout: &MeterLayout,
         t: usize,
+        side: usize,
         seed: u64,
         stop: &(dyn Fn() -> bool + Sync),
-    ) -> Option<(Mixture, f64)> {
+    ) -> Option<(Mixture, f64, u32)> {
+        debug_assert!(side <= SIDE && SIDE.is_multiple_of(side));
         let mut rng = RandomStream::new(seed, &[PILOT_STREAM, t as u64]);
         let normal = layout.draw_in(t, Vec2::splat(0.5)).normal;
         let frame = Frame::from_normal(normal);
-        let mut weights = vec![0.0f64; BINS];
-        // (bin, ω, luminance(L'τ), cos θ) of the pilot directions that saw the sky.
+        let mut weights = vec![0.0f64; side * side];
+        // (guide bin, ω, luminance(L'τ), cos θ) of the pilot directions that saw the sky.
         let mut seen: Vec<(usize, Vec3, f64, f64)> = Vec::new();
         let mut drawn = 0u32;
         for (b, weight) in weights.iter_mut().enumerate() {
-            let cell = Vec2::new((b % SIDE) as f32, (b / SIDE) as f32);
+            let cell = Vec2::new((b % side) as f32, (b / side) as f32);
             for _ in 0..PILOT_PER_BIN {
                 if drawn.is_multiple_of(DIRECT_STOP_DRAWS) && stop() {
                     return None;
                 }
                 drawn += 1;
                 let d = layout.draw_in(t, rng.next_2d());
-                let local = square_to_cosine_hemisphere((cell + rng.next_2d()) / SIDE as f32);
+                let u = (cell + rng.next_2d()) / side as f32;
+                let local = square_to_cosine_hemisphere(u);
                 let omega = frame.to_world(local).normalize();
                 let (l, cos) = self.incoming(&d, omega);
                 let g = luminance(l) as f64;
                 if g > 0.0 {
                     *weight += g;
-                    seen.push((b, omega, g, cos as f64));
+                    let fine = if side == SIDE { b } else { bin_of_square(u) };
+                    seen.push((fine, omega, g, cos as f64));
                 }
             }
         }
-        let guide = Guide::new(normal, &dilate(&weights));
+        let dilated = dilate(&weights, side);
+        let guide = Guide::new(normal, &if side == SIDE { dilated } else { refine(&dilated, side) });
         let alpha = if guide.is_some() { ALPHA } else { 1.0 };
-        let n = (BINS * PILOT_PER_BIN) as f64;
+        let n = drawn as f64;
         // With q = cos θ/π: f/q = g·π and f²/(p·q) = g²·cos θ·π/p.
         let (mut first, mut second) = (0.0, 0.0);
         for &(b, omega, g, cos) in &seen {
@@ -349,7 +383,7 @@ impl<'a> Sky<'a> {
         } else {
             0.0
         };
-        Some((Mixture { guide, alpha }, wanted))
+        Some((Mixture { guide, alpha }, wanted, drawn))
     }
 
     /// Target `t`'s direct sky light: its mean per channel and in lux and their standard errors
@@ -364,7 +398,7 @@ impl<'a> Sky<'a> {
         seed: u64,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Option<([f64; 4], [f64; 4])> {
-        let (mix, wanted) = self.pilot(layout, t, seed, stop)?;
+        let (mix, wanted, _) = self.pilot(layout, t, pilot_side(layout.len()), seed, stop)?;
         let n = fixed
             .unwrap_or_else(|| wanted.ceil().clamp(MIN_SAMPLES as f64, cap.max(MIN_SAMPLES) as f64) as u32);
         self.estimate(layout, t, &mix, n, seed, stop)
@@ -668,7 +702,7 @@ mod tests {
         let scene = roof_box();
         let (layout, lights) = (box_points(), box_lights(&scene));
         let sky = Sky::new(&scene, &lights).unwrap();
-        let (mix, _) = sky.pilot(&layout, 0, 0, &|| false).unwrap();
+        let (mix, _, _) = sky.pilot(&layout, 0, SIDE, 0, &|| false).unwrap();
         let mut cut = mix.guide.unwrap().prob;
         for (b, w) in cut.iter_mut().enumerate() {
             if b % SIDE >= SIDE / 2 {
@@ -687,5 +721,52 @@ mod tests {
         let (v, se) = read(0.0);
         eprintln!("α = 0: {v} ± {se} vs {exact}");
         assert!(v < 0.7 * exact && exact - v > 10.0 * se, "α = 0: {v} ± {se} vs {exact}");
+    }
+
+    /// The pilot of a 100 × 100-cell plane over the box's floor traces at most PILOT_BUDGET
+    /// directions in all (16² bins a cell, not 64²); a meter of few targets keeps the full grid;
+    /// the largest meter stays within the budget at the floor.
+    #[test]
+    fn the_pilot_of_a_large_meter_is_bounded() {
+        assert_eq!((pilot_side(1), pilot_side(100), pilot_side(1024)), (SIDE, SIDE, SIDE));
+        assert_eq!(pilot_side(10_000), 16);
+        let most = crate::sensor::meter::MAX_TARGETS;
+        assert!(pilot_side(most) == MIN_PILOT_SIDE);
+        assert!((PILOT_PER_BIN * MIN_PILOT_SIDE * MIN_PILOT_SIDE * most) as u64 <= PILOT_BUDGET);
+        let scene = roof_box();
+        let lights = box_lights(&scene);
+        let sky = Sky::new(&scene, &lights).unwrap();
+        let grid = crate::sensor::meter::IlluminanceMeter::new(
+            Vec3::new(-2.0, 0.0, 2.0),
+            Vec3::X * 4.0,
+            Vec3::Z * -4.0,
+            100,
+            100,
+        )
+        .unwrap();
+        let layout = MeterLayout::Grid(grid);
+        let side = pilot_side(layout.len());
+        let total: u64 =
+            (0..layout.len()).map(|t| sky.pilot(&layout, t, side, 0, &|| false).unwrap().2 as u64).sum();
+        assert!(total <= PILOT_BUDGET, "{total} pilot directions");
+        assert_eq!(total, (layout.len() * PILOT_PER_BIN * 16 * 16) as u64);
+    }
+
+    /// A coarse pilot (the floor's 8² bins) still reads the closed form at the box's points
+    /// within max(1 %, 4 SE): its guide is coarser, the estimate as unbiased.
+    #[test]
+    fn a_coarse_pilot_still_reads_the_closed_form() {
+        let scene = roof_box();
+        let (layout, lights) = (box_points(), box_lights(&scene));
+        let sky = Sky::new(&scene, &lights).unwrap();
+        for (k, &(x, z)) in FLOOR.iter().enumerate() {
+            let (mix, wanted, drawn) = sky.pilot(&layout, k, MIN_PILOT_SIDE, 0, &|| false).unwrap();
+            assert_eq!(drawn as usize, PILOT_PER_BIN * MIN_PILOT_SIDE * MIN_PILOT_SIDE);
+            let n = wanted.ceil().clamp(MIN_SAMPLES as f64, MAX_SAMPLES as f64) as u32;
+            let (v, se) = sky.estimate(&layout, k, &mix, n, 0, &|| false).unwrap();
+            let (v, se, exact) = (v[1], se[1], closed_form(x as f64, z as f64));
+            eprintln!("coarse ({x}, {z}): {v} ± {se} vs {exact}, {n} samples");
+            assert!((v - exact).abs() <= (4.0 * se).max(0.01 * exact), "({x}, {z}): {v} ± {se} vs {exact}");
+        }
     }
 }
