@@ -258,7 +258,7 @@ fn direct_from(scene: &Scene, lights: &RenderLights, i: usize, d: &MeterDraw) ->
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::bsdf::{Bsdf, Lambert, Material, SmoothConductor, ThinDielectric};
     use crate::scene::{MeshDesc, PointLightDesc, SceneDescription};
@@ -387,11 +387,22 @@ mod tests {
     fn read_bulb(scene: &Scene, points: &MeterLayout) -> Reading {
         let power = Rgb::splat(3.0 * 4.0 * std::f32::consts::PI);
         let lights = RenderLights::new(scene, &["bulb"], &[power / 100.0], &[100]);
+        read_direct_only(scene, &lights, points, ConnectedSettings::default())
+    }
+
+    /// Reads `layout` in `scene` with `settings`: the direct light of `lights` alone (one light
+    /// of 100 paths, no stored samples).
+    pub(in crate::sensor::meter) fn read_direct_only(
+        scene: &Scene,
+        lights: &RenderLights,
+        layout: &MeterLayout,
+        settings: ConnectedSettings,
+    ) -> Reading {
         read_connected(
             scene,
-            &lights,
-            points,
-            ConnectedSettings::default(),
+            lights,
+            layout,
+            settings,
             &[Group { light: 0, paths: 100 }],
             |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
             |_| {},

@@ -456,7 +456,8 @@ mod tests {
     use super::*;
     use crate::bsdf::{Bsdf, Lambert, Material};
     use crate::scene::{EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, SceneDescription};
-    use crate::sensor::meter::{ConnectedSettings, Group, MeterPoint, Reading, read_connected};
+    use crate::sensor::meter::connect::tests::read_direct_only;
+    use crate::sensor::meter::{ConnectedSettings, MeterPoint, Reading};
 
     #[test]
     fn the_square_of_a_direction_inverts_the_cosine_map() {
@@ -622,18 +623,8 @@ mod tests {
     fn read_box(scene: &Scene, seed: u64, direct_samples: Option<u32>) -> Reading {
         let layout = box_points();
         let lights = box_lights(scene);
-        read_connected(
-            scene,
-            &lights,
-            &layout,
-            ConnectedSettings { direct_samples, seed, ..Default::default() },
-            &[Group { light: 0, paths: 100 }],
-            |_| Ok::<_, ()>(crate::sensor::OwnedBatch::default()),
-            |_| {},
-            || false,
-        )
-        .unwrap()
-        .unwrap()
+        let settings = ConnectedSettings { direct_samples, seed, ..Default::default() };
+        read_direct_only(scene, &lights, &layout, settings)
     }
 
     /// Default settings read the sky through a small roof opening within max(1 %, 4 SE) of the
