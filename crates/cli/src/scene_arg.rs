@@ -13,6 +13,12 @@ pub fn parse_scene(spec: &str) -> Result<SceneRef> {
     Ok(SceneRef::parse(spec)?)
 }
 
+/// The scene `SCENE…` (or `--scene` repeated) gives: none, one, or several Radiance `.rad`
+/// files read in order as one scene, as `oconv` reads them ([`SceneRef::joined`]).
+pub fn joined(given: &[SceneRef]) -> Result<Option<SceneRef>> {
+    Ok(if given.is_empty() { None } else { Some(SceneRef::joined(given.to_vec())?) })
+}
+
 /// The options of every verb that loads a scene: `-D` parameters, which camera and which scene
 /// of a file that holds several, and the bounds on what its files may allocate.
 #[derive(clap::Args, Debug, Clone)]

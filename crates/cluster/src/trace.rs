@@ -54,14 +54,15 @@ pub struct ClusterTracer {
 }
 
 impl ClusterTracer {
-    /// A tracer whose workers load `scene` (a file, sent as its absolute path, or a built-in
+    /// A tracer whose workers load `scene` (its files, sent as their absolute paths, or a built-in
     /// scene, sent by its label) with the parameters and glTF scene of `options` (a worker
     /// needs no camera).
     pub fn new(scene: &SceneRef, options: &LoadOptions, hooks: Hooks) -> Self {
-        let absolute = scene
-            .file()
-            .and_then(|f| std::fs::canonicalize(f).ok())
-            .and_then(|p| p.to_str().map(str::to_owned));
+        // Several files (Radiance's) go one a line, as `SceneRef::label` writes them.
+        let absolute: Option<Vec<String>> = (scene.files().into_iter())
+            .map(|f| std::fs::canonicalize(f).ok().and_then(|p| p.to_str().map(str::to_owned)))
+            .collect();
+        let absolute = absolute.filter(|a| !a.is_empty()).map(|a| a.join("\n"));
         ClusterTracer {
             scene: absolute.unwrap_or_else(|| scene.label()),
             defines: options.defines.clone(),

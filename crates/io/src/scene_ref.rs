@@ -28,6 +28,17 @@
 //! --gltf-scene Night
 //! ```
 //!
+//! A scene of several Radiance files (`opticks trace sky.rad room.rad`) records its first file
+//! so, and each further one, in order, as two lines marked `+ ` (relative, then absolute),
+//! before the options; each is found as the first is:
+//!
+//! ```text
+//! ../scenes/sky.rad
+//! /home/me/project/scenes/sky.rad
+//! + ../scenes/room.rad
+//! + /home/me/project/scenes/room.rad
+//! ```
+//!
 //! The camera is not recorded: any camera renders a dataset. Nor are the memory limits
 //! ([`crate::scene_formats::LoadLimits`]): they change no scene that loads.
 
@@ -37,6 +48,7 @@ use std::path::{Component, Path, PathBuf};
 
 const DEFINE: &str = "-D ";
 const GLTF_SCENE: &str = "--gltf-scene ";
+const FURTHER: &str = "+ ";
 
 /// `label` followed by the lines recording the `defines` and `gltf_scene` of `options` (see the
 /// module docs). Values holding a line break cannot be recorded: then none is.
@@ -102,20 +114,28 @@ pub fn parse(label: &str) -> RecordedScene {
     }
 }
 
-/// The label recording scene `spec` (a file path or a built-in name) for a dataset written to
-/// `dataset`: its path relative to the dataset's directory and its absolute path. A file that
-/// cannot be made absolute (it does not exist) is recorded as given.
+/// The label recording scene `spec` (a file path, several one a line, or a built-in name; as
+/// `SceneRef::label` writes it) for a dataset written to `dataset`: each file's path relative
+/// to the dataset's directory and its absolute path. A file that cannot be made absolute (it
+/// does not exist) is recorded as given.
 pub fn label_for(spec: &str, dataset: &Path) -> String {
     if spec.starts_with("builtin:") {
         return spec.to_string();
     }
-    match record(Path::new(spec), dataset) {
-        Some(label) => label,
-        None => spec.to_string(),
+    let mut files = spec.split('\n');
+    let first = files.next().unwrap_or_default();
+    let mut label = match record(Path::new(first), dataset) {
+        Some((r, a)) => format!("{r}\n{a}"),
+        None => first.to_string(),
+    };
+    for file in files {
+        let (r, a) = record(Path::new(file), dataset).unwrap_or_else(|| (file.into(), file.into()));
+        label += &format!("\n{FURTHER}{r}\n{FURTHER}{a}");
     }
+    label
 }
 
-fn record(scene: &Path, dataset: &Path) -> Option<String> {
+fn record(scene: &Path, dataset: &Path) -> Option<(String, String)> {
     let absolute = std::fs::canonicalize(scene).ok()?;
     let dir = std::fs::canonicalize(folder_of(dataset)).ok()?;
     let relative = relative_path(&absolute, &dir)?;
@@ -123,7 +143,13 @@ fn record(scene: &Path, dataset: &Path) -> Option<String> {
     if r.contains('\n') || a.contains('\n') {
         return None;
     }
-    Some(format!("{r}\n{a}"))
+    Some((r.to_string(), a.to_string()))
+}
+
+/// The further files of a scene of several (see the module docs): relative and absolute.
+pub fn further_files(label: &str) -> Vec<(PathBuf, PathBuf)> {
+    let lines: Vec<&str> = label.split('\n').skip(1).filter_map(|l| l.strip_prefix(FURTHER)).collect();
+    lines.chunks_exact(2).map(|p| (PathBuf::from(p[0]), PathBuf::from(p[1]))).collect()
 }
 
 /// `path` relative to `base` (both absolute and normalised), e.g. `../scenes/a.xml`.
@@ -156,16 +182,22 @@ pub fn candidates(label: &str, dataset: &Path) -> Vec<PathBuf> {
 }
 
 /// The scene the dataset at `dataset` records: a built-in name, or the first of its
-/// [`candidates`] that exists. `Err` lists the places tried.
+/// [`candidates`] that exists (and so for each further file, the found ones one a line).
+/// `Err` lists the places tried.
 pub fn resolve(label: &str, dataset: &Path) -> Result<String, Vec<PathBuf>> {
     if let RecordedScene::Builtin(name) = parse(label) {
         return Ok(name);
     }
-    let tried = candidates(label, dataset);
-    match tried.iter().find(|p| p.is_file()) {
-        Some(p) => Ok(p.to_string_lossy().into_owned()),
-        None => Err(tried),
+    let mut places = vec![candidates(label, dataset)];
+    places.extend(further_files(label).into_iter().map(|(r, a)| vec![folder_of(dataset).join(r), a]));
+    let mut found = Vec::new();
+    for tried in places {
+        match tried.iter().find(|p| p.is_file()) {
+            Some(p) => found.push(p.to_string_lossy().into_owned()),
+            None => return Err(tried),
+        }
     }
+    Ok(found.join("\n"))
 }
 
 /// `label` of the dataset at `from`, recorded again for a dataset written to `to` (which
@@ -182,19 +214,29 @@ pub fn rebase(label: &str, from: &Path, to: &Path) -> String {
 /// is there, and which one the verbs use (the first found, in [`candidates`] order).
 pub fn describe(label: &str, dataset: &Path) -> Vec<String> {
     let found = resolve(label, dataset).ok();
-    let mark = |p: &Path| match (p.is_file(), found.as_deref() == Some(p.to_string_lossy().as_ref())) {
-        (true, true) => " (found: used)",
-        (true, false) => " (found)",
-        (false, _) => " (missing)",
-    };
     match parse(label) {
         RecordedScene::Builtin(name) => vec![format!("{name} (built in)")],
         RecordedScene::File { relative, absolute } => {
-            let from_here = folder_of(dataset).join(&relative);
-            vec![
-                format!("{} (relative to the dataset){}", relative.display(), mark(&from_here)),
-                format!("{} (absolute){}", absolute.display(), mark(&absolute)),
-            ]
+            let mut lines = Vec::new();
+            let found: Vec<String> = found.iter().flat_map(|f| f.split('\n')).map(str::to_owned).collect();
+            let files = std::iter::once((relative, absolute)).chain(further_files(label));
+            for (i, (relative, absolute)) in files.enumerate() {
+                let from_here = folder_of(dataset).join(&relative);
+                let used = |p: &Path| found.get(i).is_some_and(|f| *f == p.to_string_lossy());
+                let mark = |p: &Path| match (p.is_file(), used(p)) {
+                    (true, true) => " (found: used)",
+                    (true, false) => " (found)",
+                    (false, _) => " (missing)",
+                };
+                let plus = if i == 0 { "" } else { FURTHER };
+                lines.push(format!(
+                    "{plus}{} (relative to the dataset){}",
+                    relative.display(),
+                    mark(&from_here)
+                ));
+                lines.push(format!("{plus}{} (absolute){}", absolute.display(), mark(&absolute)));
+            }
+            lines
         }
         RecordedScene::Legacy(path) => {
             let state = if found.is_some() { "found" } else { "missing" };
@@ -282,6 +324,37 @@ mod tests {
         );
         let shown = describe(&label, &dataset);
         assert!(shown[0].contains("relative to the dataset") && shown[1].ends_with("(missing)"), "{shown:?}");
+    }
+
+    #[test]
+    fn several_files_are_recorded_and_found_each() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = std::fs::canonicalize(dir.path()).unwrap();
+        std::fs::create_dir_all(root.join("out")).unwrap();
+        for f in ["sky.rad", "room.rad"] {
+            std::fs::write(root.join(f), "").unwrap();
+        }
+        let (sky, room) = (root.join("sky.rad"), root.join("room.rad"));
+        let spec = format!("{}\n{}", sky.display(), room.display());
+        let dataset = root.join("out/a.opds");
+        let label = with_options(
+            &label_for(&spec, &dataset),
+            &LoadOptions { defines: vec![("a".into(), "1".into())], ..Default::default() },
+        );
+        let want = format!("../sky.rad\n{}\n+ ../room.rad\n+ {}\n-D a=1", sky.display(), room.display());
+        assert_eq!(label, want);
+        assert_eq!(
+            parse(&label),
+            RecordedScene::File { relative: "../sky.rad".into(), absolute: sky.clone() }
+        );
+        assert_eq!(further_files(&label), [(PathBuf::from("../room.rad"), room.clone())]);
+        assert_eq!(recorded_options(&label).defines.len(), 1);
+        let found = resolve(&label, &dataset).unwrap();
+        let found: Vec<PathBuf> = found.split('\n').map(|f| Path::new(f).canonicalize().unwrap()).collect();
+        assert_eq!(found, [sky.clone(), room.clone()]);
+        assert_eq!(describe(&label, &dataset).len(), 4);
+        std::fs::remove_file(&room).unwrap();
+        assert_eq!(resolve(&label, &dataset).unwrap_err(), [root.join("out/../room.rad"), room]);
     }
 
     #[test]

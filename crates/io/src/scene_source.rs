@@ -45,13 +45,22 @@ impl Builtin {
 pub enum SceneRef {
     /// A built-in scene.
     Builtin(Builtin),
-    /// A scene file (Mitsuba 3 XML, VRML97, OBJ/MTL, glTF): its format from its extension.
+    /// A scene file (Mitsuba 3 XML, VRML97, OBJ/MTL, glTF, Radiance): its format from its
+    /// extension.
     File(PathBuf),
+    /// Several Radiance `.rad` files read in order as one scene, as `oconv a.rad b.rad` reads
+    /// them (at least two: one is a [`SceneRef::File`]); built by [`SceneRef::joined`].
+    Files(Vec<PathBuf>),
 }
 
 impl SceneRef {
-    /// The reference written `spec`: `builtin:NAME`, or a file path.
+    /// The reference written `spec`: `builtin:NAME`, a file path, or several `.rad` files one
+    /// a line (how [`SceneRef::label`] writes them).
     pub fn parse(spec: &str) -> Result<SceneRef, SceneSourceError> {
+        if spec.contains('\n') {
+            let files = spec.split('\n').map(SceneRef::parse).collect::<Result<Vec<_>, _>>()?;
+            return SceneRef::joined(files);
+        }
         match spec.strip_prefix(BUILTIN_PREFIX) {
             Some(name) => Builtin::ALL
                 .iter()
@@ -67,18 +76,47 @@ impl SceneRef {
         SceneRef::Builtin(Builtin::Cornell)
     }
 
-    /// How a dataset's label and the command line write it (`builtin:cornell`, or the path).
-    pub fn label(&self) -> String {
-        self.to_string()
-    }
-
-    /// The scene file, if it is one (which no output may replace).
-    pub fn file(&self) -> Option<&Path> {
-        match self {
-            SceneRef::File(p) => Some(p),
-            SceneRef::Builtin(_) => None,
+    /// The scene `given` several times on the command line: one reference as it is; several
+    /// only if all are Radiance `.rad` files, read in order as one scene (as oconv reads them).
+    pub fn joined(given: Vec<SceneRef>) -> Result<SceneRef, SceneSourceError> {
+        let mut files = Vec::new();
+        for g in &given {
+            match g {
+                SceneRef::File(p) if is_rad(p) => files.push(p.clone()),
+                SceneRef::Files(ps) => files.extend(ps.iter().cloned()),
+                _ if given.len() > 1 => return Err(SceneSourceError::NotRadiance { given: g.to_string() }),
+                _ => {}
+            }
+        }
+        match given.len() {
+            0 => Err(SceneSourceError::NotRadiance { given: String::new() }),
+            1 => Ok(given.into_iter().next().expect("one")),
+            _ => Ok(SceneRef::Files(files)),
         }
     }
+
+    /// How a dataset's label and the command line write it (`builtin:cornell`, the path, or
+    /// the paths one a line).
+    pub fn label(&self) -> String {
+        match self {
+            SceneRef::Files(ps) => ps.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join("\n"),
+            _ => self.to_string(),
+        }
+    }
+
+    /// The scene files (which no output may replace): none for a built-in scene.
+    pub fn files(&self) -> Vec<&Path> {
+        match self {
+            SceneRef::File(p) => vec![p.as_path()],
+            SceneRef::Files(ps) => ps.iter().map(PathBuf::as_path).collect(),
+            SceneRef::Builtin(_) => Vec::new(),
+        }
+    }
+}
+
+/// Whether `path` is a Radiance scene file, by its extension.
+fn is_rad(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("rad"))
 }
 
 impl fmt::Display for SceneRef {
@@ -86,6 +124,10 @@ impl fmt::Display for SceneRef {
         match self {
             SceneRef::Builtin(b) => write!(f, "{BUILTIN_PREFIX}{}", b.name()),
             SceneRef::File(p) => write!(f, "{}", p.display()),
+            SceneRef::Files(ps) => {
+                let names: Vec<String> = ps.iter().map(|p| p.display().to_string()).collect();
+                write!(f, "{}", names.join(" "))
+            }
         }
     }
 }
@@ -97,6 +139,14 @@ pub enum SceneSourceError {
     #[error("there is no built-in scene '{given}' (built-in scenes: {})", builtin_names())]
     UnknownBuiltin {
         /// What was given.
+        given: String,
+    },
+    /// Several scenes given, one of them not a Radiance `.rad` file.
+    #[error(
+        "several scene files are read as one scene only in Radiance's format (.rad files, in order, as oconv reads them); {given} is not a .rad file: give one scene file of any other format"
+    )]
+    NotRadiance {
+        /// The one that is not a `.rad` file.
         given: String,
     },
     /// Load options that choose within a scene file, given for a built-in scene.
@@ -157,6 +207,13 @@ pub fn load(scene: &SceneRef, options: &LoadOptions) -> Result<LoadedScene, Scen
                 .map_err(SceneSourceError::Unreadable)?;
             Ok(crate::scene_formats::load_scene_with(path, options)?)
         }
+        SceneRef::Files(paths) => {
+            for path in paths {
+                crate::output_paths::check_input_file(path, "a scene file")
+                    .map_err(SceneSourceError::Unreadable)?;
+            }
+            Ok(crate::scene_formats::radiance::load_files(paths, options)?)
+        }
     }
 }
 
@@ -196,9 +253,27 @@ mod tests {
         assert_eq!(SceneRef::parse("builtin:cornell").unwrap(), SceneRef::cornell());
         assert_eq!(SceneRef::cornell().label(), "builtin:cornell");
         assert_eq!(SceneRef::parse("a/b.xml").unwrap(), SceneRef::File("a/b.xml".into()));
-        assert_eq!(SceneRef::parse("a/b.xml").unwrap().file(), Some(Path::new("a/b.xml")));
+        assert_eq!(SceneRef::parse("a/b.xml").unwrap().files(), vec![Path::new("a/b.xml")]);
         let e = SceneRef::parse("builtin:teapot").unwrap_err().to_string();
         assert_eq!(e, "there is no built-in scene 'builtin:teapot' (built-in scenes: builtin:cornell)");
+    }
+
+    #[test]
+    fn several_files_are_one_radiance_scene() {
+        let two =
+            SceneRef::joined(vec![SceneRef::parse("a.rad").unwrap(), SceneRef::parse("b.RAD").unwrap()]);
+        let two = two.unwrap();
+        assert_eq!(two, SceneRef::Files(vec!["a.rad".into(), "b.RAD".into()]));
+        assert_eq!(SceneRef::parse(&two.label()).unwrap(), two);
+        assert_eq!(two.to_string(), "a.rad b.RAD");
+        assert_eq!(two.files(), vec![Path::new("a.rad"), Path::new("b.RAD")]);
+        let one = SceneRef::joined(vec![SceneRef::parse("a.xml").unwrap()]).unwrap();
+        assert_eq!(one, SceneRef::File("a.xml".into()));
+        for other in ["a.xml", "builtin:cornell"] {
+            let given = vec![SceneRef::parse("a.rad").unwrap(), SceneRef::parse(other).unwrap()];
+            let e = SceneRef::joined(given).unwrap_err().to_string();
+            assert!(e.contains(&format!("{other} is not a .rad file")), "{e}");
+        }
     }
 
     #[test]

@@ -21,10 +21,10 @@ pub struct Args {
     dataset: PathBuf,
     /// Name of the new light in the scene file.
     light: String,
-    /// Scene file with the new light (default: the one recorded in the dataset); the result
-    /// records it.
+    /// Scene file with the new light (default: the one recorded in the dataset; repeated for
+    /// several .rad files); the result records it.
     #[arg(long, value_parser = crate::scene_arg::parse_scene)]
-    scene: Option<opticks_io::scene_source::SceneRef>,
+    scene: Vec<opticks_io::scene_source::SceneRef>,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     /// Paths for the new light (default: its fair share, N·Φ_new/ΣΦ of the lights already traced).
@@ -37,7 +37,7 @@ pub struct Args {
 /// Adds the light.
 pub fn run(a: Args) -> Result<()> {
     let Extending { output, lock: _lock, opened } =
-        a.extend.begin(&a.dataset, a.scene.as_ref(), &a.defines)?;
+        a.extend.begin(&a.dataset, crate::scene_arg::joined(&a.scene)?.as_ref(), &a.defines)?;
     let Opened { reader, scene, scene_ref, options, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) =

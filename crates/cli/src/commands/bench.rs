@@ -14,9 +14,9 @@ use anyhow::Result;
 /// Arguments of `opticks bench`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene file or `builtin:cornell`.
-    #[arg(default_value = "builtin:cornell", value_parser = crate::scene_arg::parse_scene)]
-    scene: opticks_io::scene_source::SceneRef,
+    /// Scene file or `builtin:cornell`; several Radiance .rad files are one scene, as for `trace`.
+    #[arg(default_value = "builtin:cornell", value_parser = crate::scene_arg::parse_scene, num_args = 1..)]
+    scene: Vec<opticks_io::scene_source::SceneRef>,
     /// Light paths per run; e.g. 4194304, 4M, 4e6.
     #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_count, default_value_t = 4_194_304)]
     paths: u64,
@@ -43,7 +43,8 @@ pub struct Args {
 /// Runs the benchmark and prints one JSON line after the human-readable report.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let scene = load_scene(&a.scene, &a.defines)?;
+    let scene_ref = crate::scene_arg::joined(&a.scene)?.expect("a default scene");
+    let scene = load_scene(&scene_ref, &a.defines)?;
     let camera = a.camera.resolve(scene.camera)?;
     // The reference is read and its size checked before the expensive runs.
     let reference = match &a.reference {
@@ -76,7 +77,7 @@ pub fn run(a: Args) -> Result<()> {
     let threads = rayon::current_num_threads();
     output::result(&format!(
         "scene          {} ({} triangles, {threads} threads)",
-        a.scene,
+        scene_ref,
         scene.triangles.len()
     ));
     output::result(&format!(
@@ -97,7 +98,7 @@ pub fn run(a: Args) -> Result<()> {
     ));
     let m = film.mean();
     let mut line = serde_json::json!({
-        "scene": a.scene.label(),
+        "scene": scene_ref.label(),
         "paths": a.paths,
         "threads": threads,
         "trace_s": round(best_trace, 4),

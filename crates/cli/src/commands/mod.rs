@@ -389,9 +389,10 @@ fn open_error(e: OpenError) -> anyhow::Error {
 pub struct DatasetArgs {
     /// Dataset file written by `opticks trace`.
     dataset: std::path::PathBuf,
-    /// Scene file the dataset was traced from (default: the path recorded in the dataset).
+    /// Scene file the dataset was traced from (default: the path recorded in the dataset);
+    /// repeated for a scene of several Radiance .rad files, in the order traced.
     #[arg(long, value_parser = crate::scene_arg::parse_scene)]
-    scene: Option<SceneRef>,
+    scene: Vec<SceneRef>,
     /// Relight: NAME_OR_INDEX=SCALE or NAME_OR_INDEX=R,G,B multiplies that light's power
     /// (0 switches it off); repeatable. No re-tracing: exact.
     #[arg(long = "light", value_parser = light_args::parse_light_scale, allow_hyphen_values = true)]
@@ -404,18 +405,18 @@ impl DatasetArgs {
     /// The command's input files (the dataset, the scene if given), which no output may replace.
     pub fn inputs(&self) -> Vec<&Path> {
         let mut inputs = vec![self.dataset.as_path()];
-        inputs.extend(self.scene.as_ref().and_then(SceneRef::file));
+        inputs.extend(self.scene.iter().flat_map(SceneRef::files));
         inputs
     }
 
     /// The scene given with `--scene`, if any.
-    pub fn scene(&self) -> Option<&SceneRef> {
-        self.scene.as_ref()
+    pub fn scene(&self) -> Result<Option<SceneRef>> {
+        crate::scene_arg::joined(&self.scene)
     }
 
     /// Opens the dataset against its scene and works out the lighting; prints the notes.
     pub fn open(&self) -> Result<LitDataset> {
-        let opened = open_with_scene(&self.dataset, self.scene.as_ref(), &self.defines)?;
+        let opened = open_with_scene(&self.dataset, self.scene()?.as_ref(), &self.defines)?;
         let data = opened.lit(&self.light).map_err(open_error)?;
         for note in data.notes() {
             crate::output::note(note);

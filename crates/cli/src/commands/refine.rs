@@ -24,9 +24,9 @@ pub struct Args {
     /// Light paths to add, over all lights (split in proportion to their power); e.g. 4M, 4e6.
     #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_count)]
     paths: u64,
-    /// Scene file (default: the one recorded in the dataset); the result records it.
+    /// Scene file (default: the one recorded in the dataset); the result records it (repeated for several .rad files).
     #[arg(long, value_parser = crate::scene_arg::parse_scene)]
-    scene: Option<opticks_io::scene_source::SceneRef>,
+    scene: Vec<opticks_io::scene_source::SceneRef>,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
@@ -36,7 +36,7 @@ pub struct Args {
 /// Runs the refinement.
 pub fn run(a: Args) -> Result<()> {
     let Extending { output, lock: _lock, opened } =
-        a.extend.begin(&a.dataset, a.scene.as_ref(), &a.defines)?;
+        a.extend.begin(&a.dataset, crate::scene_arg::joined(&a.scene)?.as_ref(), &a.defines)?;
     let Opened { reader, scene, scene_ref, options, .. } = opened;
     let (seed, strategy) = (a.extend.seed, a.extend.strategy.choice());
     let (mut header, pass) = opticks_core::dataset::refine(reader.header(), &scene, a.paths, seed, &strategy)

@@ -56,7 +56,7 @@ pub fn run(a: Args) -> Result<()> {
     // option the scene's camera cannot take) on the scene.
     let camera = a.camera.resolve(scene.camera).map_err(|e| match e {
         ViewError::Options(_) => anyhow::Error::new(e),
-        e => anyhow::Error::new(e).context(match a.input.scene() {
+        e => anyhow::Error::new(e).context(match a.input.scene().ok().flatten() {
             Some(spec) => format!("the scene given with --scene ({spec})"),
             None => "the dataset's scene".to_string(),
         }),

@@ -36,9 +36,9 @@ pub struct Args {
     /// Replace the output even if it is not the dataset the interrupted run started from.
     #[arg(long)]
     overwrite: bool,
-    /// Scene file (default: the one recorded in the dataset).
+    /// Scene file (default: the one recorded in the dataset) (repeated for several .rad files).
     #[arg(long, value_parser = crate::scene_arg::parse_scene)]
-    scene: Option<opticks_io::scene_source::SceneRef>,
+    scene: Vec<opticks_io::scene_source::SceneRef>,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     #[command(flatten)]
@@ -61,7 +61,7 @@ pub fn run(a: Args) -> Result<()> {
     let intent = WriteIntent { inputs: &[], resuming: Some(&a.partial), overwrite: a.overwrite };
     let _lock = begin_dataset_write(&output, intent)?;
     let Opened { reader, scene, scene_ref, options, .. } =
-        open_with_scene(&a.partial, a.scene.as_ref(), &a.defines)?;
+        open_with_scene(&a.partial, crate::scene_arg::joined(&a.scene)?.as_ref(), &a.defines)?;
     let mut header = reader.header().clone();
     let partial = a.partial.display();
     let pass = resume_plan(&header, &scene).map_err(|e| match e {

@@ -21,9 +21,10 @@ use std::time::Duration;
 /// Arguments of `opticks trace`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene file (Mitsuba 3 XML, VRML97 .wrl/.wrz, OBJ/MTL, glTF .gltf/.glb, Radiance .rad), or `builtin:cornell`.
-    #[arg(value_parser = crate::scene_arg::parse_scene)]
-    scene: opticks_io::scene_source::SceneRef,
+    /// Scene file (Mitsuba 3 XML, VRML97 .wrl/.wrz, OBJ/MTL, glTF .gltf/.glb, Radiance .rad), or
+    /// `builtin:cornell`; several Radiance .rad files are read in order as one scene (as oconv reads them).
+    #[arg(value_parser = crate::scene_arg::parse_scene, required = true, num_args = 1..)]
+    scene: Vec<opticks_io::scene_source::SceneRef>,
     /// Light paths to trace, over all lights (split in proportion to their power); e.g.
     /// 4000000, 4_000_000, 4M, 4e6.
     #[arg(long, allow_hyphen_values = true, value_parser = opticks_io::count_text::parse_count, default_value = "4M")]
@@ -53,22 +54,23 @@ pub struct Args {
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
     a.defines.refuse_camera("trace")?;
-    let inputs: Vec<&Path> = a.scene.file().into_iter().collect();
+    let scene_ref = crate::scene_arg::joined(&a.scene)?.expect("clap requires a scene");
+    let inputs: Vec<&Path> = scene_ref.files();
     let _lock = begin_dataset_write(
         &a.output,
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
     )?;
-    let scene = load_scene(&a.scene, &a.defines)?;
+    let scene = load_scene(&scene_ref, &a.defines)?;
     let options = a.defines.options();
     let (header, pass) = new_trace(
         &scene,
-        &with_options(&label_for(&a.scene.label(), &a.output), &options),
+        &with_options(&label_for(&scene_ref.label(), &a.output), &options),
         a.strategy.settings(a.paths, a.seed),
     );
-    check_emission(&pass.lights).map_err(|e| anyhow!("{}: {e}", a.scene))?;
+    check_emission(&pass.lights).map_err(|e| anyhow!("{scene_ref}: {e}"))?;
     output::detail(&format!(
         "scene {}: {} triangles, {}; plan: {}",
-        a.scene,
+        scene_ref,
         scene.triangles.len(),
         output::count(scene.lights.len() as u64, "light"),
         pass.describe(&header.table)
@@ -77,7 +79,7 @@ pub fn run(a: Args) -> Result<()> {
     let new = NewPaths { scene: &scene, pass };
     let _graceful = crate::interrupt::graceful();
     let progress = TraceProgress::with_time_limit(a.time);
-    let job = write_job((&a.scene, &options), &a.output, header, &[], Some(new), &progress);
+    let job = write_job((&scene_ref, &options), &a.output, header, &[], Some(new), &progress);
     let Some(report) = unless_time_up(job, &progress)? else {
         return Ok(());
     };

@@ -33,9 +33,9 @@ enum HeuristicArg {
 pub struct Args {
     /// Dataset to upgrade.
     dataset: PathBuf,
-    /// Scene file (default: the one recorded in the dataset).
+    /// Scene file (default: the one recorded in the dataset) (repeated for several .rad files).
     #[arg(long, value_parser = crate::scene_arg::parse_scene)]
-    scene: Option<opticks_io::scene_source::SceneRef>,
+    scene: Vec<opticks_io::scene_source::SceneRef>,
     #[command(flatten)]
     defines: crate::scene_arg::DefineArgs,
     /// Where to write the result (default: replace the dataset).
@@ -62,7 +62,7 @@ pub fn run(a: Args) -> Result<()> {
         WriteIntent { inputs: &inputs, overwrite: a.overwrite, ..Default::default() },
     )?;
     let super::Opened { reader, scene, scene_ref, options, .. } =
-        open_with_scene(&a.dataset, a.scene.as_ref(), &a.defines)?;
+        open_with_scene(&a.dataset, crate::scene_arg::joined(&a.scene)?.as_ref(), &a.defines)?;
     // The scene as used (--scene, -D), recorded from where the output is.
     let label = with_options(&label_for(&scene_ref.label(), &output), &options);
     let heuristic = match a.mis_records {

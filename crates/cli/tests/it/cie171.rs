@@ -249,7 +249,16 @@ fn pane(cos_i: f64) -> f64 {
 /// E at (px, py, 0), normal up, through the opening (`roof` or the façade): the midpoint rule
 /// (n × n) for ∫ L(dz) T(cos θ_w) cos θ_p cos θ_w / r² dA.
 fn e_opening(px: f64, py: f64, roof: bool, sky: fn(f64) -> f64, glazed: bool, n: usize) -> f64 {
-    let [a0, a1, b0, b1] = if roof { ROOF } else { FACADE };
+    e_part(px, py, roof, if roof { ROOF } else { FACADE }, sky, glazed, n)
+}
+
+/// As [`e_opening`] over the part [a0, a1] × [b0, b1] of the opening's plane (roof: x, y;
+/// façade: x, z); 0 when empty.
+fn e_part(px: f64, py: f64, roof: bool, part: [f64; 4], sky: fn(f64) -> f64, glazed: bool, n: usize) -> f64 {
+    let [a0, a1, b0, b1] = part;
+    if a1 <= a0 || b1 <= b0 {
+        return 0.0;
+    }
     let (da, db) = ((a1 - a0) / n as f64, (b1 - b0) / n as f64);
     let mut sum = 0.0;
     for i in 0..n {
@@ -337,4 +346,45 @@ fn cie171_5_11_glazed_roof_opening_under_the_cie_overcast_sky() {
 fn cie171_5_12_glazed_facade_opening_under_the_cie_overcast_sky() {
     let f = |x, y| e_opening(x, y, false, overcast, true, 200);
     assert_eq!(sky_points_case("cie171/sky-facade-glazed.rad", "cie171/sky-facade.csv", f), 8);
+}
+
+/// 5.13's mask (x0, x1, y0, y1, z: a black panel 0.5 m over the roof) and 5.14's obstruction
+/// (x0, x1, y, height: a black wall 2 m in front of the façade), as the script writes them.
+const ROOF_MASK: [f64; 5] = [0.0, 2.0, -2.0, 2.0, ROOM_H + 0.5];
+const FACADE_OBSTRUCTION: [f64; 4] = [0.5, 8.0, ROOM_HALF + 2.0, 3.5];
+
+/// E through the opening less the part the external obstruction hides: its central projection
+/// from the point onto the opening's (parallel) plane, ∩ the opening.
+fn e_obstructed_opening(px: f64, py: f64, roof: bool) -> f64 {
+    let hidden = if roof {
+        let [x0, x1, y0, y1, z] = ROOF_MASK;
+        let t = ROOM_H / z;
+        let [ox0, ox1, oy0, oy1] = ROOF;
+        [
+            ox0.max(px + (x0 - px) * t),
+            ox1.min(px + (x1 - px) * t),
+            oy0.max(py + (y0 - py) * t),
+            oy1.min(py + (y1 - py) * t),
+        ]
+    } else {
+        let [x0, x1, y, height] = FACADE_OBSTRUCTION;
+        let t = (ROOM_HALF - py) / (y - py);
+        let [ox0, ox1, oz0, oz1] = FACADE;
+        [ox0.max(px + (x0 - px) * t), ox1.min(px + (x1 - px) * t), oz0, oz1.min(height * t)]
+    };
+    e_opening(px, py, roof, overcast, false, 200) - e_part(px, py, roof, hidden, overcast, false, 200)
+}
+
+/// 5.13: a black panel over the roof opening masks part of the sky.
+#[test]
+fn cie171_5_13_roof_opening_with_an_external_obstruction() {
+    let f = |x, y| e_obstructed_opening(x, y, true);
+    assert_eq!(sky_points_case("cie171/sky-roof-obstructed.rad", "cie171/sky-roof.csv", f), 8);
+}
+
+/// 5.14: a black building across the street hides part of the sky through the façade opening.
+#[test]
+fn cie171_5_14_facade_opening_with_an_external_obstruction() {
+    let f = |x, y| e_obstructed_opening(x, y, false);
+    assert_eq!(sky_points_case("cie171/sky-facade-obstructed.rad", "cie171/sky-facade.csv", f), 8);
 }

@@ -490,3 +490,66 @@ fn radiance_room_traces_and_renders() {
     let m = mean(&rgb);
     assert!(m.iter().all(|&c| c > 0.0 && c.is_finite()), "{m:?}");
 }
+
+/// A Radiance room split over three files — materials, geometry (using them), a sky — given as
+/// `trace mats.rad room.rad sky.rad` is the room of one file: the same triangles and fingerprint,
+/// the same `measure` reading for the same seeds; the dataset records every file, so `measure`
+/// finds them all without `--scene` (or with it repeated). A missing file is named; joining a
+/// `.rad` with another format is refused.
+#[test]
+fn radiance_scene_of_several_files_is_the_one_file_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mats = "void plastic grey 0 0 5 0.5 0.5 0.5 0 0\nvoid plastic floor 0 0 5 0.2 0.2 0.2 0 0\n";
+    let room = "floor polygon f 0 0 12 -2 -2 0 2 -2 0 2 2 0 -2 2 0\n\
+        grey polygon s 0 0 12 -2 -2 0 -2 -2 3 2 -2 3 2 -2 0\ngrey polygon n 0 0 12 -2 2 0 2 2 0 2 2 3 -2 2 3\n\
+        grey polygon w 0 0 12 -2 -2 0 -2 2 0 -2 2 3 -2 -2 3\ngrey polygon e 0 0 12 2 -2 0 2 -2 3 2 2 3 2 2 0\n\
+        grey polygon r1 0 0 12 -2 -2 3 -2 -1 3 2 -1 3 2 -2 3\ngrey polygon r2 0 0 12 -2 1 3 -2 2 3 2 2 3 2 1 3\n";
+    let sky = "!gensky -ang 45 0 -c -b 10\nskyfunc glow sky_glow 0 0 4 1 1 1 0\nsky_glow source sky 0 0 4 0 0 1 180\n";
+    for (name, text) in [("mats.rad", mats), ("room.rad", room), ("sky.rad", sky)] {
+        std::fs::write(d.join(name), text).unwrap();
+    }
+    std::fs::write(d.join("one.rad"), format!("{mats}{room}{sky}")).unwrap();
+    std::fs::write(d.join("p.csv"), "0 0 0, 0 0 1\n1 0.5 1, 0 0 1\n").unwrap();
+    let trace = |scene: &[&str], out: &str| {
+        let mut args = vec!["trace"];
+        args.extend(scene);
+        args.extend(["--paths", "20000", "--seed", "3", "-o", out]);
+        ok(&args, d);
+    };
+    trace(&["mats.rad", "room.rad", "sky.rad"], "three.opds");
+    trace(&["one.rad"], "one.opds");
+    let header = |f: &str| DatasetReader::open(&d.join(f)).unwrap().header().clone();
+    let (three, one) = (header("three.opds"), header("one.opds"));
+    assert_eq!(three.fingerprint, one.fingerprint);
+    assert_eq!(three.table.total_paths(), one.table.total_paths());
+    assert!(
+        three.label.contains("\n+ room.rad\n") && three.label.contains("\n+ sky.rad\n"),
+        "{}",
+        three.label
+    );
+    let triangles = |files: &[&str]| {
+        let refs = files.iter().map(|f| opticks_io::scene_source::SceneRef::File(d.join(f))).collect();
+        let scene = opticks_io::scene_source::SceneRef::joined(refs).unwrap();
+        let loaded = opticks_io::scene_source::load(&scene, &Default::default()).unwrap();
+        opticks_io::scene_source::build(&scene, &loaded.description).unwrap().scene.triangles.len()
+    };
+    assert_eq!(triangles(&["mats.rad", "room.rad", "sky.rad"]), triangles(&["one.rad"]));
+    let measure = |data: &str, out: &str, scene: &[&str]| {
+        let mut args = vec!["measure", data, "--points", "p.csv", "-o", out, "--direct-samples", "64"];
+        for s in scene {
+            args.extend(["--scene", s]);
+        }
+        ok(&args, d);
+        std::fs::read_to_string(d.join(out)).unwrap()
+    };
+    let reading = measure("one.opds", "one.csv", &[]);
+    assert_eq!(measure("three.opds", "three.csv", &[]), reading, "the recorded files, found");
+    assert_eq!(measure("three.opds", "again.csv", &["mats.rad", "room.rad", "sky.rad"]), reading);
+    let e = fails(&["trace", "mats.rad", "gone.rad", "sky.rad", "-o", "x.opds"], d);
+    assert!(e.contains("gone.rad: cannot open a scene file"), "{e}");
+    let e = fails(&["trace", "mats.rad", "builtin:cornell", "-o", "x.opds"], d);
+    assert!(e.contains("builtin:cornell is not a .rad file"), "{e}");
+    let e = fails(&["measure", "three.opds", "--points", "p.csv", "-o", "y.csv", "--scene", "room.rad"], d);
+    assert!(e.contains("undefined modifier \"floor\"") && e.contains("room.rad:1:1"), "{e}");
+}

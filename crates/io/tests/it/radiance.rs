@@ -713,3 +713,61 @@ fn a_radiance_scene_carries_radiances_photometry() {
         assert_eq!(d.photometry, Photometry::REC709_683, "{other}");
     }
 }
+
+/// Several files are one scene read in order, as `oconv a.rad b.rad` reads them: a modifier of
+/// an earlier file modifies surfaces of a later one, a later definition of a name replaces the
+/// earlier from there on (as within one file), errors name the file and line they are in, a
+/// missing file is named, and only `.rad` files are joined.
+#[test]
+fn several_files_are_one_scene_read_in_order() {
+    use opticks_io::scene_source::{self, SceneRef};
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let mats = write("mats.rad", "void plastic wall 0 0 5 0.5 0.5 0.5 0 0\nvoid light lamp 0 0 3 1 1 1\n");
+    let geo = write(
+        "geo.rad",
+        "wall polygon a 0 0 9 0 0 0 1 0 0 0 1 0\nvoid plastic wall 0 0 5 0.2 0.2 0.2 0 0\n\
+         wall polygon b 0 0 9 0 0 1 1 0 1 0 1 1\nlamp polygon l 0 0 9 0 0 5 0 1 5 1 0 5\n",
+    );
+    let load = |files: &[&std::path::Path]| {
+        let given = files.iter().map(|f| SceneRef::parse(f.to_str().unwrap()).unwrap()).collect();
+        scene_source::load(&SceneRef::joined(given).unwrap(), &LoadOptions::default())
+    };
+    let s = load(&[&mats, &geo]).unwrap_or_else(|e| panic!("{e}"));
+    let d = &s.description;
+    let albedo = |name: &str| {
+        let m = d.meshes.iter().find(|m| m.name == name).unwrap();
+        match &d.materials[m.material].bsdf {
+            Bsdf::Lambert(l) => l.reflectance,
+            b => panic!("{b:?}"),
+        }
+    };
+    assert!((albedo("a") - Rgb::splat(0.5)).length() < 1e-6, "the first file's wall");
+    assert!((albedo("b") - Rgb::splat(0.2)).length() < 1e-6, "redefined from there on");
+    assert_eq!(d.photometry, Photometry::RADIANCE);
+    // The same text in one file is the same scene.
+    let one = write(
+        "one.rad",
+        &(std::fs::read_to_string(&mats).unwrap() + &std::fs::read_to_string(&geo).unwrap()),
+    );
+    let single = load_scene(&one).unwrap();
+    let shape = |d: &opticks_core::scene::SceneDescription| {
+        let m =
+            d.meshes.iter().map(|m| (m.name.clone(), m.positions.clone(), m.triangles.clone(), m.material));
+        m.collect::<Vec<_>>()
+    };
+    assert_eq!(shape(&single.description), shape(d));
+    // The geometry alone: its first use of `wall` is undefined, at its own line.
+    let e = load(&[&geo]).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("geo.rad:1:1") && e.contains("undefined modifier \"wall\""), "{e}");
+    let bad = write("bad.rad", "\nwall sphere s 0 0 3 0 0 0\n");
+    let e = load(&[&mats, &bad]).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("bad.rad:2:1: sphere s"), "{e}");
+    let missing = dir.path().join("missing.rad");
+    let e = load(&[&mats, &missing]).map(|_| ()).unwrap_err().to_string();
+    assert!(e.contains("missing.rad: cannot open a scene file"), "{e}");
+}

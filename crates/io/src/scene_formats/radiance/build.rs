@@ -124,8 +124,9 @@ struct Builder {
     void_surfaces: usize,
 }
 
-/// Reads `path` and everything it includes into a scene (no camera: see [`super::view`]).
-pub fn build(path: &Path) -> Result<LoadedScene, SceneFileError> {
+/// Reads `paths` in order, with everything they include, into one scene (no camera: see
+/// [`super::view`]); the modifiers each defines are defined in those after it.
+pub fn build(paths: &[PathBuf]) -> Result<LoadedScene, SceneFileError> {
     let mut b = Builder {
         // Radiance's numbers are "visible watts": lux by its own rule (179 lm/W, its primaries).
         desc: SceneDescription { photometry: Photometry::RADIANCE, ..Default::default() },
@@ -137,25 +138,28 @@ pub fn build(path: &Path) -> Result<LoadedScene, SceneFileError> {
         triangles: 0,
         void_surfaces: 0,
     };
-    let data = crate::input_file::read(path)
-        .map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
-    b.file(path, &data, &Frame::default())?;
+    for path in paths {
+        let data = crate::input_file::read(path)
+            .map_err(|source| SceneFileError::Read { path: path.to_path_buf(), source })?;
+        b.file(path, &data, &Frame::default())?;
+    }
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    let path = names.join(" ");
     if b.void_surfaces > 0 {
         b.warnings.push(format!(
             "{}: {} surface(s) modified by void (or an illum without an alternate material) are invisible and were left out",
-            path.display(),
+            path,
             b.void_surfaces
         ));
     }
     if b.desc.meshes.is_empty() {
-        b.warnings.push(format!("{}: the scene has no surfaces", path.display()));
+        b.warnings.push(format!("{path}: the scene has no surfaces"));
     } else if b.desc.meshes.iter().all(|m| m.emission.is_none())
         && b.desc.directional_lights.is_empty()
         && b.desc.environment_lights.is_empty()
     {
         b.warnings.push(format!(
-            "{}: no light or glow surface and no source (sun or sky): the scene has no light of its own",
-            path.display()
+            "{path}: no light or glow surface and no source (sun or sky): the scene has no light of its own"
         ));
     }
     Ok(LoadedScene { description: b.desc, warnings: b.warnings })

@@ -25,7 +25,7 @@ mod xform;
 pub use sky::cie::{CieGeneralSky, SkyModel};
 
 use super::{FileLocation, LoadOptions, LoadedScene, SceneFileError};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// An error at `at` about `element` (`polygon floor`, `!gensky`).
 fn err(at: &FileLocation, element: &str, message: String) -> SceneFileError {
@@ -36,6 +36,15 @@ fn err(at: &FileLocation, element: &str, message: String) -> SceneFileError {
 /// view file, or view options when it starts with `-`; without it, a view of the bounding box
 /// (`docs/scene-formats.md`, "Views and the camera"). `--gltf-scene` is refused.
 pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFileError> {
+    load_files(&[path.to_path_buf()], options)
+}
+
+/// Loads several Radiance files as one scene, read in order as `oconv a.rad b.rad` reads them:
+/// a modifier defined in one file is defined in the files after it, and a later definition of
+/// a name replaces the earlier one from there on, as within one file. Otherwise as [`load`];
+/// `paths` is not empty.
+pub fn load_files(paths: &[PathBuf], options: &LoadOptions) -> Result<LoadedScene, SceneFileError> {
+    let path = paths.first().map_or(Path::new(""), PathBuf::as_path);
     if let Some(s) = &options.gltf_scene {
         return Err(err(
             &FileLocation { file: path.to_path_buf(), line: 0, column: 0 },
@@ -43,7 +52,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<LoadedScene, SceneFile
             "cannot be used here: a Radiance file has one scene".into(),
         ));
     }
-    let mut loaded = build::build(path)?;
+    let mut loaded = build::build(paths)?;
     let camera = match &options.camera {
         None => view::default_view(&loaded.description),
         Some(spec) => Some(camera_of(spec, path)?),
