@@ -169,49 +169,37 @@ fn camera_paths_allocated_pixel_by_pixel_keep_the_image_unbiased() {
     assert!((r - 1.0).abs() < 0.05, "blocks of 1 camera path against those of 15: {r}");
 }
 
-/// Camera paths only where they are needed (`--coverage where-needed`, issue 25): `mirror-glass`
-/// as in [`mirror_glass_is_complete`] (400 k light paths, 8 camera paths per pixel, n_c = 1),
-/// but the pixels that see only diffuse surfaces get none and are the splats' alone (weight 1).
-/// The mirror and the glass sphere must still match Mitsuba: pixels wrongly left to the splats
-/// show them black (the light estimator's image). Measured over seeds 1–5: mean ratios within
-/// 0.44 %, worst 8×8 region 6.6–23 % off, mask ratios 0.964–1.059; 15.1 % of the pixels get
-/// camera paths. Bounds as there: mean 1.5 %, regions 30 %, masks 10 %. Seed 5.
+/// Which pixels get camera paths (`--coverage`, issue 25) keeps the image complete on
+/// `mirror-glass` (400 k light paths, 8 camera paths per pixel, n_c = 1): the mirror and the glass
+/// sphere must still match Mitsuba, as with camera paths everywhere ([`mirror_glass_is_complete`]'s
+/// bounds); pixels wrongly left to the splats show them black (the light estimator's image).
+/// * `where-needed`: only the pixels that may see something but a diffuse surface (15.1 %).
+///   Seeds 1–5: mean ratios within 0.44 %, worst 8×8 region 6.6–23 % off, masks 0.964–1.059.
+/// * `auto` (the default): those, and the tiles of the others where the pilot finds camera
+///   paths worth it (`sensor::bidirectional::pilot`); the same choice for the same seed (it reads
+///   no clock), every needed pixel included, not everything. Seeds 1–5: 37.6–41.8 % of the
+///   pixels, mean ratios within 0.3 %, worst region 5.8–23 %, masks 0.964–1.059.
+/// Seed 5.
 #[test]
-fn camera_paths_only_where_needed_keep_the_image_complete() {
-    use opticks_core::sensor::bidirectional::{Allocation, cameras_needed};
-    let name = "mirror-glass";
-    let scene = load(dir(name).join("scene.xml"));
-    let (table, chunks) = common::trace_chunks(&scene, 400_000, 5);
-    let cam: Sensor = Pinhole::new(scene.camera.as_ref().unwrap()).unwrap().into();
-    let needed = cameras_needed(&scene, &cam).expect("a pinhole camera");
-    let share = needed.iter().filter(|&&n| n).count() as f64 / needed.len() as f64;
-    eprintln!("{:.1} % of the pixels get camera paths", 100.0 * share);
-    assert!(share > 0.05 && share < 0.5, "{share}");
-    let allocation = Allocation::where_needed(Some(&needed), 8);
-    let film = common::render_bidirectional_allocated(&scene, cam, &table, &chunks, true, &allocation, 1, 5)
-        .to_rgb_f32();
-    check_mirror_glass("mirror-glass where needed", &film);
-}
-
-/// The default coverage (`auto`, issue 25): the pixels that need camera paths, and the tiles of
-/// the others where the pilot finds them worth it (`sensor::bidirectional::pilot`). On
-/// `mirror-glass` (400 k light paths, 8 camera paths per pixel, n_c = 1) the image must match
-/// Mitsuba as with camera paths everywhere: the pilot's choice, whatever its noise, cannot bias
-/// it. The choice is the same for the same seed (it reads no clock), includes every pixel that
-/// needs camera paths, and is not everything. Seeds 1–5 (this test's seed 5): 37.6–41.8 % of
-/// the pixels chosen, mean ratios within 0.3 %, worst 8×8 region 5.8–23 %, masks 0.964–1.059;
-/// bounds as in [`mirror_glass_is_complete`].
-#[test]
-fn the_piloted_coverage_keeps_the_image_complete() {
+fn camera_paths_where_needed_or_piloted_keep_the_image_complete() {
     use opticks_core::dataset::{Directions, Heuristic};
     use opticks_core::sensor::SampleBatch;
     use opticks_core::sensor::bidirectional::{Allocation, Settings, cameras_needed, pilot};
     use opticks_core::sensor::meter::Group;
-    let name = "mirror-glass";
-    let scene = load(dir(name).join("scene.xml"));
+    let scene = load(dir("mirror-glass").join("scene.xml"));
     let (table, chunks) = common::trace_chunks(&scene, 400_000, 5);
     let cam: Sensor = Pinhole::new(scene.camera.as_ref().unwrap()).unwrap().into();
+    let share = |c: &[bool]| c.iter().filter(|&&n| n).count() as f64 / c.len() as f64;
+    let render = |cameras: &[bool]| {
+        let allocation = Allocation::where_needed(Some(cameras), 8);
+        common::render_bidirectional_allocated(&scene, cam, &table, &chunks, true, &allocation, 1, 5)
+            .to_rgb_f32()
+    };
     let needed = cameras_needed(&scene, &cam).expect("a pinhole camera");
+    eprintln!("where needed: {:.1} % of the pixels get camera paths", 100.0 * share(&needed));
+    assert!(share(&needed) > 0.05 && share(&needed) < 0.5, "{}", share(&needed));
+    check_mirror_glass("mirror-glass where needed", &render(&needed));
+
     let groups: Vec<Group> = chunks.iter().map(|c| Group { light: c.light, paths: c.paths }).collect();
     let names: Vec<&str> = table.lights.iter().map(|l| l.name.as_str()).collect();
     let flux: Vec<Rgb> = (0..names.len()).map(|k| table.flux_per_path(k)).collect();
@@ -236,13 +224,9 @@ fn the_piloted_coverage_keeps_the_image_complete() {
         needed.iter().zip(&cameras).all(|(n, c)| !n || *c),
         "every pixel that needs camera paths gets them"
     );
-    let share = cameras.iter().filter(|&&c| c).count() as f64 / cameras.len() as f64;
-    eprintln!("{:.1} % of the pixels get camera paths", 100.0 * share);
-    assert!(share < 1.0, "{share}");
-    let allocation = Allocation::where_needed(Some(&cameras), 8);
-    let film = common::render_bidirectional_allocated(&scene, cam, &table, &chunks, true, &allocation, 1, 5)
-        .to_rgb_f32();
-    check_mirror_glass("mirror-glass piloted", &film);
+    eprintln!("piloted: {:.1} % of the pixels get camera paths", 100.0 * share(&cameras));
+    assert!(share(&cameras) < 1.0, "{}", share(&cameras));
+    check_mirror_glass("mirror-glass piloted", &render(&cameras));
 }
 
 /// Mixed and thin delta lobes: Mitsuba's smooth `plastic` (a delta coating over a diffuse base:
