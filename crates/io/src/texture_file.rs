@@ -118,6 +118,18 @@ pub fn read_texture_within(path: &Path, raw: bool, max_texels: u64) -> Result<Te
     }
 }
 
+/// Whether `path` is a PNG or JPEG image of one grey channel (with or without alpha), read from
+/// its header; false for every other file, and for one that cannot be read (its reader says why).
+pub fn is_grey(path: &Path) -> bool {
+    use image::ImageDecoder;
+    let grey = || -> Option<bool> {
+        let reader = image::ImageReader::open(path).ok()?.with_guessed_format().ok()?;
+        let colour = reader.into_decoder().ok()?.color_type();
+        Some(!colour.has_color())
+    };
+    grey().unwrap_or(false)
+}
+
 /// Checks a header's size against `limit` texels.
 fn check_size(width: u64, height: u64, limit: u64) -> Result<(), TextureError> {
     if width == 0 || height == 0 {

@@ -75,6 +75,12 @@
 //! `cameras`: the shadows' pattern and what is seen through each surface. A mask read as opaque
 //! or as fully open moves the regions it covers by far more than 5.5σ.
 //!
+//! `normalmap` (96 × 72, 2²⁰ paths): Mitsuba's `normalmap` — a diffuse floor and a rough-plastic
+//! card shaded by a raw bitmap of 4 × 4 cells of normals tilted 25° toward four azimuths (flat on
+//! the diagonal; `testdata/mitsuba/normalmap/make_scene.py`) — against a Mitsuba `path`
+//! reference, light estimator, 8 × 8 regions as for `mask`: a tangent frame swapped or mirrored,
+//! a map read as sRGB or upside down, or a lost adjoint correction moves the cells' regions.
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 use opticks_testkit as common;
@@ -217,4 +223,9 @@ fn mitsuba_roughness_and_mesh_attribute_textures_match_mitsuba() {
 #[test]
 fn mitsuba_mask_matches_mitsuba() {
     check_path_reference("mask", "scene.xml", "reference-path", 1 << 20, 1);
+}
+
+#[test]
+fn mitsuba_normalmap_matches_mitsuba() {
+    check_path_reference("normalmap", "scene.xml", "reference-path", 1 << 20, 1);
 }

@@ -27,6 +27,7 @@ use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{mix, unit_from_hash};
+use crate::texture::ColourSlot;
 
 /// A validated, ray-traceable scene.
 #[derive(Debug)]
@@ -51,6 +52,8 @@ pub struct Scene {
     opacity_of: Vec<Option<u8>>,
     /// Whether any material is masked: only then do ray queries ask [`Scene::meets`].
     masked: bool,
+    /// Per material, its normal map's index in `textures` (Mitsuba's `normalmap`), if any.
+    normal_map_of: Vec<Option<u8>>,
     /// Whether any triangle's material is a thin pane: only then does
     /// [`Scene::shadow_transmittance`] look past the first hit (`super::panes`).
     pub(super) panes: bool,
@@ -122,6 +125,7 @@ impl Scene {
             masked: opacity_of.iter().any(Option::is_some),
             panes: flat.material_of.iter().any(|&m| desc.materials[m as usize].bsdf.is_pane()),
             opacity_of,
+            normal_map_of: textures::normal_maps(&textures),
             normals: flat.triangles.iter().map(Triangle::normal).collect(),
             triangles: flat.triangles,
             shading_of: flat.shading_of,
@@ -231,9 +235,22 @@ impl Scene {
 
     /// The normals of triangle `prim` at the point `p` on it: the geometric normal and the
     /// vertex normals interpolated at p's barycentrics (recomputed from p, so a stored sample
-    /// needs no more than its position and triangle).
+    /// needs no more than its position and triangle), perturbed by the material's normal map if
+    /// it has one ([`Scene::normal_mapped`]). Every estimator shades with these, so a normal map
+    /// is a shading normal like any other: the adjoint rule and the leak guard of
+    /// [`crate::bsdf::shading`] apply to it.
     #[inline]
     pub fn normals_at(&self, prim: u32, p: Vec3) -> SurfaceNormals {
+        let n = self.interpolated_normals(prim, p);
+        match self.normal_map_of[self.material_of[prim as usize] as usize] {
+            None => n,
+            Some(k) => self.normal_mapped(prim, p, n, k),
+        }
+    }
+
+    /// The geometric normal and the interpolated vertex normals at `p` on triangle `prim`.
+    #[inline]
+    fn interpolated_normals(&self, prim: u32, p: Vec3) -> SurfaceNormals {
         let ng = self.normals[prim as usize];
         let k = self.shading_of[prim as usize];
         if k == NO_SHADING {
@@ -251,6 +268,52 @@ impl Scene {
         }
     }
 
+    /// Mitsuba 3's `normalmap`: the normal map's colour c at p (texture `k` of the triangle's
+    /// material) is the normal 2c − 1 in the shading frame (s, t, n) of `n`, where s is dp/du
+    /// made orthogonal to the shading normal n ([`Scene::dp_du`]; Mitsuba's
+    /// `initialize_sh_frame`) and t = n × s. A map value of (0, 0, 1) leaves `n` as it is
+    /// (bit for bit), as does a value that would leave the geometric side of the surface or
+    /// has no direction (the shading normal stays on the geometric side, as interpolated ones
+    /// do).
+    #[inline(never)]
+    fn normal_mapped(&self, prim: u32, p: Vec3, n: SurfaceNormals, k: u8) -> SurfaceNormals {
+        let m = self.material_of[prim as usize] as usize;
+        let uv = self.uv_at(prim, p);
+        let local = self.textures[m][k as usize].texture.eval(uv, Rgb::ZERO) * 2.0 - 1.0;
+        if local.x == 0.0 && local.y == 0.0 && local.z > 0.0 {
+            return n;
+        }
+        let ns = n.shading;
+        let dpdu = self.dp_du(prim);
+        let s = (dpdu - ns * ns.dot(dpdu)).normalize_or_zero();
+        let s = if s == Vec3::ZERO { crate::math::Frame::from_normal(ns).s } else { s };
+        let t = ns.cross(s);
+        let mapped = (s * local.x + t * local.y + ns * local.z).normalize_or_zero();
+        if mapped.dot(n.geometric) > 0.0 {
+            SurfaceNormals { geometric: n.geometric, shading: mapped }
+        } else {
+            n
+        }
+    }
+
+    /// ∂p/∂u of triangle `prim` (Mitsuba's mesh): from its vertex UVs, or, without UVs, the
+    /// edge v1 − v0 (the barycentric parameterisation); zero where the UVs are degenerate.
+    #[inline]
+    fn dp_du(&self, prim: u32) -> Vec3 {
+        let tri = &self.triangles[prim as usize];
+        let k = self.uv_of[prim as usize];
+        if k == NO_UV {
+            return tri.e1;
+        }
+        let [a, b, c] = self.uvs[k as usize];
+        let (d0, d1) = (b - a, c - a);
+        let det = d0.x * d1.y - d0.y * d1.x;
+        if det == 0.0 {
+            return Vec3::ZERO;
+        }
+        (tri.e1 * d1.y - tri.e2 * d0.y) / det
+    }
+
     /// Whether any triangle has shading normals.
     pub fn has_shading_normals(&self) -> bool {
         !self.shading_normals.is_empty()
@@ -266,7 +329,7 @@ impl Scene {
 
     /// The material of triangle `prim` at the point `p` on it: its textured parameters evaluated
     /// at p's texture coordinates ([`Scene::uv_at`]) and, for mesh attributes, the triangle's
-    /// values at p's barycentrics. An untextured material is the scene's own (no
+    /// values at p's barycentrics. An untextured material (or one whose only textures are a normal map or an opacity, not the BSDF's) is the scene's own (no
     /// lookup, no copy); a textured one is a copy without a name, kept in `resolved` (the
     /// caller's slot, `&mut None`: a plain reference out, so the hot loops pay nothing for
     /// textures they do not have).
@@ -274,7 +337,8 @@ impl Scene {
     pub fn material_at<'s>(&'s self, prim: u32, p: Vec3, resolved: &'s mut Option<Material>) -> &'s Material {
         let m = self.material_of[prim as usize] as usize;
         let textures = &self.textures[m];
-        if textures.is_empty() {
+        // A normal map and an opacity are not parameters of the BSDF.
+        if textures.iter().all(|b| matches!(b.slot, ColourSlot::NormalMap | ColourSlot::Opacity)) {
             return &self.materials[m];
         }
         let b = self.triangles[prim as usize].barycentrics(p);

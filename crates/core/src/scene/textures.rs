@@ -100,7 +100,12 @@ pub(super) fn bind(
             }
         };
         let (lo, hi) = range;
-        if matches!(b.slot, ColourSlot::Opacity | ColourSlot::Weight) {
+        if b.slot == ColourSlot::NormalMap {
+            // Any colour is a direction (2c − 1, normalised where used); only a bitmap is one.
+            if !matches!(&*b.texture, Texture::Bitmap(_)) {
+                return Err(bad(m.name.clone(), "a normal map must be a bitmap".into()));
+            }
+        } else if matches!(b.slot, ColourSlot::Opacity | ColourSlot::Weight) {
             if !(lo.x >= 0.0 && hi.x <= 1.0) {
                 return Err(bad(
                     m.name.clone(),
@@ -139,7 +144,11 @@ pub(super) fn bind(
             return Err(bad(m.name.clone(), "the parameter has two textures".into()));
         }
         let isotropic = |s: ColourSlot| s == ColourSlot::Alpha;
-        if list.iter().any(|x| !x.slot.is_colour() && isotropic(x.slot) != isotropic(b.slot)) {
+        let roughness =
+            |s: ColourSlot| matches!(s, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV);
+        if roughness(b.slot)
+            && list.iter().any(|x| roughness(x.slot) && isotropic(x.slot) != isotropic(b.slot))
+        {
             return Err(bad(m.name.clone(), "alpha and alpha_u/alpha_v cannot both be textured".into()));
         }
         let attribute = match &*b.texture {
@@ -178,6 +187,15 @@ pub(super) fn opacities(textures: &MaterialTextures) -> Vec<Option<u8>> {
         .collect()
 }
 
+/// Per material, the index in its list of its [`ColourSlot::NormalMap`] texture (a
+/// normal-mapped surface), if any.
+pub(super) fn normal_maps(textures: &MaterialTextures) -> Vec<Option<u8>> {
+    textures
+        .iter()
+        .map(|list| list.iter().position(|b| b.slot == ColourSlot::NormalMap).map(|k| k as u8))
+        .collect()
+}
+
 /// The opacity of `bound` (an [`opacities`] entry) at triangle `prim`'s point of barycentrics
 /// (b1, b2) and texture coordinates `uv`, in [0, 1].
 #[inline]
@@ -204,7 +222,7 @@ pub(super) fn resolve(
     uv: Vec2,
 ) -> Material {
     let mut bsdf = material.bsdf.clone();
-    for b in textures.iter().filter(|b| b.slot != ColourSlot::Opacity) {
+    for b in textures.iter().filter(|b| !matches!(b.slot, ColourSlot::Opacity | ColourSlot::NormalMap)) {
         let attribute = b.attribute.map_or(Rgb::ZERO, |k| tables[k].at(prim, b1, b2));
         if b.slot.is_colour() {
             set_colour(&mut bsdf, b.slot, b.texture.eval(uv, attribute));
@@ -274,6 +292,68 @@ mod tests {
         let c = tri.point(0.2, 0.3);
         assert!((scene.uv_at(red, c) - Vec2::new(0.2, 0.3)).length() < 1e-5);
         assert!(std::ptr::eq(scene.material_at(red, c, &mut None), &scene.materials[1]));
+    }
+
+    /// The Cornell box whose white material (floor UV (x, z) → [0, 1]²: dp/du = +x, t = n × s =
+    /// −z on the floor of normal +y) has a one-texel normal map of colour `c`.
+    fn normal_mapped_box(c: Rgb) -> (Scene, Scene) {
+        let bitmap = crate::texture::Bitmap::new(
+            1,
+            1,
+            vec![c],
+            crate::texture::FilterType::Bilinear,
+            crate::texture::WrapMode::Repeat,
+            UvTransform::IDENTITY,
+        )
+        .unwrap();
+        let mut d = textured_box(checker(0.5, 0.5));
+        d.textures[0] = TextureBinding {
+            material: 0,
+            slot: ColourSlot::NormalMap,
+            texture: Arc::new(Texture::Bitmap(bitmap)),
+        };
+        let mut plain = d.clone();
+        plain.textures.clear();
+        (Scene::build(&d).unwrap(), Scene::build(&plain).unwrap())
+    }
+
+    /// A flat normal map ((0.5, 0.5, 1): the normal (0, 0, 1)) changes nothing, bit for bit:
+    /// normals, the material and so every BSDF value and sample.
+    #[test]
+    fn a_flat_normal_map_changes_nothing() {
+        let (mapped, plain) = normal_mapped_box(Rgb::new(0.5, 0.5, 1.0));
+        for prim in 0..mapped.triangles.len() as u32 {
+            for (b1, b2) in [(0.1, 0.1), (0.3, 0.5), (0.7, 0.2)] {
+                let p = mapped.triangles[prim as usize].point(b1, b2);
+                assert_eq!(mapped.normals_at(prim, p), plain.normals_at(prim, p), "triangle {prim}");
+                assert_eq!(mapped.material_at(prim, p, &mut None), plain.material_at(prim, p, &mut None));
+            }
+        }
+    }
+
+    /// A tilted normal map tilts the shading normal in the frame (dp/du, n × dp/du, n), and the
+    /// geometric normal stays.
+    #[test]
+    fn a_tilted_normal_map_tilts_the_shading_normal_in_the_uv_frame() {
+        let (a, b) = (0.4f32.sin(), 0.4f32.cos());
+        let (mapped, _) = normal_mapped_box((Rgb::new(a, 0.3, b) + 1.0) / 2.0);
+        let floor = (0..mapped.triangles.len() as u32)
+            .find(|&t| mapped.normal(t).y > 0.9 && mapped.material(t).name == "white")
+            .unwrap();
+        let p = mapped.triangles[floor as usize].point(0.2, 0.3);
+        let n = mapped.normals_at(floor, p);
+        assert_eq!(n.geometric, mapped.normal(floor));
+        let want = Vec3::new(a, b, -0.3).normalize();
+        assert!((n.shading - want).length() < 1e-5, "{} vs {want}", n.shading);
+    }
+
+    /// Only a bitmap can be a normal map.
+    #[test]
+    fn a_normal_map_must_be_a_bitmap() {
+        let mut d = textured_box(checker(0.5, 0.5));
+        d.textures[0].slot = ColourSlot::NormalMap;
+        let e = Scene::build(&d).unwrap_err().to_string();
+        assert!(e.contains("must be a bitmap"), "{e}");
     }
 
     #[test]

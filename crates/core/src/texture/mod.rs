@@ -425,6 +425,9 @@ pub enum ColourSlot {
     /// `opacity` of Mitsuba's `mask`: not a BSDF parameter but the probability that a ray meets
     /// the surface at all (`crate::scene`'s masked intersection); a float (`eval_1`) in [0, 1].
     Opacity,
+    /// `normalmap` of Mitsuba's `normalmap`: not a BSDF parameter but the shading normal, an RGB
+    /// texture whose colour c is the tangent-space normal 2c − 1 ([`crate::scene::Scene::normals_at`]).
+    NormalMap,
 }
 
 impl ColourSlot {
@@ -440,12 +443,13 @@ impl ColourSlot {
             ColourSlot::AlphaV => "alpha_v",
             ColourSlot::Weight => "weight",
             ColourSlot::Opacity => "opacity",
+            ColourSlot::NormalMap => "normalmap",
         }
     }
 
     /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`], a blend's
-    /// [`ColourSlot::Weight`], set by [`set_weight`], or the [`ColourSlot::Opacity`] of a masked
-    /// surface).
+    /// [`ColourSlot::Weight`], set by [`set_weight`], the [`ColourSlot::Opacity`] of a masked
+    /// surface or the [`ColourSlot::NormalMap`] of a normal-mapped one).
     pub fn is_colour(self) -> bool {
         !matches!(
             self,
@@ -454,6 +458,7 @@ impl ColourSlot {
                 | ColourSlot::AlphaV
                 | ColourSlot::Weight
                 | ColourSlot::Opacity
+                | ColourSlot::NormalMap
         )
     }
 }

@@ -61,6 +61,7 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "roughplastic", extension: false, build: roughplastic },
     BsdfType { name: "blendbsdf", extension: false, build: blendbsdf },
     BsdfType { name: "mask", extension: false, build: mask },
+    BsdfType { name: "normalmap", extension: false, build: normalmap },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
@@ -263,6 +264,38 @@ fn mask<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> 
     let nested = one_nested(b, e, p, "mask")?;
     if nested.textures.iter().any(|(slot, _)| *slot == ColourSlot::Opacity) {
         return Err(p.objects()[0].err("a mask inside a mask is not supported (give one opacity)"));
+    }
+    b.bsdf_textures.extend(nested.textures);
+    Ok((nested.bsdf, nested.two_sided))
+}
+
+/// `normalmap` (Mitsuba 3's) around one nested BSDF: the nested BSDF shaded with the normal of
+/// an RGB `normalmap` bitmap read raw ([`super::texture::normal_map`]; the scene perturbs the
+/// shading normal, `opticks_core::scene::Scene::normals_at`). Mitsuba's `flip_invalid_normals`
+/// and `use_shadowing_function` are read but only their `false` is Mitsuba's behaviour here:
+/// normals facing away from the viewer are not flipped and no shadowing term is applied
+/// (docs/scene-formats.md).
+fn normalmap<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    let Some(map) = p.take_object("normalmap") else {
+        return Err(e.err(
+            "a normalmap BSDF needs its normal map: <texture name=\"normalmap\" type=\"bitmap\"> \
+             with <boolean name=\"raw\" value=\"true\"/>",
+        ));
+    };
+    super::texture::normal_map(b, p, map)?;
+    let flip = p.bool("flip_invalid_normals")?;
+    let shadowing = p.bool("use_shadowing_function")?;
+    if flip != Some(false) || shadowing != Some(false) {
+        b.warn(
+            e,
+            "Opticks's normalmap neither flips normals facing away from the viewer nor applies \
+             Mitsuba's shadowing term (it renders as flip_invalid_normals and use_shadowing_function \
+             false; Mitsuba's defaults are true)",
+        );
+    }
+    let nested = one_nested(b, e, p, "normalmap")?;
+    if nested.textures.iter().any(|(slot, _)| *slot == ColourSlot::NormalMap) {
+        return Err(p.objects()[0].err("a normalmap inside a normalmap is not supported (give one map)"));
     }
     b.bsdf_textures.extend(nested.textures);
     Ok((nested.bsdf, nested.two_sided))

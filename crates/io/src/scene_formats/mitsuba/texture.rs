@@ -111,6 +111,46 @@ pub fn weight<'d>(b: &mut Builder<'d>, p: &mut Props<'d>) -> Result<Option<(f64,
     Ok(Some((hi as f64, e)))
 }
 
+/// The `normalmap` of a `normalmap` BSDF: the texture `e` (nested or referred to), which must be
+/// a `bitmap` read `raw` (its colours are directions, not sRGB-encoded reflectances) of an RGB
+/// image; recorded as [`ColourSlot::NormalMap`].
+pub fn normal_map<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Element) -> Result<()> {
+    let t = match e.tag.as_str() {
+        "ref" => e.target.map(|i| b.doc.top(i)).filter(|t| t.tag == "texture").unwrap_or(e),
+        _ => e,
+    };
+    if t.tag == "texture" {
+        if t.raw("type") != Some("bitmap") {
+            return Err(t.err(format!(
+                "a normal map must be a bitmap texture, not \"{}\"",
+                t.raw("type").unwrap_or("")
+            )));
+        }
+        let is = |c: &Element, tag: &str, name: &str| c.tag == tag && c.raw("name") == Some(name);
+        let raw = t.children.iter().find(|c| is(c, "boolean", "raw"));
+        if !raw.and_then(|c| c.raw("value")).is_some_and(|v| v.trim().eq_ignore_ascii_case("true")) {
+            return Err(t.err(
+                "a normal map must be read raw: add <boolean name=\"raw\" value=\"true\"/> to its bitmap \
+                 (its colours are directions, not sRGB-encoded colours)",
+            ));
+        }
+        if let Some(f) = t.children.iter().find(|c| is(c, "string", "filename"))
+            && let Some(file) = f.raw("value")
+        {
+            let path = b.doc.resolve(f, file);
+            if crate::texture_file::is_grey(&path) {
+                return Err(f.attr_err(
+                    "value",
+                    format!("{}: a normal map must be an RGB image, not a grey one", path.display()),
+                ));
+            }
+        }
+    }
+    let texture = parameter_texture(b, p, "normalmap", e)?;
+    b.bsdf_textures.push((ColourSlot::NormalMap, texture));
+    Ok(())
+}
+
 /// The texture `e` given as the float parameter `name`, whose `eval_1` must lie in [0, 1] (an
 /// error at `e` otherwise).
 fn unit_texture<'d>(
