@@ -276,18 +276,23 @@ fn roughplastic_matches_mitsuba_path() {
     let scene = load(dir(name).join("scene.xml"));
     let reference = exr(dir(name).join("reference-path.exr"));
     let film = render(&scene, 200_000, 16, 1, &[]).to_rgb_f32();
-    let c = compare(&film, &reference);
-    let (gf, gr) = (grid_of(4, &film, 64, 48), grid_of(4, &reference, 64, 48));
+    check_regions(name, &film, &reference, (64, 48), ROUGH_PLASTIC_TOL);
+}
+
+/// `film` against `reference` (both `size`): the image mean per channel within `tol.0`, and every
+/// 4×4 region's mean within `tol.1` (relative).
+fn check_regions(label: &str, film: &[f32], reference: &[f32], size: (usize, usize), tol: (f64, f64)) {
+    let c = compare(film, reference);
+    let (gf, gr) = (grid_of(4, film, size.0, size.1), grid_of(4, reference, size.0, size.1));
     let worst = gf.iter().zip(&gr).map(|(a, b)| (a / b - 1.0).abs()).fold(0.0, f64::max);
     eprintln!(
-        "{name}: relMSE {:.4e}, mean ratio {:?}, worst of 4×4 regions {worst:.4}",
+        "{label}: relMSE {:.4e}, mean ratio {:?}, worst of 4×4 regions {worst:.4}",
         c.relmse, c.mean_ratio
     );
-    let (mean_tol, region_tol) = ROUGH_PLASTIC_TOL;
     for (ch, r) in c.mean_ratio.iter().enumerate() {
-        assert!((r - 1.0).abs() < mean_tol, "{name}: channel {ch} mean ratio {r}");
+        assert!((r - 1.0).abs() < tol.0, "{label}: channel {ch} mean ratio {r}");
     }
-    assert!(worst < region_tol, "{name}: a 4×4 region is {worst:.3} off");
+    assert!(worst < tol.1, "{label}: a 4×4 region is {worst:.3} off");
 }
 
 /// (mean, region) bounds of [`roughplastic_matches_mitsuba_path`]. Measured over seeds 1–5:
@@ -471,18 +476,7 @@ fn normalmap_matches_mitsuba_path() {
     let reference = exr(dir(name).join("reference-path.exr"));
     let seed = std::env::var("OPTICKS_TEST_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
     let film = render(&scene, 200_000, 16, seed, &[]).to_rgb_f32();
-    let c = compare(&film, &reference);
-    let (gf, gr) = (grid_of(4, &film, 96, 72), grid_of(4, &reference, 96, 72));
-    let worst = gf.iter().zip(&gr).map(|(a, b)| (a / b - 1.0).abs()).fold(0.0, f64::max);
-    eprintln!(
-        "{name} (seed {seed}): relMSE {:.4e}, mean ratio {:?}, worst of 4×4 regions {worst:.4}",
-        c.relmse, c.mean_ratio
-    );
-    let (mean_tol, region_tol) = NORMAL_MAP_TOL;
-    for (ch, r) in c.mean_ratio.iter().enumerate() {
-        assert!((r - 1.0).abs() < mean_tol, "{name}: channel {ch} mean ratio {r}");
-    }
-    assert!(worst < region_tol, "{name}: a 4×4 region is {worst:.3} off");
+    check_regions(&format!("{name} (seed {seed})"), &film, &reference, (96, 72), NORMAL_MAP_TOL);
 }
 
 /// (mean, region) bounds of [`normalmap_matches_mitsuba_path`]. Measured over seeds 1–3
