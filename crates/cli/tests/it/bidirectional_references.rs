@@ -179,6 +179,7 @@ fn camera_paths_allocated_pixel_by_pixel_keep_the_image_unbiased() {
 ///   paths worth it (`sensor::bidirectional::pilot`); the same choice for the same seed (it reads
 ///   no clock), every needed pixel included, not everything. Seeds 1–5: 37.6–41.8 % of the
 ///   pixels, mean ratios within 0.3 %, worst region 5.8–23 %, masks 0.964–1.059.
+///
 /// Seed 5.
 #[test]
 fn camera_paths_where_needed_or_piloted_keep_the_image_complete() {
