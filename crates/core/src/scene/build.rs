@@ -236,7 +236,7 @@ impl Scene {
     /// The normals of triangle `prim` at the point `p` on it: the geometric normal and the
     /// vertex normals interpolated at p's barycentrics (recomputed from p, so a stored sample
     /// needs no more than its position and triangle), perturbed by the material's normal map if
-    /// it has one ([`Scene::normal_mapped`]). Every estimator shades with these, so a normal map
+    /// it has one (`Scene::normal_mapped`). Every estimator shades with these, so a normal map
     /// is a shading normal like any other: the adjoint rule and the leak guard of
     /// [`crate::bsdf::shading`] apply to it.
     #[inline]
