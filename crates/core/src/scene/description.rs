@@ -105,6 +105,26 @@ pub struct MeshDesc {
     pub emission: Option<AreaEmission>,
 }
 
+#[cfg(test)]
+impl MeshDesc {
+    /// A horizontal 10 m square at height `y` (two triangles facing +y), of material `material`,
+    /// centred on the y axis: the sheets of the panes' and the meter's tests.
+    pub(crate) fn square_at(name: String, y: f32, material: usize) -> MeshDesc {
+        MeshDesc {
+            name,
+            positions: vec![
+                Vec3::new(-5.0, y, -5.0),
+                Vec3::new(-5.0, y, 5.0),
+                Vec3::new(5.0, y, 5.0),
+                Vec3::new(5.0, y, -5.0),
+            ],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+            material,
+            ..Default::default()
+        }
+    }
+}
+
 /// A mesh's named attribute (Mitsuba's mesh attributes): one value per vertex if the name starts
 /// with `vertex_` (blended across a triangle by the barycentrics), one per triangle if it starts
 /// with `face_`; one channel or three.

@@ -27,18 +27,7 @@ fn sheets(sheets: &[(f32, usize)]) -> Scene {
     let meshes = sheets
         .iter()
         .enumerate()
-        .map(|(i, &(y, material))| MeshDesc {
-            name: format!("sheet{i}"),
-            positions: vec![
-                Vec3::new(-5.0, y, -5.0),
-                Vec3::new(-5.0, y, 5.0),
-                Vec3::new(5.0, y, 5.0),
-                Vec3::new(5.0, y, -5.0),
-            ],
-            triangles: vec![[0, 1, 2], [0, 2, 3]],
-            material,
-            ..Default::default()
-        })
+        .map(|(i, &(y, material))| MeshDesc::square_at(format!("sheet{i}"), y, material))
         .collect();
     let desc = SceneDescription {
         materials: materials(),

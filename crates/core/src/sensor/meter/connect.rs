@@ -272,18 +272,7 @@ pub(super) mod tests {
 
     /// A horizontal 10 m square at height `y` of material `material`, centred on the y axis.
     fn square(y: f32, material: usize) -> MeshDesc {
-        MeshDesc {
-            name: format!("square at {y}"),
-            positions: vec![
-                Vec3::new(-5.0, y, -5.0),
-                Vec3::new(-5.0, y, 5.0),
-                Vec3::new(5.0, y, 5.0),
-                Vec3::new(5.0, y, -5.0),
-            ],
-            triangles: vec![[0, 1, 2], [0, 2, 3]],
-            material,
-            ..Default::default()
-        }
+        MeshDesc::square_at(format!("square at {y}"), y, material)
     }
 
     /// The pane materials of [`bulb_over_floor_and`]: 1 clear glass (n = 1.52), 2 tinted glass.
