@@ -431,31 +431,31 @@ impl LitDataset {
             .map_err(|source| BidirectionalError::Mis { path: path(), source })?;
         let settings = Settings { connections, seed, heuristic: mis.heuristic, directions: mis.directions };
         let names = self.light_names();
-        let cameras = match coverage {
+        let buffer = match coverage {
             Coverage::Everywhere => None,
-            Coverage::WhereNeeded => cameras_needed(self.scene(), &camera),
-            Coverage::Auto => match cameras_needed(self.scene(), &camera) {
-                None => None,
-                Some(needed) => {
-                    let groups = self.groups();
-                    let pilot_plan = pilot::Plan { spp: plan.spp, connections, samples: self.samples() };
-                    let batch = |i| self.batch(i);
-                    let flux = self.flux_per_path();
-                    let chosen = pilot::choose(
-                        self.scene(),
-                        &camera,
-                        &needed,
-                        &groups,
-                        batch,
-                        &names,
-                        flux,
-                        settings,
-                        pilot_plan,
-                        &stop,
-                    )?;
-                    Some(chosen.ok_or(BidirectionalError::Interrupted)?)
-                }
-            },
+            Coverage::WhereNeeded | Coverage::Auto => camera.visibility(self.scene()),
+        };
+        let needed = buffer.as_ref().and_then(|b| cameras_needed(self.scene(), &camera, b));
+        let cameras = match (coverage, needed) {
+            (Coverage::Auto, Some(needed)) => {
+                let groups = self.groups();
+                let pilot_plan = pilot::Plan { spp: plan.spp, connections, samples: self.samples() };
+                let chosen = pilot::choose(
+                    self.scene(),
+                    &camera,
+                    buffer.as_ref(),
+                    &needed,
+                    &groups,
+                    |i| self.batch(i),
+                    &names,
+                    self.flux_per_path(),
+                    settings,
+                    pilot_plan,
+                    &stop,
+                )?;
+                Some(chosen.ok_or(BidirectionalError::Interrupted)?)
+            }
+            (_, needed) => needed,
         };
         if cameras.as_ref().is_some_and(|c| !c.contains(&true)) {
             return self.render_splats_alone(camera, event, stop);

@@ -196,7 +196,8 @@ fn camera_paths_where_needed_or_piloted_keep_the_image_complete() {
         common::render_bidirectional_allocated(&scene, cam, &table, &chunks, true, &allocation, 1, 5)
             .to_rgb_f32()
     };
-    let needed = cameras_needed(&scene, &cam).expect("a pinhole camera");
+    let buffer = cam.visibility(&scene).expect("a pinhole camera");
+    let needed = cameras_needed(&scene, &cam, &buffer).unwrap();
     eprintln!("where needed: {:.1} % of the pixels get camera paths", 100.0 * share(&needed));
     assert!(share(&needed) > 0.05 && share(&needed) < 0.5, "{}", share(&needed));
     check_mirror_glass("mirror-glass where needed", &render(&needed));
@@ -215,9 +216,21 @@ fn camera_paths_where_needed_or_piloted_keep_the_image_complete() {
     let samples = chunks.iter().map(|c| c.samples.len() as u64).sum();
     let plan = pilot::Plan { spp: 8, connections: 1, samples };
     let choose = || {
-        pilot::choose(&scene, &cam, &needed, &groups, batch, &names, &flux, settings, plan, || false)
-            .unwrap()
-            .unwrap()
+        pilot::choose(
+            &scene,
+            &cam,
+            Some(&buffer),
+            &needed,
+            &groups,
+            batch,
+            &names,
+            &flux,
+            settings,
+            plan,
+            || false,
+        )
+        .unwrap()
+        .unwrap()
     };
     let cameras = choose();
     assert_eq!(cameras, choose(), "the same seed makes the same choice");

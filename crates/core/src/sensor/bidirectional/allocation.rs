@@ -15,7 +15,7 @@
 //! whenever the path's vertex next to the camera is stored, i.e. not on a delta surface (the
 //! tracer keeps every non-delta vertex; emission points of area lights included) and not at
 //! infinity (an environment seen directly). [`cameras_needed`] proves it per pixel from the
-//! geometry alone, before any pass ([`crate::sensor::VisibilityBuffer::pixels_meeting`]): a pixel needs camera
+//! geometry alone, before any pass ([`VisibilityBuffer::pixels_meeting`]): a pixel needs camera
 //! paths if the projection of any triangle whose material is not one the splats suffice for
 //! ([`splats_suffice`]: diffuse, or a rough plastic of broad lobe; and unmasked) meets the
 //! footprint of its camera rays (the pixel grown by the filter's radius), hidden or not, or —
@@ -31,7 +31,7 @@
 use crate::bsdf::Bsdf;
 use crate::light::Light;
 use crate::scene::Scene;
-use crate::sensor::Sensor;
+use crate::sensor::{Sensor, VisibilityBuffer};
 
 /// Microfacet roughness from which a rough plastic's coating counts as broad enough for the
 /// splats alone (a heuristic of efficiency, not of correctness: module docs).
@@ -48,10 +48,10 @@ pub fn splats_suffice(bsdf: &Bsdf) -> bool {
     }
 }
 
-/// Per pixel of `sensor`'s image, whether it needs camera paths (module docs); `None` when it
-/// cannot be proven for any pixel (no visibility buffer), i.e. every pixel does.
-pub fn cameras_needed(scene: &Scene, sensor: &Sensor) -> Option<Vec<bool>> {
-    let buffer = sensor.visibility(scene)?;
+/// Per pixel of `sensor`'s image, whether it needs camera paths (module docs), from the
+/// sensor's visibility buffer (`Sensor::visibility`: only pinhole cameras have one; without it
+/// every pixel does); `None` when it cannot be proven for any pixel.
+pub fn cameras_needed(scene: &Scene, sensor: &Sensor, buffer: &VisibilityBuffer) -> Option<Vec<bool>> {
     let diffuse = |t: u32| !scene.is_masked(t) && splats_suffice(&scene.material(t).bsdf);
     let escapes = scene.lights.iter().any(|l| matches!(l, Light::Environment(_)));
     // Camera rays of a pixel start within its filter's radius of its centre.
@@ -176,7 +176,8 @@ mod tests {
     #[test]
     fn every_pixel_that_sees_a_mirror_or_the_sky_gets_camera_paths() {
         let (scene, sensor) = mirror_cornell();
-        let needed = cameras_needed(&scene, &sensor).expect("a pinhole has a buffer");
+        let buffer = sensor.visibility(&scene).expect("a pinhole has a buffer");
+        let needed = cameras_needed(&scene, &sensor, &buffer).unwrap();
         let truth = brute_force(&scene, &sensor);
         let (mut mirror, mut free) = (0, 0);
         for (p, &(glossy, _)) in truth.iter().enumerate() {
@@ -187,7 +188,6 @@ mod tests {
         let n = truth.len();
         assert!(mirror > n / 20 && free > n / 2, "{mirror} mirror pixels, {free} left to the splats of {n}");
         // With escapes counted (as with an environment): every pixel a ray leaves through.
-        let buffer = sensor.visibility(&scene).unwrap();
         let sky = buffer.pixels_meeting(&scene, |_| false, 0, true).unwrap();
         let escaping = truth.iter().filter(|t| t.1).count();
         assert!(escaping > 0, "the camera sees past the box's open side");
@@ -197,7 +197,8 @@ mod tests {
         // The diffuse box alone needs none (the light estimator's image, exactly).
         let desc = cornell_box();
         let diffuse = Scene::build(&desc).unwrap();
-        assert!(!cameras_needed(&diffuse, &sensor).unwrap().contains(&true));
+        let buffer = sensor.visibility(&diffuse).unwrap();
+        assert!(!cameras_needed(&diffuse, &sensor, &buffer).unwrap().contains(&true));
     }
 
     /// Growing by a filter's radius flags the neighbours of every flagged pixel.

@@ -26,7 +26,7 @@
 //! missed) and a camera path's variance b; with m camera paths per pixel the two combine to
 //! about 1/(1/a + m/b) (inverse-variance weighting, which MIS matches or beats). Each pixel's
 //! error is weighted 1/(μ² + 0.01), μ its tile's mean luminance — the relative MSE the project
-//! measures efficiency with (`../shared/tools/imgcmp.py`). The fixed pixels' error with their
+//! measures efficiency with (`opticks_io::compare`: the mean of (t − r)²/(r² + 0.01)). The fixed pixels' error with their
 //! camera paths counts too (at least a candidate's without them: their rare bright paths are
 //! what the pilot's few paths miss). Work is counted in rays (a camera
 //! path's, scaled from the pilot's n_c = 0 to the render's n_c; a splat [`SPLAT_WORK`], a
@@ -44,7 +44,7 @@ use crate::math::{Rgb, luminance};
 use crate::sampling::RandomStream;
 use crate::scene::Scene;
 use crate::sensor::meter::Group;
-use crate::sensor::{AsBatch, Sensor, splat};
+use crate::sensor::{AsBatch, Sensor, VisibilityBuffer, splat};
 use rayon::prelude::*;
 
 /// Tile side in pixels: a tile shares one decision.
@@ -129,7 +129,8 @@ pub struct Plan {
 }
 
 /// The pixels of `sensor`'s image that get camera paths (module docs): those `needed` marks,
-/// and the tiles of the others where the pilot finds them worth their work. The pilot reads the
+/// and the tiles of the others where the pilot finds them worth their work (`visibility`: the
+/// sensor's buffer, which `needed` came from). The pilot reads the
 /// chunks `groups` lists (light and paths of each) through `batch`, a subset of each light's; the
 /// camera paths use the lights `names`, each standing for `flux_per_path[k]` per path of its
 /// `paths[k]`. `None` if `stop()` said so.
@@ -137,6 +138,7 @@ pub struct Plan {
 pub fn choose<B: AsBatch, E: Send>(
     scene: &Scene,
     sensor: &Sensor,
+    visibility: Option<&VisibilityBuffer>,
     needed: &[bool],
     groups: &[Group],
     batch: impl Fn(usize) -> Result<B, E> + Sync,
@@ -169,7 +171,6 @@ pub fn choose<B: AsBatch, E: Send>(
             take
         })
         .collect();
-    let visibility = sensor.visibility(scene);
     let runs = subset
         .par_chunks(subset.len().div_ceil(16).max(1))
         .map(|run| {
@@ -185,7 +186,7 @@ pub fn choose<B: AsBatch, E: Send>(
                 b.flux_per_path *= (1.0 / share) as f32;
                 let mut target =
                     TileMoments { width, tiles_x, candidate: &candidate, sums: &mut sums, share };
-                splat(scene, sensor, visibility.as_ref(), b, &mut target);
+                splat(scene, sensor, visibility, b, &mut target);
             }
             Ok(Some(sums))
         })
@@ -202,7 +203,7 @@ pub fn choose<B: AsBatch, E: Send>(
     let cache = LightCache::new(Vec::new(), names.len(), &vec![true; names.len()]);
     let ctx = Context {
         scene,
-        visibility: visibility.as_ref(),
+        visibility,
         lights: &lights,
         cache: &cache,
         set: None,

@@ -106,15 +106,14 @@ pub fn render(
 ) -> Option<Run> {
     let (w, h) = (camera.width(), camera.height());
     let mut renderer = Renderer::new(scene, camera, chunks, names, flux_per_path, settings, 1);
-    let needed = cameras.map(|c| c.to_vec());
-    let spp = Allocation::where_needed(needed.as_deref(), plan.spp);
+    let spp = Allocation::where_needed(cameras, plan.spp);
     let per_pass = spp.total(w as usize * h as usize);
     let passes = match plan.deadline {
         _ if per_pass == 0 => 0, // every pixel is the splats'
         None => 1,
         Some(deadline) => {
             // A pilot pass of one path per pixel that gets any, timed, plans the passes.
-            let one = Allocation::where_needed(needed.as_deref(), 1);
+            let one = Allocation::where_needed(cameras, 1);
             renderer.plan(&one, 1);
             let t0 = Instant::now();
             renderer.camera_pass(u64::MAX, &one, |_| {}, &stop)?;
@@ -171,6 +170,6 @@ pub fn render(
     }
     let (passes, error) = (acc.passes(), acc.relative_error());
     let spp = passes * plan.spp as u64;
-    let camera_pixels = needed.map_or(w as u64 * h as u64, |n| n.iter().filter(|&&x| x).count() as u64);
+    let camera_pixels = cameras.map_or(w as u64 * h as u64, |n| n.iter().filter(|&&x| x).count() as u64);
     Some(Run { film: acc.image(&splat), passes, spp, error, interrupted, camera_pixels })
 }
