@@ -35,12 +35,20 @@ pub fn estimate(
 ) -> Estimate {
     let (table, chunks) = trace_chunks_with(scene, settings);
     let sensor: Sensor = sensor.into();
-    let regions = 1 + grid * grid;
-    let mut sums = vec![[0.0f64; 3]; regions];
-    let mut squares = vec![[0.0f64; 3]; regions];
-    let mut image = vec![0.0f32; (sensor.width() * sensor.height() * 3) as usize];
-    // Each light's chunks are dealt round robin into the k batches, so that every batch holds
-    // every light (a batch without some light's chunks would miss its light).
+    let group = deal(&table, &chunks, k);
+    from_renders(k, grid, sensor.width() as usize, |g| {
+        let members: Vec<usize> = (0..chunks.len()).filter(|&i| group[i] == g).collect();
+        let film =
+            render(scene, &sensor, members.len(), |i| scaled_batch(&table, &chunks, &members, i), |_| {})
+                .unwrap();
+        film.pixels.iter().flat_map(|p| p.map(|x| x as f32)).collect()
+    })
+}
+
+/// Per chunk, which of `k` disjoint batches it goes to: each light's chunks dealt round robin,
+/// so that every batch holds every light (a batch without some light's chunks would miss its
+/// light). Panics if a light has fewer than `k` chunks.
+pub fn deal(table: &LightTable, chunks: &[Chunk], k: usize) -> Vec<usize> {
     let mut rank = vec![0usize; table.lights.len()];
     let group: Vec<usize> = chunks
         .iter()
@@ -54,18 +62,29 @@ pub fn estimate(
         rank.iter().all(|&n| n == 0 || n >= k),
         "every light needs at least {k} chunks for the error estimate: {rank:?} (trace more paths)"
     );
+    group
+}
+
+/// The estimate of `k` independent renders (`render(g)`, interleaved RGB images `width` pixels
+/// wide): their mean image, and the image's and every region's mean of a `grid` × `grid` grid
+/// with standard errors from their spread.
+pub fn from_renders(
+    k: usize,
+    grid: usize,
+    width: usize,
+    mut render: impl FnMut(usize) -> Vec<f32>,
+) -> Estimate {
+    let regions = 1 + grid * grid;
+    let mut sums = vec![[0.0f64; 3]; regions];
+    let mut squares = vec![[0.0f64; 3]; regions];
+    let mut image: Vec<f32> = Vec::new();
     for g in 0..k {
-        let members: Vec<usize> = (0..chunks.len()).filter(|&i| group[i] == g).collect();
-        let film =
-            render(scene, &sensor, members.len(), |i| scaled_batch(&table, &chunks, &members, i), |_| {})
-                .unwrap();
-        for (o, p) in image.chunks_mut(3).zip(&film.pixels) {
-            for c in 0..3 {
-                o[c] += (p[c] / k as f64) as f32;
-            }
+        let rgb = render(g);
+        image.resize(rgb.len(), 0.0);
+        for (o, p) in image.iter_mut().zip(&rgb) {
+            *o += p / k as f32;
         }
-        let rgb: Vec<f32> = film.pixels.iter().flat_map(|p| p.map(|x| x as f32)).collect();
-        for (r, m) in region_means(&rgb, film.width as usize, grid).into_iter().enumerate() {
+        for (r, m) in region_means(&rgb, width, grid).into_iter().enumerate() {
             for c in 0..3 {
                 sums[r][c] += m[c];
                 squares[r][c] += m[c] * m[c];
@@ -77,7 +96,7 @@ pub fn estimate(
     let err = squares
         .iter()
         .zip(&mean)
-        .map(|(q, m)| std::array::from_fn(|c| ((q[c] / k - m[c] * m[c]).max(0.0) * k / (k - 1.0) / k).sqrt()))
+        .map(|(q, m)| std::array::from_fn(|c| ((q[c] / k - m[c] * m[c]).max(0.0) / (k - 1.0)).sqrt()))
         .collect();
     Estimate { mean, err, image, grid }
 }

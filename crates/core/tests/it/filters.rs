@@ -25,18 +25,8 @@ const Z: f64 = 5.5;
 /// image and region means from their spread.
 fn bidirectional_estimate(scene: &Scene, sensor: Sensor, paths: u64, spp: u32) -> Estimate {
     let (table, chunks) = trace_chunks(scene, paths, 77);
-    let mut rank = vec![0usize; table.lights.len()];
-    let group: Vec<usize> = chunks
-        .iter()
-        .map(|c| {
-            rank[c.light as usize] += 1;
-            (rank[c.light as usize] - 1) % K
-        })
-        .collect();
-    let (w, h) = (sensor.width() as usize, sensor.height() as usize);
-    let mut image = vec![0.0f32; w * h * 3];
-    let (mut sums, mut squares) = (vec![[0.0f64; 3]; 1 + GRID * GRID], vec![[0.0f64; 3]; 1 + GRID * GRID]);
-    for g in 0..K {
+    let group = regions::deal(&table, &chunks, K);
+    regions::from_renders(K, GRID, sensor.width() as usize, |g| {
         let members: Vec<Chunk> =
             (0..chunks.len()).filter(|&i| group[i] == g).map(|i| chunks[i].clone()).collect();
         let mut lit = table.clone();
@@ -45,26 +35,8 @@ fn bidirectional_estimate(scene: &Scene, sensor: Sensor, paths: u64, spp: u32) -
             let in_batch: u64 = members.iter().filter(|c| c.light as usize == k).map(|c| c.paths).sum();
             l.power *= (l.paths as f64 / in_batch as f64) as f32;
         }
-        let film = render_bidirectional(scene, sensor, &lit, &members, true, spp, 1, 1000 + g as u64);
-        let rgb = film.to_rgb_f32();
-        for (o, p) in image.iter_mut().zip(&rgb) {
-            *o += p / K as f32;
-        }
-        for (r, m) in regions::region_means(&rgb, w, GRID).into_iter().enumerate() {
-            for c in 0..3 {
-                sums[r][c] += m[c];
-                squares[r][c] += m[c] * m[c];
-            }
-        }
-    }
-    let k = K as f64;
-    let mean: Vec<[f64; 3]> = sums.iter().map(|s| s.map(|x| x / k)).collect();
-    let err = squares
-        .iter()
-        .zip(&mean)
-        .map(|(q, m)| std::array::from_fn(|c| ((q[c] / k - m[c] * m[c]).max(0.0) / (k - 1.0)).sqrt()))
-        .collect();
-    Estimate { mean, err, image, grid: GRID }
+        render_bidirectional(scene, sensor, &lit, &members, true, spp, 1, 1000 + g as u64).to_rgb_f32()
+    })
 }
 
 #[test]
