@@ -9,9 +9,12 @@
 //!   once, naming the process that holds it, instead of both reporting success with one pass
 //!   lost. Readers take no lock: the writer replaces the file by an atomic rename, so a reader
 //!   keeps seeing the file it opened;
-//! * removes the temporary files `.NAME.opds.tmp-*` of earlier runs on the same target that
-//!   died without cleaning up (a SIGKILL, a power cut): while the lock is held no live writer
-//!   can own one, so each is stale by construction. What was removed is reported;
+//! * saves or removes the temporary files `.NAME.opds.tmp-*` of earlier runs on the same target
+//!   that died without cleaning up (a SIGKILL, a power cut, a panic under `panic = "abort"`):
+//!   while the lock is held no live writer can own one, so each is stale by construction. The
+//!   whole blocks a killed trace wrote are saved as `NAME.partial.opds`
+//!   ([`crate::dataset_file::salvage`]; this run is then refused, as below, naming what was
+//!   saved), unless a partial file is already there; the rest is removed and reported;
 //! * refuses to start while `NAME.partial.opds` holds an interrupted run (unless this run is
 //!   its resumption): a second interrupted run would otherwise replace it;
 //! * refuses to replace an existing file at the target unless it is one of the command's own
@@ -61,6 +64,22 @@ pub enum WriteRefused {
         target: PathBuf,
         /// Its partial file.
         partial: PathBuf,
+    },
+    /// A run of the target was killed; the blocks it had written are now its partial file.
+    #[error(
+        "a run writing {} was killed before it finished; the {paths} light paths it had written are saved in \
+         {}: finish them with `opticks resume {}`, or delete that file to start over",
+        target.display(),
+        partial.display(),
+        partial.display()
+    )]
+    Salvaged {
+        /// The target.
+        target: PathBuf,
+        /// The partial file written.
+        partial: PathBuf,
+        /// The paths it holds (all passes).
+        paths: u64,
     },
     /// The target exists and is none of the command's inputs.
     #[error("{} exists and would be replaced", target.display())]
@@ -121,11 +140,17 @@ pub fn begin_write(target: &Path, intent: WriteIntent<'_>) -> Result<WriteLock, 
         locks.push(lock(t)?);
     }
     let mut guard = WriteLock { locks, removed_stale: Vec::new() };
+    let mut salvaged = None;
     for t in &targets {
-        guard.removed_stale.extend(remove_stale_temporaries(t)?);
+        let (removed, saved) = clear_stale_temporaries(t)?;
+        guard.removed_stale.extend(removed);
+        salvaged = salvaged.or(saved);
     }
     let partial = partial_path(target);
     let resumes_it = intent.resuming.is_some_and(|p| same_file(p, &partial));
+    if let Some((partial, paths)) = salvaged {
+        return Err(WriteRefused::Salvaged { target: target.to_owned(), partial, paths });
+    }
     if partial.exists() && !resumes_it && !same_file(&partial, target) {
         return Err(WriteRefused::PendingPartial { target: target.to_owned(), partial });
     }
@@ -226,20 +251,21 @@ fn absolute_parent(p: &Path) -> Option<PathBuf> {
     Some(std::fs::canonicalize(crate::output_paths::folder_of(p)).ok()?.join(p.file_name()?))
 }
 
-/// Removes `dir/.NAME.tmp-*` (the temporary files of `DatasetWriter` for `dir/NAME`); to be
-/// called with the target's lock held.
-fn remove_stale_temporaries(target: &Path) -> Result<Vec<(PathBuf, u64)>, WriteRefused> {
-    let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let prefix = format!(".{name}.tmp-");
-    let dir = crate::output_paths::folder_of(target);
-    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(Vec::new()) };
+/// Saves the work of one stale temporary file of `target` as its partial dataset when there is
+/// none yet and it holds any ([`crate::dataset_file::salvage`]: the partial file and its paths),
+/// and removes the others (reported, with their sizes); to be called with the target's lock held.
+fn clear_stale_temporaries(target: &Path) -> Result<StaleCleared, WriteRefused> {
+    let partial = partial_path(target);
+    let mut saved = None;
     let mut removed = Vec::new();
-    for entry in entries.flatten() {
-        if !entry.file_name().to_string_lossy().starts_with(&prefix) {
-            continue;
+    for (path, bytes) in stale_temporaries(target) {
+        if saved.is_none() && !partial.exists() {
+            // The salvage finishes the file into the partial one, or leaves it to be removed.
+            if let Ok(Some(s)) = crate::dataset_file::salvage(&path, &partial) {
+                saved = Some((partial.clone(), s.paths));
+                continue;
+            }
         }
-        let path = entry.path();
-        let bytes = entry.metadata().map(|m| m.len()).unwrap_or(0);
         std::fs::remove_file(&path).map_err(|source| WriteRefused::Io {
             path: path.clone(),
             op: "remove the stale temporary file",
@@ -247,7 +273,29 @@ fn remove_stale_temporaries(target: &Path) -> Result<Vec<(PathBuf, u64)>, WriteR
         })?;
         removed.push((path, bytes));
     }
-    Ok(removed)
+    Ok((removed, saved))
+}
+
+/// What [`clear_stale_temporaries`] removed (paths, bytes) and saved (the partial file, its paths).
+type StaleCleared = (Vec<(PathBuf, u64)>, Option<(PathBuf, u64)>);
+
+/// `dir/.NAME.tmp-*` (the temporary files of `DatasetWriter` for `dir/NAME`) with their sizes,
+/// largest first (the one most likely to hold the most work is the one saved).
+fn stale_temporaries(target: &Path) -> Vec<(PathBuf, u64)> {
+    let name = target.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let prefix = format!(".{name}.tmp-");
+    let dir = crate::output_paths::folder_of(target);
+    let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
+    let mut found: Vec<_> = entries
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().starts_with(&prefix))
+        .filter_map(|e| {
+            let m = e.metadata().ok()?;
+            Some((e.path(), m.len()))
+        })
+        .collect();
+    found.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
+    found
 }
 
 #[cfg(test)]

@@ -377,6 +377,65 @@ fn resume_finishes_an_interrupted_trace_or_refine_bit_for_bit() {
     assert_eq!(files(d), ["cut.opds", "lamps.xml", "whole.opds"], "no temporary or partial file is left");
 }
 
+/// A trace killed outright keeps its work (issue 25's test for `panic = "abort"`; SIGKILL, the
+/// out-of-memory killer and a power cut leave the same file). A test hook aborts the process
+/// once its writer has handed N chunks to the system: no destructor runs, its temporary file
+/// stays. The next run on the same target saves that file's whole blocks as the partial
+/// dataset and stops, saying so; `resume` then finishes it bit for bit. A chunk cut short is
+/// dropped; a run killed after its last block keeps all but that block, so that it resumes.
+#[cfg(unix)]
+#[test]
+fn a_killed_trace_keeps_its_written_blocks() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let cornell = scene_file("cornell", "scene.xml");
+    let trace = ["trace", cornell.to_str().unwrap(), "--paths", "40000", "--seed", "3"];
+    ok(&[&trace[..], &["-o", "whole.opds"]].concat(), d);
+    let blocks = 40000u64.div_ceil(4096);
+    // (chunks in the file when killed, bytes then cut off its end, paths saved)
+    for (chunks, cut, saved) in
+        [(4u64, 0u64, 4 * 4096u64), (4, 100, 3 * 4096), (blocks, 0, (blocks - 1) * 4096)]
+    {
+        let out = opticks_env(
+            &[&trace[..], &["-o", "cut.opds"]].concat(),
+            d,
+            &[("OPTICKS_ABORT_AFTER_CHUNKS", &chunks.to_string())],
+        );
+        assert_eq!(out.status.signal(), Some(6), "aborted (SIGABRT): {out:?}");
+        let stale: Vec<_> = files(d).into_iter().filter(|f| f.starts_with(".cut.opds.tmp-")).collect();
+        assert_eq!(stale.len(), 1, "{stale:?}");
+        let tmp = d.join(&stale[0]);
+        if cut > 0 {
+            let len = std::fs::metadata(&tmp).unwrap().len();
+            std::fs::OpenOptions::new().write(true).open(&tmp).unwrap().set_len(len - cut).unwrap();
+        }
+        let e = fails(&[&trace[..], &["-o", "cut.opds"]].concat(), d);
+        assert!(
+            e.contains(&format!(
+                "a run writing cut.opds was killed before it finished; the {saved} light paths it had written are \
+                 saved in cut.partial.opds: finish them with `opticks resume cut.partial.opds`"
+            )),
+            "{e}"
+        );
+        assert!(!tmp.exists() && !d.join("cut.opds").exists());
+        ok(&["resume", "cut.partial.opds"], d);
+        assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")), "resumed ≠ uninterrupted");
+        assert_eq!(files(d), ["cut.opds", "whole.opds"], "no temporary or partial file is left");
+        std::fs::remove_file(d.join("cut.opds")).unwrap();
+    }
+    // A file with no whole chunk of the run holds nothing to save: removed, as before.
+    let out =
+        opticks_env(&[&trace[..], &["-o", "cut.opds"]].concat(), d, &[("OPTICKS_ABORT_AFTER_CHUNKS", "1")]);
+    assert_eq!(out.status.signal(), Some(6));
+    let stale = files(d).into_iter().find(|f| f.starts_with(".cut.opds.tmp-")).unwrap();
+    let len = std::fs::metadata(d.join(&stale)).unwrap().len();
+    std::fs::OpenOptions::new().write(true).open(d.join(&stale)).unwrap().set_len(len - 40).unwrap();
+    ok(&[&trace[..], &["-o", "cut.opds"]].concat(), d);
+    assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")));
+    assert_eq!(files(d), ["cut.opds", "whole.opds"]);
+}
+
 /// `trace --time` (and `refine --time`, `resume --time`): a run with a time limit is complete by
 /// definition (issue 26: a `.partial.opds` that `merge`, `refine` and `add-light` refuse and
 /// `resume` would trace for ever was all `trace --paths 1e12 --time 1` left). When the time is

@@ -61,7 +61,7 @@ pub use plan::{NoEmission, check_emission};
 pub use plan::{TraceSettings, block_order, blocks_done, light_record, path_quotas, plan_all, plan_lights};
 pub use relight::{LightScale, Lighting, LightingError, lighting};
 pub use resume::{EndPassError, ResumeError, TargetChanged, Unfinished, check_finished, check_resume_target};
-pub use resume::{end_pass_here, resume_plan};
+pub use resume::{end_pass_here, resume_plan, salvage_counts};
 pub use sample::{EMISSION_FLAG, Sample};
 pub use scene_check::{
     ChangesText, LightMismatch, SceneMismatch, check_scene, differing_objects, scene_lights,

@@ -165,6 +165,43 @@ pub fn check_resume_target(partial: &DatasetHeader, target: &DatasetHeader) -> R
     }
 }
 
+/// Books the chunks found in the file of a run that was killed before it finished (no end
+/// record: a SIGKILL, a power cut, a panic under `panic = "abort"`): `header` is the one the run
+/// wrote first (its table's N_k and its last pass's paths as they were before the run), `kept`
+/// the paths per light of the whole chunks found in the file, in order. The chunks beyond
+/// `header`'s counts must be the first blocks, in [`super::block_order`], of the last pass's
+/// remaining plan — as a run writes them — for the file to be a valid interrupted run; then N_k
+/// and the pass's paths are booked and the new paths returned, so [`resume_plan`] finishes it.
+/// `None` when they are not (a copy that did not finish, a foreign file): nothing to save.
+pub fn salvage_counts(header: &mut DatasetHeader, kept: &[u64]) -> Option<u64> {
+    let lights = &header.table.lights;
+    if kept.len() != lights.len() {
+        return None;
+    }
+    let extra: Vec<u64> =
+        kept.iter().zip(lights).map(|(k, l)| k.checked_sub(l.paths)).collect::<Option<_>>()?;
+    let total: u64 = extra.iter().sum();
+    let pass = header.trace.passes.last_mut()?;
+    let (plan, done) = traced_plan(pass, |_| 0);
+    let mut found = vec![0u64; extra.len()];
+    let mut sum = 0u64;
+    for b in block_order(&plan).skip(done?) {
+        if sum >= total {
+            break;
+        }
+        found[b.light.table_index as usize] += b.paths;
+        sum += b.paths;
+    }
+    if found != extra {
+        return None;
+    }
+    pass.paths += total;
+    for (l, k) in header.table.lights.iter_mut().zip(kept) {
+        l.paths = *k;
+    }
+    Some(total)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -228,6 +265,58 @@ mod tests {
         assert_eq!((rest.first_block, rest.settings), (3, pass.settings));
         cut.run(&scene, &rest);
         assert_eq!(contents(&cut), contents(&refined), "refinement resumed");
+    }
+
+    /// A killed run's file: whatever prefix of its blocks reached the disk is booked as the
+    /// interrupted run that `cut` saves (so it resumes to the uninterrupted dataset); a file
+    /// whose chunks are not such a prefix (a copy cut short, a block skipped) is refused.
+    #[test]
+    fn the_chunks_of_a_killed_run_are_booked_as_its_interrupted_pass() {
+        let scene = Scene::build(&cornell_with_bulb()).unwrap();
+        let settings = TraceSettings { paths: 30_000, seed: 5, ..Default::default() };
+        let (header, pass) = new_trace(&scene, "two", settings);
+        let empty = Traced { header, chunks: vec![] };
+        let mut whole = empty.clone();
+        whole.run(&scene, &pass);
+        let kept = |chunks: &[crate::dataset::Chunk]| -> Vec<u64> {
+            (0..2u32).map(|k| chunks.iter().filter(|c| c.light == k).map(|c| c.paths).sum()).collect()
+        };
+        for blocks in [0, 1, 3, 7] {
+            let mut salvaged = empty.header.clone();
+            let paths = salvage_counts(&mut salvaged, &kept(&whole.chunks[..blocks]));
+            let expected = cut(&empty, &pass, &whole, blocks);
+            assert_eq!(paths, Some(expected.header.trace.passes[0].paths), "{blocks} blocks");
+            assert_eq!(
+                contents(&Traced { header: salvaged, chunks: vec![] }).header,
+                contents(&expected).header
+            );
+        }
+        // Not a prefix of the blocks: a path more than three blocks hold, or a fourth block of
+        // the light whose turn it is not.
+        let mut odd = kept(&whole.chunks[..3]);
+        odd[0] += 1;
+        assert_eq!(salvage_counts(&mut empty.header.clone(), &odd), None);
+        let next = whole.chunks[3].light as usize;
+        let mut skipped = kept(&whole.chunks[..3]);
+        skipped[1 - next] += whole.chunks[3].paths;
+        assert_eq!(salvage_counts(&mut empty.header.clone(), &skipped), None);
+        assert_eq!(salvage_counts(&mut empty.header.clone(), &[0]), None, "the table's length");
+
+        // A refinement killed while it copied the earlier chunks: fewer than the header's N_k.
+        let (header, pass) = refine(&whole.header, &scene, 20_000, None, &StrategyChoice::default()).unwrap();
+        let copied = kept(&whole.chunks[..5]);
+        assert_eq!(salvage_counts(&mut header.clone(), &copied), None);
+        // …and killed after its copy and two new blocks.
+        let before = Traced { header: header.clone(), chunks: whole.chunks.clone() };
+        let mut refined = before.clone();
+        refined.run(&scene, &pass);
+        let n = whole.chunks.len() + 2;
+        let mut salvaged = header.clone();
+        assert!(salvage_counts(&mut salvaged, &kept(&refined.chunks[..n])).is_some());
+        assert_eq!(
+            contents(&Traced { header: salvaged, chunks: vec![] }).header,
+            contents(&cut(&before, &pass, &refined, 2)).header
+        );
     }
 
     /// The chunks of each light, in order: what two passes tracing the same blocks share.

@@ -11,7 +11,8 @@
 //!
 //! * [`DatasetWriter`] writes to a temporary file beside the target and renames it into place
 //!   only in [`DatasetWriter::finish`]; dropping an unfinished writer removes the temporary file
-//!   and leaves any previous file untouched.
+//!   and leaves any previous file untouched. A run killed outright leaves its temporary file,
+//!   whose whole chunks [`salvage`] makes a partial dataset that a resumption completes.
 //! * [`DatasetReader`] validates the header, the chunk headers and the end record up front, and
 //!   reads a chunk's payload on request (explicit reads, one chunk at a time, so datasets may
 //!   exceed RAM and a file truncated underneath is an error, not SIGBUS), verifying its checksum
@@ -28,10 +29,12 @@
 mod error;
 mod format;
 mod reader;
+mod salvage;
 mod writer;
 
 pub use error::{DatasetError, RecordFault, SampleFault};
 pub use reader::{DatasetReader, read_all};
+pub use salvage::salvage;
 pub use writer::{DatasetSummary, DatasetWriter};
 
 /// The first 8 bytes of every dataset file (PNG-style: a high-bit byte, `OPK`, CR LF, DOS EOF,

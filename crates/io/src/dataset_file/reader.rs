@@ -37,6 +37,13 @@ impl Entry {
     fn records_at(&self) -> usize {
         self.samples_at() + self.count * size_of::<Sample>()
     }
+
+    /// Offset just after the chunk (its record block included).
+    fn end(&self) -> usize {
+        let records =
+            if self.records { record_block_len(self.count as u64).unwrap_or(0) as usize } else { 0 };
+        self.records_at() + records
+    }
 }
 
 /// A validated dataset file, open for reading.
@@ -83,8 +90,41 @@ impl DatasetReader {
             total_samples: 0,
             triangles: None,
         };
-        (r.header, r.index, r.total_samples) = scan(path, &r)?;
+        (r.header, r.index, r.total_samples) = scan(path, &r, false)?;
         Ok(r)
+    }
+
+    /// Opens the file of a run that was killed before it finished (`salvage.rs`): the header
+    /// and the whole chunks before the first one cut short or damaged, whose headers passed
+    /// their checks; the header's N_k are those the run started with, not the chunks'.
+    pub(crate) fn open_unfinished(path: &Path) -> Result<Self, DatasetError> {
+        let (file, len) = crate::input_file::open(path).map_err(|source| DatasetError::Io {
+            path: path.to_owned(),
+            op: "open",
+            source,
+        })?;
+        let mut r = DatasetReader {
+            path: path.to_owned(),
+            file,
+            len,
+            header: DatasetHeader::default(),
+            index: Vec::new(),
+            total_samples: 0,
+            triangles: None,
+        };
+        (r.header, r.index, r.total_samples) = scan(path, &r, true)?;
+        Ok(r)
+    }
+
+    /// Keeps only the first `n` chunks.
+    pub(crate) fn keep_chunks(&mut self, n: usize) {
+        self.index.truncate(n);
+        self.total_samples = self.index.iter().map(|e| e.count as u64).sum();
+    }
+
+    /// The offset just after the last chunk, if there is one.
+    pub(crate) fn chunks_end(&self) -> Option<u64> {
+        self.index.last().map(|e| e.end() as u64)
     }
 
     /// The file's path.
@@ -316,7 +356,23 @@ pub fn read_all(path: &Path) -> Result<(DatasetHeader, Vec<Chunk>), DatasetError
 }
 
 /// Validates the header, every chunk header and the end record; builds the chunk index.
-fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u64), DatasetError> {
+/// With `tolerant` (the file of a run that was killed, `salvage.rs`), the scan stops at the
+/// first chunk that is cut short or damaged, or at the end record, and keeps the whole chunks
+/// before it; the header's N_k are not checked against them.
+fn scan(
+    path: &Path,
+    r: &DatasetReader,
+    tolerant: bool,
+) -> Result<(DatasetHeader, Vec<Entry>, u64), DatasetError> {
+    // A fault in the chunks: an error, or where a tolerant scan stops.
+    macro_rules! fault {
+        ($e:expr) => {{
+            if tolerant {
+                break;
+            }
+            return Err($e);
+        }};
+    }
     let file_len = usize::try_from(r.len).unwrap_or(usize::MAX);
     // The header's first 16 bytes give its length; then the whole header (no longer than the file).
     let head = r.bytes_at(0, file_len.min(16))?;
@@ -339,20 +395,20 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
     loop {
         let rest = file_len - pos;
         if rest < CHUNK_HEADER_LEN {
-            return Err(DatasetError::Truncated {
+            fault!(DatasetError::Truncated {
                 path: path.to_owned(),
                 offset: pos as u64,
                 detail: format!(
                     "a chunk header or the end record ({CHUNK_HEADER_LEN} bytes) starts here, but the file \
                      ends {rest} bytes later (was the write interrupted?)"
                 ),
-            });
+            })
         }
         let rec = r.bytes_at(pos, CHUNK_HEADER_LEN)?;
         let rec: &[u8; 32] = rec[..].try_into().unwrap();
         let n = index.len() as u64;
         if rec[..4] == CHUNK_MAGIC {
-            let h = ChunkHeader::decode(rec, decoded.version).map_err(|e| match e {
+            let h = match ChunkHeader::decode(rec, decoded.version).map_err(|e| match e {
                 ChunkHeaderError::Checksum(stored, computed) => DatasetError::Checksum {
                     path: path.to_owned(),
                     offset: pos as u64,
@@ -363,15 +419,18 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
                 ChunkHeaderError::Flags(flags) => {
                     corrupt(pos + 20, format!("chunk {n}: unknown chunk flags {flags:#x}"))
                 }
-            })?;
+            }) {
+                Ok(h) => h,
+                Err(e) => fault!(e),
+            };
             if h.light as usize >= lights {
-                return Err(DatasetError::LightOutOfRange {
+                fault!(DatasetError::LightOutOfRange {
                     path: path.to_owned(),
                     offset: pos as u64 + 4,
                     chunk: n,
                     light: h.light,
                     lights,
-                });
+                })
             }
             let avail = rest - CHUNK_HEADER_LEN;
             let records = if h.records { record_block_len(h.count) } else { Some(0) };
@@ -385,7 +444,7 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
                 let with = if h.records { " and their MIS records" } else { "" };
                 let bytes = h.count as u128
                     * (size_of::<Sample>() + if h.records { size_of::<MisRecord>() } else { 0 }) as u128;
-                return Err(DatasetError::Truncated {
+                fault!(DatasetError::Truncated {
                     path: path.to_owned(),
                     offset: (pos + CHUNK_HEADER_LEN) as u64,
                     detail: format!(
@@ -393,15 +452,16 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
                          follow its header",
                         h.count,
                     ),
-                });
+                })
             };
             // Every sum of path counts is checked: a dataset holds at most MAX_PATHS in all.
-            total_paths = total_paths.checked_add(h.paths).filter(|&t| t <= MAX_PATHS).ok_or_else(|| {
-                corrupt(
+            let Some(sum) = total_paths.checked_add(h.paths).filter(|&t| t <= MAX_PATHS) else {
+                fault!(corrupt(
                     pos + 8,
                     format!("chunk {n}: the dataset's path count exceeds the maximum of {MAX_PATHS} (2^53)"),
-                )
-            })?;
+                ))
+            };
+            total_paths = sum;
             sums[h.light as usize] += h.paths;
             total_samples += h.count;
             index.push(Entry {
@@ -414,6 +474,9 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
             });
             pos += CHUNK_HEADER_LEN + payload as usize;
         } else if rec[..4] == END_MAGIC {
+            if tolerant {
+                break;
+            }
             let t = Trailer::decode(rec).map_err(|(stored, computed)| DatasetError::Checksum {
                 path: path.to_owned(),
                 offset: pos as u64,
@@ -440,14 +503,17 @@ fn scan(path: &Path, r: &DatasetReader) -> Result<(DatasetHeader, Vec<Entry>, u6
             }
             break;
         } else {
-            return Err(corrupt(
+            fault!(corrupt(
                 pos,
                 format!(
                     "expected a chunk header (\"CHNK\") or the end record (\"END\\0\"), found bytes {:02x?}",
                     &rec[..4]
                 ),
-            ));
+            ))
         }
+    }
+    if tolerant {
+        return Ok((header, index, total_samples));
     }
     for (k, (l, &sum)) in header.table.lights.iter().zip(&sums).enumerate() {
         if l.paths != sum {

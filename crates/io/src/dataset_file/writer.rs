@@ -62,6 +62,9 @@ pub struct DatasetWriter {
     failed: bool,
     /// Test hook (`$OPTICKS_FAIL_WRITES_AFTER_BYTES`): a disk that fills up after this many bytes.
     capacity: Option<u64>,
+    /// Test hook (`$OPTICKS_ABORT_AFTER_CHUNKS`): the process is killed outright (aborted, no
+    /// destructor runs) once this many chunks are in the file, as SIGKILL or a power cut would.
+    abort_after: Option<u64>,
 }
 
 /// Counts of a prefix of the file: always whole chunks.
@@ -108,10 +111,46 @@ impl DatasetWriter {
             in_file: empty,
             failed: false,
             capacity: std::env::var("OPTICKS_FAIL_WRITES_AFTER_BYTES").ok().and_then(|v| v.parse().ok()),
+            abort_after: std::env::var("OPTICKS_ABORT_AFTER_CHUNKS").ok().and_then(|v| v.parse().ok()),
         };
         w.write(&bytes)?;
         w.flush_buffer()?;
         Ok(w)
+    }
+
+    /// Takes over the file `tmp` that a killed run left (`salvage.rs`): `header` as the run
+    /// wrote it first, its whole chunks ending at byte `end` (the rest is cut off), holding
+    /// `chunks` chunks, `samples` samples and `light_paths` paths per light. [`finish`](Self::finish)
+    /// then makes it a dataset at `target`; dropped unfinished, the file is removed, as any
+    /// writer's temporary file.
+    pub(crate) fn adopt(
+        tmp: &Path,
+        target: &Path,
+        header: &DatasetHeader,
+        end: u64,
+        (chunks, samples, light_paths): (u64, u64, Vec<u64>),
+    ) -> Result<Self, DatasetError> {
+        let io = |op| move |source| DatasetError::Io { path: tmp.to_owned(), op, source };
+        let header_len = encode_header(header)
+            .map_err(|e| DatasetError::InvalidInput { path: tmp.to_owned(), detail: e.to_string() })?
+            .len();
+        let mut file = std::fs::OpenOptions::new().read(true).write(true).open(tmp).map_err(io("open"))?;
+        file.set_len(end).map_err(io("cut back the unfinished file"))?;
+        file.seek(SeekFrom::Start(end)).map_err(io("seek"))?;
+        let written = Written { bytes: end, chunks, samples, light_paths };
+        Ok(DatasetWriter {
+            path: target.to_owned(),
+            tmp: Some(tmp.to_owned()),
+            out: Some(file),
+            buffer: Vec::new(),
+            header: header.clone(),
+            header_len,
+            written: written.clone(),
+            in_file: written,
+            failed: false,
+            capacity: None,
+            abort_after: None,
+        })
     }
 
     /// The target path.
@@ -180,6 +219,10 @@ impl DatasetWriter {
         self.written.samples += chunk.samples.len() as u64;
         if self.buffer.len() >= BUFFER {
             self.flush_buffer()?;
+        }
+        if self.abort_after == Some(self.written.chunks) {
+            self.flush_buffer()?;
+            std::process::abort();
         }
         Ok(())
     }
