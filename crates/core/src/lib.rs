@@ -19,8 +19,8 @@
 //!
 //! This crate does no file IO and is deterministic for a given seed.
 // `unsafe_code` is denied and `missing_docs` warned by the workspace's lints (Cargo.toml). One
-// exception to the first, allowed where it stands: the prefetch hint of the light vertex cache
-// (`sensor::bidirectional`'s cache), which reads no memory into the program.
+// exception to the first, allowed where it stands: the prefetch hint (`math::prefetch`, used by
+// the light vertex cache and the splat loop), which reads no memory into the program.
 // `!(x > 0.0)` is how this crate rejects NaN along with the out-of-range values: deliberate.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 

@@ -66,6 +66,11 @@ pub fn accumulation_bytes(width: u32, height: u32, threads: usize) -> u64 {
 pub trait SplatTarget {
     /// Adds `v` to pixel (or cell) `index`.
     fn splat(&mut self, index: usize, v: Rgb);
+
+    /// Hints that pixel `index` will soon be added to (a splat loop that knows its next pixels
+    /// ahead starts their loads, `crate::sensor::splat`); no effect on any value.
+    #[inline(always)]
+    fn prefetch(&self, _index: usize) {}
 }
 
 /// Splats staged in f32 and folded into an f64 [`Film`] every [`FLUSH_SPLATS`] splats.
@@ -130,6 +135,13 @@ impl SplatTarget for Accumulator {
         self.staged += 1;
         if self.staged >= FLUSH_SPLATS {
             self.flush();
+        }
+    }
+
+    #[inline(always)]
+    fn prefetch(&self, index: usize) {
+        if let Some(p) = self.staging.get(index) {
+            crate::math::prefetch(p);
         }
     }
 }

@@ -272,38 +272,21 @@ pub(crate) struct SampleConnection {
     pub to_sensor: Vec3,
     /// |x − c|².
     pub dist2: f32,
-    /// With `connect_sample::<true>`: the density of the light tracer's BSDF sampling at x
+    /// With `connect_seen::<true>`: the density of the light tracer's BSDF sampling at x
     /// of continuing from the sensor's direction back to the sample's predecessor
     /// (`Material::pdf_world(n, to_sensor, from_dir)`, what the bidirectional splat's MIS weight
     /// needs), from the same shading point as `f`; 0 for an emission vertex or when not asked.
     pub pdf_rev: f32,
 }
 
-/// Connects stored sample `s` to `sensor` (aperture point from the sample's hash when
-/// `random`): `None` when it projects outside the image, its f is 0, or the sensor cannot see it
-/// — asked of the sensor's own `visibility` buffer first (at the pixel the connection found),
-/// the shadow ray traced only where it does not know ([`Seen::Unknown`]; the answers are the
-/// same). With `REVERSE`, also
+/// A stored sample's connection to the sensor point of `conn` (found by projecting the sample,
+/// [`splat_projected`]), what the sensor's visibility buffer said of it being `seen`: `None`
+/// when its f is 0 or the sensor cannot see it, the shadow ray traced only where the buffer did
+/// not know ([`Seen::Unknown`]; the answers are the same). With `REVERSE`, also
 /// [`SampleConnection::pdf_rev`], from the shading point that gives f (the bidirectional
 /// splat's MIS weight needs both).
 #[inline]
-pub(crate) fn connect_sample<const REVERSE: bool>(
-    scene: &Scene,
-    sensor: &Sensor,
-    visibility: Option<&VisibilityBuffer>,
-    s: &Sample,
-    random: bool,
-) -> Option<SampleConnection> {
-    let u = if random { sample_hash_2d(s) } else { Vec2::ZERO };
-    let conn = sensor.connect(s.position(), u)?;
-    let seen = visibility.map_or(Seen::Unknown, |v| v.seen_at(conn.pixel, s.triangle()));
-    connect_seen::<REVERSE>(scene, seen, s, conn)
-}
-
-/// A sample's connection to the sensor point of `conn`, what the visibility buffer said of it
-/// being `seen`: the shadow ray is traced only where the buffer did not know.
-#[inline]
-fn connect_seen<const REVERSE: bool>(
+pub(crate) fn connect_seen<const REVERSE: bool>(
     scene: &Scene,
     seen: Seen,
     s: &Sample,
@@ -323,7 +306,7 @@ fn connect_seen<const REVERSE: bool>(
 /// panes ([`Scene::shadow_transmittance`]): `f`
 /// is then f times the panes' straight-through transmittance, per channel. The connected
 /// illuminance meter's ([`meter`]; `meter/connect.rs` says why this is unbiased); the cameras
-/// keep [`connect_sample`]'s shadow ray, as their bidirectional weights assume that a pane
+/// keep [`connect_seen`]'s shadow ray, as their bidirectional weights assume that a pane
 /// blocks. `None` when f is 0, an emitter is seen from behind, or something else blocks.
 #[inline]
 pub(crate) fn connect_through_panes(scene: &Scene, s: &Sample, conn: Connection) -> Option<SampleConnection> {
@@ -403,19 +386,61 @@ pub fn splat(
     if !sensor.raster().is_box() {
         return splat_filtered(scene, sensor, visibility, batch, film);
     }
-    let random = sensor.samples_aperture();
-    for s in batch.samples {
-        let Some(SampleConnection { conn, f, cos_x, .. }) =
-            connect_sample::<false>(scene, sensor, visibility, s, random)
+    splat_projected(sensor, visibility, batch.samples, film, |film, i, conn, seen| {
+        let s = &batch.samples[i];
+        let Some(SampleConnection { conn, f, cos_x, .. }) = connect_seen::<false>(scene, seen, s, conn)
         else {
-            continue;
+            return;
         };
         film.splat(conn.pixel, batch.flux_per_path * s.beta() * f * (cos_x.abs() * conn.weight));
+    });
+}
+
+/// The box-filtered splat loop's walk over `samples`: `each(film, i, conn, seen)` for every
+/// sample i that projects into `sensor`'s image, with its connection and what the `visibility`
+/// buffer says of it. Software pipelining: a sample's pixel is
+/// known as soon as it is projected, and its reads of the visibility buffer and of the film (a
+/// megabyte together at 256², past L2) are random; each sample is projected [`SPLAT_AHEAD`]
+/// samples early and those loads begun then, so they overlap the work of the samples between.
+/// The same connections in the same order: images are unchanged to the bit.
+#[inline]
+pub(crate) fn splat_projected<T: SplatTarget>(
+    sensor: &Sensor,
+    visibility: Option<&VisibilityBuffer>,
+    samples: &[Sample],
+    film: &mut T,
+    mut each: impl FnMut(&mut T, usize, Connection, Seen),
+) {
+    let random = sensor.samples_aperture();
+    let project =
+        |s: &Sample| sensor.connect(s.position(), if random { sample_hash_2d(s) } else { Vec2::ZERO });
+    let mut ahead = [None; SPLAT_AHEAD];
+    for (slot, s) in ahead.iter_mut().zip(samples) {
+        *slot = project(s);
+    }
+    for (i, s) in samples.iter().enumerate() {
+        let slot = &mut ahead[i % SPLAT_AHEAD];
+        let conn = *slot;
+        if let Some(next) = samples.get(i + SPLAT_AHEAD) {
+            *slot = project(next);
+            if let Some(c) = slot {
+                visibility.inspect(|v| v.prefetch(c.pixel));
+                film.prefetch(c.pixel);
+            }
+        }
+        if let Some(conn) = conn {
+            let seen = visibility.map_or(Seen::Unknown, |v| v.seen_at(conn.pixel, s.triangle()));
+            each(film, i, conn, seen);
+        }
     }
 }
 
+/// How many samples ahead of its splat [`splat_projected`] projects a sample and starts the
+/// loads of its pixel. 4, 8 and 16 measured alike (`docs/performance.md`).
+const SPLAT_AHEAD: usize = 8;
+
 /// A sample connected to a filtered sensor: the connection (its `pixel` unused) and the pixels
-/// it reaches with their filter weights; `None` as [`connect_sample`], or when no pixel of the
+/// it reaches with their filter weights; `None` as [`connect_seen`], or when no pixel of the
 /// image is within the filter's radius (before the shadow ray).
 #[inline]
 pub(crate) fn connect_filtered<const REVERSE: bool>(

@@ -150,6 +150,15 @@ impl VisibilityBuffer {
         }
     }
 
+    /// Hints that [`seen_at`](Self::seen_at) will soon be asked about `pixel` (no effect on any
+    /// answer).
+    #[inline(always)]
+    pub fn prefetch(&self, pixel: usize) {
+        if let Some(t) = self.front.get(pixel) {
+            crate::math::prefetch(t);
+        }
+    }
+
     /// The triangle a ray from `origin` along `dir` hits first, if the buffer knows it: `origin`
     /// must be the eye itself (a camera path's first ray), and the ray's pixel must hold a front
     /// triangle (everything else along it lies behind).

@@ -14,6 +14,7 @@
 //! made ([`CacheChunk::new`]), so nothing is assumed about where a chunk keeps them.
 
 use crate::dataset::{Chunk, MisRecord, Sample};
+use crate::math::prefetch;
 use crate::sampling::RandomStream;
 
 /// One chunk of the cache: `paths` light paths of table light `light`, their `samples` and the
@@ -288,22 +289,6 @@ pub struct PendingDraw {
     chunk: usize,
     candidates: [usize; CANDIDATES],
 }
-
-/// Asks the CPU to start loading the cache line of `value` (a hint: no effect on any result).
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-#[allow(unsafe_code)]
-fn prefetch<T>(value: &T) {
-    use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-    // SAFETY: a prefetch is only a hint: it reads nothing into the program and cannot fault,
-    // and the pointer comes from a live reference. SSE is part of the x86_64 baseline.
-    unsafe { _mm_prefetch::<_MM_HINT_T0>((value as *const T).cast::<i8>()) }
-}
-
-/// Elsewhere a prefetch is nothing.
-#[cfg(not(target_arch = "x86_64"))]
-#[inline(always)]
-fn prefetch<T>(_: &T) {}
 
 /// A uniform integer in [0, n) (n > 0), by the multiply-high map of 64 random bits (its bias,
 /// below n/2⁶⁴, is far beneath any other rounding).

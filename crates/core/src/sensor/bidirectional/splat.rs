@@ -1,6 +1,6 @@
 //! The light-tracing strategy (t = 1) of the bidirectional estimator: every stored sample of a
 //! light that is on is splatted to the camera exactly as the light estimator does it
-//! (`crate::sensor::splat`'s connection, `connect_sample`) and weighted by
+//! (`crate::sensor::splat`'s connection and walk, `splat_projected`) and weighted by
 //! [`weight_light_trace`] with its stored record ([`light_trace_weight`]). The camera-side
 //! density of the splat is the image-wide density of the camera's own rays ([`image_pdf`]); the
 //! camera tracer's density of continuing from the sample to its predecessor is that of the
@@ -12,7 +12,7 @@ use super::{ConnectionEnd, Counts, cache::CacheChunk, weight_light_trace};
 use crate::dataset::{LightVertexMis, MisRecord, Sample};
 use crate::film::SplatTarget;
 use crate::math::Vec3;
-use crate::sensor::{Sensor, VisibilityBuffer, connect_filtered, connect_sample};
+use crate::sensor::{Sensor, VisibilityBuffer, connect_filtered, connect_seen, splat_projected};
 
 /// Adds the MIS-weighted splats of `chunk`'s samples to `film` (with the sensor's `visibility`
 /// buffer, if it has one: `Sensor::visibility`).
@@ -29,18 +29,16 @@ pub fn splat_chunk(
     let k = chunk.light as usize;
     let Some(light) = ctx.lights.of_table(k) else { return };
     let flux = ctx.flux_per_path[k];
-    let random = sensor.samples_aperture();
-    for (s, record) in chunk.samples.iter().zip(chunk.records) {
+    splat_projected(sensor, visibility, chunk.samples, film, |film, i, conn, seen| {
+        let (s, record) = (&chunk.samples[i], chunk.records[i]);
         // One shading point at the sample for f and the reverse density.
-        let Some(c) = connect_sample::<true>(ctx.scene, sensor, visibility, s, random) else {
-            continue;
-        };
+        let Some(c) = connect_seen::<true>(ctx.scene, seen, s, conn) else { return };
         let end = ConnectionEnd { cos: c.cos_x.abs(), pdf_fwd_w: 0.0, pdf_rev_w: c.pdf_rev };
         let dist2 = (c.conn.point - s.position()).length_squared();
         let counts = ctx.counts_at(c.conn.pixel);
-        let w = weight_at_sensor(ctx, sensor, light.pick, counts, *record, end, c.to_sensor, dist2, 1.0);
+        let w = weight_at_sensor(ctx, sensor, light.pick, counts, record, end, c.to_sensor, dist2, 1.0);
         film.splat(c.conn.pixel, flux * s.beta() * c.f * (c.cos_x.abs() * c.conn.weight * w));
-    }
+    });
 }
 
 /// [`splat_chunk`] through a filter: one connection, then each pixel p within the filter's

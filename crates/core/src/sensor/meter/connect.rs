@@ -16,7 +16,7 @@
 //! with T the number of targets: p lands in a given cell with probability 1/T, at density
 //! 1/A_T there, so E[ΔE_T] is the cell's mean irradiance from x; for a point, δ(p) with
 //! probability 1/T. f is the BSDF in light-flow order, or for an emission vertex the emission
-//! factor f_e(ω_p)/cos θ (one-sided) — exactly the camera's connection (`connect_sample`'s). τ is
+//! factor f_e(ω_p)/cos θ (one-sided) — exactly the camera's connection (`connect_seen`'s). τ is
 //! the segment's transmittance (below: 1 or 0, but for window panes).
 //! θ_p is measured from the meter's normal; light from behind (cos θ_p ≤ 0) is not counted.
 //! A vertex on a surface lying in the meter's own plane (a meter on a floor, the floor's
