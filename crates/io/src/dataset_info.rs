@@ -133,9 +133,12 @@ pub struct DatasetInfo {
     pub dataset: PathBuf,
     /// How far its samples were checked: against the scene's triangles, or why not.
     pub checked: String,
-    /// The scene it records.
+    /// The scene it records: its first file, when it was read from several (`scene_files`).
     pub scene: SceneInfo,
-    /// The scene file found for it, if any.
+    /// Every file of the scene, in the order they were read (several Radiance `.rad` files are
+    /// one scene); one entry otherwise.
+    pub scene_files: Vec<SceneInfo>,
+    /// The scene files found for it, one per line, if every one was found.
     pub scene_found: Option<String>,
     /// Hash of the scene's geometry.
     pub geometry_fingerprint: String,
@@ -199,6 +202,13 @@ impl DatasetInfo {
             RecordedScene::File { relative, absolute } => SceneInfo::File { relative, absolute },
             RecordedScene::Legacy(recorded) => SceneInfo::Recorded { recorded },
         };
+        let scene_files = match &scene {
+            SceneInfo::File { relative, absolute } => std::iter::once((relative.clone(), absolute.clone()))
+                .chain(scene_ref::further_files(&h.label))
+                .map(|(relative, absolute)| SceneInfo::File { relative, absolute })
+                .collect(),
+            other => vec![other.clone()],
+        };
         let passes = (h.trace.passes.iter().enumerate())
             .map(|(i, p)| PassInfo {
                 seed: p.seed,
@@ -225,6 +235,7 @@ impl DatasetInfo {
             dataset: dataset.to_owned(),
             checked,
             scene,
+            scene_files,
             scene_found: scene_ref::resolve(&h.label, dataset).ok(),
             geometry_fingerprint: h.fingerprint.geometry_hex(),
             lights_fingerprint: h.fingerprint.lights_hex(),

@@ -535,6 +535,13 @@ fn radiance_scene_of_several_files_is_the_one_file_scene() {
         opticks_io::scene_source::build(&scene, &loaded.description).unwrap().scene.triangles.len()
     };
     assert_eq!(triangles(&["mats.rad", "room.rad", "sky.rad"]), triangles(&["one.rad"]));
+    // `info --json` lists every file, in order; `scene` stays the first.
+    let json: serde_json::Value = serde_json::from_str(&ok(&["info", "three.opds", "--json"], d)).unwrap();
+    let files: Vec<&str> =
+        json["scene_files"].as_array().unwrap().iter().map(|f| f["relative"].as_str().unwrap()).collect();
+    assert_eq!(files, ["mats.rad", "room.rad", "sky.rad"], "{json}");
+    assert_eq!(json["scene"]["relative"], "mats.rad");
+    assert_eq!(json["scene_found"].as_str().unwrap().lines().count(), 3, "{json}");
     let measure = |data: &str, out: &str, scene: &[&str]| {
         let mut args = vec!["measure", data, "--points", "p.csv", "-o", out, "--direct-samples", "64"];
         for s in scene {

@@ -431,7 +431,8 @@ fn a_killed_trace_keeps_its_written_blocks() {
     let stale = files(d).into_iter().find(|f| f.starts_with(".cut.opds.tmp-")).unwrap();
     let len = std::fs::metadata(d.join(&stale)).unwrap().len();
     std::fs::OpenOptions::new().write(true).open(d.join(&stale)).unwrap().set_len(len - 40).unwrap();
-    ok(&[&trace[..], &["-o", "cut.opds"]].concat(), d);
+    let out = ok(&[&trace[..], &["-o", "cut.opds"]].concat(), d);
+    assert!(out.contains(&stale) && out.contains("killed"), "{out}");
     assert!(contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")));
     assert_eq!(files(d), ["cut.opds", "whole.opds"]);
 }
