@@ -72,6 +72,18 @@ impl DatasetReader {
     /// Opens and validates `path` (see the type's documentation). Only regular files are read:
     /// a FIFO, a device (`/dev/zero`) or a directory is refused before it is opened.
     pub fn open(path: &Path) -> Result<Self, DatasetError> {
+        Self::open_with(path, false)
+    }
+
+    /// Opens the file of a run that was killed before it finished (`salvage.rs`): the header
+    /// and the whole chunks before the first one cut short or damaged, whose headers passed
+    /// their checks; the header's N_k are those the run started with, not the chunks'.
+    pub(crate) fn open_unfinished(path: &Path) -> Result<Self, DatasetError> {
+        Self::open_with(path, true)
+    }
+
+    /// [`open`](Self::open), or with `tolerant` [`open_unfinished`](Self::open_unfinished).
+    fn open_with(path: &Path, tolerant: bool) -> Result<Self, DatasetError> {
         let io = |op| move |source| DatasetError::Io { path: path.to_owned(), op, source };
         if cfg!(target_endian = "big") {
             return Err(DatasetError::InvalidInput {
@@ -90,29 +102,7 @@ impl DatasetReader {
             total_samples: 0,
             triangles: None,
         };
-        (r.header, r.index, r.total_samples) = scan(path, &r, false)?;
-        Ok(r)
-    }
-
-    /// Opens the file of a run that was killed before it finished (`salvage.rs`): the header
-    /// and the whole chunks before the first one cut short or damaged, whose headers passed
-    /// their checks; the header's N_k are those the run started with, not the chunks'.
-    pub(crate) fn open_unfinished(path: &Path) -> Result<Self, DatasetError> {
-        let (file, len) = crate::input_file::open(path).map_err(|source| DatasetError::Io {
-            path: path.to_owned(),
-            op: "open",
-            source,
-        })?;
-        let mut r = DatasetReader {
-            path: path.to_owned(),
-            file,
-            len,
-            header: DatasetHeader::default(),
-            index: Vec::new(),
-            total_samples: 0,
-            triangles: None,
-        };
-        (r.header, r.index, r.total_samples) = scan(path, &r, true)?;
+        (r.header, r.index, r.total_samples) = scan(path, &r, tolerant)?;
         Ok(r)
     }
 
