@@ -112,6 +112,9 @@ pub struct WriteLock {
     locks: Vec<(PathBuf, File)>,
     /// Stale temporary files of earlier, killed runs that were removed (path, bytes).
     pub removed_stale: Vec<(PathBuf, u64)>,
+    /// The partial dataset this run resumes, when the blocks of an earlier resumption of it
+    /// that was killed were added to it (the file, its paths now).
+    pub extended_partial: Option<(PathBuf, u64)>,
 }
 
 impl Drop for WriteLock {
@@ -139,12 +142,16 @@ pub fn begin_write(target: &Path, intent: WriteIntent<'_>) -> Result<WriteLock, 
     for t in &targets {
         locks.push(lock(t)?);
     }
-    let mut guard = WriteLock { locks, removed_stale: Vec::new() };
+    let mut guard = WriteLock { locks, removed_stale: Vec::new(), extended_partial: None };
     let mut salvaged = None;
     for t in &targets {
-        let (removed, saved) = clear_stale_temporaries(t)?;
+        let (removed, saved) = clear_stale_temporaries(t, intent.resuming)?;
         guard.removed_stale.extend(removed);
-        salvaged = salvaged.or(saved);
+        match saved {
+            Some(Saved::Extended(p, paths)) => guard.extended_partial = Some((p, paths)),
+            Some(Saved::New(p, paths)) => salvaged = salvaged.or(Some((p, paths))),
+            None => {}
+        }
     }
     let partial = partial_path(target);
     let resumes_it = intent.resuming.is_some_and(|p| same_file(p, &partial));
@@ -251,18 +258,38 @@ fn absolute_parent(p: &Path) -> Option<PathBuf> {
     Some(std::fs::canonicalize(crate::output_paths::folder_of(p)).ok()?.join(p.file_name()?))
 }
 
-/// Saves the work of one stale temporary file of `target` as its partial dataset when there is
-/// none yet and it holds any ([`crate::dataset_file::salvage`]: the partial file and its paths),
-/// and removes the others (reported, with their sizes); to be called with the target's lock held.
-fn clear_stale_temporaries(target: &Path) -> Result<StaleCleared, WriteRefused> {
+/// What [`clear_stale_temporaries`] saved of a killed run: a new partial dataset, or more
+/// blocks in the partial dataset this run resumes (the file, its paths).
+enum Saved {
+    New(PathBuf, u64),
+    Extended(PathBuf, u64),
+}
+
+/// Saves the work of one stale temporary file of `target` ([`crate::dataset_file::salvage`]):
+/// as its partial dataset when there is none yet, or — when this run resumes that partial
+/// dataset (`resuming`) and the file is a killed resumption of it — over it; removes the others
+/// (reported, with their sizes). To be called with the target's lock held.
+fn clear_stale_temporaries(target: &Path, resuming: Option<&Path>) -> Result<StaleCleared, WriteRefused> {
     let partial = partial_path(target);
+    let resumed = resuming.filter(|p| same_file(p, &partial));
+    let extending = match resumed {
+        Some(p) => crate::dataset_file::DatasetReader::open(p).ok().map(|r| r.header().clone()),
+        None => None,
+    };
     let mut saved = None;
     let mut removed = Vec::new();
     for (path, bytes) in stale_temporaries(target) {
-        if saved.is_none() && !partial.exists() {
+        if saved.is_none() {
             // The salvage finishes the file into the partial one, or leaves it to be removed.
-            if let Ok(Some(s)) = crate::dataset_file::salvage(&path, &partial) {
-                saved = Some((partial.clone(), s.paths));
+            let salvaged = match (&extending, partial.exists()) {
+                (_, false) => crate::dataset_file::salvage(&path, &partial, None)
+                    .map(|s| s.map(|s| Saved::New(partial.clone(), s.paths))),
+                (Some(h), true) => crate::dataset_file::salvage(&path, &partial, Some(h))
+                    .map(|s| s.map(|s| Saved::Extended(partial.clone(), s.paths))),
+                (None, true) => Ok(None),
+            };
+            if let Ok(Some(s)) = salvaged {
+                saved = Some(s);
                 continue;
             }
         }
@@ -276,8 +303,8 @@ fn clear_stale_temporaries(target: &Path) -> Result<StaleCleared, WriteRefused> 
     Ok((removed, saved))
 }
 
-/// What [`clear_stale_temporaries`] removed (paths, bytes) and saved (the partial file, its paths).
-type StaleCleared = (Vec<(PathBuf, u64)>, Option<(PathBuf, u64)>);
+/// What [`clear_stale_temporaries`] removed (paths, bytes) and saved.
+type StaleCleared = (Vec<(PathBuf, u64)>, Option<Saved>);
 
 /// `dir/.NAME.tmp-*` (the temporary files of `DatasetWriter` for `dir/NAME`) with their sizes,
 /// largest first (the one most likely to hold the most work is the one saved).

@@ -164,6 +164,12 @@ pub fn begin_dataset_write(output: &Path, intent: WriteIntent<'_>) -> Result<Wri
         _ => e.into(),
     })?;
     note_removed_stale(&lock.removed_stale);
+    if let Some((partial, paths)) = &lock.extended_partial {
+        crate::output::note(&format!(
+            "an earlier resumption of {} was killed; the blocks it had written were added to it ({paths} paths now)",
+            partial.display()
+        ));
+    }
     Ok(lock)
 }
 

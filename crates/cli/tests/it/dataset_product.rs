@@ -424,6 +424,32 @@ fn a_killed_trace_keeps_its_written_blocks() {
         assert_eq!(files(d), ["cut.opds", "whole.opds"], "no temporary or partial file is left");
         std::fs::remove_file(d.join("cut.opds")).unwrap();
     }
+    // A resumption killed outright: its file starts with the partial dataset's chunks, so the
+    // next resumption adds its new blocks to the partial file before it goes on.
+    let killed = |chunks: &str, args: &[&str]| {
+        let out = opticks_env(args, d, &[("OPTICKS_ABORT_AFTER_CHUNKS", chunks)]);
+        assert_eq!(out.status.signal(), Some(6), "aborted (SIGABRT): {out:?}");
+    };
+    killed("3", &[&trace[..], &["-o", "cut.opds"]].concat());
+    fails(&[&trace[..], &["-o", "cut.opds"]].concat(), d);
+    killed("7", &["resume", "cut.partial.opds"]);
+    let out = ok(&["resume", "cut.partial.opds"], d);
+    assert!(
+        out.contains(&format!(
+            "an earlier resumption of cut.partial.opds was killed; the blocks it had written were added to it \
+             ({} paths now)",
+            7 * 4096
+        )),
+        "{out}"
+    );
+    assert!(out.contains(&format!("resumed cut.partial.opds: {} + ", 7 * 4096)), "{out}");
+    assert!(
+        contents(&d.join("cut.opds")) == contents(&d.join("whole.opds")),
+        "resumed twice ≠ uninterrupted"
+    );
+    assert_eq!(files(d), ["cut.opds", "whole.opds"]);
+    std::fs::remove_file(d.join("cut.opds")).unwrap();
+
     // A file with no whole chunk of the run holds nothing to save: removed, as before.
     let out =
         opticks_env(&[&trace[..], &["-o", "cut.opds"]].concat(), d, &[("OPTICKS_ABORT_AFTER_CHUNKS", "1")]);

@@ -11,6 +11,9 @@
 //! place (no copy), as a partial dataset that `opticks resume` completes into the dataset the
 //! uninterrupted run would have written, bit for bit.
 //!
+//! A resumption killed outright leaves the same kind of file, starting with the chunks of the
+//! partial dataset it resumes: saved over that partial file, it keeps the new blocks too.
+//!
 //! A salvaged pass is never complete: if every block reached the disk (the run was killed while
 //! finishing), the last chunk is dropped, so that resuming retraces it and the file is finished
 //! by the usual path. A file whose chunks are not such a prefix (a copy of earlier passes cut
@@ -23,8 +26,22 @@ use std::path::Path;
 /// Makes the temporary file `unfinished` of a killed run a valid partial dataset at `to`: `None`
 /// when it holds no new paths (it is then left as it was), else the dataset written. An error
 /// when the file cannot be read as a dataset at all.
-pub fn salvage(unfinished: &Path, to: &Path) -> Result<Option<DatasetSummary>, DatasetError> {
+///
+/// With `extending`, the header of the partial dataset at `to` that the killed run was resuming:
+/// the file is saved (replacing `to`, atomically) only if that run started from exactly it (its
+/// label aside, which a resumption rewrites) — its file then begins with all of `to`'s chunks,
+/// so what is saved holds more.
+pub fn salvage(
+    unfinished: &Path,
+    to: &Path,
+    extending: Option<&DatasetHeader>,
+) -> Result<Option<DatasetSummary>, DatasetError> {
     let mut r = DatasetReader::open_unfinished(unfinished)?;
+    if let Some(h) = extending
+        && (DatasetHeader { label: h.label.clone(), ..r.header().clone() }) != *h
+    {
+        return Ok(None);
+    }
     // The chunks whose payloads verify (a power cut may leave a chunk of zeros behind its header).
     let whole = (0..r.chunk_count()).find(|&i| r.owned_chunk(i).is_err()).unwrap_or(r.chunk_count());
     r.keep_chunks(whole);
