@@ -59,7 +59,7 @@ use crate::light::Light;
 use crate::math::{Frame, Rgb, Vec2, Vec3, luminance};
 use crate::sampling::RandomStream;
 use crate::sampling::warp::square_to_cosine_hemisphere;
-use crate::scene::{Photometry, Scene};
+use crate::scene::Scene;
 use crate::sensor::bidirectional::{RenderLights, shadow_ray};
 use std::f64::consts::{FRAC_1_PI, PI};
 
