@@ -36,7 +36,7 @@
 //! variance, and the count is the shared budget's (`budget.rs`): as many as give a relative
 //! standard error of 0.5 % assuming the variance falls as 1/n (stratification makes it fall
 //! faster, so this overshoots), within the same bounds as the sky's (256 to 2^20 a target, 2^24
-//! over the meter). `--direct-samples N` takes N samples (N/2 strata). Random numbers come from
+//! over the meter). `--direct-samples N` takes N samples (N/2 strata, rounded down to even). Random numbers come from
 //! streams named by (seed, target), so a reading does not depend on the thread count.
 //!
 //! **Nothing counted twice.** The connected estimator no longer connects stored emission
@@ -172,8 +172,8 @@ impl<'a> AreaLights<'a> {
             Some(n) => n,
             None => {
                 let (mean, se) = self.stratified(layout, t, PILOT_STRATA, PILOT_STREAM, seed, stop)?;
-                // One sample's variance: the pilot mean's times its 2·PILOT_STRATA samples.
-                let one = se[3] * se[3] * (2 * PILOT_STRATA) as f64;
+                // One sample's variance: the pilot mean's times its samples.
+                let one = se[3] * se[3] * (2 * Strata::new(PILOT_STRATA).len()) as f64;
                 budget::count(None, budget::wanted(one, mean[3]), cap)
             }
         };
@@ -181,25 +181,37 @@ impl<'a> AreaLights<'a> {
     }
 }
 
-/// n strata of the unit square (module docs): ⌊√n⌋ rows of equal height, the first n mod rows
-/// of them with one column more than the others, a row's columns of equal width.
+/// About n strata of the unit square (module docs): ⌊√n⌋ rows of equal height (at most n/2),
+/// each of an even number of columns of equal width, n/2 pairs of columns dealt to the rows as
+/// evenly as can be (n rounded down to even; n = 1 is the whole square). Why even: a quad
+/// emitter is two triangles of equal area, split at u.x = ½, and a stratum straddling that
+/// split holds two distant parts of the light — its pair's difference then dominated the error,
+/// and made a pilot's estimate of it erratic.
 #[derive(Clone, Copy, Debug)]
 struct Strata {
     rows: u32,
-    n: u32,
+    pairs: u32,
 }
 
 impl Strata {
     fn new(n: u32) -> Self {
-        let n = n.max(1);
-        Strata { rows: (n as f64).sqrt() as u32, n }
+        let pairs = n / 2;
+        if pairs == 0 {
+            return Strata { rows: 1, pairs: 0 };
+        }
+        Strata { rows: ((n as f64).sqrt() as u32).clamp(1, pairs), pairs }
+    }
+
+    /// The number of strata.
+    fn len(self) -> u32 {
+        (2 * self.pairs).max(1)
     }
 
     /// Each stratum's (x₀, y₀, width, height) and its area.
     fn iter(self) -> impl Iterator<Item = ((f32, f32, f32, f32), f64)> {
-        let (base, extra) = (self.n / self.rows, self.n % self.rows);
+        let (base, extra) = (self.pairs / self.rows, self.pairs % self.rows);
         (0..self.rows).flat_map(move |r| {
-            let cols = base + u32::from(r < extra);
+            let cols = (2 * (base + u32::from(r < extra))).max(1);
             let (w, h) = (1.0 / cols as f32, 1.0 / self.rows as f32);
             let area = 1.0 / (cols as f64 * self.rows as f64);
             (0..cols).map(move |c| ((c as f32 * w, r as f32 * h, w, h), area))

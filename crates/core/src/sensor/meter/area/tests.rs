@@ -264,17 +264,21 @@ fn an_explicit_count_fixes_the_area_samples() {
     }
 }
 
-/// The strata tile the square: their areas sum to 1 and n of them, for any n.
+/// The strata tile the square: their areas sum to 1, n of them rounded down to even (1 for
+/// n < 2), every row of an even number of columns (none straddles u.x = ½).
 #[test]
 fn the_strata_tile_the_square() {
-    for n in [1u32, 2, 3, 7, 32, 128, 1000] {
-        let s: Vec<_> = Strata::new(n).iter().collect();
-        assert_eq!(s.len(), n as usize);
+    for n in [1u32, 2, 3, 7, 32, 128, 129, 1000] {
+        let strata = Strata::new(n);
+        let s: Vec<_> = strata.iter().collect();
+        assert_eq!(s.len(), if n < 2 { 1 } else { (n - n % 2) as usize }, "{n}");
+        assert_eq!(s.len(), strata.len() as usize);
         let area: f64 = s.iter().map(|(_, a)| a).sum();
         assert!((area - 1.0).abs() < 1e-12, "{n}: {area}");
         for ((x, y, w, h), a) in s {
             assert!(x >= 0.0 && y >= 0.0 && x + w <= 1.0 + 1e-6 && y + h <= 1.0 + 1e-6);
             assert!(((w * h) as f64 - a).abs() < 1e-6);
+            assert!(n < 2 || x >= 0.5 || x + w <= 0.5 + 1e-6, "{n}: a stratum straddles ½");
         }
     }
 }
