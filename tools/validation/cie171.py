@@ -848,6 +848,8 @@ TTA_SEEDS = (1, 2, 3)
 TTA_PATHS = [2 ** k for k in range(12, 22)] + ["4M"]  # 4096 … 2^21 doubling, then the default 4M
 TTA_BOX_PATHS = [2 ** k for k in range(12, 21)]  # to 1M: 4M paths of the ρ = 0.95 box is a 4 GB dataset
 TTA_SKY_DS = ["auto", "1024", "2048", "4096", "8192", "16384", "32768", "65536"]  # measure --direct-samples (auto: the default)
+TTA_AREA_DS = ["auto", "512", "1024", "2048", "4096", "8192", "16384"]  # the same for the area-light cases
+TTA_AREA_KEYS = ("rect", "disc", "obstruct")  # their direct light is the meter's, sampled on the source
 TTA_SKY_RAYS = 2 ** 17  # Radiance's sky grid: at most -ad × runs averaged ambient rays a point
 
 
@@ -949,9 +951,9 @@ class TimeToAccuracy:
     def opticks_search(self, sub, target):
         """The cheapest (paths, direct samples) whose every seed is within target: the path count
         doubling upward (stopping at the first that passes, or when two doublings did not improve
-        the accuracy), every --direct-samples at each count for the sky cases."""
+        the accuracy), every --direct-samples at each count for the sky and area-light cases."""
         grid = TTA_BOX_PATHS if sub.kind == "box" else TTA_PATHS
-        ds_grid = TTA_SKY_DS if sub.kind == "sky" else ["auto"]
+        ds_grid = TTA_SKY_DS if sub.kind == "sky" else TTA_AREA_DS if sub.key in TTA_AREA_KEYS else ["auto"]
         best, trail = None, []
         for paths in grid:
             for s in TTA_SEEDS:
@@ -1185,7 +1187,9 @@ def time_to_accuracy(exe, work, radiance, version, only=""):
            "**Opticks's grid.** `--paths` 4096, 8192, … doubling to 2^21, then the default 4M (the box: to "
            "1M, 4M being a 4 GB dataset at ρ = 0.95), upward until a count passes or two doublings did not "
            "improve the accuracy; for the sky cases at each count also `measure --direct-samples` "
-           f"{', '.join(TTA_SKY_DS)} (`auto`, the default, asks the sky's pilot for an SE of 0.5 %). The "
+           f"{', '.join(TTA_SKY_DS)} (`auto`, the default, asks the sky's pilot for an SE of 0.5 %), for "
+           f"the area sources (5.3, 5.7) {', '.join(TTA_AREA_DS)} (`auto` asks the area lights' pilot for "
+           "the same). The "
            "defaults column is `opticks trace` and `opticks measure` with no option (the box: 1M paths, "
            "as the section above), its max |diff| over the runs beside.", "",
            "**Radiance's grid.** The direct cases (a `light` source, a black floor): `-ab 0 -dt 0 -dc 1` "
@@ -1222,21 +1226,22 @@ TTA_FINDINGS = (
     "**What dominates Opticks's time there.** (1) Its fixed cost: two processes, the scene loaded "
     "twice, a dataset written and read — a few ms, against Radiance's 1–2 ms for `oconv` + `rtrace` "
     "on a one-source scene; at 8 points nothing amortises it (the point case, the box's 24 `measure` "
-    "runs, one per wall and ρ). (2) The area sources (5.3, 5.7): the meter takes an area light's direct light "
-    "from the dataset's stored emission points connected to each point (docs/estimator.md §5), so its "
-    "error falls as 1/√paths and 1 % at every point of 3 seeds needs 2^19–2^20 paths, the trace most "
-    "of the time; Radiance samples the source from the point, and its deterministic `-dj 0 -ds 0.2` "
-    "reads a wholly visible source within 1 % at once. A meter that also sampled area lights from the "
-    "point (as it does point, directional and sky lights, `--direct-samples`) would reach these "
-    "targets without a dataset — an estimator change, not made here. (3) The sky: a sky case's "
+    "runs, one per wall and ρ). (2) The area sources (5.3, 5.7): the meter samples an area light's "
+    "direct light on the source from each point (stratified points on it, as many as its pilot asks "
+    "for, or `--direct-samples`; docs/estimator.md §5) and no longer connects the dataset's emission "
+    "points, so 4096 paths are as good as 4M there and `measure` costs a few ms; what is left is (1). "
+    "The default `auto` aims at an SE of 0.5 % a point, which does not always keep every one of 27 "
+    "readings (9 points, 3 seeds) within 1 % in 5.7's penumbra (2.2 SE off is not rare among 27); a "
+    "fixed count of a few thousand does. (3) The sky: a sky case's "
     "`measure` costs SKY_PROBE s CPU before it draws a direction (`--direct-samples 2`: the scene, the "
     "sky's map and the pilot's 8192 directions a point, which are discarded), its trace of 4096 paths "
     "SKY_TRACE s; the fresh directions then need 8192–16384 a point for 2 %, Radiance's stratified "
     "hemisphere with super-sampling 4096 + 2048 (a façade: 16384 + 8192). A smaller pilot, or a "
     "pilot whose samples count, would lower the first; the default `auto` asks for an SE of 0.5 %, "
     "more than 2 % over 8 points needs. (4) The defaults: the trace's default 4M paths cost 1–2.5 s "
-    "on every case where the points need few or none of them (the sky cases' room is black; a point "
-    "or directional light's direct light is the meter's own, exact).")
+    "on every case where the points need few or none of them (the sky cases' room is black; every "
+    "light's direct light is the meter's own — exact for a point or directional light, sampled on "
+    "the source for an area light — and the floors are black).")
 
 # Why Radiance may not reach a case's target, by the case's number (written where it did not).
 TTA_NOTES = {

@@ -9,8 +9,9 @@
 //! Defaults are the command line's: 10×10 cells; the `samples` estimator on a mesh (on scene
 //! geometry it is several times cheaper and less noisy) and `connections` elsewhere, with one
 //! connection per stored sample, 256 direct-light points per cell for point and directional
-//! lights, an environment's direct light by its guided sampler to an SE of 0.5 %
-//! (`direct_samples` `None`; `opticks_core::sensor::meter`'s `sky.rs`) and seed 0.
+//! lights, an environment's direct light by its guided sampler and the area lights' by
+//! stratified points on them, each to an SE of 0.5 % (`direct_samples` `None`;
+//! `opticks_core::sensor::meter`'s `sky.rs` and `area.rs`) and seed 0.
 //!
 //! **Daylight factor.** Whenever the lights on are a CIE overcast sky alone
 //! ([`crate::daylight`]), [`Request::daylight`] gives the basis and the reading comes with the

@@ -62,11 +62,12 @@ pub struct Args {
     /// Connections: meter points each stored sample is connected to [default: 1].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=1024))]
     connections: Option<u32>,
-    /// Connections: how the direct light of point, directional and environment lights is
-    /// gathered. `auto` (the default): point and directional lights at 256 points per cell; an
-    /// environment (sky) from directions its own pilot learns to aim where the sky is seen
-    /// (through openings), as many as give the sky's light a standard error of 0.5 % (256 to
-    /// 2^20 a point or cell). N (2 to 1000000): N points per cell and N sky directions each.
+    /// Connections: how the lights' direct light is gathered. `auto` (the default): point and
+    /// directional lights at 256 points per cell; an environment (sky) from directions its own
+    /// pilot learns to aim where the sky is seen (through openings), and area lights from
+    /// stratified points on them, each as many as give its light a standard error of 0.5 % (256
+    /// to 2^20 a point or cell). N (2 to 1000000): N points per cell, N sky directions and N
+    /// points on the area lights each.
     #[arg(long, value_name = "auto|N", value_parser = parse_direct_samples)]
     direct_samples: Option<DirectSamples>,
     /// Connections: seed of the meter's random streams [default: 0].

@@ -118,11 +118,12 @@ impl AreaLight {
         }
     }
 
-    /// A path start: `u_pos.x` picks a triangle ∝ area and is reused, rescaled, with `u_pos.y`
-    /// for a point uniform on it (so stratified inputs stay stratified); `u_dir` a direction
-    /// from the profile, in the triangle's frame.
+    /// A point uniform over the light's area (density 1/A), its triangle's geometric normal
+    /// and the triangle: `u_pos.x` picks a triangle ∝ area and is reused, rescaled, with
+    /// `u_pos.y` for a point uniform on it (so stratified inputs stay stratified). The position
+    /// half of [`AreaLight::sample_emission`], which the meter's direct term also draws with.
     #[inline]
-    pub fn sample_emission(&self, triangles: &[Triangle], u_pos: Vec2, u_dir: Vec2) -> Emission {
+    pub fn sample_position(&self, triangles: &[Triangle], u_pos: Vec2) -> (Vec3, Vec3, u32) {
         let target = u_pos.x * self.area();
         let i = self.cumulative_area.partition_point(|&c| c <= target).min(self.triangles.len() - 1);
         let lo = if i == 0 { 0.0 } else { self.cumulative_area[i - 1] };
@@ -130,8 +131,14 @@ impl AreaLight {
         let prim = self.triangles[i];
         let tri = &triangles[prim as usize];
         let b = warp::square_to_uniform_triangle(Vec2::new(ux, u_pos.y));
-        let origin = tri.point(b.x, b.y);
-        let normal = tri.normal();
+        (tri.point(b.x, b.y), tri.normal(), prim)
+    }
+
+    /// A path start: a point from [`AreaLight::sample_position`] (`u_pos`); `u_dir` a direction
+    /// from the profile, in the triangle's frame.
+    #[inline]
+    pub fn sample_emission(&self, triangles: &[Triangle], u_pos: Vec2, u_dir: Vec2) -> Emission {
+        let (origin, normal, prim) = self.sample_position(triangles, u_pos);
         let (local, w) = self.profile.sample(u_dir);
         let dir = self.frame(normal).to_world(local);
         Emission { origin, surface: Some((normal, prim)), dir, weight: Rgb::splat(w) }

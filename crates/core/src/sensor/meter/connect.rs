@@ -1,13 +1,14 @@
 //! The connected illuminance meter: irradiance anywhere — on a plane in the air, at points, or
-//! on a surface — by connecting the stored samples to the meter (the light tracer's t = 1
-//! strategy, with the meter as a sensor of cosine importance), plus the direct light of the
-//! lights that store no emission vertex (docs/estimator.md §5).
+//! on a surface — by connecting the stored scattered samples to the meter (the light tracer's
+//! t = 1 strategy, with the meter as a sensor of cosine importance), plus every light's direct
+//! light, estimated at the meter (docs/estimator.md §5).
 //!
-//! **Stored samples** (scattered vertices and the emission points y₀ of area lights). The
-//! irradiance of target T (a cell of area A_T, or a point) is E_T = (1/A_T)∫_T ∫ L_i(p, ω)
-//! cos θ_p dω dA_p. Each stored vertex x of light k with weight β is connected to n_c points p
-//! drawn uniformly over the whole layout (uniform on the grid's area, so uniform within the
-//! cell it lands in; for points, a uniform pick), and adds to p's target
+//! **Stored samples** (scattered vertices; not the emission points y₀ of area lights, below).
+//! The irradiance of target T (a cell of area A_T, or a point) is
+//! E_T = (1/A_T)∫_T ∫ L_i(p, ω) cos θ_p dω dA_p. Each stored scattered vertex x of light k with
+//! weight β is connected to n_c points p drawn uniformly over the whole layout (uniform on the
+//! grid's area, so uniform within the cell it lands in; for points, a uniform pick), and adds
+//! to p's target
 //!
 //! ```text
 //! ΔE_T = (Φ_k/N_k) · β · f(x; ω_in → ω_p) · |cos θ_x| · cos θ_p / d² · τ(x, p) · T / n_c
@@ -15,27 +16,37 @@
 //!
 //! with T the number of targets: p lands in a given cell with probability 1/T, at density
 //! 1/A_T there, so E[ΔE_T] is the cell's mean irradiance from x; for a point, δ(p) with
-//! probability 1/T. f is the BSDF in light-flow order, or for an emission vertex the emission
-//! factor f_e(ω_p)/cos θ (one-sided) — exactly the camera's connection (`connect_seen`'s). τ is
-//! the segment's transmittance (below: 1 or 0, but for window panes).
+//! probability 1/T. f is the BSDF in light-flow order — exactly the camera's connection
+//! (`connect_seen`'s). τ is the segment's transmittance (below: 1 or 0, but for window panes).
 //! θ_p is measured from the meter's normal; light from behind (cos θ_p ≤ 0) is not counted.
 //! A vertex on a surface lying in the meter's own plane (a meter on a floor, the floor's
 //! samples) contributes exactly 0 (both cosines vanish) and is skipped, which also keeps
 //! rounding from producing fireflies there.
 //!
-//! **Direct light of point, directional and environment lights.** They store no emission
-//! vertex (a delta position or direction, or a direction at infinity), so it is estimated at
-//! the meter, per target. Point and directional lights: `direct_samples` uniform points of the
-//! cell (256 by default; one for a point, which is exact), each gathering from every such light
-//! that is on I(ω)·cos θ_p/d²·τ (point) or E·cos θ_p·τ (directional), relit; their standard
-//! error is the points' spread. Environments (a sky): a pilot learns where from the target the
-//! sky is seen and the fresh directions are drawn from a defensive mixture of that guide and
-//! the environment's own sampling, as many as a standard error of 0.5 % needs by default
-//! (`sky.rs`, which also shows why this is unbiased) — through a small opening, directions
-//! drawn from the whole sky rarely pass. The two estimates are independent and add. Area lights
-//! need no such term: their emission vertices above carry their direct light, with the
-//! emission distribution — the same density per connection as sampling the light from the
-//! meter (both draw the pair (p, y₀) uniformly over meter × light).
+//! **Direct light, estimated at the meter, per target.** Point and directional lights store no
+//! emission vertex (a delta position or direction), nor do environments (a direction at
+//! infinity); area lights do, but connecting y₀ gives an error that falls only as
+//! 1/√(light paths), where sampling the light from the target needs a few hundred shadow rays.
+//! So every light's direct light is this term's. Point and directional lights:
+//! `direct_samples` uniform points of the cell (256 by default; one for a point, which is
+//! exact), each gathering from every such light that is on I(ω)·cos θ_p/d²·τ (point) or
+//! E·cos θ_p·τ (directional), relit; their standard error is the points' spread. Environments
+//! (a sky): a pilot learns where from the target the sky is seen and the fresh directions are
+//! drawn from a defensive mixture of that guide and the environment's own sampling, as many as
+//! a standard error of 0.5 % needs by default (`sky.rs`, which also shows why this is unbiased)
+//! — through a small opening, directions drawn from the whole sky rarely pass. Area lights:
+//! stratified points on the lights, drawn with their own position sampling, as many as a
+//! standard error of 0.5 % needs by default (`area.rs`); the two sampled terms share their
+//! sample budget (`budget.rs`). The estimates are independent and add, their errors in
+//! quadrature with the connections'.
+//!
+//! **Invariant: stored emission vertices are not connected.** The area lights' direct term
+//! counts every light path whose only segment toward the meter leaves the light straight
+//! (y₀ → p, through panes or not); a connection from y₀ would count the same paths again.
+//! Skipping y₀ leaves each path arriving at p to exactly one strategy — its direct segment to
+//! the direct term, every longer path to the connection of its last scattered vertex — each
+//! with weight 1, so the sum stays unbiased (no MIS is involved). The emission vertices still
+//! count as the paths they start: a light's N_k and its chunks' statistics are unchanged.
 //!
 //! **Shadow rays through glazing.** τ is [`Scene::shadow_transmittance`]: 0 where a surface
 //! blocks the segment, else the product of the straight-through transmittance T(θ) of the thin
@@ -61,8 +72,10 @@
 //! streams named by (seed, chunk) and (seed, target): a reading does not depend on the thread
 //! count.
 
+use super::area::AreaLights;
+use super::budget::{self, Moments};
 use super::layout::{MeterDraw, MeterLayout};
-use super::sky::{self, Moments, Sky};
+use super::sky::Sky;
 use super::tally::{Group, Reading, Scratch, tally_groups};
 use crate::dataset::Sample;
 use crate::film::SplatTarget;
@@ -85,8 +98,10 @@ pub struct ConnectedSettings {
     pub connections: u32,
     /// `None` (the default): the direct light of point and directional lights from
     /// [`DEFAULT_DIRECT_POINTS`] points per cell, the environments' from as many guided
-    /// directions as their pilot asks for (`sky.rs`). `Some(n)`: n points per cell (≥ 2; points
-    /// use one, which is exact) and exactly n guided directions per target for environments.
+    /// directions as their pilot asks for (`sky.rs`), the area lights' from as many points on
+    /// them as theirs asks for (`area.rs`). `Some(n)`: n points per cell (≥ 2; points use one,
+    /// which is exact), exactly n guided directions per target for environments and n points on
+    /// the area lights (n/2 strata of two).
     pub direct_samples: Option<u32>,
     /// Names the random streams.
     pub seed: u64,
@@ -99,8 +114,8 @@ impl Default for ConnectedSettings {
 }
 
 /// Reads the meter `layout` from `groups.len()` batches (batch i is chunk i of the dataset, of
-/// light and path count `groups[i]`) on all cores: the connected stored samples plus the direct
-/// light of the point, directional and environment `lights` that are on. The value per target is in W/m²
+/// light and path count `groups[i]`) on all cores: the connected stored scattered samples plus
+/// the direct light of the `lights` that are on. The value per target is in W/m²
 /// (and lux, by the scene's rule, [`Scene::photometry`]), with its standard error. `Ok(None)`
 /// once `stop` said so: the batches check it themselves (the caller's `batch`); the direct
 /// light asks it every [`DIRECT_STOP_DRAWS`] points or sky directions of a target (pilot
@@ -153,6 +168,9 @@ fn splat_connected(
     let mut rng = RandomStream::new(settings.seed, &[SPLAT_STREAM, chunk]);
     let scale = layout.len() as f32 / settings.connections as f32;
     for s in samples {
+        if s.is_emission() {
+            continue; // an area light's direct light is the direct term's (`area.rs`)
+        }
         let x = s.position();
         let n_x = scene.normal(s.triangle());
         for _ in 0..settings.connections {
@@ -187,10 +205,10 @@ fn connect_one(
     Some(s.beta() * c.f * (c.cos_x.abs() * cos_p / c.dist2))
 }
 
-/// The direct light of the point, directional and environment lights that are on, per target:
-/// the point and directional lights' from `direct_samples` points of a cell (256 by default; one
-/// at a point, which is exact), the environments' from their guided sampler (`sky.rs`), the two
-/// independent estimates added.
+/// The direct light of the lights that are on, per target: the point and directional lights'
+/// from `direct_samples` points of a cell (256 by default; one at a point, which is exact), the
+/// environments' from their guided sampler (`sky.rs`), the area lights' from stratified points
+/// on them (`area.rs`), the independent estimates added.
 fn direct_light(
     scene: &Scene,
     lights: &RenderLights,
@@ -204,12 +222,13 @@ fn direct_light(
         })
         .collect();
     let sky = Sky::new(scene, lights);
-    if delta.is_empty() && sky.is_none() {
+    let area = AreaLights::new(scene, lights);
+    if delta.is_empty() && sky.is_none() && area.is_none() {
         return Some(Reading::zero(layout.len()));
     }
     let m =
         if layout.is_point() { 1 } else { settings.direct_samples.unwrap_or(DEFAULT_DIRECT_POINTS).max(2) };
-    let cap = sky::sample_cap(layout.len());
+    let cap = budget::sample_cap(layout.len());
     let stop: &(dyn Fn() -> bool + Sync) = &stop;
     let per_target: Vec<([f64; 4], [f64; 4])> = (0..layout.len())
         .into_par_iter()
@@ -228,12 +247,17 @@ fn direct_light(
                 }
                 (mean, se) = moments.finish();
             }
-            if let Some(sky) = &sky {
-                let (v, s) = sky.target(layout, t, settings.direct_samples, cap, settings.seed, stop)?;
+            let mut add = |(v, s): ([f64; 4], [f64; 4])| {
                 for c in 0..4 {
                     mean[c] += v[c];
                     se[c] = se[c].hypot(s[c]);
                 }
+            };
+            if let Some(sky) = &sky {
+                add(sky.target(layout, t, settings.direct_samples, cap, settings.seed, stop)?);
+            }
+            if let Some(area) = &area {
+                add(area.target(layout, t, settings.direct_samples, cap, settings.seed, stop)?);
             }
             Some((mean, se))
         })

@@ -2,11 +2,12 @@
 //! §6.1.5's measuring devices), with a standard error per target. Two estimators:
 //!
 //! * **Connected** (`connect.rs`, [`read_connected`]): anywhere — on a plane in the air, at a
-//!   list of points ([`MeterPoint`]), or on a surface. Every stored sample (scattered vertices
-//!   and area lights' emission points) is connected to a uniform point of the meter, the light
-//!   tracer's t = 1 strategy with the meter as a sensor of cosine importance; the point and
-//!   directional lights, which store no emission vertex, add their direct light at the meter,
-//!   and so do environments, by a visibility-guided sampler (`sky.rs`).
+//!   list of points ([`MeterPoint`]), or on a surface. Every stored scattered vertex is
+//!   connected to a uniform point of the meter, the light tracer's t = 1 strategy with the
+//!   meter as a sensor of cosine importance; every light's direct light is estimated at the
+//!   meter, per target: point and directional lights at points of the cell, environments by a
+//!   visibility-guided sampler (`sky.rs`), area lights by stratified points on them (`area.rs`,
+//!   which is why their stored emission points are not connected: nothing counts twice).
 //! * **Stored samples** ([`read_samples`], and [`measure`] without the errors): only for a meter
 //!   lying *on* scene geometry. No connection is needed: a stored sample on a surface *is* the
 //!   flux Φ_k·β/N_k arriving there (docs/estimator.md §2), so
@@ -29,6 +30,8 @@
 //! own plane. Entry `j * nx + i` of a reading is cell i along u and j along v (row 0 at the
 //! origin's side — not an image's top row).
 
+mod area;
+mod budget;
 mod connect;
 mod layout;
 mod sky;

@@ -47,18 +47,19 @@
 //!
 //! **3. How many (default).** Drawn stratified from cos θ/π (q), the pilot also estimates the
 //! mixture's one-sample variance, V = E_q[f²/(p·q)] − (E_q[f/q])², and N is the count whose
-//! standard error would be [`TARGET_RELATIVE_SE`] of the value, between [`MIN_SAMPLES`] and a
-//! cap (2^20 a target, and [`BUDGET`] over the whole meter). An explicit count
+//! standard error would be 0.5 % of the value, between 256 and a cap (2^20 a target, and 2^24
+//! over the whole meter: the bounds `budget.rs` keeps for every sampled direct term). An explicit count
 //! (`direct_samples`) fixes N instead. Random numbers come from streams named by (seed, target),
 //! so a reading does not depend on the thread count.
 
+use super::budget::{self, Moments};
 use super::connect::DIRECT_STOP_DRAWS;
 use super::layout::{MeterDraw, MeterLayout};
 use crate::light::Light;
 use crate::math::{Frame, Rgb, Vec2, Vec3, luminance};
 use crate::sampling::RandomStream;
 use crate::sampling::warp::square_to_cosine_hemisphere;
-use crate::scene::{Photometry, Scene};
+use crate::scene::Scene;
 use crate::sensor::bidirectional::{RenderLights, shadow_ray};
 use std::f64::consts::{FRAC_1_PI, PI};
 
@@ -76,54 +77,10 @@ pub(super) const MIN_PILOT_SIDE: usize = 8;
 pub(super) const SPREAD: f64 = 0.5;
 /// The defensive mixture's weight of the environments' own sampling.
 pub(super) const ALPHA: f64 = 0.15;
-/// The relative standard error the default sample count aims at.
-pub(super) const TARGET_RELATIVE_SE: f64 = 0.005;
-/// Fewest fresh samples of a target (also when the pilot saw no sky).
-pub(super) const MIN_SAMPLES: u32 = 256;
-/// Most fresh samples of a target.
-pub(super) const MAX_SAMPLES: u32 = 1 << 20;
-/// Most fresh samples of a whole meter by default: a target's cap is BUDGET/targets, within
-/// [MIN_SAMPLES, MAX_SAMPLES].
-pub(super) const BUDGET: u64 = 1 << 24;
 
 /// Stream keys of the pilot and of the estimate.
 const PILOT_STREAM: u64 = 0x6d65_7465_7270_696c;
 const SKY_STREAM: u64 = 0x6d65_7465_7273_6b79;
-
-/// Sums of a target's samples, per channel and in lux: their mean and its standard error.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct Moments {
-    sum: [f64; 4],
-    sq: [f64; 4],
-    n: u64,
-}
-
-impl Moments {
-    /// Adds a sample of irradiance `e` (W/m²), its lux by `photometry`.
-    #[inline]
-    pub(super) fn add(&mut self, e: Rgb, photometry: &Photometry) {
-        let e = [e.x as f64, e.y as f64, e.z as f64];
-        let x = [e[0], e[1], e[2], photometry.lux(e)];
-        for ((sum, sq), x) in self.sum.iter_mut().zip(&mut self.sq).zip(x) {
-            *sum += x;
-            *sq += x * x;
-        }
-        self.n += 1;
-    }
-
-    /// The mean and its standard error per channel (0 for fewer than two samples).
-    pub(super) fn finish(&self) -> ([f64; 4], [f64; 4]) {
-        let m = self.n.max(1) as f64;
-        let mean = self.sum.map(|s| s / m);
-        let mut se = [0.0; 4];
-        if self.n > 1 {
-            for c in 0..4 {
-                se[c] = ((self.sq[c] - m * mean[c] * mean[c]).max(0.0) / (m - 1.0) / m).sqrt();
-            }
-        }
-        (mean, se)
-    }
-}
 
 /// The square point (in [0, 1]²) of a direction of the upper hemisphere (local frame, z up):
 /// the inverse of [`square_to_cosine_hemisphere`] (drop z, invert the concentric map).
@@ -378,17 +335,14 @@ impl<'a> Sky<'a> {
             }
         }
         let (mean, second) = (first / n, second / n);
-        let wanted = if mean > 0.0 {
-            (second - mean * mean).max(0.0) / (TARGET_RELATIVE_SE * mean).powi(2)
-        } else {
-            0.0
-        };
+        let wanted = budget::wanted(second - mean * mean, mean);
         Some((Mixture { guide, alpha }, wanted, drawn))
     }
 
     /// Target `t`'s direct sky light: its mean per channel and in lux and their standard errors
-    /// (module docs). `fixed` is an explicit sample count, else the pilot's within
-    /// [MIN_SAMPLES, `cap`]. `None` once `stop` said so (asked every DIRECT_STOP_DRAWS draws).
+    /// (module docs). `fixed` is an explicit sample count, else the pilot's within its bounds
+    /// and `cap` ([`budget::count`]). `None` once `stop` said so (asked every DIRECT_STOP_DRAWS
+    /// draws).
     pub(super) fn target(
         &self,
         layout: &MeterLayout,
@@ -399,8 +353,7 @@ impl<'a> Sky<'a> {
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Option<([f64; 4], [f64; 4])> {
         let (mix, wanted, _) = self.pilot(layout, t, pilot_side(layout.len()), seed, stop)?;
-        let n = fixed
-            .unwrap_or_else(|| wanted.ceil().clamp(MIN_SAMPLES as f64, cap.max(MIN_SAMPLES) as f64) as u32);
+        let n = budget::count(fixed, wanted, cap);
         self.estimate(layout, t, &mix, n, seed, stop)
     }
 
@@ -446,16 +399,12 @@ impl<'a> Sky<'a> {
     }
 }
 
-/// The default cap on a target's fresh samples for a meter of `targets` targets.
-pub(super) fn sample_cap(targets: usize) -> u32 {
-    (BUDGET / targets.max(1) as u64).clamp(MIN_SAMPLES as u64, MAX_SAMPLES as u64) as u32
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::bsdf::{Bsdf, Lambert, Material};
     use crate::scene::{EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, SceneDescription};
+    use crate::sensor::meter::area::tests::parallel_rectangle;
     use crate::sensor::meter::connect::tests::read_direct_only;
     use crate::sensor::meter::{ConnectedSettings, MeterPoint, Reading};
 
@@ -586,18 +535,9 @@ mod tests {
     }
 
     /// The irradiance at a floor point (x, z) from the opening under a sky of radiance 1: the
-    /// parallel rectangle's configuration factor from a point under its corner,
-    /// E = ½[X/√(1+X²)·atan(Y/√(1+X²)) + Y/√(1+Y²)·atan(X/√(1+Y²))] (X = a/h, Y = b/h), odd in
-    /// a and b, combined over the opening's four corners.
+    /// parallel rectangle's configuration factor (times π).
     fn closed_form(x: f64, z: f64) -> f64 {
-        let h = H as f64;
-        let f = |a: f64, b: f64| {
-            let (x, y) = (a / h, b / h);
-            let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
-            0.5 * (x / sx * (y / sx).atan() + y / sy * (x / sy).atan())
-        };
-        let [x0, x1, z0, z1] = OPENING.map(|v| v as f64);
-        f(x1 - x, z1 - z) - f(x0 - x, z1 - z) - f(x1 - x, z0 - z) + f(x0 - x, z0 - z)
+        parallel_rectangle(H as f64, OPENING.map(|v| v as f64), x, z)
     }
 
     /// Floor points (x, z): under the opening, under its corner, off to the side, near a corner
@@ -753,7 +693,7 @@ mod tests {
         for (k, &(x, z)) in FLOOR.iter().enumerate() {
             let (mix, wanted, drawn) = sky.pilot(&layout, k, MIN_PILOT_SIDE, 0, &|| false).unwrap();
             assert_eq!(drawn as usize, PILOT_PER_BIN * MIN_PILOT_SIDE * MIN_PILOT_SIDE);
-            let n = wanted.ceil().clamp(MIN_SAMPLES as f64, MAX_SAMPLES as f64) as u32;
+            let n = budget::count(None, wanted, budget::MAX_SAMPLES);
             let (v, se) = sky.estimate(&layout, k, &mix, n, 0, &|| false).unwrap();
             let (v, se, exact) = (v[1], se[1], closed_form(x as f64, z as f64));
             eprintln!("coarse ({x}, {z}): {v} ± {se} vs {exact}, {n} samples");
