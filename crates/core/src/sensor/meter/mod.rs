@@ -41,6 +41,27 @@ pub use connect::{ConnectedSettings, DEFAULT_DIRECT_POINTS, DIRECT_STOP_DRAWS, r
 pub use layout::{MeterDraw, MeterLayout, MeterPoint};
 pub use tally::{Group, Reading};
 
+/// Test helper of the direct terms' closed-form tests (`sky.rs`, `area/tests.rs`): reading
+/// `v ± se` of seed `seed` at point `(x, z)` against its closed form `exact` — a positive SE of
+/// at most 1 %, within max(4 SE, 1 %) — printed; returns `(v, se²)` for the seeds' mean.
+#[cfg(test)]
+pub(super) fn check_reading(
+    what: &str,
+    seed: u64,
+    (x, z): (f32, f32),
+    (v, se): (f64, f64),
+    exact: f64,
+) -> (f64, f64) {
+    eprintln!(
+        "{what} seed {seed} ({x}, {z}): {:+.3} % ± {:.3} %",
+        100.0 * (v / exact - 1.0),
+        100.0 * se / exact
+    );
+    assert!(se > 0.0 && se <= 0.01 * exact, "{what} ({x}, {z}) seed {seed}: {v} ± {se}");
+    assert!((v - exact).abs() <= (4.0 * se).max(0.01 * exact), "{what} ({x}, {z}): {v} ± {se} vs {exact}");
+    (v, se * se)
+}
+
 /// How a meter reads a dataset (module docs): every stored sample connected to points of the
 /// meter, which reads anywhere, or the samples that landed on it, which reads only a grid on
 /// the scene's surfaces.
