@@ -270,6 +270,10 @@ enum Saved {
 /// dataset (`resuming`) and the file is a killed resumption of it — over it; removes the others
 /// (reported, with their sizes). To be called with the target's lock held.
 fn clear_stale_temporaries(target: &Path, resuming: Option<&Path>) -> Result<StaleCleared, WriteRefused> {
+    let stale = stale_temporaries(target);
+    if stale.is_empty() {
+        return Ok((Vec::new(), None));
+    }
     let partial = partial_path(target);
     let resumed = resuming.filter(|p| same_file(p, &partial));
     let extending = match resumed {
@@ -278,7 +282,7 @@ fn clear_stale_temporaries(target: &Path, resuming: Option<&Path>) -> Result<Sta
     };
     let mut saved = None;
     let mut removed = Vec::new();
-    for (path, bytes) in stale_temporaries(target) {
+    for (path, bytes) in stale {
         if saved.is_none() {
             // The salvage finishes the file into the partial one, or leaves it to be removed.
             let salvaged = match (&extending, partial.exists()) {

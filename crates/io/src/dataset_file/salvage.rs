@@ -54,11 +54,8 @@ pub fn salvage(
         return Ok(None);
     };
     let Some(end) = r.chunks_end() else { return Ok(None) };
-    let mut light_paths = vec![0u64; first.table.lights.len()];
-    for i in 0..r.chunk_count() {
-        let (light, paths, _) = r.chunk_summary(i).expect("chunk in range");
-        light_paths[light as usize] += paths;
-    }
+    // The booked table's N_k are the kept chunks' paths per light (`salvage_counts`).
+    let light_paths = header.table.lights.iter().map(|l| l.paths).collect();
     let counts = (r.chunk_count() as u64, r.total_samples(), light_paths);
     drop(r);
     let writer = DatasetWriter::adopt(unfinished, to, &first, end, counts)?;
