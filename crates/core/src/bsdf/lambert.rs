@@ -31,7 +31,14 @@ impl Lambert {
     /// f_r = ρ/π above the surface.
     #[inline]
     pub fn eval(&self, _wi: Vec3, wo: Vec3) -> Rgb {
-        if wo.z > 0.0 { self.reflectance * FRAC_1_PI } else { Rgb::ZERO }
+        if wo.z > 0.0 { self.eval_lit() } else { Rgb::ZERO }
+    }
+
+    /// f_r above the surface, ρ/π (the one expression [`Lambert::eval`] and the splats' flat
+    /// fast path, `Scene::flat_lambert`, share: their results are the same to the bit).
+    #[inline]
+    pub fn eval_lit(&self) -> Rgb {
+        self.reflectance * FRAC_1_PI
     }
 
     /// cos θ_o / π.

@@ -22,7 +22,7 @@ use super::meshes::{self, Flat, NO_LIGHT, NO_SHADING, NO_UV};
 use super::textures::{self, MaterialTextures};
 use super::{CameraDesc, Fingerprint, ObjectHash, Photometry, SceneDescription, SceneError, hashes, lights};
 use crate::accel::Accel;
-use crate::bsdf::Material;
+use crate::bsdf::{Bsdf, Material};
 use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
@@ -225,6 +225,27 @@ impl Scene {
     #[inline]
     pub fn is_masked(&self, prim: u32) -> bool {
         self.masked && self.opacity_of[self.material_of[prim as usize] as usize].is_some()
+    }
+
+    /// f_r = ρ/π and two-sidedness of triangle `prim` when its BSDF is an untextured Lambert
+    /// reflector on a triangle without shading normals: what [`crate::bsdf::ShadingPoint::eval`]
+    /// reduces to there (ρ/π on the lit side, 0 elsewhere), so a connection needs neither the
+    /// material resolved at the point, nor its normals, nor a shading frame (the diffuse walls
+    /// that hold most of an interior's stored samples). `None` for every other surface.
+    #[inline]
+    pub(crate) fn flat_lambert(&self, prim: u32) -> Option<(Rgb, bool)> {
+        if self.shading_of[prim as usize] != NO_SHADING {
+            return None;
+        }
+        let m = self.material_of[prim as usize] as usize;
+        let material = &self.materials[m];
+        let Bsdf::Lambert(l) = &material.bsdf else { return None };
+        // An opacity texture is not a parameter of the BSDF (`Scene::material_at`); a normal
+        // map or a colour is.
+        if !self.textures[m].iter().all(|b| matches!(b.slot, ColourSlot::Opacity)) {
+            return None;
+        }
+        Some((l.eval_lit(), material.two_sided))
     }
 
     /// Unit geometric normal of triangle `prim`.

@@ -342,16 +342,48 @@ fn connection<const REVERSE: bool>(
         }
         (Rgb::splat(scene.light_of(prim).map_or(0.0, |k| scene.lights[k].emitted_fraction(n, wc))), 0.0)
     } else {
-        let mut resolved = None;
-        let p = scene.material_at(prim, x, &mut resolved).at(scene.normals_at(prim, x));
-        let (from, toward) = (p.direction(s.from_dir()), p.direction(wc));
-        let f = p.eval(&from, &toward);
-        if f == Rgb::ZERO {
-            return None;
+        let from = s.from_dir();
+        match scene.flat_lambert(prim) {
+            Some(lambert) => flat_lambert_f::<REVERSE>(lambert, n.dot(from), cos_x)?,
+            None => shaded_f::<REVERSE>(scene, prim, x, from, wc)?,
         }
-        (f, if REVERSE { p.pdf(&toward, &from) } else { 0.0 })
     };
     Some((SampleConnection { conn, f, cos_x, to_sensor: wc, dist2: d * d, pdf_rev }, [x, n]))
+}
+
+/// f_r toward the sensor (and with `REVERSE` the reverse density, [`SampleConnection::pdf_rev`])
+/// of a reflection vertex at `x` on triangle `prim`, light arriving from `from`, the sensor
+/// along `wc`; `None` where f is 0. The general case: the material resolved at x, its normals
+/// and one shading frame for both queries.
+#[inline]
+fn shaded_f<const REVERSE: bool>(
+    scene: &Scene,
+    prim: u32,
+    x: Vec3,
+    from: Vec3,
+    wc: Vec3,
+) -> Option<(Rgb, f32)> {
+    let mut resolved = None;
+    let p = scene.material_at(prim, x, &mut resolved).at(scene.normals_at(prim, x));
+    let (from, toward) = (p.direction(from), p.direction(wc));
+    let f = p.eval(&from, &toward);
+    (f != Rgb::ZERO).then(|| (f, if REVERSE { p.pdf(&toward, &from) } else { 0.0 }))
+}
+
+/// [`shaded_f`] on a flat, untextured Lambert reflector ([`Scene::flat_lambert`]: its ρ/π and
+/// two-sidedness), from the geometric cosines of the arriving light (`cos_in`) and of the
+/// sensor's direction (`cos_x`) alone — what `ShadingPoint::eval` and `pdf` reduce to there
+/// without a frame: the lit side is the arriving light's (the back only if two-sided), f is
+/// ρ/π if the sensor is on that side, the reverse density that cosine over π. The same numbers
+/// to the bit: each local z of the general case is the same dot product (a test holds both to it).
+#[inline]
+fn flat_lambert_f<const REVERSE: bool>(
+    (f, two_sided): (Rgb, bool),
+    cos_in: f32,
+    cos_x: f32,
+) -> Option<(Rgb, f32)> {
+    let lit = if cos_in > 0.0 { cos_x > 0.0 } else { cos_in < 0.0 && two_sided && cos_x < 0.0 };
+    lit.then(|| (f, if REVERSE { cos_in.abs() * std::f32::consts::FRAC_1_PI } else { 0.0 }))
 }
 
 /// The shadow ray of a connection from surface point `x` (geometric normal `n`, unit direction
@@ -411,6 +443,9 @@ pub(crate) fn splat_projected<T: SplatTarget>(
     film: &mut T,
     mut each: impl FnMut(&mut T, usize, Connection, Seen),
 ) {
+    if let Sensor::Pinhole(p) = sensor {
+        return splat_projected_pinhole(p, visibility, samples, film, each);
+    }
     let random = sensor.samples_aperture();
     let project =
         |s: &Sample| sensor.connect(s.position(), if random { sample_hash_2d(s) } else { Vec2::ZERO });
@@ -438,6 +473,75 @@ pub(crate) fn splat_projected<T: SplatTarget>(
 /// How many samples ahead of its splat [`splat_projected`] projects a sample and starts the
 /// loads of its pixel. 4, 8 and 16 measured alike (`docs/performance.md`).
 const SPLAT_AHEAD: usize = 8;
+
+/// [`splat_projected`] for the pinhole: the samples projected a block at a time
+/// ([`Pinhole::connect_block`]), the next block's pixels loaded while this one's are splatted
+/// (the same pipelining, [`BLOCK`] to 2·[`BLOCK`] samples ahead). The same connections in the
+/// same order as the general walk.
+#[inline]
+fn splat_projected_pinhole<T: SplatTarget>(
+    p: &Pinhole,
+    visibility: Option<&VisibilityBuffer>,
+    samples: &[Sample],
+    film: &mut T,
+    mut each: impl FnMut(&mut T, usize, Connection, Seen),
+) {
+    let project = |film: &T, blocks: &mut std::slice::Chunks<'_, Sample>, into: &mut ProjectedBlock| {
+        let Some(block) = blocks.next() else { return into.len = 0 };
+        p.connect_block(block, into);
+        for &pixel in into.pixels().iter().filter(|&&q| q != NO_PIXEL) {
+            visibility.inspect(|v| v.prefetch(pixel as usize));
+            film.prefetch(pixel as usize);
+        }
+    };
+    let mut blocks = samples.chunks(BLOCK);
+    let (mut this, mut next) = (ProjectedBlock::default(), ProjectedBlock::default());
+    project(film, &mut blocks, &mut this);
+    let mut first = 0;
+    while this.len > 0 {
+        project(film, &mut blocks, &mut next);
+        for (l, (&pixel, &weight)) in this.pixels().iter().zip(&this.weight).enumerate() {
+            if pixel == NO_PIXEL {
+                continue;
+            }
+            let (i, pixel) = (first + l, pixel as usize);
+            let seen = visibility.map_or(Seen::Unknown, |v| v.seen_at(pixel, samples[i].triangle()));
+            each(film, i, Connection { pixel, point: p.eye, weight }, seen);
+        }
+        first += this.len;
+        std::mem::swap(&mut this, &mut next);
+    }
+}
+
+/// Samples a pinhole projects at once ([`Pinhole::connect_block`]).
+const BLOCK: usize = 16;
+
+/// The pixel of a sample that does not project into the image.
+const NO_PIXEL: u32 = u32::MAX;
+
+/// [`Pinhole::connect_block`]'s output: per sample its pixel (or [`NO_PIXEL`]) and its
+/// connection's weight W.
+#[derive(Clone, Copy, Debug)]
+struct ProjectedBlock {
+    pixel: [u32; BLOCK],
+    weight: [f32; BLOCK],
+    /// How many of the lanes hold samples.
+    len: usize,
+}
+
+impl Default for ProjectedBlock {
+    fn default() -> Self {
+        ProjectedBlock { pixel: [NO_PIXEL; BLOCK], weight: [0.0; BLOCK], len: 0 }
+    }
+}
+
+impl ProjectedBlock {
+    /// The pixels of the lanes that hold samples.
+    #[inline]
+    fn pixels(&self) -> &[u32] {
+        &self.pixel[..self.len]
+    }
+}
 
 /// A sample connected to a filtered sensor: the connection (its `pixel` unused) and the pixels
 /// it reaches with their filter weights; `None` as [`connect_seen`], or when no pixel of the
@@ -568,6 +672,53 @@ pub fn render<B: AsBatch, E: Send>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The splats' shortcut for flat Lambert reflectors ([`flat_lambert_f`]) gives what the
+    /// general shading gives ([`shaded_f`]), f and the reverse density to the bit, on one- and
+    /// two-sided walls, for light and sensor on every side; and it is taken only there.
+    #[test]
+    fn a_flat_lambert_connection_is_the_shaded_one_to_the_bit() {
+        use crate::bsdf::{Bsdf, ModifiedPhong};
+        use crate::sampling::{RandomStream, warp};
+        let mut desc = crate::scene::cornell_box();
+        for (i, m) in desc.materials.iter_mut().enumerate() {
+            m.two_sided = i % 2 == 0;
+        }
+        let glossy = desc.materials.len();
+        desc.materials.push(crate::bsdf::Material {
+            name: "glossy".into(),
+            bsdf: Bsdf::ModifiedPhong(ModifiedPhong::new(Rgb::splat(0.3), Rgb::splat(0.3), 20.0).unwrap()),
+            two_sided: false,
+        });
+        desc.meshes[0].material = glossy;
+        let scene = Scene::build(&desc).unwrap();
+        let mut rng = RandomStream::new(5, &[]);
+        let (mut lit, mut dark, mut general) = (0, 0, 0);
+        for prim in 0..scene.triangles.len() as u32 {
+            let Some(lambert) = scene.flat_lambert(prim) else {
+                general += 1;
+                let mut resolved = None;
+                let p = scene.triangles[prim as usize].point(0.3, 0.3);
+                assert_eq!(scene.material_at(prim, p, &mut resolved).name, "glossy");
+                continue;
+            };
+            let t = &scene.triangles[prim as usize];
+            for _ in 0..200 {
+                let u = rng.next_2d();
+                let x = t.point(u.x * (1.0 - u.y), u.y);
+                let from = warp::square_to_uniform_sphere(rng.next_2d());
+                let wc = warp::square_to_uniform_sphere(rng.next_2d());
+                let n = scene.normal(prim);
+                let fast = flat_lambert_f::<true>(lambert, n.dot(from), n.dot(wc));
+                let shaded = shaded_f::<true>(&scene, prim, x, from, wc);
+                let bits =
+                    |r: Option<(Rgb, f32)>| r.map(|(f, p)| (f.to_array().map(f32::to_bits), p.to_bits()));
+                assert_eq!(bits(fast), bits(shaded), "triangle {prim}, from {from}, to {wc}");
+                if fast.is_some() { lit += 1 } else { dark += 1 }
+            }
+        }
+        assert!(lit > 300 && dark > 300 && general > 0, "{lit} lit, {dark} dark, {general} general");
+    }
 
     /// Issue 10, item 11: a 4096² render took 3.1 GB on two threads (one film per thread and
     /// run). Accumulation now never takes threads × pixels: small films are accumulated in runs

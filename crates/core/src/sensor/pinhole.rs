@@ -6,7 +6,8 @@
 //! dω = cos³θ_c·dA, so W_e = 1/(a·cos³θ_c) per unit solid angle, and a point x at distance d
 //! subtends dω = |cos θ_x|·dA_x/d²: W = 1/(d²·a·cos³θ_c).
 
-use super::{Connection, FilmHit, Raster};
+use super::{BLOCK, Connection, FilmHit, NO_PIXEL, ProjectedBlock, Raster};
+use crate::dataset::Sample;
 use crate::math::Vec3;
 use crate::scene::CameraDesc;
 
@@ -170,6 +171,41 @@ impl Pinhole {
     }
 
     /// Connects `x` to the pinhole for a filtered splat: its film coordinates, unclipped.
+    /// [`Pinhole::connect`] of the positions of up to [`BLOCK`] samples at once (`pixel[l]` is
+    /// [`NO_PIXEL`] where it gives `None`): the same arithmetic lane by lane, so the same
+    /// pixels and the same weights to the bit, but without a branch or an `Option` per sample,
+    /// in arrays the compiler can keep in vector registers (the splat loop's projection was a
+    /// fifth of its instructions). The box filter's pixel only.
+    #[inline]
+    pub(super) fn connect_block(&self, samples: &[Sample], block: &mut ProjectedBlock) {
+        debug_assert!(samples.len() <= BLOCK);
+        let (mut x, mut y, mut z) = ([0.0f32; BLOCK], [0.0f32; BLOCK], [0.0f32; BLOCK]);
+        for (l, s) in samples.iter().enumerate() {
+            [x[l], y[l], z[l]] = s.position;
+        }
+        let (e, f) = (self.eye, self.forward);
+        let area = self.pixel_area();
+        let w = &self.raster.window;
+        let (fw, fh) = (self.raster.full_width, self.raster.full_height);
+        let (fw_f, fh_f) = (fw as f32, fh as f32);
+        for l in 0..BLOCK {
+            let v = Vec3::new(x[l] - e.x, y[l] - e.y, z[l] - e.z);
+            let depth = v.dot(f);
+            let (sx, sy) = self.film_xy(v, depth);
+            let d2 = v.dot(v);
+            let cos_c = depth / d2.sqrt();
+            block.weight[l] = 1.0 / (area * d2 * cos_c * cos_c * cos_c);
+            // `Raster::box_pixel`: (s_x s_y) in [0, 1)², the column and row clamped to the film
+            // (clamped before the truncation here: the same integers), then the window's.
+            let on_film = !(depth <= 0.0) && (0.0..1.0).contains(&sx) && (0.0..1.0).contains(&sy);
+            let i = ((sx * fw_f).min((fw - 1) as f32).max(0.0) as u32).wrapping_sub(w.x);
+            let j = ((sy * fh_f).min((fh - 1) as f32).max(0.0) as u32).wrapping_sub(w.y);
+            let in_window = i < w.width && j < w.height;
+            block.pixel[l] = if on_film && in_window { j * w.width + i } else { NO_PIXEL };
+        }
+        block.len = samples.len();
+    }
+
     #[inline]
     pub(super) fn film_hit(&self, x: Vec3) -> Option<FilmHit> {
         let (sx, sy, cos_c) = self.film_of(x)?;
@@ -183,6 +219,62 @@ impl Pinhole {
 mod tests {
     use super::*;
     use crate::scene::CameraKind;
+    use crate::sensor::FilmSpec;
+
+    /// The splat loop's block projection is `connect` lane by lane, to the bit: the same
+    /// pixel (or none: behind the eye, off the film, outside a crop window) and the same W, on
+    /// points all around the eye and at the film's edges, in blocks of every length.
+    #[test]
+    fn a_block_projects_as_each_point_connects() {
+        use crate::sampling::{RandomStream, warp};
+        use crate::sensor::Crop;
+        let mut rng = RandomStream::new(17, &[]);
+        let crop = Crop { x: 40, y: 10, width: 150, height: 100 };
+        for film in [Default::default(), FilmSpec { crop: Some(crop), ..Default::default() }] {
+            let p = Pinhole::new(&CameraDesc { film, ..cam_desc() }).unwrap();
+            let (mut inside, mut outside) = (0, 0);
+            for len in (1..=BLOCK).cycle().take(4000) {
+                let samples: Vec<Sample> = (0..len)
+                    .map(|_| {
+                        // Around the view's axis, a fifth of them behind the eye.
+                        let d = p.forward + 0.8 * warp::square_to_uniform_sphere(rng.next_2d());
+                        let x = p.eye + d * (0.01 + 10.0 * rng.next_f32());
+                        Sample::scattered(x, Vec3::Z, 0, crate::math::Rgb::ONE)
+                    })
+                    .collect();
+                let mut block = ProjectedBlock::default();
+                p.connect_block(&samples, &mut block);
+                assert_eq!(block.len, len);
+                for (l, s) in samples.iter().enumerate() {
+                    match p.connect(s.position()) {
+                        Some(c) => {
+                            inside += 1;
+                            assert_eq!(block.pixel[l] as usize, c.pixel);
+                            assert_eq!(block.weight[l].to_bits(), c.weight.to_bits());
+                        }
+                        None => {
+                            outside += 1;
+                            assert_eq!(block.pixel[l], NO_PIXEL);
+                        }
+                    }
+                }
+            }
+            assert!(inside > 1000 && outside > 1000, "{inside} inside, {outside} outside");
+        }
+    }
+
+    fn cam_desc() -> CameraDesc {
+        CameraDesc {
+            eye: Vec3::new(0.0, 0.0, 3.9),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_x_degrees: 39.3077,
+            width: 256,
+            height: 128,
+            kind: CameraKind::Perspective,
+            film: Default::default(),
+        }
+    }
 
     fn cam() -> Pinhole {
         Pinhole::new(&CameraDesc {
