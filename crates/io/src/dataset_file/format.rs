@@ -619,6 +619,24 @@ pub(crate) fn validate_samples(
     samples: &[Sample],
     triangles: Option<u32>,
 ) -> Result<(), Invalid<SampleFault>> {
+    // All samples checked first without a branch per sample, on the bits (what a render reads
+    // from a file pays per sample); the first bad sample looked for only if there is one. A
+    // float is finite iff its magnitude bits are below +∞'s; β ≥ 0 and < +∞ iff its bits are
+    // below +∞'s or it is −0.
+    const INF: u32 = 0x7f80_0000;
+    let n = triangles.unwrap_or(u32::MAX);
+    let mut bad = false;
+    for s in samples {
+        let p = s.position.map(|x| x.to_bits() & 0x7fff_ffff);
+        let b = s.beta.map(f32::to_bits);
+        let beta_bad = |x: u32| (x >= INF) & (x != 0x8000_0000);
+        bad |= (p[0] >= INF) | (p[1] >= INF) | (p[2] >= INF);
+        bad |= beta_bad(b[0]) | beta_bad(b[1]) | beta_bad(b[2]);
+        bad |= s.triangle() >= n;
+    }
+    if !bad {
+        return Ok(());
+    }
     for (index, s) in samples.iter().enumerate() {
         let ok_pos = s.position.iter().all(|x| x.is_finite());
         // `x >= 0.0` is false for NaN; -0.0 passes, as it should.
@@ -655,4 +673,51 @@ pub(crate) fn validate_records(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use opticks_core::math::Vec3;
+
+    /// The branch-free pass over whole blocks finds every kind of impossible sample wherever it
+    /// sits (the first of a block, the last, past the first block), and names the first one.
+    #[test]
+    fn every_impossible_sample_is_found_and_named() {
+        let good = |i: usize| {
+            Sample::scattered(
+                Vec3::new(i as f32, -1.0, 0.5),
+                Vec3::Z,
+                (i % 7) as u32,
+                Rgb::new(0.5, 0.0, 2.0),
+            )
+        };
+        let samples: Vec<Sample> = (0..200).map(good).collect();
+        assert!(validate_samples(&samples, Some(7)).is_ok());
+        let mut negative_zero = samples.clone();
+        negative_zero[70].beta[1] = -0.0;
+        assert!(validate_samples(&negative_zero, Some(7)).is_ok(), "−0 is a possible β");
+        type Spoil = fn(&mut Sample);
+        let faults: [(Spoil, bool); 7] = [
+            (|s| s.position[0] = f32::NAN, false),
+            (|s| s.position[2] = f32::NEG_INFINITY, false),
+            (|s| s.beta[0] = -1e-30, false),
+            (|s| s.beta[1] = f32::INFINITY, false),
+            (|s| s.beta[2] = f32::NAN, false),
+            (|s| s.prim = 7, true),
+            (|s| s.prim = 1 << 30, true),
+        ];
+        for (spoil, names_triangle) in faults {
+            for at in [0, 63, 64, 130, 199] {
+                let mut bad = samples.clone();
+                spoil(&mut bad[at]);
+                spoil(&mut bad[(at + 5).min(199)]);
+                let e = validate_samples(&bad, Some(7)).unwrap_err();
+                assert_eq!(e.index, at);
+                assert_eq!(matches!(e.fault, SampleFault::NoSuchTriangle { .. }), names_triangle);
+                // Without the scene's triangle count, only the values are checked.
+                assert_eq!(validate_samples(&bad, None).is_ok(), names_triangle);
+            }
+        }
+    }
 }
