@@ -3,7 +3,11 @@
 //! texture takes is one the parameter accepts — a reflectance in [0, 1], a roughness in
 //! [0, 1] (raised to [`MIN_TEXTURED_ALPHA`] as Mitsuba does), Phong's kd + ks ≤ 1 at the
 //! textures' maxima; a mesh attribute's values are those of every mesh of the material, which
-//! must all have it) and gathered per material, for [`super::Scene::material_at`].
+//! must all have it) and gathered per material, for [`super::Scene::material_at`]. The slots
+//! that shape the surface instead of the BSDF ([`ColourSlot::shapes_surface`]) are checked
+//! here too, so that [`super::Scene::normals_at`] need not: a normal or bump map is a bitmap
+//! (only a bitmap has directions to read or a bilinear gradient to take), a bump's scale a
+//! finite constant beside its map, and a surface has at most one map ([`ShadingMap`]).
 
 use super::attributes::AttributeTable;
 use super::{SceneDescription, SceneError};

@@ -6,8 +6,9 @@
 //! values, [`attribute_names`] tells a shape which of its file's attributes to keep), with
 //! Mitsuba's parameters and defaults.
 //!
-//! A BSDF builder reads a colour through [`colour`], a roughness through [`roughness`] and a
-//! `mask`'s opacity through [`opacity`]: a
+//! A BSDF builder reads a colour through [`colour`], a roughness through [`roughness`], a
+//! `mask`'s opacity through [`opacity`] (and the maps that tilt the shading normal through
+//! [`normal_map`] and [`bump_map`], which must be bitmaps): a
 //! constant as before, or a texture, which is recorded on the [`super::bsdf::ParsedBsdf`] and
 //! given to the core's constructor as its largest value (so the constructor's range checks hold
 //! at every point, and report at the texture's element; a mesh attribute's values are the
