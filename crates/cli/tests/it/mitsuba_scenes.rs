@@ -81,6 +81,12 @@
 //! reference, light estimator, 8 × 8 regions as for `mask`: a tangent frame swapped or mirrored,
 //! a map read as sRGB or upside down, or a lost adjoint correction moves the cells' regions.
 //!
+//! `bumpmap` (96 × 72, 2²⁰ paths): Mitsuba's `bumpmap` — the same floor and card bump-mapped by a
+//! raw grey height field of two tilted sinusoids with no mirror symmetry
+//! (`testdata/mitsuba/bumpmap/make_scene.py`), scales 0.3 and 0.15 — against a Mitsuba `path`
+//! reference, light estimator, 8 × 8 regions as for `normalmap`: a gradient of the wrong sign,
+//! axes swapped, a wrong dp/du or dp/dv or a lost scale moves the slopes' regions.
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 use opticks_testkit as common;
@@ -228,4 +234,9 @@ fn mitsuba_mask_matches_mitsuba() {
 #[test]
 fn mitsuba_normalmap_matches_mitsuba() {
     check_path_reference("normalmap", "scene.xml", "reference-path", 1 << 20, 1);
+}
+
+#[test]
+fn mitsuba_bumpmap_matches_mitsuba() {
+    check_path_reference("bumpmap", "scene.xml", "reference-path", 1 << 20, 1);
 }

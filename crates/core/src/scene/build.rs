@@ -19,7 +19,7 @@
 
 use super::attributes::AttributeTable;
 use super::meshes::{self, Flat, NO_LIGHT, NO_SHADING, NO_UV};
-use super::textures::{self, MaterialTextures};
+use super::textures::{self, MaterialTextures, ShadingMap};
 use super::{CameraDesc, Fingerprint, ObjectHash, Photometry, SceneDescription, SceneError, hashes, lights};
 use crate::accel::Accel;
 use crate::bsdf::{Bsdf, Material};
@@ -27,7 +27,7 @@ use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{mix, unit_from_hash};
-use crate::texture::ColourSlot;
+use crate::texture::{ColourSlot, Texture};
 
 /// A validated, ray-traceable scene.
 #[derive(Debug)]
@@ -52,8 +52,8 @@ pub struct Scene {
     opacity_of: Vec<Option<u8>>,
     /// Whether any material is masked: only then do ray queries ask [`Scene::meets`].
     masked: bool,
-    /// Per material, its normal map's index in `textures` (Mitsuba's `normalmap`), if any.
-    normal_map_of: Vec<Option<u8>>,
+    /// Per material, its normal or bump map (Mitsuba's `normalmap`, `bumpmap`), if any.
+    shading_map_of: Vec<Option<ShadingMap>>,
     /// Whether any triangle's material is a thin pane: only then does
     /// [`Scene::shadow_transmittance`] look past the first hit (`super::panes`).
     pub(super) panes: bool,
@@ -125,7 +125,7 @@ impl Scene {
             masked: opacity_of.iter().any(Option::is_some),
             panes: flat.material_of.iter().any(|&m| desc.materials[m as usize].bsdf.is_pane()),
             opacity_of,
-            normal_map_of: textures::normal_maps(&textures),
+            shading_map_of: textures::shading_maps(&textures),
             normals: flat.triangles.iter().map(Triangle::normal).collect(),
             triangles: flat.triangles,
             shading_of: flat.shading_of,
@@ -256,16 +256,17 @@ impl Scene {
 
     /// The normals of triangle `prim` at the point `p` on it: the geometric normal and the
     /// vertex normals interpolated at p's barycentrics (recomputed from p, so a stored sample
-    /// needs no more than its position and triangle), perturbed by the material's normal map if
-    /// it has one (`Scene::normal_mapped`). Every estimator shades with these, so a normal map
-    /// is a shading normal like any other: the adjoint rule and the leak guard of
-    /// [`crate::bsdf::shading`] apply to it.
+    /// needs no more than its position and triangle), perturbed by the material's normal or bump
+    /// map if it has one (`Scene::normal_mapped`, `Scene::bump_mapped`). Every estimator shades
+    /// with these, so a mapped normal is a shading normal like any other: the adjoint rule and
+    /// the leak guard of [`crate::bsdf::shading`] apply to it.
     #[inline]
     pub fn normals_at(&self, prim: u32, p: Vec3) -> SurfaceNormals {
         let n = self.interpolated_normals(prim, p);
-        match self.normal_map_of[self.material_of[prim as usize] as usize] {
+        match self.shading_map_of[self.material_of[prim as usize] as usize] {
             None => n,
-            Some(k) => self.normal_mapped(prim, p, n, k),
+            Some(ShadingMap::Normal(k)) => self.normal_mapped(prim, p, n, k),
+            Some(ShadingMap::Bump(k, scale)) => self.bump_mapped(prim, p, n, k, scale),
         }
     }
 
@@ -305,7 +306,7 @@ impl Scene {
             return n;
         }
         let ns = n.shading;
-        let dpdu = self.dp_du(prim);
+        let (dpdu, _) = self.dp_duv(prim);
         let s = (dpdu - ns * ns.dot(dpdu)).normalize_or_zero();
         let s = if s == Vec3::ZERO { crate::math::Frame::from_normal(ns).s } else { s };
         let t = ns.cross(s);
@@ -317,22 +318,49 @@ impl Scene {
         }
     }
 
-    /// ∂p/∂u of triangle `prim` (Mitsuba's mesh): from its vertex UVs, or, without UVs, the
-    /// edge v1 − v0 (the barycentric parameterisation); zero where the UVs are degenerate.
+    /// Mitsuba 3's `bumpmap`: the height's UV gradient g (texture `k`'s [`crate::texture::Bitmap::gradient_1`]
+    /// at p, times `scale`) lifts the surface's tangents out of the shading plane of n:
+    /// dp/du' = dp/du − n (n·dp/du) + n g_u, likewise for v, and the new normal is
+    /// normalize(dp/du' × dp/dv'), turned to the geometric normal's side (Mitsuba's flip;
+    /// [`Scene::dp_duv`] for the tangents). A zero gradient (a flat height, a scale of 0) leaves
+    /// `n` as it is, bit for bit, as does a result with no direction or in the surface's plane.
+    #[inline(never)]
+    fn bump_mapped(&self, prim: u32, p: Vec3, n: SurfaceNormals, k: u8, scale: f32) -> SurfaceNormals {
+        let m = self.material_of[prim as usize] as usize;
+        let Texture::Bitmap(height) = &*self.textures[m][k as usize].texture else { return n };
+        let g = height.gradient_1(self.uv_at(prim, p)) * scale;
+        if g == Vec2::ZERO || !g.is_finite() {
+            return n;
+        }
+        let ns = n.shading;
+        let (dpdu, dpdv) = self.dp_duv(prim);
+        let du = dpdu + ns * (g.x - ns.dot(dpdu));
+        let dv = dpdv + ns * (g.y - ns.dot(dpdv));
+        let bumped = du.cross(dv).normalize_or_zero();
+        let d = bumped.dot(n.geometric);
+        if d == 0.0 || !d.is_finite() {
+            return n;
+        }
+        SurfaceNormals { geometric: n.geometric, shading: if d > 0.0 { bumped } else { -bumped } }
+    }
+
+    /// (∂p/∂u, ∂p/∂v) of triangle `prim` (Mitsuba's mesh): from its vertex UVs, or, without UVs,
+    /// the edges v1 − v0 and v2 − v0 (the barycentric parameterisation); zero where the UVs
+    /// are degenerate.
     #[inline]
-    fn dp_du(&self, prim: u32) -> Vec3 {
+    fn dp_duv(&self, prim: u32) -> (Vec3, Vec3) {
         let tri = &self.triangles[prim as usize];
         let k = self.uv_of[prim as usize];
         if k == NO_UV {
-            return tri.e1;
+            return (tri.e1, tri.e2);
         }
         let [a, b, c] = self.uvs[k as usize];
         let (d0, d1) = (b - a, c - a);
         let det = d0.x * d1.y - d0.y * d1.x;
         if det == 0.0 {
-            return Vec3::ZERO;
+            return (Vec3::ZERO, Vec3::ZERO);
         }
-        (tri.e1 * d1.y - tri.e2 * d0.y) / det
+        ((tri.e1 * d1.y - tri.e2 * d0.y) / det, (tri.e2 * d0.x - tri.e1 * d1.x) / det)
     }
 
     /// Whether any triangle has shading normals.
@@ -350,16 +378,16 @@ impl Scene {
 
     /// The material of triangle `prim` at the point `p` on it: its textured parameters evaluated
     /// at p's texture coordinates ([`Scene::uv_at`]) and, for mesh attributes, the triangle's
-    /// values at p's barycentrics. An untextured material (or one whose only textures are a normal map or an opacity, not the BSDF's) is the scene's own (no
-    /// lookup, no copy); a textured one is a copy without a name, kept in `resolved` (the
+    /// values at p's barycentrics. An untextured material (or one whose only textures are a normal or bump map or an
+    /// opacity, not the BSDF's) is the scene's own (no lookup, no copy); a textured one is a copy without a name, kept in `resolved` (the
     /// caller's slot, `&mut None`: a plain reference out, so the hot loops pay nothing for
     /// textures they do not have).
     #[inline]
     pub fn material_at<'s>(&'s self, prim: u32, p: Vec3, resolved: &'s mut Option<Material>) -> &'s Material {
         let m = self.material_of[prim as usize] as usize;
         let textures = &self.textures[m];
-        // A normal map and an opacity are not parameters of the BSDF.
-        if textures.iter().all(|b| matches!(b.slot, ColourSlot::NormalMap | ColourSlot::Opacity)) {
+        // A normal or bump map and an opacity are not parameters of the BSDF.
+        if textures.iter().all(|b| !b.slot.is_bsdf_parameter()) {
             return &self.materials[m];
         }
         let b = self.triangles[prim as usize].barycentrics(p);

@@ -3,7 +3,11 @@
 //! texture takes is one the parameter accepts — a reflectance in [0, 1], a roughness in
 //! [0, 1] (raised to [`MIN_TEXTURED_ALPHA`] as Mitsuba does), Phong's kd + ks ≤ 1 at the
 //! textures' maxima; a mesh attribute's values are those of every mesh of the material, which
-//! must all have it) and gathered per material, for [`super::Scene::material_at`].
+//! must all have it) and gathered per material, for [`super::Scene::material_at`]. The slots
+//! that shape the surface instead of the BSDF ([`ColourSlot::shapes_surface`]) are checked
+//! here too, so that [`super::Scene::normals_at`] need not: a normal or bump map is a bitmap
+//! (only a bitmap has directions to read or a bilinear gradient to take), a bump's scale a
+//! finite constant beside its map, and a surface has at most one map ([`ShadingMap`]).
 
 use super::attributes::AttributeTable;
 use super::{SceneDescription, SceneError};
@@ -100,11 +104,8 @@ pub(super) fn bind(
             }
         };
         let (lo, hi) = range;
-        if b.slot == ColourSlot::NormalMap {
-            // Any colour is a direction (2c − 1, normalised where used); only a bitmap is one.
-            if !matches!(&*b.texture, Texture::Bitmap(_)) {
-                return Err(bad(m.name.clone(), "a normal map must be a bitmap".into()));
-            }
+        if b.slot.shapes_surface() {
+            check_shading_map(b.slot, &b.texture).map_err(|e| bad(m.name.clone(), e.into()))?;
         } else if matches!(b.slot, ColourSlot::Opacity | ColourSlot::Weight) {
             if !(lo.x >= 0.0 && hi.x <= 1.0) {
                 return Err(bad(
@@ -143,6 +144,10 @@ pub(super) fn bind(
         if list.iter().any(|x| x.slot == b.slot) {
             return Err(bad(m.name.clone(), "the parameter has two textures".into()));
         }
+        let map = |s: ColourSlot| matches!(s, ColourSlot::NormalMap | ColourSlot::BumpMap);
+        if map(b.slot) && list.iter().any(|x| map(x.slot)) {
+            return Err(bad(m.name.clone(), "a surface takes one normal or bump map".into()));
+        }
         let isotropic = |s: ColourSlot| s == ColourSlot::Alpha;
         let roughness =
             |s: ColourSlot| matches!(s, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV);
@@ -156,6 +161,16 @@ pub(super) fn bind(
             _ => None,
         };
         list.push(Bound { slot: b.slot, texture: b.texture.clone(), attribute });
+    }
+    for (m, list) in desc.materials.iter().zip(&out) {
+        let has = |slot| list.iter().any(|b| b.slot == slot);
+        if has(ColourSlot::BumpScale) && !has(ColourSlot::BumpMap) {
+            return Err(SceneError::BadTexture {
+                material: m.name.clone(),
+                slot: ColourSlot::BumpScale.name(),
+                message: "a bump map's scale without its bump map".into(),
+            });
+        }
     }
     // Phong's energy bound holds at every point if it holds for the channels' maxima.
     for (i, (m, list)) in desc.materials.iter().zip(&out).enumerate() {
@@ -187,12 +202,40 @@ pub(super) fn opacities(textures: &MaterialTextures) -> Vec<Option<u8>> {
         .collect()
 }
 
-/// Per material, the index in its list of its [`ColourSlot::NormalMap`] texture (a
-/// normal-mapped surface), if any.
-pub(super) fn normal_maps(textures: &MaterialTextures) -> Vec<Option<u8>> {
+/// What perturbs a material's shading normal: its texture's index in the material's list.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum ShadingMap {
+    /// A [`ColourSlot::NormalMap`].
+    Normal(u8),
+    /// A [`ColourSlot::BumpMap`] and its scale (the [`ColourSlot::BumpScale`], else 1).
+    Bump(u8, f32),
+}
+
+/// Why a texture cannot be in a [`ColourSlot::shapes_surface`] slot.
+fn check_shading_map(slot: ColourSlot, texture: &Texture) -> Result<(), &'static str> {
+    match (slot, texture) {
+        // A normal map's colours are directions (2c − 1, normalised where used) and a bump
+        // map's gradient is its bilinear interpolation's: only a bitmap has either.
+        (ColourSlot::NormalMap, Texture::Bitmap(_)) | (ColourSlot::BumpMap, Texture::Bitmap(_)) => Ok(()),
+        (ColourSlot::NormalMap, _) => Err("a normal map must be a bitmap"),
+        (ColourSlot::BumpMap, _) => Err("a bump map must be a bitmap"),
+        (_, Texture::Constant(v)) if v.is_finite() => Ok(()),
+        _ => Err("a bump map's scale must be a finite constant"),
+    }
+}
+
+/// Per material, its [`ShadingMap`], if it has one (at most one: [`bind`] checks).
+pub(super) fn shading_maps(textures: &MaterialTextures) -> Vec<Option<ShadingMap>> {
     textures
         .iter()
-        .map(|list| list.iter().position(|b| b.slot == ColourSlot::NormalMap).map(|k| k as u8))
+        .map(|list| {
+            let at = |slot| list.iter().position(|b| b.slot == slot).map(|k| k as u8);
+            let scale = at(ColourSlot::BumpScale)
+                .map_or(1.0, |k| list[k as usize].texture.eval_1(Vec2::ZERO, Rgb::ZERO));
+            at(ColourSlot::NormalMap)
+                .map(ShadingMap::Normal)
+                .or(at(ColourSlot::BumpMap).map(|k| ShadingMap::Bump(k, scale)))
+        })
         .collect()
 }
 
@@ -222,7 +265,7 @@ pub(super) fn resolve(
     uv: Vec2,
 ) -> Material {
     let mut bsdf = material.bsdf.clone();
-    for b in textures.iter().filter(|b| !matches!(b.slot, ColourSlot::Opacity | ColourSlot::NormalMap)) {
+    for b in textures.iter().filter(|b| b.slot.is_bsdf_parameter()) {
         let attribute = b.attribute.map_or(Rgb::ZERO, |k| tables[k].at(prim, b1, b2));
         if b.slot.is_colour() {
             set_colour(&mut bsdf, b.slot, b.texture.eval(uv, attribute));
@@ -354,6 +397,78 @@ mod tests {
         d.textures[0].slot = ColourSlot::NormalMap;
         let e = Scene::build(&d).unwrap_err().to_string();
         assert!(e.contains("must be a bitmap"), "{e}");
+    }
+
+    /// The Cornell box whose white material (floor UV (x, z) → [0, 1]²: dp/du = (2, 0, 0), dp/dv
+    /// = (0, 0, 2)) is bump-mapped by a 4 × 1 grey ramp 0, ¼, ½, ¾ (clamped) at `scale`, and the
+    /// same box without it.
+    fn bump_mapped_box(scale: f32) -> (Scene, Scene) {
+        let mut d = textured_box(checker(0.5, 0.5));
+        let bind = |slot, texture| TextureBinding { material: 0, slot, texture: Arc::new(texture) };
+        d.textures[0] = bind(ColourSlot::BumpMap, ramp());
+        d.textures.push(bind(ColourSlot::BumpScale, Texture::Constant(scale)));
+        let mut plain = d.clone();
+        plain.textures.clear();
+        (Scene::build(&d).unwrap(), Scene::build(&plain).unwrap())
+    }
+
+    /// A 4 × 1 grey ramp 0, ¼, ½, ¾, clamped.
+    fn ramp() -> Texture {
+        let texels = (0..4).map(|i| Rgb::splat(0.25 * i as f32)).collect();
+        let (filter, wrap) = (crate::texture::FilterType::Bilinear, crate::texture::WrapMode::Clamp);
+        Texture::Bitmap(
+            crate::texture::Bitmap::new(4, 1, texels, filter, wrap, UvTransform::IDENTITY).unwrap(),
+        )
+    }
+
+    /// A bump map of scale 0 is the nested BSDF alone, bit for bit (normals and material); a
+    /// scale tilts the floor's normal to normalize(dp/du' × dp/dv') on the geometric side:
+    /// ∝ (−g_u/2, 1, −g_v/2) for the floor's tangents, g the height's gradient times the scale
+    /// (¼ per texel, 4 texels: 1 per unit of u between the texel centres, 0 beyond them).
+    #[test]
+    fn a_bump_map_tilts_the_normal_down_its_gradient_and_scale_0_changes_nothing() {
+        let (flat, plain) = bump_mapped_box(0.0);
+        let (bumped, _) = bump_mapped_box(0.5);
+        let mut tilted = 0;
+        for prim in 0..flat.triangles.len() as u32 {
+            for (b1, b2) in [(0.1, 0.1), (0.3, 0.5), (0.7, 0.2), (0.2, 0.6)] {
+                let p = flat.triangles[prim as usize].point(b1, b2);
+                assert_eq!(flat.normals_at(prim, p), plain.normals_at(prim, p), "triangle {prim}");
+                assert_eq!(flat.material_at(prim, p, &mut None), plain.material_at(prim, p, &mut None));
+                if bumped.normal(prim).y < 0.9 || bumped.material(prim).name != "white" {
+                    continue;
+                }
+                let u = bumped.uv_at(prim, p).x;
+                let g = if (0.125..0.875).contains(&u) { 0.5 } else { 0.0 };
+                let want = Vec3::new(-g / 2.0, 1.0, 0.0).normalize();
+                let n = bumped.normals_at(prim, p);
+                assert!((n.shading - want).length() < 1e-5, "u {u}: {} vs {want}", n.shading);
+                assert_eq!(n.geometric, bumped.normal(prim));
+                tilted += usize::from(g > 0.0);
+            }
+        }
+        assert!(tilted > 0, "some points must lie on the ramp");
+    }
+
+    /// A bump map must be a bitmap with a finite scale, its scale needs it, and a surface takes
+    /// one normal or bump map.
+    #[test]
+    fn bad_bump_maps_are_refused() {
+        let refused = |d: &crate::scene::SceneDescription| Scene::build(d).unwrap_err().to_string();
+        let mut d = textured_box(checker(0.5, 0.5));
+        d.textures[0].slot = ColourSlot::BumpMap;
+        assert!(refused(&d).contains("a bump map must be a bitmap"), "{}", refused(&d));
+        d.textures[0] = TextureBinding {
+            material: 0,
+            slot: ColourSlot::BumpScale,
+            texture: Arc::new(Texture::Constant(2.0)),
+        };
+        assert!(refused(&d).contains("scale without its bump map"), "{}", refused(&d));
+        d.textures[0].texture = Arc::new(Texture::Constant(f32::NAN));
+        assert!(refused(&d).contains("finite"), "{}", refused(&d));
+        d.textures[0] = TextureBinding { material: 0, slot: ColourSlot::BumpMap, texture: Arc::new(ramp()) };
+        d.textures.push(TextureBinding { slot: ColourSlot::NormalMap, ..d.textures[0].clone() });
+        assert!(refused(&d).contains("one normal or bump map"), "{}", refused(&d));
     }
 
     #[test]

@@ -188,6 +188,29 @@ impl Bitmap {
         self.texels.iter().fold(Rgb::ZERO, |m, t| m.max(*t))
     }
 
+    /// The gradient (∂/∂u, ∂/∂v) of the luminance of [`Bitmap::eval`] at surface coordinates
+    /// `uv` (Mitsuba's `eval_1_grad`): the derivative of the bilinear interpolation of the four
+    /// texels' luminances within their cell, in texels, times the resolution, carried back
+    /// through `to_uv` by its transpose. Zero for nearest filtering (piecewise constant) and
+    /// where `uv` is not finite.
+    #[inline]
+    pub fn gradient_1(&self, uv: Vec2) -> Vec2 {
+        let q = self.to_uv.apply(uv);
+        if self.filter == FilterType::Nearest || !q.is_finite() {
+            return Vec2::ZERO;
+        }
+        let p = Vec2::new(q.x * self.width as f32, q.y * self.height as f32) - Vec2::splat(0.5);
+        let (i, j) = (p.x.floor(), p.y.floor());
+        let (w1x, w1y) = (p.x - i, p.y - j);
+        let (i, j) = (i as i64, j as i64);
+        let f = |di: i64, dj: i64| luminance(self.texel(i + di, j + dj));
+        let (f00, f10, f01, f11) = (f(0, 0), f(1, 0), f(0, 1), f(1, 1));
+        let dx = ((f10 - f00) * (1.0 - w1y) + (f11 - f01) * w1y) * self.width as f32;
+        let dy = ((f01 - f00) * (1.0 - w1x) + (f11 - f10) * w1x) * self.height as f32;
+        let [a, b] = self.to_uv.0;
+        Vec2::new(a[0] * dx + b[0] * dy, a[1] * dx + b[1] * dy)
+    }
+
     /// The smallest and largest luminance of a texel (bounds of [`Texture::eval_1`]: the
     /// luminance of a convex blend is the blend of the luminances).
     fn luminance_range(&self) -> (f32, f32) {
@@ -428,6 +451,13 @@ pub enum ColourSlot {
     /// `normalmap` of Mitsuba's `normalmap`: not a BSDF parameter but the shading normal, an RGB
     /// texture whose colour c is the tangent-space normal 2c − 1 ([`crate::scene::Scene::normals_at`]).
     NormalMap,
+    /// The height of Mitsuba's `bumpmap`: not a BSDF parameter but a field whose UV gradient
+    /// ([`Bitmap::gradient_1`], of its luminance) tilts the shading normal
+    /// ([`crate::scene::Scene::normals_at`]); a bitmap.
+    BumpMap,
+    /// The `scale` of Mitsuba's `bumpmap` (the gradient's multiplier, 1 if absent): a finite
+    /// [`Texture::Constant`] beside the material's [`ColourSlot::BumpMap`].
+    BumpScale,
 }
 
 impl ColourSlot {
@@ -444,22 +474,30 @@ impl ColourSlot {
             ColourSlot::Weight => "weight",
             ColourSlot::Opacity => "opacity",
             ColourSlot::NormalMap => "normalmap",
+            ColourSlot::BumpMap => "bumpmap",
+            ColourSlot::BumpScale => "bumpmap scale",
         }
     }
 
     /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`], a blend's
     /// [`ColourSlot::Weight`], set by [`set_weight`], the [`ColourSlot::Opacity`] of a masked
-    /// surface or the [`ColourSlot::NormalMap`] of a normal-mapped one).
+    /// surface or one of the [`ColourSlot::shapes_surface`] slots).
     pub fn is_colour(self) -> bool {
-        !matches!(
-            self,
-            ColourSlot::Alpha
-                | ColourSlot::AlphaU
-                | ColourSlot::AlphaV
-                | ColourSlot::Weight
-                | ColourSlot::Opacity
-                | ColourSlot::NormalMap
-        )
+        !matches!(self, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV | ColourSlot::Weight)
+            && self.is_bsdf_parameter()
+    }
+
+    /// Whether the slot is a parameter of the BSDF (else it says where the surface is met, an
+    /// [`ColourSlot::Opacity`], or how it is oriented, [`ColourSlot::shapes_surface`]): what the
+    /// scene sets when it resolves a material at a point.
+    pub fn is_bsdf_parameter(self) -> bool {
+        !matches!(self, ColourSlot::Opacity) && !self.shapes_surface()
+    }
+
+    /// Whether the slot perturbs the shading normal (a normal map, or a bump map's height or
+    /// scale) rather than setting a parameter of the BSDF.
+    pub fn shapes_surface(self) -> bool {
+        matches!(self, ColourSlot::NormalMap | ColourSlot::BumpMap | ColourSlot::BumpScale)
     }
 }
 
@@ -588,6 +626,34 @@ mod tests {
         assert_eq!(mirror.eval(Vec2::new(-0.01, 0.1)), Rgb::new(0.0, 0.0, 1.0));
         assert_eq!(mirror.eval(Vec2::new(1.3, 0.1)), Rgb::new(2.0, 0.0, 1.0));
         assert_eq!(lin.max_value(), Rgb::new(3.0, 1.0, 1.0));
+    }
+
+    #[test]
+    fn gradient_1_is_the_derivative_of_the_bilinear_luminance_through_to_uv() {
+        // A grey ramp in x and an RGB ramp in y (luminance weights), repeated, scaled by to_uv.
+        let texels: Vec<Rgb> =
+            (0..16).map(|k| Rgb::new(0.1 * (k % 4) as f32, 0.05 * (k / 4) as f32, 0.2)).collect();
+        let to_uv = UvTransform([[2.0, 0.5, 0.1], [-0.3, 1.5, 0.0]]);
+        let b = Bitmap::new(4, 4, texels, FilterType::Bilinear, WrapMode::Repeat, to_uv).unwrap();
+        let f = |uv: Vec2| luminance(b.eval(uv));
+        for uv in [Vec2::new(0.2, 0.3), Vec2::new(0.41, 0.07), Vec2::new(0.05, 0.15)] {
+            let h = 1e-3;
+            let fd = Vec2::new(
+                (f(uv + Vec2::new(h, 0.0)) - f(uv - Vec2::new(h, 0.0))) / (2.0 * h),
+                (f(uv + Vec2::new(0.0, h)) - f(uv - Vec2::new(0.0, h))) / (2.0 * h),
+            );
+            let g = b.gradient_1(uv);
+            assert!((g - fd).length() < 2e-3 * fd.length().max(1.0), "{uv}: {g} against {fd}");
+        }
+        let near = Bitmap::new(
+            2,
+            1,
+            vec![Rgb::ZERO, Rgb::ONE],
+            FilterType::Nearest,
+            WrapMode::Clamp,
+            UvTransform::IDENTITY,
+        );
+        assert_eq!(near.unwrap().gradient_1(Vec2::new(0.5, 0.5)), Vec2::ZERO);
     }
 
     #[test]

@@ -12,6 +12,7 @@ mod gltf;
 mod hostile_readers;
 mod image_file;
 mod mitsuba;
+mod mitsuba_bumpmap;
 mod mitsuba_normalmap;
 mod mitsuba_structure;
 mod mitsuba_textures;

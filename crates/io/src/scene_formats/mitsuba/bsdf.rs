@@ -62,6 +62,7 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "blendbsdf", extension: false, build: blendbsdf },
     BsdfType { name: "mask", extension: false, build: mask },
     BsdfType { name: "normalmap", extension: false, build: normalmap },
+    BsdfType { name: "bumpmap", extension: false, build: bumpmap },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
@@ -271,10 +272,7 @@ fn mask<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> 
 
 /// `normalmap` (Mitsuba 3's) around one nested BSDF: the nested BSDF shaded with the normal of
 /// an RGB `normalmap` bitmap read raw ([`super::texture::normal_map`]; the scene perturbs the
-/// shading normal, `opticks_core::scene::Scene::normals_at`). Mitsuba's `flip_invalid_normals`
-/// and `use_shadowing_function` are read but only their `false` is Mitsuba's behaviour here:
-/// normals facing away from the viewer are not flipped and no shadowing term is applied
-/// (docs/scene-formats.md).
+/// shading normal, `opticks_core::scene::Scene::normals_at`), as [`shading_map`] reads it.
 fn normalmap<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
     let Some(map) = p.take_object("normalmap") else {
         return Err(e.err(
@@ -283,19 +281,67 @@ fn normalmap<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>
         ));
     };
     super::texture::normal_map(b, p, map)?;
+    shading_map(b, e, p, "normalmap")
+}
+
+/// `bumpmap` (Mitsuba 3's) around one nested BSDF: the nested BSDF shaded with the normal of a
+/// height field, one nested `bitmap` texture (or `<ref>` to one) under any name, whose UV
+/// gradient times `scale` (a finite float, default 1) tilts the shading frame
+/// ([`super::texture::bump_map`]; the scene perturbs the shading normal,
+/// `opticks_core::scene::Scene::normals_at`), as [`shading_map`] reads it. The shape must have
+/// texture coordinates (`super::shape` checks).
+fn bumpmap<'d>(b: &mut Builder<'d>, e: &'d Element, _: &str, p: &mut Props<'d>) -> Result<(Bsdf, bool)> {
+    let is_texture = |o: &&Element| {
+        o.tag == "texture" || o.tag == "ref" && o.target.is_some_and(|i| b.doc.top(i).tag == "texture")
+    };
+    let textures: Vec<&Element> = p.objects().iter().copied().filter(is_texture).collect();
+    let Some(&height) = textures.first() else {
+        return Err(e.err(
+            "a bumpmap BSDF needs its height: a nested <texture type=\"bitmap\"> (usually with \
+             <boolean name=\"raw\" value=\"true\"/>) or a <ref> to one",
+        ));
+    };
+    if let Some(extra) = textures.get(1) {
+        return Err(extra.err("a bumpmap BSDF takes one texture (its height)"));
+    }
+    let (scale, _) = p.float_or("scale", 1.0)?;
+    // Out of the objects, so that the nested BSDF is the only one left.
+    let height = p.remove_object(height);
+    super::texture::bump_map(b, p, height, scale)?;
+    shading_map(b, e, p, "bumpmap")
+}
+
+/// The rest of a `normalmap` or `bumpmap` (`what`) BSDF once its map is recorded: Mitsuba's
+/// `flip_invalid_normals` and `use_shadowing_function` are read but only their `false` is
+/// Mitsuba's behaviour here (normals facing away from the viewer are not flipped and no
+/// shadowing term is applied: a warning otherwise, docs/scene-formats.md), then the one nested
+/// BSDF, which must not carry a map of its own.
+fn shading_map<'d>(
+    b: &mut Builder<'d>,
+    e: &'d Element,
+    p: &mut Props<'d>,
+    what: &str,
+) -> Result<(Bsdf, bool)> {
     let flip = p.bool("flip_invalid_normals")?;
     let shadowing = p.bool("use_shadowing_function")?;
     if flip != Some(false) || shadowing != Some(false) {
         b.warn(
             e,
-            "Opticks's normalmap neither flips normals facing away from the viewer nor applies \
-             Mitsuba's shadowing term (it renders as flip_invalid_normals and use_shadowing_function \
-             false; Mitsuba's defaults are true)",
+            format!(
+                "Opticks's {what} neither flips normals facing away from the viewer nor applies \
+                 Mitsuba's shadowing term (it renders as flip_invalid_normals and \
+                 use_shadowing_function false; Mitsuba's defaults are true)"
+            ),
         );
     }
-    let nested = one_nested(b, e, p, "normalmap")?;
-    if nested.textures.iter().any(|(slot, _)| *slot == ColourSlot::NormalMap) {
-        return Err(p.objects()[0].err("a normalmap inside a normalmap is not supported (give one map)"));
+    let nested = one_nested(b, e, p, what)?;
+    let inner = nested.textures.iter().find_map(|(slot, _)| match slot {
+        ColourSlot::NormalMap => Some("normalmap"),
+        ColourSlot::BumpMap => Some("bumpmap"),
+        _ => None,
+    });
+    if let Some(inner) = inner {
+        return Err(p.objects()[0].err(format!("a {inner} inside a {what} is not supported (give one map)")));
     }
     b.bsdf_textures.extend(nested.textures);
     Ok((nested.bsdf, nested.two_sided))

@@ -136,6 +136,12 @@ impl<'d> Props<'d> {
         Some(self.objects.remove(i))
     }
 
+    /// The nested object `o` (one of [`Self::objects`], by identity), removed from them.
+    pub fn remove_object(&mut self, o: &'d Element) -> &'d Element {
+        self.objects.retain(|x| !std::ptr::eq(*x, o));
+        o
+    }
+
     /// The property `name`, marked as read.
     pub fn take(&mut self, name: &str) -> Option<&'d Element> {
         self.entries.iter_mut().find(|(n, _, _)| *n == name).map(|e| {

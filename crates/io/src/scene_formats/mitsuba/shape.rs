@@ -26,6 +26,7 @@ use crate::scene_formats::{ply::parse_ply_with, serialized::parse_serialized_wit
 use glam::{DMat3, DMat4};
 use opticks_core::math::{Vec2, Vec3};
 use opticks_core::scene::{MeshAttribute, MeshDesc};
+use opticks_core::texture::ColourSlot;
 
 /// A shape's geometry before `to_world`.
 pub struct Geometry {
@@ -150,6 +151,13 @@ pub fn shape_and_kind<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> 
                     }
                     (parsed, None)
                 };
+                if uvs.is_empty() && parsed.textures.iter().any(|(s, _)| *s == ColourSlot::BumpMap) {
+                    return Err(c.err(format!(
+                        "shape '{name}' has no texture coordinates, which its bumpmap needs (the \
+                         height's gradient is taken along u and v); give the mesh UVs (OBJ `vt`, \
+                         PLY u/v) or use a shape that has them"
+                    )));
+                }
                 chosen = Some((parsed, ref_id));
             }
             ("emitter", _) => {

@@ -6,8 +6,9 @@
 //! values, [`attribute_names`] tells a shape which of its file's attributes to keep), with
 //! Mitsuba's parameters and defaults.
 //!
-//! A BSDF builder reads a colour through [`colour`], a roughness through [`roughness`] and a
-//! `mask`'s opacity through [`opacity`]: a
+//! A BSDF builder reads a colour through [`colour`], a roughness through [`roughness`], a
+//! `mask`'s opacity through [`opacity`] (and the maps that tilt the shading normal through
+//! [`normal_map`] and [`bump_map`], which must be bitmaps): a
 //! constant as before, or a texture, which is recorded on the [`super::bsdf::ParsedBsdf`] and
 //! given to the core's constructor as its largest value (so the constructor's range checks hold
 //! at every point, and report at the texture's element; a mesh attribute's values are the
@@ -115,17 +116,7 @@ pub fn weight<'d>(b: &mut Builder<'d>, p: &mut Props<'d>) -> Result<Option<(f64,
 /// a `bitmap` read `raw` (its colours are directions, not sRGB-encoded reflectances) of an RGB
 /// image; recorded as [`ColourSlot::NormalMap`].
 pub fn normal_map<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Element) -> Result<()> {
-    let t = match e.tag.as_str() {
-        "ref" => e.target.map(|i| b.doc.top(i)).filter(|t| t.tag == "texture").unwrap_or(e),
-        _ => e,
-    };
-    if t.tag == "texture" {
-        if t.raw("type") != Some("bitmap") {
-            return Err(t.err(format!(
-                "a normal map must be a bitmap texture, not \"{}\"",
-                t.raw("type").unwrap_or("")
-            )));
-        }
+    if let Some(t) = bitmap_element(b, e, "a normal map")? {
         let is = |c: &Element, tag: &str, name: &str| c.tag == tag && c.raw("name") == Some(name);
         let raw = t.children.iter().find(|c| is(c, "boolean", "raw"));
         if !raw.and_then(|c| c.raw("value")).is_some_and(|v| v.trim().eq_ignore_ascii_case("true")) {
@@ -149,6 +140,41 @@ pub fn normal_map<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Element) ->
     let texture = parameter_texture(b, p, "normalmap", e)?;
     b.bsdf_textures.push((ColourSlot::NormalMap, texture));
     Ok(())
+}
+
+/// The height of a `bumpmap` BSDF: the texture `e` (nested or referred to, under any name, as
+/// Mitsuba takes it), which must be a `bitmap` (its gradient is that of its bilinear
+/// interpolation: Mitsuba's `eval_1_grad`, of the luminance; `raw` or not, grey or RGB, as
+/// Mitsuba's RGB variants accept), with its `scale` (`scale_node`: the `<float>`, if given);
+/// recorded as [`ColourSlot::BumpMap`] and [`ColourSlot::BumpScale`] (unless 1).
+pub fn bump_map<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Element, scale: f64) -> Result<()> {
+    bitmap_element(b, e, "a bump map")?;
+    let name = e.raw("name").unwrap_or("bumpmap").to_string();
+    let texture = parameter_texture(b, p, &name, e)?;
+    b.bsdf_textures.push((ColourSlot::BumpMap, texture));
+    if scale != 1.0 {
+        b.bsdf_textures.push((ColourSlot::BumpScale, Arc::new(Texture::Constant(scale as f32))));
+    }
+    Ok(())
+}
+
+/// The `<texture>` that `e` is or refers to (`None` for a reference to no texture: reported
+/// by [`parameter_texture`]), which must be a `bitmap` (`what`, e.g. "a normal map", names it
+/// in the error).
+fn bitmap_element<'d>(b: &Builder<'d>, e: &'d Element, what: &str) -> Result<Option<&'d Element>> {
+    let t = match e.tag.as_str() {
+        "ref" => e.target.map(|i| b.doc.top(i)).filter(|t| t.tag == "texture").unwrap_or(e),
+        _ => e,
+    };
+    if t.tag != "texture" {
+        return Ok(None);
+    }
+    if t.raw("type") != Some("bitmap") {
+        return Err(
+            t.err(format!("{what} must be a bitmap texture, not \"{}\"", t.raw("type").unwrap_or("")))
+        );
+    }
+    Ok(Some(t))
 }
 
 /// The texture `e` given as the float parameter `name`, whose `eval_1` must lie in [0, 1] (an
