@@ -1144,7 +1144,7 @@ def time_to_accuracy(exe, work, radiance, version, only=""):
                     f"| {r_text} | {r_cell} | {r_wall:.3f} | {ratio} | {ahead} |")
     # What an Opticks run costs before it samples anything, measured here: the point scene at 4096
     # paths (start-up, scene, dataset written and read), and a sky case's measure at 2 directions a
-    # point (start-up, scene, the sky's map and the pilot of 8192 directions a point).
+    # point (start-up, scene, the sky's map and the pilot: 2048 + up to 8192 directions a point).
     quiet = dict(cwd=work, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     sky_trace = run_timed([str(exe), "trace", str(SCENES / "sky-roof-uniform.rad"), "-o", "tta-probe.opds",
                            "--overwrite", "--quiet", "--paths", "4096"], **quiet)[0]
@@ -1638,8 +1638,9 @@ def main():
     sky_prose_points = (
         "**Opticks's sky at a point.** The meter's `connections` estimator gathers a sky's "
         "direct light at a point with a visibility-guided sampler (`sensor/meter/sky.rs`): a pilot "
-        "of 8192 directions (2 in each of 64 × 64 equal-area cells of the hemisphere above the "
-        "point), whose samples are discarded, learns where the sky is seen — here, through the "
+        "(2 directions in each of 32 × 32 equal-area cells of the hemisphere above the point, "
+        "then 2 in each of its 64 × 64 cells within those that saw the sky or lie within two of "
+        "one), whose samples are discarded, learns where the sky is seen — here, through the "
         "opening; the fresh directions are drawn 85 % from that guide and 15 % from the sky's own "
         "sampling over the whole sphere, whose density is positive wherever the sky is, so the "
         "estimate stays unbiased wherever the guide is wrong; and as many are drawn as the pilot "

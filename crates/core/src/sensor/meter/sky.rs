@@ -19,11 +19,11 @@
 //! the bin's share of ∫f, since each bin has the same ∫cos θ/π), then at least [`SPREAD`] times
 //! its largest neighbour's ([`dilate`]: a bin the opening covers in part may be missed by its few
 //! pilot directions); each guide bin takes its pilot bin's weight. The pilot grid is the guide's
-//! ([`SIDE`]², 8192 directions a target) unless the meter has many targets: over a whole meter
-//! the pilot traces at most [`PILOT_BUDGET`] directions, the grid's side halving (32, 16, then
-//! the floor [`MIN_PILOT_SIDE`]) until its targets fit ([`pilot_side`]; with
+//! ([`SIDE`]², at most 8192 directions a target in its second pass) unless the meter has many
+//! targets: over a whole meter the pilot traces at most [`PILOT_BUDGET`] directions, the grid's
+//! side halving (32, 16, then the floor [`MIN_PILOT_SIDE`]) until its targets fit ([`pilot_side`]; with
 //! [`super::MAX_TARGETS`] targets at the floor, exactly the budget). A 100 × 100-cell plane's
-//! pilot is 16² bins (512 directions a cell, 5.1 M in all, not 82 M); its guide is coarser,
+//! pilot is 16² bins (at most 8² + 16² pairs, 640 directions a cell, 6.4 M in all, not 82 M); its guide is coarser,
 //! which costs variance, never bias (below). The pilot grid is traced in two passes: first a
 //! grid [`REFINE`] times coarser along each side ([`coarse_side`]), then the pilot grid only in
 //! the coarse bins that saw the sky or lie within two bins of one (a sliver of sky the coarse
