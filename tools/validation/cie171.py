@@ -1144,7 +1144,7 @@ def time_to_accuracy(exe, work, radiance, version, only=""):
                     f"| {r_text} | {r_cell} | {r_wall:.3f} | {ratio} | {ahead} |")
     # What an Opticks run costs before it samples anything, measured here: the point scene at 4096
     # paths (start-up, scene, dataset written and read), and a sky case's measure at 2 directions a
-    # point (start-up, scene, the sky's map and the pilot of 8192 directions a point).
+    # point (start-up, scene, the sky's map and the pilot: 2048 + up to 8192 directions a point).
     quiet = dict(cwd=work, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     sky_trace = run_timed([str(exe), "trace", str(SCENES / "sky-roof-uniform.rad"), "-o", "tta-probe.opds",
                            "--overwrite", "--quiet", "--paths", "4096"], **quiet)[0]
@@ -1223,25 +1223,35 @@ def time_to_accuracy(exe, work, radiance, version, only=""):
 
 
 TTA_FINDINGS = (
-    "**What dominates Opticks's time there.** (1) Its fixed cost: two processes, the scene loaded "
-    "twice, a dataset written and read — a few ms, against Radiance's 1–2 ms for `oconv` + `rtrace` "
-    "on a one-source scene; at 8 points nothing amortises it (the point case, the box's 24 `measure` "
-    "runs, one per wall and ρ). (2) The area sources (5.3, 5.7): the meter samples an area light's "
-    "direct light on the source from each point (stratified points on it, as many as its pilot asks "
-    "for, or `--direct-samples`; docs/estimator.md §5) and no longer connects the dataset's emission "
-    "points, so 4096 paths are as good as 4M there and `measure` costs a few ms; what is left is (1). "
-    "The default `auto` aims at an SE of 0.5 % a point, which does not always keep every one of 27 "
-    "readings (9 points, 3 seeds) within 1 % in 5.7's penumbra (2.2 SE off is not rare among 27); a "
-    "fixed count of a few thousand does. (3) The sky: a sky case's "
-    "`measure` costs SKY_PROBE s CPU before it draws a direction (`--direct-samples 2`: the scene, the "
-    "sky's map and the pilot's 8192 directions a point, which are discarded), its trace of 4096 paths "
-    "SKY_TRACE s; the fresh directions then need 8192–16384 a point for 2 %, Radiance's stratified "
-    "hemisphere with super-sampling 4096 + 2048 (a façade: 16384 + 8192). A smaller pilot, or a "
-    "pilot whose samples count, would lower the first; the default `auto` asks for an SE of 0.5 %, "
-    "more than 2 % over 8 points needs. (4) The defaults: the trace's default 4M paths cost 1–2.5 s "
-    "on every case where the points need few or none of them (the sky cases' room is black; every "
-    "light's direct light is the meter's own — exact for a point or directional light, sampled on "
-    "the source for an area light — and the floors are black).")
+    "**What dominates Opticks's time there.** (1) Its fixed cost: two processes, the scene "
+    "loaded twice, a dataset written and read — a few ms (of one process's 2–3 ms CPU on the "
+    "point scene at 4096 paths, ~1.1 ms is starting the binary: dynamic loading and page faults, "
+    "`opticks --version` alone; then the output's fsync, rayon's idle workers yielding, the work "
+    "itself), against Radiance's 1–2 ms for `oconv` + `rtrace` on a one-source scene; at 8 "
+    "points nothing amortises it (the point case, the box's 24 `measure` runs, one per wall and "
+    "ρ: one `measure --points` a ρ at the walls' Gauss-Legendre points, with their normals, was "
+    "tried and is noisier than `--surface` — connections' 1/d² near the walls' edges — needing "
+    "4–8× the paths, so the box keeps `--surface`). (2) The area sources (5.3, 5.7): the meter "
+    "samples an area light's direct light on the source from each point (stratified points on "
+    "it, as many as its pilot asks for, or `--direct-samples`; docs/estimator.md §5) and no "
+    "longer connects the dataset's emission points, so 4096 paths are as good as 4M there and "
+    "`measure` costs a few ms; what is left is (1). The default `auto` aims at an SE of 0.5 % a "
+    "point, which does not always keep every one of 27 readings (9 points, 3 seeds) within 1 % "
+    "in 5.7's penumbra (2.2 SE off is not rare among 27); a fixed count of a few thousand does. "
+    "(3) The sky: a sky case's `measure` costs SKY_PROBE s CPU before it draws a direction "
+    "(`--direct-samples 2`: the scene, the sky's map and the pilot — a 32² pass, then the 64² "
+    "grid only where that saw the sky: ~2500 directions a point through these openings, not 8192 "
+    "— which is discarded), its trace of 4096 paths SKY_TRACE s; the fresh directions then need "
+    "8192–16384 a point for 2 %, Radiance's stratified hemisphere with super-sampling 4096 + "
+    "2048 (a façade: 16384 + 8192). A pilot whose samples count (its cosine-stratified estimate "
+    "combined with the fresh one by their counts, unbiased for a fixed N) was tried: through a "
+    "roof opening its directions are ~16× less efficient than the guided ones, so above N ≈ 600 "
+    "the combination's SE exceeds the fresh samples' alone; a coarser pilot grid (32², 16²) "
+    "cost more fresh directions than it saved. The default `auto` asks for an SE of 0.5 %, more "
+    "than 2 % over 8 points needs. (4) The defaults: the trace's default 4M paths cost 1–2.5 s "
+    "on every case where the points need few or none of them (the sky cases' room is black; "
+    "every light's direct light is the meter's own — exact for a point or directional light, "
+    "sampled on the source for an area light — and the floors are black).")
 
 # Why Radiance may not reach a case's target, by the case's number (written where it did not).
 TTA_NOTES = {
@@ -1628,8 +1638,9 @@ def main():
     sky_prose_points = (
         "**Opticks's sky at a point.** The meter's `connections` estimator gathers a sky's "
         "direct light at a point with a visibility-guided sampler (`sensor/meter/sky.rs`): a pilot "
-        "of 8192 directions (2 in each of 64 × 64 equal-area cells of the hemisphere above the "
-        "point), whose samples are discarded, learns where the sky is seen — here, through the "
+        "(2 directions in each of 32 × 32 equal-area cells of the hemisphere above the point, "
+        "then 2 in each of its 64 × 64 cells within those that saw the sky or lie within two of "
+        "one), whose samples are discarded, learns where the sky is seen — here, through the "
         "opening; the fresh directions are drawn 85 % from that guide and 15 % from the sky's own "
         "sampling over the whole sphere, whose density is positive wherever the sky is, so the "
         "estimate stays unbiased wherever the guide is wrong; and as many are drawn as the pilot "

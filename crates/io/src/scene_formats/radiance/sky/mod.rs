@@ -349,11 +349,14 @@ pub fn rasterise(
     let whole = half_angle >= PI;
     let cos_limit = half_angle.min(PI).cos();
     let mut texels = Vec::with_capacity(width * height);
+    // φ's sine and cosine once per column, θ's per row ([`map_to_world`]'s values): per texel,
+    // two sincos of the 131 k texels were a sixth of a sky scene's load.
+    let columns: Vec<(f64, f64)> =
+        (0..width).map(|i| (2.0 * PI * (i as f64 + 0.5) / width as f64).sin_cos()).collect();
     for j in 0..height {
-        let theta = PI * j as f64 / (height - 1) as f64;
-        for i in 0..width {
-            let phi = 2.0 * PI * (i as f64 + 0.5) / width as f64;
-            let d = map_to_world(phi, theta);
+        let row = (PI * j as f64 / (height - 1) as f64).sin_cos();
+        for &column in &columns {
+            let d = direction_of(column, row);
             let c = d.dot(axis) - cos_limit;
             texels.push(match () {
                 _ if whole || c > 1e-9 => radiance(d),
@@ -387,7 +390,14 @@ pub fn sky_map(
 /// The world direction (z up) of the map's (φ, θ): the map's d = (sin φ sin θ, cos θ,
 /// −cos φ sin θ) under [`MAP_TO_WORLD`].
 pub fn map_to_world(phi: f64, theta: f64) -> DVec3 {
-    DVec3::new(phi.sin() * theta.sin(), phi.cos() * theta.sin(), theta.cos())
+    direction_of(phi.sin_cos(), theta.sin_cos())
+}
+
+/// [`map_to_world`] from (sin φ, cos φ) and (sin θ, cos θ): the rasteriser computes them once
+/// per column and per row, not per texel.
+#[inline]
+fn direction_of((sin_p, cos_p): (f64, f64), (sin_t, cos_t): (f64, f64)) -> DVec3 {
+    DVec3::new(sin_p * sin_t, cos_p * sin_t, cos_t)
 }
 
 /// The rotation from the map's frame (+y up) to Radiance's world (+z up): x → x, y → z,
