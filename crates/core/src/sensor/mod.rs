@@ -374,7 +374,7 @@ fn shaded_f<const REVERSE: bool>(
 /// two-sidedness), from the geometric cosines of the arriving light (`cos_in`) and of the
 /// sensor's direction (`cos_x`) alone — what `ShadingPoint::eval` and `pdf` reduce to there
 /// without a frame: the lit side is the arriving light's (the back only if two-sided), f is
-/// ρ/π if the sensor is on that side, the reverse density that cosine over π. The same numbers
+/// ρ/π if the sensor is on that side (`None` for a black one, as there), the reverse density that cosine over π. The same numbers
 /// to the bit: each local z of the general case is the same dot product (a test holds both to it).
 #[inline]
 fn flat_lambert_f<const REVERSE: bool>(
@@ -383,7 +383,8 @@ fn flat_lambert_f<const REVERSE: bool>(
     cos_x: f32,
 ) -> Option<(Rgb, f32)> {
     let lit = if cos_in > 0.0 { cos_x > 0.0 } else { cos_in < 0.0 && two_sided && cos_x < 0.0 };
-    lit.then(|| (f, if REVERSE { cos_in.abs() * std::f32::consts::FRAC_1_PI } else { 0.0 }))
+    (lit && f != Rgb::ZERO)
+        .then(|| (f, if REVERSE { cos_in.abs() * std::f32::consts::FRAC_1_PI } else { 0.0 }))
 }
 
 /// The shadow ray of a connection from surface point `x` (geometric normal `n`, unit direction
@@ -684,6 +685,8 @@ mod tests {
         for (i, m) in desc.materials.iter_mut().enumerate() {
             m.two_sided = i % 2 == 0;
         }
+        // A black wall: no connection at all, as the general shading says (f = 0).
+        desc.materials[1].bsdf = Bsdf::Lambert(crate::bsdf::Lambert::new(Rgb::ZERO).unwrap());
         let glossy = desc.materials.len();
         desc.materials.push(crate::bsdf::Material {
             name: "glossy".into(),
