@@ -277,17 +277,7 @@ mod tests {
     }
 
     fn cam() -> Pinhole {
-        Pinhole::new(&CameraDesc {
-            eye: Vec3::new(0.0, 0.0, 3.9),
-            target: Vec3::ZERO,
-            up: Vec3::Y,
-            fov_x_degrees: 39.3077,
-            width: 256,
-            height: 128,
-            kind: CameraKind::Perspective,
-            film: Default::default(),
-        })
-        .unwrap()
+        Pinhole::new(&cam_desc()).unwrap()
     }
 
     #[test]

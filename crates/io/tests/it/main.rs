@@ -13,6 +13,7 @@ mod hostile_readers;
 mod image_file;
 mod mitsuba;
 mod mitsuba_bumpmap;
+mod mitsuba_fragment;
 mod mitsuba_normalmap;
 mod mitsuba_structure;
 mod mitsuba_textures;

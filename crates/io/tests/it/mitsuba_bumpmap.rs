@@ -5,24 +5,14 @@
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::texture::{ColourSlot, Texture};
-use opticks_io::scene_formats::mitsuba::parse;
-use opticks_io::{LoadOptions, LoadedScene, SceneFileError};
-use std::path::PathBuf;
-
-fn folder() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/mitsuba/bumpmap")
-}
+use opticks_io::{LoadedScene, SceneFileError};
 
 fn load(body: &str) -> Result<LoadedScene, SceneFileError> {
-    let xml = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
-    parse(&xml, &folder().join("test.xml"), &LoadOptions::default())
+    crate::mitsuba_fragment::load_in("bumpmap", body)
 }
 
 fn err(body: &str) -> String {
-    match load(body) {
-        Ok(_) => panic!("should fail:\n{body}"),
-        Err(e) => e.to_string(),
-    }
+    crate::mitsuba_fragment::err_in("bumpmap", body)
 }
 
 const HEIGHT: &str = r#"<texture type="bitmap" name="arbitrary"><string name="filename" value="height.png"/>

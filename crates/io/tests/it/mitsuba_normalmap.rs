@@ -5,24 +5,14 @@
 
 use opticks_core::bsdf::Bsdf;
 use opticks_core::texture::ColourSlot;
-use opticks_io::scene_formats::mitsuba::parse;
-use opticks_io::{LoadOptions, LoadedScene, SceneFileError};
-use std::path::PathBuf;
-
-fn folder() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/mitsuba/normalmap")
-}
+use opticks_io::{LoadedScene, SceneFileError};
 
 fn load(body: &str) -> Result<LoadedScene, SceneFileError> {
-    let xml = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
-    parse(&xml, &folder().join("test.xml"), &LoadOptions::default())
+    crate::mitsuba_fragment::load_in("normalmap", body)
 }
 
 fn err(body: &str) -> String {
-    match load(body) {
-        Ok(_) => panic!("should fail:\n{body}"),
-        Err(e) => e.to_string(),
-    }
+    crate::mitsuba_fragment::err_in("normalmap", body)
 }
 
 const MAP: &str = r#"<texture type="bitmap" name="normalmap"><string name="filename" value="normalmap.png"/>
