@@ -62,6 +62,19 @@ pub(super) fn check_reading(
     (v, se * se)
 }
 
+/// Test helper of the direct terms' closed-form tests: a scene of `meshes` whose surfaces are all
+/// black (one one-sided black Lambert material), so that a reading is the direct light alone.
+#[cfg(test)]
+pub(super) fn black_room(meshes: Vec<crate::scene::MeshDesc>) -> SceneDescription {
+    use crate::bsdf::{Bsdf, Lambert, Material};
+    let black = Bsdf::Lambert(Lambert::new(crate::math::Rgb::ZERO).unwrap());
+    SceneDescription {
+        materials: vec![Material { name: "black".into(), bsdf: black, two_sided: false }],
+        meshes,
+        ..Default::default()
+    }
+}
+
 /// How a meter reads a dataset (module docs): every stored sample connected to points of the
 /// meter, which reads anywhere, or the samples that landed on it, which reads only a grid on
 /// the scene's surfaces.

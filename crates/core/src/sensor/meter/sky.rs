@@ -453,12 +453,11 @@ impl<'a> Sky<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::{Bsdf, Lambert, Material};
     use crate::scene::{EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, SceneDescription};
     use crate::sensor::meter::area::tests::parallel_rectangle;
-    use crate::sensor::meter::check_reading;
     use crate::sensor::meter::connect::tests::read_direct_only;
     use crate::sensor::meter::{ConnectedSettings, MeterPoint, Reading};
+    use crate::sensor::meter::{black_room, check_reading};
 
     #[test]
     fn the_square_of_a_direction_inverts_the_cosine_map() {
@@ -568,12 +567,6 @@ mod tests {
             quad("wall +z", [c(-2.0, 0.0, 2.0), c(-2.0, H, 2.0), c(2.0, H, 2.0), c(2.0, 0.0, 2.0)]),
         ];
         let desc = SceneDescription {
-            materials: vec![Material {
-                name: "black".into(),
-                bsdf: Bsdf::Lambert(Lambert::new(Rgb::ZERO).unwrap()),
-                two_sided: false,
-            }],
-            meshes,
             environment_lights: vec![EnvironmentLightDesc {
                 name: "sky".into(),
                 source: Default::default(),
@@ -581,7 +574,7 @@ mod tests {
                 to_world: glam::Mat3::IDENTITY,
                 sky: None,
             }],
-            ..Default::default()
+            ..black_room(meshes)
         };
         Scene::build(&desc).unwrap()
     }

@@ -4,12 +4,11 @@
 //! errors against the spread over seeds; explicit counts.
 
 use super::*;
-use crate::bsdf::{Bsdf, Lambert, Material};
 use crate::math::Vec3;
-use crate::scene::{AreaEmission, MeshDesc, SceneDescription};
-use crate::sensor::meter::check_reading;
+use crate::scene::{AreaEmission, MeshDesc};
 use crate::sensor::meter::connect::tests::read_direct_only;
 use crate::sensor::meter::{ConnectedSettings, MeterPoint, Reading};
+use crate::sensor::meter::{black_room, check_reading};
 
 /// E/L at a point (x, z) facing up, under the parallel rectangle [x0, x1] × [z0, z1] (`rect`)
 /// at height `h` above it, facing down: ½[X/√(1+X²)·atan(Y/√(1+X²)) + Y/√(1+Y²)·atan(X/√(1+Y²))]
@@ -61,16 +60,7 @@ fn scene_with(other: Option<f32>, blockers: &[(f32, [f32; 4])]) -> Scene {
         meshes.push(facing_down("other", H, [2.0, 3.0, -0.5, 0.5], Some(Rgb::splat(l))));
     }
     meshes.extend(blockers.iter().enumerate().map(|(k, &(y, r))| facing_down(&format!("b{k}"), y, r, None)));
-    let desc = SceneDescription {
-        materials: vec![Material {
-            name: "black".into(),
-            bsdf: Bsdf::Lambert(Lambert::new(Rgb::ZERO).unwrap()),
-            two_sided: false,
-        }],
-        meshes,
-        ..Default::default()
-    };
-    Scene::build(&desc).unwrap()
+    Scene::build(&black_room(meshes)).unwrap()
 }
 
 /// Every area light of `scene` on at its own power times `scale` (100 paths each).
