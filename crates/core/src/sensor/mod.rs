@@ -64,6 +64,7 @@ use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{mix, unit_from_hash};
 use crate::scene::{CameraDesc, CameraKind, Scene};
+use raster::NO_PIXEL;
 use rayon::prelude::*;
 
 /// A run of samples from one light and the flux each unit of β stands for (Φ_k/N_k, after any
@@ -374,8 +375,9 @@ fn shaded_f<const REVERSE: bool>(
 /// two-sidedness), from the geometric cosines of the arriving light (`cos_in`) and of the
 /// sensor's direction (`cos_x`) alone — what `ShadingPoint::eval` and `pdf` reduce to there
 /// without a frame: the lit side is the arriving light's (the back only if two-sided), f is
-/// ρ/π if the sensor is on that side (`None` for a black one, as there), the reverse density that cosine over π. The same numbers
-/// to the bit: each local z of the general case is the same dot product (a test holds both to it).
+/// ρ/π if the sensor is on that side (`None` for a black one, as there), the reverse density
+/// that cosine over π. The same numbers to the bit: each local z of the general case is the
+/// same dot product (a test holds both to it).
 #[inline]
 fn flat_lambert_f<const REVERSE: bool>(
     (f, two_sided): (Rgb, bool),
@@ -435,7 +437,8 @@ pub fn splat(
 /// known as soon as it is projected, and its reads of the visibility buffer and of the film (a
 /// megabyte together at 256², past L2) are random; each sample is projected [`SPLAT_AHEAD`]
 /// samples early and those loads begun then, so they overlap the work of the samples between.
-/// The same connections in the same order: images are unchanged to the bit.
+/// The same connections in the same order: images are unchanged to the bit. A pinhole's
+/// samples are projected a block at a time instead ([`splat_projected_pinhole`]).
 #[inline]
 pub(crate) fn splat_projected<T: SplatTarget>(
     sensor: &Sensor,
@@ -516,9 +519,6 @@ fn splat_projected_pinhole<T: SplatTarget>(
 
 /// Samples a pinhole projects at once ([`Pinhole::connect_block`]).
 const BLOCK: usize = 16;
-
-/// The pixel of a sample that does not project into the image.
-const NO_PIXEL: u32 = u32::MAX;
 
 /// [`Pinhole::connect_block`]'s output: per sample its pixel (or [`NO_PIXEL`]) and its
 /// connection's weight W.

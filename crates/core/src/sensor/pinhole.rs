@@ -6,7 +6,8 @@
 //! dω = cos³θ_c·dA, so W_e = 1/(a·cos³θ_c) per unit solid angle, and a point x at distance d
 //! subtends dω = |cos θ_x|·dA_x/d²: W = 1/(d²·a·cos³θ_c).
 
-use super::{BLOCK, Connection, FilmHit, NO_PIXEL, ProjectedBlock, Raster};
+use super::raster::NO_PIXEL;
+use super::{BLOCK, Connection, FilmHit, ProjectedBlock, Raster};
 use crate::dataset::Sample;
 use crate::math::Vec3;
 use crate::scene::CameraDesc;
@@ -164,18 +165,15 @@ impl Pinhole {
     /// Connects `x` to the pinhole at the eye.
     #[inline]
     pub(super) fn connect(&self, x: Vec3) -> Option<Connection> {
-        let (pixel, cos_c) = self.project(x)?;
-        let d2 = (self.eye - x).length_squared();
-        let weight = 1.0 / (self.pixel_area() * d2 * cos_c * cos_c * cos_c);
-        Some(Connection { pixel, point: self.eye, weight })
+        let (pixel, weight) = self.connection_of(x, self.pixel_area());
+        (pixel != NO_PIXEL).then_some(Connection { pixel: pixel as usize, point: self.eye, weight })
     }
 
-    /// Connects `x` to the pinhole for a filtered splat: its film coordinates, unclipped.
     /// [`Pinhole::connect`] of the positions of up to [`BLOCK`] samples at once (`pixel[l]` is
-    /// [`NO_PIXEL`] where it gives `None`): the same arithmetic lane by lane, so the same
-    /// pixels and the same weights to the bit, but without a branch or an `Option` per sample,
-    /// in arrays the compiler can keep in vector registers (the splat loop's projection was a
-    /// fifth of its instructions). The box filter's pixel only.
+    /// [`NO_PIXEL`] where it gives `None`): the same arithmetic lane by lane
+    /// ([`Pinhole::connection_of`]), but without a branch or an `Option` per sample, in arrays
+    /// the compiler keeps in vector registers (the splat loop's projection was a fifth of its
+    /// instructions).
     #[inline]
     pub(super) fn connect_block(&self, samples: &[Sample], block: &mut ProjectedBlock) {
         debug_assert!(samples.len() <= BLOCK);
@@ -183,29 +181,28 @@ impl Pinhole {
         for (l, s) in samples.iter().enumerate() {
             [x[l], y[l], z[l]] = s.position;
         }
-        let (e, f) = (self.eye, self.forward);
         let area = self.pixel_area();
-        let w = &self.raster.window;
-        let (fw, fh) = (self.raster.full_width, self.raster.full_height);
-        let (fw_f, fh_f) = (fw as f32, fh as f32);
         for l in 0..BLOCK {
-            let v = Vec3::new(x[l] - e.x, y[l] - e.y, z[l] - e.z);
-            let depth = v.dot(f);
-            let (sx, sy) = self.film_xy(v, depth);
-            let d2 = v.dot(v);
-            let cos_c = depth / d2.sqrt();
-            block.weight[l] = 1.0 / (area * d2 * cos_c * cos_c * cos_c);
-            // `Raster::box_pixel`: (s_x s_y) in [0, 1)², the column and row clamped to the film
-            // (clamped before the truncation here: the same integers), then the window's.
-            let on_film = !(depth <= 0.0) && (0.0..1.0).contains(&sx) && (0.0..1.0).contains(&sy);
-            let i = ((sx * fw_f).min((fw - 1) as f32).max(0.0) as u32).wrapping_sub(w.x);
-            let j = ((sy * fh_f).min((fh - 1) as f32).max(0.0) as u32).wrapping_sub(w.y);
-            let in_window = i < w.width && j < w.height;
-            block.pixel[l] = if on_film && in_window { j * w.width + i } else { NO_PIXEL };
+            (block.pixel[l], block.weight[l]) = self.connection_of(Vec3::new(x[l], y[l], z[l]), area);
         }
         block.len = samples.len();
     }
 
+    /// The pixel of `x` under the box filter ([`NO_PIXEL`] behind the eye or outside the image)
+    /// and its connection's W = 1/(a·d²·cos³θ_c) (meaningless without a pixel), `area` being
+    /// [`Pinhole::pixel_area`]; without a branch, so that a block of points vectorises.
+    #[inline(always)]
+    fn connection_of(&self, x: Vec3, area: f32) -> (u32, f32) {
+        let v = x - self.eye;
+        let depth = v.dot(self.forward);
+        let (sx, sy) = self.film_xy(v, depth);
+        let d2 = v.dot(v);
+        let cos_c = depth / d2.sqrt();
+        let pixel = if depth <= 0.0 { NO_PIXEL } else { self.raster.box_pixel_index(sx, sy) };
+        (pixel, 1.0 / (area * d2 * cos_c * cos_c * cos_c))
+    }
+
+    /// Connects `x` to the pinhole for a filtered splat: its film coordinates, unclipped.
     #[inline]
     pub(super) fn film_hit(&self, x: Vec3) -> Option<FilmHit> {
         let (sx, sy, cos_c) = self.film_of(x)?;

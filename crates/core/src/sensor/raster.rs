@@ -220,6 +220,9 @@ pub struct Raster {
     inv_integral: f32,
 }
 
+/// The pixel of a point that does not project into the image ([`Raster::box_pixel_index`]).
+pub const NO_PIXEL: u32 = u32::MAX;
+
 /// The pixels a filtered splat reaches and their weights (on the stack).
 #[derive(Clone, Copy, Debug)]
 pub struct Footprint {
@@ -301,12 +304,20 @@ impl Raster {
     /// under the box filter; `None` outside the film or the window.
     #[inline]
     pub fn box_pixel(&self, sx: f32, sy: f32) -> Option<usize> {
-        if !(0.0..1.0).contains(&sx) || !(0.0..1.0).contains(&sy) {
-            return None;
-        }
-        let i = ((sx * self.full_width as f32) as u32).min(self.full_width - 1);
-        let j = ((sy * self.full_height as f32) as u32).min(self.full_height - 1);
-        self.window_pixel(i, j)
+        let pixel = self.box_pixel_index(sx, sy);
+        (pixel != NO_PIXEL).then_some(pixel as usize)
+    }
+
+    /// [`Raster::box_pixel`] without a branch, [`NO_PIXEL`] for `None` (what a block of points
+    /// is projected with: `Pinhole::connect_block`). The column and row are clamped to the film
+    /// before the truncation, which gives the same integers for points on it.
+    #[inline(always)]
+    pub fn box_pixel_index(&self, sx: f32, sy: f32) -> u32 {
+        let (w, fw, fh) = (&self.window, self.full_width, self.full_height);
+        let on_film = (0.0..1.0).contains(&sx) && (0.0..1.0).contains(&sy);
+        let i = ((sx * fw as f32).min((fw - 1) as f32).max(0.0) as u32).wrapping_sub(w.x);
+        let j = ((sy * fh as f32).min((fh - 1) as f32).max(0.0) as u32).wrapping_sub(w.y);
+        if on_film && i < w.width && j < w.height { j * w.width + i } else { NO_PIXEL }
     }
 
     /// The image pixel of full-film pixel (`i`, `j`), if the window holds it.
