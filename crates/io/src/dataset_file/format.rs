@@ -619,29 +619,14 @@ pub(crate) fn validate_samples(
     samples: &[Sample],
     triangles: Option<u32>,
 ) -> Result<(), Invalid<SampleFault>> {
-    // All samples checked first without a branch per sample, on the bits (what a render reads
-    // from a file pays per sample); the first bad sample looked for only if there is one. A
-    // float is finite iff its magnitude bits are below +∞'s; β ≥ 0 and < +∞ iff its bits are
-    // below +∞'s or it is −0.
-    const INF: u32 = 0x7f80_0000;
+    // All samples checked first without a branch per sample (what a render reads from a file
+    // pays per sample); the first bad sample looked for only if there is one.
     let n = triangles.unwrap_or(u32::MAX);
-    let mut bad = false;
-    for s in samples {
-        let p = s.position.map(|x| x.to_bits() & 0x7fff_ffff);
-        let b = s.beta.map(f32::to_bits);
-        let beta_bad = |x: u32| (x >= INF) & (x != 0x8000_0000);
-        bad |= (p[0] >= INF) | (p[1] >= INF) | (p[2] >= INF);
-        bad |= beta_bad(b[0]) | beta_bad(b[1]) | beta_bad(b[2]);
-        bad |= s.triangle() >= n;
-    }
-    if !bad {
+    if samples.iter().fold(true, |ok, s| ok & values_possible(s) & (s.triangle() < n)) {
         return Ok(());
     }
     for (index, s) in samples.iter().enumerate() {
-        let ok_pos = s.position.iter().all(|x| x.is_finite());
-        // `x >= 0.0` is false for NaN; -0.0 passes, as it should.
-        let ok_beta = s.beta.iter().all(|x| *x >= 0.0 && *x < f32::INFINITY);
-        if !(ok_pos && ok_beta) {
+        if !values_possible(s) {
             let fault = SampleFault::NonFinite { position: s.position, beta: s.beta };
             return Err(Invalid { index, fault });
         }
@@ -651,6 +636,22 @@ pub(crate) fn validate_samples(
         }
     }
     Ok(())
+}
+
+/// Whether a sample's position is finite and its β finite and non-negative, on the bits and
+/// without a branch: a float is finite iff its magnitude bits are below +∞'s; β ≥ 0 and < +∞
+/// iff its bits are below +∞'s or it is −0 (NaN fails both).
+#[inline(always)]
+fn values_possible(s: &Sample) -> bool {
+    const INF: u32 = 0x7f80_0000;
+    let finite = |x: f32| (x.to_bits() & 0x7fff_ffff) < INF;
+    let beta = |x: f32| (x.to_bits() < INF) | (x.to_bits() == 0x8000_0000);
+    finite(s.position[0])
+        & finite(s.position[1])
+        & finite(s.position[2])
+        & beta(s.beta[0])
+        & beta(s.beta[1])
+        & beta(s.beta[2])
 }
 
 /// Checks what a record block's checksum cannot: that every record is possible
