@@ -27,7 +27,7 @@ use crate::geometry::{Hit, Ray, SurfaceNormals, Triangle};
 use crate::light::Light;
 use crate::math::{Rgb, Vec2, Vec3};
 use crate::sampling::{mix, unit_from_hash};
-use crate::texture::{ColourSlot, Texture};
+use crate::texture::Texture;
 
 /// A validated, ray-traceable scene.
 #[derive(Debug)]
@@ -240,9 +240,9 @@ impl Scene {
         let m = self.material_of[prim as usize] as usize;
         let material = &self.materials[m];
         let Bsdf::Lambert(l) = &material.bsdf else { return None };
-        // An opacity texture is not a parameter of the BSDF (`Scene::material_at`); a normal
-        // map or a colour is.
-        if !self.textures[m].iter().all(|b| matches!(b.slot, ColourSlot::Opacity)) {
+        // The plain material with the geometric normal: what `material_at` and `normals_at`
+        // give where no texture sets a parameter of the BSDF and none shapes the surface.
+        if self.shading_map_of[m].is_some() || self.textures[m].iter().any(|b| b.slot.is_bsdf_parameter()) {
             return None;
         }
         Some((l.eval_lit(), material.two_sided))
