@@ -17,16 +17,16 @@
 //! infinity (an environment seen directly). [`cameras_needed`] proves it per pixel from the
 //! geometry alone, before any pass ([`VisibilityBuffer::pixels_meeting`]): a pixel needs camera
 //! paths if the projection of any triangle whose material is not one the splats suffice for
-//! ([`splats_suffice`]: diffuse, or a rough plastic of broad lobe; and unmasked) meets the
-//! footprint of its camera rays (the pixel grown by the filter's radius), hidden or not, or —
-//! with an environment in the scene — if no triangle is known to cover that footprint. Those
-//! materials have no delta lobe, so the splats alone are unbiased there; which non-delta
-//! materials count is a choice of efficiency only, measured (`docs/performance.md`: on diffuse
-//! scenes the light estimator is 1.4–2× more efficient than camera paths everywhere; sharp
-//! glossy metal and rough glass are where camera paths pay). Mirrors, glass, glossy metal and
-//! the sky keep their camera paths. No pilot decides it, so no rare path can be missed (the
-//! pilot-driven allocations measured before failed that way). Cameras without a visibility
-//! buffer (lens, orthographic, 360°) keep camera paths everywhere.
+//! ([`splats_suffice`]: diffuse, or a rough plastic or rough conductor of broad lobe; and
+//! unmasked) meets the footprint of its camera rays (the pixel grown by the filter's radius),
+//! hidden or not, or — with an environment in the scene — if no triangle is known to cover that
+//! footprint. Those materials have no delta lobe, so the splats alone are unbiased there; which
+//! non-delta materials count is a choice of efficiency only, measured (`docs/performance.md`:
+//! on diffuse scenes the light estimator is 1.4–2× more efficient than camera paths everywhere;
+//! sharp glossy surfaces and rough glass are where camera paths pay). Mirrors, glass, sharp
+//! glossy surfaces and the sky keep their camera paths. No pilot decides it, so no rare path
+//! can be missed (the pilot-driven allocations measured before failed that way). Cameras
+//! without a visibility buffer (lens, orthographic, 360°) keep camera paths everywhere.
 
 use crate::bsdf::Bsdf;
 use crate::light::Light;
@@ -34,16 +34,30 @@ use crate::scene::Scene;
 use crate::sensor::{Sensor, VisibilityBuffer};
 
 /// Microfacet roughness from which a rough plastic's coating counts as broad enough for the
-/// splats alone (a heuristic of efficiency, not of correctness: module docs).
-pub const BROAD_ALPHA: f32 = 0.2;
+/// splats alone (a heuristic of efficiency, not of correctness: module docs). Measured on the
+/// furnished room (`testdata/mitsuba/room`, 1 M paths, 16 spp, one thread), its floor's α
+/// varied: at α = 0.05 camera paths on it are 1.3× more efficient than its splats alone, at
+/// 0.08 they are even, at the room's 0.12 the splats alone are 1.3× more efficient (the whole
+/// image: 18.5 against 14.0, in 1/(relMSE·s)) — and at 0.05 the pilot, left to choose, gave the
+/// floor no camera paths, so below this roughness the choice is not left to it.
+pub const BROAD_ALPHA: f32 = 0.1;
 
-/// Whether pixels that see only surfaces of `bsdf` do without camera paths: the diffuse ones and
-/// rough plastics of roughness at least [`BROAD_ALPHA`] (no delta lobe, and a lobe broad enough
-/// for the splats to reach it often).
+/// The same for a rough conductor, whose lobe carries all of its reflection (a plastic's
+/// diffuse base carries most of its): GGX gold of α = 0.25 (`testdata/mitsuba/rough`) left to
+/// the pilot gets camera paths where they pay, within 3 % of the same efficiency as when it
+/// always had them; the room's gold sphere (α = 0.2) is 2 % of its view.
+pub const BROAD_METAL_ALPHA: f32 = 0.2;
+
+/// Whether pixels that see only surfaces of `bsdf` can do without camera paths (the pilot
+/// decides whether they do): the diffuse ones, rough plastics of roughness at least
+/// [`BROAD_ALPHA`] and rough conductors of at least [`BROAD_METAL_ALPHA`] (no delta lobe, and a
+/// lobe broad enough for the splats to reach it often).
 pub fn splats_suffice(bsdf: &Bsdf) -> bool {
+    let alpha = |m: &crate::sampling::microfacet::Microfacet| m.alpha_u.min(m.alpha_v);
     match bsdf {
         Bsdf::Lambert(_) => true,
-        Bsdf::RoughPlastic(p) => p.microfacet.alpha_u.min(p.microfacet.alpha_v) >= BROAD_ALPHA,
+        Bsdf::RoughPlastic(p) => alpha(&p.microfacet) >= BROAD_ALPHA,
+        Bsdf::RoughConductor(c) => alpha(&c.microfacet) >= BROAD_METAL_ALPHA,
         _ => false,
     }
 }

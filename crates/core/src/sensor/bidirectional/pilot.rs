@@ -55,17 +55,18 @@ pub const LIGHT_SHARE: f64 = 1.0 / 16.0;
 
 /// Work of one sample's MIS-weighted splat, in rays of a camera path (its projection, BSDF, MIS
 /// weight and shadow ray against a path's closest hits, shadow rays and shading). Measured on
-/// the Cornell box (1 M paths, 16 spp, one thread's CPU time): a camera path ~1.5 µs for ~7.5
-/// rays, ~0.2 µs a ray; a plain splat ~0.11 µs; the cache and the weighted splat pass ~0.14 µs a
-/// sample.
-pub const SPLAT_WORK: f64 = 0.55;
+/// the Cornell box (1 M paths, one thread's CPU time, 2026-12-07, after the splat loop became a
+/// batch kernel): a camera path ~1.5 µs for ~7.5 rays, ~0.2 µs a ray; a plain splat ~0.05 µs;
+/// the cache and the weighted splat pass ~0.08 µs a sample (it was 0.55, 0.5 and 0.15 before
+/// the kernel, which made camera paths look cheap beside the splats).
+pub const SPLAT_WORK: f64 = 0.3;
 
 /// Work of one sample of the plain splat pass the render is without camera paths, in rays.
-pub const PLAIN_SPLAT_WORK: f64 = 0.5;
+pub const PLAIN_SPLAT_WORK: f64 = 0.25;
 
 /// Work of reading one sample and its record into the light vertex cache, in rays (the render
 /// pays it once any pixel gets camera paths).
-pub const CACHE_WORK: f64 = 0.15;
+pub const CACHE_WORK: f64 = 0.1;
 
 /// First key word of the pilot's camera streams (distinct from the render's).
 const PILOT_STREAM: u64 = 0x0070_696c_6f74; // "pilot"
