@@ -437,6 +437,44 @@ impl LitDataset {
         };
         let needed = buffer.as_ref().and_then(|b| cameras_needed(self.scene(), &camera, b));
         let cameras = match (coverage, needed) {
+            // No pixel needs camera paths: the light estimator's image first, which is also the
+            // pilot's light half (kept as the render when the pilot chooses no camera paths).
+            (Coverage::Auto, Some(needed)) if !needed.contains(&true) => {
+                let pilot_plan = pilot::Plan { spp: plan.spp, connections, samples: self.samples() };
+                event(RunEvent::SplatStart(self.samples()));
+                let batch = |i| {
+                    if stop() {
+                        return Err(BidirectionalError::Interrupted);
+                    }
+                    Ok(self.batch(i)?)
+                };
+                let first = pilot::light_first(
+                    self.scene(),
+                    &camera,
+                    buffer.as_ref(),
+                    &self.groups(),
+                    batch,
+                    |n| event(RunEvent::Splatted(n)),
+                    &names,
+                    self.flux_per_path(),
+                    settings,
+                    pilot_plan,
+                    &stop,
+                )?;
+                match first.ok_or(BidirectionalError::Interrupted)? {
+                    pilot::LightFirst::Image(film) => {
+                        return Ok(Run {
+                            film,
+                            passes: 0,
+                            spp: 0,
+                            error: None,
+                            interrupted: false,
+                            camera_pixels: 0,
+                        });
+                    }
+                    pilot::LightFirst::Cameras(c) => Some(c),
+                }
+            }
             (Coverage::Auto, Some(needed)) => {
                 let groups = self.groups();
                 let pilot_plan = pilot::Plan { spp: plan.spp, connections, samples: self.samples() };

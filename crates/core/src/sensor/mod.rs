@@ -638,7 +638,7 @@ fn accumulate_in<B: AsBatch, E: Send>(
 }
 
 /// The splat loop of an image-forming sensor, as [`accumulate`] runs it.
-struct SensorSplat<'a> {
+pub(crate) struct SensorSplat<'a> {
     scene: &'a Scene,
     sensor: &'a Sensor,
     visibility: Option<VisibilityBuffer>,
@@ -648,6 +648,15 @@ impl<'a> SensorSplat<'a> {
     /// The splat loop of `sensor` in `scene`, with its visibility buffer.
     fn new(scene: &'a Scene, sensor: &'a Sensor) -> Self {
         SensorSplat { scene, sensor, visibility: sensor.visibility(scene) }
+    }
+
+    /// The same with `sensor`'s buffer already built ([`Sensor::visibility`]).
+    pub(crate) fn with_buffer(
+        scene: &'a Scene,
+        sensor: &'a Sensor,
+        visibility: Option<VisibilityBuffer>,
+    ) -> Self {
+        SensorSplat { scene, sensor, visibility }
     }
 }
 
