@@ -2,9 +2,10 @@
 with its default settings and, when pyradiance is installed, by Radiance's `rtrace -I`; writes
 docs/validation-cie171.md. The one command that regenerates the report:
 
-    /tmp/prvenv/bin/python tools/validation/cie171.py            # from the repository root
+    python3 tools/validation/cie171            # from the repository root: runs __main__.py
 
-(any Python 3.9+; without pyradiance the Radiance columns say "not run"). Options: --opticks
+(any Python 3.9+, e.g. a venv's with pyradiance; without pyradiance the Radiance columns say "not
+run"; `python3 -m cie171` from tools/validation/ runs the same). Options: --opticks
 (default target/release/opticks), --work (datasets and CSVs, default target/cie171), --doc,
 --no-radiance, --scenes-only (write testdata/cie171/ and stop), --time-to-accuracy (also search each
 program's cheapest setting to every case's target and time it: the doc's "Time to accuracy against

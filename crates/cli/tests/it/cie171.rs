@@ -1,6 +1,6 @@
 //! CIE 171:2006 test cases (issue 27), end to end through the `opticks` binary with default
 //! measure settings: the scenes and points of `testdata/cie171/` (written by
-//! `tools/validation/cie171.py`, which also writes `docs/validation-cie171.md` from a full run)
+//! `tools/validation/cie171`, which also writes `docs/validation-cie171.md` from a full run)
 //! against their closed forms, at fewer paths than the report. Every point must be within
 //! max(1 %, 4 SE) of the closed form (SE: the reading's own standard error), so a source 2 %
 //! too bright or too dim fails (the point source's direct light has SE 0: 1 % is the bound).
