@@ -21,11 +21,8 @@ def run_cases(run):
         tag = f"box-{rho_tag(rho)}"
         t_trace = opticks.trace(SCENES / f"{tag}.xml", tag, BOX_PATHS)
         ana = e_box(rho)
-        walls, t_measure = [], 0.0
-        for w in BOX_WALLS:
-            row, t = opticks.measure_surface(tag, w)
-            walls.append(row)
-            t_measure += t
+        rows, t_measure = opticks.measure_surfaces(tag, BOX_WALLS)
+        walls = [r[0] for r in rows]
         opticks.remove(tag)
         mean = sum(r["E_v_lux"] for r in walls) / len(walls)
         se_bound = sum(r["SE_v_lux"] for r in walls) / len(walls)
@@ -56,9 +53,9 @@ def run_cases(run):
             "again); with the source at the centre every wall has the same mean. Opticks reads "
             f"Mitsuba XML (`box-NN.xml`, a point emitter), traced with {BOX_PATHS} paths (a path "
             "in the ρ = 0.95 box has about 20 vertices, 4 M paths would be a 4 GB dataset; "
-            "otherwise default settings), and measures each wall's mean with "
-            "`opticks measure --surface WALL --cells 1x1` (default estimator for a surface: the "
-            "samples that landed on it). The mean of the six walls' SEs bounds the SE of their "
+            "otherwise default settings), and measures the six walls' means in one run, "
+            "`opticks measure --surface floor --surface ceiling … --cells 1x1` (one read of the "
+            "dataset; default estimator for a surface: the samples that landed on it). The mean of the six walls' SEs bounds the SE of their "
             "mean (the walls share paths).",
             "",
             "**A small bias found here, and fixed.** At ρ = 0 every path's flux lands on exactly "

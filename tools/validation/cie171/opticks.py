@@ -21,6 +21,21 @@ def read_measure(path):
     return [dict(zip(head, map(float, line.split(",")))) for line in lines[1:] if line.strip()]
 
 
+def read_meters(path):
+    """The CSV of a `measure` run with several meters (its first column `meter`) → {meter: list of
+    dicts of floats}; one meter's CSV (no `meter` column) → {None: its rows}."""
+    lines = pathlib.Path(path).read_text().splitlines()
+    head = lines[0].split(",")
+    out = {}
+    for line in lines[1:]:
+        if not line.strip():
+            continue
+        fields = line.split(",")
+        meter = fields.pop(0) if head[0] == "meter" else None
+        out.setdefault(meter, []).append(dict(zip(head[1:] if meter is not None else head, map(float, fields))))
+    return out
+
+
 class Opticks:
     def __init__(self, exe, work):
         self.exe = str(exe)
@@ -41,11 +56,14 @@ class Opticks:
         t = self.run(["measure", f"{name}.opds", "--points", str(points), "-o", f"{name}.csv", "--quiet", *extra])
         return read_measure(self.work / f"{name}.csv"), t
 
-    def measure_surface(self, name, surface, cells="1x1"):
-        out = f"{name}-{surface}.csv"
-        t = self.run(["measure", f"{name}.opds", "--surface", surface, "--cells", cells, "-o", out, "--quiet"])
-        rows = read_measure(self.work / out)
-        return (rows[0] if cells == "1x1" else rows), t
+    def measure_surfaces(self, name, surfaces, cells="1x1"):
+        """Every surface of `surfaces` in one `measure` run (one read of the dataset): (rows per
+        surface, in their order, seconds)."""
+        out = f"{name}-surfaces.csv"
+        meters = [a for s in surfaces for a in ("--surface", s)]
+        t = self.run(["measure", f"{name}.opds", *meters, "--cells", cells, "-o", out, "--quiet"])
+        rows = read_meters(self.work / out)
+        return [rows[s] for s in surfaces], t
 
     def remove(self, name):
         (self.work / f"{name}.opds").unlink(missing_ok=True)
