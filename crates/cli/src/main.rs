@@ -65,7 +65,8 @@ enum Command {
     /// Measure tracing and rendering speed on a scene (in memory, nothing written).
     Bench(commands::bench::Args),
     /// Measure irradiance (W/m², lux) with standard errors: on a scene surface, on a plane anywhere
-    /// (a grid of cells, CSV and a heat map) or at points read from a file (CSV).
+    /// (a grid of cells, CSV and a heat map) or at points read from a file (CSV); several surfaces
+    /// or planes in one pass (repeat --surface or --plane: one CSV, a `meter` column).
     Measure(commands::measure::Args),
     /// Give a dataset without MIS records its records, by re-tracing its passes bit for bit.
     Upgrade(commands::upgrade::Args),

@@ -1,6 +1,6 @@
 //! A measurement as a front end asks for it (`opticks measure`, a binding): where — a mesh, a
-//! rectangle on a surface or in the air, or points — in how many cells, with which estimator and
-//! its settings. [`Request::check`] refuses, before any work, the combinations that cannot mean
+//! rectangle on a surface or in the air, or points; several meshes or several rectangles at once
+//! — in how many cells, with which estimator and its settings. [`Request::check`] refuses, before any work, the combinations that cannot mean
 //! anything; [`Request::layout`] places the meter in an opened dataset's scene; the reading
 //! ([`crate::opened::LitDataset::measure`]) then comes back as a [`Measured`], which gives the
 //! CSV table ([`crate::meter_table`]), the heat map ([`crate::heatmap`]) and the summary a front
@@ -12,6 +12,13 @@
 //! lights, an environment's direct light by its guided sampler and the area lights' by
 //! stratified points on them, each to an SE of 0.5 % (`direct_samples` `None`;
 //! `opticks_core::sensor::meter`'s `sky.rs` and `area.rs`) and seed 0.
+//!
+//! **Several meters.** A request may place several meters of one kind (meshes, or rectangles),
+//! read in one pass over the dataset ([`crate::opened::LitDataset::measure_many`]), each reading
+//! the same bit for bit as that meter measured alone. Each is named ([`Request::meter_name`]: a
+//! mesh by its name, a rectangle `plane1`, `plane2`, … in order) and the CSV of several
+//! ([`meters_csv`]) has that name first, in a `meter` column; one meter's CSV is the single
+//! meter's table, unchanged. A heat map is refused with several meters (one PNG is one meter's).
 //!
 //! **Daylight factor.** Whenever the lights on are a CIE overcast sky alone
 //! ([`crate::daylight`]), [`Request::daylight`] gives the basis and the reading comes with the
@@ -71,8 +78,9 @@ impl Estimator {
 /// A measurement asked for; unset settings take the defaults in the module docs.
 #[derive(Clone, Debug)]
 pub struct Request {
-    /// Where.
-    pub place: Place,
+    /// Where: one meter per place, all read in one pass; at least one, and several only of
+    /// meshes or of rectangles ([`Request::check`]).
+    pub places: Vec<Place>,
     /// Cells along u and v (planes).
     pub cells: Option<(u32, u32)>,
     /// The estimator.
@@ -123,6 +131,21 @@ pub enum RequestError {
     /// Cells asked of points.
     #[error("--cells is for planes; with --points every point is one cell")]
     CellsAtPoints,
+    /// No place given.
+    #[error("no meter: give --surface, --plane or --points")]
+    NoMeter,
+    /// Several places of different kinds, or points among several.
+    #[error("several meters must be all --surface or all --plane (one --points file holds every point)")]
+    MixedMeters,
+    /// The same mesh named twice.
+    #[error("--surface {0} is given twice")]
+    SurfaceTwice(String),
+    /// A heat map asked of several meters.
+    #[error(
+        "--png draws one meter's heat map, and {0} meters were given: measure one --surface or --plane per \
+         run for its map (the CSV has every meter)"
+    )]
+    HeatmapOfSeveral(usize),
     /// A heat map asked of points.
     #[error("--png draws a plane's heat map; points have none (the CSV has every point)")]
     HeatmapOfPoints,
@@ -148,8 +171,27 @@ pub enum RequestError {
 impl Request {
     /// Refuses the combinations that mean nothing; the estimator to use.
     pub fn check(&self) -> Result<Estimator, RequestError> {
-        let points = matches!(self.place, Place::Points(_));
-        let estimator = self.estimator.unwrap_or(match self.place {
+        let first = self.places.first().ok_or(RequestError::NoMeter)?;
+        let kind = std::mem::discriminant(first);
+        if self.places.len() > 1 {
+            if matches!(first, Place::Points(_))
+                || self.places.iter().any(|p| std::mem::discriminant(p) != kind)
+            {
+                return Err(RequestError::MixedMeters);
+            }
+            for (k, place) in self.places.iter().enumerate() {
+                if let Place::Surface(name) = place
+                    && self.places[..k].iter().any(|p| matches!(p, Place::Surface(n) if n == name))
+                {
+                    return Err(RequestError::SurfaceTwice(name.clone()));
+                }
+            }
+            if self.heatmap {
+                return Err(RequestError::HeatmapOfSeveral(self.places.len()));
+            }
+        }
+        let points = matches!(first, Place::Points(_));
+        let estimator = self.estimator.unwrap_or(match first {
             Place::Surface(_) => Estimator::Samples,
             _ => Estimator::Connections,
         });
@@ -176,12 +218,24 @@ impl Request {
         self.cells.unwrap_or((10, 10))
     }
 
-    /// The meter placed in `data`'s scene, and a warning when the samples estimator reads a
-    /// plane only partly on scene surfaces (zero elsewhere).
-    pub fn layout(&self, data: &LitDataset) -> Result<(MeterLayout, Option<String>), RequestError> {
+    /// The name of meter `k` (of [`Request::places`]): a mesh's name, `plane1`, `plane2`, … for
+    /// rectangles (counted from 1), `points` for points.
+    pub fn meter_name(&self, k: usize) -> String {
+        match &self.places[k] {
+            Place::Surface(name) => name.clone(),
+            Place::Plane { .. } => format!("plane{}", k + 1),
+            Place::Points(_) => "points".into(),
+        }
+    }
+
+    /// Meter `k` (of [`Request::places`]) placed in `data`'s scene, and a warning when the
+    /// samples estimator reads a plane only partly on scene surfaces (zero elsewhere), naming
+    /// the meter when there are several.
+    pub fn layout(&self, k: usize, data: &LitDataset) -> Result<(MeterLayout, Option<String>), RequestError> {
         let estimator = self.check()?;
         let (nx, ny) = self.cells();
-        let layout = match &self.place {
+        let place = &self.places[k];
+        let layout = match place {
             Place::Points(points) => MeterLayout::points(points.clone())?,
             Place::Surface(name) => {
                 MeterLayout::Grid(IlluminanceMeter::on_mesh(data.description(), name, nx, ny)?)
@@ -191,17 +245,17 @@ impl Request {
             }
         };
         let mut warning = None;
-        if let (MeterLayout::Grid(m), Place::Plane { .. }, Estimator::Samples) =
-            (&layout, &self.place, estimator)
-        {
+        if let (MeterLayout::Grid(m), Place::Plane { .. }, Estimator::Samples) = (&layout, place, estimator) {
             let (on, cells) = (m.cells_on_surfaces(data.scene()), layout.len());
             if on == 0 {
                 return Err(RequestError::PlaneOffSurfaces);
             }
             if on < cells {
+                let of =
+                    if self.places.len() > 1 { format!(" ({})", self.meter_name(k)) } else { String::new() };
                 warning = Some(format!(
-                    "{} of the {cells} cells of the plane lie on no scene surface: --estimator samples reads \
-                     zero there (--estimator connections measures them)",
+                    "{} of the {cells} cells of the plane{of} lie on no scene surface: --estimator samples \
+                     reads zero there (--estimator connections measures them)",
                     cells - on
                 ));
             }
@@ -252,7 +306,7 @@ pub struct Measured<'a> {
 }
 
 impl Measured<'_> {
-    /// The CSV table ([`crate::meter_table::csv`]).
+    /// The CSV table ([`crate::meter_table::csv`]); several meters' is [`meters_csv`].
     pub fn csv(&self) -> String {
         crate::meter_table::csv(self.layout, self.reading, self.daylight.map(|d| d.horizontal_lux))
     }
@@ -341,6 +395,39 @@ impl Measured<'_> {
     }
 }
 
+/// The CSV table of several meters read together, each given with its name
+/// ([`Request::meter_name`]): one meter's is its own table ([`Measured::csv`], unchanged), several
+/// meters' the same columns after a first `meter` column naming each line's meter
+/// ([`crate::meter_table::csv_of_meters`]).
+pub fn meters_csv(meters: &[(String, Measured<'_>)]) -> String {
+    match meters {
+        [(_, one)] => one.csv(),
+        _ => {
+            let daylight = meters.first().and_then(|(_, m)| m.daylight).map(|d| d.horizontal_lux);
+            let tables: Vec<_> =
+                meters.iter().map(|(name, m)| (name.as_str(), m.layout, m.reading)).collect();
+            crate::meter_table::csv_of_meters(&tables, daylight)
+        }
+    }
+}
+
+/// The summary of several meters read together ([`meters_csv`]'s): one meter's is its own
+/// ([`Measured::summary`]); several meters' are each meter's lines, its first line led by its
+/// name.
+pub fn meters_summary(meters: &[(String, Measured<'_>)], written: &str) -> Vec<String> {
+    match meters {
+        [(_, one)] => one.summary(written),
+        _ => meters
+            .iter()
+            .flat_map(|(name, m)| {
+                let mut lines = m.summary(written);
+                lines[0] = format!("{name}: {}", lines[0]);
+                lines
+            })
+            .collect(),
+    }
+}
+
 /// The heat map's title: "E (lux)" by the default rule, with the efficacy after it by another
 /// ("E (lux) 179 lm/W" for a Radiance scene; the map's font has no comma).
 fn heatmap_title(photometry: Photometry) -> String {
@@ -359,5 +446,39 @@ mod tests {
     fn the_heat_map_title_names_a_rule_other_than_the_default() {
         assert_eq!(heatmap_title(Photometry::REC709_683), "E (lux)");
         assert_eq!(heatmap_title(Photometry::RADIANCE), "E (lux) 179 lm/W");
+    }
+
+    /// Several meters are of one kind, each mesh once, with no heat map; one meter keeps every
+    /// request it had (a heat map of a plane included).
+    #[test]
+    fn several_meters_are_checked_before_any_work() {
+        let plane = Place::Plane { origin: Vec3::ZERO, u: Vec3::X, v: Vec3::Y };
+        let surface = |n: &str| Place::Surface(n.into());
+        let request = |places: Vec<Place>, heatmap: bool| Request {
+            places,
+            cells: None,
+            estimator: None,
+            connections: None,
+            direct_samples: None,
+            seed: None,
+            heatmap,
+            daylight_factor: false,
+        };
+        let err = |places, heatmap| request(places, heatmap).check().unwrap_err().to_string();
+        assert!(err(vec![], false).contains("no meter"));
+        assert!(err(vec![surface("a"), plane.clone()], false).contains("all --surface or all --plane"));
+        assert!(err(vec![Place::Points(vec![]), Place::Points(vec![])], false).contains("one --points file"));
+        assert!(
+            err(vec![surface("a"), surface("b"), surface("a")], false).contains("--surface a is given twice")
+        );
+        assert!(err(vec![plane.clone(), plane.clone()], true).contains("2 meters were given"));
+        assert_eq!(request(vec![surface("a"), surface("b")], false).check().unwrap(), Estimator::Samples);
+        assert_eq!(
+            request(vec![plane.clone(), plane.clone()], false).check().unwrap(),
+            Estimator::Connections
+        );
+        assert_eq!(request(vec![plane], true).check().unwrap(), Estimator::Connections);
+        let names = request(vec![Place::Plane { origin: Vec3::ZERO, u: Vec3::X, v: Vec3::Y }; 2], false);
+        assert_eq!((names.meter_name(0), names.meter_name(1)), ("plane1".into(), "plane2".into()));
     }
 }

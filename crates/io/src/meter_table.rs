@@ -12,7 +12,8 @@
 //! other format 683 lm/W · (0.2126·E_R + 0.7152·E_G + 0.0722·E_B), the Rec. 709 luminance
 //! weights with the 555 nm luminous efficacy. Either is an approximation, exact only if the
 //! RGB channels were radiometric quantities with the spectral shapes the weights assume. The
-//! summary names the rule; the columns are the same.
+//! summary names the rule; the columns are the same. Several meters read together
+//! ([`csv_of_meters`]) have a first column `meter` naming each line's meter.
 
 use opticks_core::sensor::meter::{MeterLayout, Reading};
 use std::fmt::Write;
@@ -60,6 +61,33 @@ pub fn csv(layout: &MeterLayout, r: &Reading, daylight: Option<f64>) -> String {
     csv
 }
 
+/// The CSV table of several meters, each with its name: a first column `meter` naming each
+/// line's meter (quoted as CSV quotes a field when the name holds a comma, a quote or a line
+/// break), then [`csv`]'s columns and lines, meter after meter. The meters are of one kind (all
+/// grids or all points), so that the columns agree.
+pub fn csv_of_meters(meters: &[(&str, &MeterLayout, &Reading)], daylight: Option<f64>) -> String {
+    let mut out = String::new();
+    for (k, (name, layout, reading)) in meters.iter().enumerate() {
+        let name = csv_field(name);
+        let table = csv(layout, reading, daylight);
+        let mut lines = table.lines();
+        let header = lines.next().unwrap_or_default();
+        if k == 0 {
+            let _ = writeln!(out, "meter,{header}");
+        }
+        for line in lines {
+            let _ = writeln!(out, "{name},{line}");
+        }
+    }
+    out
+}
+
+/// A CSV field: as it is, or quoted (quotes doubled) when it holds a comma, a quote or a line
+/// break.
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -81,5 +109,20 @@ mod tests {
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].ends_with(",SE_v_lux,DF_percent,SE_DF_percent"));
         assert_eq!(lines[2], "1,1.5,0,0,0,1,0,1e0,2e0,3e0,4e0,5e-1,5e-1,5e-1,5e-1,5e1,6.25e0");
+    }
+
+    #[test]
+    fn several_meters_are_named_in_a_first_column() {
+        let p = |x: f32| MeterPoint { position: Vec3::new(x, 0.0, 0.0), normal: Vec3::Y };
+        let (a, b) = (MeterLayout::Points(vec![p(0.0)]), MeterLayout::Points(vec![p(1.0), p(2.0)]));
+        let reading = |n| Reading { value: vec![[1.0, 2.0, 3.0, 4.0]; n], std_error: vec![[0.5; 4]; n] };
+        let (ra, rb) = (reading(1), reading(2));
+        let text = csv_of_meters(&[("floor", &a, &ra), ("wall, north", &b, &rb)], None);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 4, "{text}");
+        assert_eq!(lines[0], format!("meter,{}", csv(&a, &ra, None).lines().next().unwrap()));
+        assert_eq!(lines[1], format!("floor,{}", csv(&a, &ra, None).lines().nth(1).unwrap()));
+        assert!(lines[3].starts_with("\"wall, north\",1,2,0,0,"), "{}", lines[3]);
+        assert_eq!(csv_field("a\"b"), "\"a\"\"b\"");
     }
 }

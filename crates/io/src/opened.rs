@@ -26,7 +26,7 @@ use opticks_core::sensor::bidirectional::run::{self, Coverage, Run, RunEvent, Ru
 use opticks_core::sensor::bidirectional::{RenderLights, Settings};
 use opticks_core::sensor::bidirectional::{cameras_needed, pilot};
 use opticks_core::sensor::meter::{
-    Group, MeterEstimator, MeterLayout, Reading, read_connected, read_samples,
+    Group, MeterEstimator, MeterLayout, Reading, read_connected_many, read_samples_many,
 };
 use opticks_core::sensor::{Sensor, render};
 use std::path::{Path, PathBuf};
@@ -379,6 +379,20 @@ impl LitDataset {
         progress: impl Fn(usize) + Sync,
         stop: impl Fn() -> bool + Sync,
     ) -> Result<Reading, MeasureError> {
+        Ok(self.measure_many(&[layout], estimator, progress, stop)?.remove(0))
+    }
+
+    /// [`LitDataset::measure`] for several meters with the same estimator in one pass over the
+    /// kept chunks (each read once): a reading per layout, in their order, each the same bit for
+    /// bit as that layout measured alone (`opticks_core::sensor::meter::read_samples_many`,
+    /// `read_connected_many`). `progress` counts each sample read once, whatever the meters.
+    pub fn measure_many(
+        &self,
+        layouts: &[&MeterLayout],
+        estimator: MeterEstimator,
+        progress: impl Fn(usize) + Sync,
+        stop: impl Fn() -> bool + Sync,
+    ) -> Result<Vec<Reading>, MeasureError> {
         let groups = self.groups();
         let batch = |i| {
             if stop() {
@@ -386,26 +400,41 @@ impl LitDataset {
             }
             Ok(self.batch(i)?)
         };
-        let reading = match (layout, estimator) {
-            (MeterLayout::Grid(meter), MeterEstimator::Samples) => {
-                read_samples(meter, self.scene(), &groups, batch, progress)?
+        let readings = match estimator {
+            MeterEstimator::Samples => {
+                let grids = layouts
+                    .iter()
+                    .map(|l| match l {
+                        MeterLayout::Grid(meter) => Ok(meter),
+                        MeterLayout::Points(_) => Err(MeasureError::SamplesAtPoints),
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                read_samples_many(&grids, self.scene(), &groups, batch, progress)?
             }
-            (MeterLayout::Points(_), MeterEstimator::Samples) => return Err(MeasureError::SamplesAtPoints),
-            (_, MeterEstimator::Connections(settings)) => {
+            MeterEstimator::Connections(settings) => {
                 let mut paths = vec![0u64; self.flux_per_path().len()];
                 for g in &groups {
                     paths[g.light as usize] += g.paths;
                 }
                 let lights =
                     RenderLights::new(self.scene(), &self.light_names(), self.flux_per_path(), &paths);
-                read_connected(self.scene(), &lights, layout, settings, &groups, batch, progress, &stop)?
-                    .ok_or(MeasureError::Interrupted)?
+                read_connected_many(
+                    self.scene(),
+                    &lights,
+                    layouts,
+                    settings,
+                    &groups,
+                    batch,
+                    progress,
+                    &stop,
+                )?
+                .ok_or(MeasureError::Interrupted)?
             }
         };
         if stop() {
             return Err(MeasureError::Interrupted);
         }
-        Ok(reading)
+        Ok(readings)
     }
 
     /// Renders through `camera` with the bidirectional estimator (`opticks_core::sensor::

@@ -1,7 +1,8 @@
 //! `opticks measure`: an illuminance meter over a dataset — irradiance per cell of a plane
 //! (a mesh by name, or a rectangle given by a corner and two edges, on a surface or in the
 //! air) or at points read from a file, with a standard error per cell; written as CSV and, for
-//! planes, optionally as a heat-map PNG.
+//! one plane, optionally as a heat-map PNG. `--surface` and `--plane` repeat: several meters
+//! read in one pass over the dataset, one CSV with a `meter` column naming each line's meter.
 //!
 //! What is measured and how — the places, the two estimators and their defaults, the daylight
 //! factor under a CIE overcast sky — is `opticks_io::measurement`'s (and `opticks_io::daylight`);
@@ -18,7 +19,9 @@ use crate::output;
 use crate::progress;
 use anyhow::{Context, Result, bail};
 use opticks_core::math::Vec3;
-use opticks_io::measurement::{DirectSamples, Estimator, Measured, Place, Request};
+use opticks_io::measurement::{
+    DirectSamples, Estimator, Measured, Place, Request, meters_csv, meters_summary,
+};
 use opticks_io::output_paths::{OutputKind, check_outputs};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -39,14 +42,17 @@ pub struct Args {
     #[command(flatten)]
     input: DatasetArgs,
     /// Measure on the planar mesh of this name (its bounding rectangle in its plane), on the side
-    /// its triangles face.
+    /// its triangles face. Repeat it to measure several meshes in one pass over the dataset: the
+    /// CSV then starts with a `meter` column holding each line's mesh name (one mesh: no such
+    /// column), and --png is refused.
     #[arg(long, conflicts_with_all = ["plane", "points"], required_unless_present_any = ["plane", "points"])]
-    surface: Option<String>,
+    surface: Vec<String>,
     /// Measure on the rectangle "ox,oy,oz,ux,uy,uz,vx,vy,vz" (corner and two edges, m), on a
     /// surface or in the air. Only light arriving from its front, the side u × v points to, is
-    /// counted: swap u and v to measure the other side.
+    /// counted: swap u and v to measure the other side. Repeat it for several rectangles in one
+    /// pass, named plane1, plane2, … in order in the CSV's `meter` column.
     #[arg(long, allow_hyphen_values = true, conflicts_with = "points")]
-    plane: Option<String>,
+    plane: Vec<String>,
     /// Measure at the points of this file: one "x,y,z,nx,ny,nz" per line (position and the
     /// normal of the measured side; commas or spaces; '#' comments and an x,y,z,nx,ny,nz header
     /// allowed).
@@ -76,7 +82,7 @@ pub struct Args {
     /// Output CSV file (.csv).
     #[arg(short, long)]
     output: PathBuf,
-    /// Also write a heat-map PNG (.png) of the illuminance (lux); planes only.
+    /// Also write a heat-map PNG (.png) of the illuminance (lux); one plane or surface only.
     #[arg(long)]
     png: Option<PathBuf>,
     /// Require the daylight factor: refuse a dataset whose lights on are not a CIE overcast
@@ -129,16 +135,16 @@ fn parse_plane(s: &str) -> Result<(Vec3, Vec3, Vec3)> {
 /// Runs the measurement.
 pub fn run(a: Args) -> Result<()> {
     a.threads.apply()?;
-    let place = match (&a.surface, &a.plane) {
-        (Some(name), _) => Place::Surface(name.clone()),
-        (None, Some(p)) => {
-            let (origin, u, v) = parse_plane(p)?;
-            Place::Plane { origin, u, v }
-        }
-        (None, None) => Place::Points(Vec::new()),
-    };
+    let mut places: Vec<Place> = a.surface.iter().map(|name| Place::Surface(name.clone())).collect();
+    for p in &a.plane {
+        let (origin, u, v) = parse_plane(p)?;
+        places.push(Place::Plane { origin, u, v });
+    }
+    if a.points.is_some() {
+        places.push(Place::Points(Vec::new()));
+    }
     let mut request = Request {
-        place,
+        places,
         cells: a.cells,
         estimator: a.estimator.map(|e| match e {
             MeterEstimator::Connections => Estimator::Connections,
@@ -157,42 +163,62 @@ pub fn run(a: Args) -> Result<()> {
     inputs.extend(a.points.as_deref());
     check_outputs(&outputs, &inputs)?;
     if let Some(p) = &a.points {
-        request.place = Place::Points(opticks_io::meter_points::read_points(p)?);
+        request.places = vec![Place::Points(opticks_io::meter_points::read_points(p)?)];
     }
     let data = a.input.open()?;
     // Again, now that the files the scene names have been read (textures, environment maps).
     check_outputs(&outputs, &inputs)?;
-    let plane = |e: opticks_io::measurement::RequestError| match &a.plane {
-        Some(p) => anyhow::Error::from(e).context(format!("--plane '{p}'")),
-        None => e.into(),
-    };
-    let (layout, warning) = request.layout(&data).map_err(plane)?;
-    warning.iter().for_each(|w| output::warning(w));
+    let mut layouts = Vec::with_capacity(request.places.len());
+    for k in 0..request.places.len() {
+        let plane = |e: opticks_io::measurement::RequestError| match request.places[k] {
+            Place::Plane { .. } => anyhow::Error::from(e).context(format!("--plane '{}'", a.plane[k])),
+            _ => e.into(),
+        };
+        let (layout, warning) = request.layout(k, &data).map_err(plane)?;
+        warning.iter().for_each(|w| output::warning(w));
+        layouts.push(layout);
+    }
     let (daylight, note) = request.daylight(&data).context("--daylight-factor")?;
     note.iter().for_each(|n| output::note(n));
     // Per cell: its lux value and its CSV line (about 120 characters, 150 with DF).
     let line = if daylight.is_some() { 160 } else { 128 };
-    super::check_film_fits("a meter", (layout.len() as u32, 1), 8 + line)?;
+    let targets: usize = layouts.iter().map(|l| l.len()).sum();
+    super::check_film_fits("a meter", (targets as u32, 1), 8 + line)?;
     let _graceful = crate::interrupt::graceful();
     let pb = progress::bar(data.samples(), "measuring", "samples");
     let done = AtomicU64::new(0);
     let progress = |n: usize| pb.set_position(done.fetch_add(n as u64, Ordering::Relaxed) + n as u64);
-    let reading = data.measure(&layout, request.settings()?, progress, crate::interrupt::requested)?;
+    let layout_refs: Vec<_> = layouts.iter().collect();
+    let settings = request.settings()?;
+    let readings = data.measure_many(&layout_refs, settings, progress, crate::interrupt::requested)?;
     pb.finish_and_clear();
-    let measured = Measured {
-        layout: &layout,
-        reading: &reading,
-        estimator,
-        daylight: daylight.as_ref(),
-        photometry: data.scene().photometry,
-    };
-    let front = format!("meter's front ({})", measured.side());
-    super::warn_if_black(measured.is_black(), data.samples(), &front, data.flux_per_path());
+    let meters: Vec<(String, Measured)> = layouts
+        .iter()
+        .zip(&readings)
+        .enumerate()
+        .map(|(k, (layout, reading))| {
+            let measured = Measured {
+                layout,
+                reading,
+                estimator,
+                daylight: daylight.as_ref(),
+                photometry: data.scene().photometry,
+            };
+            (request.meter_name(k), measured)
+        })
+        .collect();
+    for (name, measured) in &meters {
+        let front = match meters.len() {
+            1 => format!("meter's front ({})", measured.side()),
+            _ => format!("front of meter {name} ({})", measured.side()),
+        };
+        super::warn_if_black(measured.is_black(), data.samples(), &front, data.flux_per_path());
+    }
 
-    let csv = measured.csv();
-    let heatmap = match &a.png {
-        Some(png) => measured.heatmap(png)?,
-        None => None,
+    let csv = meters_csv(&meters);
+    let heatmap = match (&a.png, meters.as_slice()) {
+        (Some(png), [(_, measured)]) => measured.heatmap(png)?,
+        _ => None,
     };
     let mut files = vec![(a.output.as_path(), csv.as_bytes())];
     if let (Some(png), Some(bytes)) = (&a.png, &heatmap) {
@@ -201,10 +227,10 @@ pub fn run(a: Args) -> Result<()> {
     let removed = opticks_io::image_file::write_files_atomically(&files).context("nothing was written")?;
     super::note_removed_stale(&removed);
     let png = a.png.as_ref().map(|p| format!(" and {}", p.display())).unwrap_or_default();
-    for line in measured.summary(&format!("{}{png}", a.output.display())) {
+    for line in meters_summary(&meters, &format!("{}{png}", a.output.display())) {
         output::result(&line);
     }
-    if measured.errors_unknown() {
+    if meters.iter().any(|(_, m)| m.errors_unknown()) {
         output::warning(
             "some standard errors are unknown (NaN): a light with a single chunk of paths gives no \
              spread to estimate them from; trace more paths",

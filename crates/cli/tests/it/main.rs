@@ -18,6 +18,7 @@ mod hostile_input;
 mod lights;
 mod limits;
 mod meter;
+mod meters;
 mod mitsuba_scenes;
 mod photometry;
 mod reference_scenes;

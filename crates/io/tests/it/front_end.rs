@@ -51,7 +51,7 @@ fn a_second_front_end_needs_only_the_libraries() {
 
     // Measure the red wall: a typed request, its reading, its CSV and summary.
     let request = Request {
-        place: Place::Surface("red".into()),
+        places: vec![Place::Surface("red".into())],
         cells: Some((2, 2)),
         estimator: None,
         connections: None,
@@ -61,7 +61,7 @@ fn a_second_front_end_needs_only_the_libraries() {
         daylight_factor: false,
     };
     assert_eq!(request.check().unwrap(), Estimator::Samples, "a mesh's default");
-    let (layout, warning) = request.layout(&data).unwrap();
+    let (layout, warning) = request.layout(0, &data).unwrap();
     assert!(warning.is_none());
     let reading = data.measure(&layout, request.settings().unwrap(), |_| {}, || false).unwrap();
     let measured = Measured {
@@ -80,6 +80,6 @@ fn a_second_front_end_needs_only_the_libraries() {
     );
 
     // A request that means nothing is refused before any work.
-    let points = Request { place: Place::Points(Vec::new()), cells: Some((2, 2)), ..request };
+    let points = Request { places: vec![Place::Points(Vec::new())], cells: Some((2, 2)), ..request };
     assert!(points.check().unwrap_err().to_string().contains("--cells is for planes"));
 }

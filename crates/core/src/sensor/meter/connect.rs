@@ -76,7 +76,7 @@ use super::area::AreaLights;
 use super::budget::{self, Moments};
 use super::layout::{MeterDraw, MeterLayout};
 use super::sky::Sky;
-use super::tally::{Group, Reading, Scratch, tally_groups};
+use super::tally::{self, Group, Reading, tally_groups};
 use crate::dataset::Sample;
 use crate::film::SplatTarget;
 use crate::light::Light;
@@ -131,19 +131,40 @@ pub fn read_connected<B: AsBatch, E: Send>(
     progress: impl Fn(usize) + Sync,
     stop: impl Fn() -> bool + Sync,
 ) -> Result<Option<Reading>, E> {
-    let mut reading = tally_groups(
-        layout.len(),
-        scene.photometry,
-        groups,
-        batch,
-        progress,
-        |i, samples, flux, scratch| {
-            splat_connected(scene, layout, settings, i as u64, samples, flux, scratch)
-        },
-    )?;
-    let Some(direct) = direct_light(scene, lights, layout, settings, stop) else { return Ok(None) };
-    reading.add_independent(&direct);
-    Ok(Some(reading))
+    let readings = read_connected_many(scene, lights, &[layout], settings, groups, batch, progress, stop)?;
+    Ok(readings.map(|mut r| r.remove(0)))
+}
+
+/// [`read_connected`] for several meters in one pass over the batches (each batch fetched
+/// once): one reading per layout, in their order, each the same bit for bit as that layout read
+/// alone with the same settings — a chunk's connections to a layout draw from the stream of
+/// (seed, chunk) whatever the other layouts, and each layout's direct light is its own.
+#[allow(clippy::too_many_arguments)]
+pub fn read_connected_many<B: AsBatch, E: Send>(
+    scene: &Scene,
+    lights: &RenderLights,
+    layouts: &[&MeterLayout],
+    settings: ConnectedSettings,
+    groups: &[Group],
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+    stop: impl Fn() -> bool + Sync,
+) -> Result<Option<Vec<Reading>>, E> {
+    let lens: Vec<usize> = layouts.iter().map(|l| l.len()).collect();
+    let (offsets, total) = tally::offsets(&lens);
+    let reading =
+        tally_groups(total, scene.photometry, groups, batch, progress, |i, samples, flux, scratch| {
+            for (layout, &offset) in layouts.iter().zip(&offsets) {
+                let row = &mut tally::Offset { row: &mut *scratch, offset };
+                splat_connected(scene, layout, settings, i as u64, samples, flux, row)
+            }
+        })?;
+    let mut readings = reading.split(&lens);
+    for (reading, layout) in readings.iter_mut().zip(layouts) {
+        let Some(direct) = direct_light(scene, lights, layout, settings, &stop) else { return Ok(None) };
+        reading.add_independent(&direct);
+    }
+    Ok(Some(readings))
 }
 
 /// Points per cell for the direct light of point and directional lights by default.
@@ -160,7 +181,7 @@ fn splat_connected(
     chunk: u64,
     samples: &[Sample],
     flux: Rgb,
-    out: &mut Scratch,
+    out: &mut impl SplatTarget,
 ) {
     if flux == Rgb::ZERO || settings.connections == 0 {
         return;

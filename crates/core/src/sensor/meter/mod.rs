@@ -37,7 +37,9 @@ mod layout;
 mod sky;
 mod tally;
 
-pub use connect::{ConnectedSettings, DEFAULT_DIRECT_POINTS, DIRECT_STOP_DRAWS, read_connected};
+pub use connect::{
+    ConnectedSettings, DEFAULT_DIRECT_POINTS, DIRECT_STOP_DRAWS, read_connected, read_connected_many,
+};
 pub use layout::{MeterDraw, MeterLayout, MeterPoint};
 pub use tally::{Group, Reading};
 
@@ -343,17 +345,36 @@ pub fn read_samples<B: super::AsBatch, E: Send>(
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Reading, E> {
-    let cells = meter.nx as usize * meter.ny as usize;
-    tally::tally_groups(
-        cells,
+    let mut readings = read_samples_many(&[meter], scene, groups, batch, progress)?;
+    Ok(readings.remove(0))
+}
+
+/// [`read_samples`] for several meters in one pass over the batches (each batch fetched once):
+/// one reading per meter, in their order, each the same bit for bit as that meter read alone
+/// (a target's sums see the same contributions in the same order; only the row is longer).
+pub fn read_samples_many<B: super::AsBatch, E: Send>(
+    meters: &[&IlluminanceMeter],
+    scene: &Scene,
+    groups: &[Group],
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Vec<Reading>, E> {
+    let lens: Vec<usize> = meters.iter().map(|m| m.nx as usize * m.ny as usize).collect();
+    let (offsets, total) = tally::offsets(&lens);
+    let reading = tally::tally_groups(
+        total,
         scene.photometry,
         groups,
         batch,
         progress,
         |_, samples, flux_per_path, scratch| {
-            meter.splat_on(scene, SampleBatch { flux_per_path, samples }, scratch)
+            for (meter, &offset) in meters.iter().zip(&offsets) {
+                let row = &mut tally::Offset { row: &mut *scratch, offset };
+                meter.splat_on(scene, SampleBatch { flux_per_path, samples }, row)
+            }
         },
-    )
+    )?;
+    Ok(reading.split(&lens))
 }
 
 /// Irradiance per cell (W/m², RGB) from `count` batches, on all cores (the stored-samples

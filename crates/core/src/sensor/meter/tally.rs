@@ -62,6 +62,18 @@ impl Reading {
         }
     }
 
+    /// The reading cut into consecutive parts of `lens` targets each (several meters read in
+    /// one pass, their targets one after the other), the values and errors as they are.
+    pub fn split(self, lens: &[usize]) -> Vec<Reading> {
+        let (mut value, mut std_error) = (self.value.into_iter(), self.std_error.into_iter());
+        lens.iter()
+            .map(|&n| Reading {
+                value: value.by_ref().take(n).collect(),
+                std_error: std_error.by_ref().take(n).collect(),
+            })
+            .collect()
+    }
+
     /// The relative standard error of E_v over the targets that read more than 0: (largest,
     /// mean, how many such targets). NaN if any error is unknown; (0, 0, 0) if none is lit.
     pub fn relative_error(&self) -> (f64, f64, usize) {
@@ -109,6 +121,35 @@ impl SplatTarget for Scratch {
         }
         c[3] += self.photometry.lux(rgb);
     }
+}
+
+/// One meter's view of a row shared by several meters read in one pass: its target `t` is the
+/// row's `offset + t`.
+pub(crate) struct Offset<'a, T> {
+    /// The shared row.
+    pub(crate) row: &'a mut T,
+    /// Where the meter's targets start in it.
+    pub(crate) offset: usize,
+}
+
+impl<T: SplatTarget> SplatTarget for Offset<'_, T> {
+    #[inline]
+    fn splat(&mut self, index: usize, v: Rgb) {
+        self.row.splat(self.offset + index, v)
+    }
+}
+
+/// Where each of meters of `lens` targets starts in their shared row, and the row's length.
+pub(crate) fn offsets(lens: &[usize]) -> (Vec<usize>, usize) {
+    let mut total = 0;
+    let offsets = lens
+        .iter()
+        .map(|&n| {
+            total += n;
+            total - n
+        })
+        .collect();
+    (offsets, total)
 }
 
 /// Per light: S₁, S₂, S_n per target and channel, N and Q.

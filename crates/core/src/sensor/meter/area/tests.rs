@@ -13,7 +13,7 @@ use crate::sensor::meter::{black_room, check_reading};
 /// E/L at a point (x, z) facing up, under the parallel rectangle [x0, x1] × [z0, z1] (`rect`)
 /// at height `h` above it, facing down: ½[X/√(1+X²)·atan(Y/√(1+X²)) + Y/√(1+Y²)·atan(X/√(1+Y²))]
 /// (X = a/h, Y = b/h) from a point under a corner, odd in a and b, combined over the four
-/// corners (tools/validation/cie171.py's closed form).
+/// corners (tools/validation/cie171/closed_forms.py's closed form).
 pub(in crate::sensor::meter) fn parallel_rectangle(h: f64, rect: [f64; 4], x: f64, z: f64) -> f64 {
     let f = |a: f64, b: f64| {
         let (x, y) = (a / h, b / h);
