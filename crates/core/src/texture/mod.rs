@@ -18,7 +18,7 @@
 //! nearest takes the texel containing the point; the wrap mode maps texel indices outside the
 //! image back into it (repeat, mirror, clamp).
 
-use crate::bsdf::{Bsdf, Plastic};
+use crate::bsdf::{Bsdf, Plastic, Principled};
 use crate::math::{Rgb, Vec2, Vec3};
 use std::sync::Arc;
 
@@ -458,6 +458,78 @@ pub enum ColourSlot {
     /// The `scale` of Mitsuba's `bumpmap` (the gradient's multiplier, 1 if absent): a finite
     /// [`Texture::Constant`] beside the material's [`ColourSlot::BumpMap`].
     BumpScale,
+    /// `base_color` of `principled`: a colour.
+    BaseColor,
+    /// A weight of `principled` in [0, 1] (its `eval_1`), set by [`set_principled`].
+    Principled(PrincipledWeight),
+}
+
+/// The float parameters of Mitsuba's `principled` that a texture can give, each in [0, 1].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PrincipledWeight {
+    /// `roughness`.
+    Roughness,
+    /// `anisotropic`.
+    Anisotropic,
+    /// `metallic`.
+    Metallic,
+    /// `spec_tint`.
+    SpecTint,
+    /// `sheen`.
+    Sheen,
+    /// `sheen_tint`.
+    SheenTint,
+    /// `clearcoat`.
+    Clearcoat,
+    /// `clearcoat_gloss`.
+    ClearcoatGloss,
+    /// `flatness`.
+    Flatness,
+}
+
+impl PrincipledWeight {
+    /// Every weight, in Mitsuba's documentation's order.
+    pub const ALL: [PrincipledWeight; 9] = [
+        PrincipledWeight::Roughness,
+        PrincipledWeight::Anisotropic,
+        PrincipledWeight::Metallic,
+        PrincipledWeight::SpecTint,
+        PrincipledWeight::Sheen,
+        PrincipledWeight::SheenTint,
+        PrincipledWeight::Clearcoat,
+        PrincipledWeight::ClearcoatGloss,
+        PrincipledWeight::Flatness,
+    ];
+
+    /// Mitsuba's name of the parameter.
+    pub fn name(self) -> &'static str {
+        match self {
+            PrincipledWeight::Roughness => "roughness",
+            PrincipledWeight::Anisotropic => "anisotropic",
+            PrincipledWeight::Metallic => "metallic",
+            PrincipledWeight::SpecTint => "spec_tint",
+            PrincipledWeight::Sheen => "sheen",
+            PrincipledWeight::SheenTint => "sheen_tint",
+            PrincipledWeight::Clearcoat => "clearcoat",
+            PrincipledWeight::ClearcoatGloss => "clearcoat_gloss",
+            PrincipledWeight::Flatness => "flatness",
+        }
+    }
+
+    /// The field of `p` it sets.
+    pub fn field(self, p: &mut Principled) -> &mut f32 {
+        match self {
+            PrincipledWeight::Roughness => &mut p.roughness,
+            PrincipledWeight::Anisotropic => &mut p.anisotropic,
+            PrincipledWeight::Metallic => &mut p.metallic,
+            PrincipledWeight::SpecTint => &mut p.spec_tint,
+            PrincipledWeight::Sheen => &mut p.sheen,
+            PrincipledWeight::SheenTint => &mut p.sheen_tint,
+            PrincipledWeight::Clearcoat => &mut p.clearcoat,
+            PrincipledWeight::ClearcoatGloss => &mut p.clearcoat_gloss,
+            PrincipledWeight::Flatness => &mut p.flatness,
+        }
+    }
 }
 
 impl ColourSlot {
@@ -476,15 +548,24 @@ impl ColourSlot {
             ColourSlot::NormalMap => "normalmap",
             ColourSlot::BumpMap => "bumpmap",
             ColourSlot::BumpScale => "bumpmap scale",
+            ColourSlot::BaseColor => "base_color",
+            ColourSlot::Principled(w) => w.name(),
         }
     }
 
     /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`], a blend's
-    /// [`ColourSlot::Weight`], set by [`set_weight`], the [`ColourSlot::Opacity`] of a masked
+    /// [`ColourSlot::Weight`], set by [`set_weight`], a weight of `principled`, set by
+    /// [`set_principled`], the [`ColourSlot::Opacity`] of a masked
     /// surface or one of the [`ColourSlot::shapes_surface`] slots).
     pub fn is_colour(self) -> bool {
-        !matches!(self, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV | ColourSlot::Weight)
-            && self.is_bsdf_parameter()
+        !matches!(
+            self,
+            ColourSlot::Alpha
+                | ColourSlot::AlphaU
+                | ColourSlot::AlphaV
+                | ColourSlot::Weight
+                | ColourSlot::Principled(_)
+        ) && self.is_bsdf_parameter()
     }
 
     /// Whether the slot is a parameter of the BSDF (else it says where the surface is met, an
@@ -550,6 +631,7 @@ pub fn set_colour(bsdf: &mut Bsdf, slot: ColourSlot, c: Rgb) -> bool {
         (Bsdf::RoughDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
         (Bsdf::ThinDielectric(b), SpecularReflectance) => &mut b.specular_reflectance,
         (Bsdf::ThinDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
+        (Bsdf::Principled(b), BaseColor) => &mut b.base_color,
         // Mitsuba's rough plastic keeps the sampling weight of the colours it was built with.
         (Bsdf::RoughPlastic(b), DiffuseReflectance) => &mut b.diffuse_reflectance,
         (Bsdf::RoughPlastic(b), SpecularReflectance) => &mut b.specular_reflectance,
@@ -571,6 +653,18 @@ pub fn set_colour(bsdf: &mut Bsdf, slot: ColourSlot, c: Rgb) -> bool {
     };
     *field = c;
     true
+}
+
+/// Sets the weight `w` of `bsdf`, a principled BSDF, to `x` (in [0, 1], the caller's to keep);
+/// false (and `bsdf` unchanged) if it is not a principled BSDF.
+pub fn set_principled(bsdf: &mut Bsdf, w: PrincipledWeight, x: f32) -> bool {
+    match bsdf {
+        Bsdf::Principled(p) => {
+            *w.field(p) = x;
+            true
+        }
+        _ => false,
+    }
 }
 
 /// A texture in place of one colour parameter of one material of a scene description.
