@@ -18,9 +18,12 @@
 //! nearest takes the texel containing the point; the wrap mode maps texel indices outside the
 //! image back into it (repeat, mirror, clamp).
 
-use crate::bsdf::{Bsdf, Plastic, Principled};
+use crate::bsdf::{Bsdf, Plastic};
 use crate::math::{Rgb, Vec2, Vec3};
 use std::sync::Arc;
+
+mod principled_weight;
+pub use principled_weight::PrincipledWeight;
 
 /// An affine map of texture coordinates: (u, v) ↦ (m00·u + m01·v + m02, m10·u + m11·v + m12)
 /// (Mitsuba's `to_uv`, a 3×3 matrix whose last row is 0 0 1).
@@ -462,74 +465,6 @@ pub enum ColourSlot {
     BaseColor,
     /// A weight of `principled` in [0, 1] (its `eval_1`), set by [`set_principled`].
     Principled(PrincipledWeight),
-}
-
-/// The float parameters of Mitsuba's `principled` that a texture can give, each in [0, 1].
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum PrincipledWeight {
-    /// `roughness`.
-    Roughness,
-    /// `anisotropic`.
-    Anisotropic,
-    /// `metallic`.
-    Metallic,
-    /// `spec_tint`.
-    SpecTint,
-    /// `sheen`.
-    Sheen,
-    /// `sheen_tint`.
-    SheenTint,
-    /// `clearcoat`.
-    Clearcoat,
-    /// `clearcoat_gloss`.
-    ClearcoatGloss,
-    /// `flatness`.
-    Flatness,
-}
-
-impl PrincipledWeight {
-    /// Every weight, in Mitsuba's documentation's order.
-    pub const ALL: [PrincipledWeight; 9] = [
-        PrincipledWeight::Roughness,
-        PrincipledWeight::Anisotropic,
-        PrincipledWeight::Metallic,
-        PrincipledWeight::SpecTint,
-        PrincipledWeight::Sheen,
-        PrincipledWeight::SheenTint,
-        PrincipledWeight::Clearcoat,
-        PrincipledWeight::ClearcoatGloss,
-        PrincipledWeight::Flatness,
-    ];
-
-    /// Mitsuba's name of the parameter.
-    pub fn name(self) -> &'static str {
-        match self {
-            PrincipledWeight::Roughness => "roughness",
-            PrincipledWeight::Anisotropic => "anisotropic",
-            PrincipledWeight::Metallic => "metallic",
-            PrincipledWeight::SpecTint => "spec_tint",
-            PrincipledWeight::Sheen => "sheen",
-            PrincipledWeight::SheenTint => "sheen_tint",
-            PrincipledWeight::Clearcoat => "clearcoat",
-            PrincipledWeight::ClearcoatGloss => "clearcoat_gloss",
-            PrincipledWeight::Flatness => "flatness",
-        }
-    }
-
-    /// The field of `p` it sets.
-    pub fn field(self, p: &mut Principled) -> &mut f32 {
-        match self {
-            PrincipledWeight::Roughness => &mut p.roughness,
-            PrincipledWeight::Anisotropic => &mut p.anisotropic,
-            PrincipledWeight::Metallic => &mut p.metallic,
-            PrincipledWeight::SpecTint => &mut p.spec_tint,
-            PrincipledWeight::Sheen => &mut p.sheen,
-            PrincipledWeight::SheenTint => &mut p.sheen_tint,
-            PrincipledWeight::Clearcoat => &mut p.clearcoat,
-            PrincipledWeight::ClearcoatGloss => &mut p.clearcoat_gloss,
-            PrincipledWeight::Flatness => &mut p.flatness,
-        }
-    }
 }
 
 impl ColourSlot {
