@@ -87,6 +87,12 @@
 //! reference, light estimator, 8 × 8 regions as for `normalmap`: a gradient of the wrong sign,
 //! axes swapped, a wrong dp/du or dp/dv or a lost scale moves the slopes' regions.
 //!
+//! `principled` (96 × 72, 2²⁰ paths): Mitsuba's `principled` BSDF (reflective lobes) — three
+//! spheres (sheen and flatness; a metal; a clearcoat with spec_tint and eta) and a card whose
+//! metallic, base colour and clearcoat are checkerboards — against a Mitsuba `path` reference,
+//! light estimator, 8 × 8 regions: a lobe's weight, a Fresnel blend or a texture's slot wrong,
+//! or sampling weights not adjoint-correct, moves the spheres' or the card's regions.
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 use opticks_testkit as common;
@@ -239,4 +245,9 @@ fn mitsuba_normalmap_matches_mitsuba() {
 #[test]
 fn mitsuba_bumpmap_matches_mitsuba() {
     check_path_reference("bumpmap", "scene.xml", "reference-path", 1 << 20, 1);
+}
+
+#[test]
+fn mitsuba_principled_matches_mitsuba() {
+    check_path_reference("principled", "scene.xml", "reference-path", 1 << 20, 1);
 }

@@ -43,6 +43,9 @@ pub mod fresnel;
 mod lambert;
 mod phong;
 mod plastic;
+mod principled;
+#[cfg(test)]
+mod principled_mitsuba;
 mod roughplastic;
 #[cfg(test)]
 mod roughplastic_mitsuba;
@@ -55,6 +58,7 @@ pub use dielectric::{RoughDielectric, SmoothDielectric, check_absorption};
 pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 pub use plastic::Plastic;
+pub use principled::{Principled, eta_of_specular};
 pub use roughplastic::RoughPlastic;
 pub use thin::ThinDielectric;
 
@@ -113,6 +117,8 @@ pub enum Bsdf {
     /// Thin dielectric sheet: delta reflection and straight delta transmission (oriented by
     /// nothing: the same on both faces).
     ThinDielectric(ThinDielectric),
+    /// Mitsuba's `principled` (Disney) BSDF, reflective lobes (`spec_trans` = 0).
+    Principled(Principled),
 }
 
 impl Bsdf {
@@ -129,6 +135,7 @@ impl Bsdf {
             Bsdf::Plastic(b) => b.eval(wi, wo),
             Bsdf::RoughPlastic(b) => b.eval(wi, wo),
             Bsdf::Blend(b) => b.eval(wi, wo),
+            Bsdf::Principled(b) => b.eval(wi, wo),
         }
     }
 
@@ -145,6 +152,7 @@ impl Bsdf {
             Bsdf::Plastic(b) => b.pdf(wi, wo),
             Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
             Bsdf::Blend(b) => b.pdf(wi, wo),
+            Bsdf::Principled(b) => b.pdf(wi, wo),
         }
     }
 
@@ -167,7 +175,8 @@ impl Bsdf {
             | Bsdf::ModifiedPhong(_)
             | Bsdf::RoughConductor(_)
             | Bsdf::RoughDielectric(_)
-            | Bsdf::RoughPlastic(_) => 0.0,
+            | Bsdf::RoughPlastic(_)
+            | Bsdf::Principled(_) => 0.0,
         }
     }
 
@@ -187,6 +196,7 @@ impl Bsdf {
             Bsdf::RoughPlastic(b) => b.sample(wi, u_lobe, u),
             Bsdf::Blend(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::ThinDielectric(b) => b.sample(wi, u_lobe),
+            Bsdf::Principled(b) => b.sample(wi, u_lobe, u),
         }
     }
 
@@ -263,6 +273,7 @@ impl Bsdf {
             Bsdf::RoughPlastic(b) => b.max_albedo(),
             Bsdf::Blend(b) => b.max_albedo(),
             Bsdf::ThinDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
+            Bsdf::Principled(b) => b.max_albedo(),
         }
     }
 }
@@ -383,6 +394,9 @@ pub enum MaterialError {
     /// The BSDF would reflect more energy than it receives.
     #[error("kd + ks = {0} exceeds 1 in some channel: the surface would create energy")]
     CreatesEnergy(Rgb),
+    /// A weight that must lie in [0, 1] lies outside.
+    #[error("{0} = {1} is not in [0, 1]")]
+    OutOfUnitRange(&'static str, f32),
     /// A combination of BSDFs Opticks does not handle.
     #[error("{0} is not supported")]
     Unsupported(&'static str),

@@ -94,8 +94,8 @@
 //! field, so adding a field to a BSDF does not compile until its encoding is decided here.
 
 use crate::bsdf::{
-    Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
-    SmoothConductor, SmoothDielectric, ThinDielectric,
+    Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, Principled, RoughConductor, RoughDielectric,
+    RoughPlastic, SmoothConductor, SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
 use crate::light::{BuiltProfile, EnvRadiance, Light};
@@ -240,6 +240,38 @@ fn bsdf_v2(t: &mut Text, bsdf: &Bsdf) {
                 t.key(field);
                 bsdf_v2(t, child);
             }
+        }
+        Bsdf::Principled(Principled {
+            base_color,
+            roughness,
+            anisotropic,
+            metallic,
+            spec_tint,
+            eta,
+            sheen,
+            sheen_tint,
+            clearcoat,
+            clearcoat_gloss,
+            flatness,
+            diffuse_rate,
+            specular_rate,
+            clearcoat_rate,
+        }) => {
+            t.variant("Principled")
+                .rgb("base_color", *base_color)
+                .num("roughness", *roughness)
+                .num("anisotropic", *anisotropic)
+                .num("metallic", *metallic)
+                .num("spec_tint", *spec_tint)
+                .num("eta", *eta)
+                .num("sheen", *sheen)
+                .num("sheen_tint", *sheen_tint)
+                .num("clearcoat", *clearcoat)
+                .num("clearcoat_gloss", *clearcoat_gloss)
+                .num("flatness", *flatness)
+                .num("diffuse_rate", *diffuse_rate)
+                .num("specular_rate", *specular_rate)
+                .num("clearcoat_rate", *clearcoat_rate);
         }
         Bsdf::ThinDielectric(ThinDielectric { eta, specular_reflectance, specular_transmittance }) => {
             t.variant("ThinDielectric")

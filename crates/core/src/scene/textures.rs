@@ -1,7 +1,8 @@
 //! The texture stage of [`super::Scene::build`]: each [`TextureBinding`] of the description is
 //! checked against its material (the material exists, has that parameter, and every value the
 //! texture takes is one the parameter accepts — a reflectance in [0, 1], a roughness in
-//! [0, 1] (raised to [`MIN_TEXTURED_ALPHA`] as Mitsuba does), Phong's kd + ks ≤ 1 at the
+//! [0, 1] (raised to [`MIN_TEXTURED_ALPHA`] as Mitsuba does), a weight of `principled` in
+//! [0, 1], Phong's kd + ks ≤ 1 at the
 //! textures' maxima; a mesh attribute's values are those of every mesh of the material, which
 //! must all have it) and gathered per material, for [`super::Scene::material_at`]. The slots
 //! that shape the surface instead of the BSDF ([`ColourSlot::shapes_surface`]) are checked
@@ -13,7 +14,9 @@ use super::attributes::AttributeTable;
 use super::{SceneDescription, SceneError};
 use crate::bsdf::{Bsdf, MAX_ALPHA, Material, ModifiedPhong, check_unit_colour};
 use crate::math::{Rgb, Vec2};
-use crate::texture::{ColourSlot, MIN_TEXTURED_ALPHA, Texture, set_colour, set_roughness, set_weight};
+use crate::texture::{
+    ColourSlot, MIN_TEXTURED_ALPHA, Texture, set_colour, set_principled, set_roughness, set_weight,
+};
 use std::sync::Arc;
 
 /// A texture bound to a parameter of a material, ready to evaluate.
@@ -115,6 +118,16 @@ pub(super) fn bind(
             }
             if b.slot == ColourSlot::Weight && !set_weight(&mut m.bsdf.clone(), hi.x) {
                 return Err(bad(m.name.clone(), "this material is not a blend".into()));
+            }
+        } else if let ColourSlot::Principled(w) = b.slot {
+            if !(lo.x >= 0.0 && hi.x <= 1.0) {
+                return Err(bad(
+                    m.name.clone(),
+                    format!("the texture's values {}..{} are not in [0, 1]", lo.x, hi.x),
+                ));
+            }
+            if !set_principled(&mut m.bsdf.clone(), w, hi.x) {
+                return Err(bad(m.name.clone(), "this material is not a principled BSDF".into()));
             }
         } else if b.slot.is_colour() {
             if lo.min_element() < 0.0 {
@@ -271,6 +284,8 @@ pub(super) fn resolve(
             set_colour(&mut bsdf, b.slot, b.texture.eval(uv, attribute));
         } else if b.slot == ColourSlot::Weight {
             set_weight(&mut bsdf, b.texture.eval_1(uv, attribute).clamp(0.0, 1.0));
+        } else if let ColourSlot::Principled(w) = b.slot {
+            set_principled(&mut bsdf, w, b.texture.eval_1(uv, attribute).clamp(0.0, 1.0));
         } else {
             let alpha = b.texture.eval_1(uv, attribute).clamp(MIN_TEXTURED_ALPHA, MAX_ALPHA);
             set_roughness(&mut bsdf, b.slot, alpha);
@@ -512,6 +527,45 @@ mod tests {
             Bsdf::ModifiedPhong(ModifiedPhong::new(Rgb::splat(0.2), Rgb::splat(0.3), 10.0).unwrap());
         d.textures[0].slot = ColourSlot::DiffuseReflectance;
         assert!(bad(d).contains("kd + ks"));
+    }
+
+    /// A principled weight's texture sets that weight at the point (its `eval_1`), and its
+    /// base colour the colour; values outside [0, 1] and a weight on another BSDF are refused.
+    #[test]
+    fn principled_weights_and_base_colour_are_set_at_the_point() {
+        use crate::bsdf::Principled;
+        use crate::texture::PrincipledWeight;
+        let principled = |d: &mut crate::scene::SceneDescription| {
+            d.materials[0].bsdf = Bsdf::Principled(Principled::default());
+        };
+        let (a, b) = (Vec3::new(-0.5, -1.0, -0.5), Vec3::new(0.5, -1.0, -0.5)); // uv (¼, ¼), (¾, ¼)
+        let of = |scene: &Scene, p: Vec3| match &scene.material_at(0, p, &mut None).bsdf {
+            Bsdf::Principled(q) => q.clone(),
+            other => panic!("{other:?}"),
+        };
+        let mut d = textured_box(checker(0.9, 0.2));
+        principled(&mut d);
+        d.textures[0].slot = ColourSlot::Principled(PrincipledWeight::Metallic);
+        d.textures.push(TextureBinding {
+            material: 0,
+            slot: ColourSlot::BaseColor,
+            texture: checker(0.3, 0.7),
+        });
+        let scene = Scene::build(&d).unwrap();
+        let (pa, pb) = (of(&scene, a), of(&scene, b));
+        // eval_1 of a grey checkerboard: the mean of its channels, squares swapped (Mitsuba's).
+        assert!((pa.metallic - 0.2).abs() < 1e-6 && (pb.metallic - 0.9).abs() < 1e-6);
+        // eval (a colour) has the squares the other way round: Mitsuba's.
+        assert_eq!((pa.base_color, pb.base_color), (Rgb::splat(0.3), Rgb::splat(0.7)));
+        assert_eq!(pa.roughness, Principled::default().roughness, "the others keep their value");
+        let refused = |d: &crate::scene::SceneDescription| Scene::build(d).unwrap_err().to_string();
+        let mut d = textured_box(checker(1.5, 0.2));
+        principled(&mut d);
+        d.textures[0].slot = ColourSlot::Principled(PrincipledWeight::Sheen);
+        assert!(refused(&d).contains("not in [0, 1]"), "{}", refused(&d));
+        let mut d = textured_box(checker(0.5, 0.2));
+        d.textures[0].slot = ColourSlot::Principled(PrincipledWeight::Clearcoat);
+        assert!(refused(&d).contains("not a principled BSDF"), "{}", refused(&d));
     }
 
     #[test]

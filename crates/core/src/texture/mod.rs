@@ -22,6 +22,9 @@ use crate::bsdf::{Bsdf, Plastic};
 use crate::math::{Rgb, Vec2, Vec3};
 use std::sync::Arc;
 
+mod principled_weight;
+pub use principled_weight::PrincipledWeight;
+
 /// An affine map of texture coordinates: (u, v) ↦ (m00·u + m01·v + m02, m10·u + m11·v + m12)
 /// (Mitsuba's `to_uv`, a 3×3 matrix whose last row is 0 0 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -458,6 +461,10 @@ pub enum ColourSlot {
     /// The `scale` of Mitsuba's `bumpmap` (the gradient's multiplier, 1 if absent): a finite
     /// [`Texture::Constant`] beside the material's [`ColourSlot::BumpMap`].
     BumpScale,
+    /// `base_color` of `principled`: a colour.
+    BaseColor,
+    /// A weight of `principled` in [0, 1] (its `eval_1`), set by [`set_principled`].
+    Principled(PrincipledWeight),
 }
 
 impl ColourSlot {
@@ -476,15 +483,24 @@ impl ColourSlot {
             ColourSlot::NormalMap => "normalmap",
             ColourSlot::BumpMap => "bumpmap",
             ColourSlot::BumpScale => "bumpmap scale",
+            ColourSlot::BaseColor => "base_color",
+            ColourSlot::Principled(w) => w.name(),
         }
     }
 
     /// Whether the parameter is a colour (else a roughness, set by [`set_roughness`], a blend's
-    /// [`ColourSlot::Weight`], set by [`set_weight`], the [`ColourSlot::Opacity`] of a masked
+    /// [`ColourSlot::Weight`], set by [`set_weight`], a weight of `principled`, set by
+    /// [`set_principled`], the [`ColourSlot::Opacity`] of a masked
     /// surface or one of the [`ColourSlot::shapes_surface`] slots).
     pub fn is_colour(self) -> bool {
-        !matches!(self, ColourSlot::Alpha | ColourSlot::AlphaU | ColourSlot::AlphaV | ColourSlot::Weight)
-            && self.is_bsdf_parameter()
+        !matches!(
+            self,
+            ColourSlot::Alpha
+                | ColourSlot::AlphaU
+                | ColourSlot::AlphaV
+                | ColourSlot::Weight
+                | ColourSlot::Principled(_)
+        ) && self.is_bsdf_parameter()
     }
 
     /// Whether the slot is a parameter of the BSDF (else it says where the surface is met, an
@@ -550,6 +566,7 @@ pub fn set_colour(bsdf: &mut Bsdf, slot: ColourSlot, c: Rgb) -> bool {
         (Bsdf::RoughDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
         (Bsdf::ThinDielectric(b), SpecularReflectance) => &mut b.specular_reflectance,
         (Bsdf::ThinDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
+        (Bsdf::Principled(b), BaseColor) => &mut b.base_color,
         // Mitsuba's rough plastic keeps the sampling weight of the colours it was built with.
         (Bsdf::RoughPlastic(b), DiffuseReflectance) => &mut b.diffuse_reflectance,
         (Bsdf::RoughPlastic(b), SpecularReflectance) => &mut b.specular_reflectance,
@@ -571,6 +588,18 @@ pub fn set_colour(bsdf: &mut Bsdf, slot: ColourSlot, c: Rgb) -> bool {
     };
     *field = c;
     true
+}
+
+/// Sets the weight `w` of `bsdf`, a principled BSDF, to `x` (in [0, 1], the caller's to keep);
+/// false (and `bsdf` unchanged) if it is not a principled BSDF.
+pub fn set_principled(bsdf: &mut Bsdf, w: PrincipledWeight, x: f32) -> bool {
+    match bsdf {
+        Bsdf::Principled(p) => {
+            *w.field(p) = x;
+            true
+        }
+        _ => false,
+    }
 }
 
 /// A texture in place of one colour parameter of one material of a scene description.

@@ -15,6 +15,7 @@ mod mitsuba;
 mod mitsuba_bumpmap;
 mod mitsuba_fragment;
 mod mitsuba_normalmap;
+mod mitsuba_principled;
 mod mitsuba_structure;
 mod mitsuba_textures;
 mod obj_mtl;

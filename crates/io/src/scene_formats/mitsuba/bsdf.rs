@@ -63,6 +63,7 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "mask", extension: false, build: mask },
     BsdfType { name: "normalmap", extension: false, build: normalmap },
     BsdfType { name: "bumpmap", extension: false, build: bumpmap },
+    BsdfType { name: "principled", extension: false, build: super::principled::principled },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.
@@ -175,6 +176,7 @@ pub fn material_error(
         | MaterialError::Negative(k)
         | MaterialError::NotPositive(k)
         | MaterialError::AboveOne(k)
+        | MaterialError::OutOfUnitRange(k, _)
         | MaterialError::TooLarge { name: k, .. } => Some(*k),
         _ => None,
     };

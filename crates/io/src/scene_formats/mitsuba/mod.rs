@@ -42,6 +42,7 @@ mod emitter;
 mod include;
 mod instance;
 mod medium;
+mod principled;
 mod properties;
 mod sensor;
 mod shape;

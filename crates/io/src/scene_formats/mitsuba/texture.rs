@@ -112,6 +112,23 @@ pub fn weight<'d>(b: &mut Builder<'d>, p: &mut Props<'d>) -> Result<Option<(f64,
     Ok(Some((hi as f64, e)))
 }
 
+/// The float parameter `name` of the BSDF whose properties are `p`, a weight in [0, 1], if
+/// given: a `<float>` (returned as it is: the caller checks its range), or a texture (its
+/// `eval_1`) nested in it or referred to, whose values must lie in [0, 1], recorded as `slot`
+/// and returned as its largest value.
+pub fn unit_float<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Props<'d>,
+    name: &str,
+    slot: ColourSlot,
+) -> Result<Option<(f64, &'d Element)>> {
+    let Some(e) = p.take_object(name) else { return p.float(name) };
+    let texture = unit_texture(b, p, name, e)?;
+    let hi = texture.range_1().1;
+    b.bsdf_textures.push((slot, texture));
+    Ok(Some((hi as f64, e)))
+}
+
 /// The `normalmap` of a `normalmap` BSDF: the texture `e` (nested or referred to), which must be
 /// a `bitmap` read `raw` (its colours are directions, not sRGB-encoded reflectances) of an RGB
 /// image; recorded as [`ColourSlot::NormalMap`].

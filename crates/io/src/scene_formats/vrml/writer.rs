@@ -223,6 +223,7 @@ fn bsdf_kind(b: &Bsdf) -> &'static str {
         Bsdf::RoughPlastic(_) => "rough plastic",
         Bsdf::Blend(_) => "blend",
         Bsdf::ThinDielectric(_) => "thin dielectric",
+        Bsdf::Principled(_) => "principled",
     }
 }
 

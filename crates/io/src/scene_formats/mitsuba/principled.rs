@@ -1,0 +1,92 @@
+//! `<bsdf type="principled">`: Mitsuba 3's principled (Disney) BSDF, read with Mitsuba's
+//! parameter names and defaults into the core's [`Principled`]. Its own file because the
+//! BSDF has a dozen parameters and rules of its own (`eta` or `specular`, never both; the
+//! transmission lobe the core does not have yet), which would crowd `super::bsdf`.
+//!
+//! Every weight (`roughness`, `anisotropic`, `metallic`, `spec_tint`, `sheen`, `sheen_tint`,
+//! `clearcoat`, `clearcoat_gloss`, `flatness`) is a `<float>` or a texture (its `eval_1`, in
+//! [0, 1]) and `base_color` a colour or a texture, as Mitsuba's `get_texture` parameters;
+//! `eta`, `specular` and the three sampling rates are plain floats, as in Mitsuba.
+//! `spec_trans` > 0 (rough transmission) is refused at its element, not ignored.
+
+use super::Result;
+use super::bsdf::material_error;
+use super::build::Builder;
+use super::properties::Props;
+use super::texture::{colour, unit_float};
+use super::xml::Element;
+use opticks_core::bsdf::{Bsdf, Principled, eta_of_specular};
+use opticks_core::texture::{ColourSlot, PrincipledWeight};
+
+/// `principled` (module docs), one-sided as Mitsuba's.
+pub fn principled<'d>(
+    b: &mut Builder<'d>,
+    e: &'d Element,
+    ty: &str,
+    p: &mut Props<'d>,
+) -> Result<(Bsdf, bool)> {
+    let mut q = Principled::default();
+    let mut nodes: Vec<(&'static str, &'d Element)> = Vec::new();
+    let (base, bnode) = colour(b, p, "base_color", q.base_color, ColourSlot::BaseColor)?;
+    q.base_color = base;
+    nodes.push(("base_color", bnode));
+    for w in PrincipledWeight::ALL {
+        if let Some((v, node)) = unit_float(b, p, w.name(), ColourSlot::Principled(w))? {
+            *w.field(&mut q) = v as f32;
+            nodes.push((w.name(), node));
+        }
+    }
+    // Transmission: only its absence (0, or a texture that is 0 everywhere) is supported. Read
+    // as a weight (a texture's largest value) and its binding dropped: it is never evaluated.
+    let before = b.bsdf_textures.len();
+    let spec_trans = unit_float(b, p, "spec_trans", ColourSlot::Principled(PrincipledWeight::Metallic))?;
+    b.bsdf_textures.truncate(before);
+    if let Some((v, node)) = spec_trans
+        && v != 0.0
+    {
+        return Err(node.err(format!(
+            "spec_trans = {v}: the principled BSDF's transmission (spec_trans > 0) is not supported yet"
+        )));
+    }
+    let eta = p.float("eta")?;
+    let specular = p.float("specular")?;
+    q.eta = match (eta, specular) {
+        (Some(_), Some((_, s))) => {
+            return Err(s.err("give either eta or specular, not both (Mitsuba's rule)"));
+        }
+        (Some((v, node)), None) => {
+            nodes.push(("eta", node));
+            // Mitsuba raises η = 1 to 1.001 when the transmission lobe is present.
+            if v == 1.0 && spec_trans.is_some() { 1.001 } else { v as f32 }
+        }
+        (None, Some((s, node))) => {
+            nodes.push(("eta", node));
+            if !(0.0..=1.0).contains(&s) {
+                return Err(node.err(format!("specular must lie in [0, 1], not {s}")));
+            }
+            // Mitsuba raises specular = 0 to 10⁻³ when the transmission lobe is present.
+            let s = if s == 0.0 && spec_trans.is_some() { 1e-3 } else { s as f32 };
+            eta_of_specular(s)
+        }
+        (None, None) => q.eta,
+    };
+    for (name, field) in [
+        ("diffuse_reflectance_sampling_rate", &mut q.diffuse_rate),
+        ("main_specular_sampling_rate", &mut q.specular_rate),
+        ("clearcoat_sampling_rate", &mut q.clearcoat_rate),
+    ] {
+        if let Some((v, node)) = p.float(name)? {
+            *field = v as f32;
+            nodes.push((name, node));
+        }
+    }
+    if let Some(c) = p.objects().first() {
+        return Err(c.err(format!(
+            "unsupported element inside <bsdf type=\"{ty}\"> (textures need the name of one of its \
+             parameters: base_color, {})",
+            PrincipledWeight::ALL.map(PrincipledWeight::name).join(", ")
+        )));
+    }
+    let q = q.checked().map_err(|source| material_error(source, &nodes, e))?;
+    Ok((Bsdf::Principled(q), false))
+}
