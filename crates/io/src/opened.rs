@@ -471,18 +471,12 @@ impl LitDataset {
             (Coverage::Auto, Some(needed)) if !needed.contains(&true) => {
                 let pilot_plan = pilot::Plan { spp: plan.spp, connections, samples: self.samples() };
                 event(RunEvent::SplatStart(self.samples()));
-                let batch = |i| {
-                    if stop() {
-                        return Err(BidirectionalError::Interrupted);
-                    }
-                    Ok(self.batch(i)?)
-                };
                 let first = pilot::light_first(
                     self.scene(),
                     &camera,
                     buffer.as_ref(),
                     &self.groups(),
-                    batch,
+                    self.stoppable_batch(&stop),
                     |n| event(RunEvent::Splatted(n)),
                     &names,
                     self.flux_per_path(),
@@ -491,16 +485,7 @@ impl LitDataset {
                     &stop,
                 )?;
                 match first.ok_or(BidirectionalError::Interrupted)? {
-                    pilot::LightFirst::Image(film) => {
-                        return Ok(Run {
-                            film,
-                            passes: 0,
-                            spp: 0,
-                            error: None,
-                            interrupted: false,
-                            camera_pixels: 0,
-                        });
-                    }
+                    pilot::LightFirst::Image(film) => return Ok(Run::splats_alone(film)),
                     pilot::LightFirst::Cameras(c) => Some(c),
                 }
             }
@@ -558,13 +543,22 @@ impl LitDataset {
         stop: impl Fn() -> bool + Sync,
     ) -> Result<Run, BidirectionalError> {
         event(RunEvent::SplatStart(self.samples()));
-        let batch = |i| {
+        let batch = self.stoppable_batch(&stop);
+        let film = render(self.scene(), &camera, self.count(), batch, |n| event(RunEvent::Splatted(n)))?;
+        Ok(Run::splats_alone(film))
+    }
+
+    /// [`LitDataset::batch`] that fails with [`BidirectionalError::Interrupted`] once `stop()`
+    /// says so, before reading.
+    fn stoppable_batch<'s>(
+        &'s self,
+        stop: &'s (impl Fn() -> bool + Sync),
+    ) -> impl Fn(usize) -> Result<OwnedBatch, BidirectionalError> + Sync + 's {
+        move |i| {
             if stop() {
                 return Err(BidirectionalError::Interrupted);
             }
             Ok(self.batch(i)?)
-        };
-        let film = render(self.scene(), &camera, self.count(), batch, |n| event(RunEvent::Splatted(n)))?;
-        Ok(Run { film, passes: 0, spp: 0, error: None, interrupted: false, camera_pixels: 0 })
+        }
     }
 }

@@ -82,6 +82,20 @@ pub struct BsdfSample {
     pub delta: bool,
 }
 
+impl BsdfSample {
+    /// The non-delta sample `wo` of a BSDF whose density there is `pdf` and whose f_r is
+    /// `f()`, weighted f_r·(cos θ_o / pdf); `None` where the density is not positive and finite
+    /// or the weight not finite (what the mixture BSDFs, rough plastic and principled, share).
+    #[inline]
+    pub(crate) fn of_density(wo: Vec3, pdf: f32, f: impl FnOnce() -> Rgb) -> Option<BsdfSample> {
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        let weight = f() * (wo.z / pdf);
+        weight.is_finite().then_some(BsdfSample { wo, weight, pdf, delta: false })
+    }
+}
+
 /// Which end of a path the given direction of [`Bsdf::sample`] belongs to (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum TransportMode {

@@ -364,12 +364,7 @@ impl Principled {
             }
             wo
         };
-        let pdf = self.pdf(wi, wo);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        let weight = self.eval(wi, wo) * (wo.z / pdf);
-        weight.is_finite().then_some(BsdfSample { wo, weight, pdf, delta: false })
+        BsdfSample::of_density(wo, self.pdf(wi, wo), || self.eval(wi, wo))
     }
 
     /// A bound of the directional albedo per channel (not tight: the sum of each lobe's

@@ -192,12 +192,7 @@ impl RoughPlastic {
         } else {
             warp::square_to_cosine_hemisphere(u)
         };
-        let pdf = self.pdf(wi, wo);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        let weight = self.eval(wi, wo) * (wo.z / pdf);
-        weight.is_finite().then_some(BsdfSample { wo, weight, pdf, delta: false })
+        BsdfSample::of_density(wo, self.pdf(wi, wo), || self.eval(wi, wo))
     }
 
     /// Upper bound of the directional albedo per channel: the specular lobe reflects at most

@@ -86,6 +86,13 @@ pub struct Run {
     pub camera_pixels: u64,
 }
 
+impl Run {
+    /// A render without camera paths: the light estimator's image, `film`.
+    pub fn splats_alone(film: Film) -> Run {
+        Run { film, passes: 0, spp: 0, error: None, interrupted: false, camera_pixels: 0 }
+    }
+}
+
 /// Renders the light vertex cache `chunks` (lights `names`, their flux per path
 /// `flux_per_path`) of `scene` through `camera` as `plan` says, camera paths in the pixels
 /// `cameras` marks (`None`: in every pixel; with none marked, the splat pass alone). Once `stop` returns true, the
