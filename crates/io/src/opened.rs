@@ -394,12 +394,7 @@ impl LitDataset {
         stop: impl Fn() -> bool + Sync,
     ) -> Result<Vec<Reading>, MeasureError> {
         let groups = self.groups();
-        let batch = |i| {
-            if stop() {
-                return Err(MeasureError::Interrupted);
-            }
-            Ok(self.batch(i)?)
-        };
+        let batch = self.stoppable_batch(&stop, || MeasureError::Interrupted);
         let readings = match estimator {
             MeterEstimator::Samples => {
                 let grids = layouts
@@ -412,10 +407,7 @@ impl LitDataset {
                 read_samples_many(&grids, self.scene(), &groups, batch, progress)?
             }
             MeterEstimator::Connections(settings) => {
-                let mut paths = vec![0u64; self.flux_per_path().len()];
-                for g in &groups {
-                    paths[g.light as usize] += g.paths;
-                }
+                let paths = Group::paths_per_light(&groups, self.flux_per_path().len());
                 let lights =
                     RenderLights::new(self.scene(), &self.light_names(), self.flux_per_path(), &paths);
                 read_connected_many(
@@ -469,14 +461,15 @@ impl LitDataset {
             // No pixel needs camera paths: the light estimator's image first, which is also the
             // pilot's light half (kept as the render when the pilot chooses no camera paths).
             (Coverage::Auto, Some(needed)) if !needed.contains(&true) => {
-                let pilot_plan = pilot::Plan { spp: plan.spp, connections, samples: self.samples() };
-                event(RunEvent::SplatStart(self.samples()));
+                let samples = self.samples();
+                let pilot_plan = pilot::Plan { spp: plan.spp, connections, samples };
+                event(RunEvent::SplatStart(samples));
                 let first = pilot::light_first(
                     self.scene(),
                     &camera,
                     buffer.as_ref(),
                     &self.groups(),
-                    self.stoppable_batch(&stop),
+                    self.stoppable_batch(&stop, || BidirectionalError::Interrupted),
                     |n| event(RunEvent::Splatted(n)),
                     &names,
                     self.flux_per_path(),
@@ -543,20 +536,21 @@ impl LitDataset {
         stop: impl Fn() -> bool + Sync,
     ) -> Result<Run, BidirectionalError> {
         event(RunEvent::SplatStart(self.samples()));
-        let batch = self.stoppable_batch(&stop);
+        let batch = self.stoppable_batch(&stop, || BidirectionalError::Interrupted);
         let film = render(self.scene(), &camera, self.count(), batch, |n| event(RunEvent::Splatted(n)))?;
         Ok(Run::splats_alone(film))
     }
 
-    /// [`LitDataset::batch`] that fails with [`BidirectionalError::Interrupted`] once `stop()`
-    /// says so, before reading.
-    fn stoppable_batch<'s>(
+    /// [`LitDataset::batch`] that fails with `interrupted()` once `stop()` says so, before
+    /// reading (what a measurement and a render ask for their batches).
+    fn stoppable_batch<'s, E: From<DatasetError> + 's>(
         &'s self,
         stop: &'s (impl Fn() -> bool + Sync),
-    ) -> impl Fn(usize) -> Result<OwnedBatch, BidirectionalError> + Sync + 's {
+        interrupted: fn() -> E,
+    ) -> impl Fn(usize) -> Result<OwnedBatch, E> + Sync + 's {
         move |i| {
             if stop() {
-                return Err(BidirectionalError::Interrupted);
+                return Err(interrupted());
             }
             Ok(self.batch(i)?)
         }

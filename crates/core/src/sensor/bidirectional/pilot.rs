@@ -162,12 +162,7 @@ pub fn choose<B: AsBatch, E: Send>(
     let tiles_x = width.div_ceil(TILE);
     let tile_count = tiles_x as usize * height.div_ceil(TILE) as usize;
     let candidate: Vec<bool> = needed.iter().map(|&n| !n).collect();
-    let mut paths = vec![0u64; names.len()];
-    for g in groups {
-        if let Some(p) = paths.get_mut(g.light as usize) {
-            *p += g.paths;
-        }
-    }
+    let paths = Group::paths_per_light(groups, names.len());
     let lights = RenderLights::new(scene, names, flux_per_path, &paths);
     // The light half: per light, its first chunks up to LIGHT_SHARE of its paths.
     let mut taken = vec![0u64; names.len()];
@@ -293,12 +288,7 @@ pub fn light_first<B: AsBatch, E: Send>(
         return Ok(None);
     }
     let tiles = tiles_from_runs(&moments, runs, width, height);
-    let mut paths = vec![0u64; names.len()];
-    for g in groups {
-        if let Some(p) = paths.get_mut(g.light as usize) {
-            *p += g.paths;
-        }
-    }
+    let paths = Group::paths_per_light(groups, names.len());
     let lights = RenderLights::new(scene, names, flux_per_path, &paths);
     let half = CameraHalf { lights: &lights, flux_per_path, settings, plan };
     let all = vec![true; none.len()];

@@ -36,6 +36,20 @@ pub struct Group {
     pub paths: u64,
 }
 
+impl Group {
+    /// Per table light (`lights` of them), the paths of `groups` that are its N_k; a group
+    /// naming no table light counts for none.
+    pub fn paths_per_light(groups: &[Group], lights: usize) -> Vec<u64> {
+        let mut paths = vec![0u64; lights];
+        for g in groups {
+            if let Some(p) = paths.get_mut(g.light as usize) {
+                *p += g.paths;
+            }
+        }
+        paths
+    }
+}
+
 /// What a meter read: per target (cell or point) the value and its standard error, channels
 /// R, G, B (W/m²) and E_v (lux).
 #[derive(Clone, Debug, PartialEq)]
