@@ -261,6 +261,52 @@ pub(crate) fn incident(deg: f32) -> Vec3 {
     Vec3::new(st * 0.3f32.cos(), st * 0.3f32.sin(), ct)
 }
 
+/// The direction at polar angle θ and azimuth φ (degrees): how the Mitsuba value tables
+/// (`tools/mitsuba/*_values.py`) name directions.
+pub(crate) fn direction((theta, phi): (f32, f32)) -> Vec3 {
+    let (st, ct) = theta.to_radians().sin_cos();
+    let (sp, cp) = phi.to_radians().sin_cos();
+    Vec3::new(st * cp, st * sp, ct)
+}
+
+/// χ² of each of `cases`' samples against its `pdf` at normal, oblique and grazing incidence
+/// (0°, 50°, 85°), the tests' seeds counted from `seed`, a failure named `name`, case, angle.
+pub(crate) fn chi2_at_three_incidences(cases: &[super::Bsdf], seed: u64, name: &str) {
+    let items: Vec<(usize, f32)> =
+        (0..cases.len()).flat_map(|b| [0.0, 50.0, 85.0].map(move |d| (b, d))).collect();
+    items.into_par_iter().enumerate().for_each(|(i, (k, deg))| {
+        let b = &cases[k];
+        let wi = incident(deg);
+        let mode = super::TransportMode::Radiance;
+        Chi2Test::new(Vec3::Z, seed + i as u64)
+            .run(|ul, u| b.sample(wi, ul, u, mode).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
+            .assert_ok(&format!("{name} {k} θi={deg}°"));
+    });
+}
+
+/// For one-sided, reflecting, non-delta `cases` whose f is symmetric in its two directions
+/// (so that the adjoint is f itself): reciprocity f(wi → wo) = f(wo → wi) within 10⁻⁴, every
+/// sample's weight eval·cos/pdf within 10⁻⁵, its pdf the one `pdf` gives, nothing sampled
+/// below the surface or from below it (5000 direction pairs a case, stream `seed`).
+pub(crate) fn assert_reciprocal_and_consistent(cases: &[super::Bsdf], seed: u64) {
+    let mode = super::TransportMode::Radiance;
+    let mut rng = RandomStream::new(seed, &[]);
+    for b in cases {
+        for _ in 0..5_000 {
+            let wi = crate::sampling::warp::square_to_uniform_hemisphere(rng.next_2d());
+            let wo = crate::sampling::warp::square_to_uniform_hemisphere(rng.next_2d());
+            let (f, g) = (b.eval(wi, wo), b.eval(wo, wi));
+            assert!((f - g).abs().max_element() <= 1e-4 * f.max_element().max(1e-6), "{f} {g}");
+            let Some(s) = b.sample(wi, rng.next_f32(), rng.next_2d(), mode) else { continue };
+            let w = b.eval(wi, s.wo) * s.wo.z / s.pdf;
+            assert!((s.weight - w).abs().max_element() <= 1e-5 * w.max_element() + 1e-30, "{s:?} {w}");
+            assert!(!s.delta && s.wo.z > 0.0);
+            assert_eq!(b.pdf(wi, s.wo), s.pdf);
+        }
+        assert!(b.sample(-Vec3::Z, 0.5, Vec2::splat(0.5), mode).is_none(), "one-sided");
+    }
+}
+
 /// The mirror direction of `wi` about the shading normal (+z).
 pub(crate) fn reflect(wi: Vec3) -> Vec3 {
     Vec3::new(-wi.x, -wi.y, wi.z)

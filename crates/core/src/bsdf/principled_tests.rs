@@ -4,7 +4,11 @@
 //! parameter checks.
 
 use super::*;
-use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, mean_sample_weight, pilot};
+use crate::bsdf::Bsdf;
+use crate::bsdf::chi2::{
+    SphereGrid, assert_reciprocal_and_consistent, chi2_at_three_incidences, direction, directional_albedo,
+    incident, mean_sample_weight, pilot,
+};
 use crate::bsdf::principled_mitsuba::MITSUBA;
 use crate::sampling::RandomStream;
 use rayon::prelude::*;
@@ -58,12 +62,6 @@ fn mitsuba_cases() -> Vec<Principled> {
     .into_iter()
     .map(|p| p.checked().unwrap())
     .collect()
-}
-
-fn direction((theta, phi): (f32, f32)) -> Vec3 {
-    let (st, ct) = theta.to_radians().sin_cos();
-    let (sp, cp) = phi.to_radians().sin_cos();
-    Vec3::new(st * cp, st * sp, ct)
 }
 
 /// Mitsuba's own eval (÷ cos θ_o) and pdf at fixed directions, both within 2·10⁻⁴ relative
@@ -120,36 +118,16 @@ fn cases() -> Vec<Principled> {
 /// χ² of the samples against `pdf` at normal, oblique and grazing incidence.
 #[test]
 fn chi2_sampling_matches_pdf() {
-    let n = cases().len();
-    let items: Vec<(usize, f32)> = (0..n).flat_map(|b| [0.0, 50.0, 85.0].map(move |d| (b, d))).collect();
-    items.into_par_iter().enumerate().for_each(|(i, (k, deg))| {
-        let b = &cases()[k];
-        let wi = incident(deg);
-        Chi2Test::new(Vec3::Z, 2100 + i as u64)
-            .run(|ul, u| b.sample(wi, ul, u).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
-            .assert_ok(&format!("principled {k} θi={deg}°"));
-    });
+    let cases: Vec<Bsdf> = cases().into_iter().map(Bsdf::Principled).collect();
+    chi2_at_three_incidences(&cases, 2100, "principled");
 }
 
 /// Reciprocity f(wi → wo) = f(wo → wi) (every lobe of Mitsuba's model is symmetric, so the
 /// adjoint is f itself), and the weights agree with eval·cos/pdf.
 #[test]
 fn reciprocal_and_consistent() {
-    let mut rng = RandomStream::new(2101, &[]);
-    for b in cases() {
-        for _ in 0..5_000 {
-            let wi = warp::square_to_uniform_hemisphere(rng.next_2d());
-            let wo = warp::square_to_uniform_hemisphere(rng.next_2d());
-            let (f, g) = (b.eval(wi, wo), b.eval(wo, wi));
-            assert!((f - g).abs().max_element() <= 1e-4 * f.max_element().max(1e-6), "{f} {g}");
-            let Some(s) = b.sample(wi, rng.next_f32(), rng.next_2d()) else { continue };
-            let w = b.eval(wi, s.wo) * s.wo.z / s.pdf;
-            assert!((s.weight - w).abs().max_element() <= 1e-5 * w.max_element() + 1e-30, "{s:?} {w}");
-            assert!(!s.delta && s.wo.z > 0.0);
-            assert_eq!(b.pdf(wi, s.wo), s.pdf);
-        }
-        assert!(b.sample(-Vec3::Z, 0.5, Vec2::splat(0.5)).is_none(), "one-sided");
-    }
+    let cases: Vec<Bsdf> = cases().into_iter().map(Bsdf::Principled).collect();
+    assert_reciprocal_and_consistent(&cases, 2101);
 }
 
 /// Energy: the mean sample weight equals the quadrature of f·cos within 5σ, and stays below

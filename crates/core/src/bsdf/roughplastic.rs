@@ -311,7 +311,11 @@ fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdf::chi2::{Chi2Test, SphereGrid, directional_albedo, incident, mean_sample_weight, pilot};
+    use crate::bsdf::Bsdf;
+    use crate::bsdf::chi2::{
+        SphereGrid, assert_reciprocal_and_consistent, chi2_at_three_incidences, direction,
+        directional_albedo, incident, mean_sample_weight, pilot,
+    };
     use crate::sampling::RandomStream;
     use rayon::prelude::*;
 
@@ -329,12 +333,6 @@ mod tests {
             RoughPlastic::new(Rgb::splat(0.3), Rgb::new(0.7, 0.6, 0.5), 1.9, air, Ggx, 0.08, true, false)
                 .unwrap(),
         ]
-    }
-
-    fn direction((theta, phi): (f32, f32)) -> Vec3 {
-        let (st, ct) = theta.to_radians().sin_cos();
-        let (sp, cp) = phi.to_radians().sin_cos();
-        Vec3::new(st * cp, st * sp, ct)
     }
 
     /// Mitsuba's own eval (÷ cos θ_o) and pdf at fixed directions (the table of
@@ -394,36 +392,16 @@ mod tests {
     /// (a) χ² of the samples against `pdf` at normal, oblique and grazing incidence.
     #[test]
     fn chi2_sampling_matches_pdf() {
-        let n = cases().len();
-        let items: Vec<(usize, f32)> = (0..n).flat_map(|b| [0.0, 50.0, 85.0].map(move |d| (b, d))).collect();
-        items.into_par_iter().enumerate().for_each(|(i, (k, deg))| {
-            let b = &cases()[k];
-            let wi = incident(deg);
-            Chi2Test::new(Vec3::Z, 1900 + i as u64)
-                .run(|ul, u| b.sample(wi, ul, u).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
-                .assert_ok(&format!("roughplastic {k} θi={deg}°"));
-        });
+        let cases: Vec<Bsdf> = cases().into_iter().map(Bsdf::RoughPlastic).collect();
+        chi2_at_three_incidences(&cases, 1900, "roughplastic");
     }
 
     /// (b) Reciprocity f(wi → wo) = f(wo → wi) (Mitsuba's model is symmetric: t and the
     /// separable G₁G₁ are), and the weights agree with eval·cos/pdf.
     #[test]
     fn reciprocal_and_consistent() {
-        let mut rng = RandomStream::new(1901, &[]);
-        for b in cases() {
-            for _ in 0..5_000 {
-                let wi = warp::square_to_uniform_hemisphere(rng.next_2d());
-                let wo = warp::square_to_uniform_hemisphere(rng.next_2d());
-                let (f, g) = (b.eval(wi, wo), b.eval(wo, wi));
-                assert!((f - g).abs().max_element() <= 1e-4 * f.max_element().max(1e-6), "{f} {g}");
-                let Some(s) = b.sample(wi, rng.next_f32(), rng.next_2d()) else { continue };
-                let w = b.eval(wi, s.wo) * s.wo.z / s.pdf;
-                assert!((s.weight - w).abs().max_element() <= 1e-5 * w.max_element() + 1e-30, "{s:?} {w}");
-                assert!(!s.delta && s.wo.z > 0.0);
-                assert_eq!(b.pdf(wi, s.wo), s.pdf);
-            }
-            assert!(b.sample(-Vec3::Z, 0.5, Vec2::splat(0.5)).is_none(), "one-sided");
-        }
+        let cases: Vec<Bsdf> = cases().into_iter().map(Bsdf::RoughPlastic).collect();
+        assert_reciprocal_and_consistent(&cases, 1901);
     }
 
     /// (c, d) Energy: the mean sample weight equals the quadrature of f·cos within 5σ, and the
