@@ -8,11 +8,7 @@ Prints the Rust table: per case, per direction pair, f = eval/cos(theta_o) (Mits
 includes the cosine; Opticks's does not) per channel, and pdf. The cases' parameters are
 repeated in principled_tests.rs (`mitsuba_cases`), in the same order.
 """
-import math
-
-import mitsuba as mi
-
-mi.set_variant("scalar_rgb")
+from bsdf_values import print_table
 
 
 def rgb(r, g, b):
@@ -38,11 +34,6 @@ CASES = [
 ]
 
 
-def direction(theta_deg, phi_deg):
-    t, p = math.radians(theta_deg), math.radians(phi_deg)
-    return [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
-
-
 # (wi, wo) as (theta, phi) in degrees: near the mirror direction, off it, grazing, normal,
 # and along both tangent axes (anisotropy).
 PAIRS = [
@@ -60,28 +51,7 @@ PAIRS = [
 
 
 def main():
-    ctx = mi.BSDFContext()
-    print("//! Mitsuba 3's own `principled` values, pinned by `super::principled`'s tests: generated")
-    print("//! by tools/mitsuba/principled_values.py (Mitsuba %s). Per case, (wi θ, φ), (wo θ, φ) in" % mi.__version__)
-    print("//! degrees, f = eval/cos θ_o per channel, pdf.")
-    print("")
-    print("#[allow(clippy::excessive_precision, clippy::type_complexity)]")
-    print("pub(super) const MITSUBA: &[(&str, &[((f32, f32), (f32, f32), [f32; 3], f32)])] = &[")
-    for name, d in CASES:
-        bsdf = mi.load_dict(d)
-        print('    ("%s", &[' % name)
-        for (ti, pi), (to, po) in PAIRS:
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(direction(ti, pi))
-            wo = mi.Vector3f(direction(to, po))
-            value = bsdf.eval(ctx, si, wo)
-            pdf = bsdf.pdf(ctx, si, wo)
-            cos_o = wo[2]
-            f = [value[c] / cos_o for c in range(3)]
-            print("        ((%r, %r), (%r, %r), [%.8e, %.8e, %.8e], %.8e)," % (
-                float(ti), float(pi), float(to), float(po), f[0], f[1], f[2], float(pdf)))
-        print("    ]),")
-    print("];")
+    print_table("principled", CASES, PAIRS)
 
 
 if __name__ == "__main__":

@@ -7,11 +7,7 @@ Run (from the repository root):
 Prints the Rust table: per case, per direction pair, f = eval/cos(theta_o) (Mitsuba's eval
 includes the cosine; Opticks's does not) per channel, and pdf.
 """
-import math
-
-import mitsuba as mi
-
-mi.set_variant("scalar_rgb")
+from bsdf_values import print_table
 
 CASES = [
     # (name, dict): the first is every default.
@@ -25,11 +21,6 @@ CASES = [
                       "specular_reflectance": {"type": "rgb", "value": [0.7, 0.6, 0.5]},
                       "diffuse_reflectance": {"type": "rgb", "value": [0.3, 0.3, 0.3]}}),
 ]
-
-
-def direction(theta_deg, phi_deg):
-    t, p = math.radians(theta_deg), math.radians(phi_deg)
-    return [math.sin(t) * math.cos(p), math.sin(t) * math.sin(p), math.cos(t)]
 
 
 # (wi, wo) as (theta, phi) in degrees: near the mirror direction, off it, grazing, normal.
@@ -47,28 +38,7 @@ PAIRS = [
 
 
 def main():
-    ctx = mi.BSDFContext()
-    print("//! Mitsuba 3's own `roughplastic` values, pinned by `super::roughplastic`'s tests: generated")
-    print("//! by tools/mitsuba/roughplastic_values.py (Mitsuba %s). Per case, (wi θ, φ), (wo θ, φ) in" % mi.__version__)
-    print("//! degrees, f = eval/cos θ_o per channel, pdf.")
-    print("")
-    print("#[allow(clippy::excessive_precision, clippy::type_complexity)]")
-    print("pub(super) const MITSUBA: &[(&str, &[((f32, f32), (f32, f32), [f32; 3], f32)])] = &[")
-    for name, d in CASES:
-        bsdf = mi.load_dict(d)
-        print('    ("%s", &[' % name)
-        for (ti, pi), (to, po) in PAIRS:
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(direction(ti, pi))
-            wo = mi.Vector3f(direction(to, po))
-            value = bsdf.eval(ctx, si, wo)
-            pdf = bsdf.pdf(ctx, si, wo)
-            cos_o = wo[2]
-            f = [value[c] / cos_o for c in range(3)]
-            print("        ((%r, %r), (%r, %r), [%.8e, %.8e, %.8e], %.8e)," % (
-                float(ti), float(pi), float(to), float(po), f[0], f[1], f[2], float(pdf)))
-        print("    ]),")
-    print("];")
+    print_table("roughplastic", CASES, PAIRS)
 
 
 if __name__ == "__main__":
