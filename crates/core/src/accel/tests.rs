@@ -413,7 +413,7 @@ fn queries_that_outgrow_the_small_stack_answer_as_with_the_full_stack() {
     }
     fn overflows<const SMALL: usize>(accel: &Accel, ray: &Ray) -> bool {
         let mut t_max = ray.t_max;
-        accel.traverse_with::<true, true, SMALL>(&Query::new(ray), &mut t_max, |_, _, _, _| false).is_none()
+        accel.traverse_with::<true, true, SMALL>(&Query::new(ray), &mut t_max, &mut |_, _, _| false).is_none()
     }
     let mut rng = Rng::new(7);
     let mut overflowed = 0;
