@@ -30,6 +30,7 @@
 //! * [`count_text`]: counts as people write them (`4M`, `1e6`, `4,000,000`), exactly;
 //! * [`cluster_wire`]: the messages of a cluster (MPI) job as bytes — jobs, blocks, chunks.
 
+pub mod batch_pool;
 pub mod camera_path_file;
 pub mod cluster_wire;
 pub mod compare;

@@ -11,6 +11,7 @@
 //! ([`OpenError`]) so a front end can add its own way out (a flag to name the scene, a verb that
 //! fixes it); what the user should know but is no error comes back as warnings and notes.
 
+use crate::batch_pool::{BatchPool, PooledBatch};
 use crate::dataset_file::{DatasetError, DatasetReader};
 use crate::scene_formats::LoadOptions;
 use crate::scene_source::{self, SceneRef, SceneSourceError};
@@ -20,7 +21,6 @@ use opticks_core::dataset::{
 };
 use opticks_core::math::Rgb;
 use opticks_core::scene::{Scene, SceneDescription, SceneError};
-use opticks_core::sensor::OwnedBatch;
 use opticks_core::sensor::bidirectional::CacheChunk;
 use opticks_core::sensor::bidirectional::run::{self, Coverage, Run, RunEvent, RunPlan};
 use opticks_core::sensor::bidirectional::{RenderLights, Settings};
@@ -237,7 +237,13 @@ impl OpenedDataset {
     pub fn lit(self, scales: &[LightScale]) -> Result<LitDataset, OpenError> {
         let lighting = opticks_core::dataset::lighting(&self.reader.header().table, &self.scene, scales)?;
         let chunks = (0..self.reader.chunk_count()).collect();
-        Ok(LitDataset { opened: self, lighting, chunks, cache: OnceLock::new() })
+        Ok(LitDataset {
+            opened: self,
+            lighting,
+            chunks,
+            cache: OnceLock::new(),
+            buffers: BatchPool::default(),
+        })
     }
 }
 
@@ -265,6 +271,8 @@ pub struct LitDataset {
     chunks: Vec<usize>,
     /// The kept chunks in memory, once the bidirectional estimator has asked for them.
     cache: OnceLock<Vec<opticks_core::dataset::Chunk>>,
+    /// The buffers of batches read and done with, for the next reads.
+    buffers: BatchPool,
 }
 
 impl LitDataset {
@@ -305,9 +313,10 @@ impl LitDataset {
 
     /// Batch `i`: a chunk's samples, read from the file (each checked to name one of the
     /// scene's triangles), with their light's (relit) flux per path.
-    pub fn batch(&self, i: usize) -> Result<OwnedBatch, DatasetError> {
-        let c = self.reader().chunk(self.chunks[i])?;
-        Ok(OwnedBatch { flux_per_path: self.lighting.flux_per_path[c.light as usize], samples: c.samples })
+    pub fn batch(&self, i: usize) -> Result<PooledBatch<'_>, DatasetError> {
+        let mut samples = self.buffers.take();
+        let (light, _) = self.reader().read_chunk(self.chunks[i], &mut samples)?;
+        Ok(self.buffers.batch(self.lighting.flux_per_path[light as usize], samples))
     }
 
     /// The kept chunks as independent groups of paths (light, paths), in batch order: what a
@@ -547,7 +556,7 @@ impl LitDataset {
         &'s self,
         stop: &'s (impl Fn() -> bool + Sync),
         interrupted: fn() -> E,
-    ) -> impl Fn(usize) -> Result<OwnedBatch, E> + Sync + 's {
+    ) -> impl Fn(usize) -> Result<PooledBatch<'s>, E> + Sync + 's {
         move |i| {
             if stop() {
                 return Err(interrupted());
