@@ -1,27 +1,28 @@
 //! The Mitsuba 3 XML loader, element by element, through its public API
-//! ([`opticks_io::scene_formats::mitsuba::parse`]): transforms, the sensor, each BSDF, shapes and
-//! their normals, interior media, emitters, parameters, warnings, and the located errors of
-//! broken scenes. Scenes read from files (the reference scenes, OBJ meshes next to the XML) are
-//! in `scene_loading.rs`; the light extensions' physics in `crates/cli/tests/it/lights.rs`.
+//! ([`opticks_io::scene_formats::mitsuba::parse`]): transforms, each BSDF, shapes and their
+//! normals, interior media, parameters, warnings, and the located errors of broken scenes.
+//! Sensors and films are in `mitsuba_sensors.rs`, emitters in `mitsuba_emitters.rs`. Scenes read
+//! from files (the reference scenes, OBJ meshes next to the XML) are in `scene_loading.rs`; the
+//! light extensions' physics in `crates/cli/tests/it/lights.rs`.
 
 use opticks_core::bsdf::{Bsdf, RoughConductor, RoughDielectric, SmoothConductor, SmoothDielectric};
-use opticks_core::math::{Mat3, Rgb, Vec3};
+use opticks_core::math::{Rgb, Vec3};
 use opticks_core::sampling::microfacet::{Distribution, Microfacet};
-use opticks_core::scene::{CameraKind, EnvironmentRadiance, MeshDesc, Source};
-use opticks_io::scene_formats::mitsuba::{fov_to_x, parse};
+use opticks_core::scene::MeshDesc;
+use opticks_io::scene_formats::mitsuba::parse;
 use opticks_io::{LoadOptions, LoadedScene, SceneFileError};
 use std::path::Path;
 
-fn load_str(xml: &str) -> Result<LoadedScene, SceneFileError> {
+pub(crate) fn load_str(xml: &str) -> Result<LoadedScene, SceneFileError> {
     parse(xml, Path::new("dir/test.xml"), &LoadOptions::default())
 }
 
-fn scene(body: &str) -> LoadedScene {
+pub(crate) fn scene(body: &str) -> LoadedScene {
     let xml = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
     load_str(&xml).unwrap_or_else(|e| panic!("{e}\n{xml}"))
 }
 
-fn err(body: &str) -> String {
+pub(crate) fn err(body: &str) -> String {
     let xml = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
     match load_str(&xml) {
         Ok(_) => panic!("should fail:\n{xml}"),
@@ -37,12 +38,12 @@ fn rect(transform: &str) -> Vec<Vec3> {
     s.description.meshes[0].positions.clone()
 }
 
-fn close(a: Vec3, b: Vec3) -> bool {
+pub(crate) fn close(a: Vec3, b: Vec3) -> bool {
     (a - b).length() < 1e-5
 }
 
 #[track_caller]
-fn assert_close(a: Vec3, b: Vec3) {
+pub(crate) fn assert_close(a: Vec3, b: Vec3) {
     assert!(close(a, b), "{a} != {b}");
 }
 
@@ -103,172 +104,6 @@ fn canonical_shapes_face_the_right_way() {
         assert!(normal(&m[3], t).dot(mid) > 0.5, "cube triangle {t} faces inward");
         assert!(m[3].positions.iter().all(|p| (*p - centre).abs().max_element() == 1.0));
     }
-}
-
-#[test]
-fn fov_axis_conversions() {
-    let tan = |deg: f64| (deg.to_radians() / 2.0).tan();
-    let atan2x = |t: f64| 2.0 * t.atan().to_degrees();
-    // 200×100: aspect 2.
-    assert_eq!(fov_to_x(60.0, "x", 200, 100), Some(60.0));
-    let y = fov_to_x(60.0, "y", 200, 100).unwrap();
-    assert!((y - atan2x(2.0 * tan(60.0))).abs() < 1e-9 && (y - 98.2132).abs() < 1e-3);
-    assert_eq!(fov_to_x(60.0, "smaller", 200, 100), Some(y));
-    assert_eq!(fov_to_x(60.0, "larger", 200, 100), Some(60.0));
-    // Portrait: the smaller side is x.
-    assert_eq!(fov_to_x(60.0, "smaller", 100, 200), Some(60.0));
-    assert!((fov_to_x(60.0, "larger", 100, 200).unwrap() - atan2x(0.5 * tan(60.0))).abs() < 1e-9);
-    // Diagonal 90°: half-diagonal tangent 1 = hypot(tx, tx/2).
-    let d = fov_to_x(90.0, "diagonal", 200, 100).unwrap();
-    assert!((d - atan2x(1.0 / 1.25f64.sqrt())).abs() < 1e-9, "{d}");
-    assert_eq!(fov_to_x(60.0, "z", 1, 1), None);
-
-    let cam = |axis: &str| {
-        scene(&format!(
-                r#"<sensor type="perspective"><float name="fov" value="60"/><string name="fov_axis" value="{axis}"/>
-                   <film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/>
-                   <rfilter type="box"/></film></sensor>"#
-            ))
-            .description
-            .camera
-            .unwrap()
-    };
-    assert!((cam("Y").fov_x_degrees as f64 - y).abs() < 1e-4);
-    assert_eq!(cam("x").fov_x_degrees, 60.0);
-    assert_eq!((cam("x").width, cam("x").height), (200, 100));
-}
-
-#[test]
-fn sensor_frames_match_mitsuba() {
-    let cam = |t: &str| {
-        scene(&format!(
-            r#"<sensor type="perspective"><float name="fov" value="45"/>
-                   <transform name="to_world">{t}</transform></sensor>"#
-        ))
-        .description
-        .camera
-        .unwrap()
-    };
-    let c = cam(r#"<lookat origin="1, 2, 3" target="4, 6, 3" up="0, 0, 1"/>"#);
-    assert_close(c.eye, Vec3::new(1.0, 2.0, 3.0));
-    assert_close(c.target, Vec3::new(4.0, 6.0, 3.0));
-    assert_close(c.up, Vec3::Z);
-    assert_eq!((c.width, c.height), (768, 576)); // Mitsuba's default film
-    // lookat then a world translation: everything moves.
-    let c = cam(r#"<lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/><translate y="1"/>"#);
-    assert_close(c.eye, Vec3::new(0.0, 1.0, 5.0));
-    assert_close(c.target, Vec3::new(0.0, 1.0, 0.0));
-    // Rotating the default camera (looking down +z) by 180° about y = lookat down −z.
-    let c = cam(r#"<rotate y="1" angle="180"/><translate z="5"/>"#);
-    assert_close(c.eye, Vec3::new(0.0, 0.0, 5.0));
-    assert_close((c.target - c.eye).normalize(), -Vec3::Z);
-    assert_close(c.up, Vec3::Y);
-    // Image right = forward × up = +x, as Mitsuba's image right (−local x) is.
-    assert_close((c.target - c.eye).cross(c.up).normalize(), Vec3::X);
-
-    let e = err(r#"<sensor type="perspective"><float name="fov" value="45"/>
-               <transform name="to_world"><scale x="-1"/></transform></sensor>"#);
-    assert!(e.starts_with("dir/test.xml:3:16: <transform name=\"to_world\">:"), "{e}");
-    assert!(e.contains("mirror"), "{e}");
-    let s = scene(
-        r#"<sensor type="perspective"><float name="fov" value="45"/>
-               <transform name="to_world"><scale value="2"/></transform></sensor>"#,
-    );
-    assert!(s.warnings.iter().any(|w| w.contains("scale or shear")), "{:?}", s.warnings);
-}
-
-#[test]
-fn thinlens_reads_aperture_focus_and_the_perspective_parameters() {
-    let cam = |params: &str| {
-        scene(&format!(
-            r#"<sensor type="thinlens">{params}
-                   <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-                   <film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/>
-                   <rfilter type="box"/></film></sensor>"#
-        ))
-        .description
-        .camera
-        .unwrap()
-    };
-    let c = cam(r#"<float name="aperture_radius" value="0.2"/><float name="focus_distance" value="4.5"/>
-                   <float name="fov" value="30"/><string name="fov_axis" value="y"/>"#);
-    assert_eq!(c.kind, CameraKind::ThinLens { aperture_radius: 0.2, focus_distance: 4.5 });
-    assert!((c.fov_x_degrees as f64 - fov_to_x(30.0, "y", 200, 100).unwrap()).abs() < 1e-4);
-    assert_close(c.eye, Vec3::new(0.0, 0.0, 5.0));
-    assert_close(c.target, Vec3::ZERO);
-    // focus_distance defaults to far_clip (Mitsuba's), the field of view to 50 mm.
-    let c = cam(r#"<float name="aperture_radius" value="0.1"/><float name="far_clip" value="300"/>"#);
-    assert_eq!(c.kind, CameraKind::ThinLens { aperture_radius: 0.1, focus_distance: 300.0 });
-    let diag = 2.0 * (43.2666f64 / 100.0).atan().to_degrees();
-    assert!((c.fov_x_degrees as f64 - fov_to_x(diag, "diagonal", 200, 100).unwrap()).abs() < 1e-3);
-    let c = cam(r#"<float name="aperture_radius" value="0.1"/>"#);
-    assert_eq!(c.kind, CameraKind::ThinLens { aperture_radius: 0.1, focus_distance: 1e4 });
-    for (params, message) in [
-        ("", "needs `aperture_radius`"),
-        (r#"<float name="aperture_radius" value="-0.1"/>"#, "aperture_radius: lens radius -0.1"),
-        (
-            r#"<float name="aperture_radius" value="0.1"/><float name="focus_distance" value="0"/>"#,
-            "focus_distance: focus distance 0",
-        ),
-    ] {
-        let e = err(&format!(r#"<sensor type="thinlens">{params}</sensor>"#));
-        assert!(e.contains(message) && e.starts_with("dir/test.xml:"), "{e}");
-    }
-}
-
-#[test]
-fn orthographic_film_is_to_worlds_image_of_the_unit_square() {
-    let cam = |t: &str, extra: &str| {
-        scene(&format!(
-            r#"<sensor type="orthographic">{extra}<transform name="to_world">{t}</transform>
-                   <film type="hdrfilm"><integer name="width" value="200"/><integer name="height" value="100"/>
-                   <rfilter type="box"/></film></sensor>"#
-        ))
-        .description
-        .camera
-        .unwrap()
-    };
-    // Mitsuba's example: a lookat after a scale of the film to 20 × 20 world units (local x
-    // ∈ [-1, 1] → 20 units wide; local y ∈ [-1/aspect, 1/aspect] → 10 units high at 2:1).
-    let c = cam(r#"<scale x="10" y="10"/><lookat origin="1, 1, 1" target="1, 2, 1" up="0, 0, 1"/>"#, "");
-    assert_eq!(c.kind, CameraKind::Orthographic { half_width: 10.0, half_height: 5.0 });
-    // The film starts at the near plane (0.01 along the view), as Mitsuba's rays do.
-    assert_close(c.eye, Vec3::new(1.0, 1.01, 1.0));
-    assert_close((c.target - c.eye).normalize(), Vec3::Y);
-    assert_close(c.up, Vec3::Z);
-    // Image right = forward × up = +x: Mitsuba's (local +x is the image left).
-    assert_close((c.target - c.eye).cross(c.up).normalize(), Vec3::X);
-    let c = cam(
-        r#"<lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/>"#,
-        r#"<float name="near_clip" value="0.5"/>"#,
-    );
-    assert_eq!(c.kind, CameraKind::Orthographic { half_width: 1.0, half_height: 0.5 });
-    assert_close(c.eye, Vec3::new(0.0, 0.0, 4.5));
-    for (t, message) in [
-        (r#"<scale x="-1"/>"#, "mirrors space"),
-        (r#"<matrix value="1 0.5 0 0  0 1 0 0  0 0 1 0  0 0 0 1"/>"#, "perpendicular"),
-        (r#"<scale z="0"/>"#, "singular"),
-    ] {
-        let e = err(&format!(
-            r#"<sensor type="orthographic"><transform name="to_world">{t}</transform></sensor>"#
-        ));
-        assert!(e.contains(message) && e.contains("<transform name=\"to_world\">"), "{e}");
-    }
-    let e = err(r#"<sensor type="orthographic"><float name="near_clip" value="0"/></sensor>"#);
-    assert!(e.contains("near_clip 0 must be"), "{e}");
-}
-
-#[test]
-fn focal_length_default_is_50mm_diagonal() {
-    let c = scene(r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="box"/></film></sensor>"#)
-        .description
-        .camera
-        .unwrap();
-    let diag = 2.0 * (43.2666f64 / 100.0).atan().to_degrees();
-    let expect = fov_to_x(diag, "diagonal", 768, 576).unwrap();
-    assert!((c.fov_x_degrees as f64 - expect).abs() < 1e-3, "{}", c.fov_x_degrees);
-    // 4:3 film: the horizontal extent is 4/5 of the 43.27 mm diagonal of a 36×24 mm frame.
-    assert!((c.fov_x_degrees as f64 - 2.0 * (0.8 * 43.2666f64 / 100.0).atan().to_degrees()).abs() < 1e-3);
 }
 
 #[test]
@@ -771,138 +606,6 @@ fn impossible_specular_parameters_are_located() {
 }
 
 #[test]
-fn emitters() {
-    let s = scene(
-        r#"<emitter type="point"><point name="position" x="1" y="2" z="3"/><rgb name="intensity" value="4 5 6"/></emitter>
-               <emitter type="point" id="lamp">
-                 <transform name="to_world"><translate value="7, 8, 9"/></transform><float name="intensity" value="2"/>
-               </emitter>
-               <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>"#,
-    );
-    let p = &s.description.point_lights;
-    assert_eq!(
-        (p[0].name.as_str(), p[0].position, p[0].intensity),
-        ("point_0", Vec3::new(1.0, 2.0, 3.0), Vec3::new(4.0, 5.0, 6.0))
-    );
-    assert_eq!(
-        (p[1].name.as_str(), p[1].position, p[1].intensity),
-        ("lamp", Vec3::new(7.0, 8.0, 9.0), Rgb::splat(2.0))
-    );
-    assert_eq!(p[1].source, Source { file: "dir/test.xml".into(), line: 3 });
-    assert_eq!(s.description.meshes[0].emission.as_ref().map(|e| e.radiance), Some(Rgb::splat(3.0)));
-}
-
-/// `constant` and `envmap`: their parameters, defaults and names, the map read from the XML
-/// file's folder, and the lights they become.
-#[test]
-fn environment_emitters() {
-    let folder = opticks_io_test_folder("env");
-    let map = folder.join("map.exr");
-    // 3 × 2 texels, row-major from the top row.
-    let texels: Vec<f32> = (0..6).flat_map(|i| [i as f32, 0.5, 2.0]).collect();
-    opticks_io::image_file::write_image(&map, 3, 2, &texels, 0.0).unwrap();
-    let xml = r#"<scene version="3.0.0">
-        <emitter type="constant"><rgb name="radiance" value="0.5, 1, 2"/></emitter>
-        <emitter type="constant" id="grey"/>
-        <emitter type="envmap" id="sky">
-            <string name="filename" value="map.exr"/><float name="scale" value="3"/>
-            <boolean name="mis_compensation" value="true"/>
-            <transform name="to_world"><rotate y="1" angle="90"/><translate x="5"/></transform>
-        </emitter>
-        <emitter type="envmap"><string name="filename" value="map.exr"/></emitter>
-        <shape type="rectangle"/>
-    </scene>"#;
-    let s = parse(xml, &folder.join("scene.xml"), &LoadOptions::default()).unwrap();
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    let e = &s.description.environment_lights;
-    assert_eq!(e.len(), 4);
-    let names: Vec<&str> = e.iter().map(|l| l.name.as_str()).collect();
-    assert_eq!(names, ["constant_0", "grey", "sky", "envmap_3"]);
-    assert_eq!(e[0].radiance, EnvironmentRadiance::Constant(Rgb::new(0.5, 1.0, 2.0)));
-    assert_eq!(e[1].radiance, EnvironmentRadiance::Constant(Rgb::ONE));
-    assert_eq!(e[0].to_world, Mat3::IDENTITY);
-    assert_eq!(e[2].source.line, 4);
-    match &e[2].radiance {
-        EnvironmentRadiance::Map { width, height, texels, scale, file } => {
-            assert_eq!((*width, *height, *scale), (3, 2, 3.0));
-            assert_eq!(texels[4], Rgb::new(4.0, 0.5, 2.0));
-            assert!(file.as_ref().unwrap().ends_with("map.exr"));
-        }
-        other => panic!("{other:?}"),
-    }
-    // rotate y by 90°: the map's -z (u = 0) is the world's -x; the translation is ignored.
-    assert!((e[2].to_world * Vec3::NEG_Z - Vec3::NEG_X).length() < 1e-6, "{}", e[2].to_world);
-    assert!(matches!(&e[3].radiance, EnvironmentRadiance::Map { scale, .. } if *scale == 1.0));
-    let scene = opticks_core::scene::Scene::build(&s.description).unwrap();
-    assert_eq!(scene.lights.len(), 4);
-    assert!(scene.lights.iter().all(|l| matches!(l, opticks_core::light::Light::Environment(_))));
-}
-
-/// The errors of environment emitters, located at the element that gave the value.
-#[test]
-fn bad_environment_emitters_are_located() {
-    let folder = opticks_io_test_folder("bad-env");
-    let negative = folder.join("negative.exr");
-    opticks_io::image_file::write_image(&negative, 2, 1, &[1.0, 1.0, 1.0, 0.0, -2.0, 0.0], 0.0).unwrap();
-    let load = |body: &str| {
-        let xml = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
-        match parse(&xml, &folder.join("scene.xml"), &LoadOptions::default()) {
-            Ok(_) => panic!("should fail:\n{xml}"),
-            Err(e) => e.to_string(),
-        }
-    };
-    let cases: [(&str, &str); 9] = [
-        (
-            r#"<emitter type="envmap"/>"#,
-            "scene.xml:2:1: <emitter type=\"envmap\">: an envmap emitter needs a `filename`",
-        ),
-        (
-            r#"<emitter type="envmap"><string name="filename" value="missing.exr"/></emitter>"#,
-            "missing.exr: cannot read",
-        ),
-        (
-            r#"<emitter type="envmap"><string name="filename" value="negative.exr"/></emitter>"#,
-            "negative.exr: environment map: texel (1, 0) is [0.0, -2.0, 0.0]: texels must be finite and non-negative",
-        ),
-        (
-            r#"<emitter type="envmap"><string name="filename" value="negative.exr"/><float name="scale" value="-1"/></emitter>"#,
-            "scene.xml:2:70: <float name=\"scale\">: `scale` -1 must be finite and non-negative",
-        ),
-        (
-            r#"<emitter type="envmap"><string name="filename" value="x.exr"/><transform name="to_world"><scale value="2"/></transform></emitter>"#,
-            "the to_world of an environment must be a rotation",
-        ),
-        (
-            r#"<emitter type="envmap"><string name="filename" value="x.exr"/><transform name="to_world"><rotate y="1" z="1" angle="30"/></transform></emitter>"#,
-            "a <rotate> axis must have unit length",
-        ),
-        (
-            r#"<emitter type="constant"><rgb name="radiance" value="-1"/></emitter>"#,
-            "<rgb name=\"radiance\">: emission [-1.0, -1.0, -1.0] must be finite and non-negative",
-        ),
-        (
-            r#"<shape type="rectangle"><emitter type="envmap"><string name="filename" value="negative.exr"/></emitter></shape>"#,
-            "a envmap emitter lights the scene from infinity and cannot be nested inside a shape",
-        ),
-        (
-            r#"<emitter type="constant"><bsdf type="diffuse"/></emitter>"#,
-            "unsupported element inside a constant emitter",
-        ),
-    ];
-    for (body, want) in cases {
-        let e = load(body);
-        assert!(e.contains(want), "{body}:\n  got  {e}\n  want {want}");
-    }
-}
-
-/// A folder of its own for files a test writes.
-fn opticks_io_test_folder(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("opticks-mitsuba-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-#[test]
 fn ignored_features_are_warnings() {
     let s = scene(
         r#"<integrator type="path"><integer name="max_depth" value="5"/></integrator>
@@ -915,31 +618,6 @@ fn ignored_features_are_warnings() {
     assert!(w.contains("dir/test.xml:2:25: <integer name=\"max_depth\">: max_depth = 5 is ignored"), "{w}");
     assert!(w.contains("<film type=\"hdrfilm\">: no <rfilter>: Opticks uses the box filter"), "{w}");
     assert!(w.contains("<float name=\"bogus\">: parameter `bogus` is not supported"), "{w}");
-}
-
-/// Issue 12: the film's crop window and filter reach the camera (no warnings).
-#[test]
-fn crop_and_filters_are_read() {
-    let s = scene(
-        r#"<sensor type="perspective"><float name="fov" value="45"/>
-                 <film type="hdrfilm"><integer name="width" value="40"/><integer name="height" value="30"/>
-                   <integer name="crop_offset_x" value="2"/><integer name="crop_offset_y" value="3"/>
-                   <integer name="crop_width" value="10"/><integer name="crop_height" value="20"/>
-                   <rfilter type="gaussian"><float name="stddev" value="0.7"/></rfilter></film></sensor>
-               <shape type="rectangle"/>"#,
-    );
-    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    let c = s.description.camera.unwrap();
-    assert_eq!((c.width, c.height), (40, 30));
-    let crop = opticks_core::sensor::Crop { x: 2, y: 3, width: 10, height: 20 };
-    assert_eq!(c.film.crop, Some(crop));
-    assert_eq!(c.film.filter, opticks_core::sensor::Filter::Gaussian { stddev: 0.7 });
-    let tent = scene(
-        r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="tent"/></film></sensor>
-               <shape type="rectangle"/>"#,
-    );
-    let c = tent.description.camera.unwrap();
-    assert_eq!((c.film.crop, c.film.filter), (None, opticks_core::sensor::Filter::Tent { radius: 1.0 }));
 }
 
 #[test]
