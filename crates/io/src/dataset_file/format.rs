@@ -5,7 +5,7 @@ use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMA
 use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
 use opticks_core::dataset::{DatasetHeader, Directions, PassMis, Roulette, Selection, TraceInfo, TracePass};
 use opticks_core::dataset::{
-    Heuristic, LightRecord, LightTable, LightVertexMis, MAX_PATHS, MisRecord, Sample, VcmClass,
+    Heuristic, LightRecord, LightTable, MAX_PATHS, MisRecord, Sample, VcmClass,
 };
 use opticks_core::math::Rgb;
 use opticks_core::scene::{Fingerprint, ObjectHash, ObjectKind};
@@ -557,15 +557,17 @@ pub(crate) fn record_block_len(count: u64) -> Option<u64> {
     Some(raw.div_ceil(ALIGN as u64) * ALIGN as u64)
 }
 
-/// The record block of `records`: the records, zero padding, CRC-32 of everything before it.
-pub(crate) fn encode_record_block(records: &[MisRecord]) -> Vec<u8> {
+/// Appends the record block of `records` to `out`: the records, zero padding, CRC-32 of
+/// everything before it. Built where it goes (the writer's buffer), not in a block of its own
+/// copied there afterwards.
+pub(crate) fn append_record_block(records: &[MisRecord], out: &mut Vec<u8>) {
     let len = record_block_len(records.len() as u64).expect("an in-memory slice's length fits") as usize;
-    let mut b = Vec::with_capacity(len);
-    b.extend_from_slice(bytemuck::cast_slice(records));
-    b.resize(len - 4, 0);
-    let crc = crc32fast::hash(&b);
-    b.extend_from_slice(&crc.to_le_bytes());
-    b
+    let start = out.len();
+    out.reserve(len);
+    out.extend_from_slice(bytemuck::cast_slice(records));
+    out.resize(start + len - 4, 0);
+    let crc = crc32fast::hash(&out[start..]);
+    out.extend_from_slice(&crc.to_le_bytes());
 }
 
 /// The end record: 32 bytes.
@@ -666,8 +668,7 @@ pub(crate) fn validate_records(
         if !r.is_valid() {
             return Err(Invalid { index, fault: RecordFault::Quantity(*r) });
         }
-        // The class does not depend on the heuristic.
-        let hit = LightVertexMis::from_record(*r, Heuristic::Power).class() == VcmClass::Hit;
+        let hit = r.class() == VcmClass::Hit;
         if hit != s.is_emission() {
             let fault = if hit { RecordFault::HitOnReflection } else { RecordFault::EmissionWithoutHit };
             return Err(Invalid { index, fault });
