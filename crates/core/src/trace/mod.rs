@@ -179,10 +179,10 @@ fn walk<M: PathMis>(
         let depth = b.depth + 1;
         let wi = -b.dir;
         let mut resolved = None;
-        let material = scene.material_at(hit.prim, hit.position, &mut resolved);
+        let (material, normals) = scene.surface_at(hit.prim, hit.position, &mut resolved);
         // One shading frame for the vertex's queries: the side, each child's sample, its MIS
         // record's reverse density.
-        let point = material.at(scene.normals_at(hit.prim, hit.position));
+        let point = material.at(normals);
         let from = point.direction(wi);
         if !point.scatters_from(&from) {
             continue; // the back of a one-sided surface: black, absorbs everything
