@@ -247,7 +247,7 @@ impl<'m> ShadingPoint<'m> {
     }
 
     /// Samples a world direction given `wi` ([`Material::sample_world`]).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wi: &Direction, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         let flip = self.side(wi)?;
         let a = wi.oriented(flip);
