@@ -4,9 +4,7 @@ use super::error::{RecordFault, SampleFault};
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMAT_VERSION};
 use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
 use opticks_core::dataset::{DatasetHeader, Directions, PassMis, Roulette, Selection, TraceInfo, TracePass};
-use opticks_core::dataset::{
-    Heuristic, LightRecord, LightTable, MAX_PATHS, MisRecord, Sample, VcmClass,
-};
+use opticks_core::dataset::{Heuristic, LightRecord, LightTable, MAX_PATHS, MisRecord, Sample, VcmClass};
 use opticks_core::math::Rgb;
 use opticks_core::scene::{Fingerprint, ObjectHash, ObjectKind};
 use std::path::Path;
@@ -692,7 +690,11 @@ fn record_possible(s: &Sample, r: &MisRecord) -> bool {
     let [vcm, vc_hit, vc_nee, vc_conn]: [u32; 4] = bytemuck::cast(*r);
     let magnitude = |x: u32| (x & 0x7fff_ffff) <= INF;
     let plain = |x: u32| (x <= INF) | (x == 0x8000_0000);
-    magnitude(vcm) & magnitude(vc_hit) & plain(vc_nee) & plain(vc_conn) & ((vc_hit >> 31 != 0) == s.is_emission())
+    magnitude(vcm)
+        & magnitude(vc_hit)
+        & plain(vc_nee)
+        & plain(vc_conn)
+        & ((vc_hit >> 31 != 0) == s.is_emission())
 }
 
 #[cfg(test)]
@@ -706,7 +708,8 @@ mod tests {
     #[test]
     fn the_bitwise_record_check_is_the_field_check() {
         let values = [0.0f32, -0.0, 1.5, -1.5, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN];
-        let sample = |emission: bool| Sample { prim: if emission { 1 << 31 } else { 3 }, ..Default::default() };
+        let sample =
+            |emission: bool| Sample { prim: if emission { 1 << 31 } else { 3 }, ..Default::default() };
         for i in 0..values.len().pow(4) {
             let f = |k: u32| values[i / values.len().pow(k) % values.len()].to_bits();
             let r: MisRecord = bytemuck::cast([f(0), f(1), f(2), f(3)]);

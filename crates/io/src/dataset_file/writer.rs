@@ -2,7 +2,7 @@
 
 use super::DatasetError;
 use super::format::{
-    ChunkHeader, Invalid, Trailer, Unwritable, encode_header, append_record_block, validate_records,
+    ChunkHeader, Invalid, Trailer, Unwritable, append_record_block, encode_header, validate_records,
     validate_samples,
 };
 use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, MAX_PATHS, TraceInfo};
