@@ -40,7 +40,7 @@
 //! Where the shading normal equals the geometric one ([`SurfaceNormals::is_flat`]) none of this
 //! runs: results are bit-identical to a mesh without normals.
 
-use super::{BsdfSample, Material, TransportMode};
+use super::{Bsdf, BsdfSample, Material, TransportMode};
 use crate::geometry::SurfaceNormals;
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 
@@ -207,8 +207,13 @@ impl<'m> ShadingPoint<'m> {
         if !self.flat && !Self::agrees(wi.cos_g, wo.cos_g, a.z, b.z) {
             return 0.0;
         }
-        let bsdf = &self.material.bsdf;
-        if delta { bsdf.lobe_probability(a, b) } else { bsdf.pdf(a, b) }
+        match &self.material.bsdf {
+            // The most common surface answered here, inline: the dispatch of `Bsdf::pdf` is
+            // too large to inline into the tracer's and the sensors' vertex loops.
+            Bsdf::Lambert(l) if !delta => l.pdf(a, b),
+            bsdf if delta => bsdf.lobe_probability(a, b),
+            bsdf => bsdf.pdf(a, b),
+        }
     }
 
     /// [`ShadingPoint::pdf_of`] for the material's own kind of event ([`Material::pdf_world`]).
@@ -242,11 +247,14 @@ impl<'m> ShadingPoint<'m> {
     }
 
     /// Samples a world direction given `wi` ([`Material::sample_world`]).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wi: &Direction, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         let flip = self.side(wi)?;
         let a = wi.oriented(flip);
-        let s = self.material.bsdf.sample(a, u_lobe, u, mode)?;
+        let s = match &self.material.bsdf {
+            Bsdf::Lambert(l) => l.sample(a, u), // inline, as in `pdf_of`
+            bsdf => bsdf.sample(a, u_lobe, u, mode),
+        }?;
         self.finish(wi, flip, a, s, mode)
     }
 

@@ -54,6 +54,10 @@ pub struct Scene {
     masked: bool,
     /// Per material, its normal or bump map (Mitsuba's `normalmap`, `bumpmap`), if any.
     shading_map_of: Vec<Option<ShadingMap>>,
+    /// Per material, whether it is plain: no texture sets a parameter of its BSDF and no map
+    /// shapes its normals. [`Scene::surface_at`] answers such a material's flat triangles
+    /// without a call (the light tracer asks at every vertex).
+    plain: Vec<bool>,
     /// Whether any triangle's material is a thin pane: only then does
     /// [`Scene::shadow_transmittance`] look past the first hit (`super::panes`).
     pub(super) panes: bool,
@@ -121,11 +125,16 @@ impl Scene {
         let hashes = hashes::fingerprints(&desc.materials, &textures, &flat, &lights, &ranges);
         let accel = Accel::build(&flat.vertices);
         let opacity_of = textures::opacities(&textures);
+        let shading_map_of = textures::shading_maps(&textures);
+        let plain = (shading_map_of.iter().zip(&textures))
+            .map(|(map, t)| map.is_none() && t.iter().all(|b| !b.slot.is_bsdf_parameter()))
+            .collect();
         Ok(Scene {
             masked: opacity_of.iter().any(Option::is_some),
             panes: flat.material_of.iter().any(|&m| desc.materials[m as usize].bsdf.is_pane()),
             opacity_of,
-            shading_map_of: textures::shading_maps(&textures),
+            shading_map_of,
+            plain,
             normals: flat.triangles.iter().map(Triangle::normal).collect(),
             triangles: flat.triangles,
             shading_of: flat.shading_of,
@@ -242,7 +251,7 @@ impl Scene {
         let Bsdf::Lambert(l) = &material.bsdf else { return None };
         // The plain material with the geometric normal: what `material_at` and `normals_at`
         // give where no texture sets a parameter of the BSDF and none shapes the surface.
-        if self.shading_map_of[m].is_some() || self.textures[m].iter().any(|b| b.slot.is_bsdf_parameter()) {
+        if !self.plain[m] {
             return None;
         }
         Some((l.eval_lit(), material.two_sided))
@@ -252,6 +261,25 @@ impl Scene {
     #[inline]
     pub fn normal(&self, prim: u32) -> Vec3 {
         self.normals[prim as usize]
+    }
+
+    /// [`Scene::material_at`] and [`Scene::normals_at`] of the point `p` on triangle `prim` in
+    /// one query: inline for a flat triangle of a plain material (its material as is, its
+    /// geometric normal: what both give there), by those two calls otherwise.
+    #[inline]
+    pub fn surface_at<'s>(
+        &'s self,
+        prim: u32,
+        p: Vec3,
+        resolved: &'s mut Option<Material>,
+    ) -> (&'s Material, SurfaceNormals) {
+        let i = prim as usize;
+        let m = self.material_of[i] as usize;
+        if self.plain[m] && self.shading_of[i] == NO_SHADING {
+            return (&self.materials[m], SurfaceNormals::flat(self.normals[i]));
+        }
+        let n = self.normals_at(prim, p);
+        (self.material_at(prim, p, resolved), n)
     }
 
     /// The normals of triangle `prim` at the point `p` on it: the geometric normal and the

@@ -179,10 +179,10 @@ fn walk<M: PathMis>(
         let depth = b.depth + 1;
         let wi = -b.dir;
         let mut resolved = None;
-        let material = scene.material_at(hit.prim, hit.position, &mut resolved);
+        let (material, normals) = scene.surface_at(hit.prim, hit.position, &mut resolved);
         // One shading frame for the vertex's queries: the side, each child's sample, its MIS
         // record's reverse density.
-        let point = material.at(scene.normals_at(hit.prim, hit.position));
+        let point = material.at(normals);
         let from = point.direction(wi);
         if !point.scatters_from(&from) {
             continue; // the back of a one-sided surface: black, absorbs everything
@@ -201,7 +201,10 @@ fn walk<M: PathMis>(
             Selection::Priority if !delta => (b.beta.max_element() / PRIORITY_TARGET).clamp(1.0, MAX_SPLIT),
             _ => 1.0,
         };
-        let children = c.floor() as u32 + u32::from(rng.next_f32() < c.fract());
+        // c is in [1, MAX_SPLIT] (or NaN: no child either way), where its truncation is its
+        // floor: the same counts as c.floor() and c.fract(), without their libm calls.
+        let whole = c as u32;
+        let children = whole + u32::from(rng.next_f32() < c - whole as f32);
         for _ in 0..children {
             let (u_lobe, u) = (rng.next_f32(), rng.next_2d());
             // Importance mode: `wi` is where the light came from (no 1/η² on refraction, DESIGN §2).

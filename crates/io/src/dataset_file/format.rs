@@ -4,9 +4,7 @@ use super::error::{RecordFault, SampleFault};
 use super::{ALIGN, CHUNK_HEADER_LEN, CHUNK_MAGIC, DatasetError, END_MAGIC, FORMAT_VERSION};
 use super::{MAGIC, OLDEST_VERSION, TRAILER_LEN};
 use opticks_core::dataset::{DatasetHeader, Directions, PassMis, Roulette, Selection, TraceInfo, TracePass};
-use opticks_core::dataset::{
-    Heuristic, LightRecord, LightTable, LightVertexMis, MAX_PATHS, MisRecord, Sample, VcmClass,
-};
+use opticks_core::dataset::{Heuristic, LightRecord, LightTable, MAX_PATHS, MisRecord, Sample, VcmClass};
 use opticks_core::math::Rgb;
 use opticks_core::scene::{Fingerprint, ObjectHash, ObjectKind};
 use std::path::Path;
@@ -557,15 +555,17 @@ pub(crate) fn record_block_len(count: u64) -> Option<u64> {
     Some(raw.div_ceil(ALIGN as u64) * ALIGN as u64)
 }
 
-/// The record block of `records`: the records, zero padding, CRC-32 of everything before it.
-pub(crate) fn encode_record_block(records: &[MisRecord]) -> Vec<u8> {
+/// Appends the record block of `records` to `out`: the records, zero padding, CRC-32 of
+/// everything before it. Built where it goes (the writer's buffer), not in a block of its own
+/// copied there afterwards.
+pub(crate) fn append_record_block(records: &[MisRecord], out: &mut Vec<u8>) {
     let len = record_block_len(records.len() as u64).expect("an in-memory slice's length fits") as usize;
-    let mut b = Vec::with_capacity(len);
-    b.extend_from_slice(bytemuck::cast_slice(records));
-    b.resize(len - 4, 0);
-    let crc = crc32fast::hash(&b);
-    b.extend_from_slice(&crc.to_le_bytes());
-    b
+    let start = out.len();
+    out.reserve(len);
+    out.extend_from_slice(bytemuck::cast_slice(records));
+    out.resize(start + len - 4, 0);
+    let crc = crc32fast::hash(&out[start..]);
+    out.extend_from_slice(&crc.to_le_bytes());
 }
 
 /// The end record: 32 bytes.
@@ -662,12 +662,16 @@ pub(crate) fn validate_records(
     samples: &[Sample],
     records: &[MisRecord],
 ) -> Result<(), Invalid<RecordFault>> {
+    // As `validate_samples`: every pair checked first on the bits, without a branch; the first
+    // bad record looked for only if there is one.
+    if samples.iter().zip(records).fold(true, |ok, (s, r)| ok & record_possible(s, r)) {
+        return Ok(());
+    }
     for (index, (s, r)) in samples.iter().zip(records).enumerate() {
         if !r.is_valid() {
             return Err(Invalid { index, fault: RecordFault::Quantity(*r) });
         }
-        // The class does not depend on the heuristic.
-        let hit = LightVertexMis::from_record(*r, Heuristic::Power).class() == VcmClass::Hit;
+        let hit = r.class() == VcmClass::Hit;
         if hit != s.is_emission() {
             let fault = if hit { RecordFault::HitOnReflection } else { RecordFault::EmissionWithoutHit };
             return Err(Invalid { index, fault });
@@ -676,10 +680,47 @@ pub(crate) fn validate_records(
     Ok(())
 }
 
+/// [`MisRecord::is_valid`] and a class that agrees with the sample, on the bits: a field
+/// whose class bit is removed is ≥ 0 or +∞ unless it is a NaN (magnitude bits above +∞'s),
+/// the other two as a sample's β (`values_possible`), and the class is the emitter hit's
+/// exactly when `vc_hit`'s sign bit is set ([`MisRecord::class`]).
+#[inline(always)]
+fn record_possible(s: &Sample, r: &MisRecord) -> bool {
+    const INF: u32 = 0x7f80_0000;
+    let [vcm, vc_hit, vc_nee, vc_conn]: [u32; 4] = bytemuck::cast(*r);
+    let magnitude = |x: u32| (x & 0x7fff_ffff) <= INF;
+    let plain = |x: u32| (x <= INF) | (x == 0x8000_0000);
+    magnitude(vcm)
+        & magnitude(vc_hit)
+        & plain(vc_nee)
+        & plain(vc_conn)
+        & ((vc_hit >> 31 != 0) == s.is_emission())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use opticks_core::math::Vec3;
+
+    /// The writer's and reader's pass over the bits accepts exactly the records that
+    /// `MisRecord::is_valid` does with a class agreeing with their sample, for every mix of
+    /// zeros, numbers, infinities and NaNs of either sign.
+    #[test]
+    fn the_bitwise_record_check_is_the_field_check() {
+        let values = [0.0f32, -0.0, 1.5, -1.5, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, -f32::NAN];
+        let sample =
+            |emission: bool| Sample { prim: if emission { 1 << 31 } else { 3 }, ..Default::default() };
+        for i in 0..values.len().pow(4) {
+            let f = |k: u32| values[i / values.len().pow(k) % values.len()].to_bits();
+            let r: MisRecord = bytemuck::cast([f(0), f(1), f(2), f(3)]);
+            for emission in [false, true] {
+                let s = sample(emission);
+                let expected = r.is_valid() && (r.class() == VcmClass::Hit) == s.is_emission();
+                assert_eq!(record_possible(&s, &r), expected, "{r:?}, emission {emission}");
+                assert_eq!(validate_records(&[s], &[r]).is_ok(), expected, "{r:?}, emission {emission}");
+            }
+        }
+    }
 
     /// The branch-free pass over whole blocks finds every kind of impossible sample wherever it
     /// sits (the first of a block, the last, past the first block), and names the first one.

@@ -2,7 +2,7 @@
 
 use super::DatasetError;
 use super::format::{
-    ChunkHeader, Invalid, Trailer, Unwritable, encode_header, encode_record_block, validate_records,
+    ChunkHeader, Invalid, Trailer, Unwritable, append_record_block, encode_header, validate_records,
     validate_samples,
 };
 use opticks_core::dataset::{Chunk, DatasetHeader, LightTable, MAX_PATHS, TraceInfo};
@@ -212,7 +212,9 @@ impl DatasetWriter {
         self.write(&head.encode())?;
         self.write(payload)?;
         if records {
-            self.write(&encode_record_block(&chunk.records))?;
+            let start = self.buffer.len();
+            append_record_block(&chunk.records, &mut self.buffer);
+            self.written.bytes += (self.buffer.len() - start) as u64;
         }
         self.written.light_paths[chunk.light as usize] = sum;
         self.written.chunks += 1;

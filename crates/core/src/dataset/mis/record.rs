@@ -207,13 +207,7 @@ impl LightVertexMis {
     pub fn from_record(record: MisRecord, heuristic: Heuristic) -> Self {
         let h = heuristic;
         let power = |x: f32| h.mis(f32::from_bits(x.to_bits() & !SIGN) as f64);
-        let class = if record.vc_hit.is_sign_negative() {
-            HIT
-        } else if record.vcm.is_sign_negative() {
-            NEE
-        } else {
-            Subpath::<3>::CONN
-        };
+        let class = record.class_index();
         let vc = [power(record.vc_hit), power(record.vc_nee), power(record.vc_conn)];
         LightVertexMis(Subpath { vcm: power(record.vcm), vc, class, heuristic, infinite_segment: false })
     }
@@ -259,8 +253,29 @@ pub struct MisRecord {
 const _: () = assert!(std::mem::size_of::<MisRecord>() == 16);
 
 impl MisRecord {
+    /// The class of the record's `vcm` ([`LightVertexMis::class`] of the state it holds), read
+    /// from the sign bits alone: it does not depend on the heuristic, and a writer checking
+    /// every record of a chunk need not decode them.
+    #[inline]
+    pub fn class(&self) -> VcmClass {
+        [VcmClass::Hit, VcmClass::Nee, VcmClass::Conn][self.class_index()]
+    }
+
+    /// [`MisRecord::class`] as the index of `Subpath::vc`.
+    #[inline]
+    fn class_index(&self) -> usize {
+        if self.vc_hit.is_sign_negative() {
+            HIT
+        } else if self.vcm.is_sign_negative() {
+            NEE
+        } else {
+            Subpath::<3>::CONN
+        }
+    }
+
     /// Whether every field is a number ≥ 0 or +∞ once the class bits are removed (what a reader
     /// checks, as it checks a sample's β).
+    #[inline]
     pub fn is_valid(&self) -> bool {
         let magnitude = |x: f32| f32::from_bits(x.to_bits() & !SIGN);
         [magnitude(self.vcm), magnitude(self.vc_hit), self.vc_nee, self.vc_conn].iter().all(|x| *x >= 0.0)
