@@ -4,11 +4,19 @@ crates/core/src/bsdf/principled_tests.rs (test `matches_mitsuba_values`).
 Run (from the repository root):
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so /work/venv-mitsuba/bin/python \
         tools/mitsuba/principled_values.py > crates/core/src/bsdf/principled_mitsuba.rs && cargo fmt
-Prints the Rust table: per case, per direction pair, f = eval/cos(theta_o) (Mitsuba's eval
+Prints the Rust tables: per case, per direction pair, f = eval/|cos(theta_o)| (Mitsuba's eval
 includes the cosine; Opticks's does not) per channel, and pdf. The cases' parameters are
-repeated in principled_tests.rs (`mitsuba_cases`), in the same order.
+repeated in principled_tests.rs (`mitsuba_cases`, `mitsuba_trans_cases`), in the same order.
+
+The second table (`MITSUBA_TRANS`, spec_trans > 0) has directions on both sides (theta > 90
+is below the surface, inside the object) and Mitsuba's eval in both transport modes: in
+`Importance` mode eval(wi, wo) is the physical f(wi -> wo) of light arriving from wi (Opticks's
+eval(wi, wo)); in `Radiance` mode it is f(wo -> wi) (Opticks's eval(wo, wi)), which differs
+for refraction by Mitsuba's 1/eta^2 radiance scaling.
 """
-from bsdf_values import print_table
+import mitsuba as mi
+
+from bsdf_values import direction, print_table
 
 
 def rgb(r, g, b):
@@ -50,8 +58,70 @@ PAIRS = [
 ]
 
 
+# spec_trans > 0: the transmission lobe, two-sided.
+TRANS_CASES = [
+    ("trans_full_r02", {"type": "principled", "base_color": rgb(0.9, 0.8, 0.6), "spec_trans": 1.0,
+                        "roughness": 0.2}),
+    ("trans_03_r06", {"type": "principled", "base_color": rgb(0.2, 0.5, 0.9), "spec_trans": 0.3,
+                      "roughness": 0.6, "metallic": 0.2, "sheen": 0.5, "clearcoat": 0.5}),
+    ("trans_anisotropic", {"type": "principled", "base_color": rgb(0.7, 0.9, 0.5), "spec_trans": 1.0,
+                           "roughness": 0.6, "anisotropic": 0.7, "eta": 1.33, "spec_tint": 0.5}),
+    ("trans_03_r02_rates", {"type": "principled", "base_color": rgb(0.5, 0.5, 0.8), "spec_trans": 0.3,
+                            "roughness": 0.2, "diffuse_reflectance_sampling_rate": 0.5,
+                            "main_specular_sampling_rate": 2.0}),
+    ("trans_eta_below_one", {"type": "principled", "spec_trans": 0.7, "roughness": 0.4, "eta": 0.8}),
+    ("trans_specular_zero", {"type": "principled", "spec_trans": 1.0, "roughness": 0.2, "specular": 0.0}),
+]
+
+# theta > 90: below the surface. Front to back (refraction), back to front (refraction out and
+# total internal reflection for eta 1.5 beyond 41.8 degrees), back to back (internal reflection),
+# front to front.
+TRANS_PAIRS = [
+    ((0, 0), (180, 0)),
+    ((30, 0), (160, 180)),
+    ((45, 20), (150, 200)),
+    ((60, 0), (145, 175)),
+    ((80, 0), (110, 180)),
+    ((150, 0), (45, 180)),
+    ((160, 40), (25, 230)),
+    ((135, 90), (20, 270)),
+    ((140, 0), (140, 180)),
+    ((170, 30), (150, 200)),
+    ((30, 0), (30, 180)),
+    ((50, 0), (130, 0)),
+]
+
+
+def print_trans_table(cases, pairs):
+    imp = mi.BSDFContext(mi.TransportMode.Importance)
+    rad = mi.BSDFContext(mi.TransportMode.Radiance)
+    print("")
+    print("/// spec_trans > 0: per pair, f_importance = eval/|cos θ_o| in Importance mode,")
+    print("/// f_radiance the same in Radiance mode, per channel, and pdf.")
+    print("#[allow(clippy::excessive_precision, clippy::type_complexity)]")
+    print("pub(super) const MITSUBA_TRANS: &[(&str, &[((f32, f32), (f32, f32), [f32; 3], [f32; 3], f32)])] = &[")
+    for name, d in cases:
+        bsdf = mi.load_dict(d)
+        print('    ("%s", &[' % name)
+        for (ti, pi), (to, po) in pairs:
+            si = mi.SurfaceInteraction3f()
+            si.wi = mi.Vector3f(direction(ti, pi))
+            wo = mi.Vector3f(direction(to, po))
+            vi = bsdf.eval(imp, si, wo)
+            vr = bsdf.eval(rad, si, wo)
+            pdf = bsdf.pdf(imp, si, wo)
+            cos_o = abs(wo[2])
+            fi = [vi[c] / cos_o for c in range(3)]
+            fr = [vr[c] / cos_o for c in range(3)]
+            print("        ((%r, %r), (%r, %r), [%.8e, %.8e, %.8e], [%.8e, %.8e, %.8e], %.8e)," % (
+                float(ti), float(pi), float(to), float(po), fi[0], fi[1], fi[2], fr[0], fr[1], fr[2], float(pdf)))
+        print("    ]),")
+    print("];")
+
+
 def main():
     print_table("principled", CASES, PAIRS)
+    print_trans_table(TRANS_CASES, TRANS_PAIRS)
 
 
 if __name__ == "__main__":

@@ -574,3 +574,24 @@ fn principled_matches_mitsuba_path() {
 /// normal and bump maps (a lobe's formula wrong is the light estimator's 8×8 regions' to see:
 /// `mitsuba_scenes.rs`).
 const PRINCIPLED_TOL: (f64, f64) = (0.012, 0.06);
+
+/// The `principled` BSDF's transmission lobe (`testdata/mitsuba/principled_trans`: a glassy
+/// sphere and a half-transmitting one, the floor and wall seen through them) through the
+/// bidirectional estimator: camera paths sample the refraction in radiance mode (Mitsuba's
+/// 1/η²), light paths in importance mode, and MIS weighs both with the same `pdf`. As
+/// [`principled_matches_mitsuba_path`]; bounds [`PRINCIPLED_TRANS_TOL`].
+#[test]
+fn principled_transmission_matches_mitsuba_path() {
+    let name = "principled_trans";
+    let scene = load(dir(name).join("scene.xml"));
+    let reference = exr(dir(name).join("reference-path.exr"));
+    let seed = std::env::var("OPTICKS_TEST_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
+    let film = render(&scene, 200_000, 16, seed, &[]).to_rgb_f32();
+    check_regions(&format!("{name} (seed {seed})"), &film, &reference, (96, 72), PRINCIPLED_TRANS_TOL);
+}
+
+/// (mean, region) bounds of [`principled_transmission_matches_mitsuba_path`]. Measured over seeds
+/// 1–3: mean ratios within 0.25%, worst 4×4 region 2.0–2.5%, relMSE 1.89–2.09e-2 (Mitsuba `path`
+/// at 64 spp: 1.88e-2). Bounds as [`PRINCIPLED_TOL`]; camera paths that refract without
+/// Mitsuba's radiance-mode 1/η² put the image mean 2.1% and a region 18% off.
+const PRINCIPLED_TRANS_TOL: (f64, f64) = (0.012, 0.06);

@@ -93,6 +93,14 @@
 //! light estimator, 8 × 8 regions: a lobe's weight, a Fresnel blend or a texture's slot wrong,
 //! or sampling weights not adjoint-correct, moves the spheres' or the card's regions.
 //!
+//! `principled_trans` (96 × 72, 2²⁰ paths): the `principled` BSDF's transmission lobe — a
+//! glassy sphere (spec_trans 1) and a half-transmitting one (spec_trans 0.5, η 1.4), roughness
+//! 0.3, the floor and wall seen through them and their rough caustics on the floor — against a
+//! Mitsuba `path` reference, light estimator, 8 × 8 regions: the light tracer sees the spheres
+//! only through light paths refracted by them, so a transmission weight that is not the adjoint
+//! (Mitsuba's radiance-mode 1/η² kept in light paths), a missing √base_color or a wrong lobe
+//! probability moves the spheres' or the caustics' regions.
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 use opticks_testkit as common;
@@ -250,4 +258,9 @@ fn mitsuba_bumpmap_matches_mitsuba() {
 #[test]
 fn mitsuba_principled_matches_mitsuba() {
     check_path_reference("principled", "scene.xml", "reference-path", 1 << 20, 1);
+}
+
+#[test]
+fn mitsuba_principled_transmission_matches_mitsuba() {
+    check_path_reference("principled_trans", "scene.xml", "reference-path", 1 << 20, 1);
 }

@@ -84,14 +84,14 @@ pub struct BsdfSample {
 
 impl BsdfSample {
     /// The non-delta sample `wo` of a BSDF whose density there is `pdf` and whose f_r is
-    /// `f()`, weighted f_r·(cos θ_o / pdf); `None` where the density is not positive and finite
+    /// `f()`, weighted f_r·(|cos θ_o| / pdf); `None` where the density is not positive and finite
     /// or the weight not finite (what the mixture BSDFs, rough plastic and principled, share).
     #[inline]
     pub(crate) fn of_density(wo: Vec3, pdf: f32, f: impl FnOnce() -> Rgb) -> Option<BsdfSample> {
         if !(pdf > 0.0 && pdf.is_finite()) {
             return None;
         }
-        let weight = f() * (wo.z / pdf);
+        let weight = f() * (wo.z.abs() / pdf);
         weight.is_finite().then_some(BsdfSample { wo, weight, pdf, delta: false })
     }
 }
@@ -131,7 +131,8 @@ pub enum Bsdf {
     /// Thin dielectric sheet: delta reflection and straight delta transmission (oriented by
     /// nothing: the same on both faces).
     ThinDielectric(ThinDielectric),
-    /// Mitsuba's `principled` (Disney) BSDF, reflective lobes (`spec_trans` = 0).
+    /// Mitsuba's `principled` (Disney) BSDF: one-sided and reflective, or oriented and
+    /// transmitting with its `spec_trans` lobe.
     Principled(Principled),
 }
 
@@ -210,7 +211,7 @@ impl Bsdf {
             Bsdf::RoughPlastic(b) => b.sample(wi, u_lobe, u),
             Bsdf::Blend(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::ThinDielectric(b) => b.sample(wi, u_lobe),
-            Bsdf::Principled(b) => b.sample(wi, u_lobe, u),
+            Bsdf::Principled(b) => b.sample(wi, u_lobe, u, mode),
         }
     }
 
@@ -254,11 +255,15 @@ impl Bsdf {
         matches!(self, Bsdf::ThinDielectric(_))
     }
 
-    /// Whether light crosses the surface (dielectrics): such BSDFs are oriented and accept light
-    /// from both sides.
+    /// Whether light crosses the surface (dielectrics, and a principled BSDF with its
+    /// transmission lobe): such BSDFs are oriented and accept light from both sides.
     #[inline]
     pub fn transmits(&self) -> bool {
-        matches!(self, Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) | Bsdf::ThinDielectric(_))
+        match self {
+            Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) | Bsdf::ThinDielectric(_) => true,
+            Bsdf::Principled(b) => b.has_spec_trans,
+            _ => false,
+        }
     }
 
     /// The absorption coefficient σ_a (1/m) of the inside of a dielectric (zero for every other

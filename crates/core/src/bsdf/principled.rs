@@ -1,9 +1,12 @@
 //! Mitsuba 3's `principled` BSDF (Burley's Disney BSDF as Mitsuba implements it,
-//! src/bsdfs/principled.cpp and principledhelpers.h), reflective part: the artist's parameters
-//! of Mitsuba's plugin, with its defaults and its exact formulas, so that a scene written for
-//! Mitsuba renders the same here. Transmission (`spec_trans` > 0) is not implemented: the
-//! loader refuses it, and with `spec_trans` = 0 Mitsuba's BSDF is one-sided and reflective, as
-//! every reflection-only BSDF here (black from behind, zero below the surface).
+//! src/bsdfs/principled.cpp and principledhelpers.h): the artist's parameters of Mitsuba's
+//! plugin, with its defaults and its exact formulas, so that a scene written for Mitsuba renders
+//! the same here. Without its transmission lobe (`has_spec_trans` false: `spec_trans` absent or
+//! 0) Mitsuba's BSDF is one-sided and reflective, as every reflection-only BSDF here (black from
+//! behind, zero below the surface); the reflective lobes below are the front side's. With it,
+//! the BSDF is oriented like a dielectric (+z outside, −z inside, η = inside/outside) and
+//! scatters from both sides: see `principled_trans.rs` for the transmission lobe, the back
+//! side and the lobe probabilities.
 //!
 //! With h the half vector of wi and wo, c the base colour, m `metallic`, and Mitsuba's Schlick
 //! weight w(μ) = (1 − μ)⁵:
@@ -11,9 +14,9 @@
 //! ```text
 //! f = F_p(wi·h)·D(h)·G₁(wi)·G₁(wo) / (4 cos θ_i cos θ_o)       main specular, GGX (α_x, α_y)
 //!   + ¼·clearcoat·F_s(0.04, wi·h)·D_cc(h)·G_cc(wi)·G_cc(wo)      clearcoat (no 1/(4 cos cos): Mitsuba's)
-//!   + (1 − m)·c/π·lerp(f_d + f_r, f_ss, flatness)               diffuse, retro-reflection
+//!   + (1 − m)(1 − t)·c/π·lerp(f_d + f_r, f_ss, flatness)         diffuse, retro-reflection
 //!   + sheen·(1 − m)·w(h·wo)·lerp(1, c/lum(c), sheen_tint)        sheen
-//! f_d = (1 − w_i/2)(1 − w_o/2),  R_r = 2·roughness·(h·wo)²,  f_r = R_r(w_o + w_i + w_o w_i (R_r − 1))
+//! t = `spec_trans`,  f_d = (1 − w_i/2)(1 − w_o/2),  R_r = 2·roughness·(h·wo)²,  f_r = R_r(w_o + w_i + w_o w_i (R_r − 1))
 //! F_p = (1 − m)(1 − spec_tint)·F_dielectric(η) + m·F_s(c) + (1 − m)·spec_tint·F_s(c/lum(c)·R₀(η))
 //! ```
 //!
@@ -25,22 +28,24 @@
 //! lobe vanishes, metallic part included, where F_dielectric is 0 (η = 1: `specular` = 0), as in
 //! Mitsuba.
 //!
-//! Every term is symmetric in wi and wo, so f is reciprocal and the same in both transport
-//! modes (the adjoint is f itself).
+//! Every reflective term is symmetric in wi and wo, so reflection is reciprocal and the same in
+//! both transport modes (the adjoint is f itself); transmission is not (`principled_trans.rs`).
 //!
-//! Sampling as Mitsuba: a lobe by the probabilities diffuse (1 − m)·`diffuse_rate`, clearcoat
-//! ¼·clearcoat·`clearcoat_rate`, main specular `specular_rate` (normalised); the diffuse lobe
+//! Sampling as Mitsuba: a lobe by the probabilities diffuse (1 − m)(1 − t)·`diffuse_rate`,
+//! clearcoat ¼·clearcoat·`clearcoat_rate`, main specular `specular_rate` (normalised; with
+//! transmission the main specular share is split between reflection and refraction about the
+//! same sampled normal, `principled_trans.rs`); the diffuse lobe
 //! draws a cosine-weighted direction, the clearcoat reflects wi about a GTR1 normal of density
 //! D_cc·cos θ_h, the main lobe about a GGX normal visible from wi
 //! ([`Microfacet::sample_visible`]). `pdf` is the mixture and the weight f·cos θ_o/pdf.
 
-use super::{BsdfSample, MaterialError, check_unit_colour, fresnel};
+use super::{BsdfSample, MaterialError, TransportMode, check_unit_colour, fresnel};
 use crate::math::{Rgb, Vec2, Vec3, luminance};
 use crate::sampling::microfacet::{Distribution, Microfacet};
 use crate::sampling::warp;
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 
-/// Mitsuba 3's `principled` BSDF with `spec_trans` = 0 (see the module docs). The fields are
+/// Mitsuba 3's `principled` BSDF (see the module docs). The fields are
 /// Mitsuba's parameters; textures set them point by point
 /// (`crate::texture::set_principled`), so nothing is derived from them at construction.
 #[derive(Clone, Debug, PartialEq)]
@@ -73,6 +78,13 @@ pub struct Principled {
     pub specular_rate: f32,
     /// `clearcoat_sampling_rate` (≥ 0).
     pub clearcoat_rate: f32,
+    /// `spec_trans` t: the share of the non-metallic part that is the rough dielectric
+    /// (reflection and transmission) instead of the diffuse base, in [0, 1].
+    pub spec_trans: f32,
+    /// Whether the transmission lobe exists (Mitsuba's `m_has_spec_trans`: `spec_trans` given as
+    /// a texture or a non-zero float). If so the BSDF is oriented and scatters from both sides
+    /// ([`super::Bsdf::transmits`]), also where a texture makes t = 0.
+    pub has_spec_trans: bool,
 }
 
 impl Default for Principled {
@@ -94,6 +106,8 @@ impl Default for Principled {
             diffuse_rate: 1.0,
             specular_rate: 1.0,
             clearcoat_rate: 1.0,
+            spec_trans: 0.0,
+            has_spec_trans: false,
         }
     }
 }
@@ -215,7 +229,7 @@ impl Principled {
     }
 
     /// The parameters that must lie in [0, 1], by Mitsuba's names.
-    fn unit_parameters(&self) -> [(&'static str, f32); 9] {
+    fn unit_parameters(&self) -> [(&'static str, f32); 10] {
         [
             ("roughness", self.roughness),
             ("anisotropic", self.anisotropic),
@@ -226,6 +240,7 @@ impl Principled {
             ("clearcoat", self.clearcoat),
             ("clearcoat_gloss", self.clearcoat_gloss),
             ("flatness", self.flatness),
+            ("spec_trans", self.spec_trans),
         ]
     }
 
@@ -266,18 +281,31 @@ impl Principled {
     /// The lobes' sampling probabilities.
     #[inline]
     fn lobes(&self) -> Lobes {
-        let diffuse = (1.0 - self.metallic) * self.diffuse_rate;
+        let diffuse = self.brdf_weight() * self.diffuse_rate;
         let clearcoat = 0.25 * self.clearcoat * self.clearcoat_rate;
         let specular = self.specular_rate;
         let inv = 1.0 / (diffuse + clearcoat + specular);
         Lobes { diffuse: diffuse * inv, clearcoat: clearcoat * inv, specular: specular * inv }
     }
 
-    /// f(wi → wo) (module docs); zero unless both directions are above the surface.
+    /// The weight (1 − m)(1 − t) of the diffuse base (Mitsuba's `brdf`).
+    #[inline]
+    pub(super) fn brdf_weight(&self) -> f32 {
+        (1.0 - self.metallic) * (1.0 - self.spec_trans)
+    }
+
+    /// The weight (1 − m)·t of the rough dielectric lobe (Mitsuba's `bsdf`), 0 without it.
+    #[inline]
+    pub(super) fn bsdf_weight(&self) -> f32 {
+        if self.has_spec_trans { (1.0 - self.metallic) * self.spec_trans } else { 0.0 }
+    }
+
+    /// f(wi → wo), the physical BSDF for light arriving from `wi` (module docs); without
+    /// transmission zero unless both directions are above the surface.
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> Rgb {
         if !(wi.z > 0.0 && wo.z > 0.0) {
-            return Rgb::ZERO;
+            return if self.has_spec_trans { self.eval_two_sided(wi, wo) } else { Rgb::ZERO };
         }
         let Some(h) = (wi + wo).try_normalize() else { return Rgb::ZERO };
         let (cos_i, cos_o, cos_ih, cos_oh) = (wi.z, wo.z, wi.dot(h), wo.dot(h));
@@ -298,7 +326,7 @@ impl Principled {
             let g_cc = smith_ggx1(wi, h, 0.25) * smith_ggx1(wo, h, 0.25);
             f += Rgb::splat(0.25 * self.clearcoat * f_cc * d_cc * g_cc);
         }
-        let brdf = 1.0 - self.metallic;
+        let brdf = self.brdf_weight();
         if brdf > 0.0 {
             let (w_o, w_i) = (schlick_weight(cos_o), schlick_weight(cos_i));
             let diffuse = (1.0 - 0.5 * w_i) * (1.0 - 0.5 * w_o);
@@ -312,9 +340,11 @@ impl Principled {
                 lobe += (f_ss - lobe) * self.flatness;
             }
             f += self.base_color * (brdf * FRAC_1_PI * lobe);
+            // Sheen: weighted (1 − m), not reduced by spec_trans (Mitsuba's), but only with a
+            // diffuse base.
             if self.sheen > 0.0 {
                 let tint = Rgb::ONE + (self.colour_tint() - Rgb::ONE) * self.sheen_tint;
-                f += tint * (self.sheen * brdf * schlick_weight(cos_oh));
+                f += tint * (self.sheen * (1.0 - self.metallic) * schlick_weight(cos_oh));
             }
         }
         f
@@ -324,7 +354,7 @@ impl Principled {
     #[inline]
     pub fn pdf(&self, wi: Vec3, wo: Vec3) -> f32 {
         if !(wi.z > 0.0 && wo.z > 0.0) {
-            return 0.0;
+            return if self.has_spec_trans { self.pdf_two_sided(wi, wo) } else { 0.0 };
         }
         let lobes = self.lobes();
         let mut pdf = lobes.diffuse * warp::cosine_hemisphere_pdf(wo);
@@ -333,7 +363,8 @@ impl Principled {
             && wo.dot(h) > 0.0
         {
             let dh_dwo = 1.0 / (4.0 * wo.dot(h));
-            pdf += lobes.specular * self.microfacet().visible_pdf(wi, h) * dh_dwo;
+            let reflect = self.reflection_share(wi.dot(h));
+            pdf += lobes.specular * reflect * self.microfacet().visible_pdf(wi, h) * dh_dwo;
             if lobes.clearcoat > 0.0 {
                 pdf += lobes.clearcoat * Gtr1::new(self.clearcoat_gloss).pdf(h) * dh_dwo;
             }
@@ -341,25 +372,36 @@ impl Principled {
         pdf
     }
 
-    /// A direction of one lobe picked by `u_lobe` (diffuse, clearcoat, main specular, in
-    /// Mitsuba's order), drawn from `u`; weight f·cos θ_o/pdf with the mixture's pdf. `None`
-    /// from behind or when the reflected direction falls below the surface or behind its facet.
+    /// A direction of one lobe picked by `u_lobe` (diffuse, clearcoat, main specular
+    /// transmission, main specular reflection, in Mitsuba's order), drawn from `u`; weight
+    /// f·|cos θ_o|/pdf with the mixture's pdf, in `mode` (refraction differs, see
+    /// `principled_trans.rs`). `None` from behind without transmission or when the scattered
+    /// direction falls on the wrong side of the surface or of its facet.
     #[inline]
-    pub fn sample(&self, wi: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+    pub fn sample(&self, wi: Vec3, u_lobe: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         if !(wi.z > 0.0) {
-            return None;
+            return if self.has_spec_trans { self.sample_back(wi, u_lobe, u, mode) } else { None };
         }
         let lobes = self.lobes();
         let wo = if u_lobe < lobes.diffuse {
             warp::square_to_cosine_hemisphere(u)
         } else {
-            let m = if u_lobe < lobes.diffuse + lobes.clearcoat {
+            let cc = lobes.diffuse + lobes.clearcoat;
+            let m = if u_lobe < cc {
                 Gtr1::new(self.clearcoat_gloss).sample(u)
             } else {
-                self.microfacet().sample_visible(wi, u)
+                let m = self.microfacet().sample_visible(wi, u);
+                if self.has_spec_trans
+                    && u_lobe < cc + lobes.specular * (1.0 - self.reflection_share(wi.dot(m)))
+                {
+                    return self.refracted_sample(wi, m, mode);
+                }
+                m
             };
             let wo = 2.0 * wi.dot(m) * m - wi;
-            if !(wi.dot(m) > 0.0 && wo.dot(m) > 0.0) {
+            // A reflection must stay above the surface (with transmission, eval and pdf
+            // below it are the refraction's).
+            if !(wi.dot(m) > 0.0 && wo.dot(m) > 0.0 && wo.z > 0.0) {
                 return None;
             }
             wo
@@ -367,17 +409,21 @@ impl Principled {
         BsdfSample::of_density(wo, self.pdf(wi, wo), || self.eval(wi, wo))
     }
 
-    /// A bound of the directional albedo per channel (not tight: the sum of each lobe's
-    /// largest reflectance; Burley's diffuse with retro-reflection may exceed the base colour,
+    /// A bound of the directional albedo per channel in importance mode (not tight: the sum of
+    /// each lobe's largest reflectance or transmittance; Burley's diffuse with retro-reflection may exceed the base colour,
     /// by at most a factor 2 at grazing angles).
     pub fn max_albedo(&self) -> Rgb {
-        let brdf = 1.0 - self.metallic;
+        let brdf = self.brdf_weight();
         let specular = Rgb::ONE.max(self.colour_tint() * self.spec_tint);
         let diffuse = self.base_color * (2.0 * brdf);
-        let sheen = (Rgb::ONE.max(self.colour_tint())) * (self.sheen * brdf);
-        specular + diffuse + sheen + Rgb::splat(0.25 * self.clearcoat)
+        let sheen = (Rgb::ONE.max(self.colour_tint())) * (self.sheen * (1.0 - self.metallic));
+        let transmission = self.transmission_colour() * self.bsdf_weight();
+        specular + diffuse + sheen + transmission + Rgb::splat(0.25 * self.clearcoat)
     }
 }
+
+#[path = "principled_trans.rs"]
+mod trans;
 
 #[cfg(test)]
 #[path = "principled_tests.rs"]

@@ -1,10 +1,11 @@
 //! Tests of [`super::Principled`], apart from it so that the BSDF's file stays readable: its
 //! values against Mitsuba 3's own (the table of tools/mitsuba/principled_values.py), χ² of its
 //! sampling against its pdf, reciprocity, the sample weights' consistency and energy, and the
-//! parameter checks.
+//! parameter checks. The transmission lobe's (`spec_trans` > 0) are in `principled_trans_tests.rs`.
 
 use super::*;
 use crate::bsdf::Bsdf;
+use crate::bsdf::TransportMode;
 use crate::bsdf::chi2::{
     SphereGrid, assert_reciprocal_and_consistent, chi2_at_three_incidences, direction, directional_albedo,
     incident, mean_sample_weight, pilot,
@@ -141,11 +142,13 @@ fn furnace() {
         let mut rng = RandomStream::new(2102, &[k as u64]);
         for deg in [0.0, 45.0, 80.0] {
             let wi = incident(deg);
-            let dirs = pilot(|ul, u| b.sample(wi, ul, u).map(|s| (s.wo, s.pdf)), 20_000, 3);
+            let dirs =
+                pilot(|ul, u| b.sample(wi, ul, u, TransportMode::Radiance).map(|s| (s.wo, s.pdf)), 20_000, 3);
             let grid = SphereGrid::adapted(Vec3::Z, &dirs, 16, 16);
             let want = directional_albedo(&grid, |wo| b.eval(wi, wo));
-            let (mean, se) =
-                mean_sample_weight(200_000, || b.sample(wi, rng.next_f32(), rng.next_2d()).map(|s| s.weight));
+            let (mean, se) = mean_sample_weight(200_000, || {
+                b.sample(wi, rng.next_f32(), rng.next_2d(), TransportMode::Radiance).map(|s| s.weight)
+            });
             let bound = b.max_albedo();
             for c in 0..3 {
                 assert!(
@@ -188,3 +191,6 @@ fn parameters_are_validated() {
     );
     assert_eq!(bad(Principled { clearcoat_rate: -1.0, ..d }), Negative("clearcoat_sampling_rate"));
 }
+
+#[path = "principled_trans_tests.rs"]
+mod trans;

@@ -256,6 +256,8 @@ fn bsdf_v2(t: &mut Text, bsdf: &Bsdf) {
             diffuse_rate,
             specular_rate,
             clearcoat_rate,
+            spec_trans,
+            has_spec_trans,
         }) => {
             t.variant("Principled")
                 .rgb("base_color", *base_color)
@@ -272,6 +274,11 @@ fn bsdf_v2(t: &mut Text, bsdf: &Bsdf) {
                 .num("diffuse_rate", *diffuse_rate)
                 .num("specular_rate", *specular_rate)
                 .num("clearcoat_rate", *clearcoat_rate);
+            // Only with the transmission lobe, so that reflective principled materials keep
+            // the hashes they had before it existed.
+            if *has_spec_trans {
+                t.num("spec_trans", *spec_trans);
+            }
         }
         Bsdf::ThinDielectric(ThinDielectric { eta, specular_reflectance, specular_transmittance }) => {
             t.variant("ThinDielectric")

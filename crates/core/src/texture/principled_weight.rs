@@ -1,5 +1,5 @@
 //! [`PrincipledWeight`]: which float parameter of Mitsuba's `principled` BSDF a texture sets
-//! ([`super::ColourSlot::Principled`]). Its own file because the principled BSDF has nine such
+//! ([`super::ColourSlot::Principled`]). Its own file because the principled BSDF has ten such
 //! weights, each with its Mitsuba name and its field, which would crowd the texture module.
 
 use crate::bsdf::Principled;
@@ -25,11 +25,13 @@ pub enum PrincipledWeight {
     ClearcoatGloss,
     /// `flatness`.
     Flatness,
+    /// `spec_trans` (its texture also makes the BSDF transmit, [`Principled::has_spec_trans`]).
+    SpecTrans,
 }
 
 impl PrincipledWeight {
     /// Every weight, in Mitsuba's documentation's order.
-    pub const ALL: [PrincipledWeight; 9] = [
+    pub const ALL: [PrincipledWeight; 10] = [
         PrincipledWeight::Roughness,
         PrincipledWeight::Anisotropic,
         PrincipledWeight::Metallic,
@@ -39,6 +41,7 @@ impl PrincipledWeight {
         PrincipledWeight::Clearcoat,
         PrincipledWeight::ClearcoatGloss,
         PrincipledWeight::Flatness,
+        PrincipledWeight::SpecTrans,
     ];
 
     /// Mitsuba's name of the parameter.
@@ -53,6 +56,7 @@ impl PrincipledWeight {
             PrincipledWeight::Clearcoat => "clearcoat",
             PrincipledWeight::ClearcoatGloss => "clearcoat_gloss",
             PrincipledWeight::Flatness => "flatness",
+            PrincipledWeight::SpecTrans => "spec_trans",
         }
     }
 
@@ -68,6 +72,7 @@ impl PrincipledWeight {
             PrincipledWeight::Clearcoat => &mut p.clearcoat,
             PrincipledWeight::ClearcoatGloss => &mut p.clearcoat_gloss,
             PrincipledWeight::Flatness => &mut p.flatness,
+            PrincipledWeight::SpecTrans => &mut p.spec_trans,
         }
     }
 }

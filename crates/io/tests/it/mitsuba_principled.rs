@@ -1,7 +1,8 @@
 //! Mitsuba's `principled` BSDF through the loader: Mitsuba's defaults, every parameter read
-//! under its name (floats and textures, `eta` or `specular`), and the located errors of bad or
-//! unsupported input (`spec_trans` > 0 above all: refused, never ignored). The rendered result
-//! against Mitsuba is `crates/cli/tests/it/mitsuba_scenes.rs` (`principled`).
+//! under its name (floats and textures, `eta` or `specular`), the transmission lobe turned on
+//! as Mitsuba turns it on (`spec_trans` a texture or a non-zero float), and the located errors
+//! of bad or unsupported input. The rendered result against Mitsuba is
+//! `crates/cli/tests/it/mitsuba_scenes.rs` (`principled`, `principled_trans`).
 
 use opticks_core::bsdf::{Bsdf, Principled, eta_of_specular};
 use opticks_core::math::Rgb;
@@ -69,8 +70,10 @@ fn every_parameter_is_read_under_its_name() {
         diffuse_rate: 0.5,
         specular_rate: 2.0,
         clearcoat_rate: 3.0,
+        spec_trans: 0.0,
+        has_spec_trans: false,
     };
-    assert_eq!(p, want);
+    assert_eq!(p, want, "spec_trans 0 as a float: no transmission lobe (Mitsuba's get_flag)");
     assert_eq!(principled(&shape(r#"<float name="eta" value="1.33"/>"#)).eta, 1.33);
 }
 
@@ -84,7 +87,6 @@ fn textures_bind_each_weight_and_the_base_colour() {
     };
     let mut inner: String = PrincipledWeight::ALL.iter().map(|w| checker(w.name())).collect();
     inner.push_str(&checker("base_color"));
-    inner.push_str(&checker("spec_trans").replace("0.05", "0").replace("0.8", "0"));
     let light =
         r#"<shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#;
     let loaded = load(&format!("{}\n{light}", shape(&inner))).unwrap();
@@ -94,7 +96,7 @@ fn textures_bind_each_weight_and_the_base_colour() {
     let mut want: Vec<ColourSlot> = PrincipledWeight::ALL.map(ColourSlot::Principled).to_vec();
     want.push(ColourSlot::BaseColor);
     want.sort_by_key(|s| s.name());
-    assert_eq!(slots, want, "a spec_trans texture 0 everywhere binds nothing");
+    assert_eq!(slots, want);
     opticks_core::scene::Scene::build(d).unwrap();
     // A texture given by reference, too.
     let body =
@@ -103,14 +105,36 @@ fn textures_bind_each_weight_and_the_base_colour() {
     assert_eq!(loaded.description.textures[0].slot, ColourSlot::Principled(PrincipledWeight::Metallic));
 }
 
+/// `spec_trans` as Mitsuba reads it: a non-zero float or any texture (even one that is 0
+/// everywhere) turns the lobe on, which makes the BSDF transmit (oriented, two-sided) and
+/// raises η = 1 to 1.001 and `specular` 0 to 10⁻³; a float 0 leaves it off.
+#[test]
+fn spec_trans_turns_the_transmission_lobe_on() {
+    let p = principled(&shape(r#"<float name="spec_trans" value="0.4"/>"#));
+    assert_eq!((p.spec_trans, p.has_spec_trans), (0.4, true));
+    assert!(Bsdf::Principled(p).transmits());
+    let zero = r#"<texture type="checkerboard" name="spec_trans"><float name="color0" value="0"/>
+        <float name="color1" value="0"/></texture>"#;
+    let loaded = load(&shape(zero)).unwrap();
+    assert_eq!(loaded.description.textures[0].slot, ColourSlot::Principled(PrincipledWeight::SpecTrans));
+    let Bsdf::Principled(p) = &loaded.description.materials[0].bsdf else { panic!() };
+    assert!(p.has_spec_trans && p.spec_trans == 0.0);
+    let p = principled(&shape(r#"<float name="spec_trans" value="1"/><float name="eta" value="1"/>"#));
+    assert_eq!(p.eta, 1.001);
+    let p = principled(&shape(r#"<float name="spec_trans" value="1"/><float name="specular" value="0"/>"#));
+    assert_eq!(p.eta, eta_of_specular(1e-3));
+    let p = principled(&shape(r#"<float name="spec_trans" value="0"/><float name="eta" value="1"/>"#));
+    assert_eq!((p.eta, p.has_spec_trans), (1.0, false));
+}
+
 #[test]
 fn bad_and_unsupported_values_are_located_errors() {
-    let e = err(&shape(r#"<float name="spec_trans" value="0.4"/>"#));
-    assert!(e.contains("spec_trans > 0) is not supported yet") && e.contains("test.xml:3:"), "{e}");
+    let e = err(&shape("\n<float name=\"spec_trans\" value=\"1.5\"/>"));
+    assert!(e.contains("spec_trans = 1.5 is not in [0, 1]") && e.contains("test.xml:4:"), "{e}");
     let e = err(&shape(
-        r#"<texture type="checkerboard" name="spec_trans"><float name="color0" value="0.3"/></texture>"#,
+        r#"<texture type="checkerboard" name="spec_trans"><float name="color0" value="1.3"/></texture>"#,
     ));
-    assert!(e.contains("not supported yet") && e.contains("test.xml:3:"), "{e}");
+    assert!(e.contains("spec_trans must lie in [0, 1]") && e.contains("test.xml:3:"), "{e}");
     let e = err(&shape(r#"<float name="eta" value="1.4"/><float name="specular" value="0.3"/>"#));
     assert!(e.contains("either eta or specular") && e.contains("test.xml:3:"), "{e}");
     let e = err(&shape("\n<float name=\"metallic\" value=\"1.5\"/>"));

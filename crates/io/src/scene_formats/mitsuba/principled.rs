@@ -1,13 +1,16 @@
 //! `<bsdf type="principled">`: Mitsuba 3's principled (Disney) BSDF, read with Mitsuba's
 //! parameter names and defaults into the core's [`Principled`]. Its own file because the
-//! BSDF has a dozen parameters and rules of its own (`eta` or `specular`, never both; the
-//! transmission lobe the core does not have yet), which would crowd `super::bsdf`.
+//! BSDF has a dozen parameters and rules of its own (`eta` or `specular`, never both; what the
+//! transmission lobe changes), which would crowd `super::bsdf`.
 //!
 //! Every weight (`roughness`, `anisotropic`, `metallic`, `spec_tint`, `sheen`, `sheen_tint`,
-//! `clearcoat`, `clearcoat_gloss`, `flatness`) is a `<float>` or a texture (its `eval_1`, in
-//! [0, 1]) and `base_color` a colour or a texture, as Mitsuba's `get_texture` parameters;
-//! `eta`, `specular` and the three sampling rates are plain floats, as in Mitsuba.
-//! `spec_trans` > 0 (rough transmission) is refused at its element, not ignored.
+//! `clearcoat`, `clearcoat_gloss`, `flatness`, `spec_trans`) is a `<float>` or a texture (its
+//! `eval_1`, in [0, 1]) and `base_color` a colour or a texture, as Mitsuba's `get_texture`
+//! parameters; `eta`, `specular` and the three sampling rates are plain floats, as in Mitsuba.
+//! As in Mitsuba (`get_flag`), `spec_trans` given as a texture or a non-zero float turns the
+//! transmission lobe on ([`Principled::has_spec_trans`]): the BSDF is then oriented and
+//! two-sided like a dielectric, and η = 1 (`eta` 1 or `specular` 0) is raised to 1.001
+//! (`specular` 10⁻³).
 
 use super::Result;
 use super::bsdf::material_error;
@@ -18,7 +21,7 @@ use super::xml::Element;
 use opticks_core::bsdf::{Bsdf, Principled, eta_of_specular};
 use opticks_core::texture::{ColourSlot, PrincipledWeight};
 
-/// `principled` (module docs), one-sided as Mitsuba's.
+/// `principled` (module docs), one-sided as Mitsuba's unless it transmits.
 pub fn principled<'d>(
     b: &mut Builder<'d>,
     e: &'d Element,
@@ -34,20 +37,13 @@ pub fn principled<'d>(
         if let Some((v, node)) = unit_float(b, p, w.name(), ColourSlot::Principled(w))? {
             *w.field(&mut q) = v as f32;
             nodes.push((w.name(), node));
+            if w == PrincipledWeight::SpecTrans {
+                // Mitsuba's `get_flag`: a texture, or a float other than 0.
+                q.has_spec_trans = node.tag != "float" || v != 0.0;
+            }
         }
     }
-    // Transmission: only its absence (0, or a texture that is 0 everywhere) is supported. Read
-    // as a weight (a texture's largest value) and its binding dropped: it is never evaluated.
-    let before = b.bsdf_textures.len();
-    let spec_trans = unit_float(b, p, "spec_trans", ColourSlot::Principled(PrincipledWeight::Metallic))?;
-    b.bsdf_textures.truncate(before);
-    if let Some((v, node)) = spec_trans
-        && v != 0.0
-    {
-        return Err(node.err(format!(
-            "spec_trans = {v}: the principled BSDF's transmission (spec_trans > 0) is not supported yet"
-        )));
-    }
+    let spec_trans = q.has_spec_trans;
     let eta = p.float("eta")?;
     let specular = p.float("specular")?;
     q.eta = match (eta, specular) {
@@ -57,7 +53,7 @@ pub fn principled<'d>(
         (Some((v, node)), None) => {
             nodes.push(("eta", node));
             // Mitsuba raises η = 1 to 1.001 when the transmission lobe is present.
-            if v == 1.0 && spec_trans.is_some() { 1.001 } else { v as f32 }
+            if v == 1.0 && spec_trans { 1.001 } else { v as f32 }
         }
         (None, Some((s, node))) => {
             nodes.push(("eta", node));
@@ -65,7 +61,7 @@ pub fn principled<'d>(
                 return Err(node.err(format!("specular must lie in [0, 1], not {s}")));
             }
             // Mitsuba raises specular = 0 to 10⁻³ when the transmission lobe is present.
-            let s = if s == 0.0 && spec_trans.is_some() { 1e-3 } else { s as f32 };
+            let s = if s == 0.0 && spec_trans { 1e-3 } else { s as f32 };
             eta_of_specular(s)
         }
         (None, None) => q.eta,
