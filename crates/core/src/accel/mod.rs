@@ -60,7 +60,7 @@
 //! only where obvhs lost a hit: the seeded Cornell trace and render are byte-identical, while
 //! in `opticks bench`'s million paths 87 of ~4.6 M bounces, leaving a corner with the next hit
 //! nearer than 1e-4, used to escape the closed room. Triangles are stored in leaf order for
-//! cache locality, four to a packet tested in one SIMD pass ([`triangles`]: each lane computes
+//! cache locality, four to a packet tested in one SIMD pass (`triangles.rs`: each lane computes
 //! what the one-at-a-time test computes, bit for bit); `prims` maps lanes back to scene
 //! indices. The packets cut the Cornell trace's user time by 5–8 % (and `bunny-box`'s by
 //! 5–10 %), though callgrind counts 7 % more instructions in the ray queries: half-empty
