@@ -25,6 +25,14 @@ def print_table(kind, cases, pairs):
     print("")
     print("#[allow(clippy::excessive_precision, clippy::type_complexity)]")
     print("pub(super) const MITSUBA: &[(&str, &[((f32, f32), (f32, f32), [f32; 3], f32)])] = &[")
+    print_rows(cases, pairs, [ctx])
+    print("];")
+
+
+def print_rows(cases, pairs, contexts):
+    """The rows of each of `cases` (name, dict) at each of `pairs`: (wi theta, phi), (wo theta,
+    phi), then f = eval/|cos theta_o| per channel in each of `contexts` (transport modes), then
+    the pdf in the first context."""
     for name, d in cases:
         bsdf = mi.load_dict(d)
         print('    ("%s", &[' % name)
@@ -32,11 +40,12 @@ def print_table(kind, cases, pairs):
             si = mi.SurfaceInteraction3f()
             si.wi = mi.Vector3f(direction(ti, pi))
             wo = mi.Vector3f(direction(to, po))
-            value = bsdf.eval(ctx, si, wo)
-            pdf = bsdf.pdf(ctx, si, wo)
-            cos_o = wo[2]
-            f = [value[c] / cos_o for c in range(3)]
-            print("        ((%r, %r), (%r, %r), [%.8e, %.8e, %.8e], %.8e)," % (
-                float(ti), float(pi), float(to), float(po), f[0], f[1], f[2], float(pdf)))
+            cos_o = abs(wo[2])
+            fs = []
+            for ctx in contexts:
+                value = bsdf.eval(ctx, si, wo)
+                fs.append("[%.8e, %.8e, %.8e]" % tuple(value[c] / cos_o for c in range(3)))
+            pdf = bsdf.pdf(contexts[0], si, wo)
+            print("        ((%r, %r), (%r, %r), %s, %.8e)," % (
+                float(ti), float(pi), float(to), float(po), ", ".join(fs), float(pdf)))
         print("    ]),")
-    print("];")

@@ -16,7 +16,7 @@ for refraction by Mitsuba's 1/eta^2 radiance scaling.
 """
 import mitsuba as mi
 
-from bsdf_values import direction, print_table
+from bsdf_values import print_rows, print_table
 
 
 def rgb(r, g, b):
@@ -100,24 +100,8 @@ def print_trans_table(cases, pairs):
     print("/// f_radiance the same in Radiance mode, per channel, and pdf.")
     print("#[allow(clippy::excessive_precision, clippy::type_complexity)]")
     print("pub(super) const MITSUBA_TRANS: &[(&str, &[((f32, f32), (f32, f32), [f32; 3], [f32; 3], f32)])] = &[")
-    for name, d in cases:
-        bsdf = mi.load_dict(d)
-        print('    ("%s", &[' % name)
-        for (ti, pi), (to, po) in pairs:
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(direction(ti, pi))
-            wo = mi.Vector3f(direction(to, po))
-            vi = bsdf.eval(imp, si, wo)
-            vr = bsdf.eval(rad, si, wo)
-            pdf = bsdf.pdf(imp, si, wo)
-            cos_o = abs(wo[2])
-            fi = [vi[c] / cos_o for c in range(3)]
-            fr = [vr[c] / cos_o for c in range(3)]
-            print("        ((%r, %r), (%r, %r), [%.8e, %.8e, %.8e], [%.8e, %.8e, %.8e], %.8e)," % (
-                float(ti), float(pi), float(to), float(po), fi[0], fi[1], fi[2], fr[0], fr[1], fr[2], float(pdf)))
-        print("    ]),")
+    print_rows(cases, pairs, [imp, rad])
     print("];")
-
 
 def main():
     print_table("principled", CASES, PAIRS)
