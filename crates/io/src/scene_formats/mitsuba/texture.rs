@@ -105,11 +105,7 @@ pub fn opacity<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, at: &'d Element) -> R
 /// (its `eval_1`) nested in it or referred to, recorded as [`ColourSlot::Weight`] and returned
 /// as its largest value (what the blend is built with; the scene evaluates it at each hit).
 pub fn weight<'d>(b: &mut Builder<'d>, p: &mut Props<'d>) -> Result<Option<(f64, &'d Element)>> {
-    let Some(e) = p.take_object("weight") else { return p.float("weight") };
-    let texture = unit_texture(b, p, "weight", e)?;
-    let hi = texture.range_1().1;
-    b.bsdf_textures.push((ColourSlot::Weight, texture));
-    Ok(Some((hi as f64, e)))
+    unit_float(b, p, "weight", ColourSlot::Weight)
 }
 
 /// The float parameter `name` of the BSDF whose properties are `p`, a weight in [0, 1], if
