@@ -63,7 +63,8 @@ impl Scene {
             crossed += 1;
             let position = self.triangles[prim as usize].snap(ray.origin + t * ray.dir);
             let mut resolved = None;
-            let point = self.material_at(prim, position, &mut resolved).at(self.normals_at(prim, position));
+            let (material, normals) = self.surface_at(prim, position, &mut resolved);
+            let point = material.at(normals);
             through *= point.straight_through(&point.direction(ray.dir))?;
             if through == Rgb::ZERO {
                 return None;

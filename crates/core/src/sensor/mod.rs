@@ -365,7 +365,8 @@ fn shaded_f<const REVERSE: bool>(
     wc: Vec3,
 ) -> Option<(Rgb, f32)> {
     let mut resolved = None;
-    let p = scene.material_at(prim, x, &mut resolved).at(scene.normals_at(prim, x));
+    let (material, normals) = scene.surface_at(prim, x, &mut resolved);
+    let p = material.at(normals);
     let (from, toward) = (p.direction(from), p.direction(wc));
     let f = p.eval(&from, &toward);
     (f != Rgb::ZERO).then(|| (f, if REVERSE { p.pdf(&toward, &from) } else { 0.0 }))

@@ -90,15 +90,10 @@ pub(super) fn camera_path_rays(
             radiance += throughput * emitted * w;
         }
         let mut resolved = None;
-        let material = scene.material_at(hit.prim, hit.position, &mut resolved);
+        let (material, normals) = scene.surface_at(hit.prim, hit.position, &mut resolved);
         // One shading frame for every BSDF query at this vertex (NEE, the connections, their
         // weights, the next bounce and its MIS densities).
-        let r = Receiver::at(
-            hit.position,
-            material.at(scene.normals_at(hit.prim, hit.position)),
-            to_camera,
-            medium,
-        );
+        let r = Receiver::at(hit.position, material.at(normals), to_camera, medium);
         if !r.point.scatters_from(&r.to_camera) {
             break; // the back of a one-sided surface
         }

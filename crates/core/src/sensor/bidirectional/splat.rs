@@ -119,7 +119,7 @@ pub fn light_trace_weight(
         0.0 // y₀ has no predecessor
     } else {
         let mut resolved = None;
-        let (m, n) = (ctx.scene.material_at(prim, x, &mut resolved), ctx.scene.normals_at(prim, x));
+        let (m, n) = ctx.scene.surface_at(prim, x, &mut resolved);
         m.pdf_world(n, to_sensor, s.from_dir())
     };
     let cos = ctx.scene.normal(prim).dot(to_sensor).abs();

@@ -242,7 +242,8 @@ impl<'s> Link<'s> {
         resolved: &'s mut Option<Material>,
     ) -> Self {
         let (y, prim) = (v.sample.position(), v.sample.triangle());
-        let point = scene.material_at(prim, y, resolved).at(scene.normals_at(prim, y));
+        let (material, normals) = scene.surface_at(prim, y, resolved);
+        let point = material.at(normals);
         Link { d2, point, from: point.direction(v.sample.from_dir()), back: point.direction(-dir) }
     }
 }
