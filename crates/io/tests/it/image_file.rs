@@ -37,7 +37,7 @@ fn files_in(dir: &Path) -> Vec<String> {
 fn exr_round_trip_is_bit_exact() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("out.exr");
-    let (w, h) = (37, 23); // not a multiple of the 16-line ZIP block
+    let (w, h) = (37, 23); // odd sizes
     let rgb = pattern(w, h);
     write_image(&path, w, h, &rgb, 3.0).unwrap(); // exposure must not touch the EXR
     let (rw, rh, back) = read_exr_rgb(&path).unwrap();
@@ -46,6 +46,30 @@ fn exr_round_trip_is_bit_exact() {
     for (i, (a, b)) in rgb.iter().zip(&back).enumerate() {
         assert_eq!(a.to_bits(), b.to_bits(), "value {i}: wrote {a}, read {b}");
     }
+}
+
+#[test]
+fn exr_runs_round_trip_bit_exact_and_compress() {
+    // A mostly black render with a constant patch and a few noisy pixels: RLE's runs, its
+    // literal stretches and their boundaries, read back bit for bit; the file is smaller than
+    // the raw floats (RLE compression, not an uncompressed file).
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("runs.exr");
+    let (w, h) = (301, 67);
+    let mut rgb = vec![0.0f32; (w * h * 3) as usize];
+    for (i, v) in rgb.iter_mut().enumerate() {
+        let (x, y) = ((i / 3) as u32 % w, (i / 3) as u32 / w);
+        if (40..90).contains(&x) && (10..30).contains(&y) {
+            *v = 0.25;
+        } else if (x * 7 + y * 13) % 97 == 0 {
+            *v = 1.0 + i as f32 * 1e-3;
+        }
+    }
+    write_image(&path, w, h, &rgb, 0.0).unwrap();
+    let (_, _, back) = read_exr_rgb(&path).unwrap();
+    assert!(rgb.iter().zip(&back).all(|(a, b)| a.to_bits() == b.to_bits()));
+    let size = std::fs::metadata(&path).unwrap().len();
+    assert!(size < (rgb.len() * 4 / 4) as u64, "{size} bytes for {} raw", rgb.len() * 4);
 }
 
 #[test]
