@@ -365,7 +365,11 @@ fn write_exr_to(
         line_order: LineOrder::Increasing,
     };
     let layer = Layer::new((w, height as usize), LayerAttributes::default(), encoding, channels);
-    Image::from_layer(layer).write().non_parallel().to_buffered(file).map_err(|source| exr_error(path, source))
+    Image::from_layer(layer)
+        .write()
+        .non_parallel()
+        .to_buffered(file)
+        .map_err(|source| exr_error(path, source))
 }
 
 fn write_png_to(

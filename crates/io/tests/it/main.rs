@@ -6,9 +6,11 @@
 //! (`vrml_bomb_memory.rs`).
 
 mod dataset_file;
+mod dataset_file_contents;
 mod front_end;
 mod fuzz_regressions;
 mod gltf;
+mod gltf_textures;
 mod hostile_readers;
 mod image_file;
 mod mitsuba;
