@@ -44,7 +44,7 @@
 use crate::bsdf::TransportMode;
 #[cfg(doc)]
 use crate::dataset::LightVertexMis;
-use crate::dataset::{Block, Chunk, LightTable, MisRecord, Sample, block_order, plan_all, planned_table};
+use crate::dataset::{Chunk, LightTable, MisRecord, Sample, block_order, plan_all, planned_table};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
@@ -317,47 +317,28 @@ pub fn trace_plan_from<E>(
     let mut blocks = block_order(plan).skip(first_block);
     let mut traced = vec![0u64; plan.len()];
     let mut done = 0u64;
-    let trace_batch = |batch: &[Block]| -> Vec<Chunk> {
-        batch
-            .par_iter()
-            .map(|b| trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths))
-            .collect()
-    };
-    // A pipeline of two stages: while this thread hands batch i to the sink (which writes it:
-    // a third of a file trace's CPU time goes to copying the chunks into the file), the pool
-    // traces batch i + 1, so no core waits for the other stage. The sink still sees the
-    // chunks in block order, each batch complete, so the dataset is the same as a serial run's.
-    let mut pending: Vec<Chunk> = Vec::new();
+    let mut batch = Vec::with_capacity(BATCH_BLOCKS);
     loop {
-        // A stop ends the pipeline after what is already traced is handed over; no new batch
-        // starts.
-        let next: Vec<Block> = if stop() { Vec::new() } else { blocks.by_ref().take(BATCH_BLOCKS).collect() };
-        if next.is_empty() && pending.is_empty() {
+        if stop() {
             break;
         }
-        if pending.is_empty() {
-            // Nothing to overlap with (the first batch): trace it on this thread's pool.
-            pending = trace_batch(&next);
-            continue;
+        batch.clear();
+        batch.extend(blocks.by_ref().take(BATCH_BLOCKS));
+        if batch.is_empty() {
+            break;
         }
-        let mut traced_next: Vec<Chunk> = Vec::new();
-        let sunk = rayon::in_place_scope(|s| {
-            if !next.is_empty() {
-                s.spawn(|_| traced_next = trace_batch(&next));
+        let chunks: Vec<Chunk> = batch
+            .par_iter()
+            .map(|b| trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths))
+            .collect();
+        for c in chunks {
+            done += c.paths;
+            if let Some(i) = plan.iter().position(|p| p.table_index == c.light) {
+                traced[i] += c.paths;
             }
-            // The sink runs here, on the calling thread (it need not be `Send`).
-            for c in std::mem::take(&mut pending) {
-                done += c.paths;
-                if let Some(i) = plan.iter().position(|p| p.table_index == c.light) {
-                    traced[i] += c.paths;
-                }
-                sink(c)?;
-            }
-            progress(done);
-            Ok(())
-        });
-        sunk?;
-        pending = traced_next;
+            sink(c)?;
+        }
+        progress(done);
     }
     Ok(traced)
 }
