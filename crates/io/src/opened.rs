@@ -461,11 +461,15 @@ impl LitDataset {
             .map_err(|source| BidirectionalError::Mis { path: path(), source })?;
         let settings = Settings { connections, seed, heuristic: mis.heuristic, directions: mis.directions };
         let names = self.light_names();
-        let buffer = match coverage {
+        // Built once: it chooses the pixels that need camera paths (unless they all get them)
+        // and then serves the render's splats and first hits.
+        let buffer = camera.visibility(self.scene());
+        let needed = match coverage {
             Coverage::Everywhere => None,
-            Coverage::WhereNeeded | Coverage::Auto => camera.visibility(self.scene()),
+            Coverage::WhereNeeded | Coverage::Auto => {
+                buffer.as_ref().and_then(|b| cameras_needed(self.scene(), &camera, b))
+            }
         };
-        let needed = buffer.as_ref().and_then(|b| cameras_needed(self.scene(), &camera, b));
         let cameras = match (coverage, needed) {
             // No pixel needs camera paths: the light estimator's image first, which is also the
             // pilot's light half (kept as the render when the pilot chooses no camera paths).
@@ -522,6 +526,7 @@ impl LitDataset {
         run::render(
             self.scene(),
             camera,
+            buffer,
             chunks,
             &names,
             flux,

@@ -116,6 +116,24 @@ impl<'a> Renderer<'a> {
         settings: Settings,
         camera_paths: u64,
     ) -> Self {
+        let visibility = sensor.visibility(scene);
+        Self::with_visibility(scene, sensor, visibility, chunks, names, flux_per_path, settings, camera_paths)
+    }
+
+    /// [`Renderer::new`] with the sensor's visibility buffer already built
+    /// (`sensor.visibility(scene)`, which a caller choosing the pixels that need camera paths
+    /// has made anyway: building it again was a serial pass over every triangle).
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_visibility(
+        scene: &'a Scene,
+        sensor: Sensor,
+        visibility: Option<VisibilityBuffer>,
+        chunks: Vec<CacheChunk<'a>>,
+        names: &[&str],
+        flux_per_path: &[Rgb],
+        settings: Settings,
+        camera_paths: u64,
+    ) -> Self {
         let mut paths = vec![0u64; names.len()];
         for c in &chunks {
             if let Some(p) = paths.get_mut(c.light as usize) {
@@ -132,7 +150,7 @@ impl<'a> Renderer<'a> {
         };
         Renderer {
             scene,
-            visibility: sensor.visibility(scene),
+            visibility,
             sensor,
             cache,
             lights,

@@ -17,7 +17,7 @@ use super::{Allocation, CacheChunk, Progressive, Renderer, Settings};
 use crate::film::Film;
 use crate::math::Rgb;
 use crate::scene::Scene;
-use crate::sensor::Sensor;
+use crate::sensor::{Sensor, VisibilityBuffer};
 use std::time::Instant;
 
 /// How many camera paths a render takes.
@@ -95,13 +95,16 @@ impl Run {
 
 /// Renders the light vertex cache `chunks` (lights `names`, their flux per path
 /// `flux_per_path`) of `scene` through `camera` as `plan` says, camera paths in the pixels
-/// `cameras` marks (`None`: in every pixel; with none marked, the splat pass alone). Once `stop` returns true, the
+/// `cameras` marks (`None`: in every pixel; with none marked, the splat pass alone).
+/// `visibility` is the camera's visibility buffer, `camera.visibility(scene)`, built by the
+/// caller (who chose `cameras` with it). Once `stop` returns true, the
 /// passes completed make the image ([`Run::interrupted`]), or, before the first is complete,
 /// there is none (`None`).
 #[allow(clippy::too_many_arguments)]
 pub fn render(
     scene: &Scene,
     camera: Sensor,
+    visibility: Option<VisibilityBuffer>,
     chunks: Vec<CacheChunk<'_>>,
     names: &[&str],
     flux_per_path: &[Rgb],
@@ -112,7 +115,8 @@ pub fn render(
     stop: impl Fn() -> bool + Sync,
 ) -> Option<Run> {
     let (w, h) = (camera.width(), camera.height());
-    let mut renderer = Renderer::new(scene, camera, chunks, names, flux_per_path, settings, 1);
+    let mut renderer =
+        Renderer::with_visibility(scene, camera, visibility, chunks, names, flux_per_path, settings, 1);
     let spp = Allocation::where_needed(cameras, plan.spp);
     let per_pass = spp.total(w as usize * h as usize);
     let passes = match plan.deadline {
