@@ -315,7 +315,10 @@ mod tests {
         let exact = 4.0 * PI * (radius as f64).powi(2);
         assert!((a / exact - 1.0).abs() < 1e-5 && out, "{a} {exact}");
         let worst = |s: &Tessellation| {
-            directions().into_iter().map(|d| projected_area_error(s, radius as f64, d).abs()).fold(0.0, f64::max)
+            directions()
+                .into_iter()
+                .map(|d| projected_area_error(s, radius as f64, d).abs())
+                .fold(0.0, f64::max)
         };
         let w = worst(&s);
         assert!(w < 1e-3, "the light sphere's intensity is off by {:.3} % in some direction", 100.0 * w);

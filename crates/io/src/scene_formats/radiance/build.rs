@@ -607,11 +607,8 @@ impl Builder {
                 let emits = resolved.is_some_and(|i| {
                     matches!(self.modifiers[i], Modifier::Material { emission: Some(_), .. })
                 });
-                let grid = if emits {
-                    tessellate::LIGHT_SPHERE
-                } else {
-                    (tessellate::SEGMENTS, tessellate::RINGS)
-                };
+                let grid =
+                    if emits { tessellate::LIGHT_SPHERE } else { (tessellate::SEGMENTS, tessellate::RINGS) };
                 tessellate::sphere_grid(point(0).as_vec3(), radius as f32, grid)
             }
             "cone" | "cup" | "cylinder" | "tube" => {
