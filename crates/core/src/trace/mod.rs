@@ -44,7 +44,7 @@
 use crate::bsdf::TransportMode;
 #[cfg(doc)]
 use crate::dataset::LightVertexMis;
-use crate::dataset::{Chunk, LightTable, MisRecord, Sample, block_order, plan_all, planned_table};
+use crate::dataset::{Block, Chunk, LightTable, MisRecord, Sample, block_order, plan_all, planned_table};
 use crate::geometry::{Ray, offset_ray_origin};
 use crate::math::{Rgb, Vec3};
 use crate::sampling::RandomStream;
@@ -327,10 +327,16 @@ pub fn trace_plan_from<E>(
         if batch.is_empty() {
             break;
         }
-        let chunks: Vec<Chunk> = batch
-            .par_iter()
-            .map(|b| trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths))
-            .collect();
+        let block = |b: &Block| {
+            trace_block(scene, settings, b.light.scene_light, b.light.table_index, b.index, b.paths)
+        };
+        // A batch of one block (a plan of ≤ 4096 paths a light, one light) is traced on this
+        // thread: the same chunk (its stream is named by the block), without starting the pool's
+        // threads (~0.3 ms of a 3 ms trace of a small case).
+        let chunks: Vec<Chunk> = match batch.as_slice() {
+            [one] => vec![block(one)],
+            _ => batch.par_iter().map(block).collect(),
+        };
         for c in chunks {
             done += c.paths;
             if let Some(i) = plan.iter().position(|p| p.table_index == c.light) {

@@ -471,13 +471,31 @@ fn save_written(
 /// writer, and the write error that stopped it, if one did.
 type Overlapped = (Result<Vec<u64>, JobError>, DatasetWriter, Option<DatasetError>);
 
-/// Traces `new` with `tracer` while a writer thread appends the chunks.
+/// Traces `new` with `tracer` while a writer thread appends the chunks; a pass of one block
+/// (nothing to overlap) writes its chunk on this thread instead, without starting one.
 fn trace_overlapped(
     mut writer: DatasetWriter,
     new: &NewPaths<'_>,
     progress: &dyn JobProgress,
     tracer: &dyn PassTracer,
 ) -> Result<Overlapped, JobError> {
+    let blocks: u64 =
+        new.pass.lights.iter().map(|l| l.paths.div_ceil(opticks_core::dataset::BLOCK_PATHS)).sum();
+    if blocks.saturating_sub(new.pass.first_block as u64) <= 1 {
+        let mut failed = None;
+        let traced = tracer.trace_pass(
+            new.scene,
+            &new.pass,
+            &mut |c| {
+                writer.write_chunk(&c).map_err(|e| {
+                    failed = Some(e);
+                    JobError::WriterStopped
+                })
+            },
+            progress,
+        );
+        return Ok((traced, writer, failed));
+    }
     std::thread::scope(|s| {
         let (send, receive) = std::sync::mpsc::sync_channel::<Chunk>(128);
         let writing = s.spawn(move || -> (DatasetWriter, Option<DatasetError>) {
