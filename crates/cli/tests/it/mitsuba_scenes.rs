@@ -101,6 +101,13 @@
 //! (Mitsuba's radiance-mode 1/η² kept in light paths), a missing √base_color or a wrong lobe
 //! probability moves the spheres' or the caustics' regions.
 //!
+//! `principledthin` (96 × 72, 2²⁰ paths): Mitsuba's thin principled sheet — a leaf-like square
+//! lit from behind (diffuse transmission) and a sphere of glassy sheets (spec_trans 0.7, rough
+//! unbent transmission through both faces) — against a Mitsuba `path` reference, light
+//! estimator, 8 × 8 regions: the light tracer sees the leaf only through light transmitted by it,
+//! so a wrong transmission weight, lobe probability or one-way masking moves the leaf's or the
+//! sphere's regions.
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 use opticks_testkit as common;
@@ -263,4 +270,9 @@ fn mitsuba_principled_matches_mitsuba() {
 #[test]
 fn mitsuba_principled_transmission_matches_mitsuba() {
     check_path_reference("principled_trans", "scene.xml", "reference-path", 1 << 20, 1);
+}
+
+#[test]
+fn mitsuba_principledthin_matches_mitsuba() {
+    check_path_reference("principledthin", "scene.xml", "reference-path", 1 << 20, 1);
 }

@@ -46,6 +46,9 @@ mod plastic;
 mod principled;
 #[cfg(test)]
 mod principled_mitsuba;
+mod principledthin;
+#[cfg(test)]
+mod principledthin_mitsuba;
 mod roughplastic;
 #[cfg(test)]
 mod roughplastic_mitsuba;
@@ -59,6 +62,7 @@ pub use lambert::Lambert;
 pub use phong::ModifiedPhong;
 pub use plastic::Plastic;
 pub use principled::{Principled, eta_of_specular};
+pub use principledthin::PrincipledThin;
 pub use roughplastic::RoughPlastic;
 pub use thin::ThinDielectric;
 
@@ -134,6 +138,9 @@ pub enum Bsdf {
     /// Mitsuba's `principled` (Disney) BSDF: one-sided and reflective, or oriented and
     /// transmitting with its `spec_trans` lobe.
     Principled(Principled),
+    /// Mitsuba's `principledthin`: a thin sheet, the same from both faces, reflecting and
+    /// transmitting without refraction.
+    PrincipledThin(PrincipledThin),
 }
 
 impl Bsdf {
@@ -151,6 +158,7 @@ impl Bsdf {
             Bsdf::RoughPlastic(b) => b.eval(wi, wo),
             Bsdf::Blend(b) => b.eval(wi, wo),
             Bsdf::Principled(b) => b.eval(wi, wo),
+            Bsdf::PrincipledThin(b) => b.eval(wi, wo),
         }
     }
 
@@ -168,6 +176,7 @@ impl Bsdf {
             Bsdf::RoughPlastic(b) => b.pdf(wi, wo),
             Bsdf::Blend(b) => b.pdf(wi, wo),
             Bsdf::Principled(b) => b.pdf(wi, wo),
+            Bsdf::PrincipledThin(b) => b.pdf(wi, wo),
         }
     }
 
@@ -191,7 +200,8 @@ impl Bsdf {
             | Bsdf::RoughConductor(_)
             | Bsdf::RoughDielectric(_)
             | Bsdf::RoughPlastic(_)
-            | Bsdf::Principled(_) => 0.0,
+            | Bsdf::Principled(_)
+            | Bsdf::PrincipledThin(_) => 0.0,
         }
     }
 
@@ -212,6 +222,7 @@ impl Bsdf {
             Bsdf::Blend(b) => b.sample(wi, u_lobe, u, mode),
             Bsdf::ThinDielectric(b) => b.sample(wi, u_lobe),
             Bsdf::Principled(b) => b.sample(wi, u_lobe, u, mode),
+            Bsdf::PrincipledThin(b) => b.sample(wi, u_lobe, u, mode),
         }
     }
 
@@ -255,12 +266,16 @@ impl Bsdf {
         matches!(self, Bsdf::ThinDielectric(_))
     }
 
-    /// Whether light crosses the surface (dielectrics, and a principled BSDF with its
-    /// transmission lobe): such BSDFs are oriented and accept light from both sides.
+    /// Whether light crosses the surface (dielectrics, a principled BSDF with its transmission
+    /// lobe, and the thin principled sheet): such BSDFs are oriented and accept light from both
+    /// sides (the thin sheet turns every query to wi's face itself).
     #[inline]
     pub fn transmits(&self) -> bool {
         match self {
-            Bsdf::SmoothDielectric(_) | Bsdf::RoughDielectric(_) | Bsdf::ThinDielectric(_) => true,
+            Bsdf::SmoothDielectric(_)
+            | Bsdf::RoughDielectric(_)
+            | Bsdf::ThinDielectric(_)
+            | Bsdf::PrincipledThin(_) => true,
             Bsdf::Principled(b) => b.has_spec_trans,
             _ => false,
         }
@@ -293,6 +308,7 @@ impl Bsdf {
             Bsdf::Blend(b) => b.max_albedo(),
             Bsdf::ThinDielectric(b) => b.specular_reflectance.max(b.specular_transmittance),
             Bsdf::Principled(b) => b.max_albedo(),
+            Bsdf::PrincipledThin(b) => b.max_albedo(),
         }
     }
 }

@@ -119,7 +119,7 @@ pub fn eta_of_specular(specular: f32) -> f32 {
 
 /// Mitsuba's Schlick weight (1 − μ)⁵, μ clamped to [0, 1].
 #[inline]
-fn schlick_weight(mu: f32) -> f32 {
+pub(super) fn schlick_weight(mu: f32) -> f32 {
     let m = (1.0 - mu).clamp(0.0, 1.0);
     let m2 = m * m;
     m2 * m2 * m
@@ -137,6 +137,69 @@ fn schlick_factor(cos_i: f32, eta: f32) -> f32 {
         let cos_t2 = 1.0 - (1.0 - cos_i * cos_i) / (eta_it * eta_it);
         schlick_weight(cos_t2.max(0.0).sqrt())
     }
+}
+
+/// The GGX distribution of Mitsuba's principled BSDFs for `roughness` r and `anisotropic` a
+/// (Mitsuba's `calc_dist_params`): α_x = max(10⁻³, r²/s), α_y = max(10⁻³, r²·s), s = √(1 − 0.9a).
+#[inline]
+pub(super) fn ggx(roughness: f32, anisotropic: f32) -> Microfacet {
+    let r2 = roughness * roughness;
+    let aspect = (1.0 - 0.9 * anisotropic).sqrt();
+    Microfacet::anisotropic(Distribution::Ggx, (r2 / aspect).max(1e-3), (r2 * aspect).max(1e-3))
+}
+
+/// The base colour `c` normalised by its luminance (white if black): the tint of `spec_tint`
+/// and `sheen_tint`.
+#[inline]
+pub(super) fn colour_tint(c: Rgb) -> Rgb {
+    let lum = luminance(c);
+    if lum > 0.0 { c / lum } else { Rgb::ONE }
+}
+
+/// The main lobe's Fresnel term F_p (module docs) for light arriving at `cos_i` = wi·h ≥ 0 on
+/// a facet, given the dielectric reflectance `f_dielectric` there, relative index `eta`,
+/// `metallic` m, `spec_tint` and the base colour (Mitsuba's `principled_fresnel` from the front;
+/// with m = 0 its `thin_fresnel`, the lerp of F_dielectric towards the tinted Schlick term).
+#[inline]
+pub(super) fn tinted_fresnel(f_dielectric: f32, cos_i: f32, eta: f32, m: f32, tint: f32, base: Rgb) -> Rgb {
+    let w = schlick_factor(cos_i, eta);
+    let schlick = |r0: Rgb| r0 + (Rgb::ONE - r0) * w;
+    let mut f = Rgb::splat((1.0 - m) * (1.0 - tint) * f_dielectric);
+    if m > 0.0 {
+        f += m * schlick(base);
+    }
+    if tint > 0.0 {
+        let r0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
+        f += (1.0 - m) * tint * schlick(colour_tint(base) * r0);
+    }
+    f
+}
+
+/// Burley's diffuse lobe with retro-reflection, blended by `flatness` towards Hanrahan–Krueger's
+/// fake subsurface (module docs: lerp(f_d + f_r, f_ss, flatness), times c/π by the caller), for
+/// the cosines of wi and wo with the normal and `cos_oh` = wo·h.
+#[inline]
+pub(super) fn burley_diffuse(roughness: f32, flatness: f32, cos_i: f32, cos_o: f32, cos_oh: f32) -> f32 {
+    let (w_o, w_i) = (schlick_weight(cos_o), schlick_weight(cos_i));
+    let diffuse = (1.0 - 0.5 * w_i) * (1.0 - 0.5 * w_o);
+    let rr = 2.0 * roughness * cos_oh * cos_oh;
+    let retro = rr * (w_o + w_i + w_o * w_i * (rr - 1.0));
+    let mut lobe = diffuse + retro;
+    if flatness > 0.0 {
+        let ss90 = 0.5 * rr;
+        let ss = (1.0 + (ss90 - 1.0) * w_o) * (1.0 + (ss90 - 1.0) * w_i);
+        let f_ss = 1.25 * (ss * (1.0 / (cos_o + cos_i) - 0.5) + 0.5);
+        lobe += (f_ss - lobe) * flatness;
+    }
+    lobe
+}
+
+/// The sheen lobe sheen·w(h·wo)·lerp(1, c/lum(c), sheen_tint), before the weight of the base it
+/// rides on.
+#[inline]
+pub(super) fn sheen(base: Rgb, sheen: f32, sheen_tint: f32, cos_oh: f32) -> Rgb {
+    let tint = Rgb::ONE + (colour_tint(base) - Rgb::ONE) * sheen_tint;
+    tint * (sheen * schlick_weight(cos_oh))
 }
 
 /// Burley's GTR1 normal distribution of roughness α (the clearcoat's), Mitsuba's
@@ -247,35 +310,21 @@ impl Principled {
     /// The main lobe's GGX distribution (Mitsuba's `calc_dist_params`).
     #[inline]
     pub fn microfacet(&self) -> Microfacet {
-        let r2 = self.roughness * self.roughness;
-        let aspect = (1.0 - 0.9 * self.anisotropic).sqrt();
-        Microfacet::anisotropic(Distribution::Ggx, (r2 / aspect).max(1e-3), (r2 * aspect).max(1e-3))
+        ggx(self.roughness, self.anisotropic)
     }
 
     /// The main lobe's Fresnel term F_p (module docs) for light arriving at `cos_i` = wi·h ≥ 0
     /// on a facet, given the dielectric reflectance `f_dielectric` there.
     #[inline]
     fn fresnel(&self, f_dielectric: f32, cos_i: f32) -> Rgb {
-        let (m, tint) = (self.metallic, self.spec_tint);
-        let w = schlick_factor(cos_i, self.eta);
-        let schlick = |r0: Rgb| r0 + (Rgb::ONE - r0) * w;
-        let mut f = Rgb::splat((1.0 - m) * (1.0 - tint) * f_dielectric);
-        if m > 0.0 {
-            f += m * schlick(self.base_color);
-        }
-        if tint > 0.0 {
-            let r0 = ((self.eta - 1.0) / (self.eta + 1.0)).powi(2);
-            f += (1.0 - m) * tint * schlick(self.colour_tint() * r0);
-        }
-        f
+        tinted_fresnel(f_dielectric, cos_i, self.eta, self.metallic, self.spec_tint, self.base_color)
     }
 
     /// The base colour normalised by its luminance (white if black): the tint of `spec_tint`
     /// and `sheen_tint`.
     #[inline]
     fn colour_tint(&self) -> Rgb {
-        let lum = luminance(self.base_color);
-        if lum > 0.0 { self.base_color / lum } else { Rgb::ONE }
+        colour_tint(self.base_color)
     }
 
     /// The lobes' sampling probabilities.
@@ -328,23 +377,13 @@ impl Principled {
         }
         let brdf = self.brdf_weight();
         if brdf > 0.0 {
-            let (w_o, w_i) = (schlick_weight(cos_o), schlick_weight(cos_i));
-            let diffuse = (1.0 - 0.5 * w_i) * (1.0 - 0.5 * w_o);
-            let rr = 2.0 * self.roughness * cos_oh * cos_oh;
-            let retro = rr * (w_o + w_i + w_o * w_i * (rr - 1.0));
-            let mut lobe = diffuse + retro;
-            if self.flatness > 0.0 {
-                let ss90 = 0.5 * rr;
-                let ss = (1.0 + (ss90 - 1.0) * w_o) * (1.0 + (ss90 - 1.0) * w_i);
-                let f_ss = 1.25 * (ss * (1.0 / (cos_o + cos_i) - 0.5) + 0.5);
-                lobe += (f_ss - lobe) * self.flatness;
-            }
+            let lobe = burley_diffuse(self.roughness, self.flatness, cos_i, cos_o, cos_oh);
             f += self.base_color * (brdf * FRAC_1_PI * lobe);
             // Sheen: weighted (1 − m), not reduced by spec_trans (Mitsuba's), but only with a
             // diffuse base.
             if self.sheen > 0.0 {
-                let tint = Rgb::ONE + (self.colour_tint() - Rgb::ONE) * self.sheen_tint;
-                f += tint * (self.sheen * (1.0 - self.metallic) * schlick_weight(cos_oh));
+                let sheen = sheen(self.base_color, self.sheen, self.sheen_tint, cos_oh);
+                f += sheen * (1.0 - self.metallic);
             }
         }
         f

@@ -94,8 +94,8 @@
 //! field, so adding a field to a BSDF does not compile until its encoding is decided here.
 
 use crate::bsdf::{
-    Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, Principled, RoughConductor, RoughDielectric,
-    RoughPlastic, SmoothConductor, SmoothDielectric, ThinDielectric,
+    Blend, Bsdf, Lambert, Material, ModifiedPhong, Plastic, Principled, PrincipledThin, RoughConductor,
+    RoughDielectric, RoughPlastic, SmoothConductor, SmoothDielectric, ThinDielectric,
 };
 use crate::geometry::Triangle;
 use crate::light::{BuiltProfile, EnvRadiance, Light};
@@ -279,6 +279,38 @@ fn bsdf_v2(t: &mut Text, bsdf: &Bsdf) {
             if *has_spec_trans {
                 t.num("spec_trans", *spec_trans);
             }
+        }
+        Bsdf::PrincipledThin(PrincipledThin {
+            base_color,
+            roughness,
+            anisotropic,
+            spec_trans,
+            eta,
+            spec_tint,
+            sheen,
+            sheen_tint,
+            flatness,
+            diff_trans,
+            spec_reflect_rate,
+            spec_trans_rate,
+            diffuse_reflect_rate,
+            diffuse_trans_rate,
+        }) => {
+            t.variant("PrincipledThin")
+                .rgb("base_color", *base_color)
+                .num("roughness", *roughness)
+                .num("anisotropic", *anisotropic)
+                .num("spec_trans", *spec_trans)
+                .num("eta", *eta)
+                .num("spec_tint", *spec_tint)
+                .num("sheen", *sheen)
+                .num("sheen_tint", *sheen_tint)
+                .num("flatness", *flatness)
+                .num("diff_trans", *diff_trans)
+                .num("spec_reflect_rate", *spec_reflect_rate)
+                .num("spec_trans_rate", *spec_trans_rate)
+                .num("diffuse_reflect_rate", *diffuse_reflect_rate)
+                .num("diffuse_trans_rate", *diffuse_trans_rate);
         }
         Bsdf::ThinDielectric(ThinDielectric { eta, specular_reflectance, specular_transmittance }) => {
             t.variant("ThinDielectric")

@@ -120,14 +120,17 @@ pub(super) fn bind(
                 return Err(bad(m.name.clone(), "this material is not a blend".into()));
             }
         } else if let ColourSlot::Principled(w) = b.slot {
-            if !(lo.x >= 0.0 && hi.x <= 1.0) {
+            if !(lo.x >= 0.0 && hi.x <= w.max()) {
                 return Err(bad(
                     m.name.clone(),
-                    format!("the texture's values {}..{} are not in [0, 1]", lo.x, hi.x),
+                    format!("the texture's values {}..{} are not in [0, {}]", lo.x, hi.x, w.max()),
                 ));
             }
             if !set_principled(&mut m.bsdf.clone(), w, hi.x) {
-                return Err(bad(m.name.clone(), "this material is not a principled BSDF".into()));
+                return Err(bad(
+                    m.name.clone(),
+                    format!("this material is not a principled BSDF with a {} parameter", w.name()),
+                ));
             }
         } else if b.slot.is_colour() {
             if lo.min_element() < 0.0 {
@@ -285,7 +288,7 @@ pub(super) fn resolve(
         } else if b.slot == ColourSlot::Weight {
             set_weight(&mut bsdf, b.texture.eval_1(uv, attribute).clamp(0.0, 1.0));
         } else if let ColourSlot::Principled(w) = b.slot {
-            set_principled(&mut bsdf, w, b.texture.eval_1(uv, attribute).clamp(0.0, 1.0));
+            set_principled(&mut bsdf, w, b.texture.eval_1(uv, attribute).clamp(0.0, w.max()));
         } else {
             let alpha = b.texture.eval_1(uv, attribute).clamp(MIN_TEXTURED_ALPHA, MAX_ALPHA);
             set_roughness(&mut bsdf, b.slot, alpha);

@@ -461,9 +461,10 @@ pub enum ColourSlot {
     /// The `scale` of Mitsuba's `bumpmap` (the gradient's multiplier, 1 if absent): a finite
     /// [`Texture::Constant`] beside the material's [`ColourSlot::BumpMap`].
     BumpScale,
-    /// `base_color` of `principled`: a colour.
+    /// `base_color` of `principled` and `principledthin`: a colour.
     BaseColor,
-    /// A weight of `principled` in [0, 1] (its `eval_1`), set by [`set_principled`].
+    /// A weight of `principled` or `principledthin` in [0, 1] (`diff_trans` [0, 2]; its
+    /// `eval_1`), set by [`set_principled`].
     Principled(PrincipledWeight),
 }
 
@@ -567,6 +568,7 @@ pub fn set_colour(bsdf: &mut Bsdf, slot: ColourSlot, c: Rgb) -> bool {
         (Bsdf::ThinDielectric(b), SpecularReflectance) => &mut b.specular_reflectance,
         (Bsdf::ThinDielectric(b), SpecularTransmittance) => &mut b.specular_transmittance,
         (Bsdf::Principled(b), BaseColor) => &mut b.base_color,
+        (Bsdf::PrincipledThin(b), BaseColor) => &mut b.base_color,
         // Mitsuba's rough plastic keeps the sampling weight of the colours it was built with.
         (Bsdf::RoughPlastic(b), DiffuseReflectance) => &mut b.diffuse_reflectance,
         (Bsdf::RoughPlastic(b), SpecularReflectance) => &mut b.specular_reflectance,
@@ -590,16 +592,16 @@ pub fn set_colour(bsdf: &mut Bsdf, slot: ColourSlot, c: Rgb) -> bool {
     true
 }
 
-/// Sets the weight `w` of `bsdf`, a principled BSDF, to `x` (in [0, 1], the caller's to keep);
-/// false (and `bsdf` unchanged) if it is not a principled BSDF.
+/// Sets the weight `w` of `bsdf`, a principled or thin principled BSDF, to `x` (in
+/// [0, [`PrincipledWeight::max`]], the caller's to keep); false (and `bsdf` unchanged) if the
+/// BSDF has no such weight.
 pub fn set_principled(bsdf: &mut Bsdf, w: PrincipledWeight, x: f32) -> bool {
-    match bsdf {
-        Bsdf::Principled(p) => {
-            *w.field(p) = x;
-            true
-        }
-        _ => false,
-    }
+    let field = match bsdf {
+        Bsdf::Principled(p) => w.field(p),
+        Bsdf::PrincipledThin(p) => w.thin_field(p),
+        _ => None,
+    };
+    field.map(|f| *f = x).is_some()
 }
 
 /// A texture in place of one colour parameter of one material of a scene description.

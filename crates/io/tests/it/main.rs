@@ -19,6 +19,7 @@ mod mitsuba_emitters;
 mod mitsuba_fragment;
 mod mitsuba_normalmap;
 mod mitsuba_principled;
+mod mitsuba_principledthin;
 mod mitsuba_sensors;
 mod mitsuba_structure;
 mod mitsuba_textures;

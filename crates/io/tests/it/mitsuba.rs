@@ -625,7 +625,7 @@ fn bad_scenes_name_file_line_and_element() {
     let cases: &[(&str, &str)] = &[
         (
             r#"<bsdf type="hair" id="p"/>"#,
-            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic, roughplastic, blendbsdf, mask, normalmap, bumpmap, principled)",
+            "dir/test.xml:2:13: <bsdf type=\"hair\" id=\"p\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic, roughplastic, blendbsdf, mask, normalmap, bumpmap, principled, principledthin)",
         ),
         (
             r#"<shape type="teapot"/>"#,

@@ -173,7 +173,7 @@ fn unknown_plugin_type() {
     let e = error_of(&[("s.xml", &xml)]);
     assert_eq!(
         e,
-        "TMP/s.xml:4:15: <bsdf type=\"hair\" id=\"shiny\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic, roughplastic, blendbsdf, mask, normalmap, bumpmap, principled)"
+        "TMP/s.xml:4:15: <bsdf type=\"hair\" id=\"shiny\">: unsupported BSDF type \"hair\" (supported: diffuse, phong (Opticks extension), twosided, conductor, roughconductor, dielectric, roughdielectric, thindielectric, plastic, roughplastic, blendbsdf, mask, normalmap, bumpmap, principled, principledthin)"
     );
 }
 

@@ -64,6 +64,7 @@ const BSDF_TYPES: &[BsdfType] = &[
     BsdfType { name: "normalmap", extension: false, build: normalmap },
     BsdfType { name: "bumpmap", extension: false, build: bumpmap },
     BsdfType { name: "principled", extension: false, build: super::principled::principled },
+    BsdfType { name: "principledthin", extension: false, build: super::principled::principledthin },
 ];
 
 /// A `<bsdf>` element. Top-level BSDFs with an id are built once and cached.

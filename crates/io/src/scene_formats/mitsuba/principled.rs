@@ -11,14 +11,20 @@
 //! transmission lobe on ([`Principled::has_spec_trans`]): the BSDF is then oriented and
 //! two-sided like a dielectric, and η = 1 (`eta` 1 or `specular` 0) is raised to 1.001
 //! (`specular` 10⁻³).
+//!
+//! `<bsdf type="principledthin">` ([`principledthin`]), Mitsuba 3's thin sheet, shares the
+//! rules: its weights (`roughness`, `anisotropic`, `spec_trans`, `spec_tint`, `sheen`,
+//! `sheen_tint`, `flatness` in [0, 1], `diff_trans` in [0, 2]) are floats or textures,
+//! `base_color` a colour or a texture, `eta` (default 1.5) and the four sampling rates plain
+//! floats. It is always two-sided (the same from both faces).
 
 use super::Result;
 use super::bsdf::material_error;
 use super::build::Builder;
 use super::properties::Props;
-use super::texture::{colour, unit_float};
+use super::texture::{bounded_float, colour, unit_float};
 use super::xml::Element;
-use opticks_core::bsdf::{Bsdf, Principled, eta_of_specular};
+use opticks_core::bsdf::{Bsdf, Principled, PrincipledThin, eta_of_specular};
 use opticks_core::texture::{ColourSlot, PrincipledWeight};
 
 /// `principled` (module docs), one-sided as Mitsuba's unless it transmits.
@@ -35,7 +41,9 @@ pub fn principled<'d>(
     nodes.push(("base_color", bnode));
     for w in PrincipledWeight::ALL {
         if let Some((v, node)) = unit_float(b, p, w.name(), ColourSlot::Principled(w))? {
-            *w.field(&mut q) = v as f32;
+            if let Some(field) = w.field(&mut q) {
+                *field = v as f32;
+            }
             nodes.push((w.name(), node));
             if w == PrincipledWeight::SpecTrans {
                 // Mitsuba's `get_flag`: a texture, or a float other than 0.
@@ -85,4 +93,48 @@ pub fn principled<'d>(
     }
     let q = q.checked().map_err(|source| material_error(source, &nodes, e))?;
     Ok((Bsdf::Principled(q), false))
+}
+
+/// `principledthin` (module docs): the thin sheet, scattering alike from both faces.
+pub fn principledthin<'d>(
+    b: &mut Builder<'d>,
+    e: &'d Element,
+    ty: &str,
+    p: &mut Props<'d>,
+) -> Result<(Bsdf, bool)> {
+    let mut q = PrincipledThin::default();
+    let mut nodes: Vec<(&'static str, &'d Element)> = Vec::new();
+    let (base, bnode) = colour(b, p, "base_color", q.base_color, ColourSlot::BaseColor)?;
+    q.base_color = base;
+    nodes.push(("base_color", bnode));
+    for w in PrincipledWeight::THIN {
+        let slot = ColourSlot::Principled(w);
+        if let Some((v, node)) = bounded_float(b, p, w.name(), slot, f64::from(w.max()))? {
+            if let Some(field) = w.thin_field(&mut q) {
+                *field = v as f32;
+            }
+            nodes.push((w.name(), node));
+        }
+    }
+    for (name, field) in [
+        ("eta", &mut q.eta),
+        ("specular_reflectance_sampling_rate", &mut q.spec_reflect_rate),
+        ("specular_transmittance_sampling_rate", &mut q.spec_trans_rate),
+        ("diffuse_reflectance_sampling_rate", &mut q.diffuse_reflect_rate),
+        ("diffuse_transmittance_sampling_rate", &mut q.diffuse_trans_rate),
+    ] {
+        if let Some((v, node)) = p.float(name)? {
+            *field = v as f32;
+            nodes.push((name, node));
+        }
+    }
+    if let Some(c) = p.objects().first() {
+        return Err(c.err(format!(
+            "unsupported element inside <bsdf type=\"{ty}\"> (textures need the name of one of its \
+             parameters: base_color, {}; eta is a float)",
+            PrincipledWeight::THIN.map(PrincipledWeight::name).join(", ")
+        )));
+    }
+    let q = q.checked().map_err(|source| material_error(source, &nodes, e))?;
+    Ok((Bsdf::PrincipledThin(q), false))
 }

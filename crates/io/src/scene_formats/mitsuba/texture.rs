@@ -86,7 +86,7 @@ pub fn roughness<'d>(
 /// Values outside [0, 1] are an error at their element.
 pub fn opacity<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, at: &'d Element) -> Result<()> {
     let texture = match p.take_object("opacity") {
-        Some(e) => unit_texture(b, p, "opacity", e)?,
+        Some(e) => unit_texture(b, p, "opacity", e, 1.0)?,
         None => {
             let (v, e) = p.float("opacity")?.unwrap_or((0.5, at));
             if !(0.0..=1.0).contains(&v) {
@@ -118,8 +118,19 @@ pub fn unit_float<'d>(
     name: &str,
     slot: ColourSlot,
 ) -> Result<Option<(f64, &'d Element)>> {
+    bounded_float(b, p, name, slot, 1.0)
+}
+
+/// [`unit_float`] for a weight in [0, `max`] (`principledthin`'s `diff_trans` lies in [0, 2]).
+pub fn bounded_float<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Props<'d>,
+    name: &str,
+    slot: ColourSlot,
+    max: f64,
+) -> Result<Option<(f64, &'d Element)>> {
     let Some(e) = p.take_object(name) else { return p.float(name) };
-    let texture = unit_texture(b, p, name, e)?;
+    let texture = unit_texture(b, p, name, e, max)?;
     let hi = texture.range_1().1;
     b.bsdf_textures.push((slot, texture));
     Ok(Some((hi as f64, e)))
@@ -197,12 +208,13 @@ fn unit_texture<'d>(
     p: &mut Props<'d>,
     name: &str,
     e: &'d Element,
+    max: f64,
 ) -> Result<Arc<Texture>> {
     let texture = parameter_texture(b, p, name, e)?;
     let (lo, hi) = texture.range_1();
-    if !(lo >= 0.0 && hi <= 1.0) {
+    if !(lo >= 0.0 && f64::from(hi) <= max) {
         return Err(e.err(format!(
-            "{name} must lie in [0, 1] (Mitsuba's eval_1: a bitmap's luminance, a colour's mean); \
+            "{name} must lie in [0, {max}] (Mitsuba's eval_1: a bitmap's luminance, a colour's mean); \
              this texture's values are {lo}..{hi}"
         )));
     }

@@ -224,6 +224,7 @@ fn bsdf_kind(b: &Bsdf) -> &'static str {
         Bsdf::Blend(_) => "blend",
         Bsdf::ThinDielectric(_) => "thin dielectric",
         Bsdf::Principled(_) => "principled",
+        Bsdf::PrincipledThin(_) => "thin principled",
     }
 }
 
