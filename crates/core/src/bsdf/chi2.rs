@@ -284,6 +284,22 @@ pub(crate) fn chi2_at_three_incidences(cases: &[super::Bsdf], seed: u64, name: &
     });
 }
 
+/// χ² of each of `cases`' samples (importance mode) against its `pdf` over the whole sphere,
+/// from each incident direction of `wis` (either face: for transmitting BSDFs), the grid's
+/// axis at the mirror direction −wi; test `(k, j)` (case, direction) draws stream
+/// `seed + 10·k + j`, a failure is named `name`, case, direction.
+pub(crate) fn chi2_from_directions(cases: &[super::Bsdf], wis: &[Vec3], seed: u64, name: &str) {
+    let runs: Vec<(usize, usize)> =
+        (0..cases.len()).flat_map(|k| (0..wis.len()).map(move |j| (k, j))).collect();
+    runs.into_par_iter().for_each(|(k, j)| {
+        let (b, wi) = (&cases[k], wis[j]);
+        let mode = super::TransportMode::Importance;
+        Chi2Test::new(-wi, seed + 10 * k as u64 + j as u64)
+            .run(|ul, u| b.sample(wi, ul, u, mode).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
+            .assert_ok(&format!("{name} {k} wi={wi}"));
+    });
+}
+
 /// For one-sided, reflecting, non-delta `cases` whose f is symmetric in its two directions
 /// (so that the adjoint is f itself): reciprocity f(wi → wo) = f(wo → wi) within 10⁻⁴, every
 /// sample's weight eval·cos/pdf within 10⁻⁵, its pdf the one `pdf` gives, nothing sampled

@@ -5,10 +5,9 @@
 
 use super::super::*;
 use crate::bsdf::Bsdf;
-use crate::bsdf::chi2::{Chi2Test, direction, incident};
+use crate::bsdf::chi2::{chi2_from_directions, direction, incident};
 use crate::bsdf::principled_mitsuba::MITSUBA_TRANS;
 use crate::sampling::{RandomStream, warp};
-use rayon::prelude::*;
 
 const IMP: TransportMode = TransportMode::Importance;
 const RAD: TransportMode = TransportMode::Radiance;
@@ -120,14 +119,7 @@ fn cases() -> Vec<Principled> {
 fn chi2_sampling_matches_pdf_on_both_sides() {
     let cases: Vec<Bsdf> = cases().into_iter().map(Bsdf::Principled).collect();
     let wis = [incident(0.0), incident(50.0), incident(85.0), flip(incident(20.0)), flip(incident(60.0))];
-    let runs: Vec<(usize, usize)> =
-        (0..cases.len()).flat_map(|k| (0..wis.len()).map(move |j| (k, j))).collect();
-    runs.into_par_iter().for_each(|(k, j)| {
-        let (b, wi) = (&cases[k], wis[j]);
-        Chi2Test::new(-wi, 3100 + 10 * k as u64 + j as u64)
-            .run(|ul, u| b.sample(wi, ul, u, IMP).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
-            .assert_ok(&format!("principled transmission {k} wi={wi}"));
-    });
+    chi2_from_directions(&cases, &wis, 3100, "principled transmission");
 }
 
 /// Reflection is reciprocal, f(a→b) = f(b→a), on both sides; refraction obeys generalized

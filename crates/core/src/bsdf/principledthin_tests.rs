@@ -5,10 +5,9 @@
 
 use super::*;
 use crate::bsdf::Bsdf;
-use crate::bsdf::chi2::{Chi2Test, direction, incident, mean_sample_weight};
+use crate::bsdf::chi2::{chi2_from_directions, direction, incident, mean_sample_weight};
 use crate::bsdf::principledthin_mitsuba::MITSUBA;
 use crate::sampling::RandomStream;
-use rayon::prelude::*;
 
 const IMP: TransportMode = TransportMode::Importance;
 const RAD: TransportMode = TransportMode::Radiance;
@@ -124,14 +123,7 @@ fn cases() -> Vec<PrincipledThin> {
 fn chi2_sampling_matches_pdf_on_both_faces() {
     let cases: Vec<Bsdf> = cases().into_iter().map(Bsdf::PrincipledThin).collect();
     let wis = [incident(0.0), incident(50.0), incident(85.0), flip(incident(30.0))];
-    let runs: Vec<(usize, usize)> =
-        (0..cases.len()).flat_map(|k| (0..wis.len()).map(move |j| (k, j))).collect();
-    runs.into_par_iter().for_each(|(k, j)| {
-        let (b, wi) = (&cases[k], wis[j]);
-        Chi2Test::new(-wi, 3500 + 10 * k as u64 + j as u64)
-            .run(|ul, u| b.sample(wi, ul, u, IMP).map(|s| (s.wo, s.pdf)), |wo| b.pdf(wi, wo))
-            .assert_ok(&format!("principledthin {k} wi={wi}"));
-    });
+    chi2_from_directions(&cases, &wis, 3500, "principledthin");
 }
 
 /// The two faces are alike: f and pdf are unchanged when both directions are mirrored through
