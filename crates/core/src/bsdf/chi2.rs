@@ -284,6 +284,25 @@ pub(crate) fn chi2_at_three_incidences(cases: &[super::Bsdf], seed: u64, name: &
     });
 }
 
+/// Whether `ours` is Mitsuba's value `theirs` to f32 rounding of the same formulas: within
+/// 2·10⁻⁴ relative (+10⁻⁶), the bound of the transmitting BSDFs' value tables.
+pub(crate) fn close_to_mitsuba(ours: f32, theirs: f32) -> bool {
+    (ours - theirs).abs() <= 2e-4 * theirs.abs() + 1e-6
+}
+
+/// Asserts every channel of `ours` [`close_to_mitsuba`] to Mitsuba's `theirs`; `what` names the
+/// value (case, directions, which f) in a failure.
+pub(crate) fn assert_rgb_close_to_mitsuba(ours: Rgb, theirs: [f32; 3], what: &str) {
+    for c in 0..3 {
+        assert!(
+            close_to_mitsuba(ours[c], theirs[c]),
+            "{what} ch {c}: {} vs Mitsuba's {}",
+            ours[c],
+            theirs[c]
+        );
+    }
+}
+
 /// χ² of each of `cases`' samples (importance mode) against its `pdf` over the whole sphere,
 /// from each incident direction of `wis` (either face: for transmitting BSDFs), the grid's
 /// axis at the mirror direction −wi; test `(k, j)` (case, direction) draws stream

@@ -5,7 +5,9 @@
 
 use super::super::*;
 use crate::bsdf::Bsdf;
-use crate::bsdf::chi2::{chi2_from_directions, direction, incident};
+use crate::bsdf::chi2::{
+    assert_rgb_close_to_mitsuba, chi2_from_directions, close_to_mitsuba, direction, incident,
+};
 use crate::bsdf::principled_mitsuba::MITSUBA_TRANS;
 use crate::sampling::{RandomStream, warp};
 
@@ -65,27 +67,14 @@ fn mitsuba_trans_cases() -> Vec<Principled> {
 fn matches_mitsuba_transmission_values() {
     let cases = mitsuba_trans_cases();
     assert_eq!(cases.len(), MITSUBA_TRANS.len());
-    let close = |a: f32, b: f32| (a - b).abs() <= 2e-4 * b.abs() + 1e-6;
     let mut across = 0;
     for (b, (name, pairs)) in cases.iter().zip(MITSUBA_TRANS) {
         for &(i, o, f_imp, f_rad, pdf) in pairs.iter() {
             let (wi, wo) = (direction(i), direction(o));
             let (imp, rad, our_pdf) = (b.eval(wi, wo), b.eval(wo, wi), b.pdf(wi, wo));
-            for c in 0..3 {
-                assert!(
-                    close(imp[c], f_imp[c]),
-                    "{name} {i:?}->{o:?} ch {c}: f {} vs Mitsuba's {}",
-                    imp[c],
-                    f_imp[c]
-                );
-                assert!(
-                    close(rad[c], f_rad[c]),
-                    "{name} {i:?}->{o:?} ch {c}: adjoint {} vs {}",
-                    rad[c],
-                    f_rad[c]
-                );
-            }
-            assert!(close(our_pdf, pdf), "{name} {i:?}->{o:?}: pdf {our_pdf} vs Mitsuba's {pdf}");
+            assert_rgb_close_to_mitsuba(imp, f_imp, &format!("{name} {i:?}->{o:?} f"));
+            assert_rgb_close_to_mitsuba(rad, f_rad, &format!("{name} {i:?}->{o:?} adjoint"));
+            assert!(close_to_mitsuba(our_pdf, pdf), "{name} {i:?}->{o:?}: pdf {our_pdf} vs Mitsuba's {pdf}");
             across += (wi.z * wo.z < 0.0 && f_imp[0] > 0.0) as usize;
         }
     }
