@@ -28,7 +28,7 @@ use opticks_core::sensor::bidirectional::{cameras_needed, pilot};
 use opticks_core::sensor::meter::{
     Group, MeterEstimator, MeterLayout, Reading, read_connected_many, read_samples_many,
 };
-use opticks_core::sensor::{Sensor, render};
+use opticks_core::sensor::{Sensor, VisibilityBuffer, render_with_buffer};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
@@ -516,7 +516,7 @@ impl LitDataset {
             (_, needed) => needed,
         };
         if cameras.as_ref().is_some_and(|c| !c.contains(&true)) {
-            return self.render_splats_alone(camera, event, stop);
+            return self.render_splats_alone(camera, buffer, event, stop);
         }
         let chunks = self.cache_chunks()?;
         if !chunks.iter().all(|c| c.records.len() == c.samples.len()) {
@@ -542,16 +542,19 @@ impl LitDataset {
     /// The bidirectional render when no pixel needs camera paths ([`cameras_needed`]): every
     /// splat then weighs 1, so the image is the light estimator's, and it is rendered as that
     /// one is — streamed chunk by chunk, without the light vertex cache (the same estimate the
-    /// cache would give, without reading the whole dataset into memory first).
+    /// cache would give, without reading the whole dataset into memory first). `buffer` is the
+    /// camera's visibility buffer, already built to choose the pixels.
     fn render_splats_alone(
         &self,
         camera: Sensor,
+        buffer: Option<VisibilityBuffer>,
         event: impl Fn(RunEvent) + Sync,
         stop: impl Fn() -> bool + Sync,
     ) -> Result<Run, BidirectionalError> {
         event(RunEvent::SplatStart(self.samples()));
         let batch = self.stoppable_batch(&stop, || BidirectionalError::Interrupted);
-        let film = render(self.scene(), &camera, self.count(), batch, |n| event(RunEvent::Splatted(n)))?;
+        let splatted = |n| event(RunEvent::Splatted(n));
+        let film = render_with_buffer(self.scene(), &camera, buffer, self.count(), batch, splatted)?;
         Ok(Run::splats_alone(film))
     }
 

@@ -677,7 +677,22 @@ pub fn render<B: AsBatch, E: Send>(
     batch: impl Fn(usize) -> Result<B, E> + Sync,
     progress: impl Fn(usize) + Sync,
 ) -> Result<Film, E> {
-    accumulate((sensor.width(), sensor.height()), count, batch, progress, &SensorSplat::new(scene, sensor))
+    render_with_buffer(scene, sensor, sensor.visibility(scene), count, batch, progress)
+}
+
+/// [`render`] with `sensor`'s visibility buffer already built ([`Sensor::visibility`]): for a
+/// caller that made it anyway (the bidirectional estimator, choosing which pixels need camera
+/// paths), so that it is not built twice.
+pub fn render_with_buffer<B: AsBatch, E: Send>(
+    scene: &Scene,
+    sensor: &Sensor,
+    visibility: Option<VisibilityBuffer>,
+    count: usize,
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Film, E> {
+    let splat = SensorSplat::with_buffer(scene, sensor, visibility);
+    accumulate((sensor.width(), sensor.height()), count, batch, progress, &splat)
 }
 
 #[cfg(test)]
