@@ -284,8 +284,7 @@ pub(crate) fn chi2_at_three_incidences(cases: &[super::Bsdf], seed: u64, name: &
     });
 }
 
-/// Whether `ours` is Mitsuba's value `theirs` to f32 rounding of the same formulas: within
-/// 2·10⁻⁴ relative (+10⁻⁶), the bound of the transmitting BSDFs' value tables.
+/// Whether `ours` is Mitsuba's `theirs` within 2·10⁻⁴ relative (+10⁻⁶): f32 rounding.
 pub(crate) fn close_to_mitsuba(ours: f32, theirs: f32) -> bool {
     (ours - theirs).abs() <= 2e-4 * theirs.abs() + 1e-6
 }
@@ -303,10 +302,8 @@ pub(crate) fn assert_rgb_close_to_mitsuba(ours: Rgb, theirs: [f32; 3], what: &st
     }
 }
 
-/// χ² of each of `cases`' samples (importance mode) against its `pdf` over the whole sphere,
-/// from each incident direction of `wis` (either face: for transmitting BSDFs), the grid's
-/// axis at the mirror direction −wi; test `(k, j)` (case, direction) draws stream
-/// `seed + 10·k + j`, a failure is named `name`, case, direction.
+/// χ² of each of `cases`' samples (importance mode) against its `pdf` over the sphere, from
+/// each of `wis` (either face), axis −wi, case k and direction j drawing stream seed + 10k + j.
 pub(crate) fn chi2_from_directions(cases: &[super::Bsdf], wis: &[Vec3], seed: u64, name: &str) {
     let runs: Vec<(usize, usize)> =
         (0..cases.len()).flat_map(|k| (0..wis.len()).map(move |j| (k, j))).collect();

@@ -54,7 +54,7 @@ pub use meter::{IlluminanceMeter, MeterError, measure};
 pub use orthographic::Orthographic;
 pub use pinhole::{CameraError, MAX_IMAGE_SIDE, Pinhole, check_fov, check_image_size};
 pub use raster::{Crop, FilmSpec, Filter, Raster};
-pub use runs::{RunFold, batches_per_run, render_runs, run_count};
+pub use runs::{RunFold, batches_per_run, render, render_runs, render_with_buffer, run_count};
 pub use thin_lens::{LensError, ThinLens, check_lens};
 pub use visibility::{Seen, VisibilityBuffer};
 
@@ -666,33 +666,6 @@ impl Splatter for SensorSplat<'_> {
     fn splat_batch<T: SplatTarget>(&self, batch: SampleBatch<'_>, film: &mut T) {
         splat(self.scene, self.sensor, self.visibility.as_ref(), batch, film)
     }
-}
-
-/// Renders `count` batches (fetched by index, from memory or read from a file) through
-/// `sensor` on all cores, in memory bounded by [`crate::film::accumulation_bytes`].
-pub fn render<B: AsBatch, E: Send>(
-    scene: &Scene,
-    sensor: &Sensor,
-    count: usize,
-    batch: impl Fn(usize) -> Result<B, E> + Sync,
-    progress: impl Fn(usize) + Sync,
-) -> Result<Film, E> {
-    render_with_buffer(scene, sensor, sensor.visibility(scene), count, batch, progress)
-}
-
-/// [`render`] with `sensor`'s visibility buffer already built ([`Sensor::visibility`]): for a
-/// caller that made it anyway (the bidirectional estimator, choosing which pixels need camera
-/// paths), so that it is not built twice.
-pub fn render_with_buffer<B: AsBatch, E: Send>(
-    scene: &Scene,
-    sensor: &Sensor,
-    visibility: Option<VisibilityBuffer>,
-    count: usize,
-    batch: impl Fn(usize) -> Result<B, E> + Sync,
-    progress: impl Fn(usize) + Sync,
-) -> Result<Film, E> {
-    let splat = SensorSplat::with_buffer(scene, sensor, visibility);
-    accumulate((sensor.width(), sensor.height()), count, batch, progress, &splat)
 }
 
 #[cfg(test)]

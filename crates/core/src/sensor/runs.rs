@@ -14,7 +14,7 @@
 //! instead (`super::accumulate`), equal to the run-order sum within float rounding but not bit
 //! for bit.
 
-use super::{AsBatch, Scene, Sensor, SensorSplat, Splatter};
+use super::{AsBatch, Scene, Sensor, SensorSplat, Splatter, VisibilityBuffer, accumulate};
 use crate::film::{Accumulator, Film, wave_width};
 use rayon::prelude::*;
 
@@ -73,6 +73,33 @@ pub(crate) fn splat_runs<B: AsBatch, E: Send>(
         }
     }
     Ok(())
+}
+
+/// Renders `count` batches (fetched by index, from memory or read from a file) through
+/// `sensor` on all cores, in memory bounded by [`crate::film::accumulation_bytes`].
+pub fn render<B: AsBatch, E: Send>(
+    scene: &Scene,
+    sensor: &Sensor,
+    count: usize,
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Film, E> {
+    render_with_buffer(scene, sensor, sensor.visibility(scene), count, batch, progress)
+}
+
+/// [`render`] with `sensor`'s visibility buffer already built ([`Sensor::visibility`]): for a
+/// caller that made it anyway (the bidirectional estimator, choosing which pixels need camera
+/// paths), so that it is not built twice.
+pub fn render_with_buffer<B: AsBatch, E: Send>(
+    scene: &Scene,
+    sensor: &Sensor,
+    visibility: Option<VisibilityBuffer>,
+    count: usize,
+    batch: impl Fn(usize) -> Result<B, E> + Sync,
+    progress: impl Fn(usize) + Sync,
+) -> Result<Film, E> {
+    let splat = SensorSplat::with_buffer(scene, sensor, visibility);
+    accumulate((sensor.width(), sensor.height()), count, batch, progress, &splat)
 }
 
 /// The runs `runs` of `count` batches seen through `sensor`, each run's film handed to `done`
