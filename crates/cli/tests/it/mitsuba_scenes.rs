@@ -108,6 +108,11 @@
 //! so a wrong transmission weight, lobe probability or one-way masking moves the leaf's or the
 //! sphere's regions.
 //!
+//! `anisotropic` (96 × 72, 2²⁰ paths): brushed metal (Beckmann, α_u 0.08, α_v 0.4) on a sphere
+//! and on a turned, tilted card — against a Mitsuba `path` reference, light estimator, 8 × 8
+//! regions: Mitsuba orients α_u along ∂p/∂u where a shape has texture coordinates (the sphere's
+//! parallels, the card's own x axis), so a frame that ignores them turns the highlights.
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 use opticks_testkit as common;
@@ -275,4 +280,9 @@ fn mitsuba_principled_transmission_matches_mitsuba() {
 #[test]
 fn mitsuba_principledthin_matches_mitsuba() {
     check_path_reference("principledthin", "scene.xml", "reference-path", 1 << 20, 1);
+}
+
+#[test]
+fn mitsuba_anisotropy_follows_dp_du_as_in_mitsuba() {
+    check_path_reference("anisotropic", "scene.xml", "reference-path", 1 << 20, 1);
 }

@@ -226,6 +226,29 @@ impl Bsdf {
         }
     }
 
+    /// Whether the BSDF depends on the azimuth about the normal (anisotropic roughness: a
+    /// microfacet distribution with α_u ≠ α_v, a principled BSDF with `anisotropic` > 0, or a
+    /// blend of one): its frame must then follow the surface's ∂p/∂u, as Mitsuba's does
+    /// ([`crate::geometry::SurfaceNormals::tangent`]). A texture on `alpha_u`, `alpha_v` or
+    /// `anisotropic` makes a material anisotropic too; the scene adds that.
+    pub fn is_anisotropic(&self) -> bool {
+        let microfacet = |m: &crate::sampling::microfacet::Microfacet| m.alpha_u != m.alpha_v;
+        match self {
+            Bsdf::RoughConductor(b) => microfacet(&b.microfacet),
+            Bsdf::RoughDielectric(b) => microfacet(&b.microfacet),
+            Bsdf::RoughPlastic(b) => microfacet(&b.microfacet),
+            Bsdf::Principled(b) => b.anisotropic != 0.0,
+            Bsdf::PrincipledThin(b) => b.anisotropic != 0.0,
+            Bsdf::Blend(b) => b.bsdfs.iter().any(Bsdf::is_anisotropic),
+            Bsdf::Lambert(_)
+            | Bsdf::ModifiedPhong(_)
+            | Bsdf::SmoothConductor(_)
+            | Bsdf::SmoothDielectric(_)
+            | Bsdf::Plastic(_)
+            | Bsdf::ThinDielectric(_) => false,
+        }
+    }
+
     /// Whether every sampled direction is a Dirac delta (ideal mirror, smooth dielectric):
     /// `eval` is zero everywhere, so a vertex there can never be connected to a sensor and the
     /// tracer does not store it (the path continues through it).

@@ -63,7 +63,7 @@ impl LocalFrame {
     pub fn new(n: SurfaceNormals, flip: bool) -> Self {
         let flat = n.is_flat();
         let (ns, ng) = if flip { (-n.shading, -n.geometric) } else { (n.shading, n.geometric) };
-        LocalFrame { frame: Frame::from_normal(ns), geometric: ng, flat }
+        LocalFrame { frame: n.frame_of(ns), geometric: ng, flat }
     }
 }
 
@@ -77,7 +77,8 @@ impl LocalFrame {
 /// the frame of the unflipped shading normal and their geometric cosine) and the side each
 /// query is seen from is applied to them: the back of a two-sided surface is the frame of −n,
 /// which [`Frame::from_normal`] builds as (s, −t, −n) *exactly* (every rounding of its
-/// construction is odd in n), so a flipped direction is (x, −y, −z) and every result equals
+/// construction is odd in n; so does [`Frame::with_tangent`], the frame of an anisotropic
+/// BSDF, [`SurfaceNormals::tangent`]), so a flipped direction is (x, −y, −z) and every result equals
 /// that of a frame built for the query alone — bit for bit, but for the sign of an exactly zero
 /// coordinate (+0 where the flipped frame gave −0: equal as numbers, and no BSDF here reads the
 /// sign of a zero).
@@ -123,7 +124,7 @@ impl<'m> ShadingPoint<'m> {
     /// The point of `material` with normals `n` (its shading frame built here, once).
     #[inline]
     pub fn new(material: &'m Material, n: SurfaceNormals) -> Self {
-        ShadingPoint { material, normals: n, frame: Frame::from_normal(n.shading), flat: n.is_flat() }
+        ShadingPoint { material, normals: n, frame: n.frame(), flat: n.is_flat() }
     }
 
     /// The unit world direction `w`, prepared for this point's queries.
@@ -322,7 +323,11 @@ mod tests {
     /// (the sensor's f_r). Radiance-mode weights, which lack the correction, must not.
     #[test]
     fn importance_sampling_agrees_with_eval_and_differs_from_radiance_mode() {
-        let normals = SurfaceNormals { geometric: Vec3::Y, shading: Vec3::new(0.35, 1.0, -0.1).normalize() };
+        let normals = SurfaceNormals {
+            geometric: Vec3::Y,
+            shading: Vec3::new(0.35, 1.0, -0.1).normalize(),
+            tangent: Vec3::ZERO,
+        };
         let wi = Vec3::new(-0.5, 0.6, 0.2).normalize();
         let g = |w: Vec3| 1.0 + 0.8 * w.x as f64 + 0.3 * w.z as f64;
         let phong = ModifiedPhong::new(Rgb::splat(0.4), Rgb::splat(0.3), 12.0).unwrap();
@@ -395,7 +400,8 @@ mod tests {
             bsdf: Bsdf::Lambert(Lambert::new(Rgb::ONE).unwrap()),
             two_sided: false,
         };
-        let normals = SurfaceNormals { geometric: Vec3::Y, shading: Vec3::new(0.8, 0.6, 0.0) };
+        let normals =
+            SurfaceNormals { geometric: Vec3::Y, shading: Vec3::new(0.8, 0.6, 0.0), tangent: Vec3::ZERO };
         let wi = Vec3::new(0.6, 0.8, 0.0);
         let below = Vec3::new(0.9, -0.1, 0.0).normalize(); // above n_s, below n_g
         assert!(below.dot(normals.shading) > 0.0);

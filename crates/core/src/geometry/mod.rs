@@ -9,7 +9,7 @@ mod triangle;
 
 pub use triangle::Triangle;
 
-use crate::math::Vec3;
+use crate::math::{Frame, Vec3};
 
 /// A ray with a bounded extent.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,20 +37,39 @@ pub struct Hit {
 
 /// The two normals at a surface point: the triangle's geometric normal (which decides the
 /// surface's sides, emission and ray offsets) and the shading normal the BSDF is oriented by
-/// (interpolated vertex normals; equal to the geometric one on faceted meshes).
+/// (interpolated vertex normals; equal to the geometric one on faceted meshes) — and, for a
+/// BSDF that depends on the azimuth (anisotropic roughness), the tangent its frame follows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceNormals {
     /// Unit geometric normal (front side, not flipped toward any ray).
     pub geometric: Vec3,
     /// Unit shading normal, on the geometric normal's side of the surface.
     pub shading: Vec3,
+    /// The shading frame's x axis: ∂p/∂u made orthogonal to `shading` and unit (Mitsuba's
+    /// `sh_frame.s`), set only where the material is anisotropic and the triangle has texture
+    /// coordinates (`crate::scene::Scene::normals_at`); zero elsewhere, where the frame is
+    /// [`Frame::from_normal`] of `shading` (what Mitsuba's `coordinate_system` gives a mesh
+    /// without texture coordinates, and what an isotropic BSDF cannot tell from any other).
+    pub tangent: Vec3,
 }
 
 impl SurfaceNormals {
     /// A faceted point: the shading normal is the geometric one.
     #[inline]
     pub fn flat(n: Vec3) -> Self {
-        SurfaceNormals { geometric: n, shading: n }
+        SurfaceNormals { geometric: n, shading: n, tangent: Vec3::ZERO }
+    }
+
+    /// The shading frame: around `shading`, its x axis `tangent` where one is set.
+    #[inline]
+    pub fn frame(&self) -> Frame {
+        self.frame_of(self.shading)
+    }
+
+    /// [`SurfaceNormals::frame`] around `n` (the shading normal or its negation).
+    #[inline]
+    pub fn frame_of(&self, n: Vec3) -> Frame {
+        if self.tangent == Vec3::ZERO { Frame::from_normal(n) } else { Frame::with_tangent(n, self.tangent) }
     }
 
     /// Whether the shading normal is the geometric one (then nothing about shading normals

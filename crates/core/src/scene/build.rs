@@ -54,10 +54,14 @@ pub struct Scene {
     masked: bool,
     /// Per material, its normal or bump map (Mitsuba's `normalmap`, `bumpmap`), if any.
     shading_map_of: Vec<Option<ShadingMap>>,
-    /// Per material, whether it is plain: no texture sets a parameter of its BSDF and no map
-    /// shapes its normals. [`Scene::surface_at`] answers such a material's flat triangles
-    /// without a call (the light tracer asks at every vertex).
+    /// Per material, whether it is plain: no texture sets a parameter of its BSDF, no map
+    /// shapes its normals and its frame need not follow ∂p/∂u. [`Scene::surface_at`] answers
+    /// such a material's flat triangles without a call (the light tracer asks at every vertex).
     plain: Vec<bool>,
+    /// Per material, whether its BSDF depends on the azimuth (`Bsdf::is_anisotropic`, or a
+    /// texture on `alpha_u`, `alpha_v` or `anisotropic`): its shading frame then follows ∂p/∂u
+    /// on triangles with texture coordinates ([`Scene::normals_at`]).
+    anisotropic: Vec<bool>,
     /// Whether any triangle's material is a thin pane: only then does
     /// [`Scene::shadow_transmittance`] look past the first hit (`super::panes`).
     pub(super) panes: bool,
@@ -122,12 +126,13 @@ impl Scene {
         }
         lights::check_light_table(&lights)?;
         let textures = textures::bind(desc, &flat.attributes)?;
-        let hashes = hashes::fingerprints(&desc.materials, &textures, &flat, &lights, &ranges);
+        let anisotropic = textures::anisotropic(&desc.materials, &textures);
+        let hashes = hashes::fingerprints(&desc.materials, &textures, &anisotropic, &flat, &lights, &ranges);
         let accel = Accel::build(&flat.vertices);
         let opacity_of = textures::opacities(&textures);
         let shading_map_of = textures::shading_maps(&textures);
-        let plain = (shading_map_of.iter().zip(&textures))
-            .map(|(map, t)| map.is_none() && t.iter().all(|b| !b.slot.is_bsdf_parameter()))
+        let plain = (shading_map_of.iter().zip(&textures).zip(&anisotropic))
+            .map(|((map, t), &a)| map.is_none() && !a && t.iter().all(|b| !b.slot.is_bsdf_parameter()))
             .collect();
         Ok(Scene {
             masked: opacity_of.iter().any(Option::is_some),
@@ -135,6 +140,7 @@ impl Scene {
             opacity_of,
             shading_map_of,
             plain,
+            anisotropic,
             normals: flat.triangles.iter().map(Triangle::normal).collect(),
             triangles: flat.triangles,
             shading_of: flat.shading_of,
@@ -291,11 +297,26 @@ impl Scene {
     #[inline]
     pub fn normals_at(&self, prim: u32, p: Vec3) -> SurfaceNormals {
         let n = self.interpolated_normals(prim, p);
-        match self.shading_map_of[self.material_of[prim as usize] as usize] {
+        let m = self.material_of[prim as usize] as usize;
+        let n = match self.shading_map_of[m] {
             None => n,
             Some(ShadingMap::Normal(k)) => self.normal_mapped(prim, p, n, k),
             Some(ShadingMap::Bump(k, scale)) => self.bump_mapped(prim, p, n, k, scale),
+        };
+        if self.anisotropic[m] && self.uv_of[prim as usize] != NO_UV {
+            return SurfaceNormals { tangent: self.uv_tangent(prim, n.shading), ..n };
         }
+        n
+    }
+
+    /// Mitsuba's shading tangent (`initialize_sh_frame`): ∂p/∂u of triangle `prim` made
+    /// orthogonal to the shading normal `ns` and unit; zero (the frame of `ns` alone) where the
+    /// triangle's texture coordinates are degenerate or ∂p/∂u is along `ns`, where Mitsuba
+    /// falls back to `coordinate_system` too.
+    #[inline]
+    fn uv_tangent(&self, prim: u32, ns: Vec3) -> Vec3 {
+        let (dpdu, _) = self.dp_duv(prim);
+        (dpdu - ns * ns.dot(dpdu)).normalize_or_zero()
     }
 
     /// The geometric normal and the interpolated vertex normals at `p` on triangle `prim`.
@@ -312,7 +333,7 @@ impl Scene {
         // Interpolated normals can cancel (opposite vertex normals) or, at a crease, lean
         // through the surface: keep the shading normal on the geometric side.
         if ns.dot(ng) > 0.0 {
-            SurfaceNormals { geometric: ng, shading: ns }
+            SurfaceNormals { geometric: ng, shading: ns, tangent: Vec3::ZERO }
         } else {
             SurfaceNormals::flat(ng)
         }
@@ -339,11 +360,7 @@ impl Scene {
         let s = if s == Vec3::ZERO { crate::math::Frame::from_normal(ns).s } else { s };
         let t = ns.cross(s);
         let mapped = (s * local.x + t * local.y + ns * local.z).normalize_or_zero();
-        if mapped.dot(n.geometric) > 0.0 {
-            SurfaceNormals { geometric: n.geometric, shading: mapped }
-        } else {
-            n
-        }
+        if mapped.dot(n.geometric) > 0.0 { SurfaceNormals { shading: mapped, ..n } } else { n }
     }
 
     /// Mitsuba 3's `bumpmap`: the height's UV gradient g (texture `k`'s [`crate::texture::Bitmap::gradient_1`]
@@ -369,7 +386,7 @@ impl Scene {
         if d == 0.0 || !d.is_finite() {
             return n;
         }
-        SurfaceNormals { geometric: n.geometric, shading: if d > 0.0 { bumped } else { -bumped } }
+        SurfaceNormals { shading: if d > 0.0 { bumped } else { -bumped }, ..n }
     }
 
     /// (∂p/∂u, ∂p/∂v) of triangle `prim` (Mitsuba's mesh): from its vertex UVs, or, without UVs,
@@ -540,3 +557,7 @@ mod tests {
         assert_eq!(Scene::build(&cornell_box()).unwrap().oversized_triangles, 0);
     }
 }
+
+#[cfg(test)]
+#[path = "anisotropy_tests.rs"]
+mod anisotropy_tests;

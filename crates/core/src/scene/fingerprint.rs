@@ -54,7 +54,14 @@
 //!   scene order: meshes in order, their triangles in order, zero-area ones dropped, each wound so
 //!   that its front faces its vertex normals): its corners a, b, c (9 × f32), the 16-byte
 //!   material hash of its material and, if it has shading normals (vertex normals not all within
-//!   10⁻⁵ of its geometric normal), its three unit vertex normals (9 × f32).
+//!   10⁻⁵ of its geometric normal), its three unit vertex normals (9 × f32); if its material is
+//!   textured, its texture coordinates (6 × f32, if it has them) and the corner values of each
+//!   mesh attribute a texture reads; if its material is anisotropic (`Bsdf::is_anisotropic`, or a
+//!   texture on `alpha_u`, `alpha_v` or `anisotropic`) and it has texture coordinates, the 5
+//!   bytes `dp/du` and its texture coordinates (6 × f32). That last part was added to version 2
+//!   when such a BSDF's frame began to follow ∂p/∂u (Mitsuba's orientation): a dataset traced
+//!   before was reflected in another frame on those triangles, and must be refused, not
+//!   rendered (the version-1 geometry hash below takes the same bytes).
 //! * **Light shape hash** (`light_shape`): domain `opticks light shape v1`, then
 //!   * an area light: `lambertian area`; unless its profile is cosine (Lambertian), the profile
 //!     bytes; if the profile is an IES table, the unit tangent of horizontal angle 0° (3 × f32);

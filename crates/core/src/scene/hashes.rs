@@ -48,6 +48,7 @@ fn textured_material_hash(material: &Material, textures: &[Bound]) -> [u8; 16] {
 pub(super) fn fingerprints(
     materials: &[Material],
     textures: &MaterialTextures,
+    anisotropic: &[bool],
     flat: &Flat,
     lights: &[Light],
     meshes: &[(&str, Range<usize>)],
@@ -105,6 +106,19 @@ pub(super) fn fingerprints(
                         for x in c.map(|v| v.to_array()).as_flattened() {
                             bytes.extend_from_slice(&x.to_le_bytes());
                             bytes_v1.extend_from_slice(&x.to_le_bytes());
+                        }
+                    }
+                }
+            }
+            if anisotropic[flat.material_of[i] as usize] {
+                // An anisotropic BSDF's frame follows the triangle's ∂p/∂u, so its texture
+                // coordinates orient what every stored vertex on it reflects. The tag refuses
+                // datasets traced before the frame followed them (`fingerprint` module docs).
+                if let Some(uv) = flat.uvs.get(flat.uv_of[i] as usize) {
+                    for b in [&mut bytes, &mut bytes_v1] {
+                        b.extend_from_slice(b"dp/du");
+                        for x in uv.map(|v| v.to_array()).as_flattened() {
+                            b.extend_from_slice(&x.to_le_bytes());
                         }
                     }
                 }

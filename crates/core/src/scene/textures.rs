@@ -15,7 +15,8 @@ use super::{SceneDescription, SceneError};
 use crate::bsdf::{Bsdf, MAX_ALPHA, Material, ModifiedPhong, check_unit_colour};
 use crate::math::{Rgb, Vec2};
 use crate::texture::{
-    ColourSlot, MIN_TEXTURED_ALPHA, Texture, set_colour, set_principled, set_roughness, set_weight,
+    ColourSlot, MIN_TEXTURED_ALPHA, PrincipledWeight, Texture, set_colour, set_principled, set_roughness,
+    set_weight,
 };
 use std::sync::Arc;
 
@@ -238,6 +239,21 @@ fn check_shading_map(slot: ColourSlot, texture: &Texture) -> Result<(), &'static
         (_, Texture::Constant(v)) if v.is_finite() => Ok(()),
         _ => Err("a bump map's scale must be a finite constant"),
     }
+}
+
+/// Per material, whether its BSDF depends on the azimuth about the normal: anisotropic as
+/// given (`Bsdf::is_anisotropic`), or given a texture on a parameter that can make it so
+/// (`alpha_u`, `alpha_v`, a principled BSDF's `anisotropic`). Its frame then follows ∂p/∂u.
+pub(super) fn anisotropic(materials: &[Material], textures: &MaterialTextures) -> Vec<bool> {
+    let oriented = |slot: ColourSlot| {
+        matches!(
+            slot,
+            ColourSlot::AlphaU | ColourSlot::AlphaV | ColourSlot::Principled(PrincipledWeight::Anisotropic)
+        )
+    };
+    (materials.iter().zip(textures))
+        .map(|(m, t)| m.bsdf.is_anisotropic() || t.iter().any(|b| oriented(b.slot)))
+        .collect()
 }
 
 /// Per material, its [`ShadingMap`], if it has one (at most one: [`bind`] checks).
