@@ -71,7 +71,7 @@ fn bad_bump_maps_are_located_errors() {
     let e = err(&shape(&format!(r#"{HEIGHT}{HEIGHT}<bsdf type="diffuse"/>"#)));
     assert!(e.contains("takes one texture") && e.contains("test.xml:"), "{e}");
     let e = err(&shape(r#"<texture type="checkerboard" name="h"/><bsdf type="diffuse"/>"#));
-    assert!(e.contains("a bump map must be a bitmap texture, not \"checkerboard\""), "{e}");
+    assert!(e.contains("a bump map must be a bitmap (or rawconstant) texture, not \"checkerboard\""), "{e}");
     let e = err(&shape(&format!(r#"{HEIGHT}<float name="scale" value="nan"/><bsdf type="diffuse"/>"#)));
     assert!(
         e.contains("<float name=\"scale\">")

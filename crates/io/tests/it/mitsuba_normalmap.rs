@@ -65,9 +65,57 @@ fn bad_normal_maps_are_located_errors() {
         r#"<shape type="rectangle"><bsdf type="normalmap"><texture type="checkerboard" name="normalmap"/>
         <bsdf type="diffuse"/></bsdf></shape>"#,
     );
-    assert!(e.contains("must be a bitmap texture"), "{e}");
+    assert!(e.contains("must be a bitmap (or rawconstant) texture"), "{e}");
     let e = err(&format!(
         r#"<shape type="rectangle"><bsdf type="normalmap">{MAP}<bsdf type="normalmap">{MAP}<bsdf type="diffuse"/></bsdf></bsdf></shape>"#
     ));
     assert!(e.contains("a normalmap inside a normalmap"), "{e}");
+}
+
+/// Mitsuba's `rawconstant` (its test scenes give a normal map the identity this way): a raw
+/// value everywhere, a `<vector>`, an `<rgb>` or a `<float>`; as a normal map of (0.5, 0.5, 1)
+/// it leaves every shading normal as the nested BSDF alone has it, bit for bit; as a
+/// roughness it is that number; a bad value is a located error.
+#[test]
+fn a_rawconstant_is_a_raw_value_everywhere() {
+    use opticks_core::math::Vec3;
+    use opticks_core::scene::Scene;
+    let light = r#"<shape type="rectangle"><transform name="to_world"><translate z="2"/></transform>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#;
+    let conductor = r#"<bsdf type="roughconductor"><float name="alpha_u" value="0.25"/>
+        <float name="alpha_v" value="0.05"/></bsdf>"#;
+    let mapped = format!(
+        r#"<shape type="sphere"><bsdf type="normalmap"><texture name="normalmap" type="rawconstant">
+        <vector name="value" value="0.5, 0.5, 1.0"/></texture>{conductor}</bsdf></shape>{light}"#
+    );
+    let bare = format!(r#"<shape type="sphere">{conductor}</shape>{light}"#);
+    let (mapped, bare) = (load(&mapped).unwrap(), load(&bare).unwrap());
+    assert!(mapped.warnings.is_empty(), "{:?}", mapped.warnings);
+    assert_eq!(mapped.description.textures.len(), 1);
+    assert_eq!(mapped.description.textures[0].slot, ColourSlot::NormalMap);
+    let (mapped, bare) =
+        (Scene::build(&mapped.description).unwrap(), Scene::build(&bare.description).unwrap());
+    for prim in [0u32, 100, 2000] {
+        let p = mapped.triangles[prim as usize].point(0.2, 0.3);
+        assert_eq!(mapped.normals_at(prim, p), bare.normals_at(prim, p), "triangle {prim}");
+        assert_ne!(mapped.normals_at(prim, p).tangent, Vec3::ZERO, "an anisotropic frame follows dp/du");
+    }
+    // A float, as a roughness: that number.
+    let rough = load(&format!(
+        r#"<shape type="rectangle"><bsdf type="roughconductor"><texture name="alpha" type="rawconstant">
+        <float name="value" value="0.3"/></texture></bsdf></shape>{light}"#
+    ))
+    .unwrap();
+    assert_eq!(
+        rough.description.textures[0].texture.eval_1(opticks_core::math::Vec2::ZERO, Default::default()),
+        0.3
+    );
+    let e =
+        err(r#"<shape type="rectangle"><bsdf type="diffuse"><texture name="reflectance" type="rawconstant">
+        <float name="value" value="-1"/></texture></bsdf></shape>"#);
+    assert!(e.contains("test.xml:3:"), "{e}");
+    let e =
+        err(r#"<shape type="rectangle"><bsdf type="diffuse"><texture name="reflectance" type="rawconstant"/>
+        </bsdf></shape>"#);
+    assert!(e.contains("missing <float name=\"value\"") && e.contains("test.xml:2:"), "{e}");
 }

@@ -35,8 +35,12 @@ pub type BsdfTextures = Vec<(ColourSlot, Arc<Texture>)>;
 type BuildTexture = for<'d> fn(&mut Builder<'d>, &'d Element, &mut Props<'d>) -> Result<Texture>;
 
 /// The supported texture types, in the order the error message lists them.
-const TEXTURE_TYPES: &[(&str, BuildTexture)] =
-    &[("bitmap", bitmap), ("checkerboard", checkerboard), ("mesh_attribute", mesh_attribute)];
+const TEXTURE_TYPES: &[(&str, BuildTexture)] = &[
+    ("bitmap", bitmap),
+    ("checkerboard", checkerboard),
+    ("mesh_attribute", mesh_attribute),
+    ("rawconstant", rawconstant),
+];
 
 /// The colour parameter `name` of the BSDF whose properties are `p`: a texture nested in it or
 /// referred to under that name (recorded as `slot` in the builder's textures of the BSDF being
@@ -182,9 +186,9 @@ pub fn bump_map<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Element, scal
     Ok(())
 }
 
-/// The `<texture>` that `e` is or refers to (`None` for a reference to no texture: reported
-/// by [`parameter_texture`]), which must be a `bitmap` (`what`, e.g. "a normal map", names it
-/// in the error).
+/// The `<texture>` that `e` is or refers to if it is a `bitmap` (`None` for a `rawconstant`,
+/// raw by definition, and for a reference to no texture: reported by [`parameter_texture`]);
+/// any other type is an error (`what`, e.g. "a normal map", names it).
 fn bitmap_element<'d>(b: &Builder<'d>, e: &'d Element, what: &str) -> Result<Option<&'d Element>> {
     let t = match e.tag.as_str() {
         "ref" => e.target.map(|i| b.doc.top(i)).filter(|t| t.tag == "texture").unwrap_or(e),
@@ -193,12 +197,14 @@ fn bitmap_element<'d>(b: &Builder<'d>, e: &'d Element, what: &str) -> Result<Opt
     if t.tag != "texture" {
         return Ok(None);
     }
-    if t.raw("type") != Some("bitmap") {
-        return Err(
-            t.err(format!("{what} must be a bitmap texture, not \"{}\"", t.raw("type").unwrap_or("")))
-        );
+    match t.raw("type") {
+        Some("bitmap") => Ok(Some(t)),
+        Some("rawconstant") => Ok(None),
+        other => Err(t.err(format!(
+            "{what} must be a bitmap (or rawconstant) texture, not \"{}\"",
+            other.unwrap_or("")
+        ))),
     }
-    Ok(Some(t))
 }
 
 /// The texture `e` given as the float parameter `name`, whose `eval_1` must lie in [0, 1] (an
@@ -356,6 +362,33 @@ fn mesh_attribute<'d>(_: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) ->
         _ => node.attr_err("value", m.to_string()),
     })?;
     Ok(Texture::MeshAttribute(t))
+}
+
+/// `rawconstant`: `value`, a `<float>` or a `<vector>`/`<point>`/`<rgb>` taken as it is (Mitsuba
+/// converts no colour space here), everywhere. It is held as a 1 × 1 bitmap, so it stands
+/// wherever a bitmap can — Mitsuba's test scenes give a normal map the identity (0.5, 0.5, 1)
+/// this way — and a bitmap's checks apply (finite values ≥ 0).
+fn rawconstant<'d>(_: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Result<Texture> {
+    let node = p
+        .take_as("value", &["float", "integer", "vector", "point", "rgb"])?
+        .ok_or_else(|| e.err("missing <float name=\"value\" …/> or <vector name=\"value\" …/>"))?;
+    let v = match node.tag.as_str() {
+        "vector" | "point" => node.xyz(0.0, false)?.as_vec3(),
+        _ => {
+            let n = node.numbers("value", node.required("value")?)?;
+            match n.as_slice() {
+                [x] => Rgb::splat(*x as f32),
+                [r, g, b] if node.tag == "rgb" => Rgb::new(*r as f32, *g as f32, *b as f32),
+                k => {
+                    let m = format!("expected 1 number (or 3 in an <rgb>), found {}", k.len());
+                    return Err(node.attr_err("value", m));
+                }
+            }
+        }
+    };
+    Bitmap::new(1, 1, vec![v], FilterType::Nearest, WrapMode::Repeat, UvTransform::IDENTITY)
+        .map(Texture::Bitmap)
+        .map_err(|m| node.attr_err("value", m.to_string()))
 }
 
 /// `checkerboard`: `color0` (0.4), `color1` (0.2), `to_uv`.
