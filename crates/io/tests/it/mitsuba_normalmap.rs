@@ -86,7 +86,9 @@ fn a_rawconstant_is_a_raw_value_everywhere() {
         <float name="alpha_v" value="0.05"/></bsdf>"#;
     let mapped = format!(
         r#"<shape type="sphere"><bsdf type="normalmap"><texture name="normalmap" type="rawconstant">
-        <vector name="value" value="0.5, 0.5, 1.0"/></texture>{conductor}</bsdf></shape>{light}"#
+        <vector name="value" value="0.5, 0.5, 1.0"/></texture>{conductor}
+        <boolean name="flip_invalid_normals" value="false"/><boolean name="use_shadowing_function" value="false"/>
+        </bsdf></shape>{light}"#
     );
     let bare = format!(r#"<shape type="sphere">{conductor}</shape>{light}"#);
     let (mapped, bare) = (load(&mapped).unwrap(), load(&bare).unwrap());

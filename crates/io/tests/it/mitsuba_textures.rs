@@ -129,7 +129,7 @@ fn bad_textures_are_located_errors() {
         r#"<shape type="rectangle"><bsdf type="diffuse"><texture type="noise" name="reflectance"/></bsdf></shape>"#,
     );
     assert!(
-        e.contains("unsupported texture type \"noise\" (supported: bitmap, checkerboard, mesh_attribute)"),
+        e.contains("unsupported texture type \"noise\" (supported: bitmap, checkerboard, mesh_attribute, rawconstant)"),
         "{e}"
     );
     assert!(e.contains("test.xml:2:"), "{e}");
