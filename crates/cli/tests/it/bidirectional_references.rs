@@ -478,6 +478,17 @@ fn a_blend_is_linear_in_its_weight() {
     assert!((r - 1.0).abs() < 0.01, "a blend at ½ is {r} of its children's mean");
 }
 
+/// Renders `testdata/mitsuba/NAME/scene.xml` bidirectionally (200 k light paths, `camera_spp`
+/// camera paths per pixel, seed 1 or `OPTICKS_TEST_SEED`) and checks the image mean and its
+/// 4×4 regions against the scene's Mitsuba `path` reference within `tol` (mean, region).
+fn matches_path_reference(name: &str, camera_spp: u32, tol: (f64, f64)) {
+    let scene = load(dir(name).join("scene.xml"));
+    let reference = exr(dir(name).join("reference-path.exr"));
+    let seed = std::env::var("OPTICKS_TEST_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
+    let film = render(&scene, 200_000, camera_spp, seed, &[]).to_rgb_f32();
+    check_regions(&format!("{name} (seed {seed})"), &film, &reference, (96, 72), tol);
+}
+
 /// Mitsuba's `normalmap` (`testdata/mitsuba/normalmap`: a diffuse floor and a rough-plastic card
 /// shaded by 4 × 4 cells of 25° tilts) through the bidirectional estimator: the mapped normal is
 /// a shading normal, so camera paths (no correction), NEE and the dataset's splats (the adjoint
@@ -485,12 +496,7 @@ fn a_blend_is_linear_in_its_weight() {
 /// and 4×4 regions; bounds from the noise measured at [`NORMAL_MAP_TOL`]. Seed 1.
 #[test]
 fn normalmap_matches_mitsuba_path() {
-    let name = "normalmap";
-    let scene = load(dir(name).join("scene.xml"));
-    let reference = exr(dir(name).join("reference-path.exr"));
-    let seed = std::env::var("OPTICKS_TEST_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
-    let film = render(&scene, 200_000, 16, seed, &[]).to_rgb_f32();
-    check_regions(&format!("{name} (seed {seed})"), &film, &reference, (96, 72), NORMAL_MAP_TOL);
+    matches_path_reference("normalmap", 16, NORMAL_MAP_TOL);
 }
 
 /// (mean, region) bounds of [`normalmap_matches_mitsuba_path`]. Measured over seeds 1–3
@@ -507,12 +513,7 @@ const NORMAL_MAP_TOL: (f64, f64) = (0.012, 0.06);
 /// mean and 4×4 regions; bounds from the noise measured at [`BUMP_MAP_TOL`]. Seed 1.
 #[test]
 fn bumpmap_matches_mitsuba_path() {
-    let name = "bumpmap";
-    let scene = load(dir(name).join("scene.xml"));
-    let reference = exr(dir(name).join("reference-path.exr"));
-    let seed = std::env::var("OPTICKS_TEST_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
-    let film = render(&scene, 200_000, 16, seed, &[]).to_rgb_f32();
-    check_regions(&format!("{name} (seed {seed})"), &film, &reference, (96, 72), BUMP_MAP_TOL);
+    matches_path_reference("bumpmap", 16, BUMP_MAP_TOL);
 }
 
 /// (mean, region) bounds of [`bumpmap_matches_mitsuba_path`]. Measured over seeds 1–3
@@ -560,12 +561,7 @@ fn a_bumpmap_of_scale_0_renders_as_its_nested_bsdf() {
 /// measured at [`PRINCIPLED_TOL`]. Seed 1 (`OPTICKS_TEST_SEED` for others).
 #[test]
 fn principled_matches_mitsuba_path() {
-    let name = "principled";
-    let scene = load(dir(name).join("scene.xml"));
-    let reference = exr(dir(name).join("reference-path.exr"));
-    let seed = std::env::var("OPTICKS_TEST_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
-    let film = render(&scene, 200_000, 16, seed, &[]).to_rgb_f32();
-    check_regions(&format!("{name} (seed {seed})"), &film, &reference, (96, 72), PRINCIPLED_TOL);
+    matches_path_reference("principled", 16, PRINCIPLED_TOL);
 }
 
 /// (mean, region) bounds of [`principled_matches_mitsuba_path`]. Measured over seeds 1–3
@@ -582,12 +578,7 @@ const PRINCIPLED_TOL: (f64, f64) = (0.012, 0.06);
 /// [`principled_matches_mitsuba_path`]; bounds [`PRINCIPLED_TRANS_TOL`].
 #[test]
 fn principled_transmission_matches_mitsuba_path() {
-    let name = "principled_trans";
-    let scene = load(dir(name).join("scene.xml"));
-    let reference = exr(dir(name).join("reference-path.exr"));
-    let seed = std::env::var("OPTICKS_TEST_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
-    let film = render(&scene, 200_000, 16, seed, &[]).to_rgb_f32();
-    check_regions(&format!("{name} (seed {seed})"), &film, &reference, (96, 72), PRINCIPLED_TRANS_TOL);
+    matches_path_reference("principled_trans", 16, PRINCIPLED_TRANS_TOL);
 }
 
 /// (mean, region) bounds of [`principled_transmission_matches_mitsuba_path`]. Measured over seeds
@@ -606,12 +597,7 @@ const PRINCIPLED_TRANS_TOL: (f64, f64) = (0.012, 0.06);
 /// [`PRINCIPLED_THIN_TOL`]. Seed 1 (`OPTICKS_TEST_SEED` for others).
 #[test]
 fn principledthin_matches_mitsuba_path() {
-    let name = "principledthin";
-    let scene = load(dir(name).join("scene.xml"));
-    let reference = exr(dir(name).join("reference-path.exr"));
-    let seed = std::env::var("OPTICKS_TEST_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(1);
-    let film = render(&scene, 200_000, 64, seed, &[]).to_rgb_f32();
-    check_regions(&format!("{name} (seed {seed})"), &film, &reference, (96, 72), PRINCIPLED_THIN_TOL);
+    matches_path_reference("principledthin", 64, PRINCIPLED_THIN_TOL);
 }
 
 /// (mean, region) bounds of [`principledthin_matches_mitsuba_path`]. The sphere's four 4×4
