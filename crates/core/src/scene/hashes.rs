@@ -43,6 +43,16 @@ fn textured_material_hash(material: &Material, textures: &[Bound]) -> [u8; 16] {
     h.finish()
 }
 
+/// Appends `xs` (little-endian `f32`s) to both byte streams: the version-2 and the version-1
+/// geometry hash take the same shading normals, texture coordinates and attribute values.
+fn push_f32s(outs: [&mut Vec<u8>; 2], xs: &[f32]) {
+    for out in outs {
+        for x in xs {
+            out.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+}
+
 /// The hashes of a scene of `materials` with their `textures`, triangles `flat` and `lights`;
 /// `meshes` names each mesh and the range of `flat`'s triangles it became.
 pub(super) fn fingerprints(
@@ -84,29 +94,19 @@ pub(super) fn fingerprints(
             if shading != NO_SHADING {
                 // Shading normals change what every stored vertex reflects; a version-1
                 // dataset (traced before they were honoured) must not match such a scene.
-                for n in flat.shading_normals[shading as usize] {
-                    for x in n.to_array() {
-                        bytes.extend_from_slice(&x.to_le_bytes());
-                        bytes_v1.extend_from_slice(&x.to_le_bytes());
-                    }
-                }
+                let normals = flat.shading_normals[shading as usize].map(|n| n.to_array());
+                push_f32s([&mut bytes, &mut bytes_v1], normals.as_flattened());
             }
             let bound = &textures[flat.material_of[i] as usize];
             if !bound.is_empty() {
                 // A textured material's colours depend on where on the triangle a point is.
                 if let Some(uv) = flat.uvs.get(flat.uv_of[i] as usize) {
-                    for x in uv.map(|v| v.to_array()).as_flattened() {
-                        bytes.extend_from_slice(&x.to_le_bytes());
-                        bytes_v1.extend_from_slice(&x.to_le_bytes());
-                    }
+                    push_f32s([&mut bytes, &mut bytes_v1], uv.map(|v| v.to_array()).as_flattened());
                 }
                 // ... and on the values of the mesh attributes its textures read.
                 for k in bound.iter().filter_map(|b| b.attribute) {
                     if let Some(c) = flat.attributes[k].corners(i as u32) {
-                        for x in c.map(|v| v.to_array()).as_flattened() {
-                            bytes.extend_from_slice(&x.to_le_bytes());
-                            bytes_v1.extend_from_slice(&x.to_le_bytes());
-                        }
+                        push_f32s([&mut bytes, &mut bytes_v1], c.map(|v| v.to_array()).as_flattened());
                     }
                 }
             }
@@ -115,12 +115,9 @@ pub(super) fn fingerprints(
                 // coordinates orient what every stored vertex on it reflects. The tag refuses
                 // datasets traced before the frame followed them (`fingerprint` module docs).
                 if let Some(uv) = flat.uvs.get(flat.uv_of[i] as usize) {
-                    for b in [&mut bytes, &mut bytes_v1] {
-                        b.extend_from_slice(b"dp/du");
-                        for x in uv.map(|v| v.to_array()).as_flattened() {
-                            b.extend_from_slice(&x.to_le_bytes());
-                        }
-                    }
+                    bytes.extend_from_slice(b"dp/du");
+                    bytes_v1.extend_from_slice(b"dp/du");
+                    push_f32s([&mut bytes, &mut bytes_v1], uv.map(|v| v.to_array()).as_flattened());
                 }
             }
             if bytes.len() >= BLOCK {
