@@ -20,6 +20,7 @@ use super::build::Builder;
 use super::properties::Props;
 use super::xml::{Document, Element};
 use crate::texture_file::read_texture_within;
+use glam::DVec3;
 use opticks_core::bsdf::MAX_ALPHA;
 use opticks_core::math::Rgb;
 use opticks_core::texture::{
@@ -373,19 +374,12 @@ fn rawconstant<'d>(_: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Re
         .take_as("value", &["float", "integer", "vector", "point", "rgb"])?
         .ok_or_else(|| e.err("missing <float name=\"value\" …/> or <vector name=\"value\" …/>"))?;
     let v = match node.tag.as_str() {
-        "vector" | "point" => node.xyz(0.0, false)?.as_vec3(),
-        _ => {
-            let n = node.numbers("value", node.required("value")?)?;
-            match n.as_slice() {
-                [x] => Rgb::splat(*x as f32),
-                [r, g, b] if node.tag == "rgb" => Rgb::new(*r as f32, *g as f32, *b as f32),
-                k => {
-                    let m = format!("expected 1 number (or 3 in an <rgb>), found {}", k.len());
-                    return Err(node.attr_err("value", m));
-                }
-            }
-        }
-    };
+        "vector" | "point" => node.xyz(0.0, false)?,
+        // One number (grey) or three, as `<rgb>` anywhere; a value is required.
+        "rgb" => node.required("value").and_then(|_| node.xyz(0.0, true))?,
+        _ => DVec3::splat(node.number("value", node.required("value")?)?),
+    }
+    .as_vec3();
     Bitmap::new(1, 1, vec![v], FilterType::Nearest, WrapMode::Repeat, UvTransform::IDENTITY)
         .map(Texture::Bitmap)
         .map_err(|m| node.attr_err("value", m.to_string()))
