@@ -20,3 +20,10 @@ pub fn err_in(folder: &str, body: &str) -> String {
         Err(e) => e.to_string(),
     }
 }
+
+/// The first material's BSDF of [`load_in`]'s scene, which must load without warnings.
+pub fn first_bsdf(folder: &str, body: &str) -> opticks_core::bsdf::Bsdf {
+    let loaded = load_in(folder, body).unwrap();
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    loaded.description.materials.into_iter().next().expect("a material").bsdf
+}

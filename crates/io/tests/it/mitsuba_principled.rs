@@ -23,10 +23,8 @@ fn shape(inner: &str) -> String {
 }
 
 fn principled(body: &str) -> Principled {
-    let loaded = load(body).unwrap();
-    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
-    match &loaded.description.materials[0].bsdf {
-        Bsdf::Principled(p) => p.clone(),
+    match crate::mitsuba_fragment::first_bsdf("principled", body) {
+        Bsdf::Principled(p) => p,
         other => panic!("{other:?}"),
     }
 }

@@ -23,10 +23,8 @@ fn shape(inner: &str) -> String {
 }
 
 fn thin(body: &str) -> PrincipledThin {
-    let loaded = load(body).unwrap();
-    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
-    match &loaded.description.materials[0].bsdf {
-        Bsdf::PrincipledThin(p) => p.clone(),
+    match crate::mitsuba_fragment::first_bsdf("principledthin", body) {
+        Bsdf::PrincipledThin(p) => p,
         other => panic!("{other:?}"),
     }
 }
