@@ -326,7 +326,7 @@ mod tests {
         let normals = SurfaceNormals {
             geometric: Vec3::Y,
             shading: Vec3::new(0.35, 1.0, -0.1).normalize(),
-            tangent: Vec3::ZERO,
+            tangent: None,
         };
         let wi = Vec3::new(-0.5, 0.6, 0.2).normalize();
         let g = |w: Vec3| 1.0 + 0.8 * w.x as f64 + 0.3 * w.z as f64;
@@ -400,8 +400,7 @@ mod tests {
             bsdf: Bsdf::Lambert(Lambert::new(Rgb::ONE).unwrap()),
             two_sided: false,
         };
-        let normals =
-            SurfaceNormals { geometric: Vec3::Y, shading: Vec3::new(0.8, 0.6, 0.0), tangent: Vec3::ZERO };
+        let normals = SurfaceNormals { geometric: Vec3::Y, shading: Vec3::new(0.8, 0.6, 0.0), tangent: None };
         let wi = Vec3::new(0.6, 0.8, 0.0);
         let below = Vec3::new(0.9, -0.1, 0.0).normalize(); // above n_s, below n_g
         assert!(below.dot(normals.shading) > 0.0);

@@ -47,17 +47,17 @@ pub struct SurfaceNormals {
     pub shading: Vec3,
     /// The shading frame's x axis: ∂p/∂u made orthogonal to `shading` and unit (Mitsuba's
     /// `sh_frame.s`), set only where the material is anisotropic and the triangle has texture
-    /// coordinates (`crate::scene::Scene::normals_at`); zero elsewhere, where the frame is
+    /// coordinates (`crate::scene::Scene::normals_at`); `None` elsewhere, where the frame is
     /// [`Frame::from_normal`] of `shading` (what Mitsuba's `coordinate_system` gives a mesh
     /// without texture coordinates, and what an isotropic BSDF cannot tell from any other).
-    pub tangent: Vec3,
+    pub tangent: Option<Vec3>,
 }
 
 impl SurfaceNormals {
     /// A faceted point: the shading normal is the geometric one.
     #[inline]
     pub fn flat(n: Vec3) -> Self {
-        SurfaceNormals { geometric: n, shading: n, tangent: Vec3::ZERO }
+        SurfaceNormals { geometric: n, shading: n, tangent: None }
     }
 
     /// The shading frame: around `shading`, its x axis `tangent` where one is set.
@@ -69,7 +69,10 @@ impl SurfaceNormals {
     /// [`SurfaceNormals::frame`] around `n` (the shading normal or its negation).
     #[inline]
     pub fn frame_of(&self, n: Vec3) -> Frame {
-        if self.tangent == Vec3::ZERO { Frame::from_normal(n) } else { Frame::with_tangent(n, self.tangent) }
+        match self.tangent {
+            None => Frame::from_normal(n),
+            Some(s) => Frame::with_tangent(n, s),
+        }
     }
 
     /// Whether the shading normal is the geometric one (then nothing about shading normals

@@ -310,13 +310,13 @@ impl Scene {
     }
 
     /// Mitsuba's shading tangent (`initialize_sh_frame`): ∂p/∂u of triangle `prim` made
-    /// orthogonal to the shading normal `ns` and unit; zero (the frame of `ns` alone) where the
+    /// orthogonal to the shading normal `ns` and unit; `None` (the frame of `ns` alone) where the
     /// triangle's texture coordinates are degenerate or ∂p/∂u is along `ns`, where Mitsuba
     /// falls back to `coordinate_system` too.
     #[inline]
-    fn uv_tangent(&self, prim: u32, ns: Vec3) -> Vec3 {
+    fn uv_tangent(&self, prim: u32, ns: Vec3) -> Option<Vec3> {
         let (dpdu, _) = self.dp_duv(prim);
-        (dpdu - ns * ns.dot(dpdu)).normalize_or_zero()
+        (dpdu - ns * ns.dot(dpdu)).try_normalize()
     }
 
     /// The geometric normal and the interpolated vertex normals at `p` on triangle `prim`.
@@ -333,7 +333,7 @@ impl Scene {
         // Interpolated normals can cancel (opposite vertex normals) or, at a crease, lean
         // through the surface: keep the shading normal on the geometric side.
         if ns.dot(ng) > 0.0 {
-            SurfaceNormals { geometric: ng, shading: ns, tangent: Vec3::ZERO }
+            SurfaceNormals { geometric: ng, shading: ns, tangent: None }
         } else {
             SurfaceNormals::flat(ng)
         }

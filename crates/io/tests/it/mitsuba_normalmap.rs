@@ -100,7 +100,7 @@ fn a_rawconstant_is_a_raw_value_everywhere() {
     for prim in [0u32, 100, 2000] {
         let p = mapped.triangles[prim as usize].point(0.2, 0.3);
         assert_eq!(mapped.normals_at(prim, p), bare.normals_at(prim, p), "triangle {prim}");
-        assert_ne!(mapped.normals_at(prim, p).tangent, Vec3::ZERO, "an anisotropic frame follows dp/du");
+        assert!(mapped.normals_at(prim, p).tangent.is_some(), "an anisotropic frame follows dp/du");
     }
     // A float, as a roughness: that number.
     let rough = load(&format!(
