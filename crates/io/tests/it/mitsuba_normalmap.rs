@@ -78,7 +78,6 @@ fn bad_normal_maps_are_located_errors() {
 /// roughness it is that number; a bad value is a located error.
 #[test]
 fn a_rawconstant_is_a_raw_value_everywhere() {
-    use opticks_core::math::Vec3;
     use opticks_core::scene::Scene;
     let light = r#"<shape type="rectangle"><transform name="to_world"><translate z="2"/></transform>
         <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#;
