@@ -56,6 +56,9 @@ pub struct LatLong {
     col_cdf: Vec<f64>,
     /// ∫ L(ω) dω per channel (scale included).
     integral: Rgb,
+    /// cos θ_k of every texel row k (`height` of them: the bounds of the rows of cells), so
+    /// that a density or a draw looks up what it took two `cos` calls to compute.
+    row_cos: Vec<f64>,
 }
 
 /// Why a map cannot be an environment (the light's name and place are the caller's).
@@ -104,7 +107,11 @@ impl LatLong {
             row_cdf: Vec::new(),
             col_cdf: Vec::new(),
             integral: Rgb::ZERO,
+            row_cos: Vec::new(),
         };
+        // The same expressions as `row_angles` (k·Δθ), so the same bits as its cosines.
+        let d = PI64 / (h - 1) as f64;
+        map.row_cos = (0..h).map(|k| (k as f64 * d).cos()).collect();
         map.build_distribution();
         Ok(map)
     }
@@ -256,8 +263,7 @@ impl LatLong {
     /// Solid angle of a cell of row j.
     #[inline]
     fn cell_solid_angle(&self, j: usize) -> f64 {
-        let (t0, t1) = self.row_angles(j);
-        2.0 * PI64 / self.width as f64 * (t0.cos() - t1.cos())
+        2.0 * PI64 / self.width as f64 * (self.row_cos[j] - self.row_cos[j + 1])
     }
 
     /// The solid-angle density of sampling the map-frame unit direction `d`.
@@ -282,8 +288,8 @@ impl LatLong {
         let rx = ((ux - col_lo) / (cols[i] - col_lo)).clamp(0.0, 1.0);
         let rx = if rx.is_finite() { rx } else { 0.5 };
         let ry = if ry.is_finite() { ry } else { 0.5 };
-        let (t0, t1) = self.row_angles(j);
-        let cos_theta = t0.cos() - (t0.cos() - t1.cos()) * ry;
+        let (cos0, cos1) = (self.row_cos[j], self.row_cos[j + 1]);
+        let cos_theta = cos0 - (cos0 - cos1) * ry;
         let phi = 2.0 * PI64 * ((i as f64 + 0.5 + rx) / w as f64);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
         let d = Vec3::new((phi.sin() * sin_theta) as f32, cos_theta as f32, (-phi.cos() * sin_theta) as f32);

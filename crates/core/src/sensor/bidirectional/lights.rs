@@ -156,21 +156,31 @@ impl RenderLights {
     /// L'(ω)/(pdf·P_k), relit. `None` if `i` is no environment or `pdf` is 0.
     #[inline]
     pub fn from_environment(&self, scene: &Scene, i: usize, omega: Vec3, pdf: f32) -> Option<LightPoint> {
-        let rl = &self.lights[i];
-        let light = &scene.lights[rl.scene_index];
-        let Light::Environment(env) = light else { return None };
-        if !(pdf > 0.0) {
-            return None;
-        }
+        let (radiance, pick) = self.environment_radiance(scene, i, omega, pdf)?;
+        let light = &scene.lights[self.lights[i].scene_index];
         Some(LightPoint {
             dir: omega,
             distance: f32::INFINITY,
-            radiance: relit_environment(env, rl.power, omega) / (pdf * rl.pick),
+            radiance,
             emitter: emitter_densities(light, Vec3::ZERO, -omega),
             cos_light: 1.0,
-            pick: rl.pick,
+            pick,
             normal: None,
         })
+    }
+
+    /// [`RenderLights::from_environment`]'s L'(ω)/(pdf·P_k) and P_k alone, without the
+    /// emitter's densities an MIS weight needs (the meter's sky sampler weighs its own
+    /// directions, and looking the direction up in the map's distribution again cost it a
+    /// tenth of its instructions).
+    #[inline]
+    pub fn environment_radiance(&self, scene: &Scene, i: usize, omega: Vec3, pdf: f32) -> Option<(Rgb, f32)> {
+        let rl = &self.lights[i];
+        let Light::Environment(env) = &scene.lights[rl.scene_index] else { return None };
+        if !(pdf > 0.0) {
+            return None;
+        }
+        Some((relit_environment(env, rl.power, omega) / (pdf * rl.pick), rl.pick))
     }
 
     /// A camera ray leaving the scene along the unit direction `dir`: per environment that is

@@ -282,8 +282,8 @@ impl<'a> Sky<'a> {
         let l = self.envs.iter().fold(Rgb::ZERO, |l, &i| {
             l + self
                 .lights
-                .from_environment(self.scene, i, omega, 1.0)
-                .map_or(Rgb::ZERO, |lp| lp.radiance * lp.pick)
+                .environment_radiance(self.scene, i, omega, 1.0)
+                .map_or(Rgb::ZERO, |(radiance, pick)| radiance * pick)
         });
         (l * tau, cos)
     }
