@@ -457,13 +457,16 @@ pub(crate) fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
                     // A block at a time through one buffer (the same stream as the whole map at
                     // once): a copy of an 8192² map's texels took 805 MB, and a buffer per block
                     // filled through iterator adapters cost more than the hash.
-                    let mut bytes = Vec::with_capacity(4096 * 12);
+                    let mut bytes = vec![0u8; 4096 * 12];
                     for block in texels.chunks(4096) {
-                        bytes.clear();
-                        for x in block.iter().flat_map(|t| t.to_array()) {
-                            bytes.extend_from_slice(&x.to_le_bytes());
+                        let bytes = &mut bytes[..block.len() * 12];
+                        for (out, t) in bytes.chunks_exact_mut(12).zip(block) {
+                            let [r, g, b] = t.to_array().map(f32::to_le_bytes);
+                            out[..4].copy_from_slice(&r);
+                            out[4..8].copy_from_slice(&g);
+                            out[8..].copy_from_slice(&b);
                         }
-                        h.0.update(&bytes);
+                        h.0.update(bytes);
                     }
                 }
             };
