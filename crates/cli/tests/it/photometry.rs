@@ -14,16 +14,23 @@ use opticks_testkit::files::testdata;
 /// deviation of one setting's mean).
 const RTRACE_LUX: [(f64, f64); 4] = [(8748.05, 1.48), (5888.69, 0.63), (3900.05, 0.89), (3271.26, 0.51)];
 
+/// The relative difference the two programs' models of the same CIE sky may have beside the
+/// noise: Opticks samples the sky as a 512 × 257 map of skybright.cal's function (bilinear
+/// between texels, the horizon row halved between the sky and the ground domes), rtrace
+/// evaluates the function per ray. 0.1 % of the reading: a tenth of CIE 171's 1 % target.
+const SKY_MODELS: f64 = 0.001;
+
 /// Radiance's bright() weights (its src/common/color.h's macros, default primaries).
 const RADIANCE_WEIGHTS: [f64; 3] = [0.26510582010582007, 0.67010582010582, 0.06478835978835978];
 
 /// The scene traced (1 M paths, seed 1) and measured at the points (`--connections 8
 /// --direct-samples 200000`, meter seed 0): each point's E_v_lux within 4 standard errors
-/// (Opticks's reported one and the reference's spread in quadrature) of rtrace's. Measured:
-/// 8740.5 ± 14.5, 5884.8 ± 7.9, 3898.9 ± 3.9, 3285.0 ± 5.9 lux (−0.5, −0.5, −0.3, +2.3 σ);
-/// with meter seeds 1 and 2, the last point within 1 σ. (Trace seeds alone do not show the
-/// spread: with the meter's seed fixed, every dataset of the same size has the same meter
-/// picks, the larger part of the error at these points.) The colour weights matter: Rec. 709's weights at
+/// (Opticks's reported one and the reference's spread in quadrature) of rtrace's, plus
+/// [`SKY_MODELS`] of it. Measured (2026-12-08, the sky's fresh directions stratified in pairs):
+/// 8740.6 ± 0.9, 5887.7 ± 0.8, 3900.9 ± 0.6, 3272.6 ± 0.7 lux; with independent directions
+/// before, 8741.2 ± 1.4, 5890.8 ± 1.2, 3899.8 ± 0.9, 3272.1 ± 1.0 — the same values within
+/// their errors, both 7 lux (0.08 %) under rtrace's at the first point, which 4 σ alone no
+/// longer covers once Opticks's error is below a lux. The colour weights matter: Rec. 709's weights at
 /// 179 lm/W put the point under the red panel at 7.9·10³ lux (over 50 σ off), 683 lm/W at
 /// 3.0·10⁴. The summary names the rule.
 #[test]
@@ -62,7 +69,10 @@ fn measure_on_a_radiance_scene_reports_rtraces_lux() {
         assert!((lux / radiance - 1.0).abs() < 1e-9, "point {k}: {lux} lux is not Radiance's rule of {e:?}");
         let sigma = se.hypot(spread);
         eprintln!("point {k}: {lux:.1} ± {se:.1} lux, rtrace {reference:.2} ± {spread:.2}");
-        assert!(se > 0.0 && (lux - reference).abs() < 4.0 * sigma, "point {k}: {lux} ± {se} vs {reference}");
+        assert!(
+            se > 0.0 && (lux - reference).abs() < 4.0 * sigma + SKY_MODELS * reference,
+            "point {k}: {lux} ± {se} vs {reference}"
+        );
         if k == 0 {
             let rec709 = 179.0 * (0.2126 * e[0] + 0.7152 * e[1] + 0.0722 * e[2]);
             assert!((rec709 - reference).abs() > 20.0 * sigma, "the weights should matter: {rec709}");

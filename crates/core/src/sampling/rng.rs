@@ -57,6 +57,12 @@ impl RandomStream {
     pub fn next_u64(&mut self) -> u64 {
         ((self.rng.next_u32() as u64) << 32) | self.rng.next_u32() as u64
     }
+
+    /// A uniform number in [0, 1) with 53 random bits (never returns 1.0).
+    #[inline]
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
 }
 
 #[cfg(test)]

@@ -45,7 +45,7 @@
 //! scattered at least once is its scattered vertices' connections' alone. The two partition
 //! the paths arriving at the meter by their length, each with weight 1.
 
-use super::budget::{self, channels};
+use super::budget::{self, PairedStrata, channels};
 use super::connect::DIRECT_STOP_DRAWS;
 use super::layout::{MeterDraw, MeterLayout};
 use crate::light::Light;
@@ -134,7 +134,7 @@ impl<'a> AreaLights<'a> {
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Option<([f64; 4], [f64; 4])> {
         let mut rng = RandomStream::new(seed, &[key, t as u64]);
-        let (mut mean, mut var) = ([0.0f64; 4], [0.0f64; 4]);
+        let mut sums = PairedStrata::default();
         let mut drawn = 0u32;
         for (cell, w) in Strata::new(strata).iter() {
             let mut pair = [[0.0f64; 4]; 2];
@@ -148,12 +148,9 @@ impl<'a> AreaLights<'a> {
                 let u = Vec2::new(cell.0 + j.x * cell.2, cell.1 + j.y * cell.3).min(Vec2::splat(BELOW_ONE));
                 *x = channels(self.sample(&d, u), &self.scene.photometry);
             }
-            for c in 0..4 {
-                mean[c] += w * 0.5 * (pair[0][c] + pair[1][c]);
-                var[c] += (w * 0.5 * (pair[0][c] - pair[1][c])).powi(2);
-            }
+            sums.add(w, pair);
         }
-        Some((mean, var.map(f64::sqrt)))
+        Some(sums.finish())
     }
 
     /// Target `t`'s direct light from the area lights: its mean per channel and in lux and

@@ -82,3 +82,30 @@ impl Moments {
         (mean, se)
     }
 }
+
+/// Sums of a stratified estimate whose strata hold two independent samples each: the estimate
+/// Σ_h w_h·(x_h1 + x_h2)/2 (w_h the stratum's share of the domain) and the unbiased estimate of
+/// its variance Σ_h w_h²·(x_h1 − x_h2)²/4, each stratum's pair being an i.i.d. pair of its
+/// conditional distribution (one degree of freedom a stratum). The area lights' and the sky's
+/// direct terms both stratify this way.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct PairedStrata {
+    mean: [f64; 4],
+    var: [f64; 4],
+}
+
+impl PairedStrata {
+    /// Adds stratum of share `w` with its two samples' channels ([`channels`]).
+    #[inline]
+    pub(super) fn add(&mut self, w: f64, pair: [[f64; 4]; 2]) {
+        for c in 0..4 {
+            self.mean[c] += w * 0.5 * (pair[0][c] + pair[1][c]);
+            self.var[c] += (w * 0.5 * (pair[0][c] - pair[1][c])).powi(2);
+        }
+    }
+
+    /// The estimate and its standard error per channel.
+    pub(super) fn finish(&self) -> ([f64; 4], [f64; 4]) {
+        (self.mean, self.var.map(f64::sqrt))
+    }
+}
