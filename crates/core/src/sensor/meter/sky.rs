@@ -52,9 +52,10 @@
 //! difference, unbiased with N/2 degrees of freedom). So each component gets its share α, 1 − α
 //! of the samples and the guide's bins their weights' share, up to a stratum, instead of
 //! binomial counts; what is left is the variation within a bin (an opening's edge crossing
-//! it). Measured on CIE 171's roof cases (9 points, overcast sky, `--direct-samples 8192`): the
-//! standard error of a point fell from 0.72 % to about a quarter of that (`docs/performance.md`);
-//! Radiance's ambient sampling is stratified over its hemisphere for the same reason.
+//! it). Measured on CIE 171's roof case (8 points, overcast sky, `--direct-samples 8192`): a
+//! point's standard error fell from 0.68–0.96 % to 0.25–0.45 % (a fifth of the variance; the
+//! time to CIE 171's 2 % fell by half, `docs/performance.md`); Radiance's ambient sampling is
+//! stratified over its hemisphere for the same reason.
 //!
 //! **Why it is unbiased.** p_env > 0 wherever an environment's radiance is (its sampling is
 //! positive wherever L is), so p > 0 wherever f ≠ 0 whatever the guide is: E[f/p] = ∫f. The
