@@ -4,7 +4,7 @@
 //! located here at the light's declaration, as is a light whose power is not finite. Then the
 //! scene's light table as a whole: at least one light, unique names, a finite total power.
 
-use super::meshes::Emitter;
+use super::meshes::{Emitter, Flat, NO_UV};
 use super::{
     AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, PointLightDesc,
     SceneError, Source,
@@ -32,15 +32,29 @@ fn finite_power(light: Light) -> Result<Light, LightError> {
     }
 }
 
-/// The area light of the emissive `mesh` (emitting `emission`) over its flattened triangles.
+/// The area light of the emissive `mesh` (emitting `emission`) over its flattened triangles
+/// (in `flat`, which holds their texture coordinates, which a textured emission needs).
 pub(super) fn area_light(
     mesh: &MeshDesc,
     emission: &AreaEmission,
     emitter: Emitter,
+    flat: &Flat,
 ) -> Result<Light, SceneError> {
     if emitter.triangles.is_empty() {
         return Err(SceneError::EmptyAreaLight { at: mesh.source.clone(), light: mesh.name.clone() });
     }
+    let texture = match &emission.texture {
+        None => None,
+        Some(t) => {
+            let uvs = emitter.triangles.iter().map(|&prim| match flat.uv_of[prim as usize] {
+                NO_UV => None,
+                k => Some(flat.uvs[k as usize]),
+            });
+            let uvs = uvs.collect::<Option<Vec<_>>>();
+            let uvs = uvs.ok_or(LightError::TextureWithoutUvs).map_err(located(&mesh.source, &mesh.name))?;
+            Some((t.clone(), uvs))
+        }
+    };
     AreaLight::new(
         mesh.name.clone(),
         emission.radiance,
@@ -49,6 +63,7 @@ pub(super) fn area_light(
         emission.power,
         emitter.triangles,
         emitter.cumulative_area,
+        texture,
     )
     .map(Light::Area)
     .and_then(finite_power)
