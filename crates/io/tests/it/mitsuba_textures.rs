@@ -253,10 +253,39 @@ fn roughness_textures_are_bound_and_checked_at_their_element() {
         r#"<shape type="rectangle"><bsdf type="conductor"><texture type="checkerboard" name="alpha"/></bsdf></shape>"#,
     );
     assert!(e.contains("name=\"alpha\""), "{e}");
-    // A texture on an area emitter's radiance is refused at the texture.
-    let e = err(r#"<shape type="rectangle"><emitter type="area">
+}
+
+#[test]
+fn an_area_emitters_radiance_takes_a_texture_on_shapes_with_uvs() {
+    // A checkerboard radiance on a rectangle: the light's power is its exact mean (half of
+    // each colour) times π·A (A = 4).
+    let s = scene(
+        r#"<shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
+        <rgb name="color0" value="2, 0, 1"/><rgb name="color1" value="0, 4, 1"/></texture></emitter></shape>"#,
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let emission = s.description.meshes[0].emission.as_ref().unwrap();
+    assert!(matches!(emission.texture.as_deref(), Some(Texture::Checkerboard(_))));
+    let scene = Scene::build(&s.description).unwrap();
+    let want = Rgb::new(1.0, 2.0, 1.0) * (4.0 * std::f32::consts::PI);
+    assert!((scene.lights[0].power() - want).abs().max_element() < 1e-4, "{}", scene.lights[0].power());
+    // Given twice, or a mesh attribute (whose values are the meshes'): errors at the texture.
+    let e = err(r#"<shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/>
         <texture type="checkerboard" name="radiance"/></emitter></shape>"#);
-    assert!(e.contains("test.xml:3:9") && e.contains("texture on an area emitter's `radiance`"), "{e}");
+    assert!(e.contains("given twice"), "{e}");
+    let e = err(r#"<shape type="rectangle"><emitter type="area">
+        <texture type="mesh_attribute" name="radiance"><string name="name" value="vertex_c"/></texture>
+        </emitter></shape>"#);
+    assert!(e.contains("test.xml:3:9") && e.contains("mesh_attribute texture cannot be"), "{e}");
+    // A shape without texture coordinates (an OBJ without `vt`): an error at its emitter.
+    let dir = folder("emitter-uvs");
+    std::fs::write(dir.join("q.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let e = err_in(
+        &dir,
+        r#"<shape type="obj" id="panel"><string name="filename" value="q.obj"/>
+        <emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>"#,
+    );
+    assert!(e.contains("test.xml:3:9") && e.contains("'panel' has no texture coordinates"), "{e}");
 }
 
 /// A PLY quad (two triangles) with a float vertex colour `color_0..2`, a uchar `red green blue`
