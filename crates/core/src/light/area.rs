@@ -19,7 +19,8 @@
 //! per channel, where T̄ is the texture's mean over the light's area and L̄ = c·T̄ the mean
 //! radiance ([`AreaLight::radiance`]; c the colour the texture is multiplied by, or what a given
 //! power makes it). T̄ is computed **exactly** when the light is built, triangle by triangle
-//! ([`crate::texture::integral`]: the texture is piecewise polynomial on its cells), so Φ =
+//! ([`crate::texture::integral`]: the texture is piecewise polynomial on its cells; a mesh
+//! attribute is linear over each triangle, its mean its corners'), so Φ =
 //! L̄·A·∫s dω is the true power — what the light table stores, relighting replaces and the
 //! plan's quotas follow. Start points stay uniform in area (density 1/A, the same position
 //! density for the bidirectional estimator's MIS weights), and each path's weight carries the
@@ -43,11 +44,14 @@ use std::sync::Arc;
 /// need: the texture coordinates of each of the light's triangles and the texture's mean.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EmitterTexture {
-    /// The texture (a bitmap, checkerboard or constant).
+    /// The texture (a bitmap, checkerboard, constant or the mesh's attribute).
     pub texture: Arc<Texture>,
     /// Per triangle of the light (in the order of [`AreaLight::triangles`]), the texture
-    /// coordinates of its corners v0, v1, v2.
+    /// coordinates of its corners v0, v1, v2 (zero for a mesh attribute on a mesh without them).
     pub uvs: Vec<[Vec2; 3]>,
+    /// For a `mesh_attribute` texture, per triangle of the light, the attribute at its corners
+    /// (a face attribute's value three times); empty otherwise.
+    pub corners: Vec<[Rgb; 3]>,
     /// T̄: the texture's exact mean over the light's area, per channel.
     pub mean: Rgb,
     /// 1/T̄ per channel, 0 where T̄ is 0 (that channel emits nothing anywhere).
@@ -59,7 +63,11 @@ impl EmitterTexture {
     #[inline]
     fn relative(&self, i: usize, (b1, b2): (f32, f32)) -> Rgb {
         let [a, b, c] = self.uvs[i];
-        self.texture.eval(a + b1 * (b - a) + b2 * (c - a), Rgb::ZERO) * self.inv_mean
+        let attribute = match self.corners.get(i) {
+            Some([x, y, z]) => (1.0 - b1 - b2) * *x + b1 * *y + b2 * *z,
+            None => Rgb::ZERO,
+        };
+        self.texture.eval(a + b1 * (b - a) + b2 * (c - a), attribute) * self.inv_mean
     }
 }
 
@@ -103,14 +111,14 @@ impl AreaLight {
         power: Option<Rgb>,
         triangles: Vec<u32>,
         cumulative_area: Vec<f32>,
-        texture: Option<(Arc<Texture>, Vec<[Vec2; 3]>)>,
+        texture: Option<EmitterTextureDesc>,
     ) -> Result<AreaLight, LightError> {
         let profile = BuiltProfile::build(profile.unwrap_or(&EmissionProfile::Cosine), true)?;
         let tangent = tangent.map_or(Ok(Vec3::X), unit_tangent)?;
         let area = cumulative_area.last().copied().unwrap_or(0.0);
         let texture = match texture {
             None => None,
-            Some((texture, uvs)) => Some(emitter_texture(texture, uvs, &cumulative_area)?),
+            Some(desc) => Some(emitter_texture(desc, &cumulative_area)?),
         };
         let radiance = match &texture {
             Some(t) => radiance * t.mean,
@@ -237,26 +245,46 @@ impl AreaLight {
     }
 }
 
-/// The [`EmitterTexture`] of `texture` over triangles of texture coordinates `uvs` and
-/// cumulative areas `cumulative_area`: T̄ = Σ A_i·mean_i / A, each triangle's mean exact.
-fn emitter_texture(
-    texture: Arc<Texture>,
-    uvs: Vec<[Vec2; 3]>,
-    cumulative_area: &[f32],
-) -> Result<EmitterTexture, LightError> {
+/// What a textured area light is built from ([`AreaLight::new`]): the texture and, per
+/// triangle of the light, its corners' texture coordinates and (a `mesh_attribute` texture
+/// only, else empty) attribute values.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EmitterTextureDesc {
+    /// The texture.
+    pub texture: Arc<Texture>,
+    /// Per triangle, its corners' texture coordinates.
+    pub uvs: Vec<[Vec2; 3]>,
+    /// Per triangle, its corners' attribute values (a `mesh_attribute` texture), else empty.
+    pub corners: Vec<[Rgb; 3]>,
+}
+
+/// The [`EmitterTexture`] of `desc` over triangles of cumulative areas `cumulative_area`:
+/// T̄ = Σ A_i·mean_i / A, each triangle's mean exact (a mesh attribute's is its corners' mean,
+/// the attribute being linear over the triangle; a negative or non-finite value is an error).
+fn emitter_texture(desc: EmitterTextureDesc, cumulative_area: &[f32]) -> Result<EmitterTexture, LightError> {
+    let EmitterTextureDesc { texture, uvs, corners } = desc;
     let (mut cells, mut sum, mut lo) = (0u64, glam::DVec3::ZERO, 0.0f32);
-    for (uv, &hi) in uvs.iter().zip(cumulative_area) {
-        let mean = triangle_mean(&texture, *uv, &mut cells).map_err(|e| match e {
-            MeanError::TooManyCells => LightError::TextureTooFine(MAX_CELLS),
-            MeanError::MeshAttribute => LightError::TextureKind,
-        })?;
+    for (i, (uv, &hi)) in uvs.iter().zip(cumulative_area).enumerate() {
+        let mean = match (&*texture, corners.get(i)) {
+            (Texture::MeshAttribute(m), Some(c)) => {
+                let values = c.map(|x| x * m.scale);
+                if let Some(v) = values.iter().find(|v| !v.is_finite() || v.min_element() < 0.0) {
+                    return Err(LightError::Emission(v.to_array()));
+                }
+                (values[0] + values[1] + values[2]) / 3.0
+            }
+            _ => triangle_mean(&texture, *uv, &mut cells).map_err(|e| match e {
+                MeanError::TooManyCells => LightError::TextureTooFine(MAX_CELLS),
+                MeanError::MeshAttribute => LightError::TextureAttribute(String::new()),
+            })?,
+        };
         sum += mean.as_dvec3() * f64::from(hi - lo);
         lo = hi;
     }
     let area = f64::from(cumulative_area.last().copied().unwrap_or(0.0));
     let mean = if area > 0.0 { (sum / area).as_vec3() } else { Rgb::ZERO };
     let inv_mean = Rgb::select(mean.cmpgt(Rgb::ZERO), mean.recip(), Rgb::ZERO);
-    Ok(EmitterTexture { texture, uvs, mean, inv_mean })
+    Ok(EmitterTexture { texture, uvs, corners, mean, inv_mean })
 }
 
 /// The frame of z = `normal` (unit) whose x axis is `tangent` (unit) projected onto the plane ⊥ `normal`,
@@ -296,7 +324,7 @@ mod tests {
             None,
             vec![0, 1],
             vec![1.0, 2.0],
-            Some((Arc::new(texture), uvs)),
+            Some(EmitterTextureDesc { texture: Arc::new(texture), uvs, corners: Vec::new() }),
         )
         .unwrap();
         (light, triangles)

@@ -64,9 +64,9 @@ pub enum LightError {
         "its radiance texture repeats too often over the emitter (more than {0} texture cells) for its power to be computed"
     )]
     TextureTooFine(u64),
-    /// A texture kind an area light's radiance cannot follow.
-    #[error("a mesh_attribute texture cannot be an emitter's radiance (use a bitmap or checkerboard)")]
-    TextureKind,
+    /// A `mesh_attribute` radiance on a mesh without that attribute.
+    #[error("its radiance is the mesh attribute \"{0}\", which the shape does not have")]
+    TextureAttribute(String),
     /// A textured area light on a mesh without texture coordinates.
     #[error("its radiance is a texture, but the shape has no texture coordinates (UVs)")]
     TextureWithoutUvs,

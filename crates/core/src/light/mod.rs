@@ -27,7 +27,7 @@ pub mod ies;
 pub mod point;
 pub mod profile;
 
-pub use area::{AreaLight, EmitterTexture};
+pub use area::{AreaLight, EmitterTexture, EmitterTextureDesc};
 pub use check::{LUMENS_PER_WATT, LightError, lumens_to_watts};
 pub use directional::DirectionalLight;
 pub use environment::{EnvRadiance, EnvironmentLight, LatLong};

@@ -26,7 +26,7 @@ use crate::scene_formats::{ply::parse_ply_with, serialized::parse_serialized_wit
 use glam::{DMat3, DMat4};
 use opticks_core::math::{Vec2, Vec3};
 use opticks_core::scene::{AreaEmission, MeshAttribute, MeshDesc};
-use opticks_core::texture::ColourSlot;
+use opticks_core::texture::{ColourSlot, Texture};
 
 /// A shape's geometry before `to_world`.
 pub struct Geometry {
@@ -283,10 +283,11 @@ fn mesh_filename<'d>(e: &'d Element, p: &mut Props<'d>) -> Result<(String, &'d E
     p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))
 }
 
-/// `emission`, unless it is textured and the shape `name` has no texture coordinates
-/// (`has_uvs` false): an error at its emitter element `at`.
+/// `emission`, unless it is textured by UV (not a mesh attribute) and the shape `name` has no
+/// texture coordinates (`has_uvs` false): an error at its emitter element `at`.
 fn with_uvs(emission: AreaEmission, has_uvs: bool, name: &str, at: &Element) -> Result<AreaEmission> {
-    if emission.texture.is_some() && !has_uvs {
+    let by_uv = emission.texture.as_deref().is_some_and(|t| !matches!(t, Texture::MeshAttribute(_)));
+    if by_uv && !has_uvs {
         return Err(at.err(format!(
             "shape '{name}' has no texture coordinates, which the texture on its emitter's \
              `radiance` needs; give the mesh UVs (OBJ `vt`, PLY u/v) or use a shape that has them"

@@ -229,16 +229,9 @@ fn unit_texture<'d>(
 }
 
 /// An area emitter's `radiance` given as the texture `e` (a `<texture>` or a `<ref>` to one):
-/// a bitmap, checkerboard or rawconstant (a mesh attribute's values are the meshes', which an
-/// emitter's power cannot be computed from: an error at `e`).
+/// any texture type (a mesh attribute's values are the shape's, checked by the scene).
 pub fn emitter_radiance<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Element) -> Result<Arc<Texture>> {
-    let texture = parameter_texture(b, p, "radiance", e)?;
-    if matches!(*texture, Texture::MeshAttribute(_)) {
-        return Err(e.err(
-            "a mesh_attribute texture cannot be an area emitter's `radiance` (use a bitmap or checkerboard)",
-        ));
-    }
-    Ok(texture)
+    parameter_texture(b, p, "radiance", e)
 }
 
 /// The texture `e` (a `<texture>` or a `<ref>` to one) given as parameter `name`, which must not
