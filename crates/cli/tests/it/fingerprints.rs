@@ -63,7 +63,7 @@ fn emitting(
     profile: Option<EmissionProfile>,
     tangent: Option<Vec3>,
 ) -> MeshDesc {
-    mesh.emission = Some(AreaEmission { radiance, profile, tangent, power: None });
+    mesh.emission = Some(AreaEmission { radiance, profile, tangent, power: None, texture: None });
     mesh
 }
 

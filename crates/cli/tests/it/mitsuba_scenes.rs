@@ -113,6 +113,12 @@
 //! regions: Mitsuba orients α_u along ∂p/∂u where a shape has texture coordinates (the sphere's
 //! parallels, the card's own x axis), so a frame that ignores them turns the highlights.
 //!
+//! `emitter_texture` (64 × 48, 2²⁰ paths): area emitters whose radiance is a texture — a bilinear
+//! bitmap with a black column and a checkerboard — seen by the camera and lighting a floor,
+//! against a Mitsuba `path` reference, light estimator, 8 × 8 regions: a texture flipped or
+//! shifted on the emitter, a power that is not the texture's integral or start weights that
+//! do not average to 1 move the panels' or the floor's regions.
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 use opticks_testkit as common;
@@ -285,4 +291,9 @@ fn mitsuba_principledthin_matches_mitsuba() {
 #[test]
 fn mitsuba_anisotropy_follows_dp_du_as_in_mitsuba() {
     check_path_reference("anisotropic", "scene.xml", "reference-path", 1 << 20, 1);
+}
+
+#[test]
+fn mitsuba_textured_area_emitters_match_mitsuba() {
+    check_path_reference("emitter_texture", "scene.xml", "reference-path", 1 << 20, 1);
 }

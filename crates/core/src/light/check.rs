@@ -58,6 +58,18 @@ pub enum LightError {
     /// scale (the message says which).
     #[error("environment map: {0}")]
     Map(String),
+    /// A textured area light's triangles cover more cells of its texture than its power may
+    /// be integrated over.
+    #[error(
+        "its radiance texture repeats too often over the emitter (more than {0} texture cells) for its power to be computed"
+    )]
+    TextureTooFine(u64),
+    /// A `mesh_attribute` radiance on a mesh without that attribute.
+    #[error("its radiance is the mesh attribute \"{0}\", which the shape does not have")]
+    TextureAttribute(String),
+    /// A textured area light on a mesh without texture coordinates.
+    #[error("its radiance is a texture, but the shape has no texture coordinates (UVs)")]
+    TextureWithoutUvs,
     /// An environment's frame is not a rotation.
     #[error("the environment's frame {0:?} (columns) is not a rotation")]
     EnvironmentFrame([f32; 9]),

@@ -64,6 +64,6 @@ impl DirectionalLight {
     pub fn sample_emission(&self, u_pos: Vec2) -> Emission {
         let d = self.radius * warp::square_to_concentric_disk(u_pos);
         let origin = self.centre + d.x * self.frame.s + d.y * self.frame.t;
-        Emission { origin, surface: None, dir: self.direction, weight: Rgb::ONE }
+        Emission { origin, surface: None, dir: self.direction, weight: Rgb::ONE, emitted: Rgb::ONE }
     }
 }

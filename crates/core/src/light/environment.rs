@@ -423,7 +423,7 @@ impl EnvironmentLight {
         let l = self.radiance(omega);
         let per = |l: f32, i: f32| if i > 0.0 && pdf > 0.0 { l / (pdf * i) } else { 0.0 };
         let weight = Rgb::new(per(l.x, integral.x), per(l.y, integral.y), per(l.z, integral.z));
-        Emission { origin, surface: None, dir: -omega, weight }
+        Emission { origin, surface: None, dir: -omega, weight, emitted: Rgb::ONE }
     }
 }
 

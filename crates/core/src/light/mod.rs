@@ -27,7 +27,7 @@ pub mod ies;
 pub mod point;
 pub mod profile;
 
-pub use area::AreaLight;
+pub use area::{AreaLight, EmitterTexture, EmitterTextureDesc};
 pub use check::{LUMENS_PER_WATT, LightError, lumens_to_watts};
 pub use directional::DirectionalLight;
 pub use environment::{EnvRadiance, EnvironmentLight, LatLong};
@@ -63,8 +63,12 @@ pub struct Emission {
     /// β₁: emitted flux along this ray divided by Φ/N, i.e.
     /// L_e(y0, ω)·cos θ / (p_A(y0)·p_ω(ω)·Φ) = f_e(ω)/p_ω(ω). Exactly 1 when the direction
     /// density matches the emission function (cosine, uniform, cosⁿ, directional); mean 1 for
-    /// the spot and IES profiles, which are sampled approximately.
+    /// the spot and IES profiles, which are sampled approximately; a textured area light's
+    /// also carries `emitted`.
     pub weight: Rgb,
+    /// The radiance at y0 relative to the light's mean: T(uv)/T̄ of a textured area light
+    /// ([`area`] module docs), 1 otherwise. The weight of the emission vertex's stored sample.
+    pub emitted: Rgb,
 }
 
 impl Light {

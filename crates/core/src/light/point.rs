@@ -74,7 +74,7 @@ impl PointLight {
                 (self.frame.to_world(local).normalize(), w)
             }
         };
-        Emission { origin: self.position, surface: None, dir, weight: Rgb::splat(w) }
+        Emission { origin: self.position, surface: None, dir, weight: Rgb::splat(w), emitted: Rgb::ONE }
     }
 }
 

@@ -109,7 +109,7 @@ impl Scene {
             let emitter = flat.push_mesh(mesh, &normals, light);
             ranges.push((mesh.name.as_str(), first..flat.vertices.len()));
             if let Some(emission) = &mesh.emission {
-                lights.push(lights::area_light(mesh, emission, emitter)?);
+                lights.push(lights::area_light(mesh, emission, emitter, &flat)?);
             }
         }
         for p in &desc.point_lights {

@@ -9,7 +9,7 @@ use crate::light::check::{LightError, check_emission, unit_axis};
 use crate::light::{EmissionProfile, axis_frame};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::scene::Photometry;
-use crate::texture::TextureBinding;
+use crate::texture::{Texture, TextureBinding};
 use glam::DVec3;
 
 /// A camera as a scene file states it: where it is, how it is oriented, its image size and its
@@ -161,6 +161,10 @@ pub struct AreaEmission {
     /// If set, the area light's power Φ (W per channel), overriding `radiance` (which then
     /// follows: Φ/(A·∫s dω)).
     pub power: Option<Rgb>,
+    /// A texture the radiance follows over the mesh's texture coordinates (which it must
+    /// have): the radiance at a point is `radiance` times the texture's value there
+    /// ([`crate::light::area`] module docs). `None`: uniform.
+    pub texture: Option<std::sync::Arc<Texture>>,
 }
 
 impl AreaEmission {

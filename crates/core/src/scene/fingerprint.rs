@@ -422,6 +422,14 @@ pub(crate) fn light_shape(light: &Light, triangles: &[Triangle]) -> [u8; 16] {
                 let Triangle { v0, e1, e2 } = &triangles[t as usize];
                 h.f32s(&[v0.x, v0.y, v0.z, e1.x, e1.y, e1.z, e2.x, e2.y, e2.z]);
             }
+            // A texture decides where the light emits (an untextured light's bytes are unchanged).
+            if let Some(t) = &a.texture {
+                h.0.update(b"radiance texture");
+                t.texture.fingerprint_with(&mut |w| h.f32s(w));
+                for uv in &t.uvs {
+                    h.f32s(&[uv[0].x, uv[0].y, uv[1].x, uv[1].y, uv[2].x, uv[2].y]);
+                }
+            }
         }
         Light::Point(p) => {
             h.0.update(b"isotropic point");

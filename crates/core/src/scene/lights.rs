@@ -4,15 +4,18 @@
 //! located here at the light's declaration, as is a light whose power is not finite. Then the
 //! scene's light table as a whole: at least one light, unique names, a finite total power.
 
-use super::meshes::Emitter;
+use super::meshes::{Emitter, Flat, NO_UV};
 use super::{
     AreaEmission, DirectionalLightDesc, EnvironmentLightDesc, EnvironmentRadiance, MeshDesc, PointLightDesc,
     SceneError, Source,
 };
+use crate::light::EmitterTextureDesc;
 use crate::light::{
     AreaLight, DirectionalLight, EnvRadiance, EnvironmentLight, LatLong, Light, LightError, PointLight,
 };
-use crate::math::Vec3;
+use crate::math::{Vec2, Vec3};
+use crate::texture::Texture;
+use std::sync::Arc;
 
 /// `source` of a light's constructor, located at the light `name` declared at `at`.
 fn located(at: &Source, name: &str) -> impl FnOnce(LightError) -> SceneError {
@@ -32,15 +35,21 @@ fn finite_power(light: Light) -> Result<Light, LightError> {
     }
 }
 
-/// The area light of the emissive `mesh` (emitting `emission`) over its flattened triangles.
+/// The area light of the emissive `mesh` (emitting `emission`) over its flattened triangles
+/// (in `flat`, which holds their texture coordinates, which a textured emission needs).
 pub(super) fn area_light(
     mesh: &MeshDesc,
     emission: &AreaEmission,
     emitter: Emitter,
+    flat: &Flat,
 ) -> Result<Light, SceneError> {
     if emitter.triangles.is_empty() {
         return Err(SceneError::EmptyAreaLight { at: mesh.source.clone(), light: mesh.name.clone() });
     }
+    let texture = match &emission.texture {
+        None => None,
+        Some(t) => Some(texture_desc(t, &emitter, flat).map_err(located(&mesh.source, &mesh.name))?),
+    };
     AreaLight::new(
         mesh.name.clone(),
         emission.radiance,
@@ -49,10 +58,41 @@ pub(super) fn area_light(
         emission.power,
         emitter.triangles,
         emitter.cumulative_area,
+        texture,
     )
     .map(Light::Area)
     .and_then(finite_power)
     .map_err(located(&mesh.source, &mesh.name))
+}
+
+/// What the textured light over `emitter` needs of `flat`: per triangle, its texture
+/// coordinates (required, unless the texture is a mesh attribute: then zero where missing) and,
+/// for a mesh attribute, its corners' values (required).
+fn texture_desc(
+    texture: &Arc<Texture>,
+    emitter: &Emitter,
+    flat: &Flat,
+) -> Result<EmitterTextureDesc, LightError> {
+    let attribute = match &**texture {
+        Texture::MeshAttribute(m) => Some(m),
+        _ => None,
+    };
+    let uv = |prim: u32| match flat.uv_of[prim as usize] {
+        NO_UV => attribute.map(|_| [Vec2::ZERO; 3]),
+        k => Some(flat.uvs[k as usize]),
+    };
+    let uvs = emitter.triangles.iter().map(|&prim| uv(prim)).collect::<Option<Vec<_>>>();
+    let uvs = uvs.ok_or(LightError::TextureWithoutUvs)?;
+    let corners = match attribute {
+        None => Vec::new(),
+        Some(m) => {
+            let missing = || LightError::TextureAttribute(m.name.clone());
+            let table = flat.attributes.iter().find(|t| t.name == m.name).ok_or_else(missing)?;
+            let corners = emitter.triangles.iter().map(|&prim| table.corners(prim).copied());
+            corners.collect::<Option<Vec<_>>>().ok_or_else(missing)?
+        }
+    };
+    Ok(EmitterTextureDesc { texture: texture.clone(), uvs, corners })
 }
 
 /// The point light of `p`.

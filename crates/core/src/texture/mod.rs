@@ -22,6 +22,7 @@ use crate::bsdf::{Bsdf, Plastic};
 use crate::math::{Rgb, Vec2, Vec3};
 use std::sync::Arc;
 
+pub mod integral;
 mod principled_weight;
 pub use principled_weight::PrincipledWeight;
 

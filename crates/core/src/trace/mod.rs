@@ -156,10 +156,15 @@ fn walk<M: PathMis>(
     let (u_pos, u_dir) = (rng.next_2d(), rng.next_2d());
     let light = &scene.lights[k];
     let e = light.sample_emission(&scene.triangles, u_pos, u_dir);
+    if !(e.emitted.max_element() > 0.0) {
+        return; // a textured light's black point: the path carries nothing (it still counts in N_k)
+    }
     let mut origin = e.origin;
     let mis = M::at_emission(light, &e, sink);
     if let Some((normal, prim)) = e.surface {
-        out.push(Sample::emitted(e.origin, prim));
+        let mut start = Sample::emitted(e.origin, prim);
+        start.beta = e.emitted.to_array(); // T(uv)/T̄ of a textured light, else 1 as before
+        out.push(start);
         origin = offset_ray_origin(e.origin, normal, e.dir);
     }
     stack.clear();

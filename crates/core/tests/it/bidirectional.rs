@@ -422,7 +422,7 @@ fn strategy_weights(
                 if let Some((at, surface)) = start.light_point {
                     let li =
                         ctx.lights.lights().iter().position(|l| l.table_index == light as usize).unwrap();
-                    let lp = ctx.lights.toward(scene, li, at, surface.map(|s| s.0), v.position).unwrap();
+                    let lp = ctx.lights.toward(scene, li, at, surface, v.position).unwrap();
                     sum += nee_weight(ctx, &r, &cam, &lp) as f64;
                 } else if let Some(omega) = start.sky {
                     let li =
@@ -462,7 +462,7 @@ fn strategy_weights(
             let Some((at, Some((normal, prim)))) = start.light_point else { unreachable!() };
             let to_camera = dir_to(at, next);
             cam = cam.after_hit((next - at).length_squared(), normal.dot(to_camera).abs());
-            let (_, emitter, pick) = ctx.lights.hit(scene, prim, normal, to_camera).unwrap();
+            let (_, emitter, pick) = ctx.lights.hit(scene, prim, at, normal, to_camera).unwrap();
             sum += weight_emitter_hit(&cam, emitter, pick, ctx.counts) as f64;
             seen[0] += 1;
         }

@@ -253,10 +253,43 @@ fn roughness_textures_are_bound_and_checked_at_their_element() {
         r#"<shape type="rectangle"><bsdf type="conductor"><texture type="checkerboard" name="alpha"/></bsdf></shape>"#,
     );
     assert!(e.contains("name=\"alpha\""), "{e}");
-    // A texture on an area emitter's radiance is refused at the texture.
-    let e = err(r#"<shape type="rectangle"><emitter type="area">
+}
+
+#[test]
+fn an_area_emitters_radiance_takes_a_texture_on_shapes_with_uvs() {
+    // A checkerboard radiance on a rectangle: the light's power is its exact mean (half of
+    // each colour) times π·A (A = 4).
+    let s = scene(
+        r#"<shape type="rectangle"><emitter type="area"><texture type="checkerboard" name="radiance">
+        <rgb name="color0" value="2, 0, 1"/><rgb name="color1" value="0, 4, 1"/></texture></emitter></shape>"#,
+    );
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let emission = s.description.meshes[0].emission.as_ref().unwrap();
+    assert!(matches!(emission.texture.as_deref(), Some(Texture::Checkerboard(_))));
+    let built = Scene::build(&s.description).unwrap();
+    let want = Rgb::new(1.0, 2.0, 1.0) * (4.0 * std::f32::consts::PI);
+    assert!((built.lights[0].power() - want).abs().max_element() < 1e-4, "{}", built.lights[0].power());
+    // Given twice: an error at the texture.
+    let e = err(r#"<shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/>
         <texture type="checkerboard" name="radiance"/></emitter></shape>"#);
-    assert!(e.contains("test.xml:3:9") && e.contains("texture on an area emitter's `radiance`"), "{e}");
+    assert!(e.contains("given twice"), "{e}");
+    // A mesh attribute the shape does not have: the scene's error, at the shape.
+    let s = scene(
+        r#"<shape type="rectangle" id="panel"><emitter type="area">
+        <texture type="mesh_attribute" name="radiance"><string name="name" value="vertex_c"/></texture>
+        </emitter></shape>"#,
+    );
+    let e = Scene::build(&s.description).unwrap_err().to_string();
+    assert!(e.contains("test.xml:2") && e.contains("mesh attribute \"vertex_c\""), "{e}");
+    // A shape without texture coordinates (an OBJ without `vt`): an error at its emitter.
+    let dir = folder("emitter-uvs");
+    std::fs::write(dir.join("q.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let e = err_in(
+        &dir,
+        r#"<shape type="obj" id="panel"><string name="filename" value="q.obj"/>
+        <emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>"#,
+    );
+    assert!(e.contains("test.xml:3:9") && e.contains("'panel' has no texture coordinates"), "{e}");
 }
 
 /// A PLY quad (two triangles) with a float vertex colour `color_0..2`, a uchar `red green blue`
@@ -272,6 +305,26 @@ fn attributed_ply(dir: &Path) {
          3 0 1 2 0.25 1 0 0\n3 0 2 3 0.5 0 1 0\n",
     )
     .unwrap();
+}
+
+#[test]
+fn an_area_emitters_radiance_may_be_a_mesh_attribute() {
+    // The PLY quad's vertex colours, scaled by 2, as the radiance: each triangle's mean is its
+    // corners' mean (the attribute is linear over it): (0.4, 0.5, 0.6) and (0.8, 1, 1.2)/3 on
+    // two triangles of area 2, so Φ = π·4·2·(1/3, 5/12, 1/2).
+    let dir = folder("emitter-attributes");
+    attributed_ply(&dir);
+    let s = load_in(
+        &dir,
+        r#"<shape type="ply"><string name="filename" value="q.ply"/><emitter type="area">
+        <texture type="mesh_attribute" name="radiance"><string name="name" value="vertex_color"/>
+        <float name="scale" value="2"/></texture></emitter></shape>"#,
+    )
+    .unwrap();
+    assert_eq!(s.description.meshes[0].attributes.len(), 1);
+    let scene = Scene::build(&s.description).unwrap();
+    let want = Rgb::new(1.0 / 3.0, 5.0 / 12.0, 0.5) * (8.0 * std::f32::consts::PI);
+    assert!((scene.lights[0].power() - want).abs().max_element() < 1e-4, "{}", scene.lights[0].power());
 }
 
 #[test]

@@ -140,7 +140,7 @@ impl RenderLights {
         let (at, normal) = match &scene.lights[self.lights[i].scene_index] {
             Light::Area(a) => {
                 let e = a.sample_emission(&scene.triangles, u_pos, Vec2::ZERO);
-                (e.origin, Some(e.surface?.0))
+                (e.origin, Some(e.surface?))
             }
             Light::Environment(env) => {
                 let (omega, pdf) = env.sample_direction(u_pos);
@@ -205,16 +205,17 @@ impl RenderLights {
         !self.environments.is_empty()
     }
 
-    /// What light `i` (of [`RenderLights::lights`]) sends from its point `at` (normal
-    /// `normal`; area lights only, ignored for the others) toward `x`, as NEE sees it. `None`
-    /// behind a one-sided emitter or at x itself.
+    /// What light `i` (of [`RenderLights::lights`]) sends from its point `at` (on the
+    /// triangle `surface` = (normal, scene index); area lights only, ignored for the others)
+    /// toward `x`, as NEE sees it (a textured light's radiance at `at`). `None` behind a
+    /// one-sided emitter or at x itself.
     #[inline]
     pub fn toward(
         &self,
         scene: &Scene,
         i: usize,
         at: Vec3,
-        normal: Option<Vec3>,
+        surface: Option<(Vec3, u32)>,
         x: Vec3,
     ) -> Option<LightPoint> {
         let rl = &self.lights[i];
@@ -226,7 +227,7 @@ impl RenderLights {
         let light = &scene.lights[rl.scene_index];
         match light {
             Light::Area(a) => {
-                let normal = normal?;
+                let (normal, prim) = surface?;
                 let (dir, d, d2) = finite(at)?;
                 let cos_light = -normal.dot(dir);
                 if !(cos_light > 0.0) {
@@ -234,7 +235,10 @@ impl RenderLights {
                 }
                 let fraction = a.emitted_fraction(normal, -dir);
                 // L_e·cos θ₀/(d²·p₀·P) with L_e = fraction·Φ/A and p₀ = 1/A.
-                let radiance = rl.power * (fraction * cos_light / (d2 * rl.pick));
+                let mut radiance = rl.power * (fraction * cos_light / (d2 * rl.pick));
+                if a.texture.is_some() {
+                    radiance *= a.scale_at(&scene.triangles, prim, at);
+                }
                 let emitter = emitter_densities(light, normal, -dir);
                 Some(LightPoint {
                     dir,
@@ -280,8 +284,9 @@ impl RenderLights {
         }
     }
 
-    /// A camera ray arriving at `prim` (an emitter triangle of normal `normal`) from the
-    /// direction `to_camera`: the relit radiance L_e toward the camera, the light's densities
+    /// A camera ray arriving at the point `at` of `prim` (an emitter triangle of normal
+    /// `normal`) from the direction `to_camera`: the relit radiance L_e toward the camera (a
+    /// textured light's at `at`), the light's densities
     /// of the point and of that direction, and P_k. `None` if `prim` emits for no light that is
     /// on, or the ray arrives from behind.
     #[inline]
@@ -289,6 +294,7 @@ impl RenderLights {
         &self,
         scene: &Scene,
         prim: u32,
+        at: Vec3,
         normal: Vec3,
         to_camera: Vec3,
     ) -> Option<(Rgb, Emitter, f32)> {
@@ -297,7 +303,10 @@ impl RenderLights {
         if !(normal.dot(to_camera) > 0.0) {
             return None;
         }
-        let radiance = rl.power * (a.emitted_fraction(normal, to_camera) / a.area());
+        let mut radiance = rl.power * (a.emitted_fraction(normal, to_camera) / a.area());
+        if a.texture.is_some() {
+            radiance *= a.scale_at(&scene.triangles, prim, at);
+        }
         let emitter = emitter_densities(&scene.lights[rl.scene_index], normal, to_camera);
         Some((radiance, emitter, rl.pick))
     }
@@ -362,10 +371,10 @@ mod tests {
         assert!((b.radiance - 2.0 * a.radiance).abs().max_element() <= 1e-6 * b.radiance.max_element());
         // An emitter hit on the ceiling light from below, and none from above.
         let prim = (0..scene.triangles.len() as u32).find(|&p| scene.light_of(p) == Some(0)).unwrap();
-        let n = scene.normal(prim);
-        assert!(one.hit(&scene, prim, n, n).is_some() && one.hit(&scene, prim, n, -n).is_none());
+        let (n, at) = (scene.normal(prim), scene.triangles[prim as usize].point(0.25, 0.25));
+        assert!(one.hit(&scene, prim, at, n, n).is_some() && one.hit(&scene, prim, at, n, -n).is_none());
         assert!(
-            RenderLights::new(&scene, &["light"], &[Rgb::ZERO], &[100]).hit(&scene, prim, n, n).is_none()
+            RenderLights::new(&scene, &["light"], &[Rgb::ZERO], &[100]).hit(&scene, prim, at, n, n).is_none()
         );
     }
 }

@@ -85,7 +85,9 @@ pub(super) fn camera_path_rays(
             break;
         }
         mis = mis.after_hit(hit.t * hit.t, cos_in);
-        if let Some((emitted, emitter, pick)) = ctx.lights.hit(scene, hit.prim, hit.normal, to_camera) {
+        if let Some((emitted, emitter, pick)) =
+            ctx.lights.hit(scene, hit.prim, hit.position, hit.normal, to_camera)
+        {
             let w = weight_emitter_hit(&mis, emitter, pick, ctx.counts);
             radiance += throughput * emitted * w;
         }

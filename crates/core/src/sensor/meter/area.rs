@@ -109,8 +109,10 @@ impl<'a> AreaLights<'a> {
         let Light::Area(a) = &self.scene.lights[self.lights.lights()[i].scene_index] else {
             unreachable!("AreaLights::new keeps area lights only")
         };
-        let (y, n_y, _) = a.sample_position(&self.scene.triangles, Vec2::new(ux, u.y));
-        let Some(lp) = self.lights.toward(self.scene, i, y, Some(n_y), d.position) else { return Rgb::ZERO };
+        let (y, n_y, prim) = a.sample_position(&self.scene.triangles, Vec2::new(ux, u.y));
+        let Some(lp) = self.lights.toward(self.scene, i, y, Some((n_y, prim)), d.position) else {
+            return Rgb::ZERO;
+        };
         let cos = d.normal.dot(lp.dir);
         if !(cos > 0.0) {
             return Rgb::ZERO;

@@ -111,19 +111,25 @@ pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmiss
         ));
     }
     let mut p = Props::of(e)?;
+    // A texture as the radiance (the light's sampling and power follow it: the core's
+    // `light::area` module docs); the shape must have texture coordinates (the scene checks).
+    let texture = match p.take_object("radiance") {
+        Some(t) => Some(super::texture::emitter_radiance(b, &mut p, t)?),
+        None => None,
+    };
     if let Some(c) = p.objects().first() {
-        let message = if c.raw("name") == Some("radiance") {
-            // Emission sampling, Φ_k and the bidirectional estimator's emitter densities would all
-            // have to follow the texture: not done yet.
-            "a texture on an area emitter's `radiance` is not supported: give a constant <rgb> \
-             (textures may be on BSDF colours and roughnesses)"
-        } else {
-            "unsupported element inside an area emitter (its `radiance` is a constant <rgb>)"
-        };
-        return Err(c.err(message));
+        return Err(
+            c.err("unsupported element inside an area emitter (its `radiance` is an <rgb> or a <texture>)")
+        );
     }
-    let (radiance, node) = p.color_or("radiance", Rgb::ONE)?;
-    check_emission(radiance).map_err(|e| node.err(e.to_string()))?;
+    let radiance = match texture {
+        Some(_) => Rgb::ONE, // the texture's values are the radiance
+        None => {
+            let (radiance, node) = p.color_or("radiance", Rgb::ONE)?;
+            check_emission(radiance).map_err(|e| node.err(e.to_string()))?;
+            radiance
+        }
+    };
     let exponent = p.float("exponent")?;
     let ies = ies_file(b, &mut p, true)?;
     let (profile, colour, default_power) = match (exponent, ies) {
@@ -149,7 +155,7 @@ pub fn area_emitter<'d>(b: &mut Builder<'d>, e: &'d Element) -> Result<AreaEmiss
     };
     let power = power_or_lumens(&mut p, colour, "radiance")?.or(default_power);
     b.finish(&p);
-    Ok(AreaEmission { radiance: colour, profile, tangent, power })
+    Ok(AreaEmission { radiance: colour, profile, tangent, power, texture })
 }
 
 /// `point`: `position` (or the translation of `to_world`) and `intensity`.

@@ -25,8 +25,8 @@ use crate::scene_formats::tessellate;
 use crate::scene_formats::{ply::parse_ply_with, serialized::parse_serialized_within};
 use glam::{DMat3, DMat4};
 use opticks_core::math::{Vec2, Vec3};
-use opticks_core::scene::{MeshAttribute, MeshDesc};
-use opticks_core::texture::ColourSlot;
+use opticks_core::scene::{AreaEmission, MeshAttribute, MeshDesc};
+use opticks_core::texture::{ColourSlot, Texture};
 
 /// A shape's geometry before `to_world`.
 pub struct Geometry {
@@ -122,7 +122,7 @@ pub fn shape_and_kind<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> 
                 return Err(c.err("a shape can have only one emitter"));
             }
             b.used.insert(c.required("id")?.to_string());
-            emission = Some(emitter::area_emitter(b, t)?);
+            emission = Some(with_uvs(emitter::area_emitter(b, t)?, !uvs.is_empty(), &name, c)?);
             continue;
         }
         match (c.tag.as_str(), c.raw("name")) {
@@ -164,7 +164,7 @@ pub fn shape_and_kind<'d>(b: &mut Builder<'d>, e: &'d Element, index: usize) -> 
                 if emission.is_some() {
                     return Err(c.err("a shape can have only one emitter"));
                 }
-                emission = Some(emitter::area_emitter(b, c)?);
+                emission = Some(with_uvs(emitter::area_emitter(b, c)?, !uvs.is_empty(), &name, c)?);
             }
             (other, _) => {
                 return Err(c.err(format!(
@@ -281,6 +281,19 @@ fn serialized<'d>(b: &mut Builder<'d>, e: &'d Element, p: &mut Props<'d>) -> Res
 /// A mesh file's `filename` parameter.
 fn mesh_filename<'d>(e: &'d Element, p: &mut Props<'d>) -> Result<(String, &'d Element)> {
     p.string("filename")?.ok_or_else(|| e.err("missing <string name=\"filename\" value=\"...\"/>"))
+}
+
+/// `emission`, unless it is textured by UV (not a mesh attribute) and the shape `name` has no
+/// texture coordinates (`has_uvs` false): an error at its emitter element `at`.
+fn with_uvs(emission: AreaEmission, has_uvs: bool, name: &str, at: &Element) -> Result<AreaEmission> {
+    let by_uv = emission.texture.as_deref().is_some_and(|t| !matches!(t, Texture::MeshAttribute(_)));
+    if by_uv && !has_uvs {
+        return Err(at.err(format!(
+            "shape '{name}' has no texture coordinates, which the texture on its emitter's \
+             `radiance` needs; give the mesh UVs (OBJ `vt`, PLY u/v) or use a shape that has them"
+        )));
+    }
+    Ok(emission)
 }
 
 /// `uvs` with v replaced by 1 − v if `flip`.

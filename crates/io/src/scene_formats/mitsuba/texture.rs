@@ -228,6 +228,12 @@ fn unit_texture<'d>(
     Ok(texture)
 }
 
+/// An area emitter's `radiance` given as the texture `e` (a `<texture>` or a `<ref>` to one):
+/// any texture type (a mesh attribute's values are the shape's, checked by the scene).
+pub fn emitter_radiance<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Element) -> Result<Arc<Texture>> {
+    parameter_texture(b, p, "radiance", e)
+}
+
 /// The texture `e` (a `<texture>` or a `<ref>` to one) given as parameter `name`, which must not
 /// also be given as a value.
 fn parameter_texture<'d>(

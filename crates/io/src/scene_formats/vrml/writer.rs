@@ -67,6 +67,12 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
                 .map(|m| format!("area light {} has a tabulated (IES) emission profile", m.name))
         })
         .or_else(|| {
+            desc.meshes
+                .iter()
+                .find(|m| m.emission.as_ref().is_some_and(|e| e.texture.is_some()))
+                .map(|m| format!("area light {} has a textured radiance", m.name))
+        })
+        .or_else(|| {
             desc.environment_lights.first().map(|l| format!("environment light {} (at infinity)", l.name))
         })
         .or_else(|| match desc.camera.map(|c| c.kind) {
