@@ -98,9 +98,10 @@ impl PairedStrata {
     /// Adds stratum of share `w` with its two samples' channels ([`channels`]).
     #[inline]
     pub(super) fn add(&mut self, w: f64, pair: [[f64; 4]; 2]) {
-        for c in 0..4 {
-            self.mean[c] += w * 0.5 * (pair[0][c] + pair[1][c]);
-            self.var[c] += (w * 0.5 * (pair[0][c] - pair[1][c])).powi(2);
+        let [a, b] = pair;
+        for (((mean, var), a), b) in self.mean.iter_mut().zip(&mut self.var).zip(a).zip(b) {
+            *mean += w * 0.5 * (a + b);
+            *var += (w * 0.5 * (a - b)).powi(2);
         }
     }
 
