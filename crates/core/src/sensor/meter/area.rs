@@ -45,8 +45,7 @@
 //! scattered at least once is its scattered vertices' connections' alone. The two partition
 //! the paths arriving at the meter by their length, each with weight 1.
 
-use super::budget::{self, PairedStrata, channels};
-use super::connect::DIRECT_STOP_DRAWS;
+use super::budget::{self, channels};
 use super::layout::{MeterDraw, MeterLayout};
 use crate::light::Light;
 use crate::math::{Rgb, Vec2};
@@ -136,23 +135,12 @@ impl<'a> AreaLights<'a> {
         stop: &(dyn Fn() -> bool + Sync),
     ) -> Option<([f64; 4], [f64; 4])> {
         let mut rng = RandomStream::new(seed, &[key, t as u64]);
-        let mut sums = PairedStrata::default();
-        let mut drawn = 0u32;
-        for (cell, w) in Strata::new(strata).iter() {
-            let mut pair = [[0.0f64; 4]; 2];
-            for x in &mut pair {
-                if drawn.is_multiple_of(DIRECT_STOP_DRAWS) && stop() {
-                    return None;
-                }
-                drawn += 1;
-                let d = layout.draw_in(t, rng.next_2d());
-                let j = rng.next_2d();
-                let u = Vec2::new(cell.0 + j.x * cell.2, cell.1 + j.y * cell.3).min(Vec2::splat(BELOW_ONE));
-                *x = channels(self.sample(&d, u), &self.scene.photometry);
-            }
-            sums.add(w, pair);
-        }
-        Some(sums.finish())
+        budget::in_pairs(Strata::new(strata).iter(), stop, |cell| {
+            let d = layout.draw_in(t, rng.next_2d());
+            let j = rng.next_2d();
+            let u = Vec2::new(cell.0 + j.x * cell.2, cell.1 + j.y * cell.3).min(Vec2::splat(BELOW_ONE));
+            channels(self.sample(&d, u), &self.scene.photometry)
+        })
     }
 
     /// Target `t`'s direct light from the area lights: its mean per channel and in lux and

@@ -12,6 +12,7 @@
 //! the count depends on the pilot alone, whose samples are not in the estimate, the estimate
 //! given the count is an average of independent fresh samples: unbiased.
 
+use super::connect::DIRECT_STOP_DRAWS;
 use crate::math::Rgb;
 use crate::scene::Photometry;
 
@@ -83,13 +84,37 @@ impl Moments {
     }
 }
 
+/// A stratified estimate in pairs ([`PairedStrata`]): two samples of `sample(stratum)` in each
+/// of `strata` (a stratum and its share of the domain), in order; its mean per channel and
+/// their standard errors, or `None` once `stop` said so (asked every [`DIRECT_STOP_DRAWS`]
+/// draws). The area lights' and the sky's direct terms both estimate this way.
+pub(super) fn in_pairs<S>(
+    strata: impl IntoIterator<Item = (S, f64)>,
+    stop: &(dyn Fn() -> bool + Sync),
+    mut sample: impl FnMut(&S) -> [f64; 4],
+) -> Option<([f64; 4], [f64; 4])> {
+    let mut sums = PairedStrata::default();
+    let mut drawn = 0u32;
+    for (stratum, w) in strata {
+        let mut pair = [[0.0f64; 4]; 2];
+        for x in &mut pair {
+            if drawn.is_multiple_of(DIRECT_STOP_DRAWS) && stop() {
+                return None;
+            }
+            drawn += 1;
+            *x = sample(&stratum);
+        }
+        sums.add(w, pair);
+    }
+    Some(sums.finish())
+}
+
 /// Sums of a stratified estimate whose strata hold two independent samples each: the estimate
 /// Σ_h w_h·(x_h1 + x_h2)/2 (w_h the stratum's share of the domain) and the unbiased estimate of
 /// its variance Σ_h w_h²·(x_h1 − x_h2)²/4, each stratum's pair being an i.i.d. pair of its
-/// conditional distribution (one degree of freedom a stratum). The area lights' and the sky's
-/// direct terms both stratify this way.
+/// conditional distribution (one degree of freedom a stratum).
 #[derive(Clone, Copy, Debug, Default)]
-pub(super) struct PairedStrata {
+struct PairedStrata {
     mean: [f64; 4],
     var: [f64; 4],
 }
@@ -97,7 +122,7 @@ pub(super) struct PairedStrata {
 impl PairedStrata {
     /// Adds stratum of share `w` with its two samples' channels ([`channels`]).
     #[inline]
-    pub(super) fn add(&mut self, w: f64, pair: [[f64; 4]; 2]) {
+    fn add(&mut self, w: f64, pair: [[f64; 4]; 2]) {
         let [a, b] = pair;
         for (((mean, var), a), b) in self.mean.iter_mut().zip(&mut self.var).zip(a).zip(b) {
             *mean += w * 0.5 * (a + b);
@@ -106,7 +131,7 @@ impl PairedStrata {
     }
 
     /// The estimate and its standard error per channel.
-    pub(super) fn finish(&self) -> ([f64; 4], [f64; 4]) {
+    fn finish(&self) -> ([f64; 4], [f64; 4]) {
         (self.mean, self.var.map(f64::sqrt))
     }
 }

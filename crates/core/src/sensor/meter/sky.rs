@@ -75,7 +75,7 @@
 //! (`direct_samples`) fixes N instead. Random numbers come from streams named by (seed, target),
 //! so a reading does not depend on the thread count.
 
-use super::budget::{self, PairedStrata, channels};
+use super::budget::{self, channels};
 use super::connect::DIRECT_STOP_DRAWS;
 use super::layout::{MeterDraw, MeterLayout};
 use crate::light::Light;
@@ -442,24 +442,13 @@ impl<'a> Sky<'a> {
         let mut rng = RandomStream::new(seed, &[SKY_STREAM, t as u64]);
         let strata = (n / 2).max(1);
         let w = 1.0 / strata as f64;
-        let mut sums = PairedStrata::default();
-        let mut drawn = 0u32;
-        for h in 0..strata {
-            let mut pair = [[0.0f64; 4]; 2];
-            for x in &mut pair {
-                if drawn.is_multiple_of(DIRECT_STOP_DRAWS) && stop() {
-                    return None;
-                }
-                drawn += 1;
-                let d = layout.draw_in(t, rng.next_2d());
-                // The mixture's coordinate s, uniform in stratum h: below α the environments'
-                // own sampling, above it the guide's bin CDF at (s − α)/(1 − α).
-                let s = ((h as f64 + rng.next_f64()) * w).min(BELOW_ONE);
-                *x = channels(self.fresh(&d, mix, s, &mut rng), &self.scene.photometry);
-            }
-            sums.add(w, pair);
-        }
-        Some(sums.finish())
+        budget::in_pairs((0..strata).map(|h| (h, w)), stop, |&h| {
+            let d = layout.draw_in(t, rng.next_2d());
+            // The mixture's coordinate s, uniform in stratum h: below α the environments' own
+            // sampling, above it the guide's bin CDF at (s − α)/(1 − α).
+            let s = ((h as f64 + rng.next_f64()) * w).min(BELOW_ONE);
+            channels(self.fresh(&d, mix, s, &mut rng), &self.scene.photometry)
+        })
     }
 
     /// One fresh sample f(p, ω)/p(ω) at the meter point `d`, its direction drawn by the
