@@ -41,7 +41,7 @@ pub enum TextureError {
     #[error("cannot read: {0}")]
     Read(#[from] std::io::Error),
     /// The extension names no supported format.
-    #[error("unsupported texture format \".{0}\" (supported: .png, .jpg, .jpeg, .hdr, .exr)")]
+    #[error("unsupported texture format \".{0}\" (supported: .png, .jpg, .jpeg, .bmp, .hdr, .exr)")]
     Unsupported(String),
     /// An image held in memory is neither PNG nor JPEG.
     #[error("not a PNG or JPEG image")]
@@ -98,9 +98,9 @@ pub struct TextureImage {
     pub texels: Vec<Rgb>,
 }
 
-/// Reads `path` (format by extension: `.png`, `.jpg`/`.jpeg`, `.hdr`, `.exr`), of at most
+/// Reads `path` (format by extension: `.png`, `.jpg`/`.jpeg`, `.bmp`, `.hdr`, `.exr`), of at most
 /// [`MAX_TEXELS`] texels. With `raw`, 8- and 16-bit values are taken as they are (scaled to
-/// [0, 1]) instead of sRGB-decoded. The error message does not repeat the path (the caller
+/// [0, 1]) instead of sRGB-decoded (BMP, as Mitsuba reads it, is sRGB-encoded like PNG). The error message does not repeat the path (the caller
 /// names it).
 pub fn read_texture(path: &Path, raw: bool) -> Result<TextureImage, TextureError> {
     read_texture_within(path, raw, MAX_TEXELS)
@@ -113,7 +113,7 @@ pub fn read_texture_within(path: &Path, raw: bool, max_texels: u64) -> Result<Te
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     match ext.as_str() {
         "exr" => read_exr(path, max_texels),
-        "png" | "jpg" | "jpeg" | "hdr" => read_with_image(path, raw, ext == "hdr", max_texels),
+        "png" | "jpg" | "jpeg" | "bmp" | "hdr" => read_with_image(path, raw, ext == "hdr", max_texels),
         _ => Err(TextureError::Unsupported(ext)),
     }
 }
@@ -266,6 +266,11 @@ mod tests {
         assert!((t.texels[3].x - 0.2158605).abs() < 1e-5, "{}", t.texels[3]);
         let raw = read_texture(&p, true).unwrap();
         assert!((raw.texels[3].x - 128.0 / 255.0).abs() < 1e-6);
+        // The same image as a BMP (Mitsuba's collection has them): the same texels.
+        let mut bmp = Vec::new();
+        img.write_to(&mut std::io::Cursor::new(&mut bmp), image::ImageFormat::Bmp).unwrap();
+        let b = read_texture(&temp("a.bmp", &bmp), false).unwrap();
+        assert_eq!((b.width, b.height, b.texels), (t.width, t.height, t.texels));
     }
 
     #[test]
