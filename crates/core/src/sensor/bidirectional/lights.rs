@@ -139,8 +139,10 @@ impl RenderLights {
             self.cumulative.partition_point(|&c| c <= u_pick as f64).min(self.lights.len().checked_sub(1)?);
         let (at, normal) = match &scene.lights[self.lights[i].scene_index] {
             Light::Area(a) => {
-                let e = a.sample_emission(&scene.triangles, u_pos, Vec2::ZERO);
-                (e.origin, Some(e.surface?))
+                // The point alone: `toward` evaluates what it sends (a textured light's radiance
+                // there included), so no emission direction or start weight is needed here.
+                let (at, normal, prim) = a.sample_position(&scene.triangles, u_pos);
+                (at, Some((normal, prim)))
             }
             Light::Environment(env) => {
                 let (omega, pdf) = env.sample_direction(u_pos);
