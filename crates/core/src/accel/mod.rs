@@ -53,8 +53,9 @@
 //! triangles, 3,000 identical triangles, coplanar overlapping ones, nested series, sizes from
 //! 10¹² to 10⁻¹¹, each also with SAH cut off early so that median splits build most of it.
 //!
-//! The triangle test is obvhs's Möller–Trumbore (`RtTriangle::intersect`), operation for
-//! operation, so hit distances are bit-identical to before. Closest hits count in [0, t_max),
+//! The triangle test is watertight (`triangles.rs`: Woop, Benthin and Wald's edge functions
+//! decide inside, so no ray passes between two triangles sharing an edge); its distance is
+//! obvhs's Möller–Trumbore's (`RtTriangle::intersect`), operation for operation. Closest hits count in [0, t_max),
 //! occluders in the open segment (0, t_max) only, so a surface through a shadow ray's origin
 //! (the other wall, for a sample lying in a corner) does not block it. Ordinary images change
 //! only where obvhs lost a hit: the seeded Cornell trace and render are byte-identical, while
@@ -74,7 +75,7 @@ mod triangles;
 use crate::geometry::Ray;
 use crate::math::{Vec3, Vec3A, Vec4};
 use build::{Aabb, MAX_DEPTH};
-use triangles::{Tri, Tri4};
+use triangles::{Shear, Tri, Tri4};
 
 /// A child slot that holds nothing (and a box no ray meets).
 const EMPTY: u32 = u32::MAX;
@@ -129,6 +130,8 @@ struct Query {
     o4: [Vec4; 3],
     d4: [Vec4; 3],
     inv4: [Vec4; 3],
+    /// The ray prepared for the triangle test.
+    sh: Shear,
     /// Per axis, the index in [`Node::planes`] of the near and the far plane: the max where
     /// `1/d < 0` (including `−∞`), the min elsewhere.
     near: [usize; 3],
@@ -151,6 +154,7 @@ impl Query {
             inv4: [Vec4::splat(inv.x), Vec4::splat(inv.y), Vec4::splat(inv.z)],
             near: [neg(0), 2 + neg(1), 4 + neg(2)],
             far: [1 - neg(0), 3 - neg(1), 5 - neg(2)],
+            sh: Shear::new(o, d),
         }
     }
 
@@ -263,8 +267,11 @@ impl Accel {
     #[inline]
     pub fn intersect_one(&self, ray: &Ray, prim: u32) -> Option<f32> {
         let lane = *self.lane_of.get(prim as usize).filter(|&&l| l != EMPTY)?;
-        let t =
-            self.tri(lane).intersect(Vec3A::from(ray.origin), Vec3A::from(ray.dir) + Vec3A::ZERO, ray.t_max);
+        let t = {
+            let d = Vec3A::from(ray.dir) + Vec3A::ZERO;
+            let o = Vec3A::from(ray.origin);
+            self.tri(lane).intersect(o, d, &Shear::new(o, d), ray.t_max)
+        };
         (t < ray.t_max).then_some(t)
     }
 
@@ -291,7 +298,7 @@ impl Accel {
         let mut t_max = ray.t_max;
         self.traverse::<true, true, SMALL_STACK>(&q, &mut t_max, |first, count, t_max| {
             for lane in 4 * first..4 * first + count {
-                let t = self.tri(lane).intersect(q.o, q.d, *t_max);
+                let t = self.tri(lane).intersect(q.o, q.d, &q.sh, *t_max);
                 if t < *t_max && accept(self.prim(lane), t) {
                     *t_max = t;
                     best = Some((t, lane));
@@ -309,7 +316,7 @@ impl Accel {
         let mut t = ray.t_max;
         self.traverse::<true, false, SMALL_STACK>(&q, &mut t, |first, count, t_max| {
             (4 * first..4 * first + count).any(|lane| {
-                let t = self.tri(lane).intersect(q.o, q.d, *t_max);
+                let t = self.tri(lane).intersect(q.o, q.d, &q.sh, *t_max);
                 t > 0.0 && t < *t_max && accept(self.prim(lane), t)
             })
         })
@@ -325,7 +332,7 @@ impl Accel {
             #[inline(always)]
             |first, count, t_max| {
                 for p in first..first + count.div_ceil(4) {
-                    let t = self.packs[p as usize].intersect(&q.o4, &q.d4, *t_max);
+                    let t = self.packs[p as usize].intersect(&q.d4, &q.sh, *t_max);
                     let mut mask = t.cmplt(Vec4::splat(*t_max)).bitmask();
                     if mask != 0 {
                         // Lane by lane, as the one-at-a-time test visits them: the first of equal
@@ -358,7 +365,7 @@ impl Accel {
                 (first..first + count.div_ceil(4)).any(|p| {
                     // The segment is open at both ends: a surface through the origin (t = ±0, e.g.
                     // the other wall at a corner a sample lies in) does not block it.
-                    let t = self.packs[p as usize].intersect(&q.o4, &q.d4, *t_max);
+                    let t = self.packs[p as usize].intersect(&q.d4, &q.sh, *t_max);
                     (t.cmpgt(Vec4::ZERO) & t.cmplt(Vec4::splat(*t_max))).any()
                 })
             },
