@@ -67,6 +67,10 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
                 .map(|m| format!("area light {} has a tabulated (IES) emission profile", m.name))
         })
         .or_else(|| {
+            let textured = desc.point_lights.iter().find(|l| l.texture.is_some());
+            textured.map(|l| format!("spot light {} projects a texture", l.name))
+        })
+        .or_else(|| {
             desc.meshes
                 .iter()
                 .find(|m| m.emission.as_ref().is_some_and(|e| e.texture.is_some()))
