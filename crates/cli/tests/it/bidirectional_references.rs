@@ -366,11 +366,17 @@ const EMITTER_TEXTURE_TOL: (f64, f64) = (0.01, 0.06);
 const EMITTER_TEXTURE_CAMERA_TOL: (f64, f64) = (0.015, 0.25);
 
 /// (mean, region) bounds of [`spots_projecting_textures_match_mitsuba_path`] (all strategies).
-/// MEASURED_ALL
+/// Measured over seeds 1–5: mean ratios within 0.37% (σ ≈ 0.2%), worst 4×4 region 2.0–3.7%,
+/// relMSE 1.54–1.72e-3 (Mitsuba `path` at 64 spp: 2.05e-3). Bounds: mean 1% (5σ), regions 6%.
+/// Mutations, seed 1: the projection mirrored in u: mean 14% off, a region 166%; light paths
+/// weighted as if untextured: 11% and 138%; NEE that ignores the texture (the spot uniform at
+/// the texture's mean): 3.5% and 6.8%.
 const SPOT_TEXTURE_TOL: (f64, f64) = (0.01, 0.06);
 
-/// The same for the camera strategies alone (NEE to the spots, no records). MEASURED_CAMERA
-const SPOT_TEXTURE_CAMERA_TOL: (f64, f64) = (0.015, 0.25);
+/// The same for the camera strategies alone (NEE to the spots, no records). Measured over seeds
+/// 1–5: mean ratios within 1.07% (σ ≈ 0.55%), worst 4×4 region 4.9–15.9% (heavy-tailed: the
+/// dim regions), relMSE 7.6–8.8e-3. Bounds: mean 2.5% (4.5σ), regions 30%.
+const SPOT_TEXTURE_CAMERA_TOL: (f64, f64) = (0.025, 0.30);
 
 /// (mean, region) bounds of [`roughplastic_matches_mitsuba_path`]. Measured over seeds 1–5:
 /// mean ratios within 0.43% (σ ≈ 0.2%), worst 4×4 region 1.9–3.8%, relMSE 8.4–8.7e-3 (Mitsuba

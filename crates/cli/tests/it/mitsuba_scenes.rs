@@ -121,9 +121,9 @@
 //!
 //! `spot_texture` (64 × 48, 2²⁰ paths): spots projecting a texture — a bilinear bitmap with a
 //! black texel obliquely onto a floor and a cube, a hard-edged checkerboard onto a wall —
-//! against a Mitsuba `path` reference, light estimator, 8 × 8 regions: a projection flipped or
-//! rotated, a weight that ignores the texture or a power that is not its integral move the
-//! floor's or the wall's regions.
+//! against a Mitsuba `path` reference, light estimator, 8 × 8 regions: a projection mirrored or
+//! rotated, or light paths weighted as if the spot were untextured, move the floor's or the
+//! wall's regions (mirrored in u: the mean 14% off).
 //!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
