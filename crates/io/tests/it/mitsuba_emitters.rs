@@ -159,7 +159,7 @@ fn spot_textures_load_and_bad_ones_are_located() {
     let cases = [
         (format!(r#"<emitter type="spot">{}</emitter>"#, bitmap("missing.png")), "missing.png"),
         (format!(r#"<emitter type="spot"><bsdf type="diffuse"/>{checker}</emitter>"#), "scene.xml:2:22: <bsdf type=\"diffuse\">: unsupported element inside a spot emitter"),
-        (format!(r#"<emitter type="spot"><bsdf type="diffuse" name="texture"/></emitter>"#), "scene.xml:2:22: <bsdf type=\"diffuse\" name=\"texture\">: unsupported element inside a spot emitter"),
+        (r#"<emitter type="spot"><bsdf type="diffuse" name="texture"/></emitter>"#.to_string(), "scene.xml:2:22: <bsdf type=\"diffuse\" name=\"texture\">: unsupported element inside a spot emitter"),
         (
             format!(r#"<emitter type="spot"><float name="cutoff_angle" value="90"/>{checker}</emitter>"#),
             "scene.xml:2:22: <float name=\"cutoff_angle\">: a spot projecting a texture needs a cutoff_angle below 90°",
