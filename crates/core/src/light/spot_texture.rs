@@ -12,15 +12,15 @@
 //! Φ = c·Q with Q = ∫ T(uv(ω))·s(ω) dω per channel, so f_e = T·s/Q. Q is **estimated without
 //! bias** when the light is built: a stratified, jittered grid of [`INTEGRAL_STRATA`]² directions
 //! uniform in the cone (in cos θ and φ, the sampler's own map), from a fixed random stream, so a
-//! scene always gets the same Q (E[Q̂] = Q exactly; its relative standard error is ~10⁻⁴ for a
-//! texture with many edges, far less for smooth ones; a test checks both). Every estimate the engine
-//! makes uses Φ·f_e = c·Q̂·T·s/Q̂ = c·T·s, in which Q̂ cancels: the tracer's weights, NEE and the
+//! scene always gets the same Q̂ (whose expectation is Q exactly; its relative standard error
+//! is ~10⁻⁴ for a texture with many edges, far less for smooth ones; a test checks both). Every
+//! estimate the engine makes uses Φ·f_e = c·Q̂·T·s/Q̂ = c·T·s, in which Q̂ cancels: the tracer's weights, NEE and the
 //! meter are exact whatever Q̂'s error. Q̂ only decides how a given `power` converts to c, the
 //! light's share of the plan's paths, and what `info` reports.
 //!
 //! ## How it is sampled
 //! Directions stay uniform in the cone, as for the untextured spot (the MIS densities are
-//! unchanged); each carries the weight f_e/p = T·s·Ω_cone/Q̂ per channel: E[weight] = Q/Q̂ ≈ 1.
+//! unchanged); each carries the weight f_e/p = T·s·Ω_cone/Q̂ per channel, of mean Q/Q̂ ≈ 1.
 //! Directions through black texels carry nothing (their path is dropped at once). Sampling ∝
 //! T·s would waste fewer paths on dark patterns, at the price of a 2D table per light and a
 //! density the bidirectional MIS would have to evaluate; not done.
