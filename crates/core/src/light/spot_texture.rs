@@ -14,9 +14,9 @@
 //! uniform in the cone (in cos θ and φ, the sampler's own map), from a fixed random stream, so a
 //! scene always gets the same Q̂ (whose expectation is Q exactly; its relative standard error
 //! is ~10⁻⁴ for a texture with many edges, far less for smooth ones; a test checks both). Every
-//! estimate the engine makes uses Φ·f_e = c·Q̂·T·s/Q̂ = c·T·s, in which Q̂ cancels: the tracer's weights, NEE and the
-//! meter are exact whatever Q̂'s error. Q̂ only decides how a given `power` converts to c, the
-//! light's share of the plan's paths, and what `info` reports.
+//! estimate the engine makes uses Φ·f_e = c·Q̂·T·s/Q̂ = c·T·s, in which Q̂ cancels: the
+//! tracer's weights, NEE and the meter are exact whatever Q̂'s error. Q̂ only decides how a
+//! given `power` converts to c, the light's share of the plan's paths, and what `info` reports.
 //!
 //! ## How it is sampled
 //! Directions stay uniform in the cone, as for the untextured spot (the MIS densities are
