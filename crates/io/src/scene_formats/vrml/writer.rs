@@ -10,9 +10,9 @@
 //! light with an IES profile is written as a `PhysicalPointLight` whose `iesUrl` is the file it
 //! was read from ([`PointLightDesc::ies_file`](opticks_core::scene::PointLightDesc), absolute as
 //! the loaders keep it). Lights the extension cannot express (an IES table whose file is not
-//! known, an IES or spot profile on an area light, an environment) and cameras it has no node
-//! for (a thin lens, an orthographic camera) are an `InvalidInput` error rather than silently
-//! dropped.
+//! known, an IES or spot profile on an area light, a textured emitter or spot, an environment)
+//! and cameras it has no node for (a thin lens, an orthographic camera) are an `InvalidInput`
+//! error rather than silently dropped.
 
 use super::extension::DECLARATIONS;
 use super::parser::is_keyword;
