@@ -119,6 +119,12 @@
 //! shifted on the emitter, a power that is not the texture's integral or start weights that
 //! do not average to 1 move the panels' or the floor's regions.
 //!
+//! `spot_texture` (64 × 48, 2²⁰ paths): spots projecting a texture — a bilinear bitmap with a
+//! black texel obliquely onto a floor and a cube, a hard-edged checkerboard onto a wall —
+//! against a Mitsuba `path` reference, light estimator, 8 × 8 regions: a projection mirrored or
+//! rotated, or light paths weighted as if the spot were untextured, move the floor's or the
+//! wall's regions (mirrored in u: the mean 14% off).
+//!
 //! Measured (printed): see the module's rows in `docs/scene-formats.md`.
 
 use opticks_testkit as common;
@@ -296,4 +302,9 @@ fn mitsuba_anisotropy_follows_dp_du_as_in_mitsuba() {
 #[test]
 fn mitsuba_textured_area_emitters_match_mitsuba() {
     check_path_reference("emitter_texture", "scene.xml", "reference-path", 1 << 20, 1);
+}
+
+#[test]
+fn mitsuba_spots_projecting_textures_match_mitsuba() {
+    check_path_reference("spot_texture", "scene.xml", "reference-path", 1 << 20, 1);
 }

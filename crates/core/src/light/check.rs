@@ -70,6 +70,9 @@ pub enum LightError {
     /// A textured area light on a mesh without texture coordinates.
     #[error("its radiance is a texture, but the shape has no texture coordinates (UVs)")]
     TextureWithoutUvs,
+    /// A texture on a point light that cannot project it (the message says why).
+    #[error("{0}")]
+    SpotTexture(&'static str),
     /// An environment's frame is not a rotation.
     #[error("the environment's frame {0:?} (columns) is not a rotation")]
     EnvironmentFrame([f32; 9]),

@@ -10,6 +10,8 @@
 //! lights), uniform (the default of point lights), cosⁿ, Mitsuba's spot cone — and IES
 //! photometric tables in [`ies`].
 //!
+//! A spot light may project a texture ([`spot_texture`]).
+//!
 //! Every physical constraint on a light's parameters is written once, in [`check`] (amounts,
 //! axes, tangents, frames, lumens) and in the profile constructors ([`EmissionProfile::spot`],
 //! [`EmissionProfile::cosine_power`], [`IesProfile::validate`]); [`crate::scene::Scene::build`]
@@ -26,6 +28,7 @@ pub mod environment;
 pub mod ies;
 pub mod point;
 pub mod profile;
+pub mod spot_texture;
 
 pub use area::{AreaLight, EmitterTexture, EmitterTextureDesc};
 pub use check::{LUMENS_PER_WATT, LightError, lumens_to_watts};
@@ -34,6 +37,7 @@ pub use environment::{EnvRadiance, EnvironmentLight, LatLong};
 pub use ies::{IesProfile, IesTableError};
 pub use point::{PointLight, axis_frame};
 pub use profile::{BuiltProfile, EmissionProfile, ProfileError};
+pub use spot_texture::SpotTexture;
 
 use crate::geometry::Triangle;
 use crate::math::{Rgb, Vec2, Vec3};

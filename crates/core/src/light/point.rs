@@ -1,12 +1,15 @@
 //! Point lights: intensity I(ω) = Φ·f_e(ω) from one point, with the frame that orients a
 //! profiled one (a spot's axis, an IES file's 0° angles). Invisible to cameras (a delta
-//! distribution).
+//! distribution). A spot may project a texture ([`super::spot_texture`]).
 
 use super::check::{check_emission, check_orientation, check_position, check_power};
+use super::spot_texture::SpotTexture;
 use super::{BuiltProfile, Emission, EmissionProfile, LightError};
 use crate::math::{Frame, Rgb, Vec2, Vec3};
 use crate::sampling::warp;
+use crate::texture::Texture;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// A point light: intensity I(ω) = Φ·f_e(ω).
 #[derive(Clone, Debug, PartialEq)]
@@ -18,18 +21,21 @@ pub struct PointLight {
     /// Strength: radiant intensity on the profile's axis, W/sr (everywhere for the uniform
     /// profile); I(ω) = intensity·s(ω).
     pub intensity: Rgb,
-    /// Power Φ, W per channel (= intensity·∫s dω).
+    /// Power Φ, W per channel (= intensity·∫s dω; intensity·Q̂ with a texture).
     pub power: Rgb,
     /// The emission density.
     pub profile: BuiltProfile,
     /// The profile's frame (z = axis, x = φ = 0).
     pub frame: Frame,
+    /// The texture a spot projects, if any: I(ω) = intensity·T(uv(ω))·s(ω).
+    pub texture: Option<SpotTexture>,
 }
 
 impl PointLight {
     /// The point light `name` at `position` with `profile` (`None`: isotropic) in the frame
     /// `orientation` (`None`: the identity), of strength `intensity` (W/sr on the axis) or, if
-    /// given, power Φ = `power` (the intensity then follows: Φ/∫s dω). Checks every parameter.
+    /// given, power Φ = `power` (the intensity then follows: Φ/∫s dω). A spot may project
+    /// `texture` ([`super::spot_texture`]: Φ = intensity·Q̂). Checks every parameter.
     pub fn new(
         name: String,
         position: Vec3,
@@ -37,6 +43,7 @@ impl PointLight {
         profile: Option<&EmissionProfile>,
         orientation: Option<Frame>,
         power: Option<Rgb>,
+        texture: Option<Arc<Texture>>,
     ) -> Result<PointLight, LightError> {
         check_emission(intensity)?;
         check_position(position)?;
@@ -45,12 +52,32 @@ impl PointLight {
             None => Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z },
             Some(f) => check_orientation(f)?,
         };
-        let integral = profile.integral();
-        let (intensity, power) = match power {
-            Some(phi) => (check_power(phi)? / integral, phi),
-            None => (intensity, integral * intensity),
+        let texture = texture.map(|t| SpotTexture::new(t, &profile)).transpose()?;
+        let (intensity, power) = match (&texture, power) {
+            (None, Some(phi)) => (check_power(phi)? / profile.integral(), phi),
+            (None, None) => (intensity, profile.integral() * intensity),
+            (Some(t), Some(phi)) => {
+                check_power(phi)?;
+                if (0..3).any(|c| phi[c] > 0.0 && !(t.integral[c] > 0.0)) {
+                    return Err(LightError::PowerUnreachable(phi.to_array()));
+                }
+                (Rgb::select(t.integral.cmpgt(Rgb::ZERO), phi / t.integral, Rgb::ZERO), phi)
+            }
+            (Some(t), None) => (intensity, t.integral * intensity),
         };
-        Ok(PointLight { name, position, intensity, power, profile, frame })
+        Ok(PointLight { name, position, intensity, power, profile, frame, texture })
+    }
+
+    /// f_e(ω) per channel of the unit world direction `dir`: the profile's s/S, times
+    /// T(uv)·S/Q̂ for a textured spot ([`super::spot_texture`]).
+    #[inline]
+    pub fn emission_density(&self, dir: Vec3) -> Rgb {
+        let local = self.frame.to_local(dir);
+        let f = self.profile.eval(local);
+        match (&self.texture, &self.profile) {
+            (Some(t), &BuiltProfile::Spot { cos_cutoff, .. }) => t.relative(local, cos_cutoff) * f,
+            _ => Rgb::splat(f),
+        }
     }
 
     /// The solid-angle density with which [`PointLight::sample_emission`] draws the unit world
@@ -71,6 +98,20 @@ impl PointLight {
             BuiltProfile::Uniform { hemisphere: false } => (warp::square_to_uniform_sphere(u_dir), 1.0),
             ref p => {
                 let (local, w) = p.sample(u_dir);
+                if let (Some(t), &BuiltProfile::Spot { cos_cutoff, .. }) = (&self.texture, p) {
+                    // The texture's share of f_e/p ([`super::spot_texture`]); a black texel's
+                    // path carries nothing (`emitted` 0 drops it).
+                    let relative = t.relative(local, cos_cutoff);
+                    let dir = self.frame.to_world(local).normalize();
+                    let emitted = if relative.max_element() > 0.0 { Rgb::ONE } else { Rgb::ZERO };
+                    return Emission {
+                        origin: self.position,
+                        surface: None,
+                        dir,
+                        weight: relative * w,
+                        emitted,
+                    };
+                }
                 (self.frame.to_world(local).normalize(), w)
             }
         };

@@ -198,6 +198,9 @@ pub struct PointLightDesc {
     /// The IES file an [`EmissionProfile::Ies`] profile was read from, if known (so a writer
     /// can refer to it rather than drop the table).
     pub ies_file: Option<std::path::PathBuf>,
+    /// A texture a spot profile projects (Mitsuba's `spot` `texture`:
+    /// [`crate::light::spot_texture`]); `None` for an untextured light.
+    pub texture: Option<std::sync::Arc<crate::texture::Texture>>,
 }
 
 impl PointLightDesc {
@@ -223,6 +226,7 @@ impl PointLightDesc {
             position,
             power: None,
             ies_file: None,
+            texture: None,
         })
     }
 }

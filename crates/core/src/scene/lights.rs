@@ -97,7 +97,8 @@ fn texture_desc(
 
 /// The point light of `p`.
 pub(super) fn point_light(p: &PointLightDesc) -> Result<Light, SceneError> {
-    PointLight::new(p.name.clone(), p.position, p.intensity, p.profile.as_ref(), p.orientation, p.power)
+    let (profile, texture) = (p.profile.as_ref(), p.texture.clone());
+    PointLight::new(p.name.clone(), p.position, p.intensity, profile, p.orientation, p.power, texture)
         .map(Light::Point)
         .and_then(finite_power)
         .map_err(located(&p.source, &p.name))

@@ -132,6 +132,53 @@ fn bad_environment_emitters_are_located() {
     }
 }
 
+/// A spot's `texture` (nested or a `<ref>`) reaches the light; a missing file, a foreign
+/// element, a cone of 90° or more, a mirrored frame and a mesh attribute are errors at their
+/// element.
+#[test]
+fn spot_textures_load_and_bad_ones_are_located() {
+    let folder = opticks_io_test_folder("spot-texture");
+    let checker = r#"<texture type="checkerboard" name="texture"><rgb name="color0" value="0.2"/></texture>"#;
+    let xml = format!(
+        r#"<scene version="3.0.0"><texture type="checkerboard" id="c"/>
+        <emitter type="spot">{checker}</emitter>
+        <emitter type="spot"><ref name="texture" id="c"/></emitter><shape type="rectangle"/></scene>"#
+    );
+    let s = parse(&xml, &folder.join("scene.xml"), &LoadOptions::default()).unwrap();
+    assert!(s.description.point_lights.iter().all(|l| l.texture.is_some()));
+    let load = |body: &str| {
+        let xml = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
+        match parse(&xml, &folder.join("scene.xml"), &LoadOptions::default()) {
+            Ok(_) => panic!("should fail:\n{xml}"),
+            Err(e) => e.to_string(),
+        }
+    };
+    let bitmap = |file: &str| {
+        format!(r#"<texture type="bitmap" name="texture"><string name="filename" value="{file}"/></texture>"#)
+    };
+    let cases = [
+        (format!(r#"<emitter type="spot">{}</emitter>"#, bitmap("missing.png")), "missing.png"),
+        (format!(r#"<emitter type="spot"><bsdf type="diffuse"/>{checker}</emitter>"#), "scene.xml:2:22: <bsdf type=\"diffuse\">: unsupported element inside a spot emitter"),
+        (r#"<emitter type="spot"><bsdf type="diffuse" name="texture"/></emitter>"#.to_string(), "scene.xml:2:22: <bsdf type=\"diffuse\" name=\"texture\">: unsupported element inside a spot emitter"),
+        (
+            format!(r#"<emitter type="spot"><float name="cutoff_angle" value="90"/>{checker}</emitter>"#),
+            "scene.xml:2:22: <float name=\"cutoff_angle\">: a spot projecting a texture needs a cutoff_angle below 90°",
+        ),
+        (
+            format!(r#"<emitter type="spot"><transform name="to_world"><scale x="-1"/></transform>{checker}</emitter>"#),
+            "needs a to_world that is a rotation",
+        ),
+        (
+            r#"<emitter type="spot"><texture type="mesh_attribute" name="texture"><string name="name" value="vertex_color"/></texture></emitter>"#.to_string(),
+            "scene.xml:2:22: <texture type=\"mesh_attribute\" name=\"texture\">: a spot emitter cannot project a mesh_attribute texture",
+        ),
+    ];
+    for (body, want) in cases {
+        let e = load(&body);
+        assert!(e.contains(want), "{body}:\n  got  {e}\n  want {want}");
+    }
+}
+
 /// A folder of its own for files a test writes.
 fn opticks_io_test_folder(name: &str) -> std::path::PathBuf {
     let d = std::env::temp_dir().join(format!("opticks-mitsuba-{}-{name}", std::process::id()));

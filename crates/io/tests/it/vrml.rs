@@ -207,6 +207,14 @@ fn point_lights_and_phong_round_trip() {
         let e = vrml::write_vrml(&desc, &mut Vec::new()).unwrap_err();
         assert!(e.to_string().contains("the camera is"), "{e}");
     }
+    // Nor is a spot's projected texture dropped.
+    desc.camera = Some(camera);
+    let mut spot =
+        PointLightDesc::spot("s".into(), Source::default(), Vec3::Y, -glam::DVec3::Y, Rgb::ONE, 0.5, 0.3);
+    spot.as_mut().unwrap().texture = Some(std::sync::Arc::new(opticks_core::texture::Texture::Constant(0.5)));
+    desc.point_lights.push(spot.unwrap());
+    let e = vrml::write_vrml(&desc, &mut Vec::new()).unwrap_err();
+    assert!(e.to_string().contains("spot light s projects a texture"), "{e}");
 }
 
 #[test]

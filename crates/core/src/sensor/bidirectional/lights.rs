@@ -254,7 +254,10 @@ impl RenderLights {
             }
             Light::Point(p) => {
                 let (dir, d, d2) = finite(p.position)?;
-                let radiance = rl.power * (p.profile.eval(p.frame.to_local(-dir)) / (d2 * rl.pick));
+                let radiance = match &p.texture {
+                    None => rl.power * (p.profile.eval(p.frame.to_local(-dir)) / (d2 * rl.pick)),
+                    Some(_) => rl.power * p.emission_density(-dir) / (d2 * rl.pick),
+                };
                 let emitter = emitter_densities(light, Vec3::ZERO, -dir);
                 Some(LightPoint {
                     dir,

@@ -182,11 +182,29 @@ fn point<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Res
 }
 
 /// `spot`: an oriented point light with Mitsuba's linear falloff in angle between `beam_width`
-/// and `cutoff_angle`.
+/// and `cutoff_angle`, optionally projecting a `texture` (the core's `light::spot_texture`; its
+/// `cutoff_angle` must be below 90°, its `to_world` a rotation and uniform scale).
 fn spot<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
     let mut p = Props::of(e)?;
-    let mut light = oriented_point_light(e, ty, name, &mut p)?;
+    let texture = match p.take_object("texture") {
+        Some(t) => Some((super::texture::spot_texture(b, &mut p, t)?, t)),
+        None => None,
+    };
+    let (mut light, similar) = oriented_point_light(e, ty, name, &mut p)?;
     let (cutoff, cnode) = p.float_or("cutoff_angle", 20.0)?;
+    if let Some((t, tnode)) = texture {
+        if cutoff >= 90.0 {
+            return Err(cnode
+                .err(format!("a spot projecting a texture needs a cutoff_angle below 90° (got {cutoff}°)")));
+        }
+        if !similar {
+            return Err(tnode.err(
+                "a spot projecting a texture needs a to_world that is a rotation (and a uniform \
+                 scale): no mirror, shear or non-uniform scale",
+            ));
+        }
+        light.texture = Some(t);
+    }
     let (beam, bnode) = p.float_or("beam_width", cutoff * 0.75)?;
     let cone = EmissionProfile::spot(cutoff.to_radians() as f32, beam.to_radians() as f32);
     light.profile = Some(cone.map_err(|e| match e {
@@ -201,7 +219,7 @@ fn spot<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Resu
 /// `ies` (Opticks extension): an oriented point light with an IES file's candela distribution.
 fn ies<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Result<()> {
     let mut p = Props::of(e)?;
-    let mut light = oriented_point_light(e, ty, name, &mut p)?;
+    let (mut light, _) = oriented_point_light(e, ty, name, &mut p)?;
     let (ies, scale, _) =
         ies_file(b, &mut p, false)?.ok_or_else(|| e.err("an ies emitter needs a `filename`"))?;
     light.intensity *= scale;
@@ -214,28 +232,36 @@ fn ies<'d>(b: &mut Builder<'d>, e: &'d Element, ty: &str, name: String) -> Resul
 }
 
 /// What `spot` and `ies` share: a point light at M·(0,0,0) of `to_world` with its frame, and
-/// `intensity`.
+/// `intensity`; and whether M's 3 × 3 part is a rotation times a uniform scale (what a
+/// projected texture needs for its frame to be M's).
 fn oriented_point_light<'d>(
     e: &'d Element,
     ty: &str,
     name: String,
     p: &mut Props<'d>,
-) -> Result<PointLightDesc> {
+) -> Result<(PointLightDesc, bool)> {
     no_objects(p, ty)?;
-    let (frame, position) = match p.transform("to_world")? {
-        Some((t, tnode)) => emitter_frame(&t, tnode)?,
-        None => (Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z }, DVec3::ZERO),
+    let ((frame, position), similar) = match p.transform("to_world")? {
+        Some((t, tnode)) => {
+            let m = DMat3::from_mat4(t.matrix);
+            let k = m.determinant().cbrt();
+            let mtm = m.transpose() * m / (k * k);
+            let similar = k > 0.0 && (mtm - DMat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
+            (emitter_frame(&t, tnode)?, similar)
+        }
+        None => ((Frame { s: Vec3::X, t: Vec3::Y, n: Vec3::Z }, DVec3::ZERO), true),
     };
     let (intensity, inode) = p.color_or("intensity", Rgb::ONE)?;
     check_emission(intensity).map_err(|e| inode.err(e.to_string()))?;
-    Ok(PointLightDesc {
+    let light = PointLightDesc {
         name,
         source: Builder::source(e),
         position: position.as_vec3(),
         intensity,
         orientation: Some(frame),
         ..Default::default()
-    })
+    };
+    Ok((light, similar))
 }
 
 /// `directional`: `irradiance` along `direction` (or M·(0,0,1) of `to_world`).

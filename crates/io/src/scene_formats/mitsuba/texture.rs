@@ -234,6 +234,15 @@ pub fn emitter_radiance<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Eleme
     parameter_texture(b, p, "radiance", e)
 }
 
+/// A spot emitter's `texture` (projected along the spot: [`opticks_core::light::spot_texture`]).
+pub fn spot_texture<'d>(b: &mut Builder<'d>, p: &mut Props<'d>, e: &'d Element) -> Result<Arc<Texture>> {
+    let texture = parameter_texture(b, p, "texture", e)?;
+    if matches!(*texture, Texture::MeshAttribute(_)) {
+        return Err(e.err("a spot emitter cannot project a mesh_attribute texture (it has no mesh)"));
+    }
+    Ok(texture)
+}
+
 /// The texture `e` (a `<texture>` or a `<ref>` to one) given as parameter `name`, which must not
 /// also be given as a value.
 fn parameter_texture<'d>(

@@ -10,9 +10,9 @@
 //! light with an IES profile is written as a `PhysicalPointLight` whose `iesUrl` is the file it
 //! was read from ([`PointLightDesc::ies_file`](opticks_core::scene::PointLightDesc), absolute as
 //! the loaders keep it). Lights the extension cannot express (an IES table whose file is not
-//! known, an IES or spot profile on an area light, an environment) and cameras it has no node
-//! for (a thin lens, an orthographic camera) are an `InvalidInput` error rather than silently
-//! dropped.
+//! known, an IES or spot profile on an area light, a textured emitter or spot, an environment)
+//! and cameras it has no node for (a thin lens, an orthographic camera) are an `InvalidInput`
+//! error rather than silently dropped.
 
 use super::extension::DECLARATIONS;
 use super::parser::is_keyword;
@@ -65,6 +65,10 @@ pub fn write_vrml(desc: &SceneDescription, w: &mut impl Write) -> io::Result<()>
                 .iter()
                 .find(|m| m.emission.as_ref().is_some_and(|e| area_emission(e.profile.as_ref()).is_none()))
                 .map(|m| format!("area light {} has a tabulated (IES) emission profile", m.name))
+        })
+        .or_else(|| {
+            let textured = desc.point_lights.iter().find(|l| l.texture.is_some());
+            textured.map(|l| format!("spot light {} projects a texture", l.name))
         })
         .or_else(|| {
             desc.meshes
