@@ -22,14 +22,19 @@ def chunk(tag, data):
     return struct.pack(">I", len(data)) + tag + data + struct.pack(">I", zlib.crc32(tag + data) & 0xFFFFFFFF)
 
 
-def main():
-    rows = b"".join(b"\x00" + bytes(c for i in range(WIDTH) for c in texel(i, j)) for j in range(HEIGHT))
+def write_png(path, width, height, texel):
+    """Writes an 8-bit RGB PNG of width x height whose texel (i, j) is texel(i, j)."""
+    rows = b"".join(b"\x00" + bytes(c for i in range(width) for c in texel(i, j)) for j in range(height))
     png = b"\x89PNG\r\n\x1a\n"
-    png += chunk(b"IHDR", struct.pack(">IIBBBBB", WIDTH, HEIGHT, 8, 2, 0, 0, 0))
+    png += chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
     png += chunk(b"IDAT", zlib.compress(rows, 9))
     png += chunk(b"IEND", b"")
-    with open("screen.png", "wb") as f:
+    with open(path, "wb") as f:
         f.write(png)
+
+
+def main():
+    write_png("screen.png", WIDTH, HEIGHT, texel)
 
 
 if __name__ == "__main__":

@@ -1,16 +1,14 @@
 """Writes slide.png, the 6 x 4 sRGB texture the spot_texture scene's first spot projects
 (python3 make_texture.py; the standard library and ../emitter_texture/make_texture.py's PNG
-chunk writer). Its texels are distinct colours, one black and no two mirror images of each
+writer). Its texels are distinct colours, one black and no two mirror images of each
 other, so that a projection flipped, mirrored, rotated or shifted, or light sent through the
 black texel, changes the image."""
 
 import os
-import struct
 import sys
-import zlib
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "emitter_texture"))
-from make_texture import chunk  # noqa: E402
+from make_texture import write_png  # noqa: E402
 
 WIDTH, HEIGHT = 6, 4
 
@@ -25,14 +23,7 @@ def texel(i, j):
 
 
 def main():
-    rows = b"".join(b"\x00" + bytes(c for i in range(WIDTH) for c in texel(i, j)) for j in range(HEIGHT))
-    png = b"\x89PNG\r\n\x1a\n"
-    png += chunk(b"IHDR", struct.pack(">IIBBBBB", WIDTH, HEIGHT, 8, 2, 0, 0, 0))
-    png += chunk(b"IDAT", zlib.compress(rows, 9))
-    png += chunk(b"IEND", b"")
-    with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "slide.png"), "wb") as f:
-        f.write(png)
-
+    write_png(os.path.join(os.path.dirname(os.path.abspath(__file__)), "slide.png"), WIDTH, HEIGHT, texel)
 
 if __name__ == "__main__":
     main()
