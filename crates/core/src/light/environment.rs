@@ -152,18 +152,25 @@ impl LatLong {
         let dphi = 2.0 * PI64 / w as f64;
         let mut weights = Vec::with_capacity(w * rows);
         let mut integral = [0.0f64; 3];
+        // A texel row's neighbour means, each computed once: the bottom of a row of cells is the
+        // top of the next (half of this loop's work, the same values).
+        let means = |j: usize, out: &mut Vec<glam::DVec3>| {
+            out.clear();
+            out.extend((0..w).map(|i| (self.texel(i, j) + self.texel((i + 1) % w, j)).as_dvec3() * 0.5));
+        };
+        let (mut top, mut bottom) = (Vec::with_capacity(w), Vec::with_capacity(w));
+        means(0, &mut top);
         for j in 0..rows {
             let (a, b) = self.row_weights(j);
-            for i in 0..w {
-                let i1 = (i + 1) % w;
-                let top = (self.texel(i, j) + self.texel(i1, j)).as_dvec3() * 0.5;
-                let bottom = (self.texel(i, j + 1) + self.texel(i1, j + 1)).as_dvec3() * 0.5;
+            means(j + 1, &mut bottom);
+            for (&top, &bottom) in top.iter().zip(&bottom) {
                 let cell = (top * a + bottom * b) * dphi;
                 for (c, v) in integral.iter_mut().zip(cell.to_array()) {
                     *c += v;
                 }
                 weights.push(0.212_671 * cell.x + 0.715_160 * cell.y + 0.072_169 * cell.z);
             }
+            std::mem::swap(&mut top, &mut bottom);
         }
         let total: f64 = weights.iter().sum();
         if !(total > 0.0) {
