@@ -55,9 +55,9 @@
 //!
 //! The triangle test is watertight (`triangles.rs`: Woop, Benthin and Wald's edge functions
 //! decide inside, so no ray passes between two triangles sharing an edge); its distance is
-//! obvhs's Möller–Trumbore's (`RtTriangle::intersect`), operation for operation. Closest hits count in [0, t_max),
-//! occluders in the open segment (0, t_max) only, so a surface through a shadow ray's origin
-//! (the other wall, for a sample lying in a corner) does not block it. Ordinary images change
+//! obvhs's Möller–Trumbore's (`RtTriangle::intersect`), operation for operation. Closest hits
+//! count in [0, t_max), occluders in the open segment (0, t_max) only, so a surface through a
+//! shadow ray's origin (the other wall, for a sample lying in a corner) does not block it. Ordinary images change
 //! only where obvhs lost a hit: the seeded Cornell trace and render are byte-identical, while
 //! in `opticks bench`'s million paths 87 of ~4.6 M bounces, leaving a corner with the next hit
 //! nearer than 1e-4, used to escape the closed room. Triangles are stored in leaf order for
@@ -267,11 +267,8 @@ impl Accel {
     #[inline]
     pub fn intersect_one(&self, ray: &Ray, prim: u32) -> Option<f32> {
         let lane = *self.lane_of.get(prim as usize).filter(|&&l| l != EMPTY)?;
-        let t = {
-            let d = Vec3A::from(ray.dir) + Vec3A::ZERO;
-            let o = Vec3A::from(ray.origin);
-            self.tri(lane).intersect(o, d, &Shear::new(o, d), ray.t_max)
-        };
+        let (o, d) = (Vec3A::from(ray.origin), Vec3A::from(ray.dir) + Vec3A::ZERO);
+        let t = self.tri(lane).intersect(o, d, &Shear::new(o, d), ray.t_max);
         (t < ray.t_max).then_some(t)
     }
 

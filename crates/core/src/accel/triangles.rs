@@ -20,8 +20,8 @@
 //! for triangles far from the origin (the brute-force tests found hits tens of units off beside
 //! coordinates of 2³⁰), and every hit both tests accept is where it was, bit for bit (datasets
 //! of the Cornell box are byte-identical to the old test's). The price, counted: +12 % of the
-//! instructions of `opticks bench` on the Cornell box (the ray queries +31 %), a trace ~8 %
-//! slower (`docs/performance.md`).
+//! instructions of `opticks bench` on the Cornell box (the ray queries +31 %), a trace
+//! 5–13 % slower (`docs/performance.md`).
 //!
 //! # Why packets of four
 //!
@@ -43,8 +43,8 @@ use crate::math::{Vec3, Vec3A, Vec4};
 pub(super) struct Shear {
     /// The world axes of the sheared x, y and z.
     k: [usize; 3],
-    o: [f32; 3],
-    s: [f32; 2],
+    /// The origin in that order and (S_x, S_y), each in every lane (the one-at-a-time test
+    /// reads lane 0).
     o4: [Vec4; 3],
     s4: [Vec4; 2],
 }
@@ -61,8 +61,7 @@ impl Shear {
         };
         let k = [(kz + 1) % 3, (kz + 2) % 3, kz];
         let r = 1.0 / d[kz];
-        let (o, s) = (k.map(|i| o[i]), [d[k[0]] * r, d[k[1]] * r]);
-        Shear { k, o, s, o4: o.map(Vec4::splat), s4: s.map(Vec4::splat) }
+        Shear { k, o4: k.map(|i| Vec4::splat(o[i])), s4: [d[k[0]] * r, d[k[1]] * r].map(Vec4::splat) }
     }
 }
 
@@ -99,9 +98,10 @@ impl Tri {
     #[inline(always)]
     pub(super) fn intersect(&self, o: Vec3A, d: Vec3A, sh: &Shear, t_max: f32) -> f32 {
         let [kx, ky, kz] = sh.k;
+        let ([ox, oy, oz], [sx, sy]) = (sh.o4.map(|v| v.x), sh.s4.map(|v| v.x));
         let xy = |v: Vec3A| {
-            let z = v[kz] - sh.o[2];
-            ((v[kx] - sh.o[0]) - sh.s[0] * z, (v[ky] - sh.o[1]) - sh.s[1] * z)
+            let z = v[kz] - oz;
+            ((v[kx] - ox) - sx * z, (v[ky] - oy) - sy * z)
         };
         let [(x0, y0), (x1, y1), (x2, y2)] = self.v.map(xy);
         let (x, y) = ([x0, x1, x2], [y0, y1, y2]);
