@@ -74,9 +74,9 @@ impl PointLight {
     pub fn emission_density(&self, dir: Vec3) -> Rgb {
         let local = self.frame.to_local(dir);
         let f = self.profile.eval(local);
-        match (&self.texture, &self.profile) {
-            (Some(t), &BuiltProfile::Spot { cos_cutoff, .. }) => t.relative(local, cos_cutoff) * f,
-            _ => Rgb::splat(f),
+        match &self.texture {
+            Some(t) => t.relative(local) * f,
+            None => Rgb::splat(f),
         }
     }
 
@@ -94,28 +94,25 @@ impl PointLight {
     /// sphere, exactly, for an isotropic light).
     #[inline]
     pub fn sample_emission(&self, u_dir: Vec2) -> Emission {
-        let (dir, w) = match self.profile {
-            BuiltProfile::Uniform { hemisphere: false } => (warp::square_to_uniform_sphere(u_dir), 1.0),
+        let (dir, weight, emitted) = match self.profile {
+            BuiltProfile::Uniform { hemisphere: false } => {
+                (warp::square_to_uniform_sphere(u_dir), Rgb::ONE, Rgb::ONE)
+            }
             ref p => {
                 let (local, w) = p.sample(u_dir);
-                if let (Some(t), &BuiltProfile::Spot { cos_cutoff, .. }) = (&self.texture, p) {
+                let dir = self.frame.to_world(local).normalize();
+                match &self.texture {
+                    None => (dir, Rgb::splat(w), Rgb::ONE),
                     // The texture's share of f_e/p ([`super::spot_texture`]); a black texel's
                     // path carries nothing (`emitted` 0 drops it).
-                    let relative = t.relative(local, cos_cutoff);
-                    let dir = self.frame.to_world(local).normalize();
-                    let emitted = if relative.max_element() > 0.0 { Rgb::ONE } else { Rgb::ZERO };
-                    return Emission {
-                        origin: self.position,
-                        surface: None,
-                        dir,
-                        weight: relative * w,
-                        emitted,
-                    };
+                    Some(t) => {
+                        let relative = t.relative(local);
+                        (dir, relative * w, if relative.max_element() > 0.0 { Rgb::ONE } else { Rgb::ZERO })
+                    }
                 }
-                (self.frame.to_world(local).normalize(), w)
             }
         };
-        Emission { origin: self.position, surface: None, dir, weight: Rgb::splat(w), emitted: Rgb::ONE }
+        Emission { origin: self.position, surface: None, dir, weight, emitted }
     }
 }
 

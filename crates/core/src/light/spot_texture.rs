@@ -46,13 +46,15 @@ pub struct SpotTexture {
     /// S/Q̂ per channel (S = ∫ s dω), 0 where Q̂ = 0: T·S/Q̂ turns the untextured f_e = s/S into
     /// the textured T·s/Q̂.
     relative: Rgb,
+    /// cos γ: the cone's edge, outside which nothing is projected.
+    cos_cutoff: f32,
 }
 
 impl SpotTexture {
     /// The texture of a spot of profile `profile` (a spot of cutoff below 90°, else
     /// [`LightError::SpotTexture`]), with its Q̂ (module docs).
     pub fn new(texture: Arc<Texture>, profile: &BuiltProfile) -> Result<SpotTexture, LightError> {
-        let &BuiltProfile::Spot { cutoff, .. } = profile else {
+        let &BuiltProfile::Spot { cutoff, cos_cutoff, .. } = profile else {
             return Err(LightError::SpotTexture("only a spot light projects a texture"));
         };
         if !(cutoff < 0.5 * std::f32::consts::PI) {
@@ -66,7 +68,7 @@ impl SpotTexture {
             ));
         }
         let uv_factor = cutoff.tan();
-        let mut t = SpotTexture { texture, uv_factor, integral: Rgb::ZERO, relative: Rgb::ZERO };
+        let mut t = SpotTexture { texture, uv_factor, integral: Rgb::ZERO, relative: Rgb::ZERO, cos_cutoff };
         t.integral = t.estimate_integral(profile, INTEGRAL_STRATA, 0);
         let s = profile.integral();
         t.relative = Rgb::select(t.integral.cmpgt(Rgb::ZERO), s / t.integral, Rgb::ZERO);
@@ -83,8 +85,8 @@ impl SpotTexture {
     /// T(uv(ω))·S/Q̂ of a local direction `v`: the textured f_e over the untextured one (0
     /// outside the cone).
     #[inline]
-    pub fn relative(&self, v: Vec3, cos_cutoff: f32) -> Rgb {
-        if v.z > cos_cutoff { self.lookup(v) * self.relative } else { Rgb::ZERO }
+    pub fn relative(&self, v: Vec3) -> Rgb {
+        if v.z > self.cos_cutoff { self.lookup(v) * self.relative } else { Rgb::ZERO }
     }
 
     /// An unbiased estimate of ∫ T·s dω over the cone of `profile`: `n`² jittered strata of

@@ -237,10 +237,10 @@ impl RenderLights {
                 }
                 let fraction = a.emitted_fraction(normal, -dir);
                 // L_e·cos θ₀/(d²·p₀·P) with L_e = fraction·Φ/A and p₀ = 1/A.
-                let mut radiance = rl.power * (fraction * cos_light / (d2 * rl.pick));
-                if a.texture.is_some() {
-                    radiance *= a.scale_at(&scene.triangles, prim, at);
-                }
+                // An untextured light's scale is exactly 1.
+                let radiance = rl.power
+                    * (fraction * cos_light / (d2 * rl.pick))
+                    * a.scale_at(&scene.triangles, prim, at);
                 let emitter = emitter_densities(light, normal, -dir);
                 Some(LightPoint {
                     dir,
@@ -254,10 +254,7 @@ impl RenderLights {
             }
             Light::Point(p) => {
                 let (dir, d, d2) = finite(p.position)?;
-                let radiance = match &p.texture {
-                    None => rl.power * (p.profile.eval(p.frame.to_local(-dir)) / (d2 * rl.pick)),
-                    Some(_) => rl.power * p.emission_density(-dir) / (d2 * rl.pick),
-                };
+                let radiance = rl.power * (p.emission_density(-dir) / (d2 * rl.pick));
                 let emitter = emitter_densities(light, Vec3::ZERO, -dir);
                 Some(LightPoint {
                     dir,
@@ -308,10 +305,9 @@ impl RenderLights {
         if !(normal.dot(to_camera) > 0.0) {
             return None;
         }
-        let mut radiance = rl.power * (a.emitted_fraction(normal, to_camera) / a.area());
-        if a.texture.is_some() {
-            radiance *= a.scale_at(&scene.triangles, prim, at);
-        }
+        let radiance = rl.power
+            * (a.emitted_fraction(normal, to_camera) / a.area())
+            * a.scale_at(&scene.triangles, prim, at);
         let emitter = emitter_densities(&scene.lights[rl.scene_index], normal, to_camera);
         Some((radiance, emitter, rl.pick))
     }
