@@ -98,10 +98,10 @@ pub struct TextureImage {
     pub texels: Vec<Rgb>,
 }
 
-/// Reads `path` (format by extension: `.png`, `.jpg`/`.jpeg`, `.bmp`, `.hdr`, `.exr`), of at most
-/// [`MAX_TEXELS`] texels. With `raw`, 8- and 16-bit values are taken as they are (scaled to
-/// [0, 1]) instead of sRGB-decoded (BMP, as Mitsuba reads it, is sRGB-encoded like PNG). The error message does not repeat the path (the caller
-/// names it).
+/// Reads `path` (format by extension: `.png`, `.jpg`/`.jpeg`, `.bmp`, `.hdr`, `.exr`), of at
+/// most [`MAX_TEXELS`] texels. With `raw`, 8- and 16-bit values are taken as they are (scaled
+/// to [0, 1]) instead of sRGB-decoded (BMP, as Mitsuba reads it, is sRGB-encoded like PNG).
+/// The error message does not repeat the path (the caller names it).
 pub fn read_texture(path: &Path, raw: bool) -> Result<TextureImage, TextureError> {
     read_texture_within(path, raw, MAX_TEXELS)
 }
